@@ -1,0 +1,364 @@
+// BRDF models (MODELS.md §1, §4, §5, §6): the GLSL mirror of src/brdf/models.rs.
+// Parameters come packed in BrdfParams (96 bytes, filled by GpuBrdfParams::from_model in
+// src/brdf/gpu.rs from sanitised parameters; layout in docs/brdf.md). Each brdf_*_terms function
+// mirrors the Rust *_terms function of the same name. GLSL 4.60, no extension needed.
+#ifndef LUZ_BRDF_MODELS_GLSL
+#define LUZ_BRDF_MODELS_GLSL
+
+#include "terms.glsl"
+
+// sel.x: model
+#define BRDF_MODEL_LAMBERT 0
+#define BRDF_MODEL_PHONG 1
+#define BRDF_MODEL_BLINN_PHONG 2
+#define BRDF_MODEL_COOK_TORRANCE 3
+#define BRDF_MODEL_METAL_ROUGH 4
+#define BRDF_MODEL_PRINCIPLED 5
+#define BRDF_MODEL_OREN_NAYAR 6
+// sel.y: distribution
+#define BRDF_D_BECKMANN 0
+#define BRDF_D_GGX 1
+// sel.z: geometry
+#define BRDF_G_COOK_TORRANCE 0
+#define BRDF_G_SMITH_GGX 1
+#define BRDF_G_SMITH_GGX_CORRELATED 2
+#define BRDF_G_SCHLICK_GGX 3
+// sel.w: fresnel
+#define BRDF_F_SCHLICK 0
+#define BRDF_F_SCHLICK_SG 1
+#define BRDF_F_DIELECTRIC 2
+#define BRDF_F_CONDUCTOR 3
+
+// std430 / push-constant layout, 96 bytes. Slot use per model: docs/brdf.md.
+struct BrdfParams {
+    vec4 color;  //  0: rgb albedo / base colour / O_d; a roughness (Cook-Torrance, metal-rough, Principled)
+    vec4 spec;   // 16: rgb O_s (Phong) or F0 / η (Cook-Torrance); a metallic (metal-rough, Principled)
+    vec4 kappa;  // 32: rgb κ (Cook-Torrance conductor); a k_d (Phong, Cook-Torrance)
+    vec4 p0;     // 48: Phong (k_s, n, k_a, -); metal-rough ((1-F) weight, -, -, -);
+                 //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
+    vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss)
+    ivec4 sel;   // 80: model, distribution, geometry, fresnel
+};
+
+// The BRDF split into terms; diffuse + specular is the BRDF value (see Terms in models.rs).
+struct BrdfTerms {
+    float d;
+    float g;
+    vec3 f;
+    vec3 diffuse;
+    vec3 specular;
+};
+
+BrdfTerms brdf_terms_zero() {
+    BrdfTerms t;
+    t.d = 0.0;
+    t.g = 0.0;
+    t.f = vec3(0.0);
+    t.diffuse = vec3(0.0);
+    t.specular = vec3(0.0);
+    return t;
+}
+
+// sin2_h = |n × h|².
+float brdf_distribution(int sel, float n_h, float sin2_h, float a) {
+    if (sel == BRDF_D_BECKMANN) {
+        return d_beckmann_sin2(n_h, sin2_h, a);
+    }
+    return d_ggx_sin2(n_h, sin2_h, a);
+}
+
+float brdf_geometry(int sel, float n_h, float n_v, float n_l, float v_h, float a, float roughness) {
+    if (sel == BRDF_G_COOK_TORRANCE) {
+        return g_cook_torrance(n_h, n_v, n_l, v_h);
+    }
+    if (sel == BRDF_G_SMITH_GGX) {
+        return g_smith_ggx_separable(n_l, n_v, a);
+    }
+    if (sel == BRDF_G_SMITH_GGX_CORRELATED) {
+        return g_smith_ggx_correlated(n_l, n_v, a);
+    }
+    return g_schlick_ggx(n_l, n_v, k_punctual(roughness));
+}
+
+// spec = F0 (Schlick forms) or η (exact forms); kappa = κ (conductor).
+vec3 brdf_fresnel(int sel, vec3 spec, vec3 kappa, float v_h) {
+    if (sel == BRDF_F_SCHLICK) {
+        return f_schlick(spec, v_h);
+    }
+    if (sel == BRDF_F_SCHLICK_SG) {
+        return f_schlick_sg(spec, v_h);
+    }
+    if (sel == BRDF_F_DIELECTRIC) {
+        return vec3(f_dielectric(v_h, spec.x), f_dielectric(v_h, spec.y), f_dielectric(v_h, spec.z));
+    }
+    return f_conductor(v_h, spec, kappa);
+}
+
+// ior_from_f0 of src/brdf/presets.rs.
+float brdf_ior_from_f0(float f0) {
+    float s = sqrt(clamp(f0, 0.0, 0.99));
+    return (1.0 + s) / (1.0 - s);
+}
+
+// Fresnel::inputs_from_f0: F0 for the Schlick forms, η = ior_from_f0(F0) for the exact forms.
+vec3 brdf_fresnel_spec_from_f0(int sel, vec3 f0) {
+    if (sel == BRDF_F_SCHLICK || sel == BRDF_F_SCHLICK_SG) {
+        return f0;
+    }
+    return vec3(brdf_ior_from_f0(f0.x), brdf_ior_from_f0(f0.y), brdf_ior_from_f0(f0.z));
+}
+
+// ------------------------------------------------------------------------------------------------
+// Models. Each one: zero when n·l ≤ 0 or n·v ≤ 0; n, l, v normalised first.
+// ------------------------------------------------------------------------------------------------
+
+BrdfTerms brdf_lambert_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    BrdfTerms t = brdf_terms_zero();
+    if (dot(n, l) <= 0.0 || dot(n, v) <= 0.0) {
+        return t;
+    }
+    t.diffuse = diffuse_lambert(p.color.xyz);
+    return t;
+}
+
+// max(r·v, 0)^n (Phong) or max(n·h, 0)^n (Blinn-Phong); 0 when the base is ≤ 0.
+float brdf_classic_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+    float base;
+    if (p.sel.x == BRDF_MODEL_BLINN_PHONG) {
+        base = dot(n, brdf_safe_normalize(l + v));
+    } else {
+        vec3 r = n * (2.0 * dot(n, l)) - l;
+        base = dot(r, v);
+    }
+    if (base <= 0.0) {
+        return 0.0;
+    }
+    return pow(base, p.p0.y);
+}
+
+// Phong / Blinn-Phong BRDF equivalent: diffuse k_d O_d, specular k_s O_s lobe / (n·l).
+BrdfTerms brdf_phong_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    BrdfTerms t = brdf_terms_zero();
+    float n_l_raw = dot(n, l);
+    if (n_l_raw <= 0.0 || dot(n, v) <= 0.0) {
+        return t;
+    }
+    float n_l = brdf_clamp_cos(n_l_raw);
+    float lobe = brdf_classic_lobe(p, n, l, v);
+    t.diffuse = p.color.xyz * p.kappa.w;
+    t.specular = p.spec.xyz * (p.p0.x * lobe / n_l);
+    return t;
+}
+
+// The slides' formula I_L (k_d O_d (n·l) + k_s O_s lobe) with I_L = e_light.
+vec3 brdf_phong_radiance(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in, vec3 e_light) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    float n_l_raw = dot(n, l);
+    if (n_l_raw <= 0.0 || dot(n, v) <= 0.0) {
+        return vec3(0.0);
+    }
+    float lobe = brdf_classic_lobe(p, n, l, v);
+    float n_l = min(n_l_raw, 1.0);
+    return e_light * (p.color.xyz * (p.kappa.w * n_l) + p.spec.xyz * (p.p0.x * lobe));
+}
+
+// Cook-Torrance: k_d color/π + (1 − k_d) D F G / (4 (n·l)(n·v)).
+BrdfTerms brdf_cook_torrance_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    BrdfTerms t = brdf_terms_zero();
+    float n_l_raw = dot(n, l);
+    float n_v_raw = dot(n, v);
+    if (n_l_raw <= 0.0 || n_v_raw <= 0.0) {
+        return t;
+    }
+    float n_l = brdf_clamp_cos(n_l_raw);
+    float n_v = brdf_clamp_cos(n_v_raw);
+    float roughness = p.color.w;
+    float kd = p.kappa.w;
+    float a = p.sel.y == BRDF_D_BECKMANN ? roughness : roughness * roughness;
+    a = max(a, BRDF_ALPHA_MIN);
+    vec3 h = brdf_safe_normalize(l + v);
+    float n_h = dot(n, h);
+    vec3 n_x_h = cross(n, h);
+    float sin2_h = dot(n_x_h, n_x_h);
+    float v_h = dot(v, h);
+    t.d = brdf_distribution(p.sel.y, n_h, sin2_h, a);
+    t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
+    t.f = brdf_fresnel(p.sel.w, p.spec.xyz, p.kappa.xyz, v_h);
+    vec3 spec_brdf = t.f * (t.d * t.g / (4.0 * n_l * n_v));
+    t.diffuse = p.color.xyz * (kd * M_1_PI);
+    t.specular = spec_brdf * (1.0 - kd);
+    return t;
+}
+
+// glTF metallic-roughness: c_diff/π [1 − F] + D F G / (4 (n·l)(n·v)).
+BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    BrdfTerms t = brdf_terms_zero();
+    float n_l_raw = dot(n, l);
+    float n_v_raw = dot(n, v);
+    if (n_l_raw <= 0.0 || n_v_raw <= 0.0) {
+        return t;
+    }
+    float n_l = brdf_clamp_cos(n_l_raw);
+    float n_v = brdf_clamp_cos(n_v_raw);
+    vec3 base = p.color.xyz;
+    float roughness = p.color.w;
+    float metallic = p.spec.w;
+    float a = max(roughness * roughness, BRDF_ALPHA_MIN);
+    vec3 f0 = mix(vec3(0.04), base, metallic);
+    vec3 c_diff = base * (1.0 - metallic);
+    vec3 spec = brdf_fresnel_spec_from_f0(p.sel.w, f0);
+    vec3 h = brdf_safe_normalize(l + v);
+    float n_h = dot(n, h);
+    vec3 n_x_h = cross(n, h);
+    float sin2_h = dot(n_x_h, n_x_h);
+    float v_h = dot(v, h);
+    t.d = brdf_distribution(p.sel.y, n_h, sin2_h, a);
+    t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
+    t.f = brdf_fresnel(p.sel.w, spec, vec3(0.0), v_h);
+    vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
+    t.diffuse = c_diff * M_1_PI * weight;
+    t.specular = t.f * (t.d * t.g / (4.0 * n_l * n_v));
+    return t;
+}
+
+// Disney Principled, exactly as BRDF Explorer's disney.brdf (MODELS.md §5).
+BrdfTerms brdf_principled_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in, vec3 x_in, vec3 y_in) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    BrdfTerms t = brdf_terms_zero();
+    float n_l_raw = dot(n, l);
+    float n_v_raw = dot(n, v);
+    if (n_l_raw <= 0.0 || n_v_raw <= 0.0) {
+        return t;
+    }
+    float n_l = brdf_clamp_cos(n_l_raw);
+    float n_v = brdf_clamp_cos(n_v_raw);
+    vec3 tx = brdf_tangent_x(n, x_in, y_in);
+    vec3 ty = cross(n, tx);
+    vec3 h = brdf_safe_normalize(l + v);
+    float n_h = dot(n, h);
+    vec3 n_x_h = cross(n, h);
+    float sin2_h = dot(n_x_h, n_x_h);
+    float l_h = dot(l, h);
+
+    vec3 cdlin = p.color.xyz;
+    float roughness = p.color.w;
+    float metallic = p.spec.w;
+    float subsurface = p.p0.x;
+    float specular = p.p0.y;
+    float specular_tint = p.p0.z;
+    float anisotropic = p.p0.w;
+    float sheen = p.p1.x;
+    float sheen_tint = p.p1.y;
+    float clearcoat = p.p1.z;
+    float clearcoat_gloss = p.p1.w;
+
+    float cdlum = 0.3 * cdlin.x + 0.6 * cdlin.y + 0.1 * cdlin.z;
+    vec3 ctint = cdlum > 0.0 ? cdlin / cdlum : vec3(1.0);
+    vec3 cspec0 = mix(mix(vec3(1.0), ctint, specular_tint) * (specular * 0.08), cdlin, metallic);
+    vec3 csheen = mix(vec3(1.0), ctint, sheen_tint);
+
+    float fd = fd_burley(n_l, n_v, l_h, roughness);
+    float ss = ss_hanrahan_krueger(n_l, n_v, l_h, roughness);
+
+    float aspect = sqrt(1.0 - anisotropic * 0.9);
+    float r2 = roughness * roughness;
+    float ax = max(r2 / aspect, BRDF_ALPHA_MIN);
+    float ay = max(r2 * aspect, BRDF_ALPHA_MIN);
+    float ds = d_gtr2_aniso(n_h, dot(h, tx), dot(h, ty), ax, ay);
+    float fh = brdf_schlick_weight(l_h);
+    vec3 fs = mix(cspec0, vec3(1.0), fh);
+    float gs = vis_smith_ggx_aniso(n_l, dot(l, tx), dot(l, ty), ax, ay)
+             * vis_smith_ggx_aniso(n_v, dot(v, tx), dot(v, ty), ax, ay);
+
+    vec3 fsheen = csheen * (fh * sheen);
+
+    float dr = d_gtr1_sin2(n_h, sin2_h, mix(0.1, 0.001, clearcoat_gloss));
+    float fr = mix(0.04, 1.0, fh);
+    float gr = vis_smith_ggx_iso(n_l, 0.25) * vis_smith_ggx_iso(n_v, 0.25);
+
+    t.d = ds;
+    t.g = gs * 4.0 * n_l * n_v;
+    t.f = fs;
+    t.diffuse = (cdlin * (M_1_PI * mix(fd, ss, subsurface)) + fsheen) * (1.0 - metallic);
+    t.specular = fs * (gs * ds) + vec3(0.25 * clearcoat * gr * fr * dr);
+    return t;
+}
+
+// Qualitative Oren-Nayar, σ (radians) in p0.x.
+BrdfTerms brdf_oren_nayar_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+    vec3 n = brdf_safe_normalize(n_in);
+    vec3 l = brdf_safe_normalize(l_in);
+    vec3 v = brdf_safe_normalize(v_in);
+    BrdfTerms t = brdf_terms_zero();
+    float n_l_raw = dot(n, l);
+    float n_v_raw = dot(n, v);
+    if (n_l_raw <= 0.0 || n_v_raw <= 0.0) {
+        return t;
+    }
+    float n_l = brdf_clamp_cos(n_l_raw);
+    float n_v = brdf_clamp_cos(n_v_raw);
+    float cos_phi = cos_phi_diff(n, l, v);
+    t.diffuse = diffuse_oren_nayar(p.color.xyz, p.p0.x, n_l, n_v, cos_phi);
+    return t;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Dispatch
+// ------------------------------------------------------------------------------------------------
+
+BrdfTerms brdf_eval_terms(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y) {
+    int m = p.sel.x;
+    if (m == BRDF_MODEL_LAMBERT) {
+        return brdf_lambert_terms(p, n, l, v);
+    }
+    if (m == BRDF_MODEL_PHONG || m == BRDF_MODEL_BLINN_PHONG) {
+        return brdf_phong_terms(p, n, l, v);
+    }
+    if (m == BRDF_MODEL_COOK_TORRANCE) {
+        return brdf_cook_torrance_terms(p, n, l, v);
+    }
+    if (m == BRDF_MODEL_METAL_ROUGH) {
+        return brdf_metal_rough_terms(p, n, l, v);
+    }
+    if (m == BRDF_MODEL_PRINCIPLED) {
+        return brdf_principled_terms(p, n, l, v, x, y);
+    }
+    if (m == BRDF_MODEL_OREN_NAYAR) {
+        return brdf_oren_nayar_terms(p, n, l, v);
+    }
+    return brdf_terms_zero();
+}
+
+// The BRDF value f(l, v), not multiplied by n·l.
+vec3 brdf_eval(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y) {
+    BrdfTerms t = brdf_eval_terms(p, n, l, v, x, y);
+    return t.diffuse + t.specular;
+}
+
+// Reflected radiance from one light of irradiance e_light: f E max(n·l, 0); for Phong and
+// Blinn-Phong the slides' formula with I_L = e_light.
+vec3 brdf_radiance(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y, vec3 e_light) {
+    if (p.sel.x == BRDF_MODEL_PHONG || p.sel.x == BRDF_MODEL_BLINN_PHONG) {
+        return brdf_phong_radiance(p, n, l, v, e_light);
+    }
+    float n_l = clamp(dot(brdf_safe_normalize(n), brdf_safe_normalize(l)), 0.0, 1.0);
+    return brdf_eval(p, n, l, v, x, y) * e_light * n_l;
+}
+
+#endif // LUZ_BRDF_MODELS_GLSL

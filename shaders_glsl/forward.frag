@@ -1,0 +1,27 @@
+#version 460
+//! variant flat: SHADING_FLAT
+//! variant gouraud: SHADING_GOURAUD
+//! variant phong: SHADING_PHONG
+
+#include "include/lighting.glsl"
+
+layout(location = 0) in float in_depth;
+#if defined(SHADING_FLAT)
+layout(location = 1) flat in vec3 in_color;
+#elif defined(SHADING_GOURAUD)
+layout(location = 1) in vec3 in_color;
+#else
+layout(location = 1) in vec3 in_world;
+layout(location = 2) in vec3 in_normal;
+#endif
+
+layout(location = 0) out vec4 out_color;
+
+void main() {
+#if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
+    vec3 c = in_color;
+#else
+    vec3 c = shade(in_world, normalize(in_normal));
+#endif
+    out_color = vec4(apply_fog(c, in_depth), 1.0);
+}

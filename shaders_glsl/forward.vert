@@ -1,0 +1,41 @@
+#version 460
+//! variant flat: SHADING_FLAT
+//! variant gouraud: SHADING_GOURAUD
+//! variant phong: SHADING_PHONG
+
+#include "include/lighting.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+#ifdef SHADING_FLAT
+layout(location = 4) in vec3 in_centroid;  // triangle centroid, object space (binding 1)
+#endif
+
+layout(location = 0) out float out_depth;  // view-space depth, for depth cueing
+#if defined(SHADING_FLAT)
+layout(location = 1) flat out vec3 out_color;
+#elif defined(SHADING_GOURAUD)
+layout(location = 1) out vec3 out_color;
+#else
+layout(location = 1) out vec3 out_world;
+layout(location = 2) out vec3 out_normal;
+#endif
+
+void main() {
+    ObjectData obj = objects[material.object_index];
+    vec4 world = obj.model * vec4(in_position, 1.0);
+    vec4 view_pos = frame.view * world;
+    out_depth = -view_pos.z;
+    gl_Position = frame.proj * view_pos;
+    vec3 n = normalize(mat3(obj.normal_matrix) * in_normal);
+#if defined(SHADING_FLAT)
+    // Lighting once per polygon, at its centroid, with the face normal.
+    vec3 c = (obj.model * vec4(in_centroid, 1.0)).xyz;
+    out_color = shade(c, n);
+#elif defined(SHADING_GOURAUD)
+    out_color = shade(world.xyz, n);
+#else
+    out_world = world.xyz;
+    out_normal = n;
+#endif
+}

@@ -1,0 +1,75 @@
+// Descriptor sets, bindings, push constants and specialization constants of the forward pass.
+// Mirrored in src/render/gpu.rs (the constants and the #[repr(C)] structs); keep both in step.
+#ifndef LUZ_BINDINGS_GLSL
+#define LUZ_BINDINGS_GLSL
+
+#define SET_FRAME 0
+#define BINDING_FRAME 0
+#define BINDING_LIGHTS 1
+#define BINDING_OBJECTS 2
+
+// Light types and falloff kinds (src/render/gpu.rs: LIGHT_*, FALLOFF_*).
+#define LIGHT_DIRECTIONAL 0u
+#define LIGHT_POINT 1u
+#define LIGHT_SPOT 2u
+#define FALLOFF_NONE 0u
+#define FALLOFF_INVERSE_SQUARE 1u
+#define FALLOFF_CLASSIC 2u
+
+// Material models (specialization constant MODEL; src/render/gpu.rs: MODEL_*).
+#define MODEL_PHONG 0u
+#define MODEL_BLINN_PHONG 1u
+#define MODEL_LAMBERT 2u
+
+layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {
+    mat4 view;
+    mat4 proj;
+    mat4 view_proj;
+    vec4 camera_pos;  // xyz
+    vec4 ambient;     // rgb: I_a (classic) or uniform ambient radiance (physically based)
+    vec4 fog_color;   // rgb: I_F
+    vec4 fog;         // z_a, z_b, s_a, s_b
+    uvec4 counts;     // x: number of lights
+} frame;
+
+struct Light {
+    vec4 position_type;      // xyz position, w = type (as float)
+    vec4 direction_falloff;  // xyz unit travel direction, w = falloff kind
+    vec4 radiance;           // rgb = colour * intensity, w unused
+    vec4 atten;              // c1, c2, c3, spot exponent
+    vec4 cone;               // cos(umbra), cos(inner), smooth (1) or hard (0) edge, unused
+};
+
+layout(set = SET_FRAME, binding = BINDING_LIGHTS, std430) readonly buffer Lights {
+    Light lights[];
+};
+
+struct ObjectData {
+    mat4 model;
+    mat4 normal_matrix;  // inverse-transpose of the model matrix's upper 3x3, in a mat4
+};
+
+layout(set = SET_FRAME, binding = BINDING_OBJECTS, std430) readonly buffer Objects {
+    ObjectData objects[];
+};
+
+// Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush).
+// phong / blinn_phong: c0 = (O_d, k_a), c1 = (O_s, k_d), p0 = (k_s, n, -, -)
+// lambert:             c0 = (albedo, -)
+layout(push_constant) uniform MaterialPush {
+    vec4 c0;
+    vec4 c1;
+    vec4 p0;
+    vec4 p1;
+    vec4 p2;
+    vec4 p3;
+    uint object_index;
+    uint flags;
+    uint reserved0;
+    uint reserved1;
+} material;
+
+layout(constant_id = 0) const uint MODEL = MODEL_BLINN_PHONG;
+layout(constant_id = 1) const bool FOG = false;
+
+#endif

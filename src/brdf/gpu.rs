@@ -1,0 +1,140 @@
+//! The packed material parameters the GLSL mirror reads (`BrdfParams` in
+//! `shaders_glsl/brdf/models.glsl`): 96 bytes, std430 / push-constant layout, six 16-byte slots.
+//!
+//! | offset | GLSL | Lambert | Phong / Blinn | Cook-Torrance | metal-rough | Principled | Oren-Nayar |
+//! |---|---|---|---|---|---|---|---|
+//! | 0  | `vec4 color`  | albedo, – | O_d, – | colour, roughness | base, roughness | base, roughness | ρ, – |
+//! | 16 | `vec4 spec`   | – | O_s, – | F0 or η (by `fresnel`), – | –, metallic | –, metallic | – |
+//! | 32 | `vec4 kappa`  | – | –, k_d | κ, k_d | – | – | – |
+//! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | – | (1−F) weight 0/1, – | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
+//! | 64 | `vec4 p1`     | – | – | – | – | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
+//! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
+//!
+//! Unused slots are 0. The parameters are sanitised first ([`Model::sanitized`]), so the GLSL
+//! does no range checks of its own beyond the clamps inside the terms.
+
+use super::models::{Fresnel, Model};
+
+/// `BRDF_MODEL_*` codes in `sel.x`.
+pub mod model_code {
+    /// Lambert.
+    pub const LAMBERT: i32 = 0;
+    /// Phong.
+    pub const PHONG: i32 = 1;
+    /// Blinn-Phong.
+    pub const BLINN_PHONG: i32 = 2;
+    /// Cook-Torrance.
+    pub const COOK_TORRANCE: i32 = 3;
+    /// glTF metallic-roughness.
+    pub const METAL_ROUGH: i32 = 4;
+    /// Disney Principled.
+    pub const PRINCIPLED: i32 = 5;
+    /// Oren-Nayar.
+    pub const OREN_NAYAR: i32 = 6;
+}
+
+/// The GLSL `BrdfParams` struct, byte for byte (see the module docs for the slot table).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GpuBrdfParams {
+    /// Offset 0.
+    pub color: [f32; 4],
+    /// Offset 16.
+    pub spec: [f32; 4],
+    /// Offset 32.
+    pub kappa: [f32; 4],
+    /// Offset 48.
+    pub p0: [f32; 4],
+    /// Offset 64.
+    pub p1: [f32; 4],
+    /// Offset 80: model code, distribution, geometry, fresnel.
+    pub sel: [i32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<GpuBrdfParams>() == GpuBrdfParams::SIZE);
+const _: () = assert!(GpuBrdfParams::SIZE <= 128);
+
+impl GpuBrdfParams {
+    /// Size in bytes (96).
+    pub const SIZE: usize = 96;
+
+    /// Packs a (sanitised) model.
+    pub fn from_model(model: &Model) -> Self {
+        let mut g = GpuBrdfParams::default();
+        match model.sanitized() {
+            Model::Lambert(p) => {
+                g.color = p.albedo.extend(0.0).to_array();
+                g.sel[0] = model_code::LAMBERT;
+            }
+            Model::Phong(p) => {
+                g.color = p.diffuse_color.extend(0.0).to_array();
+                g.spec = p.specular_color.extend(0.0).to_array();
+                g.kappa[3] = p.kd;
+                g.p0 = [p.ks, p.shininess, p.ka, 0.0];
+                g.sel[0] = if p.blinn {
+                    model_code::BLINN_PHONG
+                } else {
+                    model_code::PHONG
+                };
+            }
+            Model::CookTorrance(p) => {
+                let (spec, kappa) = p.specular.fresnel_inputs(p.fresnel);
+                g.color = p.color.extend(p.roughness).to_array();
+                g.spec = spec.extend(0.0).to_array();
+                g.kappa = kappa.extend(p.kd).to_array();
+                g.sel = [
+                    model_code::COOK_TORRANCE,
+                    p.distribution as i32,
+                    p.geometry as i32,
+                    p.fresnel as i32,
+                ];
+            }
+            Model::MetalRough(p) => {
+                g.color = p.base_color.extend(p.roughness).to_array();
+                g.spec[3] = p.metallic;
+                g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
+                g.sel = [
+                    model_code::METAL_ROUGH,
+                    p.distribution as i32,
+                    p.geometry as i32,
+                    p.fresnel as i32,
+                ];
+            }
+            Model::Principled(p) => {
+                g.color = p.base_color.extend(p.roughness).to_array();
+                g.spec[3] = p.metallic;
+                g.p0 = [p.subsurface, p.specular, p.specular_tint, p.anisotropic];
+                g.p1 = [p.sheen, p.sheen_tint, p.clearcoat, p.clearcoat_gloss];
+                g.sel[0] = model_code::PRINCIPLED;
+            }
+            Model::OrenNayar(p) => {
+                g.color = p.albedo.extend(0.0).to_array();
+                g.p0[0] = p.sigma_deg.to_radians();
+                g.sel[0] = model_code::OREN_NAYAR;
+            }
+        }
+        g
+    }
+
+    /// The 96 bytes in native (little-endian on every Vulkan target luz runs on) order, ready for
+    /// `vkCmdPushConstants` or a uniform/storage buffer.
+    pub fn to_bytes(&self) -> [u8; Self::SIZE] {
+        let mut out = [0u8; Self::SIZE];
+        let words = self
+            .color
+            .iter()
+            .chain(&self.spec)
+            .chain(&self.kappa)
+            .chain(&self.p0)
+            .chain(&self.p1)
+            .map(|f| f.to_bits())
+            .chain(self.sel.iter().map(|&i| i as u32));
+        for (chunk, w) in out.chunks_exact_mut(4).zip(words) {
+            chunk.copy_from_slice(&w.to_ne_bytes());
+        }
+        out
+    }
+}
+
+// Keep the selector codes in step with the GLSL `BRDF_F_*` etc. (checked in the tests too).
+const _: () = assert!(Fresnel::Conductor as i32 == 3);

@@ -1,0 +1,50 @@
+//! The CPU reference BRDFs: every reflection model the renderer has, term by term, in `f32`.
+//!
+//! The formulas are those of `MODELS.md` (§1 classic, §3 Fresnel, §4 microfacet, §5 Disney
+//! "Principled", §6 diffuse). `shaders_glsl/brdf/terms.glsl` and `shaders_glsl/brdf/models.glsl`
+//! mirror this module function for function, with the same names, clamps and epsilons, so that a
+//! GPU frame can be compared with the CPU per pixel.
+//!
+//! Conventions: `n` normal, `l` towards the light, `v` towards the viewer, `x`/`y` tangent and
+//! bitangent, `h = normalize(l + v)`. [`eval`] returns the BRDF value `f` (not multiplied by
+//! `n·l`); [`radiance`] returns `f · E · max(n·l, 0)`.
+//!
+//! Robustness rules, shared with the GLSL (see `docs/brdf.md`):
+//! * `f = 0` when `n·l ≤ 0` or `n·v ≤ 0` (also when `n`, `l` or `v` is a zero vector);
+//! * afterwards `n·l` and `n·v` are clamped to `[COS_EPS, 1]` wherever they are divided by;
+//! * every D clamps its width (`α`, `α_x`, `α_y`, `m`) to at least [`ALPHA_MIN`];
+//! * `h` is the zero vector when `|l + v|² ≤ LEN2_EPS` (`l = −v`), which zeroes every D;
+//! * degenerate tangents are rebuilt from the normal ([`tangent_frame`]);
+//! * parameters are sanitised (non-finite → default, unit-range parameters clamped to [0, 1]).
+
+mod albedo;
+mod gpu;
+mod models;
+mod presets;
+mod sampling;
+mod terms;
+
+#[cfg(test)]
+mod tests;
+
+pub use albedo::{
+    directional_albedo, directional_albedo_dir, integrate_hemisphere, sampling_lobes, Lobe,
+};
+pub use gpu::{model_code, GpuBrdfParams};
+pub use models::{
+    blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,
+    metal_rough, metal_rough_terms, oren_nayar, oren_nayar_terms, phong, phong_radiance,
+    phong_terms, principled, principled_terms, radiance, CookTorranceParams, Distribution, Fresnel,
+    Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
+    PrincipledParams, SpecularSource, Terms,
+};
+pub use presets::{
+    dielectric_ior, f0_from_ior, ior_from_f0, metal_preset, ComplexIor, DIELECTRIC_NAMES,
+    METAL_NAMES,
+};
+pub use sampling::{
+    hammersley, importance_sample_ggx, ortho_basis, radical_inverse_vdc, sample_beckmann_h,
+    sample_cosine_hemisphere, sample_ggx_aniso_h, sample_gtr1_h, sample_power_cosine,
+    sample_uniform_hemisphere,
+};
+pub use terms::*;

@@ -1,0 +1,899 @@
+//! The reflection models (MODELS.md §1, §4, §5, §6) built from [`super::terms`], their parameter
+//! structs, and the dispatching [`eval`], [`eval_terms`] and [`radiance`].
+//!
+//! Each `*_terms` function here has a GLSL twin in `shaders_glsl/brdf/models.glsl` of the same
+//! name (prefixed `brdf_`) taking the packed [`super::GpuBrdfParams`].
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use super::presets::{f0_from_ior, ior_from_f0, ComplexIor};
+use super::terms::*;
+
+// ---------------------------------------------------------------------------------------------
+// Selectors
+// ---------------------------------------------------------------------------------------------
+
+/// Normal distribution selector. GPU code: `BRDF_D_*` in `models.glsl`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Distribution {
+    /// [`d_beckmann`].
+    Beckmann = 0,
+    /// [`d_ggx`] (GTR2).
+    Ggx = 1,
+}
+
+/// Masking-shadowing selector. GPU code: `BRDF_G_*` in `models.glsl`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Geometry {
+    /// [`g_cook_torrance`].
+    CookTorrance = 0,
+    /// [`g_smith_ggx_separable`].
+    SmithGgx = 1,
+    /// [`g_smith_ggx_correlated`].
+    SmithGgxCorrelated = 2,
+    /// [`g_schlick_ggx`] with [`k_punctual`].
+    SchlickGgx = 3,
+}
+
+/// Fresnel selector. GPU code: `BRDF_F_*` in `models.glsl`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fresnel {
+    /// [`f_schlick`] (needs F0).
+    Schlick = 0,
+    /// [`f_schlick_sg`] (needs F0).
+    SchlickSg = 1,
+    /// [`f_dielectric`] per channel (needs η).
+    Dielectric = 2,
+    /// [`f_conductor`] (needs η and κ).
+    Conductor = 3,
+}
+
+impl Distribution {
+    /// Every value, in code order.
+    pub const ALL: [Distribution; 2] = [Distribution::Beckmann, Distribution::Ggx];
+
+    /// Evaluates the selected D with width `a` (`m` for Beckmann, `α` for GGX);
+    /// `sin2_h = |n × h|²` (see [`sin2_from_cos`]).
+    pub fn eval(self, n_h: f32, sin2_h: f32, a: f32) -> f32 {
+        match self {
+            Distribution::Beckmann => d_beckmann_sin2(n_h, sin2_h, a),
+            Distribution::Ggx => d_ggx_sin2(n_h, sin2_h, a),
+        }
+    }
+}
+
+impl Geometry {
+    /// Every value, in code order.
+    pub const ALL: [Geometry; 4] = [
+        Geometry::CookTorrance,
+        Geometry::SmithGgx,
+        Geometry::SmithGgxCorrelated,
+        Geometry::SchlickGgx,
+    ];
+
+    /// Evaluates the selected G. `a` is the width of the distribution (used by the Smith forms),
+    /// `roughness` the perceptual roughness (used by Schlick-GGX's `k_punctual`).
+    pub fn eval(self, n_h: f32, n_v: f32, n_l: f32, v_h: f32, a: f32, roughness: f32) -> f32 {
+        match self {
+            Geometry::CookTorrance => g_cook_torrance(n_h, n_v, n_l, v_h),
+            Geometry::SmithGgx => g_smith_ggx_separable(n_l, n_v, a),
+            Geometry::SmithGgxCorrelated => g_smith_ggx_correlated(n_l, n_v, a),
+            Geometry::SchlickGgx => g_schlick_ggx(n_l, n_v, k_punctual(roughness)),
+        }
+    }
+}
+
+impl Fresnel {
+    /// Every value, in code order.
+    pub const ALL: [Fresnel; 4] = [
+        Fresnel::Schlick,
+        Fresnel::SchlickSg,
+        Fresnel::Dielectric,
+        Fresnel::Conductor,
+    ];
+
+    /// Evaluates the selected F at `v·h`. `spec` is F0 (Schlick, SchlickSg) or η (Dielectric,
+    /// Conductor); `kappa` is κ (Conductor only).
+    pub fn eval(self, spec: Vec3, kappa: Vec3, v_h: f32) -> Vec3 {
+        match self {
+            Fresnel::Schlick => f_schlick(spec, v_h),
+            Fresnel::SchlickSg => f_schlick_sg(spec, v_h),
+            Fresnel::Dielectric => Vec3::new(
+                f_dielectric(v_h, spec.x),
+                f_dielectric(v_h, spec.y),
+                f_dielectric(v_h, spec.z),
+            ),
+            Fresnel::Conductor => f_conductor(v_h, spec, kappa),
+        }
+    }
+
+    /// The Fresnel inputs `(spec, kappa)` for a reflectance at normal incidence `f0`: F0 itself
+    /// for the Schlick forms, `η = ior_from_f0(F0)` (and κ = 0) for the exact forms.
+    pub fn inputs_from_f0(self, f0: Vec3) -> (Vec3, Vec3) {
+        match self {
+            Fresnel::Schlick | Fresnel::SchlickSg => (f0, Vec3::ZERO),
+            Fresnel::Dielectric | Fresnel::Conductor => (
+                Vec3::new(ior_from_f0(f0.x), ior_from_f0(f0.y), ior_from_f0(f0.z)),
+                Vec3::ZERO,
+            ),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameters
+// ---------------------------------------------------------------------------------------------
+
+fn fin(x: f32, default: f32) -> f32 {
+    if x.is_finite() {
+        x
+    } else {
+        default
+    }
+}
+
+fn unit(x: f32, default: f32) -> f32 {
+    fin(x, default).clamp(0.0, 1.0)
+}
+
+fn colour(c: Vec3) -> Vec3 {
+    Vec3::new(fin(c.x, 0.0), fin(c.y, 0.0), fin(c.z, 0.0)).max(Vec3::ZERO)
+}
+
+/// Lambert (MODELS.md §6): `f = albedo / π`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LambertParams {
+    /// Diffuse albedo ρ, linear RGB. Default 0.8 grey.
+    pub albedo: Vec3,
+}
+
+impl Default for LambertParams {
+    fn default() -> Self {
+        Self {
+            albedo: Vec3::splat(0.8),
+        }
+    }
+}
+
+impl LambertParams {
+    /// Non-finite and negative colour components become 0.
+    pub fn sanitized(&self) -> Self {
+        Self {
+            albedo: colour(self.albedo),
+        }
+    }
+}
+
+/// The classic empirical model of the slides (MODELS.md §1): Lambert diffuse plus Phong
+/// (`max(r·v, 0)^n`, `r = 2(n·l)n − l`) or Blinn-Phong (`max(n·h, 0)^n`) specular, with the
+/// slides' intensity terms `I = I_L (k_d O_d (n·l) + k_s O_s (r·v)^n)`. Not energy conserving
+/// and not reciprocal: the BRDF equivalent is `f = k_d O_d + k_s O_s (r·v)^n / (n·l)`.
+/// Field names and defaults are those of the scene format (`docs/scene-format.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PhongParams {
+    /// O_d, the object's diffuse colour. Default 0.8 grey.
+    pub diffuse_color: Vec3,
+    /// O_s, the object's specular colour. Default white.
+    pub specular_color: Vec3,
+    /// k_a, ambient coefficient (used by [`PhongParams::ambient`] only), ≥ 0. Default 0.2.
+    pub ka: f32,
+    /// k_d, diffuse coefficient, ≥ 0. Default 0.8.
+    pub kd: f32,
+    /// k_s, specular coefficient, ≥ 0. Default 0.5.
+    pub ks: f32,
+    /// The exponent n, [0, 10000]. Default 32.
+    pub shininess: f32,
+    /// Blinn-Phong (`n·h`) instead of Phong (`r·v`). Default false; the model name
+    /// `"blinn_phong"` sets it.
+    pub blinn: bool,
+}
+
+impl Default for PhongParams {
+    fn default() -> Self {
+        Self {
+            diffuse_color: Vec3::splat(0.8),
+            specular_color: Vec3::ONE,
+            ka: 0.2,
+            kd: 0.8,
+            ks: 0.5,
+            shininess: 32.0,
+            blinn: false,
+        }
+    }
+}
+
+impl PhongParams {
+    /// Colours and coefficients ≥ 0 (no upper bound: the classic model has none), shininess in
+    /// [0, 10000]; non-finite → default.
+    pub fn sanitized(&self) -> Self {
+        let d = Self::default();
+        Self {
+            diffuse_color: colour(self.diffuse_color),
+            specular_color: colour(self.specular_color),
+            ka: fin(self.ka, d.ka).max(0.0),
+            kd: fin(self.kd, d.kd).max(0.0),
+            ks: fin(self.ks, d.ks).max(0.0),
+            shininess: fin(self.shininess, d.shininess).clamp(0.0, 10_000.0),
+            blinn: self.blinn,
+        }
+    }
+
+    /// The slides' ambient term `I_a k_a O_d` (not part of the BRDF).
+    pub fn ambient(&self, i_a: Vec3) -> Vec3 {
+        let p = self.sanitized();
+        i_a * p.ka * p.diffuse_color
+    }
+}
+
+/// Where Cook-Torrance takes its Fresnel reflectance from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpecularSource {
+    /// A real index of refraction η (as the seed's presets: 0.277 for gold, 1.5 for glass).
+    Ior(f32),
+    /// Reflectance at normal incidence, per channel.
+    F0(Vec3),
+    /// A complex index of refraction (see [`super::metal_preset`]).
+    Complex(ComplexIor),
+}
+
+impl SpecularSource {
+    fn sanitized(&self) -> Self {
+        match *self {
+            SpecularSource::Ior(eta) => SpecularSource::Ior(fin(eta, 1.5).max(1e-4)),
+            SpecularSource::F0(f0) => SpecularSource::F0(colour(f0).min(Vec3::ONE)),
+            SpecularSource::Complex(c) => SpecularSource::Complex(ComplexIor {
+                eta: colour(c.eta),
+                k: colour(c.k),
+            }),
+        }
+    }
+
+    /// The Fresnel inputs `(spec, kappa)` for the selected Fresnel term:
+    /// * Schlick forms: `spec = F0` (from η by [`f0_from_ior`], from a complex index by
+    ///   [`ComplexIor::f0`]);
+    /// * Dielectric: `spec = η` (from F0 by [`ior_from_f0`]; a complex index's κ is ignored);
+    /// * Conductor: `spec = η`, `kappa = κ` (κ = 0 for a real index or an F0).
+    pub fn fresnel_inputs(&self, fresnel: Fresnel) -> (Vec3, Vec3) {
+        match (fresnel, *self) {
+            (Fresnel::Schlick | Fresnel::SchlickSg, SpecularSource::Ior(eta)) => {
+                (Vec3::splat(f0_from_ior(eta)), Vec3::ZERO)
+            }
+            (Fresnel::Schlick | Fresnel::SchlickSg, SpecularSource::F0(f0)) => (f0, Vec3::ZERO),
+            (Fresnel::Schlick | Fresnel::SchlickSg, SpecularSource::Complex(c)) => {
+                (c.f0(), Vec3::ZERO)
+            }
+            (_, SpecularSource::Ior(eta)) => (Vec3::splat(eta), Vec3::ZERO),
+            (f, SpecularSource::F0(f0)) => f.inputs_from_f0(f0),
+            (Fresnel::Dielectric, SpecularSource::Complex(c)) => (c.eta, Vec3::ZERO),
+            (_, SpecularSource::Complex(c)) => (c.eta, c.k),
+        }
+    }
+}
+
+/// Cook-Torrance as in seed 000 (MODELS.md §4): `f = k_d · color/π + (1 − k_d) · D F G / (4 (n·l)(n·v))`.
+/// Width of D: `m = roughness` for Beckmann (as the seed), `α = roughness²` for GGX; the Smith
+/// G forms use the same width, Schlick-GGX uses `k_punctual(roughness)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CookTorranceParams {
+    /// Diffuse albedo, linear RGB. Default 0.8 grey.
+    pub color: Vec3,
+    /// k_d, the diffuse/specular mix, [0, 1]. Default 0.75 (the seed's presets).
+    pub kd: f32,
+    /// Roughness, [0, 1]. Default 0.3.
+    pub roughness: f32,
+    /// Fresnel source. Default `Ior(1.5)`.
+    pub specular: SpecularSource,
+    /// Default Beckmann.
+    pub distribution: Distribution,
+    /// Default Cook-Torrance.
+    pub geometry: Geometry,
+    /// Default Schlick.
+    pub fresnel: Fresnel,
+}
+
+impl Default for CookTorranceParams {
+    fn default() -> Self {
+        Self {
+            color: Vec3::splat(0.8),
+            kd: 0.75,
+            roughness: 0.3,
+            specular: SpecularSource::Ior(1.5),
+            distribution: Distribution::Beckmann,
+            geometry: Geometry::CookTorrance,
+            fresnel: Fresnel::Schlick,
+        }
+    }
+}
+
+impl CookTorranceParams {
+    /// Colour ≥ 0, k_d and roughness in [0, 1], η ≥ 1e-4, κ ≥ 0, F0 in [0, 1].
+    pub fn sanitized(&self) -> Self {
+        Self {
+            color: colour(self.color),
+            kd: unit(self.kd, 0.75),
+            roughness: unit(self.roughness, 0.3),
+            specular: self.specular.sanitized(),
+            ..*self
+        }
+    }
+
+    /// The width of D: `roughness` for Beckmann, `roughness²` for GGX, at least [`ALPHA_MIN`].
+    pub fn width(&self) -> f32 {
+        let a = match self.distribution {
+            Distribution::Beckmann => self.roughness,
+            Distribution::Ggx => self.roughness * self.roughness,
+        };
+        a.max(ALPHA_MIN)
+    }
+}
+
+/// glTF metallic-roughness (MODELS.md §4): `c_diff = base·(1 − metallic)`,
+/// `F0 = mix(0.04, base, metallic)`, `f = c_diff/π · [1 − F] + D F G / (4 (n·l)(n·v))`,
+/// `α = roughness²` (also the Beckmann `m` when Beckmann is selected).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MetalRoughParams {
+    /// Base colour, linear RGB. Default white (glTF).
+    pub base_color: Vec3,
+    /// Metallic, [0, 1]. Default 1 (glTF).
+    pub metallic: f32,
+    /// Perceptual roughness, [0, 1]. Default 1 (glTF).
+    pub roughness: f32,
+    /// Default GGX.
+    pub distribution: Distribution,
+    /// Default Smith GGX height-correlated.
+    pub geometry: Geometry,
+    /// Default Schlick.
+    pub fresnel: Fresnel,
+    /// Weight the diffuse by `1 − F(v·h)`. Default false.
+    pub diffuse_fresnel_weight: bool,
+}
+
+impl Default for MetalRoughParams {
+    fn default() -> Self {
+        Self {
+            base_color: Vec3::ONE,
+            metallic: 1.0,
+            roughness: 1.0,
+            distribution: Distribution::Ggx,
+            geometry: Geometry::SmithGgxCorrelated,
+            fresnel: Fresnel::Schlick,
+            diffuse_fresnel_weight: false,
+        }
+    }
+}
+
+impl MetalRoughParams {
+    /// Colour ≥ 0, metallic and roughness in [0, 1].
+    pub fn sanitized(&self) -> Self {
+        Self {
+            base_color: colour(self.base_color),
+            metallic: unit(self.metallic, 1.0),
+            roughness: unit(self.roughness, 1.0),
+            ..*self
+        }
+    }
+}
+
+/// Disney "Principled" BRDF, Burley 2012, exactly as BRDF Explorer's `disney.brdf`
+/// (MODELS.md §5). Defaults are `disney.brdf`'s.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PrincipledParams {
+    /// Base colour, linear RGB (`Cdlin`). Default (0.82, 0.67, 0.16).
+    pub base_color: Vec3,
+    /// Default 0.
+    pub subsurface: f32,
+    /// Default 0.
+    pub metallic: f32,
+    /// Default 0.5 (F0 = 0.04).
+    pub specular: f32,
+    /// Default 0.
+    pub specular_tint: f32,
+    /// Default 0.5.
+    pub roughness: f32,
+    /// Default 0.
+    pub anisotropic: f32,
+    /// Default 0.
+    pub sheen: f32,
+    /// Default 0.5.
+    pub sheen_tint: f32,
+    /// Default 0.
+    pub clearcoat: f32,
+    /// Default 1.
+    pub clearcoat_gloss: f32,
+}
+
+impl Default for PrincipledParams {
+    fn default() -> Self {
+        Self {
+            base_color: Vec3::new(0.82, 0.67, 0.16),
+            subsurface: 0.0,
+            metallic: 0.0,
+            specular: 0.5,
+            specular_tint: 0.0,
+            roughness: 0.5,
+            anisotropic: 0.0,
+            sheen: 0.0,
+            sheen_tint: 0.5,
+            clearcoat: 0.0,
+            clearcoat_gloss: 1.0,
+        }
+    }
+}
+
+impl PrincipledParams {
+    /// Colour ≥ 0, the ten scalars in [0, 1] (MODELS.md §5); non-finite → default.
+    pub fn sanitized(&self) -> Self {
+        let d = Self::default();
+        Self {
+            base_color: colour(self.base_color),
+            subsurface: unit(self.subsurface, d.subsurface),
+            metallic: unit(self.metallic, d.metallic),
+            specular: unit(self.specular, d.specular),
+            specular_tint: unit(self.specular_tint, d.specular_tint),
+            roughness: unit(self.roughness, d.roughness),
+            anisotropic: unit(self.anisotropic, d.anisotropic),
+            sheen: unit(self.sheen, d.sheen),
+            sheen_tint: unit(self.sheen_tint, d.sheen_tint),
+            clearcoat: unit(self.clearcoat, d.clearcoat),
+            clearcoat_gloss: unit(self.clearcoat_gloss, d.clearcoat_gloss),
+        }
+    }
+}
+
+/// Qualitative Oren-Nayar (MODELS.md §6).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OrenNayarParams {
+    /// ρ, linear RGB. Default 0.8 grey.
+    pub albedo: Vec3,
+    /// Roughness σ in degrees, [0, 90]. Default 20.
+    pub sigma_deg: f32,
+}
+
+impl Default for OrenNayarParams {
+    fn default() -> Self {
+        Self {
+            albedo: Vec3::splat(0.8),
+            sigma_deg: 20.0,
+        }
+    }
+}
+
+impl OrenNayarParams {
+    /// Colour ≥ 0, σ in [0°, 90°].
+    pub fn sanitized(&self) -> Self {
+        Self {
+            albedo: colour(self.albedo),
+            sigma_deg: fin(self.sigma_deg, 20.0).clamp(0.0, 90.0),
+        }
+    }
+}
+
+/// A reflection model with its parameters. Serialised with a `"model"` tag:
+/// `{"model": "principled", "roughness": 0.3}`; missing fields take their defaults, unknown
+/// fields are errors. `"blinn_phong"` is read as [`Model::Phong`] with `blinn = true` (and
+/// written back under that name), as in the scene format.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(from = "ModelRepr", into = "ModelRepr")]
+pub enum Model {
+    /// See [`LambertParams`].
+    Lambert(LambertParams),
+    /// See [`PhongParams`] (Phong and Blinn-Phong).
+    Phong(PhongParams),
+    /// See [`CookTorranceParams`].
+    CookTorrance(CookTorranceParams),
+    /// See [`MetalRoughParams`].
+    MetalRough(MetalRoughParams),
+    /// See [`PrincipledParams`].
+    Principled(PrincipledParams),
+    /// See [`OrenNayarParams`].
+    OrenNayar(OrenNayarParams),
+}
+
+/// The serde shape of [`Model`]: like it, plus a `blinn_phong` tag.
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "model", rename_all = "snake_case")]
+enum ModelRepr {
+    Lambert(LambertParams),
+    Phong(PhongParams),
+    BlinnPhong(PhongParams),
+    CookTorrance(CookTorranceParams),
+    MetalRough(MetalRoughParams),
+    Principled(PrincipledParams),
+    OrenNayar(OrenNayarParams),
+}
+
+impl From<ModelRepr> for Model {
+    fn from(r: ModelRepr) -> Self {
+        match r {
+            ModelRepr::Lambert(p) => Model::Lambert(p),
+            ModelRepr::Phong(p) => Model::Phong(p),
+            ModelRepr::BlinnPhong(p) => Model::Phong(PhongParams { blinn: true, ..p }),
+            ModelRepr::CookTorrance(p) => Model::CookTorrance(p),
+            ModelRepr::MetalRough(p) => Model::MetalRough(p),
+            ModelRepr::Principled(p) => Model::Principled(p),
+            ModelRepr::OrenNayar(p) => Model::OrenNayar(p),
+        }
+    }
+}
+
+impl From<Model> for ModelRepr {
+    fn from(m: Model) -> Self {
+        match m {
+            Model::Lambert(p) => ModelRepr::Lambert(p),
+            Model::Phong(p) if p.blinn => ModelRepr::BlinnPhong(p),
+            Model::Phong(p) => ModelRepr::Phong(p),
+            Model::CookTorrance(p) => ModelRepr::CookTorrance(p),
+            Model::MetalRough(p) => ModelRepr::MetalRough(p),
+            Model::Principled(p) => ModelRepr::Principled(p),
+            Model::OrenNayar(p) => ModelRepr::OrenNayar(p),
+        }
+    }
+}
+
+impl Model {
+    /// The serde tag: "lambert", "phong", "blinn_phong", "cook_torrance", "metal_rough",
+    /// "principled", "oren_nayar".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Model::Lambert(_) => "lambert",
+            Model::Phong(p) if p.blinn => "blinn_phong",
+            Model::Phong(_) => "phong",
+            Model::CookTorrance(_) => "cook_torrance",
+            Model::MetalRough(_) => "metal_rough",
+            Model::Principled(_) => "principled",
+            Model::OrenNayar(_) => "oren_nayar",
+        }
+    }
+
+    /// Helmholtz reciprocity `f(l, v) = f(v, l)` holds for every model but the classic
+    /// Phong / Blinn-Phong (whose BRDF equivalent divides the specular by `n·l`).
+    pub fn is_reciprocal(&self) -> bool {
+        !matches!(self, Model::Phong(_))
+    }
+
+    /// The parameters with non-finite values replaced and ranges clamped (what [`eval`] and
+    /// [`super::GpuBrdfParams::from_model`] use).
+    pub fn sanitized(&self) -> Self {
+        match self {
+            Model::Lambert(p) => Model::Lambert(p.sanitized()),
+            Model::Phong(p) => Model::Phong(p.sanitized()),
+            Model::CookTorrance(p) => Model::CookTorrance(p.sanitized()),
+            Model::MetalRough(p) => Model::MetalRough(p.sanitized()),
+            Model::Principled(p) => Model::Principled(p.sanitized()),
+            Model::OrenNayar(p) => Model::OrenNayar(p.sanitized()),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Evaluation
+// ---------------------------------------------------------------------------------------------
+
+/// A BRDF split into its terms, for debug views. `d`, `g` and `f` are those of the main specular
+/// lobe (0 for models without one); `g` is the masking-shadowing G itself, not a visibility term.
+/// `diffuse + specular` is the BRDF value.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Terms {
+    /// Normal distribution D(h).
+    pub d: f32,
+    /// Masking-shadowing G(l, v).
+    pub g: f32,
+    /// Fresnel F(v·h).
+    pub f: Vec3,
+    /// The diffuse part of f (with sheen for Principled), already weighted (k_d, 1 − metallic, …).
+    pub diffuse: Vec3,
+    /// The specular part of f (with clearcoat for Principled), already weighted.
+    pub specular: Vec3,
+}
+
+impl Terms {
+    /// All zero.
+    pub const ZERO: Terms = Terms {
+        d: 0.0,
+        g: 0.0,
+        f: Vec3::ZERO,
+        diffuse: Vec3::ZERO,
+        specular: Vec3::ZERO,
+    };
+
+    /// The BRDF value `diffuse + specular`.
+    pub fn total(&self) -> Vec3 {
+        self.diffuse + self.specular
+    }
+}
+
+/// Normalised directions and clamped cosines shared by every model.
+struct Setup {
+    n: Vec3,
+    l: Vec3,
+    v: Vec3,
+    /// `n·l` clamped to `[COS_EPS, 1]`.
+    n_l: f32,
+    /// `n·v` clamped to `[COS_EPS, 1]`.
+    n_v: f32,
+}
+
+/// `None` when `n·l ≤ 0` or `n·v ≤ 0` (including zero vectors).
+fn setup(n: Vec3, l: Vec3, v: Vec3) -> Option<Setup> {
+    let n = safe_normalize(n);
+    let l = safe_normalize(l);
+    let v = safe_normalize(v);
+    let n_l = n.dot(l);
+    let n_v = n.dot(v);
+    if n_l <= 0.0 || n_v <= 0.0 {
+        return None;
+    }
+    Some(Setup {
+        n,
+        l,
+        v,
+        n_l: clamp_cos(n_l),
+        n_v: clamp_cos(n_v),
+    })
+}
+
+/// Lambert, as terms.
+pub fn lambert_terms(p: &LambertParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
+    let p = p.sanitized();
+    if setup(n, l, v).is_none() {
+        return Terms::ZERO;
+    }
+    Terms {
+        diffuse: diffuse_lambert(p.albedo),
+        ..Terms::ZERO
+    }
+}
+
+/// Lambert: `albedo / π`.
+pub fn lambert(p: &LambertParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+    lambert_terms(p, n, l, v).total()
+}
+
+/// The specular power of the classic models: `max(r·v, 0)^n` (Phong) or `max(n·h, 0)^n`
+/// (Blinn-Phong); 0 when the base is `≤ 0`.
+fn classic_lobe(p: &PhongParams, s: &Setup) -> f32 {
+    let base = if p.blinn {
+        s.n.dot(safe_normalize(s.l + s.v))
+    } else {
+        let r = s.n * (2.0 * s.n.dot(s.l)) - s.l;
+        r.dot(s.v)
+    };
+    if base <= 0.0 {
+        0.0
+    } else {
+        base.powf(p.shininess)
+    }
+}
+
+/// Phong or Blinn-Phong (by `p.blinn`) as terms: `diffuse = k_d O_d`,
+/// `specular = k_s O_s lobe / (n·l)`.
+pub fn phong_terms(p: &PhongParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
+    let p = p.sanitized();
+    let Some(s) = setup(n, l, v) else {
+        return Terms::ZERO;
+    };
+    let lobe = classic_lobe(&p, &s);
+    Terms {
+        diffuse: p.diffuse_color * p.kd,
+        specular: p.specular_color * (p.ks * lobe / s.n_l),
+        ..Terms::ZERO
+    }
+}
+
+/// Classic Phong BRDF equivalent (`r·v` lobe whatever `p.blinn` says).
+pub fn phong(p: &PhongParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+    phong_terms(&PhongParams { blinn: false, ..*p }, n, l, v).total()
+}
+
+/// Classic Blinn-Phong BRDF equivalent (`n·h` lobe whatever `p.blinn` says).
+pub fn blinn_phong(p: &PhongParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+    phong_terms(&PhongParams { blinn: true, ..*p }, n, l, v).total()
+}
+
+/// The slides' formula: `I_L (k_d O_d (n·l) + k_s O_s lobe)` with `I_L = e_light`; 0 when
+/// `n·l ≤ 0` or `n·v ≤ 0`. Light attenuation `f_at` is the caller's (fold it into `e_light`).
+pub fn phong_radiance(p: &PhongParams, n: Vec3, l: Vec3, v: Vec3, e_light: Vec3) -> Vec3 {
+    let p = p.sanitized();
+    let Some(s) = setup(n, l, v) else {
+        return Vec3::ZERO;
+    };
+    let lobe = classic_lobe(&p, &s);
+    let n_l = s.n.dot(s.l).min(1.0);
+    e_light * (p.diffuse_color * (p.kd * n_l) + p.specular_color * (p.ks * lobe))
+}
+
+/// Cook-Torrance as terms.
+pub fn cook_torrance_terms(p: &CookTorranceParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
+    let p = p.sanitized();
+    let Some(s) = setup(n, l, v) else {
+        return Terms::ZERO;
+    };
+    let a = p.width();
+    let (spec, kappa) = p.specular.fresnel_inputs(p.fresnel);
+    let h = safe_normalize(s.l + s.v);
+    let n_h = s.n.dot(h);
+    let sin2_h = s.n.cross(h).length_squared();
+    let v_h = s.v.dot(h);
+    let d = p.distribution.eval(n_h, sin2_h, a);
+    let g = p.geometry.eval(n_h, s.n_v, s.n_l, v_h, a, p.roughness);
+    let f = p.fresnel.eval(spec, kappa, v_h);
+    let spec_brdf = f * (d * g / (4.0 * s.n_l * s.n_v));
+    Terms {
+        d,
+        g,
+        f,
+        diffuse: p.color * (p.kd * INV_PI),
+        specular: spec_brdf * (1.0 - p.kd),
+    }
+}
+
+/// Cook-Torrance: `k_d · color/π + (1 − k_d) · D F G / (4 (n·l)(n·v))`.
+pub fn cook_torrance(p: &CookTorranceParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+    cook_torrance_terms(p, n, l, v).total()
+}
+
+/// glTF metallic-roughness as terms.
+pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
+    let p = p.sanitized();
+    let Some(s) = setup(n, l, v) else {
+        return Terms::ZERO;
+    };
+    let a = (p.roughness * p.roughness).max(ALPHA_MIN);
+    let f0 = mix3(Vec3::splat(0.04), p.base_color, p.metallic);
+    let c_diff = p.base_color * (1.0 - p.metallic);
+    let (spec, kappa) = p.fresnel.inputs_from_f0(f0);
+    let h = safe_normalize(s.l + s.v);
+    let n_h = s.n.dot(h);
+    let sin2_h = s.n.cross(h).length_squared();
+    let v_h = s.v.dot(h);
+    let d = p.distribution.eval(n_h, sin2_h, a);
+    let g = p.geometry.eval(n_h, s.n_v, s.n_l, v_h, a, p.roughness);
+    let f = p.fresnel.eval(spec, kappa, v_h);
+    let weight = if p.diffuse_fresnel_weight {
+        Vec3::ONE - f
+    } else {
+        Vec3::ONE
+    };
+    Terms {
+        d,
+        g,
+        f,
+        diffuse: c_diff * INV_PI * weight,
+        specular: f * (d * g / (4.0 * s.n_l * s.n_v)),
+    }
+}
+
+/// glTF metallic-roughness: `c_diff/π · [1 − F] + D F G / (4 (n·l)(n·v))`.
+pub fn metal_rough(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+    metal_rough_terms(p, n, l, v).total()
+}
+
+/// Disney Principled as terms (`d = Ds`, `g = Gs · 4 (n·l)(n·v)`, `f = Fs`; sheen is in
+/// `diffuse`, clearcoat in `specular`).
+pub fn principled_terms(
+    p: &PrincipledParams,
+    n: Vec3,
+    l: Vec3,
+    v: Vec3,
+    x: Vec3,
+    y: Vec3,
+) -> Terms {
+    let p = p.sanitized();
+    let Some(s) = setup(n, l, v) else {
+        return Terms::ZERO;
+    };
+    let (tx, ty) = tangent_frame(s.n, x, y);
+    let h = safe_normalize(s.l + s.v);
+    let n_h = s.n.dot(h);
+    let sin2_h = s.n.cross(h).length_squared();
+    let l_h = s.l.dot(h);
+
+    let cdlin = p.base_color;
+    let cdlum = 0.3 * cdlin.x + 0.6 * cdlin.y + 0.1 * cdlin.z;
+    let ctint = if cdlum > 0.0 {
+        cdlin / cdlum
+    } else {
+        Vec3::ONE
+    };
+    let cspec0 = mix3(
+        mix3(Vec3::ONE, ctint, p.specular_tint) * (p.specular * 0.08),
+        cdlin,
+        p.metallic,
+    );
+    let csheen = mix3(Vec3::ONE, ctint, p.sheen_tint);
+
+    // Diffuse (Fd) and Hanrahan-Krueger subsurface (ss).
+    let fd = fd_burley(s.n_l, s.n_v, l_h, p.roughness);
+    let ss = ss_hanrahan_krueger(s.n_l, s.n_v, l_h, p.roughness);
+
+    // Specular.
+    let aspect = (1.0 - p.anisotropic * 0.9).sqrt();
+    let r2 = p.roughness * p.roughness;
+    let ax = (r2 / aspect).max(ALPHA_MIN);
+    let ay = (r2 * aspect).max(ALPHA_MIN);
+    let ds = d_gtr2_aniso(n_h, h.dot(tx), h.dot(ty), ax, ay);
+    let fh = schlick_weight(l_h);
+    let fs = mix3(cspec0, Vec3::ONE, fh);
+    let gs = vis_smith_ggx_aniso(s.n_l, s.l.dot(tx), s.l.dot(ty), ax, ay)
+        * vis_smith_ggx_aniso(s.n_v, s.v.dot(tx), s.v.dot(ty), ax, ay);
+
+    // Sheen.
+    let fsheen = csheen * (fh * p.sheen);
+
+    // Clearcoat (ior = 1.5 → F0 = 0.04).
+    let dr = d_gtr1_sin2(n_h, sin2_h, mix(0.1, 0.001, p.clearcoat_gloss));
+    let fr = mix(0.04, 1.0, fh);
+    let gr = vis_smith_ggx_iso(s.n_l, 0.25) * vis_smith_ggx_iso(s.n_v, 0.25);
+
+    Terms {
+        d: ds,
+        g: gs * 4.0 * s.n_l * s.n_v,
+        f: fs,
+        diffuse: (cdlin * (INV_PI * mix(fd, ss, p.subsurface)) + fsheen) * (1.0 - p.metallic),
+        specular: fs * (gs * ds) + Vec3::splat(0.25 * p.clearcoat * gr * fr * dr),
+    }
+}
+
+/// Disney Principled BRDF value.
+pub fn principled(p: &PrincipledParams, n: Vec3, l: Vec3, v: Vec3, x: Vec3, y: Vec3) -> Vec3 {
+    principled_terms(p, n, l, v, x, y).total()
+}
+
+/// Oren-Nayar as terms.
+pub fn oren_nayar_terms(p: &OrenNayarParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
+    let p = p.sanitized();
+    let Some(s) = setup(n, l, v) else {
+        return Terms::ZERO;
+    };
+    let sigma = p.sigma_deg.to_radians();
+    let cos_phi = cos_phi_diff(s.n, s.l, s.v);
+    Terms {
+        diffuse: diffuse_oren_nayar(p.albedo, sigma, s.n_l, s.n_v, cos_phi),
+        ..Terms::ZERO
+    }
+}
+
+/// Qualitative Oren-Nayar BRDF value.
+pub fn oren_nayar(p: &OrenNayarParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
+    oren_nayar_terms(p, n, l, v).total()
+}
+
+/// The BRDF split into terms (see [`Terms`]).
+pub fn eval_terms(model: &Model, n: Vec3, l: Vec3, v: Vec3, x: Vec3, y: Vec3) -> Terms {
+    match model {
+        Model::Lambert(p) => lambert_terms(p, n, l, v),
+        Model::Phong(p) => phong_terms(p, n, l, v),
+        Model::CookTorrance(p) => cook_torrance_terms(p, n, l, v),
+        Model::MetalRough(p) => metal_rough_terms(p, n, l, v),
+        Model::Principled(p) => principled_terms(p, n, l, v, x, y),
+        Model::OrenNayar(p) => oren_nayar_terms(p, n, l, v),
+    }
+}
+
+/// The BRDF value `f(l, v)` (not multiplied by `n·l`). `x`, `y`: tangent and bitangent (only
+/// anisotropic Principled uses them; degenerate ones are rebuilt).
+pub fn eval(model: &Model, n: Vec3, l: Vec3, v: Vec3, x: Vec3, y: Vec3) -> Vec3 {
+    eval_terms(model, n, l, v, x, y).total()
+}
+
+/// Reflected radiance from one light of irradiance `e_light` (at normal incidence):
+/// `f · E · max(n·l, 0)`; for the classic Phong / Blinn-Phong, the slides' formula
+/// [`phong_radiance`] with `I_L = e_light`.
+pub fn radiance(model: &Model, n: Vec3, l: Vec3, v: Vec3, x: Vec3, y: Vec3, e_light: Vec3) -> Vec3 {
+    if let Model::Phong(p) = model {
+        return phong_radiance(p, n, l, v, e_light);
+    }
+    let n_l = safe_normalize(n).dot(safe_normalize(l)).clamp(0.0, 1.0);
+    eval(model, n, l, v, x, y) * e_light * n_l
+}

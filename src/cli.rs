@@ -1,0 +1,453 @@
+//! The `luz` command line: subcommands and their options. `main.rs` only calls [`run`].
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Context as _, Result};
+use clap::{Args, Parser, Subcommand};
+
+use crate::headless::{FrameTimes, Headless};
+use crate::imageio::FileFormat;
+use crate::scene::Scene;
+use crate::stats::Summary;
+use crate::vk::{Context, ContextDesc, InstanceDesc};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "luz",
+    version,
+    about = "A Vulkan renderer that measures how right and how fast each lighting model is",
+    long_about = "luz renders scenes with classic and physically based lighting models on any Vulkan 1.3 \
+device (Mesa lavapipe included), headless or in a window, times every pass, and compares images.\n\n\
+Examples:\n  luz render -o out.png                 render the embedded default scene\n  \
+luz render scene.json -o out.exr      linear float radiance, no tone mapping\n  \
+luz bench scene.json --frames 100     frame-time statistics\n  \
+luz diff expected.png actual.png      FLIP, max abs difference, NaN count; exit 1 beyond tolerances"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene (or the embedded default) headless to a PNG or EXR image.
+    Render(RenderArgs),
+    /// Render a scene many times and report median, p95 and p99 of GPU ms per pass and CPU ms.
+    Bench(BenchArgs),
+    /// Compare two PNG or EXR images (FLIP, max absolute difference, NaN/Inf) with tolerances.
+    Diff(DiffArgs),
+    /// List the Vulkan devices luz can use and the one it would pick.
+    Devices(GpuArgs),
+}
+
+/// Options shared by every command that touches the GPU.
+#[derive(Args, Debug, Clone)]
+pub struct GpuArgs {
+    /// Enable the Khronos validation layer; errors are counted and make the exit code 3.
+    #[arg(long, env = "LUZ_VALIDATION", value_parser = clap::builder::BoolishValueParser::new(), default_value_t = false, action = clap::ArgAction::Set, num_args = 0..=1, default_missing_value = "true")]
+    pub validate: bool,
+    /// Use the device whose name contains this text (case-insensitive) instead of the best one
+    /// (discrete > integrated > virtual > CPU).
+    #[arg(long, env = "LUZ_DEVICE")]
+    pub device: Option<String>,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (JSON); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output image: .png (exposed, tone-mapped, sRGB) or .exr (linear float32 radiance).
+    #[arg(short, long, default_value = "luz.png")]
+    pub output: PathBuf,
+    /// Frames to render; timings are the median over them.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Override the scene's output width.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Override the scene's output height.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// List the pipeline variants built and more detail.
+    #[arg(short, long)]
+    pub verbose: bool,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene file (JSON); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Frames to time (after the warm-up).
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub frames: u32,
+    /// Frames rendered first and not timed.
+    #[arg(long, default_value_t = 3)]
+    pub warmup: u32,
+    /// Write one line per frame: frame, cpu_ms, then GPU ms of each pass.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Write the summary as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug)]
+pub struct DiffArgs {
+    /// The reference image (PNG or EXR).
+    pub expected: PathBuf,
+    /// The image to check (PNG or EXR, same size).
+    pub actual: PathBuf,
+    /// Write the FLIP error heatmap (PNG).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Fail when the mean FLIP error exceeds this (0..1).
+    #[arg(long)]
+    pub max_flip_mean: Option<f32>,
+    /// Fail when any channel differs by more than this (8-bit steps for PNG, radiance for EXR).
+    #[arg(long)]
+    pub max_abs: Option<f32>,
+    /// Fail when more pixels than this differ (by more than --threshold).
+    #[arg(long)]
+    pub max_bad_pixels: Option<u64>,
+    /// A pixel differs when a channel differs by more than this (default 0: any difference).
+    #[arg(long, default_value_t = 0.0)]
+    pub threshold: f32,
+}
+
+/// Parses the arguments, runs the command, prints errors as `luz: error: …`.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("luz: error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::Render(a) => render(a),
+        Command::Bench(a) => bench(a),
+        Command::Diff(a) => diff(a),
+        Command::Devices(a) => devices(a),
+    }
+}
+
+/// Loads the scene named on the command line, or the embedded default.
+pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    match path {
+        Some(p) => Ok(crate::scene::load(p)?),
+        None => Ok(crate::scene::default_scene()),
+    }
+}
+
+pub fn context(gpu: &GpuArgs) -> Result<Arc<Context>> {
+    let ctx = Context::new(&ContextDesc {
+        instance: InstanceDesc {
+            validation: gpu.validate,
+            ..Default::default()
+        },
+        device_name: gpu.device.clone(),
+        device_extensions: Vec::new(),
+    })?;
+    Ok(ctx)
+}
+
+/// Fails early (before any rendering) when the output cannot be written.
+fn check_output(path: &Path) -> Result<FileFormat> {
+    let format = FileFormat::from_path(path)?;
+    if path.is_dir() {
+        bail!("cannot write {}: it is a directory", path.display());
+    }
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    if !existed {
+        // Only a probe: leave nothing behind if rendering fails later.
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(format)
+}
+
+fn validation_exit(ctx: &Context) -> ExitCode {
+    let log = ctx.validation_log();
+    if ctx.instance.validation {
+        eprintln!(
+            "validation: {} errors, {} warnings",
+            log.errors(),
+            log.warnings()
+        );
+        if log.errors() > 0 {
+            return ExitCode::from(3);
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
+    if let Some(w) = width {
+        scene.output.width = w;
+    }
+    if let Some(h) = height {
+        scene.output.height = h;
+    }
+}
+
+/// Per-pass statistics over many frames.
+pub struct TimingReport {
+    pub frames: usize,
+    pub cpu: Summary,
+    pub passes: Vec<(&'static str, Summary)>,
+    pub gpu_total: Summary,
+}
+
+impl TimingReport {
+    pub fn of(frames: &[FrameTimes]) -> Self {
+        let cpu: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
+        let mut names: Vec<&'static str> = Vec::new();
+        for f in frames {
+            for (n, _) in &f.gpu_ms {
+                if !names.contains(n) {
+                    names.push(n);
+                }
+            }
+        }
+        let passes = names
+            .iter()
+            .map(|n| {
+                let v: Vec<f64> = frames
+                    .iter()
+                    .filter_map(|f| f.gpu_ms.iter().find(|(m, _)| m == n).map(|(_, t)| *t))
+                    .collect();
+                (*n, Summary::of(&v))
+            })
+            .collect();
+        let totals: Vec<f64> = frames.iter().map(|f| f.gpu_total()).collect();
+        Self {
+            frames: frames.len(),
+            cpu: Summary::of(&cpu),
+            passes,
+            gpu_total: Summary::of(&totals),
+        }
+    }
+
+    pub fn print(&self) {
+        println!(
+            "{:<22} {:>10} {:>10} {:>10}   ({} frames)",
+            "", "median ms", "p95 ms", "p99 ms", self.frames
+        );
+        for (name, s) in &self.passes {
+            println!(
+                "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+                format!("GPU {name}"),
+                s.median,
+                s.p95,
+                s.p99
+            );
+        }
+        if !self.passes.is_empty() {
+            let s = &self.gpu_total;
+            println!(
+                "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+                "GPU total", s.median, s.p95, s.p99
+            );
+        }
+        let s = &self.cpu;
+        println!(
+            "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+            "CPU frame", s.median, s.p95, s.p99
+        );
+    }
+}
+
+fn render(a: RenderArgs) -> Result<ExitCode> {
+    let t0 = Instant::now();
+    let format = check_output(&a.output)?;
+    let mut scene = load_scene(a.scene.as_deref())?;
+    apply_size(&mut scene, a.width, a.height);
+    let ctx = context(&a.gpu)?;
+    println!("device: {}", ctx.info.summary());
+    let mut renderer = Headless::new(&ctx, &scene)?;
+    if a.verbose {
+        println!("pipeline variants built:");
+        for v in renderer.variants() {
+            println!("  {v}");
+        }
+        println!("triangles: {}", renderer.triangle_count());
+    }
+    let mut frames = Vec::with_capacity(a.frames as usize);
+    let first = renderer.render()?;
+    let ttff = t0.elapsed().as_secs_f64() * 1e3;
+    frames.push(first);
+    for _ in 1..a.frames {
+        frames.push(renderer.render()?);
+    }
+    let image = renderer.image()?;
+    crate::imageio::save(&a.output, &image, scene.output.exposure, scene.output.tonemap)?;
+    let nan = image
+        .pixels
+        .iter()
+        .filter(|p| p.iter().any(|c| !c.is_finite()))
+        .count();
+    println!(
+        "scene: {} ({}x{}, msaa {})",
+        scene
+            .source
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| "embedded default".into()),
+        scene.output.width,
+        scene.output.height,
+        scene.output.msaa
+    );
+    println!("time to first frame: {ttff:.1} ms (process start to first frame on the host)");
+    TimingReport::of(&frames).print();
+    if nan > 0 {
+        eprintln!("warning: {nan} pixels hold NaN or Inf");
+    }
+    println!(
+        "wrote {} ({})",
+        a.output.display(),
+        match format {
+            FileFormat::Png => "PNG, exposed, tone-mapped, sRGB",
+            FileFormat::Exr => "EXR, linear float32 radiance",
+        }
+    );
+    Ok(validation_exit(&ctx))
+}
+
+fn bench(a: BenchArgs) -> Result<ExitCode> {
+    let mut scene = load_scene(a.scene.as_deref())?;
+    apply_size(&mut scene, a.width, a.height);
+    for p in [&a.csv, &a.json].into_iter().flatten() {
+        std::fs::write(p, b"").with_context(|| format!("cannot write {}", p.display()))?;
+    }
+    let ctx = context(&a.gpu)?;
+    println!("device: {}", ctx.info.summary());
+    let mut renderer = Headless::new(&ctx, &scene)?;
+    for _ in 0..a.warmup {
+        renderer.render()?;
+    }
+    let bar = indicatif::ProgressBar::new(a.frames as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} frames {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut frames = Vec::with_capacity(a.frames as usize);
+    for _ in 0..a.frames {
+        frames.push(renderer.render()?);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    println!(
+        "scene: {} ({}x{}, {} triangles, {} lights)",
+        scene
+            .source
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| "embedded default".into()),
+        scene.output.width,
+        scene.output.height,
+        renderer.triangle_count(),
+        scene.lights.len()
+    );
+    let report = TimingReport::of(&frames);
+    report.print();
+    if let Some(p) = &a.csv {
+        let mut out = String::from("frame,cpu_ms");
+        for (n, _) in &report.passes {
+            out.push_str(&format!(",gpu_{n}_ms"));
+        }
+        out.push('\n');
+        for (i, f) in frames.iter().enumerate() {
+            out.push_str(&format!("{i},{:.4}", f.cpu_ms));
+            for (n, _) in &report.passes {
+                let t = f.gpu_ms.iter().find(|(m, _)| m == n).map(|(_, t)| *t);
+                out.push_str(&format!(",{:.4}", t.unwrap_or(f64::NAN)));
+            }
+            out.push('\n');
+        }
+        std::fs::write(p, out).with_context(|| format!("cannot write {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(p) = &a.json {
+        let passes: serde_json::Map<String, serde_json::Value> = report
+            .passes
+            .iter()
+            .map(|(n, s)| (n.to_string(), serde_json::to_value(s).unwrap_or_default()))
+            .collect();
+        let json = serde_json::json!({
+            "device": ctx.info.summary(),
+            "frames": report.frames,
+            "width": scene.output.width,
+            "height": scene.output.height,
+            "triangles": renderer.triangle_count(),
+            "lights": scene.lights.len(),
+            "cpu_ms": report.cpu,
+            "gpu_total_ms": report.gpu_total,
+            "gpu_pass_ms": passes,
+        });
+        std::fs::write(p, serde_json::to_string_pretty(&json)?)
+            .with_context(|| format!("cannot write {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
+    Ok(validation_exit(&ctx))
+}
+
+fn diff(a: DiffArgs) -> Result<ExitCode> {
+    let opts = crate::diff::DiffOptions {
+        max_flip_mean: a.max_flip_mean,
+        max_abs: a.max_abs,
+        max_bad_pixels: a.max_bad_pixels,
+        bad_pixel_threshold: a.threshold,
+        heatmap: a.output.clone(),
+        ..Default::default()
+    };
+    let report = crate::diff::compare_files(&a.expected, &a.actual, &opts)?;
+    println!("{report}");
+    if let Some(h) = &a.output {
+        println!("wrote {}", h.display());
+    }
+    let violations = report.violations(&opts);
+    if violations.is_empty() {
+        println!("PASS");
+        Ok(ExitCode::SUCCESS)
+    } else {
+        for v in &violations {
+            println!("FAIL: {v}");
+        }
+        Ok(ExitCode::from(1))
+    }
+}
+
+fn devices(a: GpuArgs) -> Result<ExitCode> {
+    let ctx = context(&a)?;
+    println!("{}", ctx.info.summary());
+    println!(
+        "  maxImageDimension2D {}, maxPushConstantsSize {}, minUniformBufferOffsetAlignment {}, \
+         timestampPeriod {} ns, timestampValidBits {}",
+        ctx.info.limits.max_image_dimension2_d,
+        ctx.info.limits.max_push_constants_size,
+        ctx.info.limits.min_uniform_buffer_offset_alignment,
+        ctx.info.timestamp_period_ns,
+        ctx.info.timestamp_valid_bits
+    );
+    Ok(validation_exit(&ctx))
+}

@@ -1,0 +1,331 @@
+//! Offscreen rendering: an HDR float colour target plus depth, the passes of a scene, GPU timestamps,
+//! and readback of the linear radiance to the host.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::imageio::LinearImage;
+use crate::render::forward::{ForwardPass, TargetFormat, TargetViews};
+use crate::render::saturate::SaturatePass;
+use crate::scene::Scene;
+use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::image::ImageDesc;
+use crate::vk::timing::GpuTimer;
+use crate::vk::{Buffer, Context, Image, VkError};
+
+/// The HDR colour format: full float so the EXR and the analytic tests see exact radiance.
+pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Timings of one frame.
+#[derive(Debug, Clone, Default)]
+pub struct FrameTimes {
+    /// (pass, GPU milliseconds) in recording order; empty when the device has no timestamps.
+    pub gpu_ms: Vec<(&'static str, f64)>,
+    /// Wall time of recording, submitting and waiting for the frame.
+    pub cpu_ms: f64,
+}
+
+impl FrameTimes {
+    pub fn gpu_total(&self) -> f64 {
+        self.gpu_ms.iter().map(|(_, t)| t).sum()
+    }
+}
+
+pub struct Headless {
+    forward: ForwardPass,
+    saturate: Option<SaturatePass>,
+    timer: Option<GpuTimer>,
+    readback: Buffer,
+    msaa_color: Option<Image>,
+    color: Image,
+    depth: Image,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    pool: CommandPool,
+    width: u32,
+    height: u32,
+    ctx: Arc<Context>,
+}
+
+fn sample_flags(ctx: &Context, msaa: u32) -> Result<vk::SampleCountFlags, VkError> {
+    let flags = match msaa {
+        1 => return Ok(vk::SampleCountFlags::TYPE_1),
+        2 => vk::SampleCountFlags::TYPE_2,
+        4 => vk::SampleCountFlags::TYPE_4,
+        8 => vk::SampleCountFlags::TYPE_8,
+        16 => vk::SampleCountFlags::TYPE_16,
+        _ => return Err(VkError::Setup(format!("msaa {msaa} is not a power of two in 1..16"))),
+    };
+    let limits = &ctx.info.limits;
+    let supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+    if !supported.contains(flags) {
+        return Err(VkError::Setup(format!(
+            "msaa {msaa} is not supported by {} (supported sample counts: {:?})",
+            ctx.info.name, supported
+        )));
+    }
+    Ok(flags)
+}
+
+impl Headless {
+    /// Builds the target and the passes for `scene` at the scene's output size.
+    pub fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self, VkError> {
+        let (width, height) = (scene.output.width, scene.output.height);
+        let samples = sample_flags(ctx, scene.output.msaa)?;
+        let pool = CommandPool::new(ctx, "headless commands")?;
+        let color = Image::new(ctx, "hdr color", ImageDesc::color_target(width, height, COLOR_FORMAT))?;
+        let msaa_color = if samples != vk::SampleCountFlags::TYPE_1 {
+            Some(Image::new(
+                ctx,
+                "hdr color msaa",
+                ImageDesc::msaa_color(width, height, COLOR_FORMAT, samples),
+            )?)
+        } else {
+            None
+        };
+        let depth = Image::new(ctx, "depth", ImageDesc::depth(width, height, DEPTH_FORMAT, samples))?;
+        let bytes = width as u64 * height as u64 * 16;
+        let readback = Buffer::new(
+            ctx,
+            "readback",
+            bytes,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let aspect = width as f32 / height as f32;
+        let forward = ForwardPass::new(
+            ctx,
+            &pool,
+            scene,
+            TargetFormat {
+                color: COLOR_FORMAT,
+                depth: DEPTH_FORMAT,
+                samples,
+            },
+            aspect,
+        )?;
+        let saturate = SaturatePass::for_scene(ctx, scene, &color)?;
+        let timer = GpuTimer::new(ctx, 8)?;
+        let cmd = pool.allocate(1)?[0];
+        let fence = unsafe {
+            ctx.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }?;
+        ctx.set_name(fence, "headless frame fence");
+        Ok(Self {
+            forward,
+            saturate,
+            timer,
+            readback,
+            msaa_color,
+            color,
+            depth,
+            cmd,
+            fence,
+            pool,
+            width,
+            height,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Names of every pipeline variant built for the scene.
+    pub fn variants(&self) -> Vec<String> {
+        let mut v = self.forward.variants();
+        if let Some(s) = &self.saturate {
+            v.push(s.name().to_string());
+        }
+        v
+    }
+
+    pub fn triangle_count(&self) -> u64 {
+        self.forward.triangle_count()
+    }
+
+    /// Renders one frame, copies it to the host-visible readback buffer and waits for it.
+    pub fn render(&mut self) -> Result<FrameTimes, VkError> {
+        let start = Instant::now();
+        let d = self.ctx.device.clone();
+        let cmd = self.cmd;
+        unsafe {
+            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+            d.begin_command_buffer(
+                cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )?;
+        }
+        if let Some(t) = &mut self.timer {
+            t.reset(cmd);
+        }
+        let color_att = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
+        let undefined = (
+            vk::ImageLayout::UNDEFINED,
+            vk::PipelineStageFlags2::TOP_OF_PIPE,
+            vk::AccessFlags2::NONE,
+        );
+        let mut begin = vec![
+            Transition {
+                image: self.color.raw,
+                range: self.color.subresource_range(),
+                from: undefined,
+                to: color_att,
+            },
+            Transition {
+                image: self.depth.raw,
+                range: self.depth.subresource_range(),
+                from: undefined,
+                to: (
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+                ),
+            },
+        ];
+        if let Some(m) = &self.msaa_color {
+            begin.push(Transition {
+                image: m.raw,
+                range: m.subresource_range(),
+                from: undefined,
+                to: color_att,
+            });
+        }
+        transition(&d, cmd, &begin);
+
+        let views = match &self.msaa_color {
+            Some(m) => TargetViews {
+                color: m.view,
+                resolve: Some(self.color.view),
+                depth: self.depth.view,
+                extent: self.color.extent(),
+            },
+            None => TargetViews {
+                color: self.color.view,
+                resolve: None,
+                depth: self.depth.view,
+                extent: self.color.extent(),
+            },
+        };
+        let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+        self.forward.record(cmd, &views);
+        if let Some(t) = &mut self.timer {
+            t.end(cmd, slot);
+        }
+
+        let mut last = color_att;
+        if let Some(s) = &self.saturate {
+            let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));
+            last = s.record(cmd, &self.color, last);
+            if let Some(t) = &mut self.timer {
+                t.end(cmd, slot);
+            }
+        }
+
+        transition(
+            &d,
+            cmd,
+            &[Transition {
+                image: self.color.raw,
+                range: self.color.subresource_range(),
+                from: last,
+                to: (
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
+        );
+        let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "readback"));
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: self.width,
+                height: self.height,
+                depth: 1,
+            },
+        };
+        unsafe {
+            d.cmd_copy_image_to_buffer(
+                cmd,
+                self.color.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                self.readback.raw,
+                &[region],
+            )
+        };
+        crate::vk::cmd::memory_barrier(
+            &d,
+            cmd,
+            (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+        if let Some(t) = &mut self.timer {
+            t.end(cmd, slot);
+        }
+        unsafe { d.end_command_buffer(cmd)? };
+
+        let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+        let submit = vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos);
+        {
+            let _q = self.ctx.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
+            unsafe { d.queue_submit2(self.ctx.queue, &[submit], self.fence)? };
+        }
+        unsafe {
+            d.wait_for_fences(&[self.fence], true, u64::MAX)?;
+            d.reset_fences(&[self.fence])?;
+        }
+        let cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        let gpu_ms = match &self.timer {
+            Some(t) => t.read()?,
+            None => Vec::new(),
+        };
+        Ok(FrameTimes { gpu_ms, cpu_ms })
+    }
+
+    /// The last rendered frame as linear RGBA radiance.
+    pub fn image(&self) -> Result<LinearImage, VkError> {
+        let bytes = self.readback.mapped()?;
+        let n = (self.width * self.height) as usize;
+        let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])
+            .map_err(|e| VkError::Setup(format!("readback buffer is misaligned: {e}")))?;
+        let pixels = floats
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        Ok(LinearImage {
+            width: self.width,
+            height: self.height,
+            pixels,
+        })
+    }
+}
+
+impl Drop for Headless {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.ctx.device.device_wait_idle();
+            self.ctx.device.destroy_fence(self.fence, None);
+        }
+        // The remaining fields free themselves; the command pool frees `cmd`.
+        let _ = &self.pool;
+    }
+}

@@ -1,0 +1,15 @@
+//! luz: a Vulkan-native renderer of classic and physically based lighting models that measures how
+//! right and how fast each one is.
+//!
+//! Layers (arrows point down only): `cli` → `headless` → `render` → `vk`; `scene`, `brdf`, `color`,
+//! `imageio` and `diff` know nothing of Vulkan. The window viewer (feature `window`) sits on top.
+
+pub mod cli;
+pub mod color;
+pub mod diff;
+pub mod headless;
+pub mod imageio;
+pub mod render;
+pub mod scene;
+pub mod stats;
+pub mod vk;

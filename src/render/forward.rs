@@ -1,0 +1,533 @@
+//! The forward pass: draws every object of a scene with the pipeline variant its material, shading
+//! frequency and the scene's fog need. Variants are built once, only those the scene uses.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::gpu::{self, GpuLight, MaterialPush, Vertex};
+use super::mesh;
+use crate::scene::{Scene, Shading};
+use crate::vk::buffer::Uploader;
+use crate::vk::cmd::CommandPool;
+use crate::vk::pipeline::{
+    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
+};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Buffer, Context, VkError};
+
+/// What distinguishes one pipeline from another.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct VariantKey {
+    pub shading: ShadingKey,
+    pub model: u32,
+    pub fog: bool,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ShadingKey {
+    Flat,
+    Gouraud,
+    Phong,
+}
+
+impl ShadingKey {
+    fn from_shading(s: Shading) -> Self {
+        match s {
+            Shading::Flat => Self::Flat,
+            Shading::Gouraud => Self::Gouraud,
+            Shading::Phong => Self::Phong,
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Self::Flat => "flat",
+            Self::Gouraud => "gouraud",
+            Self::Phong => "phong",
+        }
+    }
+}
+
+pub fn model_name(model: u32) -> &'static str {
+    match model {
+        gpu::MODEL_PHONG => "phong",
+        gpu::MODEL_BLINN_PHONG => "blinn_phong",
+        gpu::MODEL_LAMBERT => "lambert",
+        _ => "unknown",
+    }
+}
+
+impl std::fmt::Display for VariantKey {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "forward[shading={}, model={}, fog={}]",
+            self.shading.name(),
+            model_name(self.model),
+            if self.fog { "on" } else { "off" }
+        )
+    }
+}
+
+struct GpuMesh {
+    vertices: Buffer,
+    centroids: Option<Buffer>,
+    indices: Buffer,
+    index_count: u32,
+}
+
+struct Draw {
+    mesh: usize,
+    variant: VariantKey,
+    push: MaterialPush,
+}
+
+/// Formats and sample count of the target the pass draws into.
+#[derive(Debug, Clone, Copy)]
+pub struct TargetFormat {
+    pub color: vk::Format,
+    pub depth: vk::Format,
+    pub samples: vk::SampleCountFlags,
+}
+
+/// Views of the attachments for one frame, already in attachment-optimal layouts.
+pub struct TargetViews {
+    pub color: vk::ImageView,
+    /// Single-sample image the multisampled colour resolves into (when samples > 1).
+    pub resolve: Option<vk::ImageView>,
+    pub depth: vk::ImageView,
+    pub extent: vk::Extent2D,
+}
+
+pub struct ForwardPass {
+    pipelines: BTreeMap<VariantKey, Pipeline>,
+    draws: Vec<Draw>,
+    meshes: Vec<GpuMesh>,
+    frame_ubo: Buffer,
+    _lights: Buffer,
+    _objects: Buffer,
+    set: vk::DescriptorSet,
+    _pool: DescriptorPool,
+    layout: PipelineLayout,
+    _set_layout: DescriptorSetLayout,
+    background: [f32; 4],
+    light_count: u32,
+    ctx: Arc<Context>,
+}
+
+const STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+);
+
+impl ForwardPass {
+    pub fn new(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        scene: &Scene,
+        target: TargetFormat,
+        aspect: f32,
+    ) -> Result<Self, VkError> {
+        let d = &ctx.device;
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(gpu::BINDING_FRAME)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(STAGES),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(gpu::BINDING_LIGHTS)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(STAGES),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(gpu::BINDING_OBJECTS)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(STAGES),
+        ];
+        let set_layout = DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: STAGES,
+            offset: 0,
+            size: std::mem::size_of::<MaterialPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(ctx, "forward layout", &[&set_layout], &push)?;
+        let pool_sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: 1,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: 2,
+            },
+        ];
+        let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", 1, &pool_sizes)?;
+        let set = desc_pool.allocate(&set_layout)?;
+
+        // Lights: any number, in a storage buffer (never empty: Vulkan wants a non-zero range).
+        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
+        let max_storage = ctx.info.limits.max_storage_buffer_range as u64;
+        let light_bytes = (lights.len() * std::mem::size_of::<GpuLight>()) as u64;
+        if light_bytes > max_storage {
+            return Err(VkError::Limit {
+                what: format!("{} lights", lights.len()),
+                requested: light_bytes,
+                limit: max_storage,
+                limit_name: "maxStorageBufferRange",
+            });
+        }
+        let mut uploader = Uploader::new(ctx);
+        let light_data = if lights.is_empty() {
+            vec![GpuLight::zeroed_light()]
+        } else {
+            lights.clone()
+        };
+        let lights_buf = uploader.buffer(
+            "lights",
+            bytemuck::cast_slice(&light_data),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+
+        // Meshes: one GPU copy per (mesh, smooth/flat) pair.
+        let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
+        let mut meshes = Vec::new();
+        let mut objects = Vec::new();
+        let mut draws = Vec::new();
+        for (i, obj) in scene.objects.iter().enumerate() {
+            let flat = matches!(obj.shading, Shading::Flat);
+            let key = (Arc::as_ptr(&obj.mesh) as usize, flat);
+            let mesh_index = match mesh_cache.get(&key) {
+                Some(&m) => m,
+                None => {
+                    let data = if flat {
+                        mesh::flat(&obj.mesh)
+                    } else {
+                        mesh::smooth(&obj.mesh)
+                    };
+                    if data.indices.is_empty() {
+                        continue;
+                    }
+                    let name = &obj.name;
+                    let vertices = uploader.buffer(
+                        &format!("{name} vertices"),
+                        bytemuck::cast_slice(&data.vertices),
+                        vk::BufferUsageFlags::VERTEX_BUFFER,
+                    )?;
+                    let centroids = match &data.centroids {
+                        Some(c) => Some(uploader.buffer(
+                            &format!("{name} centroids"),
+                            bytemuck::cast_slice(c),
+                            vk::BufferUsageFlags::VERTEX_BUFFER,
+                        )?),
+                        None => None,
+                    };
+                    let indices = uploader.buffer(
+                        &format!("{name} indices"),
+                        bytemuck::cast_slice(&data.indices),
+                        vk::BufferUsageFlags::INDEX_BUFFER,
+                    )?;
+                    meshes.push(GpuMesh {
+                        vertices,
+                        centroids,
+                        indices,
+                        index_count: data.indices.len() as u32,
+                    });
+                    mesh_cache.insert(key, meshes.len() - 1);
+                    meshes.len() - 1
+                }
+            };
+            let material = &scene.materials[obj.material].material;
+            let (model, mut push) = gpu::material_push(material);
+            push.object_index = objects.len() as u32;
+            objects.push(gpu::object_data(obj.transform.matrix()));
+            draws.push(Draw {
+                mesh: mesh_index,
+                variant: VariantKey {
+                    shading: ShadingKey::from_shading(obj.shading),
+                    model,
+                    fog: scene.fog.is_some(),
+                },
+                push,
+            });
+            let _ = i;
+        }
+        if objects.is_empty() {
+            objects.push(gpu::object_data(glam::Mat4::IDENTITY));
+        }
+        let objects_buf = uploader.buffer(
+            "objects",
+            bytemuck::cast_slice(&objects),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        uploader.flush(pool)?;
+
+        let frame_ubo = Buffer::new(
+            ctx,
+            "frame uniforms",
+            std::mem::size_of::<gpu::FrameData>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let infos = [
+            [vk::DescriptorBufferInfo {
+                buffer: frame_ubo.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }],
+            [vk::DescriptorBufferInfo {
+                buffer: lights_buf.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }],
+            [vk::DescriptorBufferInfo {
+                buffer: objects_buf.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }],
+        ];
+        let writes = [
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(gpu::BINDING_FRAME)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .buffer_info(&infos[0]),
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(gpu::BINDING_LIGHTS)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&infos[1]),
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(gpu::BINDING_OBJECTS)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&infos[2]),
+        ];
+        unsafe { d.update_descriptor_sets(&writes, &[]) };
+
+        // Pipelines: exactly the variants the draws use.
+        let mut pipelines = BTreeMap::new();
+        let mut modules: HashMap<ShadingKey, (ShaderModule, ShaderModule)> = HashMap::new();
+        let needed: std::collections::BTreeSet<VariantKey> = draws.iter().map(|d| d.variant).collect();
+        for v in needed {
+            if !modules.contains_key(&v.shading) {
+                let s = v.shading.name();
+                modules.insert(
+                    v.shading,
+                    (
+                        ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
+                        ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
+                    ),
+                );
+            }
+            let (vs, fs) = &modules[&v.shading];
+            let pipeline = create_pipeline(ctx, &layout, target, v, vs, fs)?;
+            pipelines.insert(v, pipeline);
+        }
+
+        let mut pass = Self {
+            pipelines,
+            draws,
+            meshes,
+            frame_ubo,
+            _lights: lights_buf,
+            _objects: objects_buf,
+            set,
+            _pool: desc_pool,
+            layout,
+            _set_layout: set_layout,
+            background: scene.output.background.extend(1.0).to_array(),
+            light_count: lights.len() as u32,
+            ctx: ctx.clone(),
+        };
+        pass.update_camera(scene, aspect)?;
+        Ok(pass)
+    }
+
+    /// Rewrites the per-frame uniforms (camera, ambient, fog).
+    pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        let data = gpu::frame_data(scene, aspect, self.light_count);
+        self.frame_ubo.write(0, bytemuck::bytes_of(&data))
+    }
+
+    /// The pipeline variants this pass built, in a stable order.
+    pub fn variants(&self) -> Vec<String> {
+        self.pipelines.keys().map(|k| k.to_string()).collect()
+    }
+
+    pub fn triangle_count(&self) -> u64 {
+        self.draws
+            .iter()
+            .map(|d| self.meshes[d.mesh].index_count as u64 / 3)
+            .sum()
+    }
+
+    /// Clears the target to the scene background and draws every object.
+    pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) {
+        let d = &self.ctx.device;
+        let clear = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: self.background,
+            },
+        };
+        let mut color = vk::RenderingAttachmentInfo::default()
+            .image_view(target.color)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(clear);
+        if let Some(resolve) = target.resolve {
+            color = color
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(resolve)
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE);
+        }
+        let colors = [color];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: target.extent,
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
+        unsafe {
+            d.cmd_begin_rendering(cmd, &info);
+            d.cmd_set_viewport(
+                cmd,
+                0,
+                &[vk::Viewport {
+                    x: 0.0,
+                    y: 0.0,
+                    width: target.extent.width as f32,
+                    height: target.extent.height as f32,
+                    min_depth: 0.0,
+                    max_depth: 1.0,
+                }],
+            );
+            d.cmd_set_scissor(cmd, 0, &[area]);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                gpu::SET_FRAME,
+                &[self.set],
+                &[],
+            );
+            let mut bound: Option<VariantKey> = None;
+            for draw in &self.draws {
+                if bound != Some(draw.variant) {
+                    d.cmd_bind_pipeline(
+                        cmd,
+                        vk::PipelineBindPoint::GRAPHICS,
+                        self.pipelines[&draw.variant].raw,
+                    );
+                    bound = Some(draw.variant);
+                }
+                let m = &self.meshes[draw.mesh];
+                d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
+                if let Some(c) = &m.centroids {
+                    d.cmd_bind_vertex_buffers(cmd, 1, &[c.raw], &[0]);
+                }
+                d.cmd_bind_index_buffer(cmd, m.indices.raw, 0, vk::IndexType::UINT32);
+                d.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    STAGES,
+                    0,
+                    bytemuck::bytes_of(&draw.push),
+                );
+                d.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
+            }
+            d.cmd_end_rendering(cmd);
+        }
+    }
+}
+
+impl GpuLight {
+    fn zeroed_light() -> Self {
+        bytemuck::Zeroable::zeroed()
+    }
+}
+
+fn create_pipeline(
+    ctx: &Arc<Context>,
+    layout: &PipelineLayout,
+    target: TargetFormat,
+    v: VariantKey,
+    vs: &ShaderModule,
+    fs: &ShaderModule,
+) -> Result<Pipeline, VkError> {
+    let stride = std::mem::size_of::<Vertex>() as u32;
+    let mut bindings = vec![vk::VertexInputBindingDescription {
+        binding: 0,
+        stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let mut attributes = vec![
+        vk::VertexInputAttributeDescription {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 0,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 1,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 12,
+        },
+        // uv (location 2, offset 24) and tangent (location 3, offset 32) join when a shader reads them.
+    ];
+    if v.shading == ShadingKey::Flat {
+        bindings.push(vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: 12,
+            input_rate: vk::VertexInputRate::VERTEX,
+        });
+        attributes.push(vk::VertexInputAttributeDescription {
+            location: 4,
+            binding: 1,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 0,
+        });
+    }
+    let spec = [
+        (gpu::SPEC_MODEL, v.model),
+        (gpu::SPEC_FOG, v.fog as u32),
+    ];
+    let name = v.to_string();
+    Pipeline::graphics(
+        ctx,
+        layout,
+        &GraphicsDesc {
+            name: &name,
+            vertex: vs,
+            fragment: fs,
+            spec: &spec,
+            vertex_bindings: &bindings,
+            vertex_attributes: &attributes,
+            color_formats: &[target.color],
+            depth_format: Some(target.depth),
+            samples: target.samples,
+            cull: vk::CullModeFlags::NONE,
+            depth_test: true,
+            depth_write: true,
+        },
+    )
+}

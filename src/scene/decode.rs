@@ -1,0 +1,1101 @@
+//! JSON tree → validated [`Scene`]. Every error carries the JSON path of the offending value.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+
+use super::error::Invalid;
+use super::json::{push_key, Kind, Value};
+use super::mesh::{
+    Mesh, MAX_ICOSPHERE_SUBDIVISIONS, MAX_PLANE_SUBDIVISIONS, MAX_PRIMITIVE_TRIANGLES, MAX_RINGS,
+    MAX_SEGMENTS,
+};
+use super::obj::{load_obj, ObjFile};
+use super::{
+    Camera, Falloff, Fog, Light, LightKind, Material, MeshDesc, NamedMaterial, Object, Output,
+    Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
+};
+use crate::color::Tonemap;
+
+type Result<T> = std::result::Result<T, Invalid>;
+
+// ---------------------------------------------------------------------------------------------
+// Typed access with paths.
+
+fn child(path: &str, key: &str) -> String {
+    let mut p = path.to_string();
+    push_key(&mut p, key);
+    p
+}
+
+fn index(path: &str, i: usize) -> String {
+    format!("{path}[{i}]")
+}
+
+/// Shortest text that reads back as the same f32 ("-1", "0.1", "1e-7").
+fn show(x: f32) -> String {
+    format!("{x}")
+}
+
+/// Edit distance, for "did you mean" hints.
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+fn suggestion(word: &str, options: &[&str]) -> String {
+    options
+        .iter()
+        .map(|o| (distance(&word.to_lowercase(), o), o))
+        .filter(|(d, o)| *d <= 2.max(o.len() / 4) && *d < o.len())
+        .min()
+        .map(|(_, o)| format!(" (did you mean \"{o}\"?)"))
+        .unwrap_or_default()
+}
+
+fn one_of(options: &[&str]) -> String {
+    options
+        .iter()
+        .map(|o| format!("\"{o}\""))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// An object's fields with the object's path.
+struct Fields<'a> {
+    path: String,
+    fields: &'a [(String, Value)],
+}
+
+impl<'a> Fields<'a> {
+    fn new(v: &'a Value, path: &str) -> Result<Self> {
+        match &v.kind {
+            Kind::Object(fields) => Ok(Fields {
+                path: path.to_string(),
+                fields,
+            }),
+            k => Err(Invalid::new(
+                path,
+                format!("expected an object {{…}}, got {}", k.describe()),
+            )),
+        }
+    }
+
+    /// Fails on the first field not in `allowed`; `what` names the thing for the message.
+    fn allow(&self, allowed: &[&str], what: &str) -> Result<()> {
+        for (key, _) in self.fields {
+            if !allowed.contains(&key.as_str()) {
+                return Err(Invalid::new(
+                    &child(&self.path, key),
+                    format!(
+                        "unknown field \"{key}\"{}{}; expected one of: {}",
+                        if what.is_empty() { "" } else { " for " },
+                        what,
+                        allowed.join(", ")
+                    ) + &suggestion(key, allowed),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn get(&self, key: &str) -> Option<&'a Value> {
+        self.fields.iter().find(|(k, _)| k == key).map(|(_, v)| v)
+    }
+
+    fn has(&self, key: &str) -> bool {
+        self.get(key).is_some()
+    }
+
+    fn path(&self, key: &str) -> String {
+        child(&self.path, key)
+    }
+
+    fn err(&self, key: &str, reason: impl Into<String>) -> Invalid {
+        Invalid::new(&self.path(key), reason)
+    }
+
+    fn req(&self, key: &str) -> Result<&'a Value> {
+        self.get(key)
+            .ok_or_else(|| self.err(key, "missing required field"))
+    }
+
+    fn num(&self, key: &str, default: f32, check: Check) -> Result<f32> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(v) => number(v, &self.path(key), check),
+        }
+    }
+
+    fn int(&self, key: &str, default: u32, lo: u32, hi: u32) -> Result<u32> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(v) => integer(v, &self.path(key), lo, hi),
+        }
+    }
+
+    fn vec3(&self, key: &str, default: Vec3) -> Result<Vec3> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(v) => vec3(v, &self.path(key), Check::Any),
+        }
+    }
+
+    fn color(&self, key: &str, default: Vec3) -> Result<Vec3> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(v) => color(v, &self.path(key)),
+        }
+    }
+
+    fn string(&self, key: &str) -> Result<Option<&'a str>> {
+        self.get(key)
+            .map(|v| string(v, &self.path(key)))
+            .transpose()
+    }
+
+    /// A string field that must be one of `options`.
+    fn choice(&self, key: &str, options: &[&str]) -> Result<Option<&'a str>> {
+        match self.get(key) {
+            None => Ok(None),
+            Some(v) => choice(v, &self.path(key), options).map(Some),
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Check {
+    Any,
+    NonNegative,
+    Positive,
+    /// Closed interval.
+    In(f32, f32),
+    /// Open interval.
+    Between(f32, f32),
+}
+
+fn number(v: &Value, path: &str, check: Check) -> Result<f32> {
+    let Kind::Number { value, raw } = &v.kind else {
+        return Err(Invalid::new(
+            path,
+            format!("expected a number, got {}", v.kind.describe()),
+        ));
+    };
+    if !value.is_finite() {
+        return Err(Invalid::new(
+            path,
+            format!("must be a finite number, got {raw} (overflows)"),
+        ));
+    }
+    let x = *value as f32;
+    if !x.is_finite() {
+        return Err(Invalid::new(
+            path,
+            format!("must be a finite number, got {raw} (too large for a 32-bit float)"),
+        ));
+    }
+    let ok = match check {
+        Check::Any => None,
+        Check::NonNegative => (x < 0.0).then(|| "must be ≥ 0".to_string()),
+        Check::Positive => (x <= 0.0).then(|| "must be > 0".to_string()),
+        Check::In(lo, hi) => {
+            (!(lo..=hi).contains(&x)).then(|| format!("must be in [{}, {}]", show(lo), show(hi)))
+        }
+        Check::Between(lo, hi) => {
+            (x <= lo || x >= hi).then(|| format!("must be in ({}, {})", show(lo), show(hi)))
+        }
+    };
+    match ok {
+        None => Ok(x),
+        Some(rule) => Err(Invalid::new(path, format!("{rule}, got {raw}"))),
+    }
+}
+
+fn integer(v: &Value, path: &str, lo: u32, hi: u32) -> Result<u32> {
+    let Kind::Number { value, raw } = &v.kind else {
+        return Err(Invalid::new(
+            path,
+            format!("expected an integer, got {}", v.kind.describe()),
+        ));
+    };
+    if value.fract() != 0.0 || !value.is_finite() {
+        return Err(Invalid::new(
+            path,
+            format!("expected an integer, got {raw}"),
+        ));
+    }
+    if *value < f64::from(lo) || *value > f64::from(hi) {
+        return Err(Invalid::new(
+            path,
+            format!("must be in [{lo}, {hi}], got {raw}"),
+        ));
+    }
+    Ok(*value as u32)
+}
+
+fn array<'a>(v: &'a Value, path: &str, what: &str) -> Result<&'a [Value]> {
+    match &v.kind {
+        Kind::Array(items) => Ok(items),
+        k => Err(Invalid::new(
+            path,
+            format!("expected {what}, got {}", k.describe()),
+        )),
+    }
+}
+
+fn vec3(v: &Value, path: &str, check: Check) -> Result<Vec3> {
+    let items = array(v, path, "an array of 3 numbers [x, y, z]")?;
+    if items.len() != 3 {
+        return Err(Invalid::new(
+            path,
+            format!(
+                "expected an array of 3 numbers [x, y, z], got {} element{}",
+                items.len(),
+                if items.len() == 1 { "" } else { "s" }
+            ),
+        ));
+    }
+    let mut out = [0.0; 3];
+    for (i, item) in items.iter().enumerate() {
+        out[i] = number(item, &index(path, i), check)?;
+    }
+    Ok(Vec3::from_array(out))
+}
+
+/// A linear RGB colour: [r, g, b] or one number for grey; every channel ≥ 0.
+fn color(v: &Value, path: &str) -> Result<Vec3> {
+    match &v.kind {
+        Kind::Number { .. } => Ok(Vec3::splat(number(v, path, Check::NonNegative)?)),
+        Kind::Array(items) if items.len() == 3 => vec3(v, path, Check::NonNegative),
+        Kind::Array(items) => Err(Invalid::new(
+            path,
+            format!(
+                "expected a colour [r, g, b] (or one number for grey), got {} element{}",
+                items.len(),
+                if items.len() == 1 { "" } else { "s" }
+            ),
+        )),
+        k => Err(Invalid::new(
+            path,
+            format!(
+                "expected a colour [r, g, b] (or one number for grey), got {}",
+                k.describe()
+            ),
+        )),
+    }
+}
+
+fn string<'a>(v: &'a Value, path: &str) -> Result<&'a str> {
+    match &v.kind {
+        Kind::String(s) => Ok(s),
+        k => Err(Invalid::new(
+            path,
+            format!("expected a string, got {}", k.describe()),
+        )),
+    }
+}
+
+fn choice<'a>(v: &'a Value, path: &str, options: &[&str]) -> Result<&'a str> {
+    let s = match &v.kind {
+        Kind::String(s) => s.as_str(),
+        k => {
+            return Err(Invalid::new(
+                path,
+                format!("expected one of {}, got {}", one_of(options), k.describe()),
+            ))
+        }
+    };
+    if options.contains(&s) {
+        Ok(s)
+    } else {
+        Err(Invalid::new(
+            path,
+            format!(
+                "unknown value \"{s}\"; expected one of {}{}",
+                one_of(options),
+                suggestion(s, options)
+            ),
+        ))
+    }
+}
+
+/// A unit vector from any non-zero vector (computed in f64 so huge components do not overflow).
+fn unit(v: Vec3) -> Option<Vec3> {
+    let d = DVec3::from(v.to_array().map(f64::from));
+    let len = d.length();
+    (len > 1e-12 && len.is_finite()).then(|| (d / len).as_vec3())
+}
+
+// ---------------------------------------------------------------------------------------------
+// The scene.
+
+const TOP: &[&str] = &[
+    "description",
+    "camera",
+    "output",
+    "ambient",
+    "lights",
+    "materials",
+    "objects",
+    "fog",
+    "saturation",
+];
+
+pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
+    if !matches!(root.kind, Kind::Object(_)) {
+        return Err(Invalid::new(
+            "(root)",
+            format!("expected a JSON object {{…}}, got {}", root.kind.describe()),
+        ));
+    }
+    let top = Fields::new(root, "")?;
+    top.allow(TOP, "a scene")?;
+    let description = top.string("description")?.unwrap_or("").to_string();
+    let camera = match top.get("camera") {
+        Some(v) => camera(v, "camera")?,
+        None => camera(&empty_object(), "camera")?,
+    };
+    let output = match top.get("output") {
+        Some(v) => output(v, "output")?,
+        None => output(&empty_object(), "output")?,
+    };
+    let ambient = top.color("ambient", Vec3::ZERO)?;
+    let mut lights = Vec::new();
+    if let Some(v) = top.get("lights") {
+        for (i, item) in array(v, "lights", "an array of lights")?.iter().enumerate() {
+            lights.push(light(item, &index("lights", i))?);
+        }
+    }
+    let mut materials = Vec::new();
+    if let Some(v) = top.get("materials") {
+        let map = Fields::new(v, "materials")?;
+        for (name, item) in map.fields {
+            let path = map.path(name);
+            if name.trim().is_empty() {
+                return Err(Invalid::new(&path, "a material name must not be empty"));
+            }
+            if name.contains('/') {
+                return Err(Invalid::new(
+                    &path,
+                    "a material name must not contain '/' (reserved for OBJ materials, \"<objfile>/<mtlname>\")",
+                ));
+            }
+            materials.push(NamedMaterial {
+                name: name.clone(),
+                material: material(item, &path)?,
+            });
+        }
+    }
+    let fog = match top.get("fog") {
+        None => None,
+        Some(Value {
+            kind: Kind::Null, ..
+        }) => None,
+        Some(v) => Some(fog(v, "fog", &camera, &output)?),
+    };
+    let saturation = match top.choice("saturation", &["clamp", "normalize", "none"])? {
+        Some("normalize") => Saturation::Normalize,
+        Some("none") => Saturation::None,
+        _ => Saturation::Clamp,
+    };
+    let mut scene = Scene {
+        source: None,
+        description,
+        camera,
+        output,
+        ambient,
+        lights,
+        materials,
+        objects: Vec::new(),
+        fog,
+        saturation,
+    };
+    if let Some(v) = top.get("objects") {
+        let mut ctx = Ctx {
+            base,
+            primitives: Vec::new(),
+            objs: HashMap::new(),
+            mtl_materials: HashMap::new(),
+        };
+        for (i, item) in array(v, "objects", "an array of objects")?
+            .iter()
+            .enumerate()
+        {
+            object(item, &index("objects", i), i, &mut ctx, &mut scene)?;
+        }
+    }
+    Ok(scene)
+}
+
+fn empty_object() -> Value {
+    Value {
+        kind: Kind::Object(Vec::new()),
+        line: 0,
+        column: 0,
+    }
+}
+
+fn camera(v: &Value, path: &str) -> Result<Camera> {
+    let f = Fields::new(v, path)?;
+    f.allow(
+        &["position", "target", "up", "fov_y_deg", "near", "far"],
+        "the camera",
+    )?;
+    let position = f.vec3("position", Vec3::new(0.0, 0.0, 5.0))?;
+    let target = f.vec3("target", Vec3::ZERO)?;
+    let up = f.vec3("up", Vec3::Y)?;
+    let fov_y_deg = f.num("fov_y_deg", 45.0, Check::Between(0.0, 180.0))?;
+    let near = f.num("near", 0.1, Check::Positive)?;
+    let far = f.num("far", 100.0, Check::Positive)?;
+    if near >= far {
+        return Err(f.err(
+            "far",
+            format!("must be > near ({}), got {}", show(near), show(far)),
+        ));
+    }
+    let Some(forward) = unit(target - position) else {
+        return Err(f.err("target", "equals the camera position (no view direction)"));
+    };
+    let Some(up) = unit(up) else {
+        return Err(f.err("up", "must not be a zero-length vector"));
+    };
+    if forward.cross(up).length() < 1e-4 {
+        return Err(f.err(
+            "up",
+            "is parallel to the view direction (target − position); choose another up vector",
+        ));
+    }
+    Ok(Camera {
+        position,
+        target,
+        up,
+        fov_y_deg,
+        near,
+        far,
+    })
+}
+
+fn output(v: &Value, path: &str) -> Result<Output> {
+    let f = Fields::new(v, path)?;
+    f.allow(
+        &[
+            "width",
+            "height",
+            "background",
+            "exposure",
+            "tonemap",
+            "msaa",
+        ],
+        "the output",
+    )?;
+    let width = f.int("width", 1280, 1, MAX_IMAGE_SIZE)?;
+    let height = f.int("height", 720, 1, MAX_IMAGE_SIZE)?;
+    let background = f.color("background", Vec3::ZERO)?;
+    let exposure = f.num("exposure", 0.0, Check::In(-64.0, 64.0))?;
+    let tonemap = match f.get("tonemap") {
+        None => Tonemap::default(),
+        Some(v) => tonemap(v, &f.path("tonemap"))?,
+    };
+    let msaa = f.int("msaa", 4, 1, 8)?;
+    if ![1, 2, 4, 8].contains(&msaa) {
+        return Err(f.err("msaa", format!("must be 1, 2, 4 or 8, got {msaa}")));
+    }
+    Ok(Output {
+        width,
+        height,
+        background,
+        exposure,
+        tonemap,
+        msaa,
+    })
+}
+
+fn tonemap(v: &Value, path: &str) -> Result<Tonemap> {
+    use serde::de::IntoDeserializer;
+    use serde::Deserialize;
+    let s = string(v, path)?;
+    let de: serde::de::value::StrDeserializer<'_, serde::de::value::Error> = s.into_deserializer();
+    Tonemap::deserialize(de).map_err(|e| Invalid::new(path, e.to_string()))
+}
+
+fn light(v: &Value, path: &str) -> Result<Light> {
+    let f = Fields::new(v, path)?;
+    let kind = match choice(
+        f.req("type")?,
+        &f.path("type"),
+        &["directional", "point", "spot"],
+    )? {
+        "directional" => LightKind::Directional,
+        "point" => LightKind::Point,
+        _ => LightKind::Spot,
+    };
+    let (allowed, what): (&[&str], _) = match kind {
+        LightKind::Directional => (
+            &[
+                "type",
+                "direction",
+                "target",
+                "position",
+                "color",
+                "intensity",
+            ],
+            "a directional light",
+        ),
+        LightKind::Point => (
+            &["type", "position", "color", "intensity", "falloff"],
+            "a point light",
+        ),
+        LightKind::Spot => (
+            &[
+                "type",
+                "position",
+                "direction",
+                "target",
+                "color",
+                "intensity",
+                "falloff",
+                "umbra_deg",
+                "inner_deg",
+                "exponent",
+            ],
+            "a spot light",
+        ),
+    };
+    f.allow(allowed, what)?;
+    let position = match kind {
+        LightKind::Point | LightKind::Spot => {
+            vec3(f.req("position")?, &f.path("position"), Check::Any)?
+        }
+        LightKind::Directional => f.vec3("position", Vec3::ZERO)?,
+    };
+    let direction = match kind {
+        LightKind::Point => Vec3::NEG_Y,
+        _ => match (f.get("direction"), f.get("target")) {
+            (Some(_), Some(_)) => {
+                return Err(f.err("target", "give either direction or target, not both"))
+            }
+            (Some(d), None) => {
+                let d = vec3(d, &f.path("direction"), Check::Any)?;
+                unit(d).ok_or_else(|| f.err("direction", "must not be a zero-length vector"))?
+            }
+            (None, Some(t)) => {
+                if kind == LightKind::Directional && !f.has("position") {
+                    return Err(f.err(
+                        "target",
+                        "a directional light aimed with target also needs a position (direction = target − position)",
+                    ));
+                }
+                let t = vec3(t, &f.path("target"), Check::Any)?;
+                unit(t - position).ok_or_else(|| {
+                    f.err(
+                        "target",
+                        "equals the light's position (zero-length direction)",
+                    )
+                })?
+            }
+            (None, None) => {
+                return Err(f.err("direction", "missing required field (or give target)"))
+            }
+        },
+    };
+    let color = f.color("color", Vec3::ONE)?;
+    let intensity = f.num("intensity", 1.0, Check::NonNegative)?;
+    let falloff = match (kind, f.get("falloff")) {
+        (LightKind::Directional, _) => Falloff::None,
+        (_, None) => Falloff::InverseSquare,
+        (_, Some(v)) => falloff(v, &f.path("falloff"))?,
+    };
+    let (umbra_deg, inner_deg, exponent) = if kind == LightKind::Spot {
+        let umbra = f.num("umbra_deg", 30.0, Check::Positive)?;
+        if umbra > 90.0 {
+            return Err(f.err(
+                "umbra_deg",
+                format!("must be in (0, 90], got {}", show(umbra)),
+            ));
+        }
+        let inner = match f.get("inner_deg") {
+            None => None,
+            Some(v) => {
+                let inner = number(v, &f.path("inner_deg"), Check::NonNegative)?;
+                if inner >= umbra {
+                    return Err(f.err(
+                        "inner_deg",
+                        format!("must be < umbra_deg ({}), got {}", show(umbra), show(inner)),
+                    ));
+                }
+                Some(inner)
+            }
+        };
+        (umbra, inner, f.num("exponent", 0.0, Check::NonNegative)?)
+    } else {
+        (180.0, None, 0.0)
+    };
+    Ok(Light {
+        kind,
+        direction,
+        position,
+        color,
+        intensity,
+        falloff,
+        umbra_deg,
+        inner_deg,
+        exponent,
+    })
+}
+
+fn falloff(v: &Value, path: &str) -> Result<Falloff> {
+    match &v.kind {
+        Kind::String(_) => Ok(match choice(v, path, &["inverse_square", "none"])? {
+            "none" => Falloff::None,
+            _ => Falloff::InverseSquare,
+        }),
+        Kind::Object(_) => {
+            let f = Fields::new(v, path)?;
+            f.allow(&["c1", "c2", "c3"], "a classic falloff")?;
+            Ok(Falloff::Classic {
+                c1: f.num("c1", 1.0, Check::NonNegative)?,
+                c2: f.num("c2", 0.0, Check::NonNegative)?,
+                c3: f.num("c3", 0.0, Check::NonNegative)?,
+            })
+        }
+        k => Err(Invalid::new(
+            path,
+            format!(
+                "expected \"inverse_square\", \"none\" or {{\"c1\": …, \"c2\": …, \"c3\": …}}, got {}",
+                k.describe()
+            ),
+        )),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials. One decoder per model; add new models to this table.
+
+type MaterialDecoder = fn(&Fields, &str) -> Result<Material>;
+
+const MATERIAL_MODELS: &[(&str, MaterialDecoder)] = &[
+    ("phong", phong),
+    ("blinn_phong", phong),
+    ("lambert", lambert),
+];
+
+fn material(v: &Value, path: &str) -> Result<Material> {
+    let f = Fields::new(v, path)?;
+    let names: Vec<&str> = MATERIAL_MODELS.iter().map(|(n, _)| *n).collect();
+    let model = choice(f.req("model")?, &f.path("model"), &names)?;
+    let decoder = MATERIAL_MODELS
+        .iter()
+        .find(|(n, _)| *n == model)
+        .map(|(_, d)| *d)
+        .unwrap_or(phong);
+    decoder(&f, model)
+}
+
+fn phong(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "ka",
+            "kd",
+            "ks",
+            "shininess",
+            "diffuse_color",
+            "specular_color",
+        ],
+        &format!("a {model} material"),
+    )?;
+    // Start from the documented defaults and override what the file gives.
+    let mut m = Material::default_phong(model == "blinn_phong");
+    if let Material::Phong {
+        ka,
+        kd,
+        ks,
+        shininess,
+        diffuse_color,
+        specular_color,
+        ..
+    } = &mut m
+    {
+        *ka = f.num("ka", *ka, Check::NonNegative)?;
+        *kd = f.num("kd", *kd, Check::NonNegative)?;
+        *ks = f.num("ks", *ks, Check::NonNegative)?;
+        *shininess = f.num("shininess", *shininess, Check::NonNegative)?;
+        *diffuse_color = f.color("diffuse_color", *diffuse_color)?;
+        *specular_color = f.color("specular_color", *specular_color)?;
+    }
+    Ok(m)
+}
+
+fn lambert(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(&["model", "albedo"], &format!("a {model} material"))?;
+    let albedo = f.color("albedo", Vec3::splat(0.8))?;
+    if albedo.max_element() > 1.0 {
+        return Err(f.err(
+            "albedo",
+            format!(
+                "every channel must be in [0, 1] (energy conservation), got [{}, {}, {}]",
+                show(albedo.x),
+                show(albedo.y),
+                show(albedo.z)
+            ),
+        ));
+    }
+    Ok(Material::Lambert { albedo })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fog.
+
+fn fog(v: &Value, path: &str, camera: &Camera, output: &Output) -> Result<Fog> {
+    let f = Fields::new(v, path)?;
+    f.allow(&["z_a", "z_b", "s_a", "s_b", "color"], "fog")?;
+    let z_a = f.num("z_a", camera.near, Check::NonNegative)?;
+    let z_b = f.num("z_b", camera.far, Check::NonNegative)?;
+    if z_b <= z_a {
+        return Err(f.err(
+            "z_b",
+            format!("must be > z_a ({}), got {}", show(z_a), show(z_b)),
+        ));
+    }
+    Ok(Fog {
+        z_a,
+        z_b,
+        s_a: f.num("s_a", 0.0, Check::In(0.0, 1.0))?,
+        s_b: f.num("s_b", 1.0, Check::In(0.0, 1.0))?,
+        color: f.color("color", output.background)?,
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Objects.
+
+struct Ctx<'a> {
+    base: &'a Path,
+    /// Built primitives, shared between objects with equal descriptions.
+    primitives: Vec<(MeshDesc, Arc<Mesh>)>,
+    /// Loaded OBJ files by (resolved path, with materials).
+    objs: HashMap<(PathBuf, bool), Arc<LoadedObj>>,
+    /// (resolved OBJ path, MTL material index or None for the default) → scene material index.
+    mtl_materials: HashMap<(PathBuf, Option<usize>), usize>,
+}
+
+struct LoadedObj {
+    file: ObjFile,
+    meshes: Vec<Arc<Mesh>>,
+}
+
+const MESH_TYPES: &[&str] = &[
+    "sphere",
+    "icosphere",
+    "plane",
+    "cube",
+    "cone",
+    "cylinder",
+    "obj",
+];
+
+fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> Result<()> {
+    let f = Fields::new(v, path)?;
+    f.allow(
+        &[
+            "name",
+            "mesh",
+            "material",
+            "position",
+            "rotation_deg",
+            "scale",
+            "shading",
+        ],
+        "an object",
+    )?;
+    let name = f.string("name")?.map(str::to_string);
+    let desc = mesh_desc(f.req("mesh")?, &f.path("mesh"), ctx.base)?;
+    let material = match f.get("material") {
+        Some(m) => {
+            let name = string(m, &f.path("material"))?;
+            let found = scene.materials.iter().position(|x| x.name == name);
+            Some(found.ok_or_else(|| {
+                let defined: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+                f.err(
+                    "material",
+                    format!(
+                        "unknown material \"{name}\"; defined: {}{}",
+                        if defined.is_empty() {
+                            "none (add it under \"materials\")".to_string()
+                        } else {
+                            defined.join(", ")
+                        },
+                        suggestion(name, &defined)
+                    ),
+                )
+            })?)
+        }
+        None if matches!(desc, MeshDesc::Obj { .. }) => None,
+        None => return Err(f.err(
+            "material",
+            "missing required field (only OBJ meshes may take their materials from an MTL file)",
+        )),
+    };
+    let position = f.vec3("position", Vec3::ZERO)?;
+    let rotation_deg = f.vec3("rotation_deg", Vec3::ZERO)?;
+    let scale = match f.get("scale") {
+        None => Vec3::ONE,
+        Some(
+            v @ Value {
+                kind: Kind::Number { .. },
+                ..
+            },
+        ) => Vec3::splat(number(v, &f.path("scale"), Check::Positive)?),
+        Some(v) => vec3(v, &f.path("scale"), Check::Positive)?,
+    };
+    let shading = match f.choice("shading", &["flat", "gouraud", "phong"])? {
+        Some("flat") => Shading::Flat,
+        Some("gouraud") => Shading::Gouraud,
+        _ => Shading::Phong,
+    };
+    let transform = Transform {
+        position,
+        rotation_deg,
+        scale,
+    };
+
+    if let MeshDesc::Obj { path: obj_path } = &desc {
+        let with_materials = material.is_none();
+        let key = (obj_path.clone(), with_materials);
+        let loaded = match ctx.objs.get(&key) {
+            Some(l) => l.clone(),
+            None => {
+                let file = load_obj(obj_path, with_materials).map_err(|e| Invalid {
+                    path: f.path("mesh") + ".path",
+                    reason: e.reason,
+                    mesh: Some((e.file, e.line)),
+                })?;
+                let meshes = file
+                    .parts
+                    .iter()
+                    .map(|p| Arc::new(p.mesh.clone()))
+                    .collect();
+                let l = Arc::new(LoadedObj { file, meshes });
+                ctx.objs.insert(key, l.clone());
+                l
+            }
+        };
+        let file_name = obj_path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| obj_path.display().to_string());
+        let stem = obj_path
+            .file_stem()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| file_name.clone());
+        let single = loaded.file.parts.len() == 1;
+        for (part, mesh) in loaded.file.parts.iter().zip(&loaded.meshes) {
+            let part_material = match material {
+                Some(m) => m,
+                None => mtl_material(
+                    ctx,
+                    scene,
+                    obj_path,
+                    &file_name,
+                    &loaded.file,
+                    part.material,
+                ),
+            };
+            let base = name.clone().unwrap_or_else(|| stem.clone());
+            scene.objects.push(Object {
+                name: if single {
+                    base
+                } else {
+                    format!("{base}/{}", part.name)
+                },
+                desc: desc.clone(),
+                mesh: mesh.clone(),
+                material: part_material,
+                transform,
+                shading,
+            });
+        }
+        return Ok(());
+    }
+
+    let mesh = match ctx.primitives.iter().find(|(d, _)| *d == desc) {
+        Some((_, m)) => m.clone(),
+        None => {
+            let m = Arc::new(desc.build().unwrap_or_default());
+            ctx.primitives.push((desc.clone(), m.clone()));
+            m
+        }
+    };
+    let kind = match &desc {
+        MeshDesc::Sphere { .. } => "sphere",
+        MeshDesc::Icosphere { .. } => "icosphere",
+        MeshDesc::Plane { .. } => "plane",
+        MeshDesc::Cube { .. } => "cube",
+        MeshDesc::Cone { .. } => "cone",
+        MeshDesc::Cylinder { .. } => "cylinder",
+        MeshDesc::Obj { .. } => "obj",
+    };
+    scene.objects.push(Object {
+        name: name.unwrap_or_else(|| format!("{kind}{i}")),
+        desc,
+        mesh,
+        material: material.unwrap_or(0),
+        transform,
+        shading,
+    });
+    Ok(())
+}
+
+/// Shininess of an MTL material without `Ns`.
+const MTL_DEFAULT_SHININESS: f32 = 32.0;
+
+/// The scene material for an OBJ part's MTL material (appended on first use).
+fn mtl_material(
+    ctx: &mut Ctx,
+    scene: &mut Scene,
+    obj_path: &Path,
+    file_name: &str,
+    file: &ObjFile,
+    which: Option<usize>,
+) -> usize {
+    let key = (obj_path.to_path_buf(), which);
+    if let Some(&i) = ctx.mtl_materials.get(&key) {
+        return i;
+    }
+    let (mtl_name, material) = match which.and_then(|i| file.materials.get(i)) {
+        // The classic model from the MTL: Kd → O_d with kd = 1, Ks → O_s with ks = 1,
+        // Ns → n, Ka → ka as its largest channel.
+        Some(m) => (
+            m.name.clone(),
+            Material::Phong {
+                blinn: false,
+                ka: m.ambient.map_or(0.0, |a| a[0].max(a[1]).max(a[2])),
+                kd: 1.0,
+                ks: 1.0,
+                shininess: m.shininess.unwrap_or(MTL_DEFAULT_SHININESS),
+                diffuse_color: m.diffuse.map_or(Vec3::splat(0.8), Vec3::from_array),
+                specular_color: m.specular.map_or(Vec3::ZERO, Vec3::from_array),
+            },
+        ),
+        None => ("default".to_string(), Material::default_phong(false)),
+    };
+    let mut name = format!("{file_name}/{mtl_name}");
+    let mut n = 2;
+    while scene.materials.iter().any(|m| m.name == name) {
+        name = format!("{file_name}/{mtl_name}#{n}");
+        n += 1;
+    }
+    scene.materials.push(NamedMaterial { name, material });
+    let i = scene.materials.len() - 1;
+    ctx.mtl_materials.insert(key, i);
+    i
+}
+
+fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<MeshDesc> {
+    let f = Fields::new(v, path)?;
+    let kind = choice(f.req("type")?, &f.path("type"), MESH_TYPES)?;
+    let seg = |f: &Fields, default| f.int("segments", default, 3, MAX_SEGMENTS);
+    let desc = match kind {
+        "sphere" => {
+            f.allow(&["type", "radius", "segments", "rings"], "a sphere")?;
+            MeshDesc::Sphere {
+                radius: f.num("radius", 1.0, Check::Positive)?,
+                segments: seg(&f, 64)?,
+                rings: f.int("rings", 32, 2, MAX_RINGS)?,
+            }
+        }
+        "icosphere" => {
+            f.allow(&["type", "radius", "subdivisions"], "an icosphere")?;
+            MeshDesc::Icosphere {
+                radius: f.num("radius", 1.0, Check::Positive)?,
+                subdivisions: f.int("subdivisions", 3, 0, MAX_ICOSPHERE_SUBDIVISIONS)?,
+            }
+        }
+        "plane" => {
+            f.allow(&["type", "size", "subdivisions"], "a plane")?;
+            let size = match f.get("size") {
+                None => [10.0, 10.0],
+                Some(v) => {
+                    let p = f.path("size");
+                    let items = array(v, &p, "an array [x, z] of 2 numbers")?;
+                    if items.len() != 2 {
+                        return Err(Invalid::new(
+                            &p,
+                            format!(
+                                "expected an array [x, z] of 2 numbers, got {} elements",
+                                items.len()
+                            ),
+                        ));
+                    }
+                    [
+                        number(&items[0], &index(&p, 0), Check::Positive)?,
+                        number(&items[1], &index(&p, 1), Check::Positive)?,
+                    ]
+                }
+            };
+            MeshDesc::Plane {
+                size,
+                subdivisions: f.int("subdivisions", 1, 1, MAX_PLANE_SUBDIVISIONS)?,
+            }
+        }
+        "cube" => {
+            f.allow(&["type", "size"], "a cube")?;
+            MeshDesc::Cube {
+                size: f.num("size", 1.0, Check::Positive)?,
+            }
+        }
+        "cone" | "cylinder" => {
+            f.allow(
+                &["type", "radius", "height", "segments"],
+                &format!("a {kind}"),
+            )?;
+            let radius = f.num("radius", 0.5, Check::Positive)?;
+            let height = f.num("height", 1.0, Check::Positive)?;
+            let segments = seg(&f, 64)?;
+            if kind == "cone" {
+                MeshDesc::Cone {
+                    radius,
+                    height,
+                    segments,
+                }
+            } else {
+                MeshDesc::Cylinder {
+                    radius,
+                    height,
+                    segments,
+                }
+            }
+        }
+        _ => {
+            f.allow(&["type", "path"], "an OBJ mesh")?;
+            let p = string(f.req("path")?, &f.path("path"))?;
+            if p.trim().is_empty() {
+                return Err(f.err("path", "must not be empty"));
+            }
+            return Ok(MeshDesc::Obj { path: base.join(p) });
+        }
+    };
+    if let Some(n) = desc.triangle_count() {
+        if n > MAX_PRIMITIVE_TRIANGLES {
+            return Err(Invalid::new(
+                path,
+                format!(
+                    "too finely tessellated: {n} triangles, the limit per primitive is {MAX_PRIMITIVE_TRIANGLES}"
+                ),
+            ));
+        }
+    }
+    Ok(desc)
+}

@@ -1,0 +1,491 @@
+//! The scene: file format (JSON), validation, camera, lights, materials, objects and meshes.
+//!
+//! Plain Rust, no Vulkan: the renderer turns a [`Scene`] into GPU data. The file format is
+//! described in `docs/scene-format.md`. Every error message reads `<file>: <json path>: <reason>`
+//! (see [`SceneError`]); no input makes this module panic.
+
+mod decode;
+mod error;
+pub mod json;
+pub mod mesh;
+pub mod obj;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Mat3, Mat4, Vec3};
+
+pub use error::SceneError;
+pub use mesh::{
+    Mesh, Vertex, MAX_ICOSPHERE_SUBDIVISIONS, MAX_PLANE_SUBDIVISIONS, MAX_PRIMITIVE_TRIANGLES,
+    MAX_RINGS, MAX_SEGMENTS,
+};
+
+/// Largest accepted output width or height.
+pub const MAX_IMAGE_SIZE: u32 = 16384;
+
+/// The built-in scene (`assets/scenes/default.json`), used when no scene file is given.
+pub const DEFAULT_SCENE_JSON: &str = include_str!("../../assets/scenes/default.json");
+
+/// A validated scene, ready to render.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The file the scene came from (`None` for the embedded default).
+    pub source: Option<PathBuf>,
+    /// Free text from the file's optional `description`.
+    pub description: String,
+    pub camera: Camera,
+    pub output: Output,
+    /// I_a of the classic models; for physically based models a uniform radiance seen by the
+    /// diffuse term. Linear RGB.
+    pub ambient: Vec3,
+    pub lights: Vec<Light>,
+    /// The scene's materials in file order, then the ones made from OBJ/MTL files.
+    pub materials: Vec<NamedMaterial>,
+    /// Objects in file order; an OBJ with several parts expands into several objects.
+    pub objects: Vec<Object>,
+    pub fog: Option<Fog>,
+    pub saturation: Saturation,
+}
+
+impl Scene {
+    /// Index of the material called `name`.
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.materials.iter().position(|m| m.name == name)
+    }
+
+    /// Total number of triangles over all objects.
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.triangle_count()).sum()
+    }
+
+    /// World-space bounding box of all objects (corners of each object's transformed local
+    /// box); `None` without objects.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut out: Option<(Vec3, Vec3)> = None;
+        for o in &self.objects {
+            let (lo, hi) = o.mesh.bounds();
+            let m = o.transform.matrix();
+            for i in 0..8 {
+                let c = Vec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                );
+                let p = m.transform_point3(c);
+                out = Some(match out {
+                    None => (p, p),
+                    Some((a, b)) => (a.min(p), b.max(p)),
+                });
+            }
+        }
+        out
+    }
+}
+
+/// A perspective camera looking from `position` at `target`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub target: Vec3,
+    /// Unit length; never parallel to the view direction.
+    pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    pub fov_y_deg: f32,
+    /// Distances to the clip planes, 0 < near < far.
+    pub near: f32,
+    pub far: f32,
+}
+
+impl Camera {
+    /// World → view matrix (right-handed look-at: the camera looks down −z in view space, so
+    /// view-space depth is −z).
+    pub fn view(&self) -> Mat4 {
+        Mat4::look_at_rh(self.position, self.target, self.up)
+    }
+
+    /// View → clip matrix, `glam::Mat4::perspective_rh`: depth in [0, 1] as Vulkan wants, but y
+    /// up in clip space (a Vulkan renderer flips y, e.g. with a negative viewport height).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        Mat4::perspective_rh(self.fov_y_deg.to_radians(), aspect, self.near, self.far)
+    }
+
+    /// Unit vector from the camera towards the target.
+    pub fn forward(&self) -> Vec3 {
+        (self.target - self.position).normalize()
+    }
+}
+
+/// Output image settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Output {
+    /// Pixels, 1..=16384.
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB shown where no object is.
+    pub background: Vec3,
+    /// Exposure in EV: linear colour is multiplied by 2^exposure before tone mapping.
+    pub exposure: f32,
+    pub tonemap: crate::color::Tonemap,
+    /// Samples per pixel: 1, 2, 4 or 8.
+    pub msaa: u32,
+}
+
+impl Output {
+    /// width / height.
+    pub fn aspect(&self) -> f32 {
+        self.width as f32 / self.height as f32
+    }
+}
+
+/// The kind of a punctual light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LightKind {
+    Directional,
+    Point,
+    Spot,
+}
+
+/// A punctual light.
+///
+/// Units: a directional light's `intensity` is the irradiance on a surface facing it; a point or
+/// spot light's `intensity` is a radiant intensity, so E = intensity / r² under
+/// [`Falloff::InverseSquare`] and E = intensity · f_at(r) under [`Falloff::Classic`]. The
+/// colour multiplies the intensity per channel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    pub kind: LightKind,
+    /// Unit vector, the way the light travels: l = −direction for a directional light; a spot's
+    /// axis points from the light into the scene. (0, −1, 0) for point lights.
+    pub direction: Vec3,
+    /// Where a point or spot light is (unused by directional lights).
+    pub position: Vec3,
+    /// Linear RGB, each channel ≥ 0.
+    pub color: Vec3,
+    /// ≥ 0; see the type's documentation for units.
+    pub intensity: f32,
+    /// Distance falloff of point and spot lights ([`Falloff::None`] for directional lights).
+    pub falloff: Falloff,
+    /// Spot cut-off (umbra) half-angle in degrees, in (0, 90]; 180 for other kinds, so that a
+    /// spot formula applied to a point light changes nothing.
+    pub umbra_deg: f32,
+    /// Spot inner half-angle in degrees, in [0, umbra_deg): full intensity inside it, a
+    /// smoothstep in cos θ between inner and umbra (glTF-style). `None`: hard edge at the umbra.
+    pub inner_deg: Option<f32>,
+    /// Spot exponent s: intensity × (cos θ_s)^s inside the umbra (0 for other kinds).
+    pub exponent: f32,
+}
+
+/// Distance falloff of a point or spot light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Falloff {
+    /// Physical: E = I / d².
+    InverseSquare,
+    /// No distance attenuation: E = I.
+    None,
+    /// The classic f_at = min(1 / (c1 + c2·d + c3·d²), 1); E = I · f_at. All c ≥ 0.
+    Classic { c1: f32, c2: f32, c3: f32 },
+}
+
+impl Falloff {
+    /// The factor E / I at distance `d`.
+    pub fn factor(&self, d: f32) -> f32 {
+        match *self {
+            Falloff::InverseSquare => 1.0 / (d * d),
+            Falloff::None => 1.0,
+            Falloff::Classic { c1, c2, c3 } => {
+                let denom = c1 + c2 * d + c3 * d * d;
+                if denom <= 1.0 {
+                    1.0
+                } else {
+                    1.0 / denom
+                }
+            }
+        }
+    }
+}
+
+/// A material with its name (unique within the scene).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedMaterial {
+    pub name: String,
+    pub material: Material,
+}
+
+/// A reflection model and its parameters.
+///
+/// To add a model: add a variant here, a decoder in `decode.rs` (`MATERIAL_MODELS` table), its
+/// name in [`Material::model_name`], and a section in `docs/scene-format.md`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Material {
+    /// The slides' classic model, literally (no 1/π):
+    /// I = I_a k_a O_d + Σ f_at I_L (k_d O_d (n·l) + k_s O_s (r·v)^n), or (n·h)^n with `blinn`.
+    /// O_d = `diffuse_color`, O_s = `specular_color`, n = `shininess`.
+    Phong {
+        blinn: bool,
+        ka: f32,
+        kd: f32,
+        ks: f32,
+        shininess: f32,
+        diffuse_color: Vec3,
+        specular_color: Vec3,
+    },
+    /// Lambert: f = albedo / π (each channel in [0, 1]).
+    Lambert { albedo: Vec3 },
+}
+
+impl Material {
+    /// The `model` string of the scene format.
+    pub fn model_name(&self) -> &'static str {
+        match self {
+            Material::Phong { blinn: false, .. } => "phong",
+            Material::Phong { blinn: true, .. } => "blinn_phong",
+            Material::Lambert { .. } => "lambert",
+        }
+    }
+
+    /// The classic model with the format's defaults (also the material of OBJ parts without an
+    /// MTL material): ka 0.2, kd 0.8, ks 0.5, shininess 32, diffuse 0.8 grey, specular white.
+    pub fn default_phong(blinn: bool) -> Material {
+        Material::Phong {
+            blinn,
+            ka: 0.2,
+            kd: 0.8,
+            ks: 0.5,
+            shininess: 32.0,
+            diffuse_color: Vec3::splat(0.8),
+            specular_color: Vec3::ONE,
+        }
+    }
+}
+
+/// A drawable: a mesh with a material, a transform and a shading frequency.
+#[derive(Debug, Clone)]
+pub struct Object {
+    pub name: String,
+    /// What the mesh was made from (for OBJ parts: the OBJ file, resolved against the scene's
+    /// folder).
+    pub desc: MeshDesc,
+    /// Shared between objects made from the same description.
+    pub mesh: Arc<Mesh>,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+    pub transform: Transform,
+    pub shading: Shading,
+}
+
+/// Object → world: scale, then rotate about X, then Y, then Z, then translate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transform {
+    pub position: Vec3,
+    /// Degrees about X, Y and Z, applied X first: R = Rz · Ry · Rx.
+    pub rotation_deg: Vec3,
+    /// Per-axis scale, every component > 0.
+    pub scale: Vec3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform {
+            position: Vec3::ZERO,
+            rotation_deg: Vec3::ZERO,
+            scale: Vec3::ONE,
+        }
+    }
+}
+
+impl Transform {
+    /// T · Rz · Ry · Rx · S.
+    pub fn matrix(&self) -> Mat4 {
+        let r = self.rotation_deg * (std::f32::consts::PI / 180.0);
+        Mat4::from_translation(self.position)
+            * Mat4::from_rotation_z(r.z)
+            * Mat4::from_rotation_y(r.y)
+            * Mat4::from_rotation_x(r.x)
+            * Mat4::from_scale(self.scale)
+    }
+
+    /// The matrix for normals: inverse transpose of the upper 3×3 (renormalise after use).
+    pub fn normal_matrix(&self) -> Mat3 {
+        Mat3::from_mat4(self.matrix()).inverse().transpose()
+    }
+}
+
+/// How an object's mesh was described in the scene file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshDesc {
+    Sphere {
+        radius: f32,
+        segments: u32,
+        rings: u32,
+    },
+    Icosphere {
+        radius: f32,
+        subdivisions: u32,
+    },
+    Plane {
+        size: [f32; 2],
+        subdivisions: u32,
+    },
+    Cube {
+        size: f32,
+    },
+    Cone {
+        radius: f32,
+        height: f32,
+        segments: u32,
+    },
+    Cylinder {
+        radius: f32,
+        height: f32,
+        segments: u32,
+    },
+    /// Resolved against the scene file's folder.
+    Obj {
+        path: PathBuf,
+    },
+}
+
+impl MeshDesc {
+    /// Triangle count of a built-in primitive (`None` for OBJ), computed without overflow.
+    pub fn triangle_count(&self) -> Option<u64> {
+        Some(match *self {
+            MeshDesc::Sphere {
+                segments, rings, ..
+            } => 2 * u64::from(segments) * u64::from(rings.saturating_sub(1)),
+            MeshDesc::Icosphere { subdivisions, .. } => 20u64 << (2 * subdivisions.min(20)),
+            MeshDesc::Plane { subdivisions, .. } => 2 * u64::from(subdivisions).pow(2),
+            MeshDesc::Cube { .. } => 12,
+            MeshDesc::Cone { segments, .. } => 2 * u64::from(segments),
+            MeshDesc::Cylinder { segments, .. } => 4 * u64::from(segments),
+            MeshDesc::Obj { .. } => return None,
+        })
+    }
+
+    /// Builds a built-in primitive (`None` for OBJ).
+    pub fn build(&self) -> Option<Mesh> {
+        Some(match *self {
+            MeshDesc::Sphere {
+                radius,
+                segments,
+                rings,
+            } => Mesh::sphere(radius, segments, rings),
+            MeshDesc::Icosphere {
+                radius,
+                subdivisions,
+            } => Mesh::icosphere(radius, subdivisions),
+            MeshDesc::Plane { size, subdivisions } => Mesh::plane(size, subdivisions),
+            MeshDesc::Cube { size } => Mesh::cube(size),
+            MeshDesc::Cone {
+                radius,
+                height,
+                segments,
+            } => Mesh::cone(radius, height, segments),
+            MeshDesc::Cylinder {
+                radius,
+                height,
+                segments,
+            } => Mesh::cylinder(radius, height, segments),
+            MeshDesc::Obj { .. } => return None,
+        })
+    }
+}
+
+/// Shading frequency.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Shading {
+    /// One normal per triangle, lit once per triangle (at its centroid).
+    Flat,
+    /// Lit per vertex, colours interpolated.
+    Gouraud,
+    /// Normals interpolated and renormalised, lit per fragment.
+    #[default]
+    Phong,
+}
+
+/// Depth cueing: S = s_a for z < z_a, s_b for z > z_b, linear between; I' = (1 − S)·I + S·color.
+/// z is view-space depth (distance along the camera's forward axis), not Euclidean distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fog {
+    pub z_a: f32,
+    pub z_b: f32,
+    pub s_a: f32,
+    pub s_b: f32,
+    pub color: Vec3,
+}
+
+impl Fog {
+    /// S at view-space depth z.
+    pub fn factor(&self, z: f32) -> f32 {
+        if z <= self.z_a {
+            self.s_a
+        } else if z >= self.z_b {
+            self.s_b
+        } else {
+            self.s_a + (z - self.z_a) * (self.s_b - self.s_a) / (self.z_b - self.z_a)
+        }
+    }
+}
+
+/// What to do with a channel above 1 (the slides' two options for the classic models), applied
+/// to the linear image before exposure and tone mapping.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Saturation {
+    /// Clamp each channel to 1.
+    #[default]
+    Clamp,
+    /// Divide the whole image by its largest channel value (when that exceeds 1).
+    Normalize,
+    /// Leave the linear image alone (for scenes whose tone mapping handles values above 1).
+    None,
+}
+
+/// Reads, parses and validates a scene file, loading its OBJ meshes (paths relative to the file).
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
+        file: path.to_path_buf(),
+        reason: format!("cannot read the scene file: {e}"),
+    })?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        let line = 1 + bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        SceneError::Read {
+            file: path.to_path_buf(),
+            reason: format!("not UTF-8 text (invalid byte on line {line})"),
+        }
+    })?;
+    parse(text, path)
+}
+
+/// Parses and validates scene text. `origin` names the file in messages and is the base for
+/// relative OBJ paths (its parent folder).
+pub fn parse(text: &str, origin: &Path) -> Result<Scene, SceneError> {
+    let root = json::parse(text).map_err(|e| SceneError::Syntax {
+        file: origin.to_path_buf(),
+        path: e.path,
+        line: e.line,
+        column: e.column,
+        reason: e.reason,
+    })?;
+    let base = origin.parent().unwrap_or(Path::new(""));
+    let mut scene = decode::decode(&root, base).map_err(|e| e.into_scene_error(origin))?;
+    scene.source = Some(origin.to_path_buf());
+    Ok(scene)
+}
+
+/// The embedded default scene.
+pub fn default_scene() -> Scene {
+    match parse(DEFAULT_SCENE_JSON, Path::new("assets/scenes/default.json")) {
+        Ok(mut scene) => {
+            scene.source = None;
+            scene
+        }
+        // The unit test `default_scene_parses` keeps this unreachable.
+        Err(e) => unreachable!("the embedded default scene is invalid: {e}"),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,659 @@
+//! Unit tests of the scene format: defaults, assets, transforms and error messages.
+
+use super::*;
+use glam::Vec4;
+
+fn parse_str(text: &str) -> Result<Scene, SceneError> {
+    parse(text, Path::new("scenes/a.json"))
+}
+
+/// The error message for `text`, which must fail.
+fn error(text: &str) -> String {
+    match parse_str(text) {
+        Ok(_) => panic!("expected an error for {text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_error(text: &str, expected: &str) {
+    let e = error(text);
+    assert!(
+        e.starts_with("scenes/a.json: "),
+        "message does not start with the file: {e}"
+    );
+    assert!(e.contains(expected), "{e:?} does not contain {expected:?}");
+}
+
+const SPHERE: &str = r#""materials": {"m": {"model": "lambert"}},
+    "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]"#;
+
+#[test]
+fn default_scene_parses() {
+    let s = default_scene();
+    assert!(s.source.is_none());
+    assert_eq!((s.output.width, s.output.height), (1280, 720));
+    assert!((45.0..=50.0).contains(&s.camera.fov_y_deg));
+    assert_eq!(s.lights.len(), 2);
+    assert_eq!(s.lights[0].kind, LightKind::Directional);
+    assert_eq!(s.lights[1].kind, LightKind::Point);
+    let spheres = s
+        .objects
+        .iter()
+        .filter(|o| matches!(o.desc, MeshDesc::Sphere { .. }))
+        .count();
+    assert!((3..=4).contains(&spheres));
+    assert!(s
+        .objects
+        .iter()
+        .any(|o| matches!(o.desc, MeshDesc::Plane { .. })));
+    // Equal descriptions share one mesh.
+    let sphere_meshes: Vec<_> = s
+        .objects
+        .iter()
+        .filter(|o| matches!(o.desc, MeshDesc::Sphere { .. }))
+        .map(|o| Arc::as_ptr(&o.mesh))
+        .collect();
+    assert!(sphere_meshes.windows(2).all(|w| w[0] == w[1]));
+    // The camera looks slightly down at the spheres.
+    assert!(s.camera.forward().y < 0.0 && s.camera.forward().y > -0.5);
+}
+
+/// Every light of the default scene gives a clearly lit, not blown-out sphere top under the
+/// classic model (a CPU estimate, no tone mapping).
+#[test]
+fn default_scene_is_clearly_lit() {
+    let s = default_scene();
+    for o in s
+        .objects
+        .iter()
+        .filter(|o| matches!(o.desc, MeshDesc::Sphere { .. }))
+    {
+        let Material::Phong {
+            ka,
+            kd,
+            diffuse_color,
+            ..
+        } = s.materials[o.material].material
+        else {
+            panic!("the default scene uses the classic model")
+        };
+        // The point of the sphere facing the camera.
+        let n = (s.camera.position - o.transform.position).normalize();
+        let p = o.transform.position + n * 0.6;
+        let mut c = s.ambient * ka * diffuse_color;
+        for l in &s.lights {
+            let (dir, e) = match l.kind {
+                LightKind::Directional => (-l.direction, l.color * l.intensity),
+                _ => {
+                    let d = l.position - p;
+                    let r = d.length();
+                    (d / r, l.color * l.intensity * l.falloff.factor(r))
+                }
+            };
+            c += e * kd * diffuse_color * n.dot(dir).max(0.0);
+        }
+        let lum = c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        assert!(lum > 0.1 && c.max_element() < 1.2, "{}: {c}", o.name);
+    }
+}
+
+#[test]
+fn every_asset_scene_parses() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut count = 0;
+    let mut stack = vec![dir];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let p = entry.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|e| e == "json") {
+                let s = load(&p).unwrap_or_else(|e| panic!("{e}"));
+                assert!(!s.objects.is_empty(), "{}", p.display());
+                assert!(!s.description.is_empty(), "{}", p.display());
+                count += 1;
+            }
+        }
+    }
+    assert!(count >= 10, "found only {count} scenes");
+}
+
+#[test]
+fn classic_scenes_match_the_slides() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/classic");
+    let s = load(&dir.join("06_colour.json")).unwrap();
+    assert_eq!(s.ambient, Vec3::splat(0.5));
+    assert_eq!(s.lights[0].position, Vec3::splat(2.0));
+    assert_eq!(s.lights[0].falloff, Falloff::None);
+    let xs: Vec<f32> = s.objects.iter().map(|o| o.transform.position.x).collect();
+    assert!(xs[0] < xs[1] && xs[1] < xs[2]);
+    let Material::Phong {
+        blinn,
+        ka,
+        kd,
+        ks,
+        shininess,
+        diffuse_color,
+        ..
+    } = s.materials[s.objects[0].material].material
+    else {
+        panic!()
+    };
+    assert!(!blinn);
+    assert_eq!((ka, kd, ks, shininess), (0.4, 0.8, 0.7, 20.0));
+    assert_eq!(diffuse_color, Vec3::Y);
+    let on = load(&dir.join("09_depth_cue_on.json")).unwrap();
+    let off = load(&dir.join("08_depth_cue_off.json")).unwrap();
+    assert!(on.fog.is_some() && off.fog.is_none());
+    let ml = load(&dir.join("07_multiple_lights.json")).unwrap();
+    let kinds: Vec<_> = ml.lights.iter().map(|l| l.kind).collect();
+    assert_eq!(kinds, [LightKind::Point, LightKind::Spot]);
+}
+
+#[test]
+fn defaults() {
+    let s = parse_str("{}").unwrap();
+    assert_eq!(s.camera.position, Vec3::new(0.0, 0.0, 5.0));
+    assert_eq!(s.camera.up, Vec3::Y);
+    assert_eq!(
+        (s.camera.fov_y_deg, s.camera.near, s.camera.far),
+        (45.0, 0.1, 100.0)
+    );
+    assert_eq!(s.output.msaa, 4);
+    assert_eq!(s.output.tonemap, crate::color::Tonemap::None);
+    assert_eq!(s.ambient, Vec3::ZERO);
+    assert!(s.lights.is_empty() && s.objects.is_empty() && s.fog.is_none());
+    assert_eq!(s.saturation, Saturation::Clamp);
+    assert_eq!(s.source.as_deref(), Some(Path::new("scenes/a.json")));
+
+    let s = parse_str(&format!("{{{SPHERE}}}")).unwrap();
+    let o = &s.objects[0];
+    assert_eq!(o.name, "sphere0");
+    assert_eq!(
+        o.desc,
+        MeshDesc::Sphere {
+            radius: 1.0,
+            segments: 64,
+            rings: 32
+        }
+    );
+    assert_eq!(o.shading, Shading::Phong);
+    assert_eq!(o.transform, Transform::default());
+    assert_eq!(
+        s.materials[0].material,
+        Material::Lambert {
+            albedo: Vec3::splat(0.8)
+        }
+    );
+}
+
+#[test]
+fn lights_are_decoded() {
+    let s = parse_str(
+        r#"{"lights": [
+        {"type": "directional", "direction": [0, -2, 0], "intensity": 3},
+        {"type": "directional", "position": [3, 4, 0], "target": [2, 3, 0]},
+        {"type": "point", "position": [1, 2, 3], "color": 0.5},
+        {"type": "point", "position": [1, 2, 3], "falloff": {"c2": 0.5}},
+        {"type": "spot", "position": [0, 1.5, 5], "target": [0, 0, 2], "umbra_deg": 35, "inner_deg": 20, "exponent": 2, "falloff": "none"}
+    ]}"#,
+    )
+    .unwrap();
+    let l = &s.lights;
+    assert_eq!(l[0].direction, Vec3::NEG_Y);
+    assert_eq!(l[0].intensity, 3.0);
+    assert_eq!(l[0].falloff, Falloff::None);
+    assert!((l[1].direction - Vec3::new(-1.0, -1.0, 0.0).normalize()).length() < 1e-6);
+    assert_eq!(l[2].color, Vec3::splat(0.5));
+    assert_eq!(l[2].falloff, Falloff::InverseSquare);
+    assert_eq!(
+        (l[2].umbra_deg, l[2].exponent, l[2].inner_deg),
+        (180.0, 0.0, None)
+    );
+    assert_eq!(
+        l[3].falloff,
+        Falloff::Classic {
+            c1: 1.0,
+            c2: 0.5,
+            c3: 0.0
+        }
+    );
+    assert_eq!(l[4].kind, LightKind::Spot);
+    assert!((l[4].direction - Vec3::new(0.0, -1.5, -3.0).normalize()).length() < 1e-6);
+    assert_eq!(
+        (l[4].umbra_deg, l[4].inner_deg, l[4].exponent),
+        (35.0, Some(20.0), 2.0)
+    );
+    assert_eq!(l[4].falloff, Falloff::None);
+}
+
+#[test]
+fn falloff_factors() {
+    assert_eq!(Falloff::InverseSquare.factor(2.0), 0.25);
+    assert_eq!(Falloff::None.factor(100.0), 1.0);
+    let c = Falloff::Classic {
+        c1: 0.0,
+        c2: 0.0,
+        c3: 0.0,
+    };
+    assert_eq!(c.factor(3.0), 1.0);
+    let c = Falloff::Classic {
+        c1: 1.0,
+        c2: 1.0,
+        c3: 1.0,
+    };
+    assert_eq!(c.factor(1.0), 1.0 / 3.0);
+}
+
+#[test]
+fn fog_defaults_and_factor() {
+    let s =
+        parse_str(r#"{"output": {"background": [0.1, 0.2, 0.3]}, "fog": {"z_a": 2, "z_b": 4}}"#)
+            .unwrap();
+    let f = s.fog.unwrap();
+    assert_eq!((f.s_a, f.s_b), (0.0, 1.0));
+    assert_eq!(f.color, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!(f.factor(1.0), 0.0);
+    assert_eq!(f.factor(3.0), 0.5);
+    assert_eq!(f.factor(9.0), 1.0);
+    assert!(parse_str(r#"{"fog": null}"#).unwrap().fog.is_none());
+}
+
+#[test]
+fn transform_matrix_is_t_rz_ry_rx_s() {
+    let t = Transform {
+        position: Vec3::new(1.0, 2.0, 3.0),
+        rotation_deg: Vec3::new(90.0, 0.0, 0.0),
+        scale: Vec3::new(2.0, 3.0, 4.0),
+    };
+    let m = t.matrix();
+    // Scale first: +y becomes (0, 3, 0); then 90° about X maps +y to +z.
+    let p = m.transform_point3(Vec3::Y);
+    assert!((p - Vec3::new(1.0, 2.0, 6.0)).length() < 1e-5, "{p}");
+    // X first, then Y, then Z: rotate +y by 90° about X (→ +z), then 90° about Y (+z → +x).
+    let t = Transform {
+        rotation_deg: Vec3::new(90.0, 90.0, 0.0),
+        ..Transform::default()
+    };
+    let p = t.matrix().transform_vector3(Vec3::Y);
+    assert!((p - Vec3::X).length() < 1e-5, "{p}");
+    // … and Z last: +x by 90° about Z → +y.
+    let t = Transform {
+        rotation_deg: Vec3::new(90.0, 90.0, 90.0),
+        ..Transform::default()
+    };
+    let p = t.matrix().transform_vector3(Vec3::Y);
+    assert!((p - Vec3::Y).length() < 1e-5, "{p}");
+    assert_eq!(Transform::default().matrix(), Mat4::IDENTITY);
+    // Normals of a non-uniformly scaled sphere stay perpendicular to the surface.
+    let t = Transform {
+        scale: Vec3::new(1.0, 4.0, 1.0),
+        ..Transform::default()
+    };
+    let n = (t.normal_matrix() * Vec3::new(1.0, 1.0, 0.0)).normalize();
+    let tangent = t.matrix() * Vec4::new(1.0, -1.0, 0.0, 0.0);
+    assert!(n.dot(tangent.truncate()).abs() < 1e-5);
+}
+
+#[test]
+fn camera_view_is_look_at() {
+    let s =
+        parse_str(r#"{"camera": {"position": [0, 0, 5], "target": [0, 0, 0], "up": [0, 2, 0]}}"#)
+            .unwrap();
+    assert_eq!(s.camera.up, Vec3::Y);
+    let v = s.camera.view();
+    let p = v.transform_point3(Vec3::ZERO);
+    assert!((p - Vec3::new(0.0, 0.0, -5.0)).length() < 1e-6);
+    let clip = s.camera.projection(s.output.aspect()) * Vec4::new(0.0, 0.0, -5.0, 1.0);
+    let depth = clip.z / clip.w;
+    assert!((0.0..1.0).contains(&depth));
+}
+
+#[test]
+fn error_messages() {
+    // The example from the issue, verbatim.
+    assert_error(
+        r#"{"lights": [
+            {"type": "point", "position": [0, 1, 0]},
+            {"type": "point", "position": [0, 1, 0]},
+            {"type": "point", "position": [0, 1, 0], "intensity": -1}]}"#,
+        "scenes/a.json: lights[2].intensity: must be ≥ 0, got -1",
+    );
+    assert_error(
+        r#"{"camera": {"fov_y_deg": "45"}}"#,
+        "camera.fov_y_deg: expected a number, got a string",
+    );
+    assert_error(r#"{"camra": {}}"#, "camra: unknown field \"camra\"");
+    assert_error(r#"{"camra": {}}"#, "did you mean \"camera\"?");
+    assert_error(
+        r#"{"camera": {"far": 1e999}}"#,
+        "camera.far: must be a finite number, got 1e999",
+    );
+    assert_error(
+        r#"{"camera": {"far": 1e39}}"#,
+        "camera.far: must be a finite number, got 1e39",
+    );
+    assert_error(
+        r#"{"camera": {"near": NaN}}"#,
+        "camera.near: NaN is not a number JSON allows",
+    );
+    assert_error(
+        r#"{"camera": {"near": 10, "far": 5}}"#,
+        "camera.far: must be > near (10), got 5",
+    );
+    assert_error(
+        r#"{"camera": {"fov_y_deg": 180}}"#,
+        "camera.fov_y_deg: must be in (0, 180), got 180",
+    );
+    assert_error(
+        r#"{"camera": {"up": [0, 0, -1]}}"#,
+        "camera.up: is parallel to the view direction",
+    );
+    assert_error(
+        r#"{"camera": {"target": [0, 0, 5]}}"#,
+        "camera.target: equals the camera position",
+    );
+    assert_error(
+        r#"{"output": {"msaa": 3}}"#,
+        "output.msaa: must be 1, 2, 4 or 8, got 3",
+    );
+    assert_error(
+        r#"{"output": {"width": 0}}"#,
+        "output.width: must be in [1, 16384], got 0",
+    );
+    assert_error(
+        r#"{"output": {"height": 16385}}"#,
+        "output.height: must be in [1, 16384], got 16385",
+    );
+    assert_error(
+        r#"{"output": {"width": 12.5}}"#,
+        "output.width: expected an integer, got 12.5",
+    );
+    assert_error(
+        r#"{"output": {"tonemap": "filmic"}}"#,
+        "output.tonemap: unknown variant `filmic`",
+    );
+    assert_error(
+        r#"{"lights": [{"type": "directional", "direction": [0, 0, 0]}]}"#,
+        "lights[0].direction: must not be a zero-length vector",
+    );
+    assert_error(
+        r#"{"lights": [{"type": "directional", "direction": [0, -1, 0], "falloff": "none"}]}"#,
+        "lights[0].falloff: unknown field \"falloff\" for a directional light",
+    );
+    assert_error(
+        r#"{"lights": [{"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "umbra_deg": 20, "inner_deg": 25}]}"#,
+        "lights[0].inner_deg: must be < umbra_deg (20), got 25",
+    );
+    assert_error(
+        r#"{"lights": [{"type": "area"}]}"#,
+        "lights[0].type: unknown value \"area\"",
+    );
+    assert_error(
+        r#"{"lights": [{"type": "point"}]}"#,
+        "lights[0].position: missing required field",
+    );
+    assert_error(
+        r#"{"materials": {"m": {"model": "phong", "kd": -0.5}}}"#,
+        "materials.m.kd: must be ≥ 0, got -0.5",
+    );
+    assert_error(
+        r#"{"materials": {"my m": {"model": "cook"}}}"#,
+        "materials[\"my m\"].model: unknown value \"cook\"",
+    );
+    assert_error(
+        r#"{"materials": {"m": {"model": "lambert", "albedo": [1.5, 0, 0]}}}"#,
+        "materials.m.albedo: every channel must be in [0, 1]",
+    );
+    assert_error(
+        r#"{"materials": {"a/b": {"model": "lambert"}}}"#,
+        "materials[\"a/b\"]: a material name must not contain '/'",
+    );
+    assert_error(
+        r#"{"objects": [{"mesh": {"type": "sphere"}, "material": "gold"}]}"#,
+        "objects[0].material: unknown material \"gold\"",
+    );
+    assert_error(
+        r#"{"objects": [{"mesh": {"type": "sphere"}}]}"#,
+        "objects[0].material: missing required field",
+    );
+    assert_error(
+        &format!(r#"{{{SPHERE}, "fog": {{"z_a": 5, "z_b": 5}}}}"#),
+        "fog.z_b: must be > z_a (5), got 5",
+    );
+    let obj = |mesh: &str| {
+        format!(
+            r#"{{"materials": {{"m": {{"model": "lambert"}}}}, "objects": [{{"mesh": {mesh}, "material": "m"}}]}}"#
+        )
+    };
+    assert_error(
+        &obj(r#"{"type": "sphere", "segments": 100000}"#),
+        "objects[0].mesh.segments: must be in [3, 4096], got 100000",
+    );
+    assert_error(
+        &obj(r#"{"type": "sphere", "segments": 4096, "rings": 4096}"#),
+        "objects[0].mesh: too finely tessellated: 33546240 triangles",
+    );
+    assert_error(
+        &obj(r#"{"type": "icosphere", "subdivisions": 9}"#),
+        "objects[0].mesh.subdivisions: must be in [0, 8], got 9",
+    );
+    assert_error(
+        &obj(r#"{"type": "cube", "size": 0}"#),
+        "objects[0].mesh.size: must be > 0, got 0",
+    );
+    assert_error(
+        &obj(r#"{"type": "plane", "size": [1, -2]}"#),
+        "objects[0].mesh.size[1]: must be > 0, got -2",
+    );
+    assert_error(
+        &obj(r#"{"type": "cone", "radius": 1, "heigth": 2}"#),
+        "did you mean \"height\"?",
+    );
+    assert_error(
+        &obj(r#"{"type": "obj", "path": "nope.obj"}"#),
+        "objects[0].mesh.path: scenes/nope.obj: cannot read",
+    );
+    assert_error(
+        r#"{"objects": [{"mesh": {"type": "cube"}, "material": "m", "scale": [1, 0, 1]}], "materials": {"m": {"model": "lambert"}}}"#,
+        "objects[0].scale[1]: must be > 0, got 0",
+    );
+    assert_error(
+        r#"{"objects": [{"mesh": {"type": "cube"}, "material": "m", "shading": "smooth"}], "materials": {"m": {"model": "lambert"}}}"#,
+        "objects[0].shading: unknown value \"smooth\"",
+    );
+    // Syntax errors name the path being read and the position.
+    assert_error(
+        "{\"camera\": {\"position\": [0, 1",
+        "camera.position: unexpected end of file",
+    );
+    assert_error("{\"camera\": {\"position\": [0, 1", "at line 1, column 30");
+    assert_error("[1, 2]", "(root): expected a JSON object");
+    assert_error("", "(root): the file is empty");
+}
+
+#[test]
+fn error_accessors() {
+    let e = parse_str(r#"{"output": {"msaa": 3}}"#).unwrap_err();
+    assert_eq!(e.file(), Path::new("scenes/a.json"));
+    assert_eq!(e.json_path(), "output.msaa");
+    assert_eq!(e.reason(), "must be 1, 2, 4 or 8, got 3");
+    let e = load(Path::new("/definitely/not/here.json")).unwrap_err();
+    assert!(e
+        .to_string()
+        .starts_with("/definitely/not/here.json: (root): cannot read"));
+}
+
+#[test]
+fn obj_meshes_and_mtl_materials() {
+    let dir = std::env::temp_dir().join(format!("luz-scene-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("quad.obj"),
+        "mtllib quad.mtl\no first\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+         usemtl red\nf 1/1 2/2 3/3 4/4\no second\nusemtl shiny\nf 1 3 2\nusemtl nowhere\nf 1 4 3\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("quad.mtl"),
+        "newmtl red\nKa 0.1 0.2 0.3\nKd 1 0 0\nnewmtl shiny\nKs 0.5 0.5 0.5\nNs 100\n",
+    )
+    .unwrap();
+    let scene_path = dir.join("s.json");
+    std::fs::write(
+        &scene_path,
+        r#"{"materials": {"m": {"model": "lambert"}}, "objects": [
+            {"name": "q", "mesh": {"type": "obj", "path": "quad.obj"}},
+            {"mesh": {"type": "obj", "path": "quad.obj"}, "material": "m"},
+            {"mesh": {"type": "obj", "path": "quad.obj"}, "position": [1, 0, 0]}]}"#,
+    )
+    .unwrap();
+    let s = load(&scene_path).unwrap();
+    let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names[..3],
+        ["q/first", "q/second", "q/second"],
+        "one object per tobj model"
+    );
+    // Without MTL materials tobj only splits by group: the second OBJ object gives 2 parts.
+    assert_eq!(s.objects.len(), 8);
+    let mats: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(
+        mats,
+        ["m", "quad.obj/red", "quad.obj/shiny", "quad.obj/default"]
+    );
+    let Material::Phong {
+        ka,
+        kd,
+        ks,
+        shininess,
+        diffuse_color,
+        specular_color,
+        ..
+    } = s.materials[1].material
+    else {
+        panic!()
+    };
+    assert_eq!((ka, kd, ks), (0.3, 1.0, 1.0));
+    assert_eq!((diffuse_color, specular_color), (Vec3::X, Vec3::ZERO));
+    assert_eq!(shininess, 32.0);
+    let Material::Phong { shininess, .. } = s.materials[2].material else {
+        panic!()
+    };
+    assert_eq!(shininess, 100.0);
+    // Objects 3..5 use the scene material; objects 5..8 reuse the MTL materials.
+    assert!(s.objects[3..5].iter().all(|o| o.material == 0));
+    assert_eq!(s.objects[5].material, 1);
+    assert_eq!(s.objects[7].material, 3);
+    // The quad was triangulated, has UVs (v flipped) and computed normals (+z).
+    let first = &s.objects[0].mesh;
+    assert_eq!(first.triangle_count(), 2);
+    assert_eq!(first.uvs.len(), first.positions.len());
+    assert!(first.uvs.contains(&glam::Vec2::new(0.0, 1.0)));
+    assert!(first.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6));
+    // The same OBJ is loaded once per material mode and shared.
+    assert!(Arc::ptr_eq(&s.objects[0].mesh, &s.objects[5].mesh));
+
+    // A missing MTL is an error when the scene gives no material…
+    std::fs::remove_file(dir.join("quad.mtl")).unwrap();
+    let e = load(&scene_path).unwrap_err().to_string();
+    assert!(
+        e.contains("objects[0].mesh.path: ")
+            && e.contains("quad.mtl: cannot read the material library named by"),
+        "{e}"
+    );
+    assert!(e.contains("quad.obj:1"), "{e}");
+    // … and not read at all when it does.
+    std::fs::write(
+        &scene_path,
+        r#"{"materials": {"m": {"model": "lambert"}}, "objects": [{"mesh": {"type": "obj", "path": "quad.obj"}, "material": "m"}]}"#,
+    )
+    .unwrap();
+    assert_eq!(load(&scene_path).unwrap().objects.len(), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A deterministic fuzzer: truncations and random edits of real scenes never panic, and every
+/// error names the file.
+#[test]
+fn no_input_panics() {
+    let classic = include_str!("../../assets/scenes/classic/09_depth_cue_on.json");
+    let spot = r#"{"lights": [{"type": "spot", "position": [0, 1, 0], "target": [0, 0, 0], "umbra_deg": 30, "inner_deg": 10, "falloff": {"c1": 1, "c2": 0, "c3": 0}}],
+        "materials": {"m": {"model": "lambert", "albedo": [0.5, 0.5, 0.5]}},
+        "objects": [{"mesh": {"type": "plane", "size": [2, 2], "subdivisions": 3}, "material": "m", "scale": [1, 2, 3]},
+                    {"mesh": {"type": "icosphere", "subdivisions": 2}, "material": "m"},
+                    {"mesh": {"type": "cone", "segments": 7}, "material": "m", "shading": "flat"}]}"#;
+    let check = |text: &str| {
+        if let Err(e) = parse_str(text) {
+            assert!(e.to_string().starts_with("scenes/a.json: "), "{e}");
+        }
+    };
+    for text in [DEFAULT_SCENE_JSON, classic, spot] {
+        for cut in (0..text.len()).filter(|&c| text.is_char_boundary(c)) {
+            check(&text[..cut]);
+        }
+    }
+    let tokens = [
+        "",
+        "-",
+        "1e999",
+        "-1e999",
+        "1e39",
+        "NaN",
+        "[",
+        "]",
+        "{",
+        "}",
+        ",",
+        ":",
+        "\"",
+        "0",
+        "-1",
+        "null",
+        "true",
+        "4096",
+        "8",
+        "9",
+        "0.0",
+        "\"x\"",
+        "[0, 0, 0]",
+        "[1]",
+        "\\u12",
+        "\"obj\"",
+        "\"spot\"",
+        "\"point\"",
+        "\"directional\"",
+        "99999999999999999999",
+        "-0",
+        "\u{1F600}",
+    ];
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    let mut ok = 0;
+    for _ in 0..6000 {
+        let base = [DEFAULT_SCENE_JSON, classic, spot][next(3)];
+        let mut text = base.to_string();
+        for _ in 0..1 + next(3) {
+            let mut at = next(text.len() + 1);
+            while !text.is_char_boundary(at) {
+                at -= 1;
+            }
+            let mut end = (at + next(4)).min(text.len());
+            while !text.is_char_boundary(end) {
+                end += 1;
+            }
+            text.replace_range(at..end, tokens[next(tokens.len())]);
+        }
+        check(&text);
+        ok += usize::from(parse_str(&text).is_ok());
+    }
+    assert!(
+        ok > 0,
+        "no mutation survived: the fuzzer only tests the JSON reader"
+    );
+}

@@ -1,0 +1,114 @@
+//! Command pools and small recording helpers (synchronization2 barriers).
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::{Context, VkError};
+
+/// A command pool owning its command buffers.
+pub struct CommandPool {
+    pub raw: vk::CommandPool,
+    ctx: Arc<Context>,
+}
+
+impl CommandPool {
+    pub fn new(ctx: &Arc<Context>, name: &str) -> Result<Self, VkError> {
+        let info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let raw = unsafe { ctx.device.create_command_pool(&info, None) }?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn allocate(&self, count: u32) -> Result<Vec<vk::CommandBuffer>, VkError> {
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.raw)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(count);
+        Ok(unsafe { self.ctx.device.allocate_command_buffers(&info) }?)
+    }
+
+    /// Records with `f` into a fresh command buffer, submits it and waits.
+    pub fn one_shot(
+        &self,
+        f: impl FnOnce(vk::CommandBuffer) -> Result<(), VkError>,
+    ) -> Result<(), VkError> {
+        let cmd = self.allocate(1)?[0];
+        let d = &self.ctx.device;
+        let result = (|| {
+            unsafe {
+                d.begin_command_buffer(
+                    cmd,
+                    &vk::CommandBufferBeginInfo::default()
+                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+                )
+            }?;
+            f(cmd)?;
+            unsafe { d.end_command_buffer(cmd) }?;
+            self.ctx.submit_and_wait(cmd)
+        })();
+        unsafe { d.free_command_buffers(self.raw, &[cmd]) };
+        result
+    }
+}
+
+impl Drop for CommandPool {
+    fn drop(&mut self) {
+        unsafe {
+            // Buffers from this pool may still be executing if a frame was abandoned on error.
+            let _ = self.ctx.device.device_wait_idle();
+            self.ctx.device.destroy_command_pool(self.raw, None);
+        }
+    }
+}
+
+/// A layout transition with explicit stages and accesses (synchronization2).
+#[derive(Clone, Copy)]
+pub struct Transition {
+    pub image: vk::Image,
+    pub range: vk::ImageSubresourceRange,
+    pub from: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+    pub to: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2),
+}
+
+pub fn transition(device: &ash::Device, cmd: vk::CommandBuffer, transitions: &[Transition]) {
+    let barriers: Vec<vk::ImageMemoryBarrier2> = transitions
+        .iter()
+        .map(|t| {
+            vk::ImageMemoryBarrier2::default()
+                .image(t.image)
+                .subresource_range(t.range)
+                .old_layout(t.from.0)
+                .src_stage_mask(t.from.1)
+                .src_access_mask(t.from.2)
+                .new_layout(t.to.0)
+                .dst_stage_mask(t.to.1)
+                .dst_access_mask(t.to.2)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        })
+        .collect();
+    let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// A global memory barrier between two stage/access pairs.
+pub fn memory_barrier(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+) {
+    let b = [vk::MemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)];
+    let dep = vk::DependencyInfo::default().memory_barriers(&b);
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
+}

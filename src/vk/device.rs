@@ -1,0 +1,313 @@
+//! Device context: physical-device choice, logical device, one graphics+compute queue, the allocator and
+//! a command pool. No surface: the window layer adds one on top.
+
+use std::ffi::CStr;
+use std::mem::ManuallyDrop;
+use std::sync::{Arc, Mutex};
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+
+use super::instance::{Instance, InstanceDesc};
+use super::VkError;
+
+/// How to build a [`Context`].
+#[derive(Debug, Clone, Default)]
+pub struct ContextDesc {
+    pub instance: InstanceDesc,
+    /// Case-insensitive substring of the device name to use instead of the automatic choice.
+    pub device_name: Option<String>,
+    /// Device extensions beyond the core (e.g. the swapchain's).
+    pub device_extensions: Vec<&'static CStr>,
+}
+
+/// What luz reports about the device it runs on.
+#[derive(Debug, Clone)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub device_type: vk::PhysicalDeviceType,
+    pub driver_name: String,
+    pub driver_info: String,
+    pub api_version: u32,
+    pub timestamp_period_ns: f32,
+    pub timestamp_valid_bits: u32,
+    pub limits: vk::PhysicalDeviceLimits,
+}
+
+impl DeviceInfo {
+    /// One line: name, type, driver, API version.
+    pub fn summary(&self) -> String {
+        let v = self.api_version;
+        format!(
+            "{} ({}), driver {} {}, Vulkan {}.{}.{}",
+            self.name,
+            type_name(self.device_type),
+            self.driver_name,
+            self.driver_info,
+            vk::api_version_major(v),
+            vk::api_version_minor(v),
+            vk::api_version_patch(v)
+        )
+    }
+}
+
+pub fn type_name(t: vk::PhysicalDeviceType) -> &'static str {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",
+        vk::PhysicalDeviceType::INTEGRATED_GPU => "integrated GPU",
+        vk::PhysicalDeviceType::VIRTUAL_GPU => "virtual GPU",
+        vk::PhysicalDeviceType::CPU => "CPU",
+        _ => "other",
+    }
+}
+
+fn type_rank(t: vk::PhysicalDeviceType) -> u32 {
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => 0,
+        vk::PhysicalDeviceType::INTEGRATED_GPU => 1,
+        vk::PhysicalDeviceType::VIRTUAL_GPU => 2,
+        vk::PhysicalDeviceType::CPU => 3,
+        _ => 4,
+    }
+}
+
+/// The device and everything whose lifetime equals it. Shared as `Arc<Context>`; objects that hold
+/// one are destroyed before the device.
+pub struct Context {
+    pub info: DeviceInfo,
+    pub physical: vk::PhysicalDevice,
+    pub device: ash::Device,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub allocator: ManuallyDrop<Mutex<Allocator>>,
+    pub debug_utils: Option<ash::ext::debug_utils::Device>,
+    /// Serialises queue submissions (the queue is externally synchronised).
+    pub queue_lock: Mutex<()>,
+    // Last: destroyed after the device.
+    pub instance: Instance,
+}
+
+struct Candidate {
+    physical: vk::PhysicalDevice,
+    name: String,
+    device_type: vk::PhysicalDeviceType,
+    queue_family: u32,
+}
+
+impl Context {
+    pub fn new(desc: &ContextDesc) -> Result<Arc<Self>, VkError> {
+        let instance = Instance::new(&desc.instance)?;
+        let inst = &instance.raw;
+        let physicals = unsafe { inst.enumerate_physical_devices() }?;
+        let mut candidates = Vec::new();
+        let mut rejected = Vec::new();
+        for &p in &physicals {
+            let props = unsafe { inst.get_physical_device_properties(p) };
+            let name = props
+                .device_name_as_c_str()
+                .map(|c| c.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            if props.api_version < vk::API_VERSION_1_3 {
+                rejected.push(format!("{name} (Vulkan < 1.3)"));
+                continue;
+            }
+            let families = unsafe { inst.get_physical_device_queue_family_properties(p) };
+            let family = families.iter().position(|f| {
+                f.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            });
+            let Some(family) = family else {
+                rejected.push(format!("{name} (no graphics+compute queue)"));
+                continue;
+            };
+            candidates.push(Candidate {
+                physical: p,
+                name,
+                device_type: props.device_type,
+                queue_family: family as u32,
+            });
+        }
+        let all_names = || {
+            let mut v: Vec<String> = candidates
+                .iter()
+                .map(|c| format!("{} ({})", c.name, type_name(c.device_type)))
+                .collect();
+            v.extend(rejected.iter().cloned());
+            if v.is_empty() {
+                "none".to_string()
+            } else {
+                v.join(", ")
+            }
+        };
+        let chosen = if let Some(want) = &desc.device_name {
+            let w = want.to_lowercase();
+            candidates
+                .iter()
+                .find(|c| c.name.to_lowercase().contains(&w))
+                .ok_or_else(|| {
+                    VkError::Setup(format!(
+                        "no Vulkan device matches --device \"{want}\"; available: {}",
+                        all_names()
+                    ))
+                })?
+        } else {
+            candidates
+                .iter()
+                .min_by_key(|c| type_rank(c.device_type))
+                .ok_or_else(|| {
+                    VkError::Setup(format!(
+                        "no usable Vulkan 1.3 device found; seen: {} (install mesa-vulkan-drivers for lavapipe)",
+                        all_names()
+                    ))
+                })?
+        };
+        let physical = chosen.physical;
+        let queue_family = chosen.queue_family;
+
+        let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        unsafe { inst.get_physical_device_properties2(physical, &mut props2) };
+        let props = props2.properties;
+        let families = unsafe { inst.get_physical_device_queue_family_properties(physical) };
+        let info = DeviceInfo {
+            name: chosen.name.clone(),
+            device_type: props.device_type,
+            driver_name: driver_props
+                .driver_name_as_c_str()
+                .map(|c| c.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            driver_info: driver_props
+                .driver_info_as_c_str()
+                .map(|c| c.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            api_version: props.api_version,
+            timestamp_period_ns: props.limits.timestamp_period,
+            timestamp_valid_bits: families[queue_family as usize].timestamp_valid_bits,
+            limits: props.limits,
+        };
+
+        // Features: Vulkan 1.3 dynamic rendering + synchronization2; optional extras when present.
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut f12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut f2 = vk::PhysicalDeviceFeatures2::default()
+            .push_next(&mut f12)
+            .push_next(&mut f13);
+        unsafe { inst.get_physical_device_features2(physical, &mut f2) };
+        let supported = f2.features;
+        let (dyn_rendering, sync2) = (f13.dynamic_rendering, f13.synchronization2);
+        let host_query_reset = f12.host_query_reset;
+        if dyn_rendering == vk::FALSE || sync2 == vk::FALSE {
+            return Err(VkError::Setup(format!(
+                "{} lacks dynamic rendering or synchronization2",
+                info.name
+            )));
+        }
+        let features = vk::PhysicalDeviceFeatures::default()
+            .sampler_anisotropy(supported.sampler_anisotropy == vk::TRUE)
+            .fill_mode_non_solid(supported.fill_mode_non_solid == vk::TRUE)
+            .shader_float64(false);
+        let mut e13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let mut e12 = vk::PhysicalDeviceVulkan12Features::default()
+            .host_query_reset(host_query_reset == vk::TRUE);
+        let priorities = [1.0f32];
+        let queue_infos = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let ext_names: Vec<*const i8> = desc.device_extensions.iter().map(|e| e.as_ptr()).collect();
+        let device_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_infos)
+            .enabled_extension_names(&ext_names)
+            .enabled_features(&features)
+            .push_next(&mut e12)
+            .push_next(&mut e13);
+        let device = unsafe { inst.create_device(physical, &device_info, None) }?;
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: inst.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        });
+        let allocator = match allocator {
+            Ok(a) => a,
+            Err(e) => {
+                unsafe { device.destroy_device(None) };
+                return Err(e.into());
+            }
+        };
+        let debug_utils = instance
+            .debug_utils
+            .as_ref()
+            .map(|_| ash::ext::debug_utils::Device::new(inst, &device));
+        let ctx = Arc::new(Self {
+            info,
+            physical,
+            device,
+            queue,
+            queue_family,
+            allocator: ManuallyDrop::new(Mutex::new(allocator)),
+            debug_utils,
+            queue_lock: Mutex::new(()),
+            instance,
+        });
+        ctx.set_name(ctx.queue, "luz queue");
+        Ok(ctx)
+    }
+
+    /// Gives a Vulkan object a debug name (shown by validation messages and capture tools).
+    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+        let Some(du) = &self.debug_utils else { return };
+        let Ok(cname) = std::ffi::CString::new(name) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&cname);
+        // Naming is best effort; a failure here must never stop rendering.
+        let _ = unsafe { du.set_debug_utils_object_name(&info) };
+    }
+
+    /// Validation errors and warnings seen so far.
+    pub fn validation_log(&self) -> &super::instance::ValidationLog {
+        &self.instance.log
+    }
+
+    pub fn allocator(&self) -> std::sync::MutexGuard<'_, Allocator> {
+        // A poisoned allocator lock means a panic happened mid-allocation; the allocator itself is
+        // still consistent, so keep going.
+        self.allocator.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Submits one command buffer and waits for it (fence), with the queue lock held.
+    pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) -> Result<(), VkError> {
+        let fence =
+            unsafe { self.device.create_fence(&vk::FenceCreateInfo::default(), None) }?;
+        let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+        let submit = vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos);
+        let result = {
+            let _q = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
+            unsafe { self.device.queue_submit2(self.queue, &[submit], fence) }
+        };
+        let result = result.and_then(|_| unsafe {
+            self.device.wait_for_fences(&[fence], true, u64::MAX)
+        });
+        unsafe { self.device.destroy_fence(fence, None) };
+        result.map_err(VkError::from)
+    }
+}
+
+impl Drop for Context {
+    fn drop(&mut self) {
+        // SAFETY: all objects created from this device are owned by wrappers holding an Arc of the
+        // context, so they are gone by now. The allocator goes before the device.
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            ManuallyDrop::drop(&mut self.allocator);
+            self.device.destroy_device(None);
+        }
+    }
+}

@@ -1,0 +1,273 @@
+//! Pipelines, pipeline layouts, descriptor set layouts and pools, all destroyed on drop.
+
+use std::ffi::CStr;
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::shaders::ShaderModule;
+use super::{Context, VkError};
+
+const MAIN: &CStr = c"main";
+
+pub struct DescriptorSetLayout {
+    pub raw: vk::DescriptorSetLayout,
+    ctx: Arc<Context>,
+}
+
+impl DescriptorSetLayout {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        bindings: &[vk::DescriptorSetLayoutBinding<'_>],
+    ) -> Result<Self, VkError> {
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
+        let raw = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+}
+
+impl Drop for DescriptorSetLayout {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_descriptor_set_layout(self.raw, None) };
+    }
+}
+
+pub struct DescriptorPool {
+    pub raw: vk::DescriptorPool,
+    ctx: Arc<Context>,
+}
+
+impl DescriptorPool {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        max_sets: u32,
+        sizes: &[vk::DescriptorPoolSize],
+    ) -> Result<Self, VkError> {
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(max_sets)
+            .pool_sizes(sizes);
+        let raw = unsafe { ctx.device.create_descriptor_pool(&info, None) }?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn allocate(&self, layout: &DescriptorSetLayout) -> Result<vk::DescriptorSet, VkError> {
+        let layouts = [layout.raw];
+        let info = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(self.raw)
+            .set_layouts(&layouts);
+        Ok(unsafe { self.ctx.device.allocate_descriptor_sets(&info) }?[0])
+    }
+}
+
+impl Drop for DescriptorPool {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_descriptor_pool(self.raw, None) };
+    }
+}
+
+pub struct PipelineLayout {
+    pub raw: vk::PipelineLayout,
+    ctx: Arc<Context>,
+}
+
+impl PipelineLayout {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        sets: &[&DescriptorSetLayout],
+        push: &[vk::PushConstantRange],
+    ) -> Result<Self, VkError> {
+        let max_push = ctx.info.limits.max_push_constants_size;
+        for p in push {
+            if p.offset + p.size > max_push {
+                return Err(VkError::Limit {
+                    what: format!("{name} push constants"),
+                    requested: (p.offset + p.size) as u64,
+                    limit: max_push as u64,
+                    limit_name: "maxPushConstantsSize",
+                });
+            }
+        }
+        let raw_sets: Vec<_> = sets.iter().map(|s| s.raw).collect();
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&raw_sets)
+            .push_constant_ranges(push);
+        let raw = unsafe { ctx.device.create_pipeline_layout(&info, None) }?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+}
+
+impl Drop for PipelineLayout {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_pipeline_layout(self.raw, None) };
+    }
+}
+
+pub struct Pipeline {
+    pub raw: vk::Pipeline,
+    ctx: Arc<Context>,
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_pipeline(self.raw, None) };
+    }
+}
+
+/// Specialization constants: (constant id, u32 value); bools are 0/1.
+pub type SpecValues = [(u32, u32)];
+
+fn spec_info<'a>(
+    values: &'a SpecValues,
+    entries: &'a mut Vec<vk::SpecializationMapEntry>,
+    data: &'a mut Vec<u8>,
+) -> vk::SpecializationInfo<'a> {
+    for (i, (id, v)) in values.iter().enumerate() {
+        entries.push(vk::SpecializationMapEntry {
+            constant_id: *id,
+            offset: (i * 4) as u32,
+            size: 4,
+        });
+        data.extend_from_slice(&v.to_ne_bytes());
+    }
+    vk::SpecializationInfo::default()
+        .map_entries(entries)
+        .data(data)
+}
+
+/// Everything a graphics pipeline for dynamic rendering needs.
+pub struct GraphicsDesc<'a> {
+    pub name: &'a str,
+    pub vertex: &'a ShaderModule,
+    pub fragment: &'a ShaderModule,
+    pub spec: &'a SpecValues,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    pub color_formats: &'a [vk::Format],
+    pub depth_format: Option<vk::Format>,
+    pub samples: vk::SampleCountFlags,
+    pub cull: vk::CullModeFlags,
+    pub depth_test: bool,
+    pub depth_write: bool,
+}
+
+impl Pipeline {
+    pub fn graphics(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        desc: &GraphicsDesc<'_>,
+    ) -> Result<Self, VkError> {
+        let (mut e, mut d) = (Vec::new(), Vec::new());
+        let spec = spec_info(desc.spec, &mut e, &mut d);
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(desc.vertex.raw)
+                .name(MAIN)
+                .specialization_info(&spec),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(desc.fragment.raw)
+                .name(MAIN)
+                .specialization_info(&spec),
+        ];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(desc.vertex_bindings)
+            .vertex_attribute_descriptions(desc.vertex_attributes);
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(desc.cull)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_test)
+            .depth_write_enable(desc.depth_write)
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend_attachments: Vec<_> = desc
+            .color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(desc.color_formats)
+            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.raw)
+            .push_next(&mut rendering);
+        let raw = unsafe {
+            ctx.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, e)| e)?[0];
+        ctx.set_name(raw, desc.name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn compute(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        name: &str,
+        module: &ShaderModule,
+        spec: &SpecValues,
+    ) -> Result<Self, VkError> {
+        let (mut e, mut d) = (Vec::new(), Vec::new());
+        let spec = spec_info(spec, &mut e, &mut d);
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.raw)
+            .name(MAIN)
+            .specialization_info(&spec);
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.raw);
+        let raw = unsafe {
+            ctx.device
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, e)| e)?[0];
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+}

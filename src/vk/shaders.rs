@@ -1,0 +1,53 @@
+//! SPIR-V compiled by build.rs from `shaders_glsl/`, embedded in the binary.
+
+use std::io::Cursor;
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::{Context, VkError};
+
+include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+
+/// The SPIR-V bytes for a key such as `forward.frag:phong`.
+pub fn spirv(key: &str) -> Option<&'static [u8]> {
+    SPIRV.iter().find(|(k, _)| *k == key).map(|(_, b)| *b)
+}
+
+/// Every embedded module's key.
+pub fn keys() -> impl Iterator<Item = &'static str> {
+    SPIRV.iter().map(|(k, _)| *k)
+}
+
+/// A shader module, destroyed on drop.
+pub struct ShaderModule {
+    pub raw: vk::ShaderModule,
+    pub key: &'static str,
+    ctx: Arc<Context>,
+}
+
+impl ShaderModule {
+    pub fn new(ctx: &Arc<Context>, key: &str) -> Result<Self, VkError> {
+        let (key, bytes) = SPIRV
+            .iter()
+            .find(|(k, _)| *k == key)
+            .ok_or_else(|| VkError::Setup(format!("no embedded shader named {key}")))?;
+        // read_spv copes with the byte slice's alignment.
+        let words = ash::util::read_spv(&mut Cursor::new(bytes))
+            .map_err(|e| VkError::Setup(format!("bad SPIR-V in {key}: {e}")))?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        let raw = unsafe { ctx.device.create_shader_module(&info, None) }?;
+        ctx.set_name(raw, key);
+        Ok(Self {
+            raw,
+            key,
+            ctx: ctx.clone(),
+        })
+    }
+}
+
+impl Drop for ShaderModule {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_shader_module(self.raw, None) };
+    }
+}

@@ -1,0 +1,73 @@
+//! The binary's behaviour on bad input: one clear message, a non-zero exit, never a panic.
+
+use std::process::Command;
+
+fn luz(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
+        .args(args)
+        .env("LUZ_VALIDATION", "1")
+        .output()
+        .expect("run luz");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn assert_clean_failure(code: i32, stderr: &str, needle: &str) {
+    assert_ne!(code, 0, "expected a failure; stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "panic: {stderr}");
+    assert!(
+        stderr.contains("luz: error:") && stderr.contains(needle),
+        "expected an error mentioning {needle:?}, got: {stderr}"
+    );
+}
+
+#[test]
+fn unknown_device_name() {
+    let dir = std::env::temp_dir().join("luz-cli-device");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("x.png");
+    let (code, _, err) = luz(&["render", "--device", "no-such-gpu-xyz", "-o", out.to_str().unwrap()]);
+    assert_clean_failure(code, &err, "no-such-gpu-xyz");
+    assert!(err.contains("available"), "the message lists the devices: {err}");
+    assert!(!out.exists(), "no file is left behind on failure");
+}
+
+#[test]
+fn unwritable_output_path() {
+    let (code, _, err) = luz(&["render", "-o", "/nonexistent-dir/sub/out.png"]);
+    assert_clean_failure(code, &err, "/nonexistent-dir/sub/out.png");
+}
+
+#[test]
+fn unsupported_extension() {
+    let (code, _, err) = luz(&["render", "-o", "out.jpg"]);
+    assert_clean_failure(code, &err, "out.jpg");
+    assert!(err.contains("png") && err.contains("exr"), "names the supported formats: {err}");
+}
+
+#[test]
+fn render_writes_png_and_exr_and_reports_timings() {
+    let dir = std::env::temp_dir().join("luz-cli-render");
+    std::fs::create_dir_all(&dir).unwrap();
+    for ext in ["png", "exr"] {
+        let out = dir.join(format!("default.{ext}"));
+        let _ = std::fs::remove_file(&out);
+        let (code, stdout, err) = luz(&[
+            "render", "--width", "160", "--height", "90", "--frames", "3", "--verbose", "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "stdout: {stdout}\nstderr: {err}");
+        assert!(out.exists());
+        assert!(stdout.contains("device: "), "{stdout}");
+        assert!(stdout.contains("GPU forward"), "{stdout}");
+        assert!(stdout.contains("CPU frame"), "{stdout}");
+        assert!(stdout.contains("time to first frame"), "{stdout}");
+        assert!(stdout.contains("forward[shading="), "--verbose lists variants: {stdout}");
+        assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+        let img = luz::imageio::load(&out).unwrap();
+        assert_eq!((img.width, img.height), (160, 90));
+    }
+}

@@ -1,0 +1,69 @@
+//! Foundation tests on lavapipe with validation on: golden image of the default scene, determinism,
+//! and the Lambert analytic oracle.
+
+mod common;
+
+use common::*;
+
+/// The embedded default scene against its golden, at a reduced size to keep the suite quick.
+#[test]
+fn default_scene_golden() {
+    let mut scene = luz::scene::default_scene();
+    scene.output.width = 640;
+    scene.output.height = 360;
+    let img = render(&scene);
+    // Lit spheres: the image is not black and has no NaN.
+    let lum: f64 = img
+        .pixels
+        .iter()
+        .map(|p| (p[0] + p[1] + p[2]) as f64 / 3.0)
+        .sum::<f64>()
+        / img.pixels.len() as f64;
+    assert!(lum > 0.05, "default scene is nearly black (mean {lum})");
+    check_golden("default_640x360", &scene, &img, Tolerance::default());
+}
+
+/// The same scene rendered twice gives identical bytes.
+#[test]
+fn determinism() {
+    let mut scene = luz::scene::default_scene();
+    scene.output.width = 320;
+    scene.output.height = 180;
+    let a = render(&scene);
+    let b = render(&scene);
+    let bytes = |i: &luz::imageio::LinearImage| -> Vec<u8> {
+        i.pixels.iter().flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes())).collect()
+    };
+    assert!(bytes(&a) == bytes(&b), "two renders of one scene differ");
+}
+
+/// A plane under one directional light with a Lambert material: every pixel equals
+/// albedo/π · E · cosθ to 1e-4 relative.
+#[test]
+fn lambert_plane_oracle() {
+    let dir = glam::Vec3::new(-0.3, -1.0, -0.2).normalize();
+    let json = format!(
+        r#"{{
+        "camera": {{"position": [0, 2, 0], "target": [0, 0, 0], "up": [0, 0, -1], "fov_y_deg": 60, "near": 0.1, "far": 10}},
+        "output": {{"width": 64, "height": 48, "background": [0, 0, 0]}},
+        "ambient": [0, 0, 0],
+        "lights": [{{"type": "directional", "direction": [{}, {}, {}], "color": [1, 1, 1], "intensity": 2.5}}],
+        "materials": {{"m": {{"model": "lambert", "albedo": [0.8, 0.5, 0.2]}}}},
+        "objects": [{{"mesh": {{"type": "plane", "size": [20, 20]}}, "material": "m"}}]
+    }}"#,
+        dir.x, dir.y, dir.z
+    );
+    let scene = parse(&json);
+    let img = render(&scene);
+    let cos = -dir.y;
+    let albedo = [0.8f32, 0.5, 0.2];
+    let mut worst = 0.0f32;
+    for p in &img.pixels {
+        for c in 0..3 {
+            let expected = albedo[c] / std::f32::consts::PI * 2.5 * cos;
+            let rel = (p[c] - expected).abs() / expected;
+            worst = worst.max(rel);
+        }
+    }
+    assert!(worst <= 1e-4, "worst relative error {worst} > 1e-4");
+}
