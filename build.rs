@@ -90,7 +90,11 @@ fn main() {
         };
         let source = std::fs::read_to_string(path)
             .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-        let rel = path.strip_prefix(&root).unwrap().to_string_lossy().replace('\\', "/");
+        let rel = path
+            .strip_prefix(&root)
+            .unwrap()
+            .to_string_lossy()
+            .replace('\\', "/");
         for variant in parse_variants(&source, path) {
             let mut options = shaderc::CompileOptions::new().expect("shaderc options");
             options.set_target_env(
@@ -162,7 +166,11 @@ fn main() {
         for f in &failures {
             eprintln!("GLSL error in {f}");
         }
-        panic!("{} shader(s) failed to compile:\n{}", failures.len(), failures.join("\n"));
+        panic!(
+            "{} shader(s) failed to compile:\n{}",
+            failures.len(),
+            failures.join("\n")
+        );
     }
     let code = format!(
         "/// Every SPIR-V module compiled by build.rs: (key, bytes). Keys are `path.stage` or `path.stage:variant`.\n\

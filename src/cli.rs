@@ -300,7 +300,12 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
         frames.push(renderer.render()?);
     }
     let image = renderer.image()?;
-    crate::imageio::save(&a.output, &image, scene.output.exposure, scene.output.tonemap)?;
+    crate::imageio::save(
+        &a.output,
+        &image,
+        scene.output.exposure,
+        scene.output.tonemap,
+    )?;
     let nan = image
         .pixels
         .iter()

@@ -58,7 +58,11 @@ fn sample_flags(ctx: &Context, msaa: u32) -> Result<vk::SampleCountFlags, VkErro
         4 => vk::SampleCountFlags::TYPE_4,
         8 => vk::SampleCountFlags::TYPE_8,
         16 => vk::SampleCountFlags::TYPE_16,
-        _ => return Err(VkError::Setup(format!("msaa {msaa} is not a power of two in 1..16"))),
+        _ => {
+            return Err(VkError::Setup(format!(
+                "msaa {msaa} is not a power of two in 1..16"
+            )))
+        }
     };
     let limits = &ctx.info.limits;
     let supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
@@ -77,7 +81,11 @@ impl Headless {
         let (width, height) = (scene.output.width, scene.output.height);
         let samples = sample_flags(ctx, scene.output.msaa)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
-        let color = Image::new(ctx, "hdr color", ImageDesc::color_target(width, height, COLOR_FORMAT))?;
+        let color = Image::new(
+            ctx,
+            "hdr color",
+            ImageDesc::color_target(width, height, COLOR_FORMAT),
+        )?;
         let msaa_color = if samples != vk::SampleCountFlags::TYPE_1 {
             Some(Image::new(
                 ctx,
@@ -87,7 +95,11 @@ impl Headless {
         } else {
             None
         };
-        let depth = Image::new(ctx, "depth", ImageDesc::depth(width, height, DEPTH_FORMAT, samples))?;
+        let depth = Image::new(
+            ctx,
+            "depth",
+            ImageDesc::depth(width, height, DEPTH_FORMAT, samples),
+        )?;
         let bytes = width as u64 * height as u64 * 16;
         let readback = Buffer::new(
             ctx,
@@ -225,7 +237,7 @@ impl Headless {
         let mut last = color_att;
         if let Some(s) = &self.saturate {
             let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));
-            last = s.record(cmd, &self.color, last);
+            last = s.record(cmd, last);
             if let Some(t) = &mut self.timer {
                 t.end(cmd, slot);
             }
@@ -275,7 +287,10 @@ impl Headless {
         crate::vk::cmd::memory_barrier(
             &d,
             cmd,
-            (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_WRITE),
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
             (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
         );
         if let Some(t) = &mut self.timer {
@@ -286,7 +301,11 @@ impl Headless {
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos);
         {
-            let _q = self.ctx.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
+            let _q = self
+                .ctx
+                .queue_lock
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
             unsafe { d.queue_submit2(self.ctx.queue, &[submit], self.fence)? };
         }
         unsafe {

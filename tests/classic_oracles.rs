@@ -47,12 +47,7 @@ fn view_depth(p: Vec3) -> f32 {
 
 /// Compares every pixel with `expected(position)`; pixels for which `skip` is true are left out
 /// (hard spot-cone edges, where a pixel centre may fall on either side).
-fn check(
-    name: &str,
-    json: &str,
-    expected: impl Fn(Vec3) -> Vec3,
-    skip: impl Fn(Vec3) -> bool,
-) {
+fn check(name: &str, json: &str, expected: impl Fn(Vec3) -> Vec3, skip: impl Fn(Vec3) -> bool) {
     let scene = parse(json);
     let img = render(&scene);
     let mut worst = (0.0f32, 0u32, 0u32, Vec3::ZERO, Vec3::ZERO);
@@ -79,7 +74,10 @@ fn check(
             }
         }
     }
-    assert!(checked > (W * H / 2) as usize, "{name}: too few pixels checked");
+    assert!(
+        checked > (W * H / 2) as usize,
+        "{name}: too few pixels checked"
+    );
     assert!(
         worst.0 <= 1e-4,
         "{name}: worst relative error {} at pixel ({}, {}): expected {:?}, got {:?}",
@@ -251,7 +249,11 @@ fn spot_factor(p: Vec3, lp: Vec3, axis: Vec3, umbra: f32, inner: Option<f32>, ex
             t * t * (3.0 - 2.0 * t)
         }
     };
-    cone * if exp > 0.0 { cos_s.max(0.0).powf(exp) } else { 1.0 }
+    cone * if exp > 0.0 {
+        cos_s.max(0.0).powf(exp)
+    } else {
+        1.0
+    }
 }
 
 #[test]
@@ -302,7 +304,11 @@ fn spot_smooth_penumbra_classic() {
         |p| {
             let l = (lp - p).normalize();
             PHONG.ambient()
-                + PHONG.light(p, l, Vec3::splat(spot_factor(p, lp, axis, 35.0, Some(20.0), 0.0)))
+                + PHONG.light(
+                    p,
+                    l,
+                    Vec3::splat(spot_factor(p, lp, axis, 35.0, Some(20.0), 0.0)),
+                )
         },
         |_| false,
     );
@@ -326,8 +332,7 @@ fn depth_cueing() {
         "lambert/directional/fog",
         &json,
         |p| {
-            let i = albedo * AMBIENT
-                + albedo / std::f32::consts::PI * N.dot(-dir).max(0.0);
+            let i = albedo * AMBIENT + albedo / std::f32::consts::PI * N.dot(-dir).max(0.0);
             let z = view_depth(p);
             let s = if z < za {
                 sa

@@ -29,9 +29,18 @@ fn unknown_device_name() {
     let dir = std::env::temp_dir().join("luz-cli-device");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("x.png");
-    let (code, _, err) = luz(&["render", "--device", "no-such-gpu-xyz", "-o", out.to_str().unwrap()]);
+    let (code, _, err) = luz(&[
+        "render",
+        "--device",
+        "no-such-gpu-xyz",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert_clean_failure(code, &err, "no-such-gpu-xyz");
-    assert!(err.contains("available"), "the message lists the devices: {err}");
+    assert!(
+        err.contains("available"),
+        "the message lists the devices: {err}"
+    );
     assert!(!out.exists(), "no file is left behind on failure");
 }
 
@@ -45,7 +54,10 @@ fn unwritable_output_path() {
 fn unsupported_extension() {
     let (code, _, err) = luz(&["render", "-o", "out.jpg"]);
     assert_clean_failure(code, &err, "out.jpg");
-    assert!(err.contains("png") && err.contains("exr"), "names the supported formats: {err}");
+    assert!(
+        err.contains("png") && err.contains("exr"),
+        "names the supported formats: {err}"
+    );
 }
 
 #[test]
@@ -56,7 +68,15 @@ fn render_writes_png_and_exr_and_reports_timings() {
         let out = dir.join(format!("default.{ext}"));
         let _ = std::fs::remove_file(&out);
         let (code, stdout, err) = luz(&[
-            "render", "--width", "160", "--height", "90", "--frames", "3", "--verbose", "-o",
+            "render",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--frames",
+            "3",
+            "--verbose",
+            "-o",
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "stdout: {stdout}\nstderr: {err}");
@@ -65,7 +85,10 @@ fn render_writes_png_and_exr_and_reports_timings() {
         assert!(stdout.contains("GPU forward"), "{stdout}");
         assert!(stdout.contains("CPU frame"), "{stdout}");
         assert!(stdout.contains("time to first frame"), "{stdout}");
-        assert!(stdout.contains("forward[shading="), "--verbose lists variants: {stdout}");
+        assert!(
+            stdout.contains("forward[shading="),
+            "--verbose lists variants: {stdout}"
+        );
         assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
         let img = luz::imageio::load(&out).unwrap();
         assert_eq!((img.width, img.height), (160, 90));

@@ -32,7 +32,10 @@ fn determinism() {
     let a = render(&scene);
     let b = render(&scene);
     let bytes = |i: &luz::imageio::LinearImage| -> Vec<u8> {
-        i.pixels.iter().flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes())).collect()
+        i.pixels
+            .iter()
+            .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+            .collect()
     };
     assert!(bytes(&a) == bytes(&b), "two renders of one scene differ");
 }

@@ -333,6 +333,11 @@ fn fresnel_terms() {
     assert!((ior_from_f0(0.04) - 1.5).abs() < 1e-5);
     // The seed's gold preset, a real η = 0.277 alone, gives F0 = 0.32 (MODELS.md §3).
     assert!((f0_from_ior(0.277) - 0.3202).abs() < 1e-3);
+    // The f64 reference reduces to the dielectric equations for κ = 0.
+    for i in 0..=20 {
+        let c = i as f32 / 20.0;
+        assert!((conductor_exact(c as f64, 1.5, 0.0) as f32 - f_dielectric(c, 1.5)).abs() < 1e-5);
+    }
     // Conductor: exact at normal incidence, 1 at grazing; near the exact complex Fresnel.
     for name in METAL_NAMES {
         let m = metal_preset(name).unwrap();
@@ -1147,7 +1152,7 @@ fn albedo_report() {
     report_grid("principled one at a time (white)", v, samples);
 
     // Albedo vs angle for a few reference materials.
-    println!("\n## albedo vs cos θl (R channel)");
+    println!("\n## albedo vs cos θl = 1, 0.866, 0.5, 0.174, 0.017 (R channel)");
     let refs = [
         (
             "lambert",
@@ -1176,10 +1181,76 @@ fn albedo_report() {
             }),
         ),
         (
+            "principled white roughness 1",
+            Model::Principled(PrincipledParams {
+                base_color: Vec3::ONE,
+                roughness: 1.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "principled white subsurface 1 roughness 0",
+            Model::Principled(PrincipledParams {
+                base_color: Vec3::ONE,
+                roughness: 0.0,
+                subsurface: 1.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "principled white sheen 1 roughness 1",
+            Model::Principled(PrincipledParams {
+                base_color: Vec3::ONE,
+                roughness: 1.0,
+                sheen: 1.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "principled white clearcoat 1 (gloss 1)",
+            Model::Principled(PrincipledParams {
+                base_color: Vec3::ONE,
+                clearcoat: 1.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "principled white metallic 1 roughness 0.5",
+            Model::Principled(PrincipledParams {
+                base_color: Vec3::ONE,
+                metallic: 1.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "oren_nayar albedo 1 sigma 10°",
+            Model::OrenNayar(OrenNayarParams {
+                albedo: Vec3::ONE,
+                sigma_deg: 10.0,
+            }),
+        ),
+        (
+            "oren_nayar albedo 1 sigma 30°",
+            Model::OrenNayar(OrenNayarParams {
+                albedo: Vec3::ONE,
+                sigma_deg: 30.0,
+            }),
+        ),
+        (
             "cook_torrance defaults",
             Model::CookTorrance(CookTorranceParams::default()),
         ),
         ("phong defaults", Model::Phong(PhongParams::default())),
+        (
+            "phong O_d=O_s=1 kd 0.8 ks 0.7 n 20",
+            Model::Phong(PhongParams {
+                diffuse_color: Vec3::ONE,
+                kd: 0.8,
+                ks: 0.7,
+                shininess: 20.0,
+                ..Default::default()
+            }),
+        ),
     ];
     for (name, m) in refs {
         let row: Vec<String> = [1.0, 0.866, 0.5, 0.174, 0.017]

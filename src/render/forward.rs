@@ -181,7 +181,7 @@ impl ForwardPass {
         }
         let mut uploader = Uploader::new(ctx);
         let light_data = if lights.is_empty() {
-            vec![GpuLight::zeroed_light()]
+            vec![bytemuck::Zeroable::zeroed()]
         } else {
             lights.clone()
         };
@@ -196,7 +196,7 @@ impl ForwardPass {
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
         let mut draws = Vec::new();
-        for (i, obj) in scene.objects.iter().enumerate() {
+        for obj in &scene.objects {
             let flat = matches!(obj.shading, Shading::Flat);
             let key = (Arc::as_ptr(&obj.mesh) as usize, flat);
             let mesh_index = match mesh_cache.get(&key) {
@@ -252,7 +252,6 @@ impl ForwardPass {
                 },
                 push,
             });
-            let _ = i;
         }
         if objects.is_empty() {
             objects.push(gpu::object_data(glam::Mat4::IDENTITY));
@@ -310,19 +309,19 @@ impl ForwardPass {
         // Pipelines: exactly the variants the draws use.
         let mut pipelines = BTreeMap::new();
         let mut modules: HashMap<ShadingKey, (ShaderModule, ShaderModule)> = HashMap::new();
-        let needed: std::collections::BTreeSet<VariantKey> = draws.iter().map(|d| d.variant).collect();
+        let needed: std::collections::BTreeSet<VariantKey> =
+            draws.iter().map(|d| d.variant).collect();
         for v in needed {
-            if !modules.contains_key(&v.shading) {
-                let s = v.shading.name();
-                modules.insert(
-                    v.shading,
-                    (
+            let (vs, fs) = match modules.entry(v.shading) {
+                std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+                std::collections::hash_map::Entry::Vacant(e) => {
+                    let s = v.shading.name();
+                    e.insert((
                         ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
                         ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
-                    ),
-                );
-            }
-            let (vs, fs) = &modules[&v.shading];
+                    ))
+                }
+            };
             let pipeline = create_pipeline(ctx, &layout, target, v, vs, fs)?;
             pipelines.insert(v, pipeline);
         }
@@ -459,12 +458,6 @@ impl ForwardPass {
     }
 }
 
-impl GpuLight {
-    fn zeroed_light() -> Self {
-        bytemuck::Zeroable::zeroed()
-    }
-}
-
 fn create_pipeline(
     ctx: &Arc<Context>,
     layout: &PipelineLayout,
@@ -507,10 +500,7 @@ fn create_pipeline(
             offset: 0,
         });
     }
-    let spec = [
-        (gpu::SPEC_MODEL, v.model),
-        (gpu::SPEC_FOG, v.fog as u32),
-    ];
+    let spec = [(gpu::SPEC_MODEL, v.model), (gpu::SPEC_FOG, v.fog as u32)];
     let name = v.to_string();
     Pipeline::graphics(
         ctx,

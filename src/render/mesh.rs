@@ -14,7 +14,12 @@ pub struct MeshData {
 
 /// Per-vertex tangents from UV gradients (accumulated per triangle, then Gram-Schmidt against the
 /// normal); where UVs are missing or degenerate, any unit vector perpendicular to the normal.
-pub fn tangents(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u32]) -> Vec<[f32; 4]> {
+pub fn tangents(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    uvs: &[Vec2],
+    indices: &[u32],
+) -> Vec<[f32; 4]> {
     let n = positions.len();
     let mut tan = vec![Vec3::ZERO; n];
     let mut bit = vec![Vec3::ZERO; n];
@@ -43,14 +48,22 @@ pub fn tangents(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
     }
     (0..n)
         .map(|i| {
-            let nrm = normals.get(i).copied().unwrap_or(Vec3::Y).normalize_or(Vec3::Y);
+            let nrm = normals
+                .get(i)
+                .copied()
+                .unwrap_or(Vec3::Y)
+                .normalize_or(Vec3::Y);
             let t = tan[i] - nrm * nrm.dot(tan[i]);
             let t = if t.length_squared() > 1e-20 {
                 t.normalize()
             } else {
                 nrm.any_orthonormal_vector()
             };
-            let w = if nrm.cross(t).dot(bit[i]) < 0.0 { -1.0 } else { 1.0 };
+            let w = if nrm.cross(t).dot(bit[i]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
             [t.x, t.y, t.z, w]
         })
         .collect()
@@ -118,7 +131,12 @@ pub fn flat(mesh: &Mesh) -> MeshData {
             vertices.push(Vertex {
                 position: p[k].to_array(),
                 normal: normal.to_array(),
-                uv: mesh.uvs.get(i as usize).copied().unwrap_or(Vec2::ZERO).to_array(),
+                uv: mesh
+                    .uvs
+                    .get(i as usize)
+                    .copied()
+                    .unwrap_or(Vec2::ZERO)
+                    .to_array(),
                 tangent,
             });
             centroids.push(centroid.to_array());

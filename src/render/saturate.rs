@@ -30,7 +30,11 @@ pub struct SaturatePass {
 
 impl SaturatePass {
     /// The pass the scene asks for, or None (no saturation: no pipeline is built).
-    pub fn for_scene(ctx: &Arc<Context>, scene: &Scene, target: &Image) -> Result<Option<Self>, VkError> {
+    pub fn for_scene(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        target: &Image,
+    ) -> Result<Option<Self>, VkError> {
         let mode = scene.saturation;
         let kernels: &[&str] = match mode {
             Saturation::None => return Ok(None),
@@ -128,7 +132,7 @@ impl SaturatePass {
     }
 
     /// Records the pass on the target, which was last accessed as `from`; returns its new state.
-    pub fn record(&self, cmd: vk::CommandBuffer, _target: &Image, from: Access) -> Access {
+    pub fn record(&self, cmd: vk::CommandBuffer, from: Access) -> Access {
         let d = &self.ctx.device;
         let general = (
             vk::ImageLayout::GENERAL,
@@ -151,10 +155,14 @@ impl SaturatePass {
                 memory_barrier(
                     d,
                     cmd,
-                    (vk::PipelineStageFlags2::CLEAR, vk::AccessFlags2::TRANSFER_WRITE),
+                    (
+                        vk::PipelineStageFlags2::CLEAR,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    ),
                     (
                         vk::PipelineStageFlags2::COMPUTE_SHADER,
-                        vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                        vk::AccessFlags2::SHADER_STORAGE_READ
+                            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
                     ),
                 );
             }
@@ -171,10 +179,14 @@ impl SaturatePass {
                     memory_barrier(
                         d,
                         cmd,
-                        (vk::PipelineStageFlags2::COMPUTE_SHADER, vk::AccessFlags2::SHADER_STORAGE_WRITE),
                         (
                             vk::PipelineStageFlags2::COMPUTE_SHADER,
-                            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                        ),
+                        (
+                            vk::PipelineStageFlags2::COMPUTE_SHADER,
+                            vk::AccessFlags2::SHADER_STORAGE_READ
+                                | vk::AccessFlags2::SHADER_STORAGE_WRITE,
                         ),
                     );
                 }

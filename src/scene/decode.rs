@@ -407,8 +407,8 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
     };
     let saturation = match top.choice("saturation", &["clamp", "normalize", "none"])? {
         Some("normalize") => Saturation::Normalize,
-        Some("none") => Saturation::None,
-        _ => Saturation::Clamp,
+        Some("clamp") => Saturation::Clamp,
+        _ => Saturation::None,
     };
     let mut scene = Scene {
         source: None,

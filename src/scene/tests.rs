@@ -163,7 +163,7 @@ fn defaults() {
     assert_eq!(s.output.tonemap, crate::color::Tonemap::None);
     assert_eq!(s.ambient, Vec3::ZERO);
     assert!(s.lights.is_empty() && s.objects.is_empty() && s.fog.is_none());
-    assert_eq!(s.saturation, Saturation::Clamp);
+    assert_eq!(s.saturation, Saturation::None);
     assert_eq!(s.source.as_deref(), Some(Path::new("scenes/a.json")));
 
     let s = parse_str(&format!("{{{SPHERE}}}")).unwrap();

@@ -45,9 +45,10 @@ impl Buffer {
                 return Err(e.into());
             }
         };
-        if let Err(e) =
-            unsafe { ctx.device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
-        {
+        if let Err(e) = unsafe {
+            ctx.device
+                .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
+        } {
             let _ = ctx.allocator().free(allocation);
             unsafe { ctx.device.destroy_buffer(raw, None) };
             return Err(e.into());
@@ -69,7 +70,13 @@ impl Buffer {
         usage: vk::BufferUsageFlags,
     ) -> Result<Self, VkError> {
         let bytes = bytemuck::cast_slice::<T, u8>(data);
-        let mut b = Self::new(ctx, name, bytes.len() as u64, usage, MemoryLocation::CpuToGpu)?;
+        let mut b = Self::new(
+            ctx,
+            name,
+            bytes.len() as u64,
+            usage,
+            MemoryLocation::CpuToGpu,
+        )?;
         b.write(0, bytes)?;
         Ok(b)
     }
@@ -168,7 +175,10 @@ impl Uploader {
             super::cmd::memory_barrier(
                 &d,
                 cmd,
-                (vk::PipelineStageFlags2::TRANSFER, vk::AccessFlags2::TRANSFER_WRITE),
+                (
+                    vk::PipelineStageFlags2::TRANSFER,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
                 (
                     vk::PipelineStageFlags2::ALL_COMMANDS,
                     vk::AccessFlags2::MEMORY_READ,

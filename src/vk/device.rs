@@ -206,9 +206,11 @@ impl Context {
             .sampler_anisotropy(supported.sampler_anisotropy == vk::TRUE)
             .fill_mode_non_solid(supported.fill_mode_non_solid == vk::TRUE)
             .shader_float64(false);
+        // maintenance4 is required by Vulkan 1.3 (shaderc emits LocalSizeId, which needs it).
         let mut e13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
-            .synchronization2(true);
+            .synchronization2(true)
+            .maintenance4(f13.maintenance4 == vk::TRUE);
         let mut e12 = vk::PhysicalDeviceVulkan12Features::default()
             .host_query_reset(host_query_reset == vk::TRUE);
         let priorities = [1.0f32];
@@ -284,17 +286,18 @@ impl Context {
 
     /// Submits one command buffer and waits for it (fence), with the queue lock held.
     pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) -> Result<(), VkError> {
-        let fence =
-            unsafe { self.device.create_fence(&vk::FenceCreateInfo::default(), None) }?;
+        let fence = unsafe {
+            self.device
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }?;
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos);
         let result = {
             let _q = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
             unsafe { self.device.queue_submit2(self.queue, &[submit], fence) }
         };
-        let result = result.and_then(|_| unsafe {
-            self.device.wait_for_fences(&[fence], true, u64::MAX)
-        });
+        let result =
+            result.and_then(|_| unsafe { self.device.wait_for_fences(&[fence], true, u64::MAX) });
         unsafe { self.device.destroy_fence(fence, None) };
         result.map_err(VkError::from)
     }

@@ -37,18 +37,29 @@ impl ImageDesc {
         }
     }
     /// A multisampled colour target resolved into a single-sample one.
-    pub fn msaa_color(width: u32, height: u32, format: vk::Format, samples: vk::SampleCountFlags) -> Self {
+    pub fn msaa_color(
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        samples: vk::SampleCountFlags,
+    ) -> Self {
         Self {
             width,
             height,
             format,
-            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
             samples,
             mip_levels: 1,
             aspect: vk::ImageAspectFlags::COLOR,
         }
     }
-    pub fn depth(width: u32, height: u32, format: vk::Format, samples: vk::SampleCountFlags) -> Self {
+    pub fn depth(
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        samples: vk::SampleCountFlags,
+    ) -> Self {
         Self {
             width,
             height,

@@ -85,7 +85,8 @@ unsafe extern "system" fn debug_callback(
     };
     let text = format!("[{severity:?} {types:?}] {msg}");
     if severity.intersects(
-        vk::DebugUtilsMessageSeverityFlagsEXT::ERROR | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
+        vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+            | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
     ) {
         eprintln!("luz: validation: {text}");
     }
@@ -160,7 +161,8 @@ impl Instance {
             .pfn_user_callback(Some(debug_callback))
             .user_data(Arc::as_ptr(&log) as *mut c_void);
         let enables = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
-        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+        let mut features =
+            vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
         let mut info = vk::InstanceCreateInfo::default()
             .application_info(&app)
             .enabled_layer_names(&layers)

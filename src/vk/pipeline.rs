@@ -33,7 +33,11 @@ impl DescriptorSetLayout {
 
 impl Drop for DescriptorSetLayout {
     fn drop(&mut self) {
-        unsafe { self.ctx.device.destroy_descriptor_set_layout(self.raw, None) };
+        unsafe {
+            self.ctx
+                .device
+                .destroy_descriptor_set_layout(self.raw, None)
+        };
     }
 }
 
@@ -212,7 +216,8 @@ impl Pipeline {
                     .color_write_mask(vk::ColorComponentFlags::RGBA)
             })
             .collect();
-        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let mut rendering = vk::PipelineRenderingCreateInfo::default()

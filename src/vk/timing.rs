@@ -31,7 +31,11 @@ impl GpuTimer {
             pool,
             capacity,
             names: Vec::new(),
-            valid_mask: if bits >= 64 { u64::MAX } else { (1u64 << bits) - 1 },
+            valid_mask: if bits >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << bits) - 1
+            },
             period_ns: ctx.info.timestamp_period_ns as f64,
             ctx: ctx.clone(),
         }))

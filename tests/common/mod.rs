@@ -20,7 +20,10 @@ pub fn shared_dir(what: &str) -> Option<PathBuf> {
     if p.exists() {
         Some(p)
     } else {
-        eprintln!("SKIPPED: {} not found (a fresh clone without ../shared)", p.display());
+        eprintln!(
+            "SKIPPED: {} not found (a fresh clone without ../shared)",
+            p.display()
+        );
         None
     }
 }
@@ -108,12 +111,22 @@ impl Default for Tolerance {
 /// is (re)written instead. On failure actual, expected and diff images go to
 /// `target/golden-failures/`.
 pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance) -> DiffReport {
-    assert_eq!(nan_count(img), 0, "{name}: NaN/Inf pixels in the linear buffer");
+    assert_eq!(
+        nan_count(img),
+        0,
+        "{name}: NaN/Inf pixels in the linear buffer"
+    );
     let golden = root().join("tests/golden").join(format!("{name}.png"));
     let fail_dir = root().join("target/golden-failures");
     std::fs::create_dir_all(&fail_dir).unwrap();
     let actual_path = fail_dir.join(format!("{name}.actual.png"));
-    luz::imageio::save(&actual_path, img, scene.output.exposure, scene.output.tonemap).unwrap();
+    luz::imageio::save(
+        &actual_path,
+        img,
+        scene.output.exposure,
+        scene.output.tonemap,
+    )
+    .unwrap();
     if std::env::var_os("LUZ_BLESS").is_some() {
         std::fs::copy(&actual_path, &golden).unwrap();
         let ctx_driver = driver_string();
