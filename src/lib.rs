@@ -4,6 +4,7 @@
 //! Layers (arrows point down only): `cli` → `headless` → `render` → `vk`; `scene`, `brdf`, `color`,
 //! `imageio` and `diff` know nothing of Vulkan. The window viewer (feature `window`) sits on top.
 
+pub mod brdf;
 pub mod cli;
 pub mod color;
 pub mod diff;
