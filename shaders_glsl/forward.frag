@@ -13,6 +13,7 @@ layout(location = 1) in vec3 in_color;
 #else
 layout(location = 1) in vec3 in_world;
 layout(location = 2) in vec3 in_normal;
+layout(location = 3) in vec4 in_tangent;
 #endif
 
 layout(location = 0) out vec4 out_color;
@@ -21,7 +22,11 @@ void main() {
 #if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
     vec3 c = in_color;
 #else
-    vec3 c = shade(in_world, normalize(in_normal));
+    vec3 n = normalize(in_normal);
+    vec3 x;
+    vec3 y;
+    tangent_frame(n, in_tangent, x, y);
+    vec3 c = shade(in_world, n, x, y);
 #endif
     out_color = vec4(apply_fog(c, in_depth), 1.0);
 }

@@ -7,6 +7,7 @@
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+layout(location = 3) in vec4 in_tangent;
 #ifdef SHADING_FLAT
 layout(location = 4) in vec3 in_centroid;  // triangle centroid, object space (binding 1)
 #endif
@@ -19,6 +20,7 @@ layout(location = 1) out vec3 out_color;
 #else
 layout(location = 1) out vec3 out_world;
 layout(location = 2) out vec3 out_normal;
+layout(location = 3) out vec4 out_tangent;
 #endif
 
 void main() {
@@ -28,14 +30,22 @@ void main() {
     out_depth = -view_pos.z;
     gl_Position = frame.proj * view_pos;
     vec3 n = normalize(mat3(obj.normal_matrix) * in_normal);
+    vec4 t = vec4(mat3(obj.model) * in_tangent.xyz, in_tangent.w);
 #if defined(SHADING_FLAT)
     // Lighting once per polygon, at its centroid, with the face normal.
     vec3 c = (obj.model * vec4(in_centroid, 1.0)).xyz;
-    out_color = shade(c, n);
+    vec3 x;
+    vec3 y;
+    tangent_frame(n, t, x, y);
+    out_color = shade(c, n, x, y);
 #elif defined(SHADING_GOURAUD)
-    out_color = shade(world.xyz, n);
+    vec3 x;
+    vec3 y;
+    tangent_frame(n, t, x, y);
+    out_color = shade(world.xyz, n, x, y);
 #else
     out_world = world.xyz;
     out_normal = n;
+    out_tangent = t;
 #endif
 }

@@ -162,7 +162,8 @@ vec3 brdf_phong_radiance(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in, vec3 e_l
     vec3 l = brdf_safe_normalize(l_in);
     vec3 v = brdf_safe_normalize(v_in);
     float n_l_raw = dot(n, l);
-    if (n_l_raw <= 0.0 || dot(n, v) <= 0.0) {
+    // The slides' model literally: only n·l > 0 is required (see phong_radiance in models.rs).
+    if (n_l_raw <= 0.0) {
         return vec3(0.0);
     }
     float lobe = brdf_classic_lobe(p, n, l, v);

@@ -16,10 +16,7 @@
 #define FALLOFF_INVERSE_SQUARE 1u
 #define FALLOFF_CLASSIC 2u
 
-// Material models (specialization constant MODEL; src/render/gpu.rs: MODEL_*).
-#define MODEL_PHONG 0u
-#define MODEL_BLINN_PHONG 1u
-#define MODEL_LAMBERT 2u
+#include "../brdf/models.glsl"
 
 layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {
     mat4 view;
@@ -53,23 +50,18 @@ layout(set = SET_FRAME, binding = BINDING_OBJECTS, std430) readonly buffer Objec
     ObjectData objects[];
 };
 
-// Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush).
-// phong / blinn_phong: c0 = (O_d, k_a), c1 = (O_s, k_d), p0 = (k_s, n, -, -)
-// lambert:             c0 = (albedo, -)
+// Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush): the packed BRDF
+// parameters of src/brdf/gpu.rs (slot table in docs/brdf.md), then the object's index.
 layout(push_constant) uniform MaterialPush {
-    vec4 c0;
-    vec4 c1;
-    vec4 p0;
-    vec4 p1;
-    vec4 p2;
-    vec4 p3;
+    BrdfParams brdf;
     uint object_index;
     uint flags;
     uint reserved0;
     uint reserved1;
 } material;
 
-layout(constant_id = 0) const uint MODEL = MODEL_BLINN_PHONG;
+// The material model (BRDF_MODEL_*), fixed per pipeline so the driver compiles only that model.
+layout(constant_id = 0) const int MODEL = BRDF_MODEL_BLINN_PHONG;
 layout(constant_id = 1) const bool FOG = false;
 
 #endif

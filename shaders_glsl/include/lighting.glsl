@@ -5,8 +5,6 @@
 
 #include "bindings.glsl"
 
-const float PI = 3.14159265358979323846;
-
 // Distance attenuation: none, inverse square, or the slides' f_at = min(1/(c1 + c2 d + c3 d²), 1).
 float light_falloff(Light L, float d) {
     uint kind = uint(L.direction_falloff.w);
@@ -41,51 +39,56 @@ void light_incidence(Light L, vec3 P, out vec3 l, out vec3 E) {
     }
 }
 
-// The slides' model for one light: I_L (k_d O_d (n·l) + k_s O_s (r·v)^n); 0 where n·l <= 0.
-vec3 classic_light(vec3 N, vec3 V, vec3 l, vec3 E, bool blinn) {
-    float n_l = dot(N, l);
-    if (n_l <= 0.0) {
-        return vec3(0.0);
-    }
-    vec3 Od = material.c0.rgb;
-    vec3 Os = material.c1.rgb;
-    float kd = material.c1.w;
-    float ks = material.p0.x;
-    float n = material.p0.y;
-    float s;
-    if (blinn) {
-        vec3 h = l + V;
-        float hl = length(h);
-        s = hl > 0.0 ? max(dot(N, h / hl), 0.0) : 0.0;
-    } else {
-        vec3 r = 2.0 * n_l * N - l;
-        s = max(dot(r, V), 0.0);
-    }
-    float spec = s > 0.0 ? pow(s, n) : (n == 0.0 ? 1.0 : 0.0);
-    return E * (kd * Od * n_l + ks * Os * spec);
+// The material's parameters with the model fixed by the pipeline's specialization constant.
+BrdfParams material_params() {
+    BrdfParams p = material.brdf;
+    p.sel.x = MODEL;
+    return p;
 }
 
-// Outgoing value at P (world space) with unit normal N: ambient plus every light.
-vec3 shade(vec3 P, vec3 N) {
-    vec3 V = normalize(frame.camera_pos.xyz - P);
-    vec3 result;
-    if (MODEL == MODEL_LAMBERT) {
-        result = material.c0.rgb * frame.ambient.rgb;
-    } else {
-        result = frame.ambient.rgb * material.c0.w * material.c0.rgb;
+// The ambient term: the slides' I_a k_a O_d for the classic models; for the others the uniform
+// ambient radiance seen by the diffuse term (diffuse albedo × ambient).
+vec3 ambient_term(BrdfParams p, vec3 ambient) {
+    if (MODEL == BRDF_MODEL_PHONG || MODEL == BRDF_MODEL_BLINN_PHONG) {
+        return ambient * p.p0.z * p.color.rgb;
     }
+    if (MODEL == BRDF_MODEL_COOK_TORRANCE) {
+        return ambient * p.kappa.w * p.color.rgb;
+    }
+    if (MODEL == BRDF_MODEL_METAL_ROUGH || MODEL == BRDF_MODEL_PRINCIPLED) {
+        return ambient * (1.0 - p.spec.w) * p.color.rgb;
+    }
+    return ambient * p.color.rgb;
+}
+
+// Outgoing value at P (world space) with unit normal N and tangent frame (X, Y): ambient plus
+// every light, each through the CPU reference's mirror brdf_radiance.
+vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y) {
+    BrdfParams p = material_params();
+    vec3 V = normalize(frame.camera_pos.xyz - P);
+    vec3 result = ambient_term(p, frame.ambient.rgb);
     uint count = frame.counts.x;
     for (uint i = 0u; i < count; ++i) {
         vec3 l;
         vec3 E;
         light_incidence(lights[i], P, l, E);
-        if (MODEL == MODEL_LAMBERT) {
-            result += material.c0.rgb / PI * E * max(dot(N, l), 0.0);
-        } else {
-            result += classic_light(N, V, l, E, MODEL == MODEL_BLINN_PHONG);
-        }
+        result += brdf_radiance(p, N, l, V, X, Y, E);
     }
     return result;
+}
+
+// A tangent frame from a normal and a (possibly unnormalised, non-orthogonal) tangent with
+// handedness w: Gram-Schmidt, then Y = w (N × X). Degenerate tangents fall back to any
+// perpendicular vector.
+void tangent_frame(vec3 N, vec4 T, out vec3 X, out vec3 Y) {
+    vec3 t = T.xyz - N * dot(N, T.xyz);
+    float len2 = dot(t, t);
+    if (len2 < 1e-12) {
+        t = abs(N.x) < 0.9 ? cross(N, vec3(1.0, 0.0, 0.0)) : cross(N, vec3(0.0, 1.0, 0.0));
+        len2 = dot(t, t);
+    }
+    X = t * inversesqrt(len2);
+    Y = cross(N, X) * (T.w < 0.0 ? -1.0 : 1.0);
 }
 
 // Depth cueing: S from the view-space depth z, then I' = (1 − S) I + S I_F.

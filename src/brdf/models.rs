@@ -705,11 +705,22 @@ pub fn blinn_phong(p: &PhongParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 {
 /// `n·l ≤ 0` or `n·v ≤ 0`. Light attenuation `f_at` is the caller's (fold it into `e_light`).
 pub fn phong_radiance(p: &PhongParams, n: Vec3, l: Vec3, v: Vec3, e_light: Vec3) -> Vec3 {
     let p = p.sanitized();
-    let Some(s) = setup(n, l, v) else {
+    // The slides' model literally: only n·l > 0 is required (no condition on n·v), so
+    // interpolated normals at silhouettes keep their diffuse light as in the figures.
+    let (n, l, v) = (safe_normalize(n), safe_normalize(l), safe_normalize(v));
+    let n_l = n.dot(l);
+    if n_l <= 0.0 {
         return Vec3::ZERO;
+    }
+    let s = Setup {
+        n,
+        l,
+        v,
+        n_l: clamp_cos(n_l),
+        n_v: clamp_cos(n.dot(v).max(0.0)),
     };
     let lobe = classic_lobe(&p, &s);
-    let n_l = s.n.dot(s.l).min(1.0);
+    let n_l = n_l.min(1.0);
     e_light * (p.diffuse_color * (p.kd * n_l) + p.specular_color * (p.ks * lobe))
 }
 

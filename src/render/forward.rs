@@ -22,7 +22,7 @@ use crate::vk::{Buffer, Context, VkError};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VariantKey {
     pub shading: ShadingKey,
-    pub model: u32,
+    pub model: i32,
     pub fog: bool,
 }
 
@@ -50,11 +50,16 @@ impl ShadingKey {
     }
 }
 
-pub fn model_name(model: u32) -> &'static str {
+pub fn model_name(model: i32) -> &'static str {
+    use gpu::model_code as m;
     match model {
-        gpu::MODEL_PHONG => "phong",
-        gpu::MODEL_BLINN_PHONG => "blinn_phong",
-        gpu::MODEL_LAMBERT => "lambert",
+        m::LAMBERT => "lambert",
+        m::PHONG => "phong",
+        m::BLINN_PHONG => "blinn_phong",
+        m::COOK_TORRANCE => "cook_torrance",
+        m::METAL_ROUGH => "metal_rough",
+        m::PRINCIPLED => "principled",
+        m::OREN_NAYAR => "oren_nayar",
         _ => "unknown",
     }
 }
@@ -485,7 +490,13 @@ fn create_pipeline(
             format: vk::Format::R32G32B32_SFLOAT,
             offset: 12,
         },
-        // uv (location 2, offset 24) and tangent (location 3, offset 32) join when a shader reads them.
+        // uv (location 2, offset 24) joins when a shader reads it.
+        vk::VertexInputAttributeDescription {
+            location: 3,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 32,
+        },
     ];
     if v.shading == ShadingKey::Flat {
         bindings.push(vk::VertexInputBindingDescription {
@@ -500,7 +511,10 @@ fn create_pipeline(
             offset: 0,
         });
     }
-    let spec = [(gpu::SPEC_MODEL, v.model), (gpu::SPEC_FOG, v.fog as u32)];
+    let spec = [
+        (gpu::SPEC_MODEL, v.model as u32),
+        (gpu::SPEC_FOG, v.fog as u32),
+    ];
     let name = v.to_string();
     Pipeline::graphics(
         ctx,

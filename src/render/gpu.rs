@@ -17,10 +17,8 @@ pub const FALLOFF_NONE: u32 = 0;
 pub const FALLOFF_INVERSE_SQUARE: u32 = 1;
 pub const FALLOFF_CLASSIC: u32 = 2;
 
-/// Material model ids (specialization constant 0).
-pub const MODEL_PHONG: u32 = 0;
-pub const MODEL_BLINN_PHONG: u32 = 1;
-pub const MODEL_LAMBERT: u32 = 2;
+/// Material model ids (specialization constant 0): the CPU reference's codes.
+pub use crate::brdf::model_code;
 
 /// Specialization constant ids.
 pub const SPEC_MODEL: u32 = 0;
@@ -59,16 +57,12 @@ pub struct ObjectData {
     pub normal_matrix: Mat4,
 }
 
-/// `MaterialPush`: per-material parameters as push constants.
+/// `MaterialPush`: per-material parameters as push constants: the packed BRDF parameters of
+/// [`crate::brdf::GpuBrdfParams`] (96 bytes), then the object's index.
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
 pub struct MaterialPush {
-    pub c0: Vec4,
-    pub c1: Vec4,
-    pub p0: Vec4,
-    pub p1: Vec4,
-    pub p2: Vec4,
-    pub p3: Vec4,
+    pub brdf: [u32; 24],
     pub object_index: u32,
     pub flags: u32,
     pub reserved: [u32; 2],
@@ -116,34 +110,23 @@ impl GpuLight {
     }
 }
 
-/// The specialization value and push constants for a material.
-pub fn material_push(m: &Material) -> (u32, MaterialPush) {
-    let mut p = MaterialPush::default();
-    let model = match m {
-        Material::Phong {
-            blinn,
-            ka,
-            kd,
-            ks,
-            shininess,
-            diffuse_color,
-            specular_color,
-        } => {
-            p.c0 = diffuse_color.extend(*ka);
-            p.c1 = specular_color.extend(*kd);
-            p.p0 = Vec4::new(*ks, *shininess, 0.0, 0.0);
-            if *blinn {
-                MODEL_BLINN_PHONG
-            } else {
-                MODEL_PHONG
-            }
-        }
-        Material::Lambert { albedo } => {
-            p.c0 = albedo.extend(0.0);
-            MODEL_LAMBERT
-        }
-    };
-    (model, p)
+/// The model code (specialization constant) and push constants for a material.
+pub fn material_push(m: &Material) -> (i32, MaterialPush) {
+    let packed = crate::brdf::GpuBrdfParams::from_model(&m.to_brdf());
+    let bytes = packed.to_bytes();
+    let mut brdf = [0u32; 24];
+    for (w, c) in brdf.iter_mut().zip(bytes.chunks_exact(4)) {
+        *w = u32::from_ne_bytes([c[0], c[1], c[2], c[3]]);
+    }
+    (
+        packed.sel[0],
+        MaterialPush {
+            brdf,
+            object_index: 0,
+            flags: 0,
+            reserved: [0; 2],
+        },
+    )
 }
 
 /// Vulkan clip space from a right-handed view: y down, depth in [0, 1].

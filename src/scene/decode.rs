@@ -17,6 +17,11 @@ use super::{
     Camera, Falloff, Fog, Light, LightKind, Material, MeshDesc, NamedMaterial, Object, Output,
     Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
 };
+use crate::brdf::{
+    dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Distribution, Fresnel, Geometry,
+    MetalRoughParams, OrenNayarParams, PrincipledParams, SpecularSource, DIELECTRIC_NAMES,
+    METAL_NAMES,
+};
 use crate::color::Tonemap;
 
 type Result<T> = std::result::Result<T, Invalid>;
@@ -160,6 +165,40 @@ impl<'a> Fields<'a> {
         }
     }
 
+    /// A colour whose every channel passes `check` (one number means grey).
+    fn color_in(&self, key: &str, default: Vec3, check: Check) -> Result<Vec3> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(v) => color_in(v, &self.path(key), check),
+        }
+    }
+
+    fn boolean(&self, key: &str, default: bool) -> Result<bool> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(Value {
+                kind: Kind::Bool(b),
+                ..
+            }) => Ok(*b),
+            Some(v) => Err(self.err(
+                key,
+                format!("expected true or false, got {}", v.kind.describe()),
+            )),
+        }
+    }
+
+    /// A selector: a string from `table`, mapped to its value.
+    fn select<T: Copy>(&self, key: &str, table: &[(&str, T)], default: T) -> Result<T> {
+        let names: Vec<&str> = table.iter().map(|(n, _)| *n).collect();
+        Ok(match self.choice(key, &names)? {
+            None => default,
+            Some(s) => table
+                .iter()
+                .find(|(n, _)| *n == s)
+                .map_or(default, |(_, t)| *t),
+        })
+    }
+
     fn string(&self, key: &str) -> Result<Option<&'a str>> {
         self.get(key)
             .map(|v| string(v, &self.path(key)))
@@ -276,9 +315,14 @@ fn vec3(v: &Value, path: &str, check: Check) -> Result<Vec3> {
 
 /// A linear RGB colour: [r, g, b] or one number for grey; every channel ≥ 0.
 fn color(v: &Value, path: &str) -> Result<Vec3> {
+    color_in(v, path, Check::NonNegative)
+}
+
+/// A colour-shaped value ([r, g, b] or one number for all three) whose channels pass `check`.
+fn color_in(v: &Value, path: &str, check: Check) -> Result<Vec3> {
     match &v.kind {
-        Kind::Number { .. } => Ok(Vec3::splat(number(v, path, Check::NonNegative)?)),
-        Kind::Array(items) if items.len() == 3 => vec3(v, path, Check::NonNegative),
+        Kind::Number { .. } => Ok(Vec3::splat(number(v, path, check)?)),
+        Kind::Array(items) if items.len() == 3 => vec3(v, path, check),
         Kind::Array(items) => Err(Invalid::new(
             path,
             format!(
@@ -689,7 +733,39 @@ const MATERIAL_MODELS: &[(&str, MaterialDecoder)] = &[
     ("phong", phong),
     ("blinn_phong", phong),
     ("lambert", lambert),
+    ("cook_torrance", cook_torrance),
+    ("metal_rough", metal_rough),
+    ("principled", principled),
+    ("oren_nayar", oren_nayar),
 ];
+
+/// The `distribution` selector (names as `brdf::Distribution`'s serde names).
+pub(crate) const DISTRIBUTIONS: &[(&str, Distribution)] = &[
+    ("beckmann", Distribution::Beckmann),
+    ("ggx", Distribution::Ggx),
+];
+
+/// The `geometry` selector.
+pub(crate) const GEOMETRIES: &[(&str, Geometry)] = &[
+    ("cook_torrance", Geometry::CookTorrance),
+    ("smith_ggx", Geometry::SmithGgx),
+    ("smith_ggx_correlated", Geometry::SmithGgxCorrelated),
+    ("schlick_ggx", Geometry::SchlickGgx),
+];
+
+/// The `fresnel` selector.
+pub(crate) const FRESNELS: &[(&str, Fresnel)] = &[
+    ("schlick", Fresnel::Schlick),
+    ("schlick_sg", Fresnel::SchlickSg),
+    ("dielectric", Fresnel::Dielectric),
+    ("conductor", Fresnel::Conductor),
+];
+
+/// Cook-Torrance's specular (Fresnel) sources; a material gives at most one.
+const SPECULAR_SOURCES: &[&str] = &["ior", "f0", "complex_ior", "preset"];
+
+/// Every unit-range parameter in [0, 1].
+const UNIT: Check = Check::In(0.0, 1.0);
 
 fn material(v: &Value, path: &str) -> Result<Material> {
     let f = Fields::new(v, path)?;
@@ -753,6 +829,245 @@ fn lambert(f: &Fields, model: &str) -> Result<Material> {
         ));
     }
     Ok(Material::Lambert { albedo })
+}
+
+/// Cook-Torrance (seed 000). Defaults are `brdf::CookTorranceParams::default()`.
+fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "color",
+            "kd",
+            "roughness",
+            "ior",
+            "f0",
+            "complex_ior",
+            "preset",
+            "distribution",
+            "geometry",
+            "fresnel",
+        ],
+        &format!("a {model} material"),
+    )?;
+    let d = CookTorranceParams::default();
+    let color = f.color_in("color", d.color, UNIT)?;
+    let kd = f.num("kd", d.kd, UNIT)?;
+    let roughness = f.num("roughness", d.roughness, UNIT)?;
+    let distribution = f.select("distribution", DISTRIBUTIONS, d.distribution)?;
+    let geometry = f.select("geometry", GEOMETRIES, d.geometry)?;
+    let fresnel = f.select("fresnel", FRESNELS, d.fresnel)?;
+    let source = specular_source(f)?;
+    let name = |s: &Option<(&str, SpecularSource)>| match s {
+        Some(("preset", _)) => format!(
+            "preset \"{}\"",
+            f.string("preset").ok().flatten().unwrap_or("")
+        ),
+        Some((key, _)) => format!("\"{key}\""),
+        None => "the default ior 1.5".to_string(),
+    };
+    match (fresnel, &source) {
+        (Fresnel::Conductor, Some((_, SpecularSource::Complex(_)))) => {}
+        (Fresnel::Conductor, s) => {
+            return Err(f.err(
+                "fresnel",
+                format!(
+                    "the \"conductor\" Fresnel needs a complex index of refraction (η and κ), got {}; give complex_ior {{\"eta\": [r, g, b], \"k\": [r, g, b]}} or a metal preset ({})",
+                    name(s),
+                    METAL_NAMES.join(", ")
+                ),
+            ))
+        }
+        (Fresnel::Dielectric, s @ Some((_, SpecularSource::Complex(_)))) => {
+            return Err(f.err(
+                "fresnel",
+                format!(
+                    "the \"dielectric\" Fresnel takes a real index of refraction, but {} is a complex one (its κ would be dropped); give ior or f0, or use fresnel \"conductor\" or \"schlick\"",
+                    name(s)
+                ),
+            ))
+        }
+        _ => {}
+    }
+    Ok(Material::CookTorrance(CookTorranceParams {
+        color,
+        kd,
+        roughness,
+        specular: source.map_or(d.specular, |(_, s)| s),
+        distribution,
+        geometry,
+        fresnel,
+    }))
+}
+
+/// The one specular source of a Cook-Torrance material (`None`: not given), with its key.
+fn specular_source(f: &Fields) -> Result<Option<(&'static str, SpecularSource)>> {
+    let mut given = f
+        .fields
+        .iter()
+        .filter_map(|(k, _)| SPECULAR_SOURCES.iter().find(|s| **s == k.as_str()).copied());
+    let Some(key) = given.next() else {
+        return Ok(None);
+    };
+    if let Some(second) = given.next() {
+        return Err(f.err(
+            second,
+            format!(
+                "\"{key}\" and \"{second}\" both give the Fresnel reflectance; keep exactly one of: {}",
+                SPECULAR_SOURCES.join(", ")
+            ),
+        ));
+    }
+    let v = f.get(key).unwrap_or(&NULL);
+    let path = f.path(key);
+    let source = match key {
+        "ior" => SpecularSource::Ior(number(v, &path, Check::Positive)?),
+        "f0" => SpecularSource::F0(color_in(v, &path, UNIT)?),
+        "complex_ior" => SpecularSource::Complex(complex_ior(v, &path)?),
+        _ => {
+            let name = string(v, &path)?;
+            if let Some(c) = metal_preset(name) {
+                SpecularSource::Complex(c)
+            } else if let Some(eta) = dielectric_ior(name) {
+                SpecularSource::Ior(eta)
+            } else {
+                let all: Vec<&str> = METAL_NAMES
+                    .iter()
+                    .chain(&DIELECTRIC_NAMES)
+                    .copied()
+                    .collect();
+                return Err(Invalid::new(
+                    &path,
+                    format!(
+                        "unknown preset \"{name}\"; metals: {}; dielectrics: {}{}",
+                        METAL_NAMES.join(", "),
+                        DIELECTRIC_NAMES.join(", "),
+                        suggestion(name, &all)
+                    ),
+                ));
+            }
+        }
+    };
+    Ok(Some((key, source)))
+}
+
+const NULL: Value = Value {
+    kind: Kind::Null,
+    line: 0,
+    column: 0,
+};
+
+/// `{"eta": [r, g, b], "k": [r, g, b]}` (either may be one number for all channels).
+fn complex_ior(v: &Value, path: &str) -> Result<ComplexIor> {
+    let f = Fields::new(v, path)?;
+    f.allow(&["eta", "k"], "a complex index of refraction")?;
+    let eta = color_in(f.req("eta")?, &f.path("eta"), Check::Positive)?;
+    let k = color_in(f.req("k")?, &f.path("k"), Check::NonNegative)?;
+    Ok(ComplexIor { eta, k })
+}
+
+/// glTF metallic-roughness (seed 001). Defaults are `brdf::MetalRoughParams::default()` (glTF's).
+fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "base_color",
+            "metallic",
+            "roughness",
+            "preset",
+            "distribution",
+            "geometry",
+            "fresnel",
+            "diffuse_fresnel_weight",
+        ],
+        &format!("a {model} material"),
+    )?;
+    let d = MetalRoughParams::default();
+    let (base_color, metallic) = match f.string("preset")? {
+        None => (
+            f.color_in("base_color", d.base_color, UNIT)?,
+            f.num("metallic", d.metallic, UNIT)?,
+        ),
+        Some(name) => {
+            for key in ["base_color", "metallic"] {
+                if f.has(key) {
+                    return Err(f.err(
+                        key,
+                        format!("a preset sets base_color and metallic; give either the preset \"{name}\" or {key}, not both"),
+                    ));
+                }
+            }
+            let Some(c) = metal_preset(name) else {
+                let reason = if dielectric_ior(name).is_some() {
+                    format!("\"{name}\" is a dielectric; metal_rough presets are metals (a dielectric is metallic 0 with its F0 fixed at 0.04): {}", METAL_NAMES.join(", "))
+                } else {
+                    format!(
+                        "unknown metal preset \"{name}\"; expected one of: {}{}",
+                        METAL_NAMES.join(", "),
+                        suggestion(name, &METAL_NAMES)
+                    )
+                };
+                return Err(f.err("preset", reason));
+            };
+            (c.f0(), 1.0)
+        }
+    };
+    Ok(Material::MetalRough(MetalRoughParams {
+        base_color,
+        metallic,
+        roughness: f.num("roughness", d.roughness, UNIT)?,
+        distribution: f.select("distribution", DISTRIBUTIONS, d.distribution)?,
+        geometry: f.select("geometry", GEOMETRIES, d.geometry)?,
+        fresnel: f.select("fresnel", FRESNELS, d.fresnel)?,
+        diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
+    }))
+}
+
+/// Disney "Principled". Defaults are `brdf::PrincipledParams::default()` (`disney.brdf`'s).
+fn principled(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "base_color",
+            "subsurface",
+            "metallic",
+            "specular",
+            "specular_tint",
+            "roughness",
+            "anisotropic",
+            "sheen",
+            "sheen_tint",
+            "clearcoat",
+            "clearcoat_gloss",
+        ],
+        &format!("a {model} material"),
+    )?;
+    let d = PrincipledParams::default();
+    Ok(Material::Principled(PrincipledParams {
+        base_color: f.color_in("base_color", d.base_color, UNIT)?,
+        subsurface: f.num("subsurface", d.subsurface, UNIT)?,
+        metallic: f.num("metallic", d.metallic, UNIT)?,
+        specular: f.num("specular", d.specular, UNIT)?,
+        specular_tint: f.num("specular_tint", d.specular_tint, UNIT)?,
+        roughness: f.num("roughness", d.roughness, UNIT)?,
+        anisotropic: f.num("anisotropic", d.anisotropic, UNIT)?,
+        sheen: f.num("sheen", d.sheen, UNIT)?,
+        sheen_tint: f.num("sheen_tint", d.sheen_tint, UNIT)?,
+        clearcoat: f.num("clearcoat", d.clearcoat, UNIT)?,
+        clearcoat_gloss: f.num("clearcoat_gloss", d.clearcoat_gloss, UNIT)?,
+    }))
+}
+
+/// Qualitative Oren-Nayar. Defaults are `brdf::OrenNayarParams::default()`.
+fn oren_nayar(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &["model", "albedo", "sigma_deg"],
+        &format!("a {model} material"),
+    )?;
+    let d = OrenNayarParams::default();
+    Ok(Material::OrenNayar(OrenNayarParams {
+        albedo: f.color_in("albedo", d.albedo, UNIT)?,
+        sigma_deg: f.num("sigma_deg", d.sigma_deg, Check::In(0.0, 90.0))?,
+    }))
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -232,6 +232,16 @@ pub enum Material {
     },
     /// Lambert: f = albedo / π (each channel in [0, 1]).
     Lambert { albedo: Vec3 },
+    /// Cook-Torrance as in seed 000: f = k_d · color/π + (1 − k_d) · D F G / (4 (n·l)(n·v)),
+    /// with selectable D, G and F and a Fresnel source (η, F0 or a complex index).
+    CookTorrance(crate::brdf::CookTorranceParams),
+    /// glTF metallic-roughness (seed 001): c_diff = base·(1 − metallic),
+    /// F0 = mix(0.04, base, metallic), α = roughness².
+    MetalRough(crate::brdf::MetalRoughParams),
+    /// Disney "Principled" (Burley 2012, as BRDF Explorer's `disney.brdf`).
+    Principled(crate::brdf::PrincipledParams),
+    /// Qualitative Oren-Nayar: ρ/π (A + B max(0, cos(φi − φo)) sin α tan β).
+    OrenNayar(crate::brdf::OrenNayarParams),
 }
 
 impl Material {
@@ -241,6 +251,39 @@ impl Material {
             Material::Phong { blinn: false, .. } => "phong",
             Material::Phong { blinn: true, .. } => "blinn_phong",
             Material::Lambert { .. } => "lambert",
+            Material::CookTorrance(_) => "cook_torrance",
+            Material::MetalRough(_) => "metal_rough",
+            Material::Principled(_) => "principled",
+            Material::OrenNayar(_) => "oren_nayar",
+        }
+    }
+
+    /// The same material as the CPU reference (and, packed, the GPU) sees it.
+    pub fn to_brdf(&self) -> crate::brdf::Model {
+        use crate::brdf::{LambertParams, Model, PhongParams};
+        match self {
+            Material::Phong {
+                blinn,
+                ka,
+                kd,
+                ks,
+                shininess,
+                diffuse_color,
+                specular_color,
+            } => Model::Phong(PhongParams {
+                diffuse_color: *diffuse_color,
+                specular_color: *specular_color,
+                ka: *ka,
+                kd: *kd,
+                ks: *ks,
+                shininess: *shininess,
+                blinn: *blinn,
+            }),
+            Material::Lambert { albedo } => Model::Lambert(LambertParams { albedo: *albedo }),
+            Material::CookTorrance(p) => Model::CookTorrance(*p),
+            Material::MetalRough(p) => Model::MetalRough(*p),
+            Material::Principled(p) => Model::Principled(*p),
+            Material::OrenNayar(p) => Model::OrenNayar(*p),
         }
     }
 
@@ -489,3 +532,6 @@ pub fn default_scene() -> Scene {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod material_tests;

@@ -65,14 +65,17 @@ pub fn parse(json: &str) -> Scene {
     luz::scene::parse(json, Path::new("<test scene>")).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// Renders `scene` once on `ctx` (call [`assert_no_validation_messages`] when done with it).
+pub fn render_on(ctx: &Arc<Context>, scene: &Scene) -> LinearImage {
+    let mut r = Headless::new(ctx, scene).expect("renderer");
+    r.render().expect("frame");
+    r.image().expect("readback")
+}
+
 /// Renders `scene` once and returns its linear radiance, asserting a clean validation log.
 pub fn render(scene: &Scene) -> LinearImage {
     let ctx = gpu();
-    let img = {
-        let mut r = Headless::new(&ctx, scene).expect("renderer");
-        r.render().expect("frame");
-        r.image().expect("readback")
-    };
+    let img = render_on(&ctx, scene);
     assert_no_validation_messages(&ctx);
     img
 }
