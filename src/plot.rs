@@ -18,6 +18,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+pub use plotters::style::RGBColor;
+
 /// The font read when `$LUZ_FONT` is not set.
 pub const DEFAULT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 /// The Debian package that installs [`DEFAULT_FONT`].

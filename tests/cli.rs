@@ -94,3 +94,26 @@ fn render_writes_png_and_exr_and_reports_timings() {
         assert_eq!((img.width, img.height), (160, 90));
     }
 }
+
+/// Every malformed scene in tests/bad_scenes/ fails through the binary too: exit 1, the file named,
+/// no panic and no Vulkan error (the scene is rejected before any device work).
+#[test]
+fn bad_scenes_exit_nonzero_without_panic() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_scenes");
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().and_then(|e| e.to_str()) != Some("json") {
+            continue;
+        }
+        let out = std::env::temp_dir().join("luz-bad-scene.png");
+        let (code, _, err) = luz(&["render", p.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(code, 1, "{name}: exit code {code}, stderr: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(err.contains(&name), "{name}: the message names the file: {err}");
+        assert!(!err.contains("validation:"), "{name}: {err}");
+        n += 1;
+    }
+    assert!(n >= 20, "only {n} bad scenes");
+}

@@ -61,13 +61,32 @@ fn distance(a: &str, b: &str) -> usize {
 }
 
 fn suggestion(word: &str, options: &[&str]) -> String {
+    let word = word.to_lowercase();
     options
         .iter()
-        .map(|o| (distance(&word.to_lowercase(), o), o))
+        .map(|o| (distance(&word, o), o))
         .filter(|(d, o)| *d <= 2.max(o.len() / 4) && *d < o.len())
         .min()
-        .map(|(_, o)| format!(" (did you mean \"{o}\"?)"))
+        .map(|(_, o)| *o)
+        // A field name without its unit suffix ("sigma" for "sigma_deg").
+        .or_else(|| {
+            options
+                .iter()
+                .find(|o| word.len() >= 3 && o.starts_with(&format!("{word}_")))
+                .copied()
+        })
+        .map(|o| format!(" (did you mean \"{o}\"?)"))
         .unwrap_or_default()
+}
+
+/// "a cook_torrance material", "an oren_nayar material".
+fn a_material(model: &str) -> String {
+    let article = if model.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        "an"
+    } else {
+        "a"
+    };
+    format!("{article} {model} material")
 }
 
 fn one_of(options: &[&str]) -> String {
@@ -790,7 +809,7 @@ fn phong(f: &Fields, model: &str) -> Result<Material> {
             "diffuse_color",
             "specular_color",
         ],
-        &format!("a {model} material"),
+        &a_material(model),
     )?;
     // Start from the documented defaults and override what the file gives.
     let mut m = Material::default_phong(model == "blinn_phong");
@@ -815,7 +834,7 @@ fn phong(f: &Fields, model: &str) -> Result<Material> {
 }
 
 fn lambert(f: &Fields, model: &str) -> Result<Material> {
-    f.allow(&["model", "albedo"], &format!("a {model} material"))?;
+    f.allow(&["model", "albedo"], &a_material(model))?;
     let albedo = f.color("albedo", Vec3::splat(0.8))?;
     if albedo.max_element() > 1.0 {
         return Err(f.err(
@@ -847,7 +866,7 @@ fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
             "geometry",
             "fresnel",
         ],
-        &format!("a {model} material"),
+        &a_material(model),
     )?;
     let d = CookTorranceParams::default();
     let color = f.color_in("color", d.color, UNIT)?;
@@ -979,7 +998,7 @@ fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "fresnel",
             "diffuse_fresnel_weight",
         ],
-        &format!("a {model} material"),
+        &a_material(model),
     )?;
     let d = MetalRoughParams::default();
     let (base_color, metallic) = match f.string("preset")? {
@@ -1039,7 +1058,7 @@ fn principled(f: &Fields, model: &str) -> Result<Material> {
             "clearcoat",
             "clearcoat_gloss",
         ],
-        &format!("a {model} material"),
+        &a_material(model),
     )?;
     let d = PrincipledParams::default();
     Ok(Material::Principled(PrincipledParams {
@@ -1059,10 +1078,7 @@ fn principled(f: &Fields, model: &str) -> Result<Material> {
 
 /// Qualitative Oren-Nayar. Defaults are `brdf::OrenNayarParams::default()`.
 fn oren_nayar(f: &Fields, model: &str) -> Result<Material> {
-    f.allow(
-        &["model", "albedo", "sigma_deg"],
-        &format!("a {model} material"),
-    )?;
+    f.allow(&["model", "albedo", "sigma_deg"], &a_material(model))?;
     let d = OrenNayarParams::default();
     Ok(Material::OrenNayar(OrenNayarParams {
         albedo: f.color_in("albedo", d.albedo, UNIT)?,
