@@ -375,6 +375,23 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     );
     let report = TimingReport::of(&frames);
     report.print();
+    let megapixels = scene.output.width as f64 * scene.output.height as f64 / 1e6;
+    let forward = report
+        .passes
+        .iter()
+        .find(|(n, _)| *n == "forward")
+        .map(|(_, s)| s.median);
+    let per_mp_light = match forward {
+        Some(ms) if !scene.lights.is_empty() => {
+            let v = ms / (megapixels * scene.lights.len() as f64);
+            println!(
+                "GPU forward per megapixel·light: {v:.4} ms (median {ms:.3} ms / ({megapixels:.4} MP × {} lights))",
+                scene.lights.len()
+            );
+            Some(v)
+        }
+        _ => None,
+    };
     if let Some(p) = &a.csv {
         let mut out = String::from("frame,cpu_ms");
         for (n, _) in &report.passes {
@@ -408,6 +425,7 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
             "cpu_ms": report.cpu,
             "gpu_total_ms": report.gpu_total,
             "gpu_pass_ms": passes,
+            "gpu_forward_ms_per_megapixel_light": per_mp_light,
         });
         std::fs::write(p, serde_json::to_string_pretty(&json)?)
             .with_context(|| format!("cannot write {}", p.display()))?;

@@ -376,7 +376,11 @@ fn every_model_with_every_shading_frequency() {
                 .map(|p| p[0] + p[1] + p[2])
                 .filter(|&s| s > 0.0)
                 .collect();
-            assert!(lit.len() > 500, "{} {shading}: sphere not lit", m.model_name());
+            assert!(
+                lit.len() > 500,
+                "{} {shading}: sphere not lit",
+                m.model_name()
+            );
             means.push(lit.iter().sum::<f32>() / lit.len() as f32);
         }
         let (gouraud, phong) = (means[1], means[2]);

@@ -111,7 +111,10 @@ fn bad_scenes_exit_nonzero_without_panic() {
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
         assert_eq!(code, 1, "{name}: exit code {code}, stderr: {err}");
         assert!(!err.contains("panicked"), "{name}: {err}");
-        assert!(err.contains(&name), "{name}: the message names the file: {err}");
+        assert!(
+            err.contains(&name),
+            "{name}: the message names the file: {err}"
+        );
         assert!(!err.contains("validation:"), "{name}: {err}");
         n += 1;
     }

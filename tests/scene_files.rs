@@ -48,7 +48,7 @@ fn bad_scenes_fail_with_their_expected_messages() {
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
         .collect();
     files.sort();
-    assert!(files.len() >= 22, "only {} bad scenes", files.len());
+    assert!(files.len() >= 76, "only {} bad scenes", files.len());
     let mut failures = Vec::new();
     for path in &files {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
@@ -122,6 +122,34 @@ fn documented_example_parses() {
     let s = scene::parse(&text, Path::new("docs/example.json")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.objects.len(), 5);
     assert_eq!(s.lights.len(), 3);
+}
+
+/// Every other ```json block of docs/scene-format.md is a `materials` map (one per model
+/// section) that loads, and together they show every physically based model.
+#[test]
+fn documented_material_examples_parse() {
+    let doc = std::fs::read_to_string(root().join("docs/scene-format.md")).unwrap();
+    let blocks: Vec<&str> = doc
+        .split("```json\n")
+        .skip(2)
+        .map(|b| &b[..b.find("```").expect("an unterminated ```json block")])
+        .collect();
+    assert!(blocks.len() >= 4, "{} material examples", blocks.len());
+    let mut models = std::collections::BTreeSet::new();
+    for block in blocks {
+        let text = format!(
+            r#"{{"materials": {block}, "objects": [{{"mesh": {{"type": "cube"}}, "material": {first:?}}}]}}"#,
+            first = block.split('"').nth(1).expect("a material name"),
+        );
+        let s = scene::parse(&text, Path::new("docs/materials.json"))
+            .unwrap_or_else(|e| panic!("{e}\n{block}"));
+        for m in &s.materials {
+            models.insert(m.material.model_name());
+        }
+    }
+    for model in ["cook_torrance", "metal_rough", "principled", "oren_nayar"] {
+        assert!(models.contains(model), "no documented {model} example");
+    }
 }
 
 #[test]

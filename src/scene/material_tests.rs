@@ -551,8 +551,8 @@ fn principled_errors() {
                 "materials.m.{field}: expected a number, got an array"
             )],
         );
-        assert_eq!(material(&p("0")).is_ok(), true);
-        assert_eq!(material(&p("1")).is_ok(), true);
+        assert!(material(&p("0")).is_ok());
+        assert!(material(&p("1")).is_ok());
     }
     fails(
         r#""model": "principled", "base_color": [1, 0.5, 2]"#,

@@ -588,7 +588,16 @@ fn no_input_panics() {
             assert!(e.to_string().starts_with("scenes/a.json: "), "{e}");
         }
     };
-    for text in [DEFAULT_SCENE_JSON, classic, spot] {
+    let pbr = r#"{"materials": {
+        "a": {"model": "cook_torrance", "color": [0.5, 0.5, 0.5], "kd": 0.5, "roughness": 0.3, "preset": "gold", "fresnel": "conductor", "distribution": "ggx"},
+        "b": {"model": "cook_torrance", "complex_ior": {"eta": [0.2, 0.4, 1.4], "k": [3.6, 2.5, 1.9]}, "geometry": "smith_ggx"},
+        "c": {"model": "metal_rough", "base_color": [0.5, 0, 0], "metallic": 0.5, "roughness": 0.5, "diffuse_fresnel_weight": true},
+        "d": {"model": "principled", "base_color": [0.8, 0.1, 0.1], "subsurface": 0.5, "sheen": 1, "clearcoat": 1, "clearcoat_gloss": 0.5},
+        "e": {"model": "oren_nayar", "albedo": 0.5, "sigma_deg": 30}},
+        "objects": [{"mesh": {"type": "sphere", "segments": 8, "rings": 4}, "material": "a"},
+                    {"mesh": {"type": "cube"}, "material": "e"}]}"#;
+    assert!(parse_str(pbr).is_ok());
+    for text in [DEFAULT_SCENE_JSON, classic, spot, pbr] {
         for cut in (0..text.len()).filter(|&c| text.is_char_boundary(c)) {
             check(&text[..cut]);
         }
@@ -626,6 +635,12 @@ fn no_input_panics() {
         "99999999999999999999",
         "-0",
         "\u{1F600}",
+        "\"conductor\"",
+        "\"dielectric\"",
+        "\"gold\"",
+        "\"glass\"",
+        "true",
+        "1.5",
     ];
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = move |n: usize| {
@@ -636,7 +651,7 @@ fn no_input_panics() {
     };
     let mut ok = 0;
     for _ in 0..6000 {
-        let base = [DEFAULT_SCENE_JSON, classic, spot][next(3)];
+        let base = [DEFAULT_SCENE_JSON, classic, spot, pbr][next(4)];
         let mut text = base.to_string();
         for _ in 0..1 + next(3) {
             let mut at = next(text.len() + 1);
