@@ -46,7 +46,7 @@ and the exit status is 1 at the end.
   lobe_polar       f·cos θv in the plane of incidence (φ = 0/180) for each --incidence angle θl,
                    luminance Y of f, polar (0° = normal, light on the left, dashed)
   slice_thetah_thetad  f over θh (x) × θd (y) at --phi-d (Rusinkiewicz half/difference angles,
-                   MERL/Burley style), luminance, log colour scale over 4 decades, --slice-cells²
+                   MERL/Burley style), luminance, log colour scale over --slice-decades, --slice-cells²
                    cells evaluated at their centres; grey: l or v below the horizon (f = 0)
   albedo           directional albedo R(θl) = ∫ f cos θv dω (brdf::directional_albedo, --samples):
                    R, G and B curves, or with --sweep KEY=V1,V2,… the largest channel per value
@@ -113,6 +113,9 @@ pub struct BrdfArgs {
     /// Cells per side of the θh × θd slice.
     #[arg(long, value_name = "N", default_value_t = 90, value_parser = clap::value_parser!(u32).range(4..=360))]
     pub slice_cells: u32,
+    /// Decades of the slice's logarithmic colour scale (below its maximum).
+    #[arg(long, value_name = "N", default_value_t = 6.0)]
+    pub slice_decades: f64,
     /// Albedo chart: one curve per value of a scalar parameter, e.g. roughness=0,0.25,0.5,0.75,1.
     #[arg(long, value_name = "KEY=V1,V2,…")]
     pub sweep: Option<String>,
@@ -343,8 +346,13 @@ fn command_line_material(args: &BrdfArgs) -> Result<Option<(Model, Value)>> {
     let model = model_from_value(&value).with_context(|| what.to_string())?;
     warn_sanitized(&model, "");
     // Echo the full parameter set (defaults filled in).
-    let value = serde_json::to_value(model)?;
+    let value = material_json(&model)?;
     Ok(Some((model, value)))
+}
+
+/// The JSON of a model with its `f32` values written shortest (0.8, not 0.800000011920929).
+pub fn material_json(model: &Model) -> Result<Value> {
+    Ok(serde_json::from_str(&serde_json::to_string(model)?)?)
 }
 
 /// Notes on stderr for parameters that `eval` clamps or replaces.
@@ -399,7 +407,9 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
 /// The unit vector at polar angle `theta` and azimuth `phi` (degrees), n = +z, x = +x.
 pub fn spherical(theta_deg: f64, phi_deg: f64) -> Vec3 {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    Vec3::new((t.sin() * p.cos()) as f32, (t.sin() * p.sin()) as f32, t.cos() as f32)
+    // Exact zeros at multiples of 90° (sin π is 1.2e-16, not 0).
+    let c = |x: f64| if x.abs() < 1e-12 { 0.0 } else { x as f32 };
+    Vec3::new(c(t.sin() * p.cos()), c(t.sin() * p.sin()), c(t.cos()))
 }
 
 /// One direction from either a vector or spherical angles; `names` are (vector, θ, φ) for errors.
@@ -546,7 +556,7 @@ fn query(line: &str, default: Option<&(Model, Value)>) -> Result<Record> {
     let (model, material) = match obj.get("material") {
         Some(m) => {
             let model = model_from_value(m).context("field `material`")?;
-            (model, serde_json::to_value(model)?)
+            (model, material_json(&model)?)
         }
         None => default
             .cloned()
@@ -586,7 +596,12 @@ fn run_stdin(default: Option<&(Model, Value)>) -> Result<ExitCode> {
             Err(e) => {
                 errors += 1;
                 let msg = format!("{e:#}");
-                writeln!(out, "{}", serde_json::json!({ "line": n, "error": msg }))?;
+                #[derive(Serialize)]
+                struct LineError<'a> {
+                    line: usize,
+                    error: &'a str,
+                }
+                writeln!(out, "{}", serde_json::to_string(&LineError { line: n, error: &msg })?)?;
                 out.flush()?;
                 eprintln!("luz brdf: stdin line {n}: {msg}");
             }
@@ -648,7 +663,7 @@ pub fn lobe_chart(model: &Model, incidence: &[f64]) -> Result<plot::PolarChart> 
 }
 
 /// The θh × θd slice of f (luminance) at `phi_d` degrees, `cells` × `cells`.
-pub fn slice_chart(model: &Model, phi_d: f64, cells: usize) -> plot::Heatmap {
+pub fn slice_chart(model: &Model, phi_d: f64, cells: usize, decades: f64) -> plot::Heatmap {
     let step = 90.0 / cells as f64;
     let mut values = Vec::with_capacity(cells * cells);
     let (sp, cp) = phi_d.to_radians().sin_cos();
@@ -681,7 +696,7 @@ pub fn slice_chart(model: &Model, phi_d: f64, cells: usize) -> plot::Heatmap {
         values,
         log_color: true,
         color_range: None,
-        log_decades: 4.0,
+        log_decades: decades,
         color_label: "f (luminance, 1/sr)".into(),
         empty_label: "f = 0 (below horizon)".into(),
     }
@@ -810,7 +825,10 @@ fn write_plots(model: &Model, material: &Value, args: &BrdfArgs, dir: &Path) -> 
     let (w, h) = args.plot_size;
     let mut paths = Vec::new();
     paths.extend(plot::save_png_svg(&lobe.into(), &dir.join("lobe_polar"), w, h)?);
-    let slice = slice_chart(model, args.phi_d, args.slice_cells as usize);
+    if !(args.slice_decades > 0.0 && args.slice_decades <= 30.0) {
+        bail!("--slice-decades {}: must be in (0, 30]", args.slice_decades);
+    }
+    let slice = slice_chart(model, args.phi_d, args.slice_cells as usize, args.slice_decades);
     paths.extend(plot::save_png_svg(&slice.into(), &dir.join("slice_thetah_thetad"), w, h)?);
     let sweep_ref = sweep.as_ref().map(|(k, v)| (k.as_str(), v.as_slice()));
     let albedo = albedo_chart(material, sweep_ref, args.samples)?;

@@ -761,22 +761,36 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
 // Polar plot
 // ---------------------------------------------------------------------------------------------
 
-/// "Nice" ring radii (1, 2, 2.5, 5 × 10^k) covering `0 … r_max`, about 4 of them.
+/// "Nice" ring radii (1, 2, 2.5, 5 × 10^k), about 4 of them, the last one ≥ `r_max`.
 fn ring_ticks(r_max: f64) -> Vec<f64> {
     if !(r_max > 0.0 && r_max.is_finite()) {
         return vec![1.0];
     }
-    let raw = r_max / 4.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag);
-    (1..)
-        .map(|k| k as f64 * step)
-        .take_while(|r| *r <= r_max * (1.0 + 1e-9))
-        .collect()
+    // The tightest outer ring over steps 1, 2, 2.5, 5 × 10^k giving 3 to 6 rings.
+    let mag = 10f64.powf((r_max / 4.0).log10().floor());
+    let mut best: Option<(f64, usize)> = None;
+    for k in [-1, 0, 1] {
+        for m in [1.0, 2.0, 2.5, 5.0] {
+            let step = m * mag * 10f64.powi(k);
+            let n = ((r_max / step) * (1.0 - 1e-9)).ceil().max(1.0) as usize;
+            if !(3..=6).contains(&n) {
+                continue;
+            }
+            let outer = n as f64 * step;
+            let better = match best {
+                None => true,
+                Some((s, bn)) => {
+                    let bo = bn as f64 * s;
+                    outer < bo * (1.0 - 1e-9) || ((outer - bo).abs() <= bo * 1e-9 && n < bn)
+                }
+            };
+            if better {
+                best = Some((step, n));
+            }
+        }
+    }
+    let (step, n) = best.unwrap_or((r_max, 1));
+    (1..=n).map(|k| k as f64 * step).collect()
 }
 
 fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>) -> Result<()> {
@@ -799,13 +813,13 @@ fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>)
     let rings = ring_ticks(r_max);
     let r_outer = rings.last().copied().unwrap_or(r_max).max(r_max);
     // Pixel geometry: margins for angle labels around, the radius label and legend below.
-    let m = fs * 2.2;
+    let (m, mx) = (fs * 2.2, fs * 3.5);
     let bottom = if c.half { fs * 3.5 } else { m };
     let (cx, cy, rp) = if c.half {
-        let rp = ((w - 2.0 * m) / 2.0).min(h - m - bottom).max(10.0);
+        let rp = ((w - 2.0 * mx) / 2.0).min(h - m - bottom).max(10.0);
         (w / 2.0, m + rp, rp)
     } else {
-        let rp = ((w - 2.0 * m) / 2.0).min((h - m - bottom) / 2.0).max(10.0);
+        let rp = ((w - 2.0 * mx) / 2.0).min((h - m - bottom) / 2.0).max(10.0);
         (w / 2.0, m + rp, rp)
     };
     let to_px = |deg: f64, r: f64| -> (i32, i32) {
@@ -913,6 +927,8 @@ mod tests {
         assert_eq!(format_number(1234.4), "1234");
         assert_eq!(format_number(1e-5), "1e-5");
         assert_eq!(ring_ticks(1.0), vec![0.25, 0.5, 0.75, 1.0]);
+        assert_eq!(ring_ticks(44.0), vec![10.0, 20.0, 30.0, 40.0, 50.0]);
+        assert_eq!(*ring_ticks(0.31).last().unwrap(), 0.4);
         assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
         assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
     }
