@@ -46,8 +46,9 @@ and the exit status is 1 at the end.
   lobe_polar       f·cos θv in the plane of incidence (φ = 0/180) for each --incidence angle θl,
                    luminance Y of f, polar (0° = normal, light on the left, dashed)
   slice_thetah_thetad  f over θh (x) × θd (y) at --phi-d (Rusinkiewicz half/difference angles,
-                   MERL/Burley style), luminance, log colour scale over --slice-decades, --slice-cells²
-                   cells evaluated at their centres; grey: l or v below the horizon (f = 0)
+                   MERL/Burley style), luminance, log colour scale over --slice-decades, on
+                   --slice-cells × --slice-cells cells evaluated at their centres; grey: l or v
+                   below the horizon (f = 0)
   albedo           directional albedo R(θl) = ∫ f cos θv dω (brdf::directional_albedo, --samples):
                    R, G and B curves, or with --sweep KEY=V1,V2,… the largest channel per value
 The chart font is read at run time from $LUZ_FONT or /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
@@ -70,16 +71,36 @@ pub struct BrdfArgs {
     pub set: Vec<String>,
 
     /// Light direction θ in degrees from the normal.
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, conflicts_with = "l")]
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_negative_numbers = true,
+        conflicts_with = "l"
+    )]
     pub theta_l: Option<f64>,
     /// Light direction φ in degrees [default: 0].
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, requires = "theta_l")]
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_negative_numbers = true,
+        requires = "theta_l"
+    )]
     pub phi_l: Option<f64>,
     /// View direction θ in degrees from the normal.
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, conflicts_with = "v")]
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_negative_numbers = true,
+        conflicts_with = "v"
+    )]
     pub theta_v: Option<f64>,
     /// View direction φ in degrees [default: 180, the mirror plane of φl = 0].
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, requires = "theta_v")]
+    #[arg(
+        long,
+        value_name = "DEG",
+        allow_negative_numbers = true,
+        requires = "theta_v"
+    )]
     pub phi_v: Option<f64>,
     /// Light direction as a vector towards the light (normalised), n = +z.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_vec3)]
@@ -105,10 +126,20 @@ pub struct BrdfArgs {
     #[arg(long, value_name = "WxH", default_value = "800x600", value_parser = parse_size)]
     pub plot_size: (u32, u32),
     /// Light angles θl (degrees, 0 ≤ θl < 90) of the polar lobe plot.
-    #[arg(long, value_name = "DEG,…", value_delimiter = ',', default_value = "0,30,60,80")]
+    #[arg(
+        long,
+        value_name = "DEG,…",
+        value_delimiter = ',',
+        default_value = "0,30,60,80"
+    )]
     pub incidence: Vec<f64>,
     /// φd of the θh × θd slice, degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 90.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "DEG",
+        default_value_t = 90.0,
+        allow_negative_numbers = true
+    )]
     pub phi_d: f64,
     /// Cells per side of the θh × θd slice.
     #[arg(long, value_name = "N", default_value_t = 90, value_parser = clap::value_parser!(u32).range(4..=360))]
@@ -134,9 +165,20 @@ pub fn run(args: BrdfArgs) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let material = command_line_material(&args)?;
-    let l = resolve_direction(args.l, args.theta_l, args.phi_l, 0.0, ["--l", "--theta-l", "--phi-l"])?;
-    let v =
-        resolve_direction(args.v, args.theta_v, args.phi_v, 180.0, ["--v", "--theta-v", "--phi-v"])?;
+    let l = resolve_direction(
+        args.l,
+        args.theta_l,
+        args.phi_l,
+        0.0,
+        ["--l", "--theta-l", "--phi-l"],
+    )?;
+    let v = resolve_direction(
+        args.v,
+        args.theta_v,
+        args.phi_v,
+        180.0,
+        ["--v", "--theta-v", "--phi-v"],
+    )?;
     if args.sweep.is_some() && args.plot.is_none() {
         bail!("--sweep only affects the albedo chart: add --plot DIR");
     }
@@ -160,8 +202,12 @@ pub fn run(args: BrdfArgs) -> Result<ExitCode> {
             }
             did = true;
         }
-        (Some(_), None) => bail!("the view direction is missing: give --theta-v (and --phi-v) or --v"),
-        (None, Some(_)) => bail!("the light direction is missing: give --theta-l (and --phi-l) or --l"),
+        (Some(_), None) => {
+            bail!("the view direction is missing: give --theta-v (and --phi-v) or --v")
+        }
+        (None, Some(_)) => {
+            bail!("the light direction is missing: give --theta-l (and --phi-l) or --l")
+        }
         (None, None) => {}
     }
     if let Some(dir) = &args.plot {
@@ -198,7 +244,10 @@ pub fn default_models() -> Vec<Model> {
     vec![
         Model::Lambert(Default::default()),
         Model::Phong(Default::default()),
-        Model::Phong(brdf::PhongParams { blinn: true, ..Default::default() }),
+        Model::Phong(brdf::PhongParams {
+            blinn: true,
+            ..Default::default()
+        }),
         Model::CookTorrance(Default::default()),
         Model::MetalRough(Default::default()),
         Model::Principled(Default::default()),
@@ -278,7 +327,9 @@ fn parse_set_value(raw: &str) -> Result<Value> {
 /// Sets `key` in a material object; the Cook-Torrance `specular` also takes preset names.
 fn set_field(material: &mut Value, key: &str, mut value: Value) -> Result<()> {
     if key == "model" {
-        bail!("use --model NAME (or the material's \"model\") to choose the model, not --set model=…");
+        bail!(
+            "use --model NAME (or the material's \"model\") to choose the model, not --set model=…"
+        );
     }
     let Some(obj) = material.as_object_mut() else {
         bail!("the material is not a JSON object");
@@ -317,8 +368,8 @@ fn command_line_material(args: &BrdfArgs) -> Result<Option<(Model, Value)>> {
                     .with_context(|| format!("--material: reading {path}"))?,
                 None => m.clone(),
             };
-            let v: Value =
-                serde_json::from_str(&text).map_err(|e| anyhow!("--material: not valid JSON: {e}"))?;
+            let v: Value = serde_json::from_str(&text)
+                .map_err(|e| anyhow!("--material: not valid JSON: {e}"))?;
             if !v.is_object() {
                 bail!("--material: expected a JSON object such as {{\"model\": \"lambert\"}}, not {v}");
             }
@@ -326,7 +377,10 @@ fn command_line_material(args: &BrdfArgs) -> Result<Option<(Model, Value)>> {
         }
         (None, Some(name)) => {
             if !model_names().contains(&name.as_str()) {
-                bail!("--model: unknown model `{name}` (expected one of {})", model_names().join(", "));
+                bail!(
+                    "--model: unknown model `{name}` (expected one of {})",
+                    model_names().join(", ")
+                );
             }
             serde_json::json!({ "model": name })
         }
@@ -342,7 +396,11 @@ fn command_line_material(args: &BrdfArgs) -> Result<Option<(Model, Value)>> {
         let v = parse_set_value(raw).with_context(|| format!("--set {key}"))?;
         set_field(&mut value, key, v).with_context(|| format!("--set {key}"))?;
     }
-    let what = if args.material.is_some() { "--material" } else { "--model/--set" };
+    let what = if args.material.is_some() {
+        "--material"
+    } else {
+        "--model/--set"
+    };
     let model = model_from_value(&value).with_context(|| what.to_string())?;
     warn_sanitized(&model, "");
     // Echo the full parameter set (defaults filled in).
@@ -357,14 +415,18 @@ pub fn material_json(model: &Model) -> Result<Value> {
 
 /// Notes on stderr for parameters that `eval` clamps or replaces.
 fn warn_sanitized(model: &Model, prefix: &str) {
-    let (Ok(Value::Object(a)), Ok(Value::Object(b))) =
-        (serde_json::to_value(model), serde_json::to_value(model.sanitized()))
-    else {
+    let (Ok(Value::Object(a)), Ok(Value::Object(b))) = (
+        serde_json::to_value(model),
+        serde_json::to_value(model.sanitized()),
+    ) else {
         return;
     };
     for (k, va) in &a {
         if let Some(vb) = b.get(k).filter(|vb| *vb != va) {
-            eprintln!("{prefix}note: {} {k} = {va} is out of range; evaluated as {vb}", model.name());
+            eprintln!(
+                "{prefix}note: {} {k} = {va} is out of range; evaluated as {vb}",
+                model.name()
+            );
         }
     }
 }
@@ -376,7 +438,9 @@ fn warn_sanitized(model: &Model, prefix: &str) {
 fn parse_vec3(s: &str) -> std::result::Result<Vec3, String> {
     let parts: Vec<&str> = s.split(',').collect();
     if parts.len() != 3 {
-        return Err(format!("expected three comma-separated numbers X,Y,Z, got `{s}`"));
+        return Err(format!(
+            "expected three comma-separated numbers X,Y,Z, got `{s}`"
+        ));
     }
     let mut c = [0.0f32; 3];
     for (i, p) in parts.iter().enumerate() {
@@ -524,10 +588,14 @@ pub fn evaluate(model: &Model, material: &Value, l: Vec3, v: Vec3) -> Record {
 const QUERY_FIELDS: [&str; 7] = ["material", "l", "v", "theta_l", "phi_l", "theta_v", "phi_v"];
 
 fn vec3_field(obj: &Map<String, Value>, key: &str) -> Result<Option<Vec3>> {
-    let Some(v) = obj.get(key) else { return Ok(None) };
+    let Some(v) = obj.get(key) else {
+        return Ok(None);
+    };
     let arr = v.as_array().filter(|a| a.len() == 3);
     let nums: Option<Vec<f32>> = arr.and_then(|a| {
-        a.iter().map(|x| x.as_f64().map(|x| x as f32).filter(|x| x.is_finite())).collect()
+        a.iter()
+            .map(|x| x.as_f64().map(|x| x as f32).filter(|x| x.is_finite()))
+            .collect()
     });
     match nums {
         Some(c) => Ok(Some(Vec3::new(c[0], c[1], c[2]))),
@@ -601,7 +669,14 @@ fn run_stdin(default: Option<&(Model, Value)>) -> Result<ExitCode> {
                     line: usize,
                     error: &'a str,
                 }
-                writeln!(out, "{}", serde_json::to_string(&LineError { line: n, error: &msg })?)?;
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::to_string(&LineError {
+                        line: n,
+                        error: &msg
+                    })?
+                )?;
                 out.flush()?;
                 eprintln!("luz brdf: stdin line {n}: {msg}");
             }
@@ -634,7 +709,11 @@ pub fn lobe_chart(model: &Model, incidence: &[f64]) -> Result<plot::PolarChart> 
         // Light on the left (φ = 180), views across the plane (θv < 0: φ = 180, > 0: φ = 0);
         // dense around the mirror direction θv = +θl so narrow lobes are resolved.
         let mut angles: Vec<f64> = (0..=720).map(|i| -90.0 + i as f64 * 0.25).collect();
-        angles.extend((-300..=300).map(|i| tl + i as f64 * 0.01).filter(|a| *a <= 90.0));
+        angles.extend(
+            (-300..=300)
+                .map(|i| tl + i as f64 * 0.01)
+                .filter(|a| *a <= 90.0),
+        );
         angles.sort_by(f64::total_cmp);
         angles.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
         let l = spherical(tl, 180.0);
@@ -658,7 +737,8 @@ pub fn lobe_chart(model: &Model, incidence: &[f64]) -> Result<plot::PolarChart> 
         series,
         r_max: None,
         half: true,
-        r_label: "radius: f·cos θv (luminance, 1/sr) at view angle θv; dashed: light direction".into(),
+        r_label: "radius: f·cos θv (luminance, 1/sr) at view angle θv; dashed: light direction"
+            .into(),
     })
 }
 
@@ -688,7 +768,11 @@ pub fn slice_chart(model: &Model, phi_d: f64, cells: usize, decades: f64) -> plo
         }
     }
     plot::Heatmap {
-        title: format!("{}: f(θh, θd) at φd = {}°, log scale", model.name(), plot::format_number(phi_d)),
+        title: format!(
+            "{}: f(θh, θd) at φd = {}°, log scale",
+            model.name(),
+            plot::format_number(phi_d)
+        ),
         x: plot::Axis::new("θh (degrees)").range(0.0, 90.0),
         y: plot::Axis::new("θd (degrees)").range(0.0, 90.0),
         nx: cells,
@@ -698,7 +782,7 @@ pub fn slice_chart(model: &Model, phi_d: f64, cells: usize, decades: f64) -> plo
         color_range: None,
         log_decades: decades,
         color_label: "f (luminance, 1/sr)".into(),
-        empty_label: "f = 0 (below horizon)".into(),
+        empty_label: "f = 0: l or v\nbelow horizon".into(),
     }
 }
 
@@ -720,7 +804,12 @@ pub fn albedo_chart(
     let curve = |m: &Model| -> Vec<(f64, Vec3)> {
         angles
             .iter()
-            .map(|&t| (t, brdf::directional_albedo(m, t.to_radians().cos() as f32, samples)))
+            .map(|&t| {
+                (
+                    t,
+                    brdf::directional_albedo(m, t.to_radians().cos() as f32, samples),
+                )
+            })
             .collect()
     };
     let mut series = Vec::new();
@@ -734,25 +823,34 @@ pub fn albedo_chart(
                     .ok_or_else(|| anyhow!("--sweep {key}: {x} is not finite"))?;
                 set_field(&mut m, key, Value::Number(num))?;
                 let mm = model_from_value(&m).with_context(|| format!("--sweep {key}={x}"))?;
-                let pts = curve(&mm).into_iter().map(|(t, r)| (t, r.max_element() as f64)).collect();
+                let pts = curve(&mm)
+                    .into_iter()
+                    .map(|(t, r)| (t, r.max_element() as f64))
+                    .collect();
                 series.push(
-                    plot::Series::new(format!("{key} = {}", plot::format_number(x)), pts)
-                        .color(plot::viridis(if values.len() > 1 {
+                    plot::Series::new(format!("{key} = {}", plot::format_number(x)), pts).color(
+                        plot::viridis(if values.len() > 1 {
                             0.9 * i as f64 / (values.len() - 1) as f64
                         } else {
                             0.0
-                        })),
+                        }),
+                    ),
                 );
             }
         }
         None => {
             title = format!("{}: directional albedo", model.name());
             let c = curve(&model);
-            let grey = c.iter().all(|(_, r)| (r.x - r.y).abs() < 1e-6 && (r.x - r.z).abs() < 1e-6);
+            let grey = c
+                .iter()
+                .all(|(_, r)| (r.x - r.y).abs() < 1e-6 && (r.x - r.z).abs() < 1e-6);
             if grey {
                 series.push(
-                    plot::Series::new("R = G = B", c.iter().map(|(t, r)| (*t, r.x as f64)).collect())
-                        .color(plot::palette(0)),
+                    plot::Series::new(
+                        "R = G = B",
+                        c.iter().map(|(t, r)| (*t, r.x as f64)).collect(),
+                    )
+                    .color(plot::palette(0)),
                 );
             } else {
                 let chans = [
@@ -809,7 +907,12 @@ fn parse_sweep(s: &str) -> Result<(String, Vec<f64>)> {
 }
 
 /// Writes the three charts (PNG and SVG) into `dir`; returns the paths written.
-fn write_plots(model: &Model, material: &Value, args: &BrdfArgs, dir: &Path) -> Result<Vec<PathBuf>> {
+fn write_plots(
+    model: &Model,
+    material: &Value,
+    args: &BrdfArgs,
+    dir: &Path,
+) -> Result<Vec<PathBuf>> {
     plot::init_font()?;
     let sweep = args.sweep.as_deref().map(parse_sweep).transpose()?;
     if let Some((key, values)) = &sweep {
@@ -824,14 +927,34 @@ fn write_plots(model: &Model, material: &Value, args: &BrdfArgs, dir: &Path) -> 
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let (w, h) = args.plot_size;
     let mut paths = Vec::new();
-    paths.extend(plot::save_png_svg(&lobe.into(), &dir.join("lobe_polar"), w, h)?);
+    paths.extend(plot::save_png_svg(
+        &lobe.into(),
+        &dir.join("lobe_polar"),
+        w,
+        h,
+    )?);
     if !(args.slice_decades > 0.0 && args.slice_decades <= 30.0) {
         bail!("--slice-decades {}: must be in (0, 30]", args.slice_decades);
     }
-    let slice = slice_chart(model, args.phi_d, args.slice_cells as usize, args.slice_decades);
-    paths.extend(plot::save_png_svg(&slice.into(), &dir.join("slice_thetah_thetad"), w, h)?);
+    let slice = slice_chart(
+        model,
+        args.phi_d,
+        args.slice_cells as usize,
+        args.slice_decades,
+    );
+    paths.extend(plot::save_png_svg(
+        &slice.into(),
+        &dir.join("slice_thetah_thetad"),
+        w,
+        h,
+    )?);
     let sweep_ref = sweep.as_ref().map(|(k, v)| (k.as_str(), v.as_slice()));
     let albedo = albedo_chart(material, sweep_ref, args.samples)?;
-    paths.extend(plot::save_png_svg(&albedo.into(), &dir.join("albedo"), w, h)?);
+    paths.extend(plot::save_png_svg(
+        &albedo.into(),
+        &dir.join("albedo"),
+        w,
+        h,
+    )?);
     Ok(paths)
 }

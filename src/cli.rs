@@ -39,6 +39,9 @@ pub enum Command {
     Bench(BenchArgs),
     /// Compare two PNG or EXR images (FLIP, max absolute difference, NaN/Inf) with tolerances.
     Diff(DiffArgs),
+    /// Evaluate a BRDF of the CPU reference at given directions (or JSON lines on stdin), or plot
+    /// its lobe, a θh × θd slice and its directional albedo.
+    Brdf(crate::brdf_cli::BrdfArgs),
     /// List the Vulkan devices luz can use and the one it would pick.
     Devices(GpuArgs),
 }
@@ -142,6 +145,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Render(a) => render(a),
         Command::Bench(a) => bench(a),
         Command::Diff(a) => diff(a),
+        Command::Brdf(a) => crate::brdf_cli::run(a),
         Command::Devices(a) => devices(a),
     }
 }

@@ -5,11 +5,13 @@
 //! `imageio` and `diff` know nothing of Vulkan. The window viewer (feature `window`) sits on top.
 
 pub mod brdf;
+pub mod brdf_cli;
 pub mod cli;
 pub mod color;
 pub mod diff;
 pub mod headless;
 pub mod imageio;
+pub mod plot;
 pub mod render;
 pub mod scene;
 pub mod stats;

@@ -41,7 +41,10 @@ pub fn init_font() -> Result<()> {
         };
         let bytes = std::fs::read(&path).map_err(|e| {
             if from_env {
-                format!("cannot read the chart font {} (from ${FONT_ENV}): {e}", path.display())
+                format!(
+                    "cannot read the chart font {} (from ${FONT_ENV}): {e}",
+                    path.display()
+                )
             } else {
                 format!(
                     "cannot read the chart font {}: {e}; install the Debian package {FONT_PACKAGE} \
@@ -53,9 +56,8 @@ pub fn init_font() -> Result<()> {
         // plotters keeps `&'static` font data: the one font of the process is leaked once.
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         for family in [FAMILY, "serif", "monospace"] {
-            plotters::style::register_font(family, FontStyle::Normal, bytes).map_err(|_| {
-                format!("{} is not a TrueType/OpenType font", path.display())
-            })?;
+            plotters::style::register_font(family, FontStyle::Normal, bytes)
+                .map_err(|_| format!("{} is not a TrueType/OpenType font", path.display()))?;
         }
         Ok(())
     })
@@ -79,7 +81,11 @@ pub struct Axis {
 impl Axis {
     /// A linear axis fitted to the data.
     pub fn new(label: impl Into<String>) -> Self {
-        Axis { label: label.into(), range: None, log: false }
+        Axis {
+            label: label.into(),
+            range: None,
+            log: false,
+        }
     }
     /// With a fixed range.
     pub fn range(mut self, lo: f64, hi: f64) -> Self {
@@ -118,7 +124,11 @@ pub struct Series {
 
 impl Series {
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points, ..Default::default() }
+        Series {
+            label: label.into(),
+            points,
+            ..Default::default()
+        }
     }
     pub fn color(mut self, c: RGBColor) -> Self {
         self.color = Some(c);
@@ -187,7 +197,7 @@ pub struct Heatmap {
     /// Decades shown on an automatic log colour range (default 4 when 0).
     pub log_decades: f64,
     pub color_label: String,
-    /// What grey cells mean (shown under the colour bar when any exist), e.g. "0".
+    /// What grey cells mean (shown under the colour bar when any exist; `\n` breaks lines).
     pub empty_label: String,
 }
 
@@ -259,7 +269,12 @@ pub enum Format {
 impl Format {
     /// From a file extension (`png`, `svg`, case-insensitive).
     pub fn from_path(path: &Path) -> Result<Format> {
-        match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
             Some("png") => Ok(Format::Png),
             Some("svg") => Ok(Format::Svg),
             _ => bail!("{}: chart files must end in .png or .svg", path.display()),
@@ -367,7 +382,11 @@ pub fn viridis(t: f64) -> RGBColor {
         (170.0, 220.0, 50.0),
         (253.0, 231.0, 37.0),
     ];
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let x = t * (V.len() - 1) as f64;
     let i = (x.floor() as usize).min(V.len() - 2);
     let f = x - i as f64;
@@ -412,11 +431,15 @@ fn fit(axis: &Axis, values: impl Iterator<Item = f64>) -> (f64, f64) {
     }
     if axis.log {
         let (l, h) = (lo.log10(), hi.log10());
-        let pad = ((h - l) * 0.05).max(0.05);
+        let pad = ((h - l) * 0.06).max(0.1);
         (10f64.powf(l - pad), 10f64.powf(h + pad))
     } else {
         let span = hi - lo;
-        let pad = if span > 0.0 { span * 0.05 } else { lo.abs().max(1.0) * 0.1 };
+        let pad = if span > 0.0 {
+            span * 0.05
+        } else {
+            lo.abs().max(1.0) * 0.1
+        };
         (lo - pad, hi + pad)
     }
 }
@@ -470,8 +493,14 @@ macro_rules! with_axes {
 
 fn draw_line<DB: DrawingBackend>(c: &LineChart, root: &DrawingArea<DB, Shift>) -> Result<()> {
     let keep = |a: &Axis, v: f64| v.is_finite() && (!a.log || v > 0.0);
-    let xr = fit(&c.x, c.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-    let yr = fit(&c.y, c.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+    let xr = fit(
+        &c.x,
+        c.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)),
+    );
+    let yr = fit(
+        &c.y,
+        c.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
+    );
     let h = root.dim_in_pixel().1;
     let fs = font_size(h, 16.0);
     with_axes!(c.x, xr, c.y, yr, |xs, ys| {
@@ -508,13 +537,14 @@ fn draw_line<DB: DrawingBackend>(c: &LineChart, root: &DrawingArea<DB, Shift>) -
                     .draw_series(DashedLineSeries::new(pts.clone(), 8, 5, style))
                     .map_err(de)?
             } else {
-                chart.draw_series(LineSeries::new(pts.clone(), style)).map_err(de)?
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), style))
+                    .map_err(de)?
             };
             if !s.label.is_empty() {
                 any_label = true;
-                anno.label(s.label.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], style)
-                });
+                anno.label(s.label.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
             }
             if s.markers {
                 chart
@@ -538,8 +568,16 @@ fn draw_line<DB: DrawingBackend>(c: &LineChart, root: &DrawingArea<DB, Shift>) -
 
 fn draw_scatter<DB: DrawingBackend>(c: &ScatterChart, root: &DrawingArea<DB, Shift>) -> Result<()> {
     let keep = |a: &Axis, v: f64| v.is_finite() && (!a.log || v > 0.0);
-    let xr = fit(&c.x, c.points.iter().map(|p| p.x));
+    let mut xr = fit(&c.x, c.points.iter().map(|p| p.x));
     let yr = fit(&c.y, c.points.iter().map(|p| p.y));
+    if c.x.range.is_none() {
+        // Room for the labels right of the rightmost points.
+        xr.1 = if c.x.log {
+            xr.1 * (xr.1 / xr.0).powf(0.15)
+        } else {
+            xr.1 + (xr.1 - xr.0) * 0.15
+        };
+    }
     let h = root.dim_in_pixel().1;
     let fs = font_size(h, 16.0);
     with_axes!(c.x, xr, c.y, yr, |xs, ys| {
@@ -561,7 +599,13 @@ fn draw_scatter<DB: DrawingBackend>(c: &ScatterChart, root: &DrawingArea<DB, Shi
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(de)?;
-        let groups = c.points.iter().map(|p| p.group + 1).max().unwrap_or(0).max(c.groups.len());
+        let groups = c
+            .points
+            .iter()
+            .map(|p| p.group + 1)
+            .max()
+            .unwrap_or(0)
+            .max(c.groups.len());
         for g in 0..groups {
             let color = palette(g);
             let pts: Vec<&LabeledPoint> = c
@@ -570,7 +614,10 @@ fn draw_scatter<DB: DrawingBackend>(c: &ScatterChart, root: &DrawingArea<DB, Shi
                 .filter(|p| p.group == g && keep(&c.x, p.x) && keep(&c.y, p.y))
                 .collect();
             let anno = chart
-                .draw_series(pts.iter().map(|p| Circle::new((p.x, p.y), 5, color.filled())))
+                .draw_series(
+                    pts.iter()
+                        .map(|p| Circle::new((p.x, p.y), 5, color.filled())),
+                )
                 .map_err(de)?;
             if let Some(name) = c.groups.get(g) {
                 anno.label(name.as_str())
@@ -609,7 +656,12 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
         bail!("heatmap: the x and y ranges are required");
     };
     if c.nx == 0 || c.ny == 0 || c.values.len() != c.nx * c.ny {
-        bail!("heatmap: {} values for {} × {} cells", c.values.len(), c.nx, c.ny);
+        bail!(
+            "heatmap: {} values for {} × {} cells",
+            c.values.len(),
+            c.nx,
+            c.ny
+        );
     }
     let valid = |v: f64| v.is_finite() && (!c.log_color || v > 0.0);
     let (mut lo, mut hi) = match c.color_range {
@@ -624,7 +676,11 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
                 (lo, hi) = if c.log_color { (0.1, 1.0) } else { (0.0, 1.0) };
             }
             if c.log_color {
-                let decades = if c.log_decades > 0.0 { c.log_decades } else { 4.0 };
+                let decades = if c.log_decades > 0.0 {
+                    c.log_decades
+                } else {
+                    4.0
+                };
                 lo = lo.max(hi * 10f64.powf(-decades));
             }
             (lo, hi)
@@ -647,7 +703,11 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
     };
     let (w, h) = root.dim_in_pixel();
     let fs = font_size(h, 16.0);
-    let root = root.titled(&c.title, (FAMILY, font_size(h, 22.0))).map_err(de)?;
+    // ab_glyph draws glyphs about a quarter of the size above the requested top: leave room.
+    let root = root.margin((font_size(h, 22.0) * 0.35) as u32, 0, 0, 0);
+    let root = root
+        .titled(&c.title, (FAMILY, font_size(h, 22.0)))
+        .map_err(de)?;
     let bar_w = ((w as f64) * 0.17).max(fs * 6.0) as u32;
     let (left, right) = root.split_horizontally(w.saturating_sub(bar_w));
     let mut chart = ChartBuilder::on(&left)
@@ -675,7 +735,13 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
         let row = &c.values[j * c.nx..(j + 1) * c.nx];
         let mut i = 0;
         while i < c.nx {
-            let colour = |v: f64| if valid(v) { viridis(to_t(v)) } else { EMPTY_GREY };
+            let colour = |v: f64| {
+                if valid(v) {
+                    viridis(to_t(v))
+                } else {
+                    EMPTY_GREY
+                }
+            };
             let col = colour(row[i]);
             any_empty |= !valid(row[i]);
             let mut k = i + 1;
@@ -695,64 +761,85 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
     }
     chart.draw_series(rects).map_err(de)?;
 
-    // Colour bar: a strip of cells on a (log) axis.
-    let mut builder = ChartBuilder::on(&right);
-    builder
+    // Colour bar: a strip of cells on a linear axis of v (or log10 v), ticks drawn here so that
+    // ranges under a decade are labelled too.
+    let tr = |v: f64| if c.log_color { v.log10() } else { v };
+    let (b0, b1) = (tr(lo), tr(hi));
+    let mut bar = ChartBuilder::on(&right)
         .margin_top(font_size(h, 12.0) as u32)
         .margin_bottom((fs * 3.0 + font_size(h, 12.0)) as u32)
-        .margin_right(font_size(h, 8.0) as u32)
-        .y_label_area_size((fs * 4.0) as u32);
+        .margin_left((fs * 2.0) as u32)
+        .margin_right((fs * 4.5) as u32)
+        .build_cartesian_2d(0.0..1.0, b0..b1)
+        .map_err(de)?;
     let steps = 128;
-    let empty_note = (any_empty && !c.empty_label.is_empty()).then(|| c.empty_label.clone());
-    if c.log_color {
-        let mut bar = builder.build_cartesian_2d(0.0..1.0, (lo..hi).log_scale()).map_err(de)?;
-        bar.configure_mesh()
-            .disable_x_mesh()
-            .disable_x_axis()
-            .disable_y_mesh()
-            .y_desc(c.color_label.as_str())
-            .label_style((FAMILY, fs))
-            .axis_desc_style((FAMILY, fs))
-            .y_label_formatter(&|v| format_number(*v))
-            .draw()
-            .map_err(de)?;
-        let (l0, l1) = (lo.log10(), hi.log10());
-        bar.draw_series((0..steps).map(|s| {
-            let a = 10f64.powf(l0 + (l1 - l0) * s as f64 / steps as f64);
-            let b = 10f64.powf(l0 + (l1 - l0) * (s + 1) as f64 / steps as f64);
-            Rectangle::new([(0.0, a), (1.0, b)], viridis((s as f64 + 0.5) / steps as f64).filled())
-        }))
-        .map_err(de)?;
-    } else {
-        let mut bar = builder.build_cartesian_2d(0.0..1.0, lo..hi).map_err(de)?;
-        bar.configure_mesh()
-            .disable_x_mesh()
-            .disable_x_axis()
-            .disable_y_mesh()
-            .y_desc(c.color_label.as_str())
-            .label_style((FAMILY, fs))
-            .axis_desc_style((FAMILY, fs))
-            .y_label_formatter(&|v| format_number(*v))
-            .draw()
-            .map_err(de)?;
-        bar.draw_series((0..steps).map(|s| {
-            let a = lo + (hi - lo) * s as f64 / steps as f64;
-            let b = lo + (hi - lo) * (s + 1) as f64 / steps as f64;
-            Rectangle::new([(0.0, a), (1.0, b)], viridis((s as f64 + 0.5) / steps as f64).filled())
-        }))
-        .map_err(de)?;
-    }
-    if let Some(note) = empty_note {
+    bar.draw_series((0..steps).map(|s| {
+        let a = b0 + (b1 - b0) * s as f64 / steps as f64;
+        let b = b0 + (b1 - b0) * (s + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            viridis((s as f64 + 0.5) / steps as f64).filled(),
+        )
+    }))
+    .map_err(de)?;
+    bar.draw_series(std::iter::once(Rectangle::new(
+        [(0.0, b0), (1.0, b1)],
+        BLACK.stroke_width(1),
+    )))
+    .map_err(de)?;
+    let tick_style = TextStyle::from((FAMILY, fs * 0.9).into_font()).color(&BLACK);
+    bar.draw_series(color_ticks(lo, hi, c.log_color).into_iter().map(|t| {
+        EmptyElement::at((1.0, tr(t)))
+            + PathElement::new(vec![(0, 0), (5, 0)], BLACK.stroke_width(1))
+            + Text::new(
+                format_number(t),
+                (8, -(fs * 0.45) as i32),
+                tick_style.clone(),
+            )
+    }))
+    .map_err(de)?;
+    {
         let (rw, rh) = right.dim_in_pixel();
-        let y = rh as i32 - (fs * 2.2) as i32;
-        let x = (rw as f64 * 0.1) as i32;
-        let sq = fs as i32;
+        let style = TextStyle::from((FAMILY, fs).into_font())
+            .transform(FontTransform::Rotate270)
+            .color(&BLACK);
+        let tw = (c.color_label.chars().count() as f64 * fs * 0.55) as i32;
+        let _ = rw;
         right
-            .draw(&Rectangle::new([(x, y), (x + sq, y + sq)], EMPTY_GREY.filled()))
+            .draw(&Text::new(
+                c.color_label.clone(),
+                (
+                    (fs * 0.3) as i32,
+                    (rh as i32 - (fs * 3.0) as i32) / 2 + tw / 2,
+                ),
+                style,
+            ))
             .map_err(de)?;
+    }
+    let empty_note = (any_empty && !c.empty_label.is_empty()).then(|| c.empty_label.clone());
+    if let Some(note) = empty_note {
+        // A grey square, then the note's lines (split at '\n') beside and under it.
+        let (rw, rh) = right.dim_in_pixel();
+        let lines: Vec<&str> = note.lines().collect();
+        let lh = (fs * 1.05) as i32;
+        let y = rh as i32 - (fs * 0.6) as i32 - lh * lines.len() as i32;
+        let x = (rw as f64 * 0.04) as i32;
+        let sq = (fs * 0.8) as i32;
         right
-            .draw(&Text::new(format!("= {note}"), (x + sq + 4, y), (FAMILY, fs * 0.9)))
+            .draw(&Rectangle::new(
+                [(x, y + 2), (x + sq, y + 2 + sq)],
+                EMPTY_GREY.filled(),
+            ))
             .map_err(de)?;
+        for (k, line) in lines.iter().enumerate() {
+            right
+                .draw(&Text::new(
+                    line.to_string(),
+                    (x + sq + 4, y + k as i32 * lh),
+                    (FAMILY, fs * 0.8),
+                ))
+                .map_err(de)?;
+        }
     }
     Ok(())
 }
@@ -760,6 +847,41 @@ fn draw_heatmap<DB: DrawingBackend>(c: &Heatmap, root: &DrawingArea<DB, Shift>) 
 // ---------------------------------------------------------------------------------------------
 // Polar plot
 // ---------------------------------------------------------------------------------------------
+
+/// Tick values for a colour bar over `lo … hi`: 1, 2, 5 × 10^k on a log scale (only powers of
+/// ten when there are many), else (or when fewer than 2 fit) about 5 evenly spaced nice values.
+fn color_ticks(lo: f64, hi: f64, log: bool) -> Vec<f64> {
+    let inside = |t: &f64| *t >= lo * (1.0 - 1e-9) && *t <= hi * (1.0 + 1e-9);
+    if log && lo > 0.0 {
+        let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        let mut t: Vec<f64> = (k0..=k1)
+            .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+            .filter(inside)
+            .collect();
+        if t.len() > 10 {
+            t = (k0..=k1).map(|k| 10f64.powi(k)).filter(inside).collect();
+            while t.len() > 10 {
+                t = t.into_iter().step_by(2).collect();
+            }
+        }
+        if t.len() >= 2 {
+            return t;
+        }
+    }
+    let raw = (hi - lo) / 5.0;
+    if !(raw > 0.0 && raw.is_finite()) {
+        return vec![lo];
+    }
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).map(|k| k as f64 * step).collect()
+}
 
 /// "Nice" ring radii (1, 2, 2.5, 5 × 10^k), about 4 of them, the last one ≥ `r_max`.
 fn ring_ticks(r_max: f64) -> Vec<f64> {
@@ -796,7 +918,11 @@ fn ring_ticks(r_max: f64) -> Vec<f64> {
 fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>) -> Result<()> {
     let (_, h0) = root.dim_in_pixel();
     let fs = font_size(h0, 16.0);
-    let root = root.titled(&c.title, (FAMILY, font_size(h0, 22.0))).map_err(de)?;
+    // ab_glyph draws glyphs about a quarter of the size above the requested top: leave room.
+    let root = root.margin((font_size(h0, 22.0) * 0.35) as u32, 0, 0, 0);
+    let root = root
+        .titled(&c.title, (FAMILY, font_size(h0, 22.0)))
+        .map_err(de)?;
     let (w, h) = root.dim_in_pixel();
     let (w, h) = (w as f64, h as f64);
     let data_max = c
@@ -805,38 +931,49 @@ fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>)
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .filter(|r| r.is_finite())
         .fold(0.0f64, f64::max);
-    let r_max = c.r_max.filter(|r| *r > 0.0 && r.is_finite()).unwrap_or(if data_max > 0.0 {
-        data_max
-    } else {
-        1.0
-    });
+    let r_max = c
+        .r_max
+        .filter(|r| *r > 0.0 && r.is_finite())
+        .unwrap_or(if data_max > 0.0 { data_max } else { 1.0 });
     let rings = ring_ticks(r_max);
     let r_outer = rings.last().copied().unwrap_or(r_max).max(r_max);
     // Pixel geometry: margins for angle labels around, the radius label and legend below.
     let (m, mx) = (fs * 2.2, fs * 3.5);
-    let bottom = if c.half { fs * 3.5 } else { m };
+    let bottom = if c.r_label.is_empty() { m } else { fs * 3.5 };
+    // Centred vertically in the space left over.
     let (cx, cy, rp) = if c.half {
         let rp = ((w - 2.0 * mx) / 2.0).min(h - m - bottom).max(10.0);
-        (w / 2.0, m + rp, rp)
+        let spare = (h - m - bottom - rp).max(0.0) / 2.0;
+        (w / 2.0, m + spare + rp, rp)
     } else {
         let rp = ((w - 2.0 * mx) / 2.0).min((h - m - bottom) / 2.0).max(10.0);
-        (w / 2.0, m + rp, rp)
+        let spare = (h - m - bottom - 2.0 * rp).max(0.0) / 2.0;
+        (w / 2.0, m + spare + rp, rp)
     };
     let to_px = |deg: f64, r: f64| -> (i32, i32) {
         let a = deg.to_radians();
         let s = (r / r_outer) * rp;
-        ((cx + s * a.sin()).round() as i32, (cy - s * a.cos()).round() as i32)
+        (
+            (cx + s * a.sin()).round() as i32,
+            (cy - s * a.cos()).round() as i32,
+        )
     };
-    let (a0, a1) = if c.half { (-90.0, 90.0) } else { (-180.0, 180.0) };
+    let (a0, a1) = if c.half {
+        (-90.0, 90.0)
+    } else {
+        (-180.0, 180.0)
+    };
     let grid = ShapeStyle::from(RGBColor(200, 200, 200)).stroke_width(1);
     let axis = ShapeStyle::from(RGBColor(90, 90, 90)).stroke_width(1);
     // Rings with their radius labels (along +90°).
     for (k, &r) in rings.iter().enumerate() {
         let n = 180;
-        let pts: Vec<(i32, i32)> =
-            (0..=n).map(|i| to_px(a0 + (a1 - a0) * i as f64 / n as f64, r)).collect();
+        let pts: Vec<(i32, i32)> = (0..=n)
+            .map(|i| to_px(a0 + (a1 - a0) * i as f64 / n as f64, r))
+            .collect();
         let last = k + 1 == rings.len();
-        root.draw(&PathElement::new(pts, if last { axis } else { grid })).map_err(de)?;
+        root.draw(&PathElement::new(pts, if last { axis } else { grid }))
+            .map_err(de)?;
         let (x, y) = to_px(90.0, r);
         root.draw(&Text::new(
             format_number(r),
@@ -852,20 +989,30 @@ fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>)
             deg += 15.0;
             continue;
         }
-        root.draw(&PathElement::new(vec![to_px(deg, 0.0), to_px(deg, r_outer)], grid))
-            .map_err(de)?;
+        root.draw(&PathElement::new(
+            vec![to_px(deg, 0.0), to_px(deg, r_outer)],
+            grid,
+        ))
+        .map_err(de)?;
         if (deg as i64) % 30 == 0 {
             let (x, y) = to_px(deg, r_outer * 1.0 + r_outer * (fs * 1.1) / rp);
             let text = format!("{}°", deg as i64);
             let tw = (text.chars().count() as f64 * fs * 0.55) as i32;
-            root.draw(&Text::new(text, (x - tw / 2, y - (fs * 0.5) as i32), (FAMILY, fs * 0.9)))
-                .map_err(de)?;
+            root.draw(&Text::new(
+                text,
+                (x - tw / 2, y - (fs * 0.5) as i32),
+                (FAMILY, fs * 0.9),
+            ))
+            .map_err(de)?;
         }
         deg += 15.0;
     }
     if c.half {
-        root.draw(&PathElement::new(vec![to_px(-90.0, r_outer), to_px(90.0, r_outer)], axis))
-            .map_err(de)?;
+        root.draw(&PathElement::new(
+            vec![to_px(-90.0, r_outer), to_px(90.0, r_outer)],
+            axis,
+        ))
+        .map_err(de)?;
     }
     // Curves and rays.
     for (i, s) in c.series.iter().enumerate() {
@@ -890,7 +1037,12 @@ fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>)
     }
     // Legend (top left) and the radius label (bottom).
     let mut y = (fs * 0.3) as i32;
-    for (i, s) in c.series.iter().enumerate().filter(|(_, s)| !s.label.is_empty()) {
+    for (i, s) in c
+        .series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.label.is_empty())
+    {
         let color = s.color.unwrap_or_else(|| palette(i));
         let x = (fs * 0.5) as i32;
         let ym = y + (fs * 0.5) as i32;
@@ -899,15 +1051,23 @@ fn draw_polar<DB: DrawingBackend>(c: &PolarChart, root: &DrawingArea<DB, Shift>)
             ShapeStyle::from(color).stroke_width(2),
         ))
         .map_err(de)?;
-        root.draw(&Text::new(s.label.clone(), (x + (fs * 2.0) as i32, y), (FAMILY, fs * 0.9)))
-            .map_err(de)?;
+        root.draw(&Text::new(
+            s.label.clone(),
+            (x + (fs * 2.0) as i32, y),
+            (FAMILY, fs * 0.9),
+        ))
+        .map_err(de)?;
         y += (fs * 1.2) as i32;
     }
     if !c.r_label.is_empty() {
+        let base = if c.half { cy } else { cy + rp };
         let tw = (c.r_label.chars().count() as f64 * fs * 0.5) as i32;
         root.draw(&Text::new(
             c.r_label.clone(),
-            ((w / 2.0) as i32 - tw / 2, (h - fs * 1.6) as i32),
+            (
+                (w / 2.0) as i32 - tw / 2,
+                (base + bottom - fs * 1.8).min(h - fs * 1.6) as i32,
+            ),
             (FAMILY, fs),
         ))
         .map_err(de)?;
@@ -931,5 +1091,75 @@ mod tests {
         assert_eq!(*ring_ticks(0.31).last().unwrap(), 0.4);
         assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
         assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+    }
+
+    fn non_white(rgb: &[u8]) -> usize {
+        rgb.chunks(3).filter(|p| *p != [255, 255, 255]).count()
+    }
+
+    /// Every chart kind renders (log axes, labels, full polar, linear heatmap). Needs the font.
+    #[test]
+    fn every_chart_kind_renders() {
+        let line = LineChart {
+            title: "line".into(),
+            x: Axis::new("x").log(),
+            y: Axis::new("y").log(),
+            series: vec![
+                Series::new("a", (1..50).map(|i| (i as f64, (i * i) as f64)).collect()).markers(),
+                Series::new("b", vec![(1.0, 1.0), (0.0, 5.0), (50.0, 10.0)]).dashed(),
+            ],
+            legend: Legend::UpperLeft,
+        };
+        let scatter = ScatterChart {
+            title: "speed against accuracy".into(),
+            x: Axis::new("ms").log(),
+            y: Axis::new("error"),
+            points: vec![
+                LabeledPoint {
+                    x: 0.5,
+                    y: 0.1,
+                    label: "split sum".into(),
+                    group: 0,
+                },
+                LabeledPoint {
+                    x: 4.0,
+                    y: 0.01,
+                    label: "128 samples".into(),
+                    group: 1,
+                },
+            ],
+            groups: vec!["a".into(), "b".into()],
+            legend: Legend::UpperRight,
+        };
+        let heat = Heatmap {
+            title: "heat".into(),
+            x: Axis::new("x").range(0.0, 1.0),
+            y: Axis::new("y").range(-1.0, 1.0),
+            nx: 3,
+            ny: 2,
+            values: vec![0.0, 1.0, 2.0, f64::NAN, 4.0, 5.0],
+            color_label: "v".into(),
+            empty_label: "none".into(),
+            ..Default::default()
+        };
+        let polar = PolarChart {
+            title: "polar".into(),
+            series: vec![PolarSeries {
+                label: "circle".into(),
+                points: (0..=360).map(|a| (a as f64 - 180.0, 2.0)).collect(),
+                color: None,
+                rays: vec![45.0],
+            }],
+            r_max: None,
+            half: false,
+            r_label: "r".into(),
+        };
+        for chart in [line.into(), scatter.into(), heat.into(), polar.into()] {
+            let rgb = render_rgb(&chart, 400, 300).unwrap();
+            assert_eq!(rgb.len(), 400 * 300 * 3);
+            assert!(non_white(&rgb) > 400 * 300 / 50, "{chart:?}");
+        }
+        assert!(Format::from_path(Path::new("a.jpg")).is_err());
+        assert_eq!(Format::from_path(Path::new("a.SVG")).unwrap(), Format::Svg);
     }
 }

@@ -1,0 +1,396 @@
+//! `luz brdf`: runs the binary and checks its values against the CPU reference, the `--stdin`
+//! protocol, error handling and the `--plot` files. No GPU needed. The plot test needs the chart
+//! font (Debian package fonts-dejavu-core, or $LUZ_FONT).
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+
+use glam::Vec3;
+use luz::brdf;
+use serde_json::Value;
+
+fn luz(args: &[&str], stdin: Option<&str>) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_luz"))
+        .arg("brdf")
+        .args(args)
+        .stdin(if stdin.is_some() {
+            Stdio::piped()
+        } else {
+            Stdio::null()
+        })
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run luz");
+    if let Some(text) = stdin {
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).unwrap()
+}
+
+fn assert_ok(o: &Output) {
+    assert!(
+        o.status.success(),
+        "exit {:?}\nstdout: {}\nstderr: {}",
+        o.status,
+        stdout(o),
+        stderr(o)
+    );
+}
+
+fn no_panic(o: &Output) {
+    let e = stderr(o);
+    assert!(!e.contains("panicked"), "panic: {e}");
+    assert!(o.status.code().is_some(), "killed by a signal: {e}");
+}
+
+/// The value of `key=` in the text line, as numbers.
+fn text_field(line: &str, key: &str) -> Vec<f32> {
+    let prefix = format!("{key}=");
+    let v = line
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix(prefix.as_str()))
+        .unwrap_or_else(|| panic!("no {key}= in {line}"));
+    v.split(',').map(|x| x.parse().unwrap()).collect()
+}
+
+fn json_vec3(v: &Value) -> Vec3 {
+    let a = v.as_array().expect("array");
+    Vec3::new(
+        a[0].as_f64().unwrap() as f32,
+        a[1].as_f64().unwrap() as f32,
+        a[2].as_f64().unwrap() as f32,
+    )
+}
+
+#[test]
+fn lambert_is_albedo_over_pi() {
+    let albedo = Vec3::new(0.5, 0.25, 1.0);
+    let mat = r#"{"model":"lambert","albedo":[0.5,0.25,1.0]}"#;
+    let expected = albedo / std::f32::consts::PI;
+
+    let o = luz(
+        &[
+            "--material",
+            mat,
+            "--theta-l",
+            "20",
+            "--theta-v",
+            "50",
+            "--phi-v",
+            "30",
+        ],
+        None,
+    );
+    assert_ok(&o);
+    let out = stdout(&o);
+    assert_eq!(out.lines().count(), 1, "{out}");
+    let f = text_field(&out, "f");
+    for k in 0..3 {
+        assert!(
+            (f[k] - expected[k]).abs() < 1e-6,
+            "f = {f:?}, expected {expected}"
+        );
+    }
+    assert_eq!(text_field(&out, "specular"), vec![0.0, 0.0, 0.0]);
+    assert!((text_field(&out, "n_l")[0] - 20f32.to_radians().cos()).abs() < 1e-6);
+    assert!((text_field(&out, "n_v")[0] - 50f32.to_radians().cos()).abs() < 1e-6);
+
+    // The same through --model/--set, vectors and --json.
+    let o = luz(
+        &[
+            "--model",
+            "lambert",
+            "--set",
+            "albedo=0.5,0.25,1",
+            "--l",
+            "1,0,1",
+            "--v",
+            "0,-1,2",
+            "--json",
+        ],
+        None,
+    );
+    assert_ok(&o);
+    let j: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(j["model"], "lambert");
+    let f = json_vec3(&j["f"]);
+    assert!(
+        (f - expected).abs().max_element() < 1e-6,
+        "{f} vs {expected}"
+    );
+    assert!((j["n_l"].as_f64().unwrap() - 0.5f64.sqrt()).abs() < 1e-6);
+}
+
+#[test]
+fn metal_rough_mirror_matches_d_g_f() {
+    let base = Vec3::new(1.0, 0.8, 0.3);
+    let roughness = 0.3f32;
+    let mat = r#"{"model":"metal_rough","base_color":[1,0.8,0.3],"roughness":0.3}"#;
+    let o = luz(
+        &[
+            "--material",
+            mat,
+            "--theta-l",
+            "30",
+            "--theta-v",
+            "30",
+            "--json",
+        ],
+        None,
+    );
+    assert_ok(&o);
+    let j: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+
+    // Mirror configuration: h = n, v·h = n·l = n·v = cos 30°; metallic 1 (default): no diffuse.
+    let c = 30f32.to_radians().cos();
+    let a = roughness * roughness;
+    let d = brdf::d_ggx(1.0, a);
+    let g = brdf::g_smith_ggx_correlated(c, c, a);
+    let f = brdf::f_schlick(base, c);
+    let expected = f * (d * g / (4.0 * c * c));
+
+    let got = json_vec3(&j["f"]);
+    let rel = ((got - expected).abs() / expected).max_element();
+    assert!(
+        rel < 1e-5,
+        "f = {got}, expected D G F / (4 n·l n·v) = {expected} (rel {rel})"
+    );
+    let rel_d = (j["D"].as_f64().unwrap() as f32 - d).abs() / d;
+    assert!(rel_d < 1e-5, "D = {}, expected {d}", j["D"]);
+    assert!(
+        (j["G"].as_f64().unwrap() as f32 - g).abs() < 1e-6,
+        "G = {}, expected {g}",
+        j["G"]
+    );
+    assert!((json_vec3(&j["F"]) - f).abs().max_element() < 1e-6);
+    assert_eq!(json_vec3(&j["diffuse"]), Vec3::ZERO);
+    assert!((j["n_h"].as_f64().unwrap() - 1.0).abs() < 1e-6);
+    assert!((j["v_h"].as_f64().unwrap() as f32 - c).abs() < 1e-6);
+    assert_eq!(j["material"]["roughness"], 0.3);
+    assert_eq!(j["material"]["distribution"], "ggx");
+}
+
+#[test]
+fn stdin_three_lines_give_three_json_lines() {
+    let input = concat!(
+        r#"{"material":{"model":"lambert"},"theta_l":0,"theta_v":45}"#,
+        "\n",
+        r#"{"material":{"model":"metal_rough","roughness":0.5},"l":[0.5,0,0.866],"v":[-0.5,0,0.866]}"#,
+        "\n\n",
+        r#"{"material":{"model":"principled","anisotropic":0.5},"theta_l":40,"phi_l":20,"theta_v":60,"phi_v":250}"#,
+        "\n",
+    );
+    let o = luz(&["--stdin"], Some(input));
+    assert_ok(&o);
+    let out = stdout(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    let models = ["lambert", "metal_rough", "principled"];
+    for (line, model) in lines.iter().zip(models) {
+        let j: Value = serde_json::from_str(line).unwrap();
+        assert_eq!(j["model"], model);
+        let f = json_vec3(&j["f"]);
+        assert!(
+            f.is_finite() && f.min_element() >= 0.0 && f.max_element() > 0.0,
+            "{line}"
+        );
+    }
+    let j: Value = serde_json::from_str(lines[0]).unwrap();
+    assert!((json_vec3(&j["f"]).x - 0.8 / std::f32::consts::PI).abs() < 1e-6);
+
+    // The command-line material is the default for lines without one.
+    let o = luz(
+        &["--stdin", "--model", "lambert"],
+        Some("{\"l\":[0,0,1],\"v\":[0,0,1]}\n"),
+    );
+    assert_ok(&o);
+    assert_eq!(stdout(&o).lines().count(), 1);
+}
+
+#[test]
+fn stdin_bad_line_reports_line_number_and_continues() {
+    let input = concat!(
+        r#"{"material":{"model":"lambert"},"theta_l":0,"theta_v":0}"#,
+        "\n",
+        r#"{"material":{"model":"metal_rough","roughness":"rough"},"theta_l":0,"theta_v":0}"#,
+        "\n",
+        "not json\n",
+        r#"{"material":{"model":"lambert"},"l":[0,0,1],"v":[0,0,1]}"#,
+        "\n",
+    );
+    let o = luz(&["--stdin"], Some(input));
+    no_panic(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let out = stdout(&o);
+    let lines: Vec<Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 4, "{out}");
+    assert_eq!(lines[0]["model"], "lambert");
+    assert_eq!(lines[1]["line"], 2);
+    assert!(
+        lines[1]["error"].as_str().unwrap().contains("roughness"),
+        "{}",
+        lines[1]
+    );
+    assert_eq!(lines[2]["line"], 3);
+    assert_eq!(lines[3]["model"], "lambert");
+    assert!(stderr(&o).contains("line 2"), "{}", stderr(&o));
+}
+
+#[test]
+fn bad_material_is_a_clear_error() {
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["--material", r#"{"model":"metal_rough","roughness":"a"}"#],
+            "roughness",
+        ),
+        (
+            &["--material", r#"{"model":"metal_rough","roughnes":0.3}"#],
+            "roughnes",
+        ),
+        (&["--material", r#"{"model":"metal_rough""#], "JSON"),
+        (&["--material", r#"{"model":"gold"}"#], "unknown model"),
+        (&["--material", r#"{"roughness":0.3}"#], "model"),
+        (
+            &["--model", "metal_rough", "--set", "distribution=ggz"],
+            "distribution",
+        ),
+    ];
+    for (args, needle) in cases {
+        let mut all = args.to_vec();
+        all.extend(["--theta-l", "0", "--theta-v", "0"]);
+        let o = luz(&all, None);
+        no_panic(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(stdout(&o).is_empty(), "{args:?}: {}", stdout(&o));
+        let e = stderr(&o);
+        assert!(e.contains("error") && e.contains(needle), "{args:?}: {e}");
+    }
+    // Missing directions and nothing to do are errors too.
+    for args in [
+        &["--model", "lambert", "--theta-l", "10"][..],
+        &["--model", "lambert"][..],
+    ] {
+        let o = luz(args, None);
+        no_panic(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+    }
+}
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn plot_writes_decodable_non_blank_pngs() {
+    let dir = tmp_dir("brdf_cli_plot");
+    let dir_s = dir.to_str().unwrap();
+    let o = luz(
+        &[
+            "--model",
+            "metal_rough",
+            "--set",
+            "metallic=0",
+            "--set",
+            "base_color=0.8,0.5,0.2",
+            "--plot",
+            dir_s,
+            "--sweep",
+            "roughness=0.1,0.5,1",
+            "--samples",
+            "512",
+        ],
+        None,
+    );
+    assert_ok(&o);
+    let out = stdout(&o);
+    let printed: Vec<&str> = out.lines().map(str::trim).collect();
+    for stem in ["lobe_polar", "slice_thetah_thetad", "albedo"] {
+        let png = dir.join(format!("{stem}.png"));
+        let svg = dir.join(format!("{stem}.svg"));
+        assert!(
+            printed.contains(&png.to_str().unwrap()),
+            "{png:?} not printed: {printed:?}"
+        );
+        assert!(
+            printed.contains(&svg.to_str().unwrap()),
+            "{svg:?} not printed: {printed:?}"
+        );
+        let img = image::open(&png)
+            .unwrap_or_else(|e| panic!("{png:?}: {e}"))
+            .to_rgb8();
+        assert_eq!(
+            img.dimensions(),
+            (800, 600),
+            "{png:?}: the documented default size"
+        );
+        let total = img.pixels().count();
+        let non_white = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+        assert!(
+            non_white * 50 > total,
+            "{png:?} is nearly blank: {non_white} of {total} pixels"
+        );
+        let mut colours: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(
+            colours.len() > 20,
+            "{png:?}: only {} colours",
+            colours.len()
+        );
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.contains("<svg") && text.contains("</svg>"), "{svg:?}");
+    }
+
+    // --plot-size is honoured; a bad sweep key fails before anything is written.
+    let dir2 = tmp_dir("brdf_cli_plot_small");
+    let o = luz(
+        &[
+            "--model",
+            "lambert",
+            "--plot",
+            dir2.to_str().unwrap(),
+            "--plot-size",
+            "320x240",
+        ],
+        None,
+    );
+    assert_ok(&o);
+    let img = image::open(dir2.join("albedo.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (320, 240));
+    let dir3 = tmp_dir("brdf_cli_plot_bad");
+    let o = luz(
+        &[
+            "--model",
+            "lambert",
+            "--plot",
+            dir3.to_str().unwrap(),
+            "--sweep",
+            "roughness=0,1",
+        ],
+        None,
+    );
+    no_panic(&o);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("roughness"), "{}", stderr(&o));
+    assert!(!dir3.exists());
+}
