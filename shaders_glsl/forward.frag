@@ -2,6 +2,9 @@
 //! variant flat: SHADING_FLAT
 //! variant gouraud: SHADING_GOURAUD
 //! variant phong: SHADING_PHONG
+//! variant flat_ibl: SHADING_FLAT IBL
+//! variant gouraud_ibl: SHADING_GOURAUD IBL
+//! variant phong_ibl: SHADING_PHONG IBL
 
 #include "include/lighting.glsl"
 

@@ -296,6 +296,21 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
         }
         println!("triangles: {}", renderer.triangle_count());
     }
+    if let Some(t) = renderer.ibl_times() {
+        let stages: Vec<String> = t
+            .stages
+            .iter()
+            .map(|(n, ms)| format!("{n} {ms:.0} ms"))
+            .collect();
+        println!(
+            "IBL precomputation: {:.0} ms ({})",
+            t.total(),
+            stages.join(", ")
+        );
+    }
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
     let mut frames = Vec::with_capacity(a.frames as usize);
     let first = renderer.render()?;
     let ttff = t0.elapsed().as_secs_f64() * 1e3;

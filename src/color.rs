@@ -21,6 +21,8 @@ pub enum Tonemap {
     Aces,
     /// Khronos PBR Neutral.
     KhronosNeutral,
+    /// Troy Sobotka's AgX, base look (the polynomial fit of its default contrast).
+    Agx,
 }
 
 /// The largest input the non-identity tone mappers look at: the largest finite value of an
@@ -30,11 +32,12 @@ pub const TONEMAP_INPUT_MAX: f32 = 65504.0;
 
 impl Tonemap {
     /// Every operator, in a stable order (CLI help, UI combo boxes, tests).
-    pub const ALL: [Tonemap; 4] = [
+    pub const ALL: [Tonemap; 5] = [
         Tonemap::None,
         Tonemap::Reinhard,
         Tonemap::Aces,
         Tonemap::KhronosNeutral,
+        Tonemap::Agx,
     ];
 
     /// The name used on the command line and in scene files (same as the serde name).
@@ -44,6 +47,7 @@ impl Tonemap {
             Tonemap::Reinhard => "reinhard",
             Tonemap::Aces => "aces",
             Tonemap::KhronosNeutral => "khronos_neutral",
+            Tonemap::Agx => "agx",
         }
     }
 
@@ -65,12 +69,14 @@ impl Tonemap {
     ///   of the reference ACES RRT+ODT), so the 0.6 is part of the operator, not of the exposure.
     /// * `KhronosNeutral`: the Khronos PBR Neutral operator, transcribed from the reference GLSL
     ///   (KhronosGroup/ToneMapping, `PBR_Neutral`): start compression 0.8 − 0.04, desaturation 0.15.
+    /// * `Agx`: see [`agx`].
     pub fn apply(self, rgb: [f32; 3]) -> [f32; 3] {
         match self {
             Tonemap::None => rgb,
             Tonemap::Reinhard => sanitize(rgb).map(|x| x / (1.0 + x)),
             Tonemap::Aces => sanitize(rgb).map(aces_narkowicz),
             Tonemap::KhronosNeutral => khronos_pbr_neutral(sanitize(rgb)),
+            Tonemap::Agx => agx(sanitize(rgb)),
         }
     }
 }
@@ -121,6 +127,60 @@ fn khronos_pbr_neutral(color: [f32; 3]) -> [f32; 3] {
     let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
     // mix(color, vec3(newPeak), g)
     color.map(|c| c * (1.0 - g) + new_peak * g)
+}
+
+/// AgX's inset matrix (linear Rec.709 → the AgX working space), row-major: `out = M · rgb`.
+/// The published matrix (Wrensch's `agx_mat`, given column-major in GLSL) has rows summing to
+/// 1.000136, 0.999963 and 0.999952; here each row is divided by its sum so that grey stays
+/// exactly grey: otherwise the three channels reach the top of the log range at slightly
+/// different inputs (≈ 16.3) and the outset matrix makes grey dip by ~4e-6 there (not monotone).
+/// The difference from the published look is below 2e-4 EV.
+pub const AGX_INSET: [[f32; 3]; 3] = [
+    [0.842_364_16, 0.078_422_9, 0.079_212_94],
+    [0.042_329_81, 0.878_501_1, 0.079_169_06],
+    [0.042_377_68, 0.078_437_35, 0.879_184_96],
+];
+/// AgX's outset matrix (the inverse of [`AGX_INSET`] as published), row-major.
+pub const AGX_OUTSET: [[f32; 3]; 3] = [
+    [1.196_879, -0.098_020_88, -0.099_029_74],
+    [-0.052_896_85, 1.151_903_1, -0.098_961_18],
+    [-0.052_971_635, -0.098_043_45, 1.151_073_7],
+];
+/// Lowest exposure AgX encodes, in stops relative to 0.18 grey's encoding (log2 units).
+pub const AGX_MIN_EV: f32 = -12.473_93;
+/// Highest exposure AgX encodes: inputs above 2^4.026069 ≈ 16.3 map to the top of the curve.
+pub const AGX_MAX_EV: f32 = 4.026_069;
+
+fn mat3_mul(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
+    m.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
+}
+
+/// The 6th-order polynomial fit of AgX's default-contrast sigmoid on the log-encoded [0, 1]
+/// input (Benjamin Wrensch, "Minimal AgX implementation", 2023).
+pub fn agx_default_contrast(x: f32) -> f32 {
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    15.5 * x4 * x2 - 40.14 * x4 * x + 31.96 * x4 - 6.868 * x2 * x + 0.4298 * x2 + 0.1191 * x
+        - 0.00232
+}
+
+/// AgX (Troy Sobotka), base look, as the widely used GLSL of Benjamin Wrensch's "Minimal AgX":
+/// inset matrix ([`AGX_INSET`], rows normalised) → `log2`, clamped to [[`AGX_MIN_EV`], [`AGX_MAX_EV`]] and
+/// normalised to [0, 1] → the sigmoid polynomial ([`agx_default_contrast`]) → outset matrix
+/// ([`AGX_OUTSET`]). That result is a display-*encoded* value (the curve bakes in the display
+/// transfer function), while luz sRGB-encodes after tone mapping; so it is clamped to [0, 1]
+/// and decoded with the exact sRGB curve ([`srgb_decode`]). The pipeline's encode then restores
+/// it to float precision: the 8-bit codes are those the reference GLSL writes to a UNORM target.
+/// (A `pow(x, 2.2)` decode would darken shadows once re-encoded with the piecewise sRGB curve.)
+/// Input: linear Rec.709, sanitised (NaN and negatives → 0, capped at the half-float maximum).
+pub fn agx(rgb: [f32; 3]) -> [f32; 3] {
+    let range = AGX_MAX_EV - AGX_MIN_EV;
+    let encoded = mat3_mul(&AGX_INSET, rgb).map(|c| {
+        // log2(0) = −inf is clamped to the minimum, as GLSL's clamp(log2(0)) in practice.
+        let ev = c.max(0.0).log2().clamp(AGX_MIN_EV, AGX_MAX_EV);
+        agx_default_contrast((ev - AGX_MIN_EV) / range)
+    });
+    mat3_mul(&AGX_OUTSET, encoded).map(|c| srgb_decode(c.clamp(0.0, 1.0)))
 }
 
 /// The exposure multiplier for `ev` stops: 2^ev.
@@ -293,6 +353,57 @@ mod tests {
     }
 
     #[test]
+    fn agx_behaves() {
+        // Grey in, grey out; monotone in luminance; 0 → 0; saturates just below 1.
+        let mut prev = -1.0f32;
+        for i in 0..=20_000 {
+            let x = 1e-5 * 1.001f32.powi(i);
+            let y = Tonemap::Agx.apply([x; 3]);
+            assert!(
+                (y[0] - y[1]).abs() < 1e-3 && (y[1] - y[2]).abs() < 1e-3,
+                "{x}: {y:?}"
+            );
+            assert!(y[0] >= prev - 1e-6, "not monotone at {x}");
+            prev = y[0];
+        }
+        assert_eq!(Tonemap::Agx.apply([0.0; 3]), [0.0; 3]);
+        assert!(Tonemap::Agx.apply([1e-4; 3])[0] < 1e-3);
+        for c in Tonemap::Agx.apply([1e6; 3]) {
+            assert!(c <= 1.0 && c > 0.98, "{c}");
+        }
+        for c in Tonemap::Agx.apply([f32::INFINITY, f32::NAN, -3.0]) {
+            assert!(c.is_finite() && (0.0..=1.0).contains(&c), "{c}");
+        }
+        // Middle grey 0.18 lands near the middle of the display range (encoded ≈ 0.50; an
+        // identity curve would give srgb_encode(0.18) = 0.46).
+        let grey = srgb_encode(Tonemap::Agx.apply([0.18; 3])[0]);
+        assert!((0.40..0.52).contains(&grey), "{grey}");
+        // The published formula by hand: the encoded output at 0.18 is the polynomial at
+        // (log2 0.18 − min EV)/(max EV − min EV), times the outset matrix's row sum.
+        let t = (0.18f32.log2() - AGX_MIN_EV) / (AGX_MAX_EV - AGX_MIN_EV);
+        let p = agx_default_contrast(t);
+        let want = 0.999_83 * p;
+        assert!((grey - want).abs() < 1e-4, "{grey} vs {want}");
+        // The matrices are inverses (to the published precision); the inset keeps grey.
+        for (i, row) in AGX_INSET.iter().enumerate() {
+            assert!(
+                (row.iter().sum::<f32>() - 1.0).abs() < 1e-6,
+                "inset row {i}"
+            );
+        }
+        let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        for (k, e) in id.iter().enumerate() {
+            let back = mat3_mul(&AGX_OUTSET, mat3_mul(&AGX_INSET, *e));
+            for (c, want) in back.iter().zip(e) {
+                assert!((c - want).abs() < 1e-3, "column {k}: {back:?}");
+            }
+        }
+        // A saturated colour keeps its hue order and stays in range.
+        let r = Tonemap::Agx.apply([4.0, 0.5, 0.1]);
+        assert!(r[0] > r[1] && r[1] > r[2] && r[0] <= 1.0);
+    }
+
+    #[test]
     fn names_round_trip() {
         for op in Tonemap::ALL {
             assert_eq!(Tonemap::parse(op.name()), Some(op));
@@ -304,6 +415,7 @@ mod tests {
             Some(Tonemap::KhronosNeutral)
         );
         assert_eq!(Tonemap::parse("filmic"), None);
+        assert_eq!(Tonemap::parse("AgX"), Some(Tonemap::Agx));
     }
 
     #[test]

@@ -9,12 +9,16 @@ use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
 use crate::render::forward::{ForwardPass, TargetFormat, TargetViews};
+use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::scene::Scene;
 use crate::vk::cmd::{transition, CommandPool, Transition};
 use crate::vk::image::ImageDesc;
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Buffer, Context, Image, VkError};
+
+/// The split-sum LUT read back: (geometry selector BRDF_G_*, texels) per layer.
+pub type LutLayers = Vec<(i32, Vec<[f32; 4]>)>;
 
 /// The HDR colour format: full float so the EXR and the analytic tests see exact radiance.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -37,6 +41,7 @@ impl FrameTimes {
 
 pub struct Headless {
     forward: ForwardPass,
+    ibl: Option<Ibl>,
     saturate: Option<SaturatePass>,
     timer: Option<GpuTimer>,
     readback: Buffer,
@@ -78,6 +83,15 @@ fn sample_flags(ctx: &Context, msaa: u32) -> Result<vk::SampleCountFlags, VkErro
 impl Headless {
     /// Builds the target and the passes for `scene` at the scene's output size.
     pub fn new(ctx: &Arc<Context>, scene: &Scene) -> Result<Self, VkError> {
+        Self::with_ibl_settings(ctx, scene, &IblSettings::default())
+    }
+
+    /// As [`Headless::new`], with explicit IBL precomputation sizes.
+    pub fn with_ibl_settings(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        ibl_settings: &IblSettings,
+    ) -> Result<Self, VkError> {
         let (width, height) = (scene.output.width, scene.output.height);
         let samples = sample_flags(ctx, scene.output.msaa)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
@@ -109,6 +123,10 @@ impl Headless {
             MemoryLocation::GpuToCpu,
         )?;
         let aspect = width as f32 / height as f32;
+        let ibl = match &scene.environment {
+            Some(env) => Some(build_ibl(ctx, &pool, scene, env, ibl_settings)?),
+            None => None,
+        };
         let forward = ForwardPass::new(
             ctx,
             &pool,
@@ -119,6 +137,7 @@ impl Headless {
                 samples,
             },
             aspect,
+            ibl.as_ref(),
         )?;
         let saturate = SaturatePass::for_scene(ctx, scene, &color)?;
         let timer = GpuTimer::new(ctx, 8)?;
@@ -130,6 +149,7 @@ impl Headless {
         ctx.set_name(fence, "headless frame fence");
         Ok(Self {
             forward,
+            ibl,
             saturate,
             timer,
             readback,
@@ -143,6 +163,22 @@ impl Headless {
             height,
             ctx: ctx.clone(),
         })
+    }
+
+    /// Wall-time of each IBL precomputation stage (empty without an environment).
+    pub fn ibl_times(&self) -> Option<&IblTimes> {
+        self.ibl.as_ref().map(|i| &i.times)
+    }
+
+    /// The split-sum BRDF LUT as computed on the GPU: (geometry selector, texels) per layer.
+    pub fn lut(&self) -> Result<Option<LutLayers>, VkError> {
+        let Some(ibl) = &self.ibl else {
+            return Ok(None);
+        };
+        let layers = ibl.read_lut(&self.ctx, &self.pool)?;
+        Ok(Some(
+            ibl.lut_geometries().iter().copied().zip(layers).collect(),
+        ))
     }
 
     /// Names of every pipeline variant built for the scene.
@@ -347,4 +383,41 @@ impl Drop for Headless {
         // The remaining fields free themselves; the command pool frees `cmd`.
         let _ = &self.pool;
     }
+}
+
+/// Loads the scene's environment and precomputes its IBL data on the GPU, with a progress bar on
+/// a terminal.
+pub fn build_ibl(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    scene: &Scene,
+    env: &crate::scene::Environment,
+    settings: &IblSettings,
+) -> Result<Ibl, VkError> {
+    let max = ctx.info.limits.max_image_dimension2_d;
+    let eq = crate::env::load_equirect(env, max).map_err(|e| VkError::Setup(e.to_string()))?;
+    let sh = crate::env::sh9_irradiance_coeffs(&crate::env::sh9_project(&eq));
+    let bar = indicatif::ProgressBar::new(1);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("IBL {bar:30} {pos}/{len} {msg} {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let lut_geometries = crate::render::forward::lut_geometries(scene);
+    let inputs = IblInputs {
+        equirect: EquirectView {
+            width: eq.width,
+            height: eq.height,
+            texels: &eq.texels,
+        },
+        sh_irradiance: sh,
+        rotation_deg: env.rotation_deg,
+        lut_geometries: &lut_geometries,
+    };
+    let ibl = Ibl::new(ctx, pool, &inputs, settings, |name, step, total| {
+        bar.set_length(total);
+        bar.set_position(step);
+        bar.set_message(name.to_string());
+    });
+    bar.finish_and_clear();
+    ibl
 }

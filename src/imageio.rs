@@ -1,5 +1,6 @@
-//! Image files: saving rendered linear images (PNG for display, EXR for measurement) and loading
-//! PNG/EXR files for `luz diff` and the golden-image tests.
+//! Image files: saving rendered linear images (PNG for display, EXR for measurement), loading
+//! PNG/EXR files for `luz diff` and the golden-image tests, and loading environment maps
+//! (Radiance `.hdr` or `.exr`, [`load_radiance`]) for image-based lighting.
 //!
 //! * **PNG** is written as 8-bit sRGB **RGB** (no alpha channel): exposure → tone map → clamp →
 //!   sRGB encode ([`crate::color::to_display_rgba8`]); the renderer's alpha is not stored because
@@ -176,6 +177,14 @@ pub enum ImageError {
     },
     #[error("cannot encode {}: {reason}", .path.display())]
     Encode { path: PathBuf, reason: String },
+    #[error(
+        "{}: unsupported environment image extension (supported: {})",
+        .path.display(),
+        RADIANCE_SUPPORTED
+    )]
+    NotRadiance { path: PathBuf },
+    #[error("{}: not a valid Radiance HDR file: {reason}", .path.display())]
+    CorruptHdr { path: PathBuf, reason: String },
 }
 
 /// An image file as loaded for comparison.
@@ -505,6 +514,100 @@ pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
     })
 }
 
+/// The extensions [`load_radiance`] accepts, for messages.
+pub const RADIANCE_SUPPORTED: &str = ".hdr (Radiance RGBE), .exr (OpenEXR)";
+
+/// Loads a linear radiance image for image-based lighting: a Radiance `.hdr` (RGBE, flat or
+/// run-length encoded) or an OpenEXR `.exr`, chosen by extension (case-insensitive). Pixels are
+/// returned exactly as decoded (linear, alpha 1 for `.hdr`); NaN, Inf and negative values of an
+/// EXR are left for the caller to sanitise. Same size limits as [`load`].
+pub fn load_radiance(path: &Path) -> Result<LinearImage, ImageError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("exr") => {
+            let img = load(path)?;
+            Ok(LinearImage {
+                width: img.width,
+                height: img.height,
+                pixels: img.linear,
+            })
+        }
+        Some("hdr") => load_hdr(path),
+        _ => Err(ImageError::NotRadiance {
+            path: path.to_path_buf(),
+        }),
+    }
+}
+
+fn load_hdr(path: &Path) -> Result<LinearImage, ImageError> {
+    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
+    if meta.is_dir() {
+        return Err(ImageError::IsDirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    let file = File::open(path).map_err(|e| read_error(path, e))?;
+    let corrupt = |reason: String| ImageError::CorruptHdr {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let hdr_error = |e: image::ImageError| match e {
+        image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
+            corrupt("file is truncated".into())
+        }
+        image::ImageError::IoError(source) => ImageError::Read {
+            path: path.to_path_buf(),
+            source,
+        },
+        image::ImageError::Limits(_) => ImageError::TooLarge {
+            path: path.to_path_buf(),
+            declared: "declared size over the limits".into(),
+        },
+        other => {
+            let text = other.to_string();
+            corrupt(match text.split_once(": ") {
+                Some((head, rest)) if head.starts_with("Format error") => rest.to_string(),
+                _ => text,
+            })
+        }
+    };
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_DIMENSION);
+    limits.max_image_height = Some(MAX_DIMENSION);
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    let mut reader = ImageReader::with_format(BufReader::new(file), ImageFormat::Hdr);
+    reader.limits(limits);
+    let decoder = reader.into_decoder().map_err(hdr_error)?;
+    let (width, height) = decoder.dimensions();
+    // Decoded as RGB f32 here, then widened to RGBA f32: 16 bytes per pixel in the end.
+    let too_large = u64::from(width) * u64::from(height) > MAX_PIXELS
+        || u64::from(width) * u64::from(height) * 16 > MAX_DECODE_BYTES;
+    if too_large {
+        return Err(ImageError::TooLarge {
+            path: path.to_path_buf(),
+            declared: format!("declared {width}×{height}"),
+        });
+    }
+    if width == 0 || height == 0 {
+        return Err(corrupt(format!("empty image ({width}×{height})")));
+    }
+    let img = DynamicImage::from_decoder(decoder).map_err(hdr_error)?;
+    let pixels = img
+        .into_rgb32f()
+        .into_raw()
+        .chunks_exact(3)
+        .map(|p| [p[0], p[1], p[2], 1.0])
+        .collect();
+    Ok(LinearImage {
+        width,
+        height,
+        pixels,
+    })
+}
+
 fn read_error(path: &Path, e: io::Error) -> ImageError {
     if e.kind() == io::ErrorKind::NotFound {
         ImageError::NotFound {
@@ -604,6 +707,58 @@ mod tests {
             }
         }
         img
+    }
+
+    /// A flat (not run-length encoded) Radiance RGBE file.
+    fn write_flat_hdr(path: &Path, width: u32, height: u32, rgbe: &[[u8; 4]]) {
+        let mut out = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n".to_vec();
+        out.extend(format!("-Y {height} +X {width}\n").bytes());
+        for p in rgbe {
+            out.extend(p);
+        }
+        fs::write(path, out).unwrap();
+    }
+
+    #[test]
+    fn radiance_hdr_loads_and_fails_clearly() {
+        let dir = scratch_dir("hdr");
+        let path = dir.join("tiny.hdr");
+        // RGBE (128, 64, 32, 129): mantissa/256 · 2^(129 − 128) = (1, 0.5, 0.25) (+ half-ULP
+        // rounding in some decoders: allow 1/256 relative).
+        write_flat_hdr(&path, 2, 1, &[[128, 64, 32, 129], [0, 0, 0, 0]]);
+        let img = load_radiance(&path).unwrap();
+        assert_eq!((img.width, img.height), (2, 1));
+        for (got, want) in img.pixels[0].iter().zip([1.0, 0.5, 0.25, 1.0]) {
+            assert!((got - want).abs() <= want / 128.0, "{got} vs {want}");
+        }
+        assert_eq!(img.pixels[1], [0.0, 0.0, 0.0, 1.0]);
+
+        let err = load_radiance(&dir.join("missing.hdr")).unwrap_err();
+        assert!(matches!(err, ImageError::NotFound { .. }), "{err}");
+        assert!(err.to_string().contains("missing.hdr"));
+        let garbage = dir.join("garbage.hdr");
+        fs::write(
+            &garbage,
+            b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 4\n\x01",
+        )
+        .unwrap();
+        let err = load_radiance(&garbage).unwrap_err();
+        assert!(err.to_string().contains("garbage.hdr"), "{err}");
+        let not_hdr = dir.join("png.hdr");
+        fs::write(&not_hdr, b"\x89PNG\r\n\x1a\n").unwrap();
+        let err = load_radiance(&not_hdr).unwrap_err();
+        assert!(
+            err.to_string().contains("png.hdr") && err.to_string().contains("Radiance"),
+            "{err}"
+        );
+        let err = load_radiance(&dir.join("x.png")).unwrap_err();
+        assert!(err.to_string().contains(".hdr") && err.to_string().contains("x.png"));
+        // EXR goes through the same loader.
+        let exr = dir.join("env.exr");
+        save(&exr, &gradient(8, 4), 0.0, Tonemap::None).unwrap();
+        let img = load_radiance(&exr).unwrap();
+        assert_eq!(img, gradient(8, 4));
+        fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]

@@ -27,6 +27,7 @@ layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {
     vec4 fog_color;   // rgb: I_F
     vec4 fog;         // z_a, z_b, s_a, s_b
     uvec4 counts;     // x: number of lights
+    mat4 inv_view_proj;
 } frame;
 
 struct Light {

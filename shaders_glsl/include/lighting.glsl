@@ -61,6 +61,10 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
     return ambient * p.color.rgb;
 }
 
+#ifdef IBL
+#include "ibl.glsl"
+#endif
+
 // Outgoing value at P (world space) with unit normal N and tangent frame (X, Y): ambient plus
 // every light, each through the CPU reference's mirror brdf_radiance.
 vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y) {
@@ -74,6 +78,9 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y) {
         light_incidence(lights[i], P, l, E);
         result += brdf_radiance(p, N, l, V, X, Y, E);
     }
+#ifdef IBL
+    result += ibl_shade(p, N, V, X, Y);
+#endif
     return result;
 }
 

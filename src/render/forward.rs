@@ -8,6 +8,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::gpu::{self, GpuLight, MaterialPush, Vertex};
+use super::ibl::Ibl;
 use super::mesh;
 use crate::scene::{Scene, Shading};
 use crate::vk::buffer::Uploader;
@@ -24,6 +25,30 @@ pub struct VariantKey {
     pub shading: ShadingKey,
     pub model: i32,
     pub fog: bool,
+    /// Image-based lighting settings, when the scene has an environment.
+    pub ibl: Option<IblKey>,
+}
+
+/// The environment settings that select shader code (specialization constants).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct IblKey {
+    pub importance: bool,
+    pub samples: u32,
+    pub diffuse_sh: bool,
+    pub energy_compensation: bool,
+    pub mip_filtered: bool,
+}
+
+impl IblKey {
+    pub fn from_env(e: &crate::scene::Environment) -> Self {
+        Self {
+            importance: e.specular_method == crate::scene::SpecularMethod::Importance,
+            samples: e.samples,
+            diffuse_sh: e.diffuse_method == crate::scene::DiffuseMethod::Sh9,
+            energy_compensation: e.energy_compensation,
+            mip_filtered: e.mip_filtered_samples,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -68,11 +93,32 @@ impl std::fmt::Display for VariantKey {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "forward[shading={}, model={}, fog={}]",
+            "forward[shading={}, model={}, fog={}",
             self.shading.name(),
             model_name(self.model),
             if self.fog { "on" } else { "off" }
-        )
+        )?;
+        if let Some(i) = &self.ibl {
+            if i.importance {
+                write!(
+                    f,
+                    ", ibl=importance({}{})",
+                    i.samples,
+                    if i.mip_filtered { ", mip-filtered" } else { "" }
+                )?;
+            } else {
+                write!(f, ", ibl=split_sum")?;
+            }
+            write!(
+                f,
+                ", diffuse={}",
+                if i.diffuse_sh { "sh9" } else { "cubemap" }
+            )?;
+            if i.energy_compensation {
+                write!(f, ", energy_compensation")?;
+            }
+        }
+        write!(f, "]")
     }
 }
 
@@ -119,6 +165,8 @@ pub struct ForwardPass {
     _set_layout: DescriptorSetLayout,
     background: [f32; 4],
     light_count: u32,
+    skybox: Option<Pipeline>,
+    env_set: Option<vk::DescriptorSet>,
     ctx: Arc<Context>,
 }
 
@@ -133,8 +181,13 @@ impl ForwardPass {
         scene: &Scene,
         target: TargetFormat,
         aspect: f32,
+        ibl: Option<&Ibl>,
     ) -> Result<Self, VkError> {
         let d = &ctx.device;
+        let ibl_key = match (ibl, &scene.environment) {
+            (Some(_), Some(e)) => Some(IblKey::from_env(e)),
+            _ => None,
+        };
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
                 .binding(gpu::BINDING_FRAME)
@@ -158,7 +211,15 @@ impl ForwardPass {
             offset: 0,
             size: std::mem::size_of::<MaterialPush>() as u32,
         }];
-        let layout = PipelineLayout::new(ctx, "forward layout", &[&set_layout], &push)?;
+        let layout = match ibl {
+            Some(i) => PipelineLayout::new(
+                ctx,
+                "forward layout (ibl)",
+                &[&set_layout, &i.set_layout],
+                &push,
+            )?,
+            None => PipelineLayout::new(ctx, "forward layout", &[&set_layout], &push)?,
+        };
         let pool_sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -247,6 +308,9 @@ impl ForwardPass {
             let material = &scene.materials[obj.material].material;
             let (model, mut push) = gpu::material_push(material);
             push.object_index = objects.len() as u32;
+            if let Some(i) = ibl {
+                push.flags = i.lut_layer(lut_geometry(&material.to_brdf()));
+            }
             objects.push(gpu::object_data(obj.transform.matrix()));
             draws.push(Draw {
                 mesh: mesh_index,
@@ -254,6 +318,7 @@ impl ForwardPass {
                     shading: ShadingKey::from_shading(obj.shading),
                     model,
                     fog: scene.fog.is_some(),
+                    ibl: ibl_key,
                 },
                 push,
             });
@@ -320,7 +385,10 @@ impl ForwardPass {
             let (vs, fs) = match modules.entry(v.shading) {
                 std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
                 std::collections::hash_map::Entry::Vacant(e) => {
-                    let s = v.shading.name();
+                    let s = match v.ibl {
+                        Some(_) => format!("{}_ibl", v.shading.name()),
+                        None => v.shading.name().to_string(),
+                    };
                     e.insert((
                         ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
                         ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
@@ -331,6 +399,10 @@ impl ForwardPass {
             pipelines.insert(v, pipeline);
         }
 
+        let skybox = match (ibl, &scene.environment) {
+            (Some(_), Some(e)) if e.show_background => Some(create_skybox(ctx, &layout, target)?),
+            _ => None,
+        };
         let mut pass = Self {
             pipelines,
             draws,
@@ -344,6 +416,8 @@ impl ForwardPass {
             _set_layout: set_layout,
             background: scene.output.background.extend(1.0).to_array(),
             light_count: lights.len() as u32,
+            skybox,
+            env_set: ibl.map(|i| i.set),
             ctx: ctx.clone(),
         };
         pass.update_camera(scene, aspect)?;
@@ -358,7 +432,11 @@ impl ForwardPass {
 
     /// The pipeline variants this pass built, in a stable order.
     pub fn variants(&self) -> Vec<String> {
-        self.pipelines.keys().map(|k| k.to_string()).collect()
+        let mut v: Vec<String> = self.pipelines.keys().map(|k| k.to_string()).collect();
+        if self.skybox.is_some() {
+            v.push("skybox".to_string());
+        }
+        v
     }
 
     pub fn triangle_count(&self) -> u64 {
@@ -433,6 +511,16 @@ impl ForwardPass {
                 &[self.set],
                 &[],
             );
+            if let Some(env) = self.env_set {
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.raw,
+                    1,
+                    &[env],
+                    &[],
+                );
+            }
             let mut bound: Option<VariantKey> = None;
             for draw in &self.draws {
                 if bound != Some(draw.variant) {
@@ -457,6 +545,10 @@ impl ForwardPass {
                     bytemuck::bytes_of(&draw.push),
                 );
                 d.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
+            }
+            if let Some(sky) = &self.skybox {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);
+                d.cmd_draw(cmd, 3, 1, 0, 0);
             }
             d.cmd_end_rendering(cmd);
         }
@@ -511,10 +603,19 @@ fn create_pipeline(
             offset: 0,
         });
     }
-    let spec = [
+    let mut spec = vec![
         (gpu::SPEC_MODEL, v.model as u32),
         (gpu::SPEC_FOG, v.fog as u32),
     ];
+    if let Some(i) = v.ibl {
+        spec.extend([
+            (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),
+            (gpu::SPEC_DIFFUSE_FROM_SH, i.diffuse_sh as u32),
+            (gpu::SPEC_ENERGY_COMPENSATION, i.energy_compensation as u32),
+            (gpu::SPEC_IBL_SAMPLES, i.samples.max(1)),
+            (gpu::SPEC_MIP_FILTERED, i.mip_filtered as u32),
+        ]);
+    }
     let name = v.to_string();
     Pipeline::graphics(
         ctx,
@@ -532,6 +633,59 @@ fn create_pipeline(
             cull: vk::CullModeFlags::NONE,
             depth_test: true,
             depth_write: true,
+            depth_compare: vk::CompareOp::LESS,
+        },
+    )
+}
+
+/// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
+pub fn lut_geometry(m: &crate::brdf::Model) -> i32 {
+    use crate::brdf::{Geometry, Model};
+    match m {
+        Model::CookTorrance(p) => p.geometry as i32,
+        Model::MetalRough(p) => p.geometry as i32,
+        // Principled's Gs is the separable Smith GGX (in visibility form).
+        Model::Principled(_) => Geometry::SmithGgx as i32,
+        _ => Geometry::SmithGgxCorrelated as i32,
+    }
+}
+
+/// The LUT layers a scene's materials need.
+pub fn lut_geometries(scene: &Scene) -> Vec<i32> {
+    let mut g: Vec<i32> = scene
+        .materials
+        .iter()
+        .map(|m| lut_geometry(&m.material.to_brdf()))
+        .collect();
+    g.sort_unstable();
+    g.dedup();
+    g
+}
+
+fn create_skybox(
+    ctx: &Arc<Context>,
+    layout: &PipelineLayout,
+    target: TargetFormat,
+) -> Result<Pipeline, VkError> {
+    let vs = ShaderModule::new(ctx, "skybox.vert")?;
+    let fs = ShaderModule::new(ctx, "skybox.frag")?;
+    Pipeline::graphics(
+        ctx,
+        layout,
+        &GraphicsDesc {
+            name: "skybox",
+            vertex: &vs,
+            fragment: &fs,
+            spec: &[],
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            color_formats: &[target.color],
+            depth_format: Some(target.depth),
+            samples: target.samples,
+            cull: vk::CullModeFlags::NONE,
+            depth_test: true,
+            depth_write: false,
+            depth_compare: vk::CompareOp::LESS_OR_EQUAL,
         },
     )
 }

@@ -23,6 +23,11 @@ pub use crate::brdf::model_code;
 /// Specialization constant ids.
 pub const SPEC_MODEL: u32 = 0;
 pub const SPEC_FOG: u32 = 1;
+pub const SPEC_SPECULAR_METHOD: u32 = 2;
+pub const SPEC_DIFFUSE_FROM_SH: u32 = 3;
+pub const SPEC_ENERGY_COMPENSATION: u32 = 4;
+pub const SPEC_IBL_SAMPLES: u32 = 5;
+pub const SPEC_MIP_FILTERED: u32 = 6;
 
 /// `FrameData` (std140).
 #[repr(C)]
@@ -36,6 +41,7 @@ pub struct FrameData {
     pub fog_color: Vec4,
     pub fog: Vec4,
     pub counts: [u32; 4],
+    pub inv_view_proj: Mat4,
 }
 
 /// `Light` (std430, 80 bytes).
@@ -71,7 +77,7 @@ pub struct MaterialPush {
 /// Vulkan guarantees 128 bytes of push constants; lavapipe offers exactly that.
 const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 80);
-const _: () = assert!(std::mem::size_of::<FrameData>() == 3 * 64 + 4 * 16 + 16);
+const _: () = assert!(std::mem::size_of::<FrameData>() == 4 * 64 + 4 * 16 + 16);
 
 /// One vertex: position, normal, uv, tangent (xyz + handedness).
 #[repr(C)]
@@ -157,6 +163,7 @@ pub fn frame_data(scene: &Scene, aspect: f32, light_count: u32) -> FrameData {
         fog_color,
         fog,
         counts: [light_count, 0, 0, 0],
+        inv_view_proj: (proj * view).inverse(),
     }
 }
 

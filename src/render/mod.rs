@@ -3,5 +3,6 @@
 
 pub mod forward;
 pub mod gpu;
+pub mod ibl;
 pub mod mesh;
 pub mod saturate;

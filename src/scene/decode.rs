@@ -26,6 +26,9 @@ use crate::color::Tonemap;
 
 type Result<T> = std::result::Result<T, Invalid>;
 
+mod environment;
+mod maps;
+
 // ---------------------------------------------------------------------------------------------
 // Typed access with paths.
 
@@ -414,6 +417,7 @@ const TOP: &[&str] = &[
     "objects",
     "fog",
     "saturation",
+    "environment",
 ];
 
 pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
@@ -458,6 +462,7 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             materials.push(NamedMaterial {
                 name: name.clone(),
                 material: material(item, &path)?,
+                textures: maps::material_textures(item, &path, base)?,
             });
         }
     }
@@ -473,6 +478,13 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
         Some("clamp") => Saturation::Clamp,
         _ => Saturation::None,
     };
+    let environment = match top.get("environment") {
+        None
+        | Some(Value {
+            kind: Kind::Null, ..
+        }) => None,
+        Some(v) => Some(environment::environment(v, "environment", base)?),
+    };
     let mut scene = Scene {
         source: None,
         description,
@@ -484,6 +496,8 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
         objects: Vec::new(),
         fog,
         saturation,
+        environment,
+        warnings: Vec::new(),
     };
     if let Some(v) = top.get("objects") {
         let mut ctx = Ctx {
@@ -802,6 +816,7 @@ fn phong(f: &Fields, model: &str) -> Result<Material> {
     f.allow(
         &[
             "model",
+            "textures",
             "ka",
             "kd",
             "ks",
@@ -834,7 +849,7 @@ fn phong(f: &Fields, model: &str) -> Result<Material> {
 }
 
 fn lambert(f: &Fields, model: &str) -> Result<Material> {
-    f.allow(&["model", "albedo"], &a_material(model))?;
+    f.allow(&["model", "albedo", "textures"], &a_material(model))?;
     let albedo = f.color("albedo", Vec3::splat(0.8))?;
     if albedo.max_element() > 1.0 {
         return Err(f.err(
@@ -855,6 +870,7 @@ fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
     f.allow(
         &[
             "model",
+            "textures",
             "color",
             "kd",
             "roughness",
@@ -989,6 +1005,7 @@ fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
     f.allow(
         &[
             "model",
+            "textures",
             "base_color",
             "metallic",
             "roughness",
@@ -1046,6 +1063,7 @@ fn principled(f: &Fields, model: &str) -> Result<Material> {
     f.allow(
         &[
             "model",
+            "textures",
             "base_color",
             "subsurface",
             "metallic",
@@ -1078,7 +1096,10 @@ fn principled(f: &Fields, model: &str) -> Result<Material> {
 
 /// Qualitative Oren-Nayar. Defaults are `brdf::OrenNayarParams::default()`.
 fn oren_nayar(f: &Fields, model: &str) -> Result<Material> {
-    f.allow(&["model", "albedo", "sigma_deg"], &a_material(model))?;
+    f.allow(
+        &["model", "albedo", "sigma_deg", "textures"],
+        &a_material(model),
+    )?;
     let d = OrenNayarParams::default();
     Ok(Material::OrenNayar(OrenNayarParams {
         albedo: f.color_in("albedo", d.albedo, UNIT)?,
@@ -1213,6 +1234,7 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
                     reason: e.reason,
                     mesh: Some((e.file, e.line)),
                 })?;
+                scene.warnings.extend(file.warnings.iter().cloned());
                 let meshes = file
                     .parts
                     .iter()
@@ -1305,22 +1327,17 @@ fn mtl_material(
     if let Some(&i) = ctx.mtl_materials.get(&key) {
         return i;
     }
-    let (mtl_name, material) = match which.and_then(|i| file.materials.get(i)) {
-        // The classic model from the MTL: Kd → O_d with kd = 1, Ks → O_s with ks = 1,
-        // Ns → n, Ka → ka as its largest channel.
-        Some(m) => (
-            m.name.clone(),
-            Material::Phong {
-                blinn: false,
-                ka: m.ambient.map_or(0.0, |a| a[0].max(a[1]).max(a[2])),
-                kd: 1.0,
-                ks: 1.0,
-                shininess: m.shininess.unwrap_or(MTL_DEFAULT_SHININESS),
-                diffuse_color: m.diffuse.map_or(Vec3::splat(0.8), Vec3::from_array),
-                specular_color: m.specular.map_or(Vec3::ZERO, Vec3::from_array),
-            },
+    let (mtl_name, material, textures) = match which.and_then(|i| file.materials.get(i)) {
+        // The MTL's model (classic, or metal_rough with the PBR extension) and its maps.
+        Some(m) => {
+            let (material, textures) = maps::mtl_material(m, &mut scene.warnings);
+            (m.name.clone(), material, textures)
+        }
+        None => (
+            "default".to_string(),
+            Material::default_phong(false),
+            super::MaterialTextures::default(),
         ),
-        None => ("default".to_string(), Material::default_phong(false)),
     };
     let mut name = format!("{file_name}/{mtl_name}");
     let mut n = 2;
@@ -1328,7 +1345,11 @@ fn mtl_material(
         name = format!("{file_name}/{mtl_name}#{n}");
         n += 1;
     }
-    scene.materials.push(NamedMaterial { name, material });
+    scene.materials.push(NamedMaterial {
+        name,
+        material,
+        textures,
+    });
     let i = scene.materials.len() - 1;
     ctx.mtl_materials.insert(key, i);
     i

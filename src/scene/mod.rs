@@ -5,20 +5,29 @@
 //! (see [`SceneError`]); no input makes this module panic.
 
 mod decode;
+mod environment;
 mod error;
 pub mod json;
 pub mod mesh;
 pub mod obj;
+mod textures;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{Mat3, Mat4, Vec3};
 
+pub use environment::{
+    DiffuseMethod, EnvSource, Environment, SpecularMethod, DEFAULT_ENV_SAMPLES,
+    DEFAULT_SUN_DIRECTION, DEFAULT_SUN_INTENSITY, MAX_ENV_SAMPLES, MAX_SUN_INTENSITY,
+};
 pub use error::SceneError;
 pub use mesh::{
     Mesh, Vertex, MAX_ICOSPHERE_SUBDIVISIONS, MAX_PLANE_SUBDIVISIONS, MAX_PRIMITIVE_TRIANGLES,
     MAX_RINGS, MAX_SEGMENTS,
+};
+pub use textures::{
+    slots_for_model, Filter, MaterialTextures, SamplerDesc, TextureRef, TextureSlot, Wrap,
 };
 
 /// Largest accepted output width or height.
@@ -46,6 +55,11 @@ pub struct Scene {
     pub objects: Vec<Object>,
     pub fog: Option<Fog>,
     pub saturation: Saturation,
+    /// Things the loader accepted but does not use (an MTL's `map_d`, texture-map options it
+    /// ignores, …), one sentence each naming the file and line; tools print them.
+    pub warnings: Vec<String>,
+    /// Image-based lighting and background; `None`: no environment (black).
+    pub environment: Option<Environment>,
 }
 
 impl Scene {
@@ -210,6 +224,8 @@ impl Falloff {
 pub struct NamedMaterial {
     pub name: String,
     pub material: Material,
+    /// Texture maps (all optional) and emission.
+    pub textures: MaterialTextures,
 }
 
 /// A reflection model and its parameters.
@@ -535,3 +551,6 @@ mod tests;
 
 #[cfg(test)]
 mod material_tests;
+
+#[cfg(test)]
+mod environment_tests;

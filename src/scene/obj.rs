@@ -33,7 +33,8 @@ impl std::fmt::Display for ObjError {
 
 impl std::error::Error for ObjError {}
 
-/// A material from an MTL file (the fields the classic model uses).
+/// A material from an MTL file: the fields the classic model uses, the PBR extension's scalars
+/// and the texture maps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MtlMaterial {
     pub name: String,
@@ -41,6 +42,55 @@ pub struct MtlMaterial {
     pub diffuse: Option<[f32; 3]>,
     pub specular: Option<[f32; 3]>,
     pub shininess: Option<f32>,
+    /// `Ke`.
+    pub emissive: Option<[f32; 3]>,
+    /// `Pr` (PBR extension), in [0, 1].
+    pub roughness: Option<f32>,
+    /// `Pm` (PBR extension), in [0, 1].
+    pub metallic: Option<f32>,
+    pub maps: MtlMaps,
+}
+
+/// The texture maps of an MTL material that luz uses (the last line of each kind wins).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MtlMaps {
+    /// `map_Kd`.
+    pub diffuse: Option<MtlMap>,
+    /// `map_Ks`.
+    pub specular: Option<MtlMap>,
+    /// `map_Bump`, `map_bump`, `bump`, `norm`, `map_Kn`, `map_norm`: read as a tangent-space
+    /// normal map (what Blender's exporter writes), not a height map.
+    pub normal: Option<MtlMap>,
+    /// `map_Pr`.
+    pub roughness: Option<MtlMap>,
+    /// `map_Pm`.
+    pub metallic: Option<MtlMap>,
+    /// `map_Ke`.
+    pub emissive: Option<MtlMap>,
+}
+
+impl MtlMaps {
+    /// Whether a map of the PBR extension (`map_Pr`, `map_Pm`) is present.
+    pub fn has_pbr(&self) -> bool {
+        self.roughness.is_some() || self.metallic.is_some()
+    }
+}
+
+/// One texture-map line of an MTL file, with the options luz honours.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MtlMap {
+    /// The file, resolved against the MTL file's folder (backslashes read as `/`); checked to
+    /// exist and to be a `.png`, `.exr` or `.hdr`.
+    pub path: PathBuf,
+    /// The MTL file and the 1-based line of the map.
+    pub mtl: PathBuf,
+    pub line: usize,
+    /// `-clamp on`: clamp texture coordinates instead of repeating.
+    pub clamp: bool,
+    /// `-bm m`: the bump multiplier (the normal map's scale).
+    pub bump_multiplier: Option<f32>,
+    /// `-imfchan r|g|b|m`: the channel of a single-value map (0 = R … 3 = A).
+    pub channel: Option<u8>,
 }
 
 /// One `tobj` model: a group/object of the file with one material.
@@ -58,6 +108,9 @@ pub struct ObjPart {
 pub struct ObjFile {
     pub parts: Vec<ObjPart>,
     pub materials: Vec<MtlMaterial>,
+    /// What the MTL files hold that luz ignores (`map_d`, UV transform options, …), each naming
+    /// the MTL file and line.
+    pub warnings: Vec<String>,
 }
 
 /// Loads an OBJ file: triangulated (fans for quads and n-gons), one index per vertex, normals
@@ -92,6 +145,10 @@ pub fn load_obj_bytes(
     let dir = path.parent().unwrap_or(Path::new(""));
     // MTL problems found inside the loader callback (which can only return tobj's error codes).
     let mtl_error: RefCell<Option<ObjError>> = RefCell::new(None);
+    // What luz reads from each MTL beyond tobj: maps with their lines, Pr/Pm, warnings. One entry
+    // per `newmtl`, in the order tobj appends its materials.
+    let extras: RefCell<Vec<MtlExtra>> = RefCell::new(Vec::new());
+    let warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
     let loader = |mtl: &Path| -> tobj::MTLLoadResult {
         if !with_materials || mtl_error.borrow().is_some() {
             return Ok((Vec::new(), Default::default()));
@@ -122,6 +179,13 @@ pub fn load_obj_bytes(
                     line: Some(l),
                     reason: r,
                 })?;
+                let (more, notes) = mtl_extras(text, &full).map_err(|(l, r)| ObjError {
+                    file: full.clone(),
+                    line: Some(l),
+                    reason: r,
+                })?;
+                extras.borrow_mut().extend(more);
+                warnings.borrow_mut().extend(notes);
                 tobj::load_mtl_buf(&mut Cursor::new(text.as_bytes())).map_err(|e| ObjError {
                     file: full.clone(),
                     line: None,
@@ -206,17 +270,272 @@ pub fn load_obj_bytes(
     if parts.is_empty() {
         return Err(err(None, "no faces (the file has no triangles)".into()));
     }
+    let extras = extras.into_inner();
+    if extras.len() != materials.len()
+        || extras.iter().zip(&materials).any(|(e, m)| e.name != m.name)
+    {
+        return Err(err(
+            None,
+            "the material libraries' materials could not be matched with their texture maps".into(),
+        ));
+    }
     let materials = materials
         .into_iter()
-        .map(|m| MtlMaterial {
+        .zip(extras)
+        .map(|(m, e)| MtlMaterial {
             name: m.name,
             ambient: m.ambient,
             diffuse: m.diffuse,
             specular: m.specular,
             shininess: m.shininess,
+            emissive: m.emissive,
+            roughness: e.roughness,
+            metallic: e.metallic,
+            maps: e.maps,
         })
         .collect();
-    Ok(ObjFile { parts, materials })
+    Ok(ObjFile {
+        parts,
+        materials,
+        warnings: warnings.into_inner(),
+    })
+}
+
+/// What luz reads from one `newmtl` block beyond tobj.
+#[derive(Debug, Default)]
+struct MtlExtra {
+    name: String,
+    roughness: Option<f32>,
+    metallic: Option<f32>,
+    maps: MtlMaps,
+}
+
+/// The file extensions a texture may have.
+pub const TEXTURE_EXTENSIONS: [&str; 3] = ["png", "exr", "hdr"];
+
+/// Which [`MtlMaps`] field a map keyword fills (`None`: a map luz does not use).
+fn map_target(keyword: &str) -> Option<fn(&mut MtlMaps) -> &mut Option<MtlMap>> {
+    Some(match keyword.to_ascii_lowercase().as_str() {
+        "map_kd" => |m| &mut m.diffuse,
+        "map_ks" => |m| &mut m.specular,
+        "map_bump" | "bump" | "norm" | "map_kn" | "map_norm" => |m| &mut m.normal,
+        "map_pr" => |m| &mut m.roughness,
+        "map_pm" => |m| &mut m.metallic,
+        "map_ke" => |m| &mut m.emissive,
+        _ => return None,
+    })
+}
+
+/// Whether `keyword` names a texture map (used or not).
+fn is_map_keyword(keyword: &str) -> bool {
+    let k = keyword.to_ascii_lowercase();
+    k.starts_with("map_") || ["bump", "norm", "disp", "decal", "refl"].contains(&k.as_str())
+}
+
+/// Reads the texture maps (with their options) and the PBR scalars `Pr`/`Pm` of an MTL text,
+/// one entry per `newmtl`; texture paths are resolved against `mtl`'s folder and must exist.
+/// Returns the entries and warnings about what is ignored.
+fn mtl_extras(text: &str, mtl: &Path) -> Result<(Vec<MtlExtra>, Vec<String>), LineError> {
+    let dir = mtl.parent().unwrap_or(Path::new(""));
+    let mut out: Vec<MtlExtra> = Vec::new();
+    let mut warnings = Vec::new();
+    for (k, raw) in text.lines().enumerate() {
+        let no = k + 1;
+        let line = raw.trim();
+        let Some(keyword) = line.split_whitespace().next() else {
+            continue;
+        };
+        let rest = line[keyword.len()..].trim();
+        if keyword == "newmtl" {
+            out.push(MtlExtra {
+                name: rest.to_string(),
+                ..MtlExtra::default()
+            });
+            continue;
+        }
+        // Lines before the first newmtl belong to no material (tobj drops them too).
+        let Some(cur) = out.last_mut() else {
+            continue;
+        };
+        let warn = |what: String| format!("{}:{no}: {what}", mtl.display());
+        match keyword {
+            "Pr" | "Pm" => {
+                let v = number(rest.split_whitespace().next(), keyword).map_err(|e| (no, e))?;
+                if !(0.0..=1.0).contains(&v) {
+                    return Err((no, format!("{keyword} must be in [0, 1], got {v}")));
+                }
+                if keyword == "Pr" {
+                    cur.roughness = Some(v);
+                } else {
+                    cur.metallic = Some(v);
+                }
+            }
+            kw if is_map_keyword(kw) => {
+                let (opts, file) = map_options(kw, rest).map_err(|e| (no, e))?;
+                let Some(target) = map_target(kw) else {
+                    warnings.push(warn(format!(
+                        "{kw} {file}: this kind of map is not used, ignored"
+                    )));
+                    continue;
+                };
+                let path = dir.join(file.replace('\\', "/"));
+                let ext = path
+                    .extension()
+                    .and_then(|e| e.to_str())
+                    .map(str::to_ascii_lowercase)
+                    .unwrap_or_default();
+                if !TEXTURE_EXTENSIONS.contains(&ext.as_str()) {
+                    return Err((
+                        no,
+                        format!(
+                            "{kw}: unsupported texture file \"{file}\" (supported: .png, .exr, .hdr; convert it, or give the object a \"material\" so that the MTL file is not read)"
+                        ),
+                    ));
+                }
+                if !path.is_file() {
+                    return Err((
+                        no,
+                        format!(
+                            "{kw}: texture file {} not found (map paths are relative to the MTL file)",
+                            path.display()
+                        ),
+                    ));
+                }
+                let normal = matches!(
+                    kw.to_ascii_lowercase().as_str(),
+                    "map_bump" | "bump" | "norm" | "map_kn" | "map_norm"
+                );
+                let single = matches!(kw.to_ascii_lowercase().as_str(), "map_pr" | "map_pm");
+                for ignored in &opts.ignored {
+                    warnings.push(warn(format!(
+                        "{kw}: option {ignored} is not supported, ignored"
+                    )));
+                }
+                if opts.bump_multiplier.is_some() && !normal {
+                    warnings.push(warn(format!(
+                        "{kw}: -bm applies to normal maps only, ignored"
+                    )));
+                }
+                if opts.channel.is_some() && !single {
+                    warnings.push(warn(format!(
+                        "{kw}: -imfchan applies to single-value maps (map_Pr, map_Pm) only, ignored"
+                    )));
+                }
+                *target(&mut cur.maps) = Some(MtlMap {
+                    path,
+                    mtl: mtl.to_path_buf(),
+                    line: no,
+                    clamp: opts.clamp,
+                    bump_multiplier: opts.bump_multiplier.filter(|_| normal),
+                    channel: opts.channel.filter(|_| single),
+                });
+            }
+            _ => {}
+        }
+    }
+    Ok((out, warnings))
+}
+
+/// The options of a map line that luz reads.
+#[derive(Debug, Default, PartialEq)]
+struct MapOptions {
+    clamp: bool,
+    bump_multiplier: Option<f32>,
+    channel: Option<u8>,
+    /// Options given but not supported (UV transforms, value remapping), as written.
+    ignored: Vec<String>,
+}
+
+/// Splits a map line's text after the keyword into its options and the file name (the rest of
+/// the line, which may contain spaces). Options as in the MTL specification: `-blendu`,
+/// `-blendv`, `-cc`, `-clamp` (on/off), `-bm`, `-boost`, `-texres` (a number), `-mm` (two
+/// numbers), `-o`, `-s`, `-t` (one to three numbers), `-imfchan` (r, g, b, m, l or z), `-type`
+/// (a word, for `refl`).
+fn map_options<'a>(keyword: &str, rest: &'a str) -> Result<(MapOptions, &'a str), String> {
+    fn take(s: &str) -> (&str, &str) {
+        let end = s.find(char::is_whitespace).unwrap_or(s.len());
+        (&s[..end], s[end..].trim_start())
+    }
+    let mut opts = MapOptions::default();
+    let mut s = rest.trim();
+    while s.starts_with('-') {
+        let (opt, after) = take(s);
+        s = after;
+        let mut arg = |what: &str| -> Result<&'a str, String> {
+            let (a, after) = take(s);
+            if a.is_empty() {
+                return Err(format!("{keyword}: option {opt} needs {what}"));
+            }
+            s = after;
+            Ok(a)
+        };
+        match opt {
+            "-blendu" | "-blendv" | "-cc" | "-clamp" => {
+                let v = arg("on or off")?;
+                let on = match v {
+                    "on" => true,
+                    "off" => false,
+                    _ => return Err(format!("{keyword}: option {opt} takes on or off, got {v:?}")),
+                };
+                if opt == "-clamp" {
+                    opts.clamp = on;
+                }
+            }
+            "-bm" | "-boost" | "-texres" => {
+                let v = number(Some(arg("a number")?), &format!("{keyword} {opt}"))?;
+                if opt == "-bm" {
+                    opts.bump_multiplier = Some(v);
+                }
+            }
+            "-mm" => {
+                for _ in 0..2 {
+                    number(Some(arg("two numbers (base, gain)")?), &format!("{keyword} -mm"))?;
+                }
+                opts.ignored.push("-mm".into());
+            }
+            "-o" | "-s" | "-t" => {
+                number(Some(arg("one to three numbers")?), &format!("{keyword} {opt}"))?;
+                for _ in 0..2 {
+                    let (a, after) = take(s);
+                    if a.parse::<f32>().is_err() {
+                        break;
+                    }
+                    s = after;
+                }
+                opts.ignored.push(opt.to_string());
+            }
+            "-imfchan" => {
+                let v = arg("a channel (r, g, b, m, l or z)")?;
+                opts.channel = match v {
+                    "r" => Some(0),
+                    "g" => Some(1),
+                    "b" => Some(2),
+                    "m" => Some(3),
+                    "l" | "z" => {
+                        opts.ignored.push(format!("-imfchan {v}"));
+                        None
+                    }
+                    _ => {
+                        return Err(format!(
+                            "{keyword}: option -imfchan takes r, g, b, m, l or z, got {v:?}"
+                        ))
+                    }
+                };
+            }
+            "-type" => {
+                arg("a type")?;
+            }
+            _ => {
+                return Err(format!(
+                    "{keyword}: unknown option {opt} (known: -blendu, -blendv, -bm, -boost, -cc, -clamp, -imfchan, -mm, -o, -s, -t, -texres, -type)"
+                ))
+            }
+        }
+    }
+    if s.is_empty() {
+        return Err(format!("{keyword}: no file name after the options"));
+    }
+    Ok((opts, s))
 }
 
 fn utf8(bytes: &[u8]) -> Result<&str, (usize, String)> {

@@ -18,9 +18,57 @@ pub struct ImageDesc {
     pub samples: vk::SampleCountFlags,
     pub mip_levels: u32,
     pub aspect: vk::ImageAspectFlags,
+    /// Array layers (6 for a cube).
+    pub layers: u32,
+    /// A cube map (6 layers, viewed as a cube).
+    pub cube: bool,
+    /// Viewed as a 2D array even with one layer.
+    pub array: bool,
 }
 
 impl ImageDesc {
+    /// A sampled + storage cube map with `mips` levels (IBL data).
+    pub fn cube(size: u32, format: vk::Format, mips: u32) -> Self {
+        Self {
+            width: size,
+            height: size,
+            format,
+            usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE,
+            samples: vk::SampleCountFlags::TYPE_1,
+            mip_levels: mips,
+            aspect: vk::ImageAspectFlags::COLOR,
+            layers: 6,
+            cube: true,
+            array: false,
+        }
+    }
+    /// A sampled texture (2D, or a 2D array when `layers` > 1) filled by copies or storage writes.
+    pub fn texture(width: u32, height: u32, format: vk::Format, mips: u32, layers: u32) -> Self {
+        Self {
+            width,
+            height,
+            format,
+            usage: vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_DST
+                | vk::ImageUsageFlags::TRANSFER_SRC,
+            samples: vk::SampleCountFlags::TYPE_1,
+            mip_levels: mips,
+            aspect: vk::ImageAspectFlags::COLOR,
+            layers,
+            cube: false,
+            array: layers > 1,
+        }
+    }
+    fn view_type(&self) -> vk::ImageViewType {
+        if self.cube {
+            vk::ImageViewType::CUBE
+        } else if self.layers > 1 || self.array {
+            vk::ImageViewType::TYPE_2D_ARRAY
+        } else {
+            vk::ImageViewType::TYPE_2D
+        }
+    }
+
     /// A single-sample colour target that can be copied out.
     pub fn color_target(width: u32, height: u32, format: vk::Format) -> Self {
         Self {
@@ -34,6 +82,9 @@ impl ImageDesc {
             samples: vk::SampleCountFlags::TYPE_1,
             mip_levels: 1,
             aspect: vk::ImageAspectFlags::COLOR,
+            layers: 1,
+            cube: false,
+            array: false,
         }
     }
     /// A multisampled colour target resolved into a single-sample one.
@@ -52,6 +103,9 @@ impl ImageDesc {
             samples,
             mip_levels: 1,
             aspect: vk::ImageAspectFlags::COLOR,
+            layers: 1,
+            cube: false,
+            array: false,
         }
     }
     pub fn depth(
@@ -68,6 +122,9 @@ impl ImageDesc {
             samples,
             mip_levels: 1,
             aspect: vk::ImageAspectFlags::DEPTH,
+            layers: 1,
+            cube: false,
+            array: false,
         }
     }
 }
@@ -76,6 +133,7 @@ pub struct Image {
     pub raw: vk::Image,
     pub view: vk::ImageView,
     pub desc: ImageDesc,
+    extra_views: Vec<vk::ImageView>,
     allocation: Option<Allocation>,
     ctx: Arc<Context>,
 }
@@ -106,7 +164,12 @@ impl Image {
                 depth: 1,
             })
             .mip_levels(desc.mip_levels)
-            .array_layers(1)
+            .array_layers(desc.layers)
+            .flags(if desc.cube {
+                vk::ImageCreateFlags::CUBE_COMPATIBLE
+            } else {
+                vk::ImageCreateFlags::empty()
+            })
             .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
@@ -134,14 +197,14 @@ impl Image {
         let view = bound.and_then(|_| {
             let view_info = vk::ImageViewCreateInfo::default()
                 .image(raw)
-                .view_type(vk::ImageViewType::TYPE_2D)
+                .view_type(desc.view_type())
                 .format(desc.format)
                 .subresource_range(vk::ImageSubresourceRange {
                     aspect_mask: desc.aspect,
                     base_mip_level: 0,
                     level_count: desc.mip_levels,
                     base_array_layer: 0,
-                    layer_count: 1,
+                    layer_count: desc.layers,
                 });
             unsafe { ctx.device.create_image_view(&view_info, None) }
         });
@@ -159,6 +222,7 @@ impl Image {
             raw,
             view,
             desc,
+            extra_views: Vec::new(),
             allocation: Some(allocation),
             ctx: ctx.clone(),
         })
@@ -177,14 +241,80 @@ impl Image {
             base_mip_level: 0,
             level_count: self.desc.mip_levels,
             base_array_layer: 0,
-            layer_count: 1,
+            layer_count: self.desc.layers,
         }
+    }
+
+    /// An extra view of one mip level (all layers; a cube stays a cube), owned by the image.
+    pub fn mip_view(&mut self, level: u32) -> Result<vk::ImageView, VkError> {
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(self.desc.view_type())
+            .format(self.desc.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: self.desc.aspect,
+                base_mip_level: level,
+                level_count: 1,
+                base_array_layer: 0,
+                layer_count: self.desc.layers,
+            });
+        let view = unsafe { self.ctx.device.create_image_view(&info, None) }?;
+        self.ctx.set_name(view, &format!("mip {level} view"));
+        self.extra_views.push(view);
+        Ok(view)
+    }
+}
+
+/// A sampler, destroyed on drop.
+pub struct Sampler {
+    pub raw: vk::Sampler,
+    ctx: Arc<Context>,
+}
+
+impl Sampler {
+    pub fn new(
+        ctx: &Arc<Context>,
+        name: &str,
+        info: &vk::SamplerCreateInfo<'_>,
+    ) -> Result<Self, VkError> {
+        let raw = unsafe { ctx.device.create_sampler(info, None) }?;
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Trilinear filtering with the given address mode on u (v and w clamp to edge).
+    pub fn linear(
+        ctx: &Arc<Context>,
+        name: &str,
+        address_u: vk::SamplerAddressMode,
+    ) -> Result<Self, VkError> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(address_u)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(vk::LOD_CLAMP_NONE);
+        Self::new(ctx, name, &info)
+    }
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        unsafe { self.ctx.device.destroy_sampler(self.raw, None) };
     }
 }
 
 impl Drop for Image {
     fn drop(&mut self) {
         unsafe {
+            for v in self.extra_views.drain(..) {
+                self.ctx.device.destroy_image_view(v, None);
+            }
             self.ctx.device.destroy_image_view(self.view, None);
             self.ctx.device.destroy_image(self.raw, None);
         }

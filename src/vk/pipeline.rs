@@ -167,6 +167,7 @@ pub struct GraphicsDesc<'a> {
     pub cull: vk::CullModeFlags,
     pub depth_test: bool,
     pub depth_write: bool,
+    pub depth_compare: vk::CompareOp,
 }
 
 impl Pipeline {
@@ -207,7 +208,7 @@ impl Pipeline {
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(desc.depth_test)
             .depth_write_enable(desc.depth_write)
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_compare_op(desc.depth_compare);
         let blend_attachments: Vec<_> = desc
             .color_formats
             .iter()

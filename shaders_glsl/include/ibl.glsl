@@ -1,0 +1,177 @@
+// Image-based lighting in the forward pass (MODELS.md §7): set 1 bindings and the diffuse and
+// specular environment terms, split sum or importance sampled. Included when IBL is defined.
+#ifndef LUZ_IBL_GLSL
+#define LUZ_IBL_GLSL
+
+#include "env.glsl"
+#include "../brdf/sampling.glsl"
+
+#define SET_ENV 1
+layout(set = SET_ENV, binding = 0) uniform samplerCube env_cube;
+layout(set = SET_ENV, binding = 1) uniform samplerCube irradiance_cube;
+layout(set = SET_ENV, binding = 2) uniform samplerCube prefiltered_cube;
+layout(set = SET_ENV, binding = 3) uniform sampler2DArray brdf_lut;
+layout(set = SET_ENV, binding = 4, std140) uniform EnvData {
+    vec4 sh[9];      // convolved irradiance SH: E(n) = Σ sh[i] Y_i(n)
+    vec4 rotation;   // cos θ, sin θ (about +y), environment cube size, its mip count
+    vec4 params;     // prefiltered mip count
+} env;
+
+// Specialization constants 2..5 (src/render/gpu.rs: SPEC_*).
+#define SPECULAR_SPLIT_SUM 0
+#define SPECULAR_IMPORTANCE 1
+layout(constant_id = 2) const int SPECULAR_METHOD = SPECULAR_SPLIT_SUM;
+layout(constant_id = 3) const bool DIFFUSE_FROM_SH = true;
+layout(constant_id = 4) const bool ENERGY_COMPENSATION = false;
+layout(constant_id = 5) const uint IBL_SAMPLES = 64u;
+layout(constant_id = 6) const bool MIP_FILTERED_SAMPLES = true;
+
+// Irradiance E(n) from the 9 SH coefficients (Ramamoorthi-Hanrahan), evaluated in the
+// environment's own frame (the coefficients were projected before rotation).
+vec3 sh_irradiance(vec3 n_world) {
+    float c = env.rotation.x;
+    float s = env.rotation.y;
+    vec3 n = vec3(c * n_world.x - s * n_world.z, n_world.y, s * n_world.x + c * n_world.z);
+    vec3 e = env.sh[0].rgb * 0.282095;
+    e += env.sh[1].rgb * (0.488603 * n.y);
+    e += env.sh[2].rgb * (0.488603 * n.z);
+    e += env.sh[3].rgb * (0.488603 * n.x);
+    e += env.sh[4].rgb * (1.092548 * n.x * n.y);
+    e += env.sh[5].rgb * (1.092548 * n.y * n.z);
+    e += env.sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0));
+    e += env.sh[7].rgb * (1.092548 * n.x * n.z);
+    e += env.sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3(0.0));
+}
+
+vec3 env_irradiance(vec3 n) {
+    if (DIFFUSE_FROM_SH) {
+        return sh_irradiance(n);
+    }
+    return textureLod(irradiance_cube, n, 0.0).rgb;
+}
+
+// What the split sum needs of a material: F0, the GGX roughness its lobe corresponds to, the weight
+// of its specular lobe; `ok` is false for models without a microfacet lobe.
+struct SplitSumInputs {
+    vec3 f0;
+    float roughness;
+    float weight;
+    bool ok;
+};
+
+float f0_from_eta(float eta) {
+    float r = (eta - 1.0) / (eta + 1.0);
+    return r * r;
+}
+
+SplitSumInputs split_sum_inputs(BrdfParams p) {
+    SplitSumInputs s;
+    s.ok = true;
+    s.weight = 1.0;
+    s.roughness = p.color.w;
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        s.f0 = mix(vec3(0.04), p.color.rgb, p.spec.w);
+        if (p.sel.y == BRDF_D_BECKMANN) {
+            // Beckmann m = roughness² here; GGX with α = m has a similar width.
+            s.roughness = p.color.w;
+        }
+    } else if (MODEL == BRDF_MODEL_COOK_TORRANCE) {
+        if (p.sel.w == BRDF_F_SCHLICK || p.sel.w == BRDF_F_SCHLICK_SG) {
+            s.f0 = p.spec.rgb;
+        } else if (p.sel.w == BRDF_F_DIELECTRIC) {
+            s.f0 = vec3(f0_from_eta(p.spec.x), f0_from_eta(p.spec.y), f0_from_eta(p.spec.z));
+        } else {
+            vec3 eta = p.spec.rgb;
+            vec3 k2 = p.kappa.rgb * p.kappa.rgb;
+            s.f0 = ((eta - 1.0) * (eta - 1.0) + k2) / ((eta + 1.0) * (eta + 1.0) + k2);
+        }
+        s.weight = 1.0 - p.kappa.w;
+        if (p.sel.y == BRDF_D_BECKMANN) {
+            // Beckmann m = roughness; the GGX lobe of α = m is indexed by roughness = sqrt(m).
+            s.roughness = sqrt(p.color.w);
+        }
+    } else if (MODEL == BRDF_MODEL_PRINCIPLED) {
+        vec3 base = p.color.rgb;
+        float lum = 0.3 * base.r + 0.6 * base.g + 0.1 * base.b;
+        vec3 tint = lum > 0.0 ? base / lum : vec3(1.0);
+        s.f0 = mix(p.p0.y * 0.08 * mix(vec3(1.0), tint, p.p0.z), base, p.spec.w);
+    } else {
+        s.ok = false;
+        s.f0 = vec3(0.0);
+    }
+    return s;
+}
+
+// Diffuse albedo seen by the irradiance (the BRDF's diffuse part × π, Lambert-like).
+vec3 ibl_diffuse_albedo(BrdfParams p) {
+    if (MODEL == BRDF_MODEL_PHONG || MODEL == BRDF_MODEL_BLINN_PHONG) {
+        return p.kappa.w * p.color.rgb * M_PI;  // the slides' k_d O_d with no 1/π: E k_d O_d
+    }
+    if (MODEL == BRDF_MODEL_COOK_TORRANCE) {
+        return p.kappa.w * p.color.rgb;
+    }
+    if (MODEL == BRDF_MODEL_METAL_ROUGH || MODEL == BRDF_MODEL_PRINCIPLED) {
+        return (1.0 - p.spec.w) * p.color.rgb;
+    }
+    return p.color.rgb;
+}
+
+// Specular radiance from the environment by importance sampling the GGX lobe of the material's
+// width, each sample weighted by the material's full specular BRDF (any model, any lobe).
+vec3 ibl_specular_importance(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, float roughness) {
+    float alpha = max(roughness * roughness, BRDF_ALPHA_MIN);
+    vec3 t;
+    vec3 b;
+    basis(n, t, b);
+    vec3 sum = vec3(0.0);
+    uint size = uint(env.rotation.z);
+    for (uint i = 0u; i < IBL_SAMPLES; ++i) {
+        vec2 u = hammersley(i, IBL_SAMPLES);
+        vec3 hs = importance_sample_ggx(u.x, u.y, alpha);
+        vec3 h = hs.x * t + hs.y * b + hs.z * n;
+        float v_h = dot(v, h);
+        if (v_h <= 0.0) {
+            continue;
+        }
+        vec3 l = 2.0 * v_h * h - v;
+        float n_l = dot(n, l);
+        if (n_l <= 0.0) {
+            continue;
+        }
+        float pdf = d_ggx(hs.z, alpha) * hs.z / (4.0 * v_h);
+        float lod = MIP_FILTERED_SAMPLES ? pdf_lod(pdf, IBL_SAMPLES, size) : 0.0;
+        vec3 L = textureLod(env_cube, l, lod).rgb;
+        vec3 f = brdf_eval_terms(p, n, l, v, x, y).specular;
+        sum += L * f * (n_l / max(pdf, 1e-8));
+    }
+    return sum / float(IBL_SAMPLES);
+}
+
+// Environment lighting at a point: diffuse from irradiance, specular by the chosen method.
+vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y) {
+    vec3 result = ibl_diffuse_albedo(p) * env_irradiance(n) / M_PI;
+    SplitSumInputs s = split_sum_inputs(p);
+    if (!s.ok) {
+        return result;
+    }
+    float n_v = clamp(dot(n, v), 1e-4, 1.0);
+    vec2 ab = textureLod(brdf_lut, vec3(n_v, s.roughness, float(material.flags)), 0.0).rg;
+    vec3 spec;
+    if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {
+        spec = ibl_specular_importance(p, n, v, x, y, s.roughness);
+    } else {
+        vec3 r = 2.0 * dot(n, v) * n - v;
+        float lod = s.roughness * (env.params.x - 1.0);
+        vec3 pre = textureLod(prefiltered_cube, r, lod).rgb;
+        spec = s.weight * pre * (s.f0 * ab.x + ab.y);
+    }
+    if (ENERGY_COMPENSATION) {
+        // Fdez-Agüera 2019: scale single scattering by 1 + F0 (1 − E)/E, E = A + B.
+        float e = max(ab.x + ab.y, 1e-4);
+        spec *= 1.0 + s.f0 * (1.0 - e) / e;
+    }
+    return result + spec;
+}
+
+#endif

@@ -1,0 +1,158 @@
+//! Image-based lighting on the CPU (no Vulkan): environment images, spherical harmonics and
+//! reference integrals (MODELS.md §7).
+//!
+//! * [`load_equirect`] turns a scene's [`Environment`] into an [`Equirect`]: a linear-radiance
+//!   latitude-longitude image in *environment space*. `intensity` is applied here;
+//!   `rotation_deg` is not (it is a lookup-time rotation, [`world_to_env`]).
+//! * The mapping between directions and texture coordinates ([`dir_to_uv`], [`uv_to_dir`]) is
+//!   documented in `equirect.rs` and mirrored by the GLSL.
+//! * [`sh9_project`], [`sh9_irradiance`], [`sh9_irradiance_coeffs`]: 9-coefficient irradiance
+//!   (basis order and constants in `sh.rs`).
+//! * Reference integrals for tests: [`irradiance_reference`], [`irradiance_quadrature`],
+//!   [`split_sum_lut_reference`], [`prefiltered_reference`], [`specular_ibl_reference`],
+//!   [`diffuse_ibl_reference`].
+//! * [`cache_key`]: a stable key for precomputed data on disk.
+
+mod cache;
+mod equirect;
+mod procedural;
+mod reference;
+mod sh;
+
+#[cfg(test)]
+mod tests;
+
+use std::path::PathBuf;
+
+pub use cache::{cache_key, fnv1a64, Fnv1a, CACHE_VERSION};
+pub use equirect::{
+    dir_to_uv, env_rotation, env_to_world, uv_to_dir, world_to_env, Equirect, TEXEL_MAX,
+};
+pub use procedural::{
+    sky, studio, GROUND_ALBEDO, SKY_HORIZON, SKY_WIDTH, SKY_ZENITH, STUDIO_FLOOR, STUDIO_WALL,
+    STUDIO_WIDTH, SUN_COLOR, SUN_GLOW_FRACTION, SUN_GLOW_SIGMA_DEG, SUN_RADIUS_DEG,
+};
+pub use reference::{
+    diffuse_ibl_reference, g_ibl, irradiance_quadrature, irradiance_reference,
+    prefiltered_reference, specular_dominant_direction, specular_ibl_reference,
+    split_sum_lut_reference, split_sum_lut_table, split_sum_specular,
+};
+pub use sh::{
+    sh9_basis, sh9_eval, sh9_irradiance, sh9_irradiance_coeffs, sh9_project, SH_C0, SH_C1, SH_C2,
+    SH_C3, SH_C4, SH_IRRADIANCE_FACTORS,
+};
+
+use crate::imageio::{self, ImageError};
+use crate::scene::{EnvSource, Environment};
+
+/// Size of the image of a uniform environment (any size would do: it is constant).
+pub const UNIFORM_SIZE: (u32, u32) = (8, 4);
+/// Smallest `max_dimension` [`load_equirect`] accepts.
+pub const MIN_DIMENSION: u32 = 8;
+
+/// Why an environment image could not be built. Every message names the file when there is one.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvError {
+    /// The `.hdr` / `.exr` file is missing, unreadable, corrupt or too large.
+    #[error(transparent)]
+    Image(#[from] ImageError),
+    /// The file is not 2:1 (an equirectangular image spans 360° × 180°).
+    #[error(
+        "{}: not an equirectangular (latitude-longitude) image: {width}×{height}; expected width = 2 × height",
+        .path.display()
+    )]
+    NotEquirect {
+        path: PathBuf,
+        width: u32,
+        height: u32,
+    },
+    /// The caller's size limit is too small to be useful.
+    #[error("environment size limit {0} is below the minimum of {MIN_DIMENSION} pixels")]
+    LimitTooSmall(u32),
+}
+
+/// What [`load_equirect`] did besides building the image (for logs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LoadReport {
+    /// Size of the file's image before any downsampling (0×0 for built-in sources).
+    pub source_size: (u32, u32),
+    /// The downsampling factor applied to fit `max_dimension` (1: none).
+    pub downsampled_by: u32,
+    /// Texels whose value was changed to be finite, ≥ 0 and ≤ [`TEXEL_MAX`].
+    pub sanitized_texels: u64,
+}
+
+/// Builds the environment's equirectangular image (environment space, `intensity` applied,
+/// `rotation_deg` *not* applied), at most `max_dimension` texels wide and high (e.g. the
+/// device's `maxImageDimension2D`):
+///
+/// * `hdr`: the file through [`imageio::load_radiance`] (`.hdr` or `.exr`); it must be 2:1
+///   (±1 %). A file larger than `max_dimension` is halved (solid-angle-weighted 2×2 averages)
+///   until it fits.
+/// * `uniform`: an 8×4 constant image.
+/// * `procedural` sky: [`sky`] at 1024×512; studio: [`studio`] at 512×256 (smaller when
+///   `max_dimension` is).
+///
+/// Texels are then multiplied by `intensity` and made finite, non-negative and at most
+/// [`TEXEL_MAX`] (the half-float maximum): NaN and negatives → 0, larger values and +Inf →
+/// [`TEXEL_MAX`].
+pub fn load_equirect(env: &Environment, max_dimension: u32) -> Result<Equirect, EnvError> {
+    load_equirect_with_report(env, max_dimension).map(|(eq, _)| eq)
+}
+
+/// [`load_equirect`], also saying what was done to the image.
+pub fn load_equirect_with_report(
+    env: &Environment,
+    max_dimension: u32,
+) -> Result<(Equirect, LoadReport), EnvError> {
+    if max_dimension < MIN_DIMENSION {
+        return Err(EnvError::LimitTooSmall(max_dimension));
+    }
+    let mut report = LoadReport {
+        downsampled_by: 1,
+        ..LoadReport::default()
+    };
+    let fit = |w: u32| w.min(max_dimension);
+    let mut eq = match &env.source {
+        EnvSource::Hdr(path) => {
+            let img = imageio::load_radiance(path)?;
+            let (w, h) = (img.width, img.height);
+            report.source_size = (w, h);
+            let ratio = f64::from(w) / f64::from(h);
+            if (ratio - 2.0).abs() > 0.02 {
+                return Err(EnvError::NotEquirect {
+                    path: path.clone(),
+                    width: w,
+                    height: h,
+                });
+            }
+            let mut eq = Equirect {
+                width: w,
+                height: h,
+                texels: img.pixels,
+            };
+            // Sanitise before averaging so one NaN cannot spread over a block.
+            report.sanitized_texels = eq.sanitize();
+            let mut k = 1;
+            while eq.width.div_ceil(k) > max_dimension || eq.height.div_ceil(k) > max_dimension {
+                k *= 2;
+            }
+            if k > 1 {
+                eq = eq.downsample(k);
+                report.downsampled_by = k;
+            }
+            eq
+        }
+        EnvSource::Uniform(c) => Equirect::filled(UNIFORM_SIZE.0, UNIFORM_SIZE.1, *c),
+        EnvSource::Sky {
+            sun_direction,
+            sun_intensity,
+        } => sky(fit(SKY_WIDTH), *sun_direction, *sun_intensity),
+        EnvSource::Studio => studio(fit(STUDIO_WIDTH)),
+    };
+    if env.intensity != 1.0 {
+        eq.scale(env.intensity);
+    }
+    report.sanitized_texels += eq.sanitize();
+    Ok((eq, report))
+}

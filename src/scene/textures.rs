@@ -1,0 +1,274 @@
+//! Texture maps of a material: which maps, where their files are, how they are sampled.
+//!
+//! Plain data: the files are only checked to exist here (by the decoder); decoding, mipmaps and
+//! downscaling are `crate::texture`'s, GPU upload the renderer's. The scene format is in
+//! `docs/scene-format.md` ("Textures").
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+
+/// How texture coordinates outside [0, 1] are treated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Wrap {
+    #[default]
+    Repeat,
+    /// Clamp to the edge texel.
+    Clamp,
+    /// Repeat, mirroring every other tile.
+    Mirror,
+}
+
+/// Texel filter for magnification or minification. The filter between mip levels follows
+/// `SamplerDesc::min`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Filter {
+    Nearest,
+    #[default]
+    Linear,
+}
+
+/// Sampler settings of one texture.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SamplerDesc {
+    pub wrap_u: Wrap,
+    pub wrap_v: Wrap,
+    pub mag: Filter,
+    /// Also the filter between mip levels (nearest or linear mipmap mode).
+    pub min: Filter,
+    /// Generate and sample the full mip chain (default true).
+    pub mipmaps: bool,
+    /// Maximum anisotropy in [1, 16] (default 16); 1 turns anisotropic filtering off. The
+    /// renderer clamps it to the device's limit and ignores it where the device has no
+    /// anisotropic filtering; see [`SamplerDesc::anisotropy_for`].
+    pub anisotropy: f32,
+}
+
+impl Default for SamplerDesc {
+    fn default() -> Self {
+        SamplerDesc {
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            mag: Filter::Linear,
+            min: Filter::Linear,
+            mipmaps: true,
+            anisotropy: 16.0,
+        }
+    }
+}
+
+impl SamplerDesc {
+    /// Largest accepted `anisotropy`.
+    pub const MAX_ANISOTROPY: f32 = 16.0;
+
+    /// The anisotropy to enable on a device whose `samplerAnisotropy` feature is `supported`
+    /// with limit `device_max` (`maxSamplerAnisotropy`): `None` (off) when the device lacks the
+    /// feature, when `anisotropy` ≤ 1, or when minification is `nearest` (anisotropic filtering
+    /// is a linear-filtering technique); otherwise `anisotropy` clamped to the device's limit.
+    pub fn anisotropy_for(&self, supported: bool, device_max: f32) -> Option<f32> {
+        let a = self.anisotropy.min(device_max);
+        (supported && self.min == Filter::Linear && a > 1.0).then_some(a)
+    }
+}
+
+/// One texture map: a file and how to sample it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureRef {
+    /// Resolved against the scene file's folder (or, from an MTL file, the MTL's folder). The
+    /// decoder checked that it exists and is a `.png`, `.exr` or `.hdr`.
+    pub path: PathBuf,
+    pub sampler: SamplerDesc,
+    /// For single-value maps (metallic, roughness, occlusion): the channel holding the value,
+    /// 0 = R, 1 = G, 2 = B, 3 = A. `None` means R (a greyscale file has R = G = B). The loader
+    /// (`crate::texture`) copies that channel to R, G and B so a shader always reads `.r`.
+    pub channel: Option<u8>,
+}
+
+impl TextureRef {
+    /// A texture with the default sampler, reading R.
+    pub fn new(path: impl Into<PathBuf>) -> Self {
+        TextureRef {
+            path: path.into(),
+            sampler: SamplerDesc::default(),
+            channel: None,
+        }
+    }
+}
+
+/// What a texture map feeds. The colour slots (base colour, specular colour, emissive) hold
+/// sRGB-encoded colour; the others hold linear data (MODELS.md §9).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TextureSlot {
+    /// Multiplies the model's main colour: `base_color` (metal_rough, principled),
+    /// `diffuse_color` O_d (phong, blinn_phong), `albedo` (lambert, oren_nayar), `color`
+    /// (cook_torrance). sRGB.
+    BaseColor,
+    /// Multiplies the classic model's `specular_color` O_s (phong, blinn_phong). sRGB.
+    Specular,
+    /// Multiplies `metallic` (metal_rough, principled). Linear, one channel.
+    Metallic,
+    /// Multiplies `roughness` (cook_torrance, metal_rough, principled). Linear, one channel.
+    Roughness,
+    /// Packed glTF occlusion (R), roughness (G), metallic (B). Linear.
+    Orm,
+    /// Tangent-space normal map, glTF convention (+X right, +Y up in the image, i.e. the
+    /// "OpenGL" green-up convention), encoded as (n + 1) / 2. Linear.
+    Normal,
+    /// Ambient occlusion: scales the ambient (indirect) light only. Linear, one channel.
+    Occlusion,
+    /// Emitted radiance, multiplied by `emissive_factor`. sRGB.
+    Emissive,
+}
+
+impl TextureSlot {
+    /// Every slot, in the order the scene format lists them.
+    pub const ALL: [TextureSlot; 8] = [
+        TextureSlot::BaseColor,
+        TextureSlot::Specular,
+        TextureSlot::Metallic,
+        TextureSlot::Roughness,
+        TextureSlot::Orm,
+        TextureSlot::Normal,
+        TextureSlot::Occlusion,
+        TextureSlot::Emissive,
+    ];
+
+    /// The key in a scene file's `textures` block.
+    pub fn name(self) -> &'static str {
+        match self {
+            TextureSlot::BaseColor => "base_color",
+            TextureSlot::Specular => "specular",
+            TextureSlot::Metallic => "metallic",
+            TextureSlot::Roughness => "roughness",
+            TextureSlot::Orm => "orm",
+            TextureSlot::Normal => "normal",
+            TextureSlot::Occlusion => "occlusion",
+            TextureSlot::Emissive => "emissive",
+        }
+    }
+
+    /// Whether the map holds sRGB-encoded colour (decoded to linear when sampled).
+    pub fn is_srgb(self) -> bool {
+        matches!(
+            self,
+            TextureSlot::BaseColor | TextureSlot::Specular | TextureSlot::Emissive
+        )
+    }
+
+    /// Whether the map holds one value, so a `channel` may be chosen.
+    pub fn is_single_channel(self) -> bool {
+        matches!(
+            self,
+            TextureSlot::Metallic | TextureSlot::Roughness | TextureSlot::Occlusion
+        )
+    }
+}
+
+/// The texture maps of a material; every map is optional.
+///
+/// Factors multiply as in glTF: the shaded base colour is the material's colour × the base
+/// colour map, metallic = `metallic` × map, roughness = `roughness` × map (a packed `orm` map
+/// gives occlusion in R, roughness in G and metallic in B, and excludes the separate
+/// `metallic`, `roughness` and `occlusion` maps).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialTextures {
+    /// sRGB.
+    pub base_color: Option<TextureRef>,
+    /// sRGB; the classic models' O_s only.
+    pub specular: Option<TextureRef>,
+    /// Linear; channel selectable (default R).
+    pub metallic: Option<TextureRef>,
+    /// Linear; channel selectable (default R).
+    pub roughness: Option<TextureRef>,
+    /// Packed: R = occlusion, G = roughness, B = metallic (glTF). Linear.
+    pub orm: Option<TextureRef>,
+    /// Tangent space, linear.
+    pub normal: Option<TextureRef>,
+    /// n = normalize((2·texel − 1) · (normal_scale, normal_scale, 1)), as glTF. Default 1.
+    pub normal_scale: f32,
+    /// Linear; channel selectable (default R).
+    pub occlusion: Option<TextureRef>,
+    /// ambient × (1 + occlusion_strength · (occlusion − 1)), as glTF; in [0, 1], default 1.
+    pub occlusion_strength: f32,
+    /// sRGB.
+    pub emissive: Option<TextureRef>,
+    /// Emitted radiance = emissive_factor × emissive map (× 1 without a map). Linear RGB.
+    /// Default: [1, 1, 1] with an emissive map, [0, 0, 0] without one.
+    pub emissive_factor: Vec3,
+}
+
+impl Default for MaterialTextures {
+    fn default() -> Self {
+        MaterialTextures {
+            base_color: None,
+            specular: None,
+            metallic: None,
+            roughness: None,
+            orm: None,
+            normal: None,
+            normal_scale: 1.0,
+            occlusion: None,
+            occlusion_strength: 1.0,
+            emissive: None,
+            emissive_factor: Vec3::ZERO,
+        }
+    }
+}
+
+impl MaterialTextures {
+    /// The map in `slot`.
+    pub fn get(&self, slot: TextureSlot) -> Option<&TextureRef> {
+        match slot {
+            TextureSlot::BaseColor => self.base_color.as_ref(),
+            TextureSlot::Specular => self.specular.as_ref(),
+            TextureSlot::Metallic => self.metallic.as_ref(),
+            TextureSlot::Roughness => self.roughness.as_ref(),
+            TextureSlot::Orm => self.orm.as_ref(),
+            TextureSlot::Normal => self.normal.as_ref(),
+            TextureSlot::Occlusion => self.occlusion.as_ref(),
+            TextureSlot::Emissive => self.emissive.as_ref(),
+        }
+    }
+
+    /// Mutable access to the map in `slot`.
+    pub fn get_mut(&mut self, slot: TextureSlot) -> &mut Option<TextureRef> {
+        match slot {
+            TextureSlot::BaseColor => &mut self.base_color,
+            TextureSlot::Specular => &mut self.specular,
+            TextureSlot::Metallic => &mut self.metallic,
+            TextureSlot::Roughness => &mut self.roughness,
+            TextureSlot::Orm => &mut self.orm,
+            TextureSlot::Normal => &mut self.normal,
+            TextureSlot::Occlusion => &mut self.occlusion,
+            TextureSlot::Emissive => &mut self.emissive,
+        }
+    }
+
+    /// The maps present, in [`TextureSlot::ALL`] order.
+    pub fn maps(&self) -> impl Iterator<Item = (TextureSlot, &TextureRef)> {
+        TextureSlot::ALL
+            .into_iter()
+            .filter_map(|s| self.get(s).map(|t| (s, t)))
+    }
+
+    /// True when no map is given and nothing is emitted.
+    pub fn is_empty(&self) -> bool {
+        self.maps().next().is_none() && self.emissive_factor == Vec3::ZERO
+    }
+}
+
+/// The maps a material model takes, by its `model` name (`Material::model_name`). Metallic,
+/// roughness and packed maps need the parameters they multiply; every model takes a base colour
+/// (its main colour), a normal map, an occlusion map and emission.
+pub fn slots_for_model(model: &str) -> &'static [TextureSlot] {
+    use TextureSlot::*;
+    match model {
+        "phong" | "blinn_phong" => &[BaseColor, Specular, Normal, Occlusion, Emissive],
+        "cook_torrance" => &[BaseColor, Roughness, Normal, Occlusion, Emissive],
+        "metal_rough" | "principled" => &[
+            BaseColor, Metallic, Roughness, Orm, Normal, Occlusion, Emissive,
+        ],
+        // lambert, oren_nayar
+        _ => &[BaseColor, Normal, Occlusion, Emissive],
+    }
+}

@@ -1,0 +1,990 @@
+//! Texture images on the CPU: decoding, colour spaces, downscaling and mipmaps, ready for upload.
+//!
+//! * **Files.** PNG (8 or 16-bit; grey, grey + alpha, RGB, RGBA), OpenEXR and Radiance HDR. The
+//!   declared size is checked against [`crate::imageio`]'s limits before any pixel memory is
+//!   allocated.
+//! * **Colour spaces** (MODELS.md §9). Colour maps (base colour, specular colour, emissive) are
+//!   sRGB-encoded: 8-bit ones become [`TexFormat::Rgba8Srgb`] and the GPU decodes them when
+//!   sampling; 16-bit ones are decoded here and stored as linear half floats. Data maps
+//!   (metallic, roughness, occlusion, normal) are linear. EXR and HDR files are linear whatever
+//!   the slot. Alpha is always linear.
+//! * **Formats.** 8-bit PNG → `Rgba8Srgb` / `Rgba8Unorm` (level 0 holds the file's exact
+//!   bytes); 16-bit PNG, EXR and HDR → [`TexFormat::Rgba16F`] (half floats filter linearly on
+//!   every Vulkan device, 32-bit floats need an optional format feature; values beyond the half
+//!   range are clamped to ±65504 and NaN becomes 0, with a warning).
+//! * **Too large for the device.** An image whose width or height exceeds `max_dimension`
+//!   (`maxImageDimension2D`) is downscaled with an area (box) filter to fit, keeping its aspect
+//!   ratio, and a warning names the file and both sizes. Rendering with a smaller texture is
+//!   better than refusing the scene, and the warning says it happened.
+//! * **Mipmaps.** The full chain down to 1×1 (level k is max(1, ⌊w/2^k⌋) × max(1, ⌊h/2^k⌋), as
+//!   Vulkan expects), each level an area-weighted box filter of the one above computed in
+//!   linear light and in float: sRGB texels are decoded, averaged and re-encoded (a black and
+//!   white checker gives 0.5 linear, code 188, not 128). Odd sizes use exact area weights (a
+//!   5-texel row becomes 2 texels of weights 0.4, 0.4, 0.2). Normal-map levels are
+//!   renormalised: texels are decoded to vectors (2c − 1), averaged, normalised and re-encoded.
+//! * **Channels.** A single-value map with a chosen channel (`TextureRef::channel`) has that
+//!   channel copied to R, G and B (alpha 1), so a shader reads `.r` whatever the file's layout.
+//!
+//! Also: procedural images for tests ([`checker`], [`noise_normal_map`]).
+
+use std::fs::{self, File};
+use std::io::{self, BufReader};
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits, RgbaImage};
+use rayon::prelude::*;
+
+use crate::color::{srgb_decode, srgb_decode_table};
+use crate::imageio::{MAX_DECODE_BYTES, MAX_DIMENSION, MAX_PIXELS};
+use crate::scene::{TextureRef, TextureSlot};
+
+/// How a texture's texels are encoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ColorSpace {
+    /// sRGB-encoded colour (base colour, specular colour, emissive); mips averaged in linear.
+    Srgb,
+    /// Linear data (metallic, roughness, occlusion, packed ORM).
+    Linear,
+    /// Linear, a tangent-space normal encoded as (n + 1) / 2; mip levels are renormalised.
+    NormalMap,
+}
+
+impl ColorSpace {
+    /// The encoding of the maps in `slot`.
+    pub fn for_slot(slot: TextureSlot) -> ColorSpace {
+        if slot == TextureSlot::Normal {
+            ColorSpace::NormalMap
+        } else if slot.is_srgb() {
+            ColorSpace::Srgb
+        } else {
+            ColorSpace::Linear
+        }
+    }
+}
+
+/// Texel formats of [`TextureData`] (the Vulkan format names without the `R8G8B8A8_` noise).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TexFormat {
+    /// `R8G8B8A8_SRGB`: 4 bytes per texel.
+    Rgba8Srgb,
+    /// `R8G8B8A8_UNORM`: 4 bytes per texel.
+    Rgba8Unorm,
+    /// `R16G16B16A16_SFLOAT`: 8 bytes per texel, little-endian IEEE half floats, linear.
+    Rgba16F,
+    /// `R32G32B32A32_SFLOAT`: 16 bytes per texel, little-endian, linear. Never produced by
+    /// [`load_texture`] (linear filtering of 32-bit floats is optional in Vulkan); for callers
+    /// that build textures themselves.
+    Rgba32F,
+}
+
+impl TexFormat {
+    /// Bytes per texel.
+    pub fn bytes_per_texel(self) -> usize {
+        match self {
+            TexFormat::Rgba8Srgb | TexFormat::Rgba8Unorm => 4,
+            TexFormat::Rgba16F => 8,
+            TexFormat::Rgba32F => 16,
+        }
+    }
+}
+
+/// A decoded texture with its mip chain, ready for upload.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextureData {
+    /// Size of level 0.
+    pub width: u32,
+    pub height: u32,
+    pub format: TexFormat,
+    /// Level 0 first; level k is [`mip_extent`]`(width, height, k)`, rows top to bottom, tightly
+    /// packed. One level when the sampler has `mipmaps: false`, otherwise the full chain.
+    pub mips: Vec<Vec<u8>>,
+}
+
+impl TextureData {
+    /// Size of mip level `level`.
+    pub fn level_extent(&self, level: usize) -> (u32, u32) {
+        mip_extent(self.width, self.height, level as u32)
+    }
+
+    /// Total bytes of all levels.
+    pub fn byte_size(&self) -> usize {
+        self.mips.iter().map(Vec::len).sum()
+    }
+
+    /// Texel (x, y) of `level` as linear RGBA floats (sRGB decoded, halves widened); for tests
+    /// and tools, not for speed. `None` outside the level.
+    pub fn texel(&self, level: usize, x: u32, y: u32) -> Option<[f32; 4]> {
+        let (w, h) = self.level_extent(level);
+        let data = self.mips.get(level)?;
+        if x >= w || y >= h {
+            return None;
+        }
+        let bpt = self.format.bytes_per_texel();
+        let i = (y as usize * w as usize + x as usize) * bpt;
+        let t = data.get(i..i + bpt)?;
+        Some(match self.format {
+            TexFormat::Rgba8Srgb => {
+                let lut = srgb_decode_table();
+                [
+                    lut[t[0] as usize],
+                    lut[t[1] as usize],
+                    lut[t[2] as usize],
+                    t[3] as f32 / 255.0,
+                ]
+            }
+            TexFormat::Rgba8Unorm => std::array::from_fn(|c| t[c] as f32 / 255.0),
+            TexFormat::Rgba16F => {
+                std::array::from_fn(|c| f16_to_f32(u16::from_le_bytes([t[2 * c], t[2 * c + 1]])))
+            }
+            TexFormat::Rgba32F => std::array::from_fn(|c| {
+                f32::from_le_bytes([t[4 * c], t[4 * c + 1], t[4 * c + 2], t[4 * c + 3]])
+            }),
+        })
+    }
+}
+
+/// Number of levels of a full mip chain: ⌊log2(max(width, height))⌋ + 1.
+pub fn mip_count(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
+}
+
+/// Size of mip level `level`: max(1, ⌊w / 2^level⌋) × max(1, ⌊h / 2^level⌋).
+pub fn mip_extent(width: u32, height: u32, level: u32) -> (u32, u32) {
+    let s = |v: u32| v.checked_shr(level).unwrap_or(0).max(1);
+    (s(width), s(height))
+}
+
+/// Why a texture could not be loaded. Every message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum TextureError {
+    #[error("{}: no such file", .path.display())]
+    NotFound { path: PathBuf },
+    #[error("{}: is a directory, not an image file", .path.display())]
+    IsDirectory { path: PathBuf },
+    #[error("cannot read {}: {source}", .path.display())]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: io::Error,
+    },
+    #[error("{}: unsupported texture file extension (supported: .png, .exr, .hdr)", .path.display())]
+    UnsupportedExtension { path: PathBuf },
+    #[error("{}: not a valid {format} file: {reason}", .path.display())]
+    Corrupt {
+        path: PathBuf,
+        format: &'static str,
+        reason: String,
+    },
+    #[error("{}: unsupported kind of {format} file: {reason}", .path.display())]
+    Unsupported {
+        path: PathBuf,
+        format: &'static str,
+        reason: String,
+    },
+    #[error(
+        "{}: image too large ({declared}); limits are {MAX_DIMENSION} pixels per side, \
+         2^30 pixels in total and 4 GiB of decoded data",
+        .path.display()
+    )]
+    TooLarge { path: PathBuf, declared: String },
+}
+
+impl TextureError {
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            TextureError::NotFound { path }
+            | TextureError::IsDirectory { path }
+            | TextureError::Read { path, .. }
+            | TextureError::UnsupportedExtension { path }
+            | TextureError::Corrupt { path, .. }
+            | TextureError::Unsupported { path, .. }
+            | TextureError::TooLarge { path, .. } => path,
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum FileKind {
+    Png,
+    Exr,
+    Hdr,
+}
+
+impl FileKind {
+    fn from_path(path: &Path) -> Option<FileKind> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(FileKind::Png),
+            "exr" => Some(FileKind::Exr),
+            "hdr" => Some(FileKind::Hdr),
+            _ => None,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            FileKind::Png => "PNG",
+            FileKind::Exr => "OpenEXR",
+            FileKind::Hdr => "Radiance HDR",
+        }
+    }
+
+    fn image_format(self) -> ImageFormat {
+        match self {
+            FileKind::Png => ImageFormat::Png,
+            FileKind::Exr => ImageFormat::OpenExr,
+            FileKind::Hdr => ImageFormat::Hdr,
+        }
+    }
+}
+
+/// Loads the texture `r` for a map encoded as `space`: decode, pick the channel, downscale to
+/// fit `max_dimension` per side (with a warning through `on_warning`), build the mip chain
+/// (unless `r.sampler.mipmaps` is false). See the module documentation for every rule.
+pub fn load_texture(
+    r: &TextureRef,
+    space: ColorSpace,
+    max_dimension: u32,
+    on_warning: &mut dyn FnMut(String),
+) -> Result<TextureData, TextureError> {
+    let img = decode_file(&r.path)?;
+    texture_from_image(
+        &img,
+        &r.path,
+        space,
+        r.channel,
+        r.sampler.mipmaps,
+        max_dimension,
+        on_warning,
+    )
+}
+
+/// Decodes an image file (PNG, EXR or HDR by extension) with the size limits of
+/// [`crate::imageio`].
+pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
+    let kind = FileKind::from_path(path).ok_or_else(|| TextureError::UnsupportedExtension {
+        path: path.to_path_buf(),
+    })?;
+    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
+    if meta.is_dir() {
+        return Err(TextureError::IsDirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    let file = File::open(path).map_err(|e| read_error(path, e))?;
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_DIMENSION);
+    limits.max_image_height = Some(MAX_DIMENSION);
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    let mut reader = ImageReader::with_format(BufReader::new(file), kind.image_format());
+    reader.limits(limits);
+    let decoder = reader
+        .into_decoder()
+        .map_err(|e| decode_error(path, kind, e))?;
+    let (width, height) = decoder.dimensions();
+    if u64::from(width) * u64::from(height) > MAX_PIXELS || decoder.total_bytes() > MAX_DECODE_BYTES
+    {
+        return Err(TextureError::TooLarge {
+            path: path.to_path_buf(),
+            declared: format!("declared {width}×{height}"),
+        });
+    }
+    if width == 0 || height == 0 {
+        return Err(TextureError::Corrupt {
+            path: path.to_path_buf(),
+            format: kind.name(),
+            reason: format!("empty image ({width}×{height})"),
+        });
+    }
+    DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, kind, e))
+}
+
+fn read_error(path: &Path, e: io::Error) -> TextureError {
+    if e.kind() == io::ErrorKind::NotFound {
+        TextureError::NotFound {
+            path: path.to_path_buf(),
+        }
+    } else {
+        TextureError::Read {
+            path: path.to_path_buf(),
+            source: e,
+        }
+    }
+}
+
+fn decode_error(path: &Path, kind: FileKind, e: image::ImageError) -> TextureError {
+    let path = path.to_path_buf();
+    let format = kind.name();
+    match e {
+        image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
+            TextureError::Corrupt {
+                path,
+                format,
+                reason: "file is truncated".into(),
+            }
+        }
+        image::ImageError::IoError(source) => TextureError::Read { path, source },
+        image::ImageError::Limits(l) => TextureError::TooLarge {
+            path,
+            declared: l.to_string(),
+        },
+        image::ImageError::Unsupported(u) => TextureError::Unsupported {
+            path,
+            format,
+            reason: u.to_string(),
+        },
+        other => {
+            // image's messages read "Format error decoding Png: <reason>"; keep the reason.
+            let text = other.to_string();
+            let reason = match text.split_once(": ") {
+                Some((head, rest)) if head.starts_with("Format error") => rest.to_string(),
+                _ => text,
+            };
+            TextureError::Corrupt {
+                path,
+                format,
+                reason,
+            }
+        }
+    }
+}
+
+/// The texels as the pipeline sees them: the file's 8-bit codes (kept exactly for level 0) or
+/// floats.
+enum Source {
+    /// 8-bit RGBA codes.
+    Bytes(Vec<u8>),
+    /// RGBA floats: 16-bit PNG codes / 65535 (still sRGB-encoded for colour maps) or EXR/HDR
+    /// linear values.
+    Floats {
+        texels: Vec<[f32; 4]>,
+        encoded: bool,
+    },
+}
+
+/// [`load_texture`] on an image already in memory; `name` names it in warnings and errors.
+pub fn texture_from_image(
+    img: &DynamicImage,
+    name: &Path,
+    space: ColorSpace,
+    channel: Option<u8>,
+    mipmaps: bool,
+    max_dimension: u32,
+    on_warning: &mut dyn FnMut(String),
+) -> Result<TextureData, TextureError> {
+    let (width, height) = (img.width(), img.height());
+    if width == 0 || height == 0 {
+        return Err(TextureError::Corrupt {
+            path: name.to_path_buf(),
+            format: "image",
+            reason: format!("empty image ({width}×{height})"),
+        });
+    }
+    let grey = !img.color().has_color();
+    if space == ColorSpace::NormalMap && grey {
+        on_warning(format!(
+            "{}: a greyscale image used as a normal map (is it a height/bump map? luz reads \
+             normal maps only: RGB = (n + 1) / 2, tangent space)",
+            name.display()
+        ));
+    }
+    let channel = channel.map(|c| usize::from(c.min(3)));
+    let source = match img {
+        DynamicImage::ImageLuma8(_)
+        | DynamicImage::ImageLumaA8(_)
+        | DynamicImage::ImageRgb8(_)
+        | DynamicImage::ImageRgba8(_) => {
+            let mut bytes = img.to_rgba8().into_raw();
+            if let Some(c) = channel {
+                bytes.par_chunks_exact_mut(4).for_each(|t| {
+                    let v = t[c];
+                    t.copy_from_slice(&[v, v, v, 255]);
+                });
+            }
+            Source::Bytes(bytes)
+        }
+        DynamicImage::ImageLuma16(_)
+        | DynamicImage::ImageLumaA16(_)
+        | DynamicImage::ImageRgb16(_)
+        | DynamicImage::ImageRgba16(_) => {
+            let raw = img.to_rgba16().into_raw();
+            let texels = raw
+                .par_chunks_exact(4)
+                .map(|t| pick(std::array::from_fn(|c| f32::from(t[c]) / 65535.0), channel))
+                .collect();
+            Source::Floats {
+                texels,
+                encoded: true,
+            }
+        }
+        DynamicImage::ImageRgb32F(_) | DynamicImage::ImageRgba32F(_) => {
+            let raw = img.to_rgba32f().into_raw();
+            let mut bad = 0usize;
+            let texels: Vec<[f32; 4]> = raw
+                .chunks_exact(4)
+                .map(|t| {
+                    let t: [f32; 4] = std::array::from_fn(|c| {
+                        let v = t[c];
+                        if v.is_nan() {
+                            bad += 1;
+                            0.0
+                        } else if v.abs() > F16_MAX {
+                            bad += 1;
+                            v.clamp(-F16_MAX, F16_MAX)
+                        } else {
+                            v
+                        }
+                    });
+                    pick(t, channel)
+                })
+                .collect();
+            if bad > 0 {
+                on_warning(format!(
+                    "{}: {bad} channel values are NaN or beyond the half-float range (±65504); \
+                     NaN became 0 and the others were clamped",
+                    name.display()
+                ));
+            }
+            Source::Floats {
+                texels,
+                encoded: false,
+            }
+        }
+        other => {
+            return Err(TextureError::Unsupported {
+                path: name.to_path_buf(),
+                format: "image",
+                reason: format!("pixel type {:?}", other.color()),
+            })
+        }
+    };
+
+    let format = match (&source, space) {
+        (Source::Bytes(_), ColorSpace::Srgb) => TexFormat::Rgba8Srgb,
+        (Source::Bytes(_), _) => TexFormat::Rgba8Unorm,
+        (Source::Floats { .. }, _) => TexFormat::Rgba16F,
+    };
+    let codec = Codec { format };
+
+    // Level 0 in float (linear light; normal maps keep their [0, 1] encoding).
+    let mut level: Vec<[f32; 4]> = match &source {
+        Source::Bytes(bytes) => {
+            let lut = srgb_decode_table();
+            bytes
+                .par_chunks_exact(4)
+                .map(|t| match space {
+                    ColorSpace::Srgb => [
+                        lut[t[0] as usize],
+                        lut[t[1] as usize],
+                        lut[t[2] as usize],
+                        t[3] as f32 / 255.0,
+                    ],
+                    _ => std::array::from_fn(|c| t[c] as f32 / 255.0),
+                })
+                .collect()
+        }
+        Source::Floats { texels, encoded } => {
+            if *encoded && space == ColorSpace::Srgb {
+                texels
+                    .par_iter()
+                    .map(|t| {
+                        [
+                            srgb_decode(t[0]),
+                            srgb_decode(t[1]),
+                            srgb_decode(t[2]),
+                            t[3],
+                        ]
+                    })
+                    .collect()
+            } else {
+                texels.clone()
+            }
+        }
+    };
+
+    let max_dimension = max_dimension.max(1);
+    let (mut w, mut h) = (width, height);
+    let level0 = if width > max_dimension || height > max_dimension {
+        let scale = f64::from(max_dimension) / f64::from(width.max(height));
+        let nw = ((f64::from(width) * scale).round() as u32).clamp(1, max_dimension);
+        let nh = ((f64::from(height) * scale).round() as u32).clamp(1, max_dimension);
+        on_warning(format!(
+            "{}: {width}×{height} is larger than the device allows ({max_dimension} per side); \
+             downscaled to {nw}×{nh} (area filter)",
+            name.display()
+        ));
+        level = resample(&level, w, h, nw, nh);
+        if space == ColorSpace::NormalMap {
+            renormalise(&mut level);
+        }
+        (w, h) = (nw, nh);
+        codec.encode(&level)
+    } else {
+        match source {
+            Source::Bytes(bytes) => bytes,
+            Source::Floats { .. } => codec.encode(&level),
+        }
+    };
+
+    let (width, height) = (w, h);
+    let mut mips = vec![level0];
+    if mipmaps {
+        for _ in 1..mip_count(width, height) {
+            let (nw, nh) = mip_extent(w, h, 1);
+            level = resample(&level, w, h, nw, nh);
+            if space == ColorSpace::NormalMap {
+                renormalise(&mut level);
+            }
+            mips.push(codec.encode(&level));
+            (w, h) = (nw, nh);
+        }
+    }
+    Ok(TextureData {
+        width,
+        height,
+        format,
+        mips,
+    })
+}
+
+/// Copies channel `c` to R, G and B (alpha 1).
+fn pick(t: [f32; 4], channel: Option<usize>) -> [f32; 4] {
+    match channel {
+        Some(c) => [t[c], t[c], t[c], 1.0],
+        None => t,
+    }
+}
+
+/// Float texels → the bytes of a level.
+#[derive(Clone, Copy)]
+struct Codec {
+    format: TexFormat,
+}
+
+impl Codec {
+    fn encode(self, texels: &[[f32; 4]]) -> Vec<u8> {
+        let bpt = self.format.bytes_per_texel();
+        let mut out = vec![0u8; texels.len() * bpt];
+        out.par_chunks_exact_mut(bpt)
+            .zip(texels.par_iter())
+            .for_each(|(o, t)| match self.format {
+                TexFormat::Rgba8Srgb => {
+                    for c in 0..3 {
+                        o[c] = srgb_encode_code(t[c]);
+                    }
+                    o[3] = unorm8(t[3]);
+                }
+                TexFormat::Rgba8Unorm => {
+                    for c in 0..4 {
+                        o[c] = unorm8(t[c]);
+                    }
+                }
+                TexFormat::Rgba16F => {
+                    for c in 0..4 {
+                        o[2 * c..2 * c + 2].copy_from_slice(&f32_to_f16(t[c]).to_le_bytes());
+                    }
+                }
+                TexFormat::Rgba32F => {
+                    for c in 0..4 {
+                        o[4 * c..4 * c + 4].copy_from_slice(&t[c].to_le_bytes());
+                    }
+                }
+            });
+        out
+    }
+}
+
+fn unorm8(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// The 8-bit sRGB code nearest (in encoded space) to a linear value: a binary search of the
+/// 255 decision thresholds decode((k + 0.5) / 255), exactly `round(encode(v) · 255)` but
+/// without a `powf` per channel.
+fn srgb_encode_code(v: f32) -> u8 {
+    static THRESHOLDS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    let t = THRESHOLDS.get_or_init(|| {
+        std::array::from_fn(|k| {
+            let e = (k as f64 + 0.5) / 255.0;
+            let l = if e <= 0.040_45 {
+                e / 12.92
+            } else {
+                ((e + 0.055) / 1.055).powf(2.4)
+            };
+            l as f32
+        })
+    });
+    if v.is_nan() {
+        return 0;
+    }
+    // Number of thresholds ≤ v: the code.
+    t.partition_point(|&x| x <= v) as u8
+}
+
+/// Renormalises normal-map texels in their (n + 1) / 2 encoding; a zero average becomes +z.
+fn renormalise(texels: &mut [[f32; 4]]) {
+    texels.par_iter_mut().for_each(|t| {
+        let n = Vec3::new(t[0], t[1], t[2]) * 2.0 - Vec3::ONE;
+        let n = n.try_normalize().unwrap_or(Vec3::Z);
+        let e = (n + Vec3::ONE) * 0.5;
+        t[0] = e.x;
+        t[1] = e.y;
+        t[2] = e.z;
+    });
+}
+
+/// Per destination index along one axis: the first source index and the weights of the source
+/// texels its footprint covers (area-weighted, summing to 1).
+fn area_weights(src: u32, dst: u32) -> Vec<(usize, Vec<f32>)> {
+    let scale = f64::from(src) / f64::from(dst);
+    (0..dst)
+        .map(|i| {
+            let a = f64::from(i) * scale;
+            let b = (f64::from(i + 1) * scale).min(f64::from(src));
+            let first = a.floor() as usize;
+            let last = (b.ceil() as usize).clamp(first + 1, src as usize);
+            let weights = (first..last)
+                .map(|j| {
+                    let lo = a.max(j as f64);
+                    let hi = b.min(j as f64 + 1.0);
+                    ((hi - lo).max(0.0) / (b - a)) as f32
+                })
+                .collect();
+            (first, weights)
+        })
+        .collect()
+}
+
+/// Area (box) resampling of an RGBA float image from sw×sh to dw×dh (separable: rows, then
+/// columns). With a factor of exactly 2 it is the 2×2 box filter.
+fn resample(src: &[[f32; 4]], sw: u32, sh: u32, dw: u32, dh: u32) -> Vec<[f32; 4]> {
+    let (sw_, dw_) = (sw as usize, dw as usize);
+    let xw = area_weights(sw, dw);
+    let yw = area_weights(sh, dh);
+    // Horizontal pass: sh rows of dw texels.
+    let mut tmp = vec![[0.0f32; 4]; dw_ * sh as usize];
+    tmp.par_chunks_exact_mut(dw_)
+        .zip(src.par_chunks_exact(sw_))
+        .for_each(|(out, row)| {
+            for (o, (first, ws)) in out.iter_mut().zip(&xw) {
+                let mut acc = [0.0f32; 4];
+                for (k, &w) in ws.iter().enumerate() {
+                    let t = row[first + k];
+                    for c in 0..4 {
+                        acc[c] += w * t[c];
+                    }
+                }
+                *o = acc;
+            }
+        });
+    // Vertical pass.
+    let mut out = vec![[0.0f32; 4]; dw_ * dh as usize];
+    out.par_chunks_exact_mut(dw_)
+        .zip(yw.par_iter())
+        .for_each(|(row, (first, ws))| {
+            for (k, &w) in ws.iter().enumerate() {
+                let src_row = &tmp[(first + k) * dw_..(first + k + 1) * dw_];
+                for (o, t) in row.iter_mut().zip(src_row) {
+                    for c in 0..4 {
+                        o[c] += w * t[c];
+                    }
+                }
+            }
+        });
+    out
+}
+
+/// Largest finite half float.
+const F16_MAX: f32 = 65504.0;
+
+/// IEEE 754 binary32 → binary16, round to nearest even; overflow gives ±Inf, NaN stays NaN.
+pub fn f32_to_f16(value: f32) -> u16 {
+    let x = value.to_bits();
+    let sign = (x >> 16) & 0x8000;
+    let exp = x & 0x7f80_0000;
+    let man = x & 0x007f_ffff;
+    if exp == 0x7f80_0000 {
+        // Inf or NaN (keep NaN a NaN with a non-zero mantissa).
+        let nan = if man == 0 { 0 } else { 0x0200 | (man >> 13) };
+        return (sign | 0x7c00 | nan) as u16;
+    }
+    let half_exp = ((exp >> 23) as i32) - 127 + 15;
+    if half_exp >= 0x1f {
+        return (sign | 0x7c00) as u16;
+    }
+    if half_exp <= 0 {
+        // Subnormal half or zero.
+        if 14 - half_exp > 24 {
+            return sign as u16;
+        }
+        let man = man | 0x0080_0000;
+        let shift = (14 - half_exp) as u32;
+        let mut half_man = man >> shift;
+        let round_bit = 1u32 << (shift - 1);
+        if man & round_bit != 0 && man & (3 * round_bit - 1) != 0 {
+            half_man += 1;
+        }
+        return (sign | half_man) as u16;
+    }
+    let bits = sign | ((half_exp as u32) << 10) | (man >> 13);
+    let round_bit = 0x0000_1000;
+    if man & round_bit != 0 && man & (3 * round_bit - 1) != 0 {
+        // A carry into the exponent is correct rounding (up to Inf).
+        (bits + 1) as u16
+    } else {
+        bits as u16
+    }
+}
+
+/// IEEE 754 binary16 → binary32 (exact).
+pub fn f16_to_f32(h: u16) -> f32 {
+    let sign = u32::from(h & 0x8000) << 16;
+    let exp = u32::from(h >> 10) & 0x1f;
+    let man = u32::from(h & 0x03ff);
+    let bits = match (exp, man) {
+        (0, 0) => sign,
+        (0, m) => {
+            // Subnormal: value = m · 2^−24.
+            let v = m as f32 * (1.0 / 16_777_216.0);
+            return if sign != 0 { -v } else { v };
+        }
+        (0x1f, 0) => sign | 0x7f80_0000,
+        (0x1f, m) => sign | 0x7fc0_0000 | (m << 13),
+        (e, m) => sign | ((e + 127 - 15) << 23) | (m << 13),
+    };
+    f32::from_bits(bits)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Procedural images for tests.
+
+/// A `size`×`size` checkerboard of `cells`×`cells` squares, colour `a` in the top-left square.
+/// With `cells == size` every texel alternates.
+pub fn checker(size: u32, cells: u32, a: [u8; 4], b: [u8; 4]) -> RgbaImage {
+    let cells = cells.clamp(1, size.max(1));
+    RgbaImage::from_fn(size, size, |x, y| {
+        let cx = u64::from(x) * u64::from(cells) / u64::from(size);
+        let cy = u64::from(y) * u64::from(cells) / u64::from(size);
+        image::Rgba(if (cx + cy) % 2 == 0 { a } else { b })
+    })
+}
+
+/// A tileable tangent-space normal map, `size`×`size`, from value noise of period 8 cells
+/// (two octaves) seeded by `seed`. `strength` scales the slopes (0 gives a flat map, every
+/// texel (128, 128, 255); 1 tilts up to about 50°). Normals follow the glTF convention (+Y up
+/// in the image) and are encoded as round((n + 1) / 2 · 255): each decodes to a unit vector
+/// within 8-bit quantisation, with z > 0.
+pub fn noise_normal_map(size: u32, seed: u64, strength: f32) -> RgbaImage {
+    const PERIOD: u32 = 8;
+    let size = size.max(1);
+    let hash = |x: u32, y: u32, octave: u32| -> f32 {
+        let mut h = seed
+            ^ (u64::from(x) << 1)
+            ^ (u64::from(y) << 21)
+            ^ (u64::from(octave) << 42)
+            ^ 0x9e37_79b9_7f4a_7c15;
+        h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        h ^= h >> 31;
+        (h >> 40) as f32 / (1u64 << 24) as f32
+    };
+    // Periodic value noise at (u, v) in [0, 1)²: `period` lattice cells per side, smoothstep
+    // interpolation.
+    let noise = |u: f32, v: f32, period: u32, octave: u32| -> f32 {
+        let (x, y) = (u * period as f32, v * period as f32);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (sx, sy) = (fx * fx * (3.0 - 2.0 * fx), fy * fy * (3.0 - 2.0 * fy));
+        let (ix, iy) = (
+            (x0 as i64).rem_euclid(period as i64) as u32,
+            (y0 as i64).rem_euclid(period as i64) as u32,
+        );
+        let (jx, jy) = ((ix + 1) % period, (iy + 1) % period);
+        let a = hash(ix, iy, octave) + (hash(jx, iy, octave) - hash(ix, iy, octave)) * sx;
+        let b = hash(ix, jy, octave) + (hash(jx, jy, octave) - hash(ix, jy, octave)) * sx;
+        a + (b - a) * sy
+    };
+    let height = |x: u32, y: u32| -> f32 {
+        let (u, v) = (x as f32 / size as f32, y as f32 / size as f32);
+        noise(u, v, PERIOD, 0) + 0.5 * noise(u, v, 2 * PERIOD, 1)
+    };
+    let heights: Vec<f32> = (0..size * size)
+        .into_par_iter()
+        .map(|i| height(i % size, i / size))
+        .collect();
+    let at = |x: i64, y: i64| -> f32 {
+        let s = i64::from(size);
+        heights[(y.rem_euclid(s) * s + x.rem_euclid(s)) as usize]
+    };
+    // Slopes per lattice cell of the first octave.
+    let cell = size as f32 / PERIOD as f32;
+    RgbaImage::from_fn(size, size, |x, y| {
+        let (x, y) = (i64::from(x), i64::from(y));
+        let dx = (at(x + 1, y) - at(x - 1, y)) * 0.5 * cell;
+        let dy_down = (at(x, y + 1) - at(x, y - 1)) * 0.5 * cell;
+        // Image rows go down; +Y of the normal is up, so ∂h/∂up = −∂h/∂row.
+        let n = Vec3::new(-strength * dx, strength * dy_down, 1.0).normalize();
+        let e = (n + Vec3::ONE) * 0.5 * 255.0;
+        image::Rgba([e.x.round() as u8, e.y.round() as u8, e.z.round() as u8, 255])
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn data(img: RgbaImage, space: ColorSpace) -> TextureData {
+        texture_from_image(
+            &DynamicImage::ImageRgba8(img),
+            Path::new("test.png"),
+            space,
+            None,
+            true,
+            16384,
+            &mut |w| panic!("unexpected warning: {w}"),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn mip_sizes() {
+        assert_eq!(mip_count(1, 1), 1);
+        assert_eq!(mip_count(2048, 2048), 12);
+        assert_eq!(mip_count(5, 3), 3);
+        assert_eq!(mip_count(0, 0), 1);
+        assert_eq!(mip_extent(5, 3, 1), (2, 1));
+        assert_eq!(mip_extent(5, 3, 2), (1, 1));
+        assert_eq!(mip_extent(5, 3, 40), (1, 1));
+    }
+
+    #[test]
+    fn half_floats_round_trip() {
+        for (f, h) in [
+            (0.0f32, 0x0000u16),
+            (-0.0, 0x8000),
+            (1.0, 0x3c00),
+            (-2.0, 0xc000),
+            (0.5, 0x3800),
+            (65504.0, 0x7bff),
+            (65520.0, 0x7c00),
+            (f32::INFINITY, 0x7c00),
+            (6.103_515_6e-5, 0x0400),
+            (5.960_464_5e-8, 0x0001),
+            (1.0 / 3.0, 0x3555),
+        ] {
+            assert_eq!(f32_to_f16(f), h, "{f}");
+        }
+        assert!(f16_to_f32(f32_to_f16(f32::NAN)).is_nan());
+        for h in (0u16..0x7c00).step_by(7) {
+            assert_eq!(f32_to_f16(f16_to_f32(h)), h);
+        }
+    }
+
+    #[test]
+    fn srgb_codes_match_the_exact_encoding() {
+        for i in 0..=4096 {
+            let v = i as f32 / 4096.0;
+            assert_eq!(srgb_encode_code(v), crate::color::srgb_encode_u8(v), "{v}");
+        }
+        for c in 0..=255u8 {
+            assert_eq!(srgb_encode_code(crate::color::srgb_decode_u8(c)), c);
+        }
+        assert_eq!(srgb_encode_code(-1.0), 0);
+        assert_eq!(srgb_encode_code(2.0), 255);
+    }
+
+    #[test]
+    fn area_weights_cover_odd_sizes() {
+        let w = area_weights(5, 2);
+        assert_eq!(w[0].0, 0);
+        assert_eq!(w[1].0, 2);
+        for (i, expected) in [[0.4, 0.4, 0.2], [0.2, 0.4, 0.4]].iter().enumerate() {
+            for (a, b) in w[i].1.iter().zip(expected) {
+                assert!((a - b).abs() < 1e-6, "{w:?}");
+            }
+        }
+        let same = area_weights(3, 3);
+        assert!(same.iter().all(|(_, ws)| ws == &vec![1.0]));
+    }
+
+    #[test]
+    fn srgb_mips_average_in_linear_light() {
+        let t = data(
+            checker(8, 8, [0, 0, 0, 255], [255, 255, 255, 255]),
+            ColorSpace::Srgb,
+        );
+        assert_eq!(t.format, TexFormat::Rgba8Srgb);
+        assert_eq!(t.mips.len(), 4);
+        assert!(t.mips[1].chunks(4).all(|p| p == [188, 188, 188, 255]));
+        let lin = data(
+            checker(8, 8, [0, 0, 0, 255], [255, 255, 255, 255]),
+            ColorSpace::Linear,
+        );
+        assert!(lin.mips[1].chunks(4).all(|p| p == [128, 128, 128, 255]));
+    }
+
+    #[test]
+    fn channel_is_copied_to_rgb() {
+        let img = RgbaImage::from_pixel(4, 4, image::Rgba([10, 20, 30, 40]));
+        let t = texture_from_image(
+            &DynamicImage::ImageRgba8(img),
+            Path::new("m.png"),
+            ColorSpace::Linear,
+            Some(2),
+            false,
+            4096,
+            &mut |_| {},
+        )
+        .unwrap();
+        assert_eq!(t.mips.len(), 1);
+        assert!(t.mips[0].chunks(4).all(|p| p == [30, 30, 30, 255]));
+    }
+
+    #[test]
+    fn normal_mips_stay_unit() {
+        let t = data(noise_normal_map(64, 7, 1.5), ColorSpace::NormalMap);
+        assert_eq!(t.format, TexFormat::Rgba8Unorm);
+        for level in 1..t.mips.len() {
+            for p in t.mips[level].chunks(4) {
+                let n = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / 127.5 - Vec3::ONE;
+                assert!((n.length() - 1.0).abs() < 0.02, "level {level}: {p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn float_images_become_half_floats() {
+        let img = image::Rgba32FImage::from_pixel(3, 2, image::Rgba([0.25, 1e6, f32::NAN, 1.0]));
+        let mut warnings = Vec::new();
+        let t = texture_from_image(
+            &DynamicImage::ImageRgba32F(img),
+            Path::new("e.exr"),
+            ColorSpace::Srgb,
+            None,
+            true,
+            4096,
+            &mut |w| warnings.push(w),
+        )
+        .unwrap();
+        assert_eq!(t.format, TexFormat::Rgba16F);
+        assert_eq!(t.mips.len(), 2);
+        assert_eq!(t.texel(0, 2, 1), Some([0.25, 65504.0, 0.0, 1.0]));
+        assert_eq!(t.texel(1, 0, 0), Some([0.25, 65504.0, 0.0, 1.0]));
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(warnings[0].contains("e.exr"), "{warnings:?}");
+    }
+
+    #[test]
+    fn generators_are_deterministic_and_tile() {
+        assert_eq!(noise_normal_map(32, 1, 1.0), noise_normal_map(32, 1, 1.0));
+        assert_ne!(noise_normal_map(32, 1, 1.0), noise_normal_map(32, 2, 1.0));
+        let flat = noise_normal_map(16, 3, 0.0);
+        assert!(flat.pixels().all(|p| p.0 == [128, 128, 255, 255]));
+        let c = checker(4, 2, [1, 1, 1, 1], [2, 2, 2, 2]);
+        assert_eq!(c.get_pixel(0, 0).0, [1; 4]);
+        assert_eq!(c.get_pixel(2, 0).0, [2; 4]);
+        assert_eq!(c.get_pixel(2, 2).0, [1; 4]);
+    }
+}
