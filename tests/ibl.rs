@@ -7,6 +7,16 @@ mod common;
 use common::*;
 use glam::Vec3;
 use luz::headless::Headless;
+use luz::render::ibl::IblSettings;
+
+fn render_ibl(
+    ctx: &std::sync::Arc<luz::vk::Context>,
+    scene: &luz::scene::Scene,
+) -> luz::imageio::LinearImage {
+    let mut r = Headless::with_ibl_settings(ctx, scene, &IblSettings::fast()).expect("renderer");
+    r.render().expect("frame");
+    r.image().expect("readback")
+}
 
 const W: u32 = 96;
 const H: u32 = 96;
@@ -52,7 +62,9 @@ fn white_furnace() {
             r#"{"model": "lambert", "albedo": [1, 1, 1]}"#,
             &format!(r#"{{"uniform": [1, 1, 1], "diffuse_method": "{diffuse}"}}"#),
         );
-        let img = render(&scene);
+        let ctx = gpu();
+        let img = render_ibl(&ctx, &scene);
+        assert_no_validation_messages(&ctx);
         let worst = img
             .pixels
             .iter()
@@ -85,7 +97,7 @@ fn metal_furnace_matches_directional_albedo() {
                     r#"{{"uniform": [1, 1, 1], "specular_method": "{method}", "samples": 1024}}"#
                 ),
             );
-            let img = render_on(&ctx, &scene);
+            let img = render_ibl(&ctx, &scene);
             let mut worst = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
             for j in 0..H {
                 for i in 0..W {
@@ -182,7 +194,7 @@ fn split_sum_vs_importance_on_real_environment() {
                     hdr.display()
                 ),
             );
-            render_on(&ctx, &scene)
+            render_ibl(&ctx, &scene)
         };
         let split = render_with("split_sum");
         let is = render_with("importance");

@@ -162,6 +162,12 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y) {
         spec = ibl_specular_importance(p, n, v, x, y, s.roughness);
     } else {
         vec3 r = 2.0 * dot(n, v) * n - v;
+        // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3; env::reference::
+        // specular_dominant_direction): the lobe leans towards n as it widens, which the n = v = r
+        // assumption of the prefiltered cube ignores.
+        float a = s.roughness * s.roughness;
+        float k = (1.0 - a) * (sqrt(1.0 - a) + a);
+        r = normalize(mix(n, r, k));
         float lod = s.roughness * (env.params.x - 1.0);
         vec3 pre = textureLod(prefiltered_cube, r, lod).rgb;
         spec = s.weight * pre * (s.f0 * ab.x + ab.y);

@@ -51,6 +51,20 @@ impl Default for IblSettings {
 }
 
 impl IblSettings {
+    /// Small sizes for tests and previews: 128² cubes, 128² LUT at 512 samples.
+    pub fn fast() -> Self {
+        Self {
+            env_size: 128,
+            irradiance_size: 32,
+            irradiance_samples: 128,
+            prefilter_size: 128,
+            prefilter_mips: 8,
+            prefilter_samples: 32,
+            lut_size: 128,
+            lut_samples: 512,
+        }
+    }
+
     /// A string naming every setting (part of the cache key).
     pub fn describe(&self) -> String {
         format!(
