@@ -346,3 +346,46 @@ fn depth_cueing() {
         |_| false,
     );
 }
+
+#[test]
+fn blinn_phong_directional() {
+    let m = Classic {
+        blinn: true,
+        n: 60.0,
+        ..PHONG
+    };
+    let dir = Vec3::new(-0.3, -1.0, 0.5).normalize();
+    let json = scene_json(
+        &format!(
+            r#"{{"type": "directional", "direction": [{}, {}, {}], "color": [1, 0.9, 0.7], "intensity": 1.2}}"#,
+            dir.x, dir.y, dir.z
+        ),
+        &m.json(),
+        "",
+    );
+    check(
+        "blinn_phong/directional",
+        &json,
+        |p| m.ambient() + m.light(p, -dir, Vec3::new(1.0, 0.9, 0.7) * 1.2),
+        |_| false,
+    );
+}
+
+#[test]
+fn phong_point_inverse_square() {
+    let lp = Vec3::new(-0.5, 1.1, 0.9);
+    let json = scene_json(
+        r#"{"type": "point", "position": [-0.5, 1.1, 0.9], "color": [1, 1, 1], "intensity": 2.5, "falloff": "inverse_square"}"#,
+        &PHONG.json(),
+        "",
+    );
+    check(
+        "phong/point/inverse_square",
+        &json,
+        |p| {
+            let d = lp - p;
+            PHONG.ambient() + PHONG.light(p, d.normalize(), Vec3::splat(2.5 / d.length_squared()))
+        },
+        |_| false,
+    );
+}
