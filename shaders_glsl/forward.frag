@@ -6,6 +6,7 @@
 //! variant gouraud_ibl: SHADING_GOURAUD IBL
 //! variant phong_ibl: SHADING_PHONG IBL
 
+#define LUZ_FRAGMENT
 #include "include/lighting.glsl"
 
 layout(location = 0) in float in_depth;
@@ -17,6 +18,7 @@ layout(location = 1) in vec3 in_color;
 layout(location = 1) in vec3 in_world;
 layout(location = 2) in vec3 in_normal;
 layout(location = 3) in vec4 in_tangent;
+layout(location = 4) in vec2 in_uv;
 #endif
 
 layout(location = 0) out vec4 out_color;
@@ -29,7 +31,7 @@ void main() {
     vec3 x;
     vec3 y;
     tangent_frame(n, in_tangent, x, y);
-    vec3 c = shade(in_world, n, x, y);
+    vec3 c = shade(in_world, n, x, y, in_uv);
 #endif
     out_color = vec4(apply_fog(c, in_depth), 1.0);
 }

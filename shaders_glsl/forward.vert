@@ -10,6 +10,7 @@
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
 #ifdef SHADING_FLAT
 layout(location = 4) in vec3 in_centroid;  // triangle centroid, object space (binding 1)
@@ -24,6 +25,7 @@ layout(location = 1) out vec3 out_color;
 layout(location = 1) out vec3 out_world;
 layout(location = 2) out vec3 out_normal;
 layout(location = 3) out vec4 out_tangent;
+layout(location = 4) out vec2 out_uv;
 #endif
 
 void main() {
@@ -40,15 +42,16 @@ void main() {
     vec3 x;
     vec3 y;
     tangent_frame(n, t, x, y);
-    out_color = shade(c, n, x, y);
+    out_color = shade(c, n, x, y, in_uv);
 #elif defined(SHADING_GOURAUD)
     vec3 x;
     vec3 y;
     tangent_frame(n, t, x, y);
-    out_color = shade(world.xyz, n, x, y);
+    out_color = shade(world.xyz, n, x, y, in_uv);
 #else
     out_world = world.xyz;
     out_normal = n;
     out_tangent = t;
+    out_uv = in_uv;
 #endif
 }

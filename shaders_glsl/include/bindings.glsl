@@ -51,6 +51,31 @@ layout(set = SET_FRAME, binding = BINDING_OBJECTS, std430) readonly buffer Objec
     ObjectData objects[];
 };
 
+// Per-material maps (set 2; src/render/material.rs): one sampler per TextureSlot, in
+// TextureSlot::ALL order, neutral 1×1 textures where a material has no map.
+#define SET_MATERIAL 2
+#define MAP_BASE_COLOR 0
+#define MAP_SPECULAR 1
+#define MAP_METALLIC 2
+#define MAP_ROUGHNESS 3
+#define MAP_ORM 4
+#define MAP_NORMAL 5
+#define MAP_OCCLUSION 6
+#define MAP_EMISSIVE 7
+layout(set = SET_MATERIAL, binding = 0) uniform sampler2D map_base_color;
+layout(set = SET_MATERIAL, binding = 1) uniform sampler2D map_specular;
+layout(set = SET_MATERIAL, binding = 2) uniform sampler2D map_metallic;
+layout(set = SET_MATERIAL, binding = 3) uniform sampler2D map_roughness;
+layout(set = SET_MATERIAL, binding = 4) uniform sampler2D map_orm;
+layout(set = SET_MATERIAL, binding = 5) uniform sampler2D map_normal;
+layout(set = SET_MATERIAL, binding = 6) uniform sampler2D map_occlusion;
+layout(set = SET_MATERIAL, binding = 7) uniform sampler2D map_emissive;
+layout(set = SET_MATERIAL, binding = 8, std140) uniform MaterialExtra {
+    vec4 emissive;  // rgb emission factor
+    vec4 params;    // normal_scale, occlusion_strength
+    uvec4 present;  // x: bit MAP_* set when that map exists
+} mat_extra;
+
 // Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush): the packed BRDF
 // parameters of src/brdf/gpu.rs (slot table in docs/brdf.md), then the object's index.
 layout(push_constant) uniform MaterialPush {

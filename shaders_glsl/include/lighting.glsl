@@ -46,6 +46,81 @@ BrdfParams material_params() {
     return p;
 }
 
+bool has_map(uint slot) {
+    return (mat_extra.present.x & (1u << slot)) != 0u;
+}
+
+vec4 sample_map(sampler2D s, vec2 uv) {
+#ifdef LUZ_FRAGMENT
+    return texture(s, uv);
+#else
+    return textureLod(s, uv, 0.0);
+#endif
+}
+
+// What the maps make of the material at one point: parameters, shading frame, occlusion, emission.
+struct Surface {
+    BrdfParams p;
+    vec3 n;
+    vec3 x;
+    vec3 y;
+    float occlusion;
+    vec3 emission;
+};
+
+Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
+    Surface s;
+    s.p = material_params();
+    s.n = N;
+    s.x = X;
+    s.y = Y;
+    s.occlusion = 1.0;
+    s.emission = mat_extra.emissive.rgb;
+    if (mat_extra.present.x == 0u) {
+        return s;
+    }
+    if (has_map(MAP_BASE_COLOR)) {
+        s.p.color.rgb *= sample_map(map_base_color, uv).rgb;
+    }
+    if (has_map(MAP_SPECULAR)) {
+        s.p.spec.rgb *= sample_map(map_specular, uv).rgb;
+    }
+    if (has_map(MAP_METALLIC)) {
+        s.p.spec.w *= sample_map(map_metallic, uv).r;
+    }
+    if (has_map(MAP_ROUGHNESS)) {
+        s.p.color.w *= sample_map(map_roughness, uv).r;
+    }
+    float occ = 1.0;
+    if (has_map(MAP_ORM)) {
+        vec3 orm = sample_map(map_orm, uv).rgb;
+        occ = orm.r;
+        s.p.color.w *= orm.g;
+        s.p.spec.w *= orm.b;
+    }
+    if (has_map(MAP_OCCLUSION)) {
+        occ = sample_map(map_occlusion, uv).r;
+    }
+    s.occlusion = 1.0 + mat_extra.params.y * (occ - 1.0);
+    if (has_map(MAP_EMISSIVE)) {
+        s.emission *= sample_map(map_emissive, uv).rgb;
+    }
+    if (has_map(MAP_NORMAL)) {
+        // Tangent-space normal (glTF): n = normalize((2t − 1) · (scale, scale, 1)) in (X, Y, N).
+        vec3 t = sample_map(map_normal, uv).xyz * 2.0 - 1.0;
+        t.xy *= mat_extra.params.x;
+        vec3 n = normalize(t.x * X + t.y * Y + t.z * N);
+        vec3 x = X - n * dot(n, X);
+        float len2 = dot(x, x);
+        if (len2 > 1e-12) {
+            s.x = x * inversesqrt(len2);
+            s.y = cross(n, s.x) * (dot(cross(N, X), Y) < 0.0 ? -1.0 : 1.0);
+            s.n = n;
+        }
+    }
+    return s;
+}
+
 // The ambient term: the slides' I_a k_a O_d for the classic models; for the others the uniform
 // ambient radiance seen by the diffuse term (diffuse albedo × ambient).
 vec3 ambient_term(BrdfParams p, vec3 ambient) {
@@ -65,23 +140,25 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 
-// Outgoing value at P (world space) with unit normal N and tangent frame (X, Y): ambient plus
-// every light, each through the CPU reference's mirror brdf_radiance.
-vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y) {
-    BrdfParams p = material_params();
+// Outgoing value at P (world space) with unit normal N, tangent frame (X, Y) and texture
+// coordinates uv: ambient plus every light, each through the CPU reference's mirror brdf_radiance,
+// plus the environment (IBL) and emission.
+vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
+    Surface s = surface_at(N, X, Y, uv);
+    BrdfParams p = s.p;
     vec3 V = normalize(frame.camera_pos.xyz - P);
-    vec3 result = ambient_term(p, frame.ambient.rgb);
+    vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);
     uint count = frame.counts.x;
     for (uint i = 0u; i < count; ++i) {
         vec3 l;
         vec3 E;
         light_incidence(lights[i], P, l, E);
-        result += brdf_radiance(p, N, l, V, X, Y, E);
+        result += brdf_radiance(p, s.n, l, V, s.x, s.y, E);
     }
 #ifdef IBL
-    result += ibl_shade(p, N, V, X, Y);
+    result += s.occlusion * ibl_shade(p, s.n, V, s.x, s.y);
 #endif
-    return result;
+    return result + s.emission;
 }
 
 // A tangent frame from a normal and a (possibly unnormalised, non-orthogonal) tangent with

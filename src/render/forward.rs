@@ -9,6 +9,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
+use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
 use crate::scene::{Scene, Shading};
 use crate::vk::buffer::Uploader;
@@ -131,6 +132,7 @@ struct GpuMesh {
 
 struct Draw {
     mesh: usize,
+    material: usize,
     variant: VariantKey,
     push: MaterialPush,
 }
@@ -167,6 +169,8 @@ pub struct ForwardPass {
     light_count: u32,
     skybox: Option<Pipeline>,
     env_set: Option<vk::DescriptorSet>,
+    materials: MaterialSets,
+    _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
 
@@ -211,15 +215,16 @@ impl ForwardPass {
             offset: 0,
             size: std::mem::size_of::<MaterialPush>() as u32,
         }];
-        let layout = match ibl {
-            Some(i) => PipelineLayout::new(
-                ctx,
-                "forward layout (ibl)",
-                &[&set_layout, &i.set_layout],
-                &push,
-            )?,
-            None => PipelineLayout::new(ctx, "forward layout", &[&set_layout], &push)?,
-        };
+        let materials = MaterialSets::new(ctx, pool, scene, &mut |w| eprintln!("warning: {w}"))?;
+        // Set 1 is the environment; without one, an empty layout keeps set 2 at index 2.
+        let empty_layout = DescriptorSetLayout::new(ctx, "empty set layout", &[])?;
+        let env_layout = ibl.map(|i| &i.set_layout).unwrap_or(&empty_layout);
+        let layout = PipelineLayout::new(
+            ctx,
+            "forward layout",
+            &[&set_layout, env_layout, &materials.set_layout],
+            &push,
+        )?;
         let pool_sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -314,6 +319,7 @@ impl ForwardPass {
             objects.push(gpu::object_data(obj.transform.matrix()));
             draws.push(Draw {
                 mesh: mesh_index,
+                material: obj.material,
                 variant: VariantKey {
                     shading: ShadingKey::from_shading(obj.shading),
                     model,
@@ -418,6 +424,8 @@ impl ForwardPass {
             light_count: lights.len() as u32,
             skybox,
             env_set: ibl.map(|i| i.set),
+            materials,
+            _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
         pass.update_camera(scene, aspect)?;
@@ -428,6 +436,11 @@ impl ForwardPass {
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
         self.frame_ubo.write(0, bytemuck::bytes_of(&data))
+    }
+
+    /// Texture maps uploaded for the scene's materials.
+    pub fn texture_count(&self) -> usize {
+        self.materials.texture_count
     }
 
     /// The pipeline variants this pass built, in a stable order.
@@ -522,7 +535,21 @@ impl ForwardPass {
                 );
             }
             let mut bound: Option<VariantKey> = None;
+            let mut bound_material: Option<usize> = None;
             for draw in &self.draws {
+                if bound_material != Some(draw.material) {
+                    if let Some(&set) = self.materials.sets.get(draw.material) {
+                        d.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            self.layout.raw,
+                            SET_MATERIAL,
+                            &[set],
+                            &[],
+                        );
+                    }
+                    bound_material = Some(draw.material);
+                }
                 if bound != Some(draw.variant) {
                     d.cmd_bind_pipeline(
                         cmd,
@@ -582,7 +609,12 @@ fn create_pipeline(
             format: vk::Format::R32G32B32_SFLOAT,
             offset: 12,
         },
-        // uv (location 2, offset 24) joins when a shader reads it.
+        vk::VertexInputAttributeDescription {
+            location: 2,
+            binding: 0,
+            format: vk::Format::R32G32_SFLOAT,
+            offset: 24,
+        },
         vk::VertexInputAttributeDescription {
             location: 3,
             binding: 0,

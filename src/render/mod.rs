@@ -4,5 +4,6 @@
 pub mod forward;
 pub mod gpu;
 pub mod ibl;
+pub mod material;
 pub mod mesh;
 pub mod saturate;

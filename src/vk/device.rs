@@ -32,6 +32,8 @@ pub struct DeviceInfo {
     pub timestamp_period_ns: f32,
     pub timestamp_valid_bits: u32,
     pub limits: vk::PhysicalDeviceLimits,
+    /// Anisotropic filtering is supported and enabled.
+    pub sampler_anisotropy: bool,
 }
 
 impl DeviceInfo {
@@ -169,7 +171,7 @@ impl Context {
         unsafe { inst.get_physical_device_properties2(physical, &mut props2) };
         let props = props2.properties;
         let families = unsafe { inst.get_physical_device_queue_family_properties(physical) };
-        let info = DeviceInfo {
+        let mut info = DeviceInfo {
             name: chosen.name.clone(),
             device_type: props.device_type,
             driver_name: driver_props
@@ -184,6 +186,7 @@ impl Context {
             timestamp_period_ns: props.limits.timestamp_period,
             timestamp_valid_bits: families[queue_family as usize].timestamp_valid_bits,
             limits: props.limits,
+            sampler_anisotropy: false,
         };
 
         // Features: Vulkan 1.3 dynamic rendering + synchronization2; optional extras when present.
@@ -202,6 +205,7 @@ impl Context {
                 info.name
             )));
         }
+        info.sampler_anisotropy = supported.sampler_anisotropy == vk::TRUE;
         let features = vk::PhysicalDeviceFeatures::default()
             .sampler_anisotropy(supported.sampler_anisotropy == vk::TRUE)
             .fill_mode_non_solid(supported.fill_mode_non_solid == vk::TRUE)

@@ -1,0 +1,338 @@
+//! Per-material GPU data (descriptor set 2 of the forward pass): the texture maps of the
+//! metallic-roughness workflow (uploaded with their CPU-built mip chains), one sampler per map,
+//! and a small uniform block (emissive factor, normal scale, occlusion strength, which maps exist).
+//! Materials without maps bind 1×1 neutral textures, so every pipeline sees the same layout.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::scene::{Filter, Scene, TextureSlot, Wrap};
+use crate::texture::{ColorSpace, TexFormat, TextureData};
+use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::image::{ImageDesc, Sampler};
+use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
+use crate::vk::{Buffer, Context, Image, VkError};
+
+pub const SET_MATERIAL: u32 = 2;
+/// Bindings 0..8: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
+pub const SLOT_COUNT: usize = 8;
+/// Binding 8: `MaterialExtra`.
+pub const BINDING_EXTRA: u32 = 8;
+
+/// `MaterialExtra` (std140) in `shaders_glsl/include/bindings.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable, Debug, Default)]
+pub struct MaterialExtra {
+    /// Emitted radiance factor (rgb).
+    pub emissive: [f32; 4],
+    /// normal_scale, occlusion_strength, 0, 0.
+    pub params: [f32; 4],
+    /// x: bit i set when map `TextureSlot::ALL[i]` is present.
+    pub present: [u32; 4],
+}
+
+pub struct MaterialSets {
+    pub set_layout: DescriptorSetLayout,
+    /// One descriptor set per scene material, by material index.
+    pub sets: Vec<vk::DescriptorSet>,
+    /// Texture maps uploaded (not counting the neutral defaults).
+    pub texture_count: usize,
+    _pool: DescriptorPool,
+    _extra: Buffer,
+    _images: Vec<Image>,
+    _samplers: Vec<Sampler>,
+}
+
+fn vk_format(f: TexFormat) -> vk::Format {
+    match f {
+        TexFormat::Rgba8Srgb => vk::Format::R8G8B8A8_SRGB,
+        TexFormat::Rgba8Unorm => vk::Format::R8G8B8A8_UNORM,
+        TexFormat::Rgba16F => vk::Format::R16G16B16A16_SFLOAT,
+        TexFormat::Rgba32F => vk::Format::R32G32B32A32_SFLOAT,
+    }
+}
+
+fn wrap(w: Wrap) -> vk::SamplerAddressMode {
+    match w {
+        Wrap::Repeat => vk::SamplerAddressMode::REPEAT,
+        Wrap::Clamp => vk::SamplerAddressMode::CLAMP_TO_EDGE,
+        Wrap::Mirror => vk::SamplerAddressMode::MIRRORED_REPEAT,
+    }
+}
+
+fn filter(f: Filter) -> vk::Filter {
+    match f {
+        Filter::Nearest => vk::Filter::NEAREST,
+        Filter::Linear => vk::Filter::LINEAR,
+    }
+}
+
+/// Uploads a texture with all its mip levels and leaves it in SHADER_READ_ONLY_OPTIMAL.
+fn upload(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    name: &str,
+    data: &TextureData,
+) -> Result<Image, VkError> {
+    let levels = data.mips.len().max(1) as u32;
+    let image = Image::new(
+        ctx,
+        name,
+        ImageDesc::texture(data.width, data.height, vk_format(data.format), levels, 1),
+    )?;
+    let total: usize = data.mips.iter().map(Vec::len).sum();
+    let mut staging = Buffer::new(
+        ctx,
+        &format!("{name} staging"),
+        total as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
+    let mut regions = Vec::with_capacity(data.mips.len());
+    let mut offset = 0u64;
+    for (level, bytes) in data.mips.iter().enumerate() {
+        staging.write(offset, bytes)?;
+        let (w, h) = data.level_extent(level);
+        regions.push(vk::BufferImageCopy {
+            buffer_offset: offset,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: level as u32,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_extent: vk::Extent3D {
+                width: w,
+                height: h,
+                depth: 1,
+            },
+            ..Default::default()
+        });
+        offset += bytes.len() as u64;
+    }
+    let d = &ctx.device;
+    let (raw, range) = (image.raw, image.subresource_range());
+    let dst = (
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    pool.one_shot(|cmd| {
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::PipelineStageFlags2::TOP_OF_PIPE,
+                    vk::AccessFlags2::NONE,
+                ),
+                to: dst,
+            }],
+        );
+        unsafe {
+            d.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw,
+                raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &regions,
+            )
+        };
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: dst,
+                to: (
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    vk::PipelineStageFlags2::VERTEX_SHADER
+                        | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            }],
+        );
+        Ok(())
+    })?;
+    Ok(image)
+}
+
+fn neutral(texel: [u8; 4]) -> TextureData {
+    TextureData {
+        width: 1,
+        height: 1,
+        format: TexFormat::Rgba8Unorm,
+        mips: vec![texel.to_vec()],
+    }
+}
+
+impl MaterialSets {
+    /// Loads and uploads every map the scene's materials name. Warnings (downscaled textures)
+    /// go to `warn`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        scene: &Scene,
+        warn: &mut dyn FnMut(String),
+    ) -> Result<Self, VkError> {
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let mut bindings: Vec<_> = (0..SLOT_COUNT as u32)
+            .map(|i| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(i)
+                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                    .descriptor_count(1)
+                    .stage_flags(stages)
+            })
+            .collect();
+        bindings.push(
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(BINDING_EXTRA)
+                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(stages),
+        );
+        let set_layout = DescriptorSetLayout::new(ctx, "material set layout", &bindings)?;
+        let n = scene.materials.len().max(1) as u32;
+        let pool_sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                descriptor_count: n * SLOT_COUNT as u32,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: n,
+            },
+        ];
+        let desc_pool = DescriptorPool::new(ctx, "material pool", n, &pool_sizes)?;
+
+        let limits = &ctx.info.limits;
+        let max_dim = limits.max_image_dimension2_d;
+        let anisotropy_supported = ctx.info.sampler_anisotropy;
+        let mut images = Vec::new();
+        let mut samplers = Vec::new();
+        // Neutral defaults: white (multiplies by 1), a flat normal.
+        images.push(upload(ctx, pool, "neutral white", &neutral([255; 4]))?);
+        images.push(upload(
+            ctx,
+            pool,
+            "neutral normal",
+            &neutral([128, 128, 255, 255]),
+        )?);
+        samplers.push(Sampler::linear(
+            ctx,
+            "neutral sampler",
+            vk::SamplerAddressMode::REPEAT,
+        )?);
+        let (white, flat, neutral_sampler) = (images[0].view, images[1].view, samplers[0].raw);
+
+        let align = limits.min_uniform_buffer_offset_alignment.max(16);
+        let stride = (std::mem::size_of::<MaterialExtra>() as u64).div_ceil(align) * align;
+        let mut extra = Buffer::new(
+            ctx,
+            "material extras",
+            stride * n as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut sets = Vec::with_capacity(n as usize);
+        let mut texture_count = 0;
+        for (mi, m) in scene.materials.iter().enumerate() {
+            let t = &m.textures;
+            let mut views = [(white, neutral_sampler); SLOT_COUNT];
+            views[TextureSlot::ALL
+                .iter()
+                .position(|s| *s == TextureSlot::Normal)
+                .unwrap_or(0)] = (flat, neutral_sampler);
+            let mut present = 0u32;
+            for (i, slot) in TextureSlot::ALL.iter().enumerate().take(SLOT_COUNT) {
+                let Some(r) = t.get(*slot) else { continue };
+                let data =
+                    crate::texture::load_texture(r, ColorSpace::for_slot(*slot), max_dim, warn)
+                        .map_err(|e| VkError::Setup(format!("material \"{}\": {e}", m.name)))?;
+                let image = upload(ctx, pool, &format!("{} {:?} map", m.name, slot), &data)?;
+                let s = &r.sampler;
+                let mut info = vk::SamplerCreateInfo::default()
+                    .mag_filter(filter(s.mag))
+                    .min_filter(filter(s.min))
+                    .mipmap_mode(if s.min == Filter::Linear {
+                        vk::SamplerMipmapMode::LINEAR
+                    } else {
+                        vk::SamplerMipmapMode::NEAREST
+                    })
+                    .address_mode_u(wrap(s.wrap_u))
+                    .address_mode_v(wrap(s.wrap_v))
+                    .address_mode_w(vk::SamplerAddressMode::REPEAT)
+                    .max_lod(vk::LOD_CLAMP_NONE);
+                if let Some(a) =
+                    s.anisotropy_for(anisotropy_supported, limits.max_sampler_anisotropy)
+                {
+                    info = info.anisotropy_enable(true).max_anisotropy(a);
+                }
+                let sampler = Sampler::new(ctx, &format!("{} {:?} sampler", m.name, slot), &info)?;
+                views[i] = (image.view, sampler.raw);
+                present |= 1 << i;
+                images.push(image);
+                samplers.push(sampler);
+                texture_count += 1;
+            }
+            let data = MaterialExtra {
+                emissive: t.emissive_factor.extend(0.0).to_array(),
+                params: [t.normal_scale, t.occlusion_strength, 0.0, 0.0],
+                present: [present, 0, 0, 0],
+            };
+            extra.write(stride * mi as u64, bytemuck::bytes_of(&data))?;
+            let set = desc_pool.allocate(&set_layout)?;
+            let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = views
+                .iter()
+                .map(|(view, sampler)| {
+                    [vk::DescriptorImageInfo {
+                        sampler: *sampler,
+                        image_view: *view,
+                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    }]
+                })
+                .collect();
+            let buffer_info = [vk::DescriptorBufferInfo {
+                buffer: extra.raw,
+                offset: stride * mi as u64,
+                range: std::mem::size_of::<MaterialExtra>() as u64,
+            }];
+            let mut writes: Vec<_> = image_infos
+                .iter()
+                .enumerate()
+                .map(|(i, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(set)
+                        .dst_binding(i as u32)
+                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .image_info(info)
+                })
+                .collect();
+            writes.push(
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(BINDING_EXTRA)
+                    .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                    .buffer_info(&buffer_info),
+            );
+            unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+            sets.push(set);
+        }
+        Ok(Self {
+            set_layout,
+            sets,
+            texture_count,
+            _pool: desc_pool,
+            _extra: extra,
+            _images: images,
+            _samplers: samplers,
+        })
+    }
+}
