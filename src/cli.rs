@@ -77,6 +77,10 @@ pub struct RenderArgs {
     /// List the pipeline variants built and more detail.
     #[arg(short, long)]
     pub verbose: bool,
+    /// Recompute image-based lighting data instead of reading it from the cache
+    /// ($LUZ_CACHE_DIR, else $XDG_CACHE_HOME/luz, else ~/.cache/luz).
+    #[arg(long)]
+    pub no_cache: bool,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -101,6 +105,9 @@ pub struct BenchArgs {
     pub width: Option<u32>,
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
+    /// Recompute image-based lighting data instead of reading it from the cache.
+    #[arg(long)]
+    pub no_cache: bool,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -288,7 +295,17 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
     apply_size(&mut scene, a.width, a.height);
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let mut renderer = Headless::new(&ctx, &scene)?;
+    let cache = if a.no_cache {
+        None
+    } else {
+        crate::render::ibl::default_cache_dir()
+    };
+    let mut renderer = Headless::with_options(
+        &ctx,
+        &scene,
+        &crate::render::ibl::IblSettings::default(),
+        cache.as_deref(),
+    )?;
     if a.verbose {
         println!("pipeline variants built:");
         for v in renderer.variants() {
@@ -365,7 +382,17 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     }
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let mut renderer = Headless::new(&ctx, &scene)?;
+    let cache = if a.no_cache {
+        None
+    } else {
+        crate::render::ibl::default_cache_dir()
+    };
+    let mut renderer = Headless::with_options(
+        &ctx,
+        &scene,
+        &crate::render::ibl::IblSettings::default(),
+        cache.as_deref(),
+    )?;
     for _ in 0..a.warmup {
         renderer.render()?;
     }

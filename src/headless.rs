@@ -92,6 +92,17 @@ impl Headless {
         scene: &Scene,
         ibl_settings: &IblSettings,
     ) -> Result<Self, VkError> {
+        Self::with_options(ctx, scene, ibl_settings, None)
+    }
+
+    /// As [`Headless::with_ibl_settings`], keeping precomputed IBL data in `cache_dir` (see
+    /// `render::ibl::default_cache_dir`) so that a second start skips the precomputation.
+    pub fn with_options(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        ibl_settings: &IblSettings,
+        cache_dir: Option<&std::path::Path>,
+    ) -> Result<Self, VkError> {
         let (width, height) = (scene.output.width, scene.output.height);
         let samples = sample_flags(ctx, scene.output.msaa)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
@@ -124,7 +135,7 @@ impl Headless {
         )?;
         let aspect = width as f32 / height as f32;
         let ibl = match &scene.environment {
-            Some(env) => Some(build_ibl(ctx, &pool, scene, env, ibl_settings)?),
+            Some(env) => Some(build_ibl(ctx, &pool, scene, env, ibl_settings, cache_dir)?),
             None => None,
         };
         let forward = ForwardPass::new(
@@ -393,6 +404,7 @@ pub fn build_ibl(
     scene: &Scene,
     env: &crate::scene::Environment,
     settings: &IblSettings,
+    cache_dir: Option<&std::path::Path>,
 ) -> Result<Ibl, VkError> {
     let max = ctx.info.limits.max_image_dimension2_d;
     let eq = crate::env::load_equirect(env, max).map_err(|e| VkError::Setup(e.to_string()))?;
@@ -412,6 +424,7 @@ pub fn build_ibl(
         sh_irradiance: sh,
         rotation_deg: env.rotation_deg,
         lut_geometries: &lut_geometries,
+        cache: cache_dir.map(|d| (d, crate::env::cache_key(env, &settings.describe()))),
     };
     let ibl = Ibl::new(ctx, pool, &inputs, settings, |name, step, total| {
         bar.set_length(total);

@@ -216,3 +216,40 @@ fn split_sum_vs_importance_on_real_environment() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// A second start with the same environment and settings reads the precomputed data from the
+/// cache, skips the precomputation and renders the same bytes.
+#[test]
+fn ibl_cache_second_start() {
+    let dir = std::env::temp_dir().join(format!("luz-ibl-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let scene = sphere_scene(
+        r#"{"model": "metal_rough", "base_color": [0.9, 0.6, 0.5], "metallic": 1, "roughness": 0.4}"#,
+        r#"{"procedural": "sky"}"#,
+    );
+    let ctx = gpu();
+    let run = || {
+        let mut r = Headless::with_options(&ctx, &scene, &IblSettings::fast(), Some(&dir))
+            .expect("renderer");
+        r.render().unwrap();
+        let names: Vec<&str> = r
+            .ibl_times()
+            .unwrap()
+            .stages
+            .iter()
+            .map(|(n, _)| *n)
+            .collect();
+        let cached = names.contains(&"environment from cache");
+        (r.image().unwrap(), cached)
+    };
+    let (first, first_cached) = run();
+    let (second, second_cached) = run();
+    assert!(!first_cached, "a cold cache cannot hit");
+    assert!(second_cached, "the second start must read the cache");
+    assert!(
+        first.pixels == second.pixels,
+        "cached IBL data renders differently"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_no_validation_messages(&ctx);
+}

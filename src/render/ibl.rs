@@ -109,6 +109,9 @@ pub struct IblInputs<'a> {
     pub rotation_deg: f32,
     /// The geometry selectors (BRDF_G_*) the scene's materials use: one LUT layer each.
     pub lut_geometries: &'a [i32],
+    /// Where to keep precomputed data between runs, and this environment's key there
+    /// (`crate::env::cache_key`); None computes everything every time.
+    pub cache: Option<(&'a std::path::Path, String)>,
 }
 
 /// Timings of the precomputation, per stage, in milliseconds of wall time.
@@ -301,7 +304,8 @@ impl Ibl {
         let mut lut_desc = ImageDesc::texture(s.lut_size, s.lut_size, LUT_FORMAT, 1, layers);
         lut_desc.usage = vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::TRANSFER_SRC;
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::TRANSFER_DST;
         lut_desc.array = true;
         let lut = Image::new(ctx, "brdf lut", lut_desc)?;
 
@@ -375,227 +379,254 @@ impl Ibl {
         );
         let groups = |n: u32| n.div_ceil(8);
 
-        // Stage 1: upload, equirect → cube level 0, then the mip chain.
-        let t = Instant::now();
-        let env_views: Vec<vk::ImageView> = (0..env_mips)
-            .map(|m| env.mip_view(m))
-            .collect::<Result<_, _>>()?;
-        let set = work_pool.allocate(&k_cube.set_layout)?;
-        write_set(
-            ctx,
-            set,
-            &[
-                Bind::Sampled(eq.view, sampler_eq.raw),
-                Bind::Storage(env_views[0]),
-            ],
-        );
-        let down_sets: Vec<vk::DescriptorSet> = (1..env_mips)
-            .map(|m| {
-                let set = work_pool.allocate(&k_down.set_layout)?;
-                write_set(
-                    ctx,
-                    set,
+        let (sin, cos) = rotation_deg.to_radians().sin_cos();
+        // Stages 1–3 come from the cache when this environment and these settings were seen before.
+        let env_file = inputs
+            .cache
+            .as_ref()
+            .map(|(dir, key)| dir.join(format!("{key}-{}.ibl", s.describe().replace(' ', "_"))));
+        let cached = env_file
+            .as_deref()
+            .and_then(|f| read_blob(f, &[&env, &irradiance, &prefiltered]));
+        if let Some(blobs) = cached {
+            let t = Instant::now();
+            for (image, bytes) in [&env, &irradiance, &prefiltered].into_iter().zip(&blobs) {
+                write_image(ctx, pool, image, bytes)?;
+            }
+            times
+                .stages
+                .push(("environment from cache", t.elapsed().as_secs_f64() * 1e3));
+            tick("environment (cached)", &mut progress);
+        } else {
+            // Stage 1: upload, equirect → cube level 0, then the mip chain.
+            let t = Instant::now();
+            let env_views: Vec<vk::ImageView> = (0..env_mips)
+                .map(|m| env.mip_view(m))
+                .collect::<Result<_, _>>()?;
+            let set = work_pool.allocate(&k_cube.set_layout)?;
+            write_set(
+                ctx,
+                set,
+                &[
+                    Bind::Sampled(eq.view, sampler_eq.raw),
+                    Bind::Storage(env_views[0]),
+                ],
+            );
+            let down_sets: Vec<vk::DescriptorSet> = (1..env_mips)
+                .map(|m| {
+                    let set = work_pool.allocate(&k_down.set_layout)?;
+                    write_set(
+                        ctx,
+                        set,
+                        &[
+                            Bind::Storage(env_views[m as usize - 1]),
+                            Bind::Storage(env_views[m as usize]),
+                        ],
+                    );
+                    Ok(set)
+                })
+                .collect::<Result<_, VkError>>()?;
+            let eq_raw = eq.raw;
+            let eq_range = eq.subresource_range();
+            let env_raw = env.raw;
+            let env_range = env.subresource_range();
+            pool.one_shot(|cmd| {
+                transition(
+                    d,
+                    cmd,
                     &[
-                        Bind::Storage(env_views[m as usize - 1]),
-                        Bind::Storage(env_views[m as usize]),
+                        Transition {
+                            image: eq_raw,
+                            range: eq_range,
+                            from: undefined,
+                            to: (
+                                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                                vk::PipelineStageFlags2::COPY,
+                                vk::AccessFlags2::TRANSFER_WRITE,
+                            ),
+                        },
+                        Transition {
+                            image: env_raw,
+                            range: env_range,
+                            from: undefined,
+                            to: general,
+                        },
                     ],
                 );
-                Ok(set)
-            })
-            .collect::<Result<_, VkError>>()?;
-        let (sin, cos) = rotation_deg.to_radians().sin_cos();
-        let eq_raw = eq.raw;
-        let eq_range = eq.subresource_range();
-        let env_raw = env.raw;
-        let env_range = env.subresource_range();
-        pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[
-                    Transition {
+                let region = vk::BufferImageCopy {
+                    image_subresource: vk::ImageSubresourceLayers {
+                        aspect_mask: vk::ImageAspectFlags::COLOR,
+                        mip_level: 0,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    },
+                    image_extent: vk::Extent3D {
+                        width: equirect.width,
+                        height: equirect.height,
+                        depth: 1,
+                    },
+                    ..Default::default()
+                };
+                unsafe {
+                    d.cmd_copy_buffer_to_image(
+                        cmd,
+                        staging.raw,
+                        eq_raw,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &[region],
+                    )
+                };
+                transition(
+                    d,
+                    cmd,
+                    &[Transition {
                         image: eq_raw,
                         range: eq_range,
-                        from: undefined,
-                        to: (
+                        from: (
                             vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                             vk::PipelineStageFlags2::COPY,
                             vk::AccessFlags2::TRANSFER_WRITE,
                         ),
-                    },
-                    Transition {
-                        image: env_raw,
-                        range: env_range,
-                        from: undefined,
                         to: general,
-                    },
-                ],
-            );
-            let region = vk::BufferImageCopy {
-                image_subresource: vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                },
-                image_extent: vk::Extent3D {
-                    width: equirect.width,
-                    height: equirect.height,
-                    depth: 1,
-                },
-                ..Default::default()
-            };
-            unsafe {
-                d.cmd_copy_buffer_to_image(
-                    cmd,
-                    staging.raw,
-                    eq_raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[region],
-                )
-            };
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: eq_raw,
-                    range: eq_range,
-                    from: (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::PipelineStageFlags2::COPY,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                    to: general,
-                }],
-            );
-            let push: [u32; 4] = [cos.to_bits(), sin.to_bits(), s.env_size, 0];
-            dispatch(
-                d,
-                cmd,
-                &k_cube,
-                set,
-                bytemuck::bytes_of(&push),
-                groups(s.env_size),
-                groups(s.env_size),
-                6,
-            );
-            for (i, set) in down_sets.iter().enumerate() {
-                memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
-                let size = (s.env_size >> (i + 1)).max(1);
+                    }],
+                );
+                let push: [u32; 4] = [cos.to_bits(), sin.to_bits(), s.env_size, 0];
                 dispatch(
                     d,
                     cmd,
-                    &k_down,
-                    *set,
-                    bytemuck::bytes_of(&size),
-                    groups(size),
-                    groups(size),
+                    &k_cube,
+                    set,
+                    bytemuck::bytes_of(&push),
+                    groups(s.env_size),
+                    groups(s.env_size),
                     6,
                 );
-            }
-            Ok(())
-        })?;
-        drop(staging);
-        times
-            .stages
-            .push(("environment cube + mips", t.elapsed().as_secs_f64() * 1e3));
-        tick("environment cube", &mut progress);
+                for (i, set) in down_sets.iter().enumerate() {
+                    memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+                    let size = (s.env_size >> (i + 1)).max(1);
+                    dispatch(
+                        d,
+                        cmd,
+                        &k_down,
+                        *set,
+                        bytemuck::bytes_of(&size),
+                        groups(size),
+                        groups(size),
+                        6,
+                    );
+                }
+                Ok(())
+            })?;
+            drop(staging);
+            times
+                .stages
+                .push(("environment cube + mips", t.elapsed().as_secs_f64() * 1e3));
+            tick("environment cube", &mut progress);
 
-        // Stage 2: irradiance cube.
-        let t = Instant::now();
-        let irr_view = irradiance.mip_view(0)?;
-        let set = work_pool.allocate(&k_irr.set_layout)?;
-        write_set(
-            ctx,
-            set,
-            &[
-                Bind::Sampled(env.view, sampler.raw),
-                Bind::Storage(irr_view),
-            ],
-        );
-        let irr_raw = irradiance.raw;
-        let irr_range = irradiance.subresource_range();
-        pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: irr_raw,
-                    range: irr_range,
-                    from: undefined,
-                    to: general,
-                }],
-            );
-            memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
-            let push: [u32; 4] = [s.irradiance_size, s.irradiance_samples, s.env_size, 0];
-            dispatch(
-                d,
-                cmd,
-                &k_irr,
-                set,
-                bytemuck::bytes_of(&push),
-                groups(s.irradiance_size),
-                groups(s.irradiance_size),
-                6,
-            );
-            Ok(())
-        })?;
-        times
-            .stages
-            .push(("irradiance cube", t.elapsed().as_secs_f64() * 1e3));
-        tick("irradiance", &mut progress);
-
-        // Stage 3: prefiltered cube, one roughness per mip (roughness = mip / (mips − 1)).
-        let t = Instant::now();
-        let pre_raw = prefiltered.raw;
-        let pre_range = prefiltered.subresource_range();
-        pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: pre_raw,
-                    range: pre_range,
-                    from: undefined,
-                    to: general,
-                }],
-            );
-            Ok(())
-        })?;
-        for m in 0..pre_mips {
-            let view = prefiltered.mip_view(m)?;
-            let set = work_pool.allocate(&k_pre.set_layout)?;
+            // Stage 2: irradiance cube.
+            let t = Instant::now();
+            let irr_view = irradiance.mip_view(0)?;
+            let set = work_pool.allocate(&k_irr.set_layout)?;
             write_set(
                 ctx,
                 set,
-                &[Bind::Sampled(env.view, sampler.raw), Bind::Storage(view)],
+                &[
+                    Bind::Sampled(env.view, sampler.raw),
+                    Bind::Storage(irr_view),
+                ],
             );
-            let size = (s.prefilter_size >> m).max(1);
-            let roughness = if pre_mips > 1 {
-                m as f32 / (pre_mips - 1) as f32
-            } else {
-                0.0
-            };
-            let push: [u32; 4] = [roughness.to_bits(), size, s.prefilter_samples, s.env_size];
+            let irr_raw = irradiance.raw;
+            let irr_range = irradiance.subresource_range();
             pool.one_shot(|cmd| {
+                transition(
+                    d,
+                    cmd,
+                    &[Transition {
+                        image: irr_raw,
+                        range: irr_range,
+                        from: undefined,
+                        to: general,
+                    }],
+                );
                 memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+                let push: [u32; 4] = [s.irradiance_size, s.irradiance_samples, s.env_size, 0];
                 dispatch(
                     d,
                     cmd,
-                    &k_pre,
+                    &k_irr,
                     set,
                     bytemuck::bytes_of(&push),
-                    groups(size),
-                    groups(size),
+                    groups(s.irradiance_size),
+                    groups(s.irradiance_size),
                     6,
                 );
                 Ok(())
             })?;
-            tick("prefiltered mip", &mut progress);
+            times
+                .stages
+                .push(("irradiance cube", t.elapsed().as_secs_f64() * 1e3));
+            tick("irradiance", &mut progress);
+
+            // Stage 3: prefiltered cube, one roughness per mip (roughness = mip / (mips − 1)).
+            let t = Instant::now();
+            let pre_raw = prefiltered.raw;
+            let pre_range = prefiltered.subresource_range();
+            pool.one_shot(|cmd| {
+                transition(
+                    d,
+                    cmd,
+                    &[Transition {
+                        image: pre_raw,
+                        range: pre_range,
+                        from: undefined,
+                        to: general,
+                    }],
+                );
+                Ok(())
+            })?;
+            for m in 0..pre_mips {
+                let view = prefiltered.mip_view(m)?;
+                let set = work_pool.allocate(&k_pre.set_layout)?;
+                write_set(
+                    ctx,
+                    set,
+                    &[Bind::Sampled(env.view, sampler.raw), Bind::Storage(view)],
+                );
+                let size = (s.prefilter_size >> m).max(1);
+                let roughness = if pre_mips > 1 {
+                    m as f32 / (pre_mips - 1) as f32
+                } else {
+                    0.0
+                };
+                let push: [u32; 4] = [roughness.to_bits(), size, s.prefilter_samples, s.env_size];
+                pool.one_shot(|cmd| {
+                    memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+                    dispatch(
+                        d,
+                        cmd,
+                        &k_pre,
+                        set,
+                        bytemuck::bytes_of(&push),
+                        groups(size),
+                        groups(size),
+                        6,
+                    );
+                    Ok(())
+                })?;
+                tick("prefiltered mip", &mut progress);
+            }
+            times
+                .stages
+                .push(("prefiltered cube", t.elapsed().as_secs_f64() * 1e3));
+
+            if let Some(f) = &env_file {
+                let blobs = [&env, &irradiance, &prefiltered]
+                    .into_iter()
+                    .map(|image| read_image(ctx, pool, image))
+                    .collect::<Result<Vec<_>, _>>()?;
+                write_blob(f, &blobs);
+            }
         }
-        times
-            .stages
-            .push(("prefiltered cube", t.elapsed().as_secs_f64() * 1e3));
 
         // Stage 4: BRDF LUT layers.
         let t = Instant::now();
@@ -620,7 +651,23 @@ impl Ibl {
             );
             Ok(())
         })?;
+        let lut_file = |g: i32| {
+            inputs
+                .cache
+                .as_ref()
+                .map(|(dir, _)| dir.join(format!("lut-{}-{}-g{g}.bin", s.lut_size, s.lut_samples)))
+        };
+        let layer_bytes = (s.lut_size as usize).pow(2) * 16;
+        let mut computed = Vec::new();
         for (layer, g) in lut_layers.iter().enumerate() {
+            if let Some(bytes) = lut_file(*g).and_then(|f| std::fs::read(f).ok()) {
+                if bytes.len() == layer_bytes {
+                    write_lut_layer(ctx, pool, &lut, layer as u32, &bytes)?;
+                    tick("brdf lut (cached)", &mut progress);
+                    continue;
+                }
+            }
+            computed.push(layer);
             let set = work_pool.allocate(&k_lut.set_layout)?;
             write_set(ctx, set, &[Bind::Storage(lut_view)]);
             let push: [u32; 4] = [s.lut_size, s.lut_samples, *g as u32, layer as u32];
@@ -649,6 +696,15 @@ impl Ibl {
                 Ok(())
             })?;
             tick("brdf lut", &mut progress);
+        }
+        if !computed.is_empty() && inputs.cache.is_some() {
+            let all = read_image(ctx, pool, &lut)?;
+            for layer in computed {
+                if let Some(f) = lut_file(lut_layers[layer]) {
+                    let bytes = &all[layer * layer_bytes..(layer + 1) * layer_bytes];
+                    write_file_atomically(&f, bytes);
+                }
+            }
         }
         times
             .stages
@@ -875,4 +931,308 @@ fn dispatch(
         d.cmd_push_constants(cmd, k.layout.raw, vk::ShaderStageFlags::COMPUTE, 0, push);
         d.cmd_dispatch(cmd, x, y, z);
     }
+}
+
+/// Bytes of every mip level of `image` (all layers per level, level-major), RGBA16F or RGBA32F.
+fn image_bytes(image: &Image) -> Vec<(u32, u64)> {
+    let d = image.desc;
+    let texel = match d.format {
+        vk::Format::R16G16B16A16_SFLOAT => 8u64,
+        _ => 16u64,
+    };
+    (0..d.mip_levels)
+        .map(|m| {
+            let w = (d.width >> m).max(1) as u64;
+            let h = (d.height >> m).max(1) as u64;
+            (m, w * h * d.layers as u64 * texel)
+        })
+        .collect()
+}
+
+fn copy_regions(image: &Image) -> (Vec<vk::BufferImageCopy>, u64) {
+    let d = image.desc;
+    let mut offset = 0u64;
+    let regions = image_bytes(image)
+        .into_iter()
+        .map(|(m, len)| {
+            let r = vk::BufferImageCopy {
+                buffer_offset: offset,
+                image_subresource: vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: m,
+                    base_array_layer: 0,
+                    layer_count: d.layers,
+                },
+                image_extent: vk::Extent3D {
+                    width: (d.width >> m).max(1),
+                    height: (d.height >> m).max(1),
+                    depth: 1,
+                },
+                ..Default::default()
+            };
+            offset += len;
+            r
+        })
+        .collect();
+    (regions, offset)
+}
+
+/// Reads every level and layer of an image kept in GENERAL layout.
+fn read_image(ctx: &Arc<Context>, pool: &CommandPool, image: &Image) -> Result<Vec<u8>, VkError> {
+    let (regions, total) = copy_regions(image);
+    let buf = Buffer::new(
+        ctx,
+        "ibl cache readback",
+        total,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let d = &ctx.device;
+    let general = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
+    let src = (
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    let (raw, range) = (image.raw, image.subresource_range());
+    pool.one_shot(|cmd| {
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: general,
+                to: src,
+            }],
+        );
+        unsafe {
+            d.cmd_copy_image_to_buffer(
+                cmd,
+                raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buf.raw,
+                &regions,
+            )
+        };
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: src,
+                to: general,
+            }],
+        );
+        memory_barrier(
+            d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+        Ok(())
+    })?;
+    Ok(buf.mapped()?[..total as usize].to_vec())
+}
+
+/// Fills every level and layer of a fresh image from `bytes` and leaves it in GENERAL layout.
+fn write_image(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    image: &Image,
+    bytes: &[u8],
+) -> Result<(), VkError> {
+    let (regions, total) = copy_regions(image);
+    upload_regions(
+        ctx,
+        pool,
+        image,
+        bytes,
+        total,
+        &regions,
+        vk::ImageLayout::UNDEFINED,
+        image.subresource_range(),
+    )
+}
+
+/// Fills one layer of the LUT (kept in GENERAL layout).
+fn write_lut_layer(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    lut: &Image,
+    layer: u32,
+    bytes: &[u8],
+) -> Result<(), VkError> {
+    let d = lut.desc;
+    let region = vk::BufferImageCopy {
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: layer,
+            layer_count: 1,
+        },
+        image_extent: vk::Extent3D {
+            width: d.width,
+            height: d.height,
+            depth: 1,
+        },
+        ..Default::default()
+    };
+    let range = vk::ImageSubresourceRange {
+        base_array_layer: layer,
+        layer_count: 1,
+        ..lut.subresource_range()
+    };
+    upload_regions(
+        ctx,
+        pool,
+        lut,
+        bytes,
+        bytes.len() as u64,
+        &[region],
+        vk::ImageLayout::GENERAL,
+        range,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn upload_regions(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    image: &Image,
+    bytes: &[u8],
+    total: u64,
+    regions: &[vk::BufferImageCopy],
+    from_layout: vk::ImageLayout,
+    range: vk::ImageSubresourceRange,
+) -> Result<(), VkError> {
+    if bytes.len() as u64 != total {
+        return Err(VkError::Setup(format!(
+            "cached IBL data has {} bytes, expected {total}",
+            bytes.len()
+        )));
+    }
+    let mut staging = Buffer::new(
+        ctx,
+        "ibl cache upload",
+        total,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
+    staging.write(0, bytes)?;
+    let d = &ctx.device;
+    let dst = (
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let from = if from_layout == vk::ImageLayout::UNDEFINED {
+        (
+            vk::ImageLayout::UNDEFINED,
+            vk::PipelineStageFlags2::TOP_OF_PIPE,
+            vk::AccessFlags2::NONE,
+        )
+    } else {
+        (from_layout, COMPUTE_RW.0, COMPUTE_RW.1)
+    };
+    let general = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
+    let raw = image.raw;
+    pool.one_shot(|cmd| {
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from,
+                to: dst,
+            }],
+        );
+        unsafe {
+            d.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw,
+                raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                regions,
+            )
+        };
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: dst,
+                to: general,
+            }],
+        );
+        memory_barrier(
+            d,
+            cmd,
+            COMPUTE_RW,
+            (
+                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::VERTEX_SHADER,
+                vk::AccessFlags2::SHADER_SAMPLED_READ,
+            ),
+        );
+        Ok(())
+    })
+}
+
+const BLOB_MAGIC: &[u8; 8] = b"LUZIBL01";
+
+/// The cached images of one environment, if the file exists and every size matches.
+fn read_blob(path: &std::path::Path, images: &[&Image]) -> Option<Vec<Vec<u8>>> {
+    let data = std::fs::read(path).ok()?;
+    let rest = data.strip_prefix(BLOB_MAGIC.as_slice())?;
+    let mut out = Vec::new();
+    let mut pos = 0usize;
+    for image in images {
+        let expected: u64 = image_bytes(image).iter().map(|(_, n)| n).sum();
+        let len = u64::from_le_bytes(rest.get(pos..pos + 8)?.try_into().ok()?);
+        if len != expected {
+            return None;
+        }
+        pos += 8;
+        out.push(rest.get(pos..pos + len as usize)?.to_vec());
+        pos += len as usize;
+    }
+    (pos == rest.len()).then_some(out)
+}
+
+fn write_blob(path: &std::path::Path, blobs: &[Vec<u8>]) {
+    let mut data = BLOB_MAGIC.to_vec();
+    for b in blobs {
+        data.extend_from_slice(&(b.len() as u64).to_le_bytes());
+        data.extend_from_slice(b);
+    }
+    write_file_atomically(path, &data);
+}
+
+/// Best effort: a cache that cannot be written is only slower next time.
+fn write_file_atomically(path: &std::path::Path, bytes: &[u8]) {
+    if let Some(dir) = path.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+}
+
+/// The directory luz keeps precomputed IBL data in: `$LUZ_CACHE_DIR`, else
+/// `$XDG_CACHE_HOME/luz`, else `$HOME/.cache/luz`.
+pub fn default_cache_dir() -> Option<std::path::PathBuf> {
+    if let Some(d) = std::env::var_os("LUZ_CACHE_DIR") {
+        return Some(d.into());
+    }
+    if let Some(d) = std::env::var_os("XDG_CACHE_HOME") {
+        return Some(std::path::PathBuf::from(d).join("luz"));
+    }
+    std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".cache/luz"))
 }

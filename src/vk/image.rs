@@ -33,7 +33,10 @@ impl ImageDesc {
             width: size,
             height: size,
             format,
-            usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::STORAGE,
+            usage: vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
             samples: vk::SampleCountFlags::TYPE_1,
             mip_levels: mips,
             aspect: vk::ImageAspectFlags::COLOR,
