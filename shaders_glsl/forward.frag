@@ -33,5 +33,9 @@ void main() {
     tangent_frame(n, in_tangent, x, y);
     vec3 c = shade(in_world, n, x, y, in_uv);
 #endif
-    out_color = vec4(apply_fog(c, in_depth), 1.0);
+    c = apply_fog(c, in_depth);
+    if (DEBUG_VIEW == DEBUG_NAN && (any(isnan(c)) || any(isinf(c)))) {
+        c = vec3(1.0, 0.0, 1.0);
+    }
+    out_color = vec4(c, 1.0);
 }

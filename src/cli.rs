@@ -81,6 +81,9 @@ pub struct RenderArgs {
     /// ($LUZ_CACHE_DIR, else $XDG_CACHE_HOME/luz, else ~/.cache/luz).
     #[arg(long)]
     pub no_cache: bool,
+    /// Show one quantity instead of the shaded radiance (BRDF terms are for the first light).
+    #[arg(long, value_enum, default_value_t = crate::render::forward::DebugView::None)]
+    pub debug_view: crate::render::forward::DebugView,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -303,8 +306,11 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &crate::render::ibl::IblSettings::default(),
-        cache.as_deref(),
+        &crate::headless::RenderOptions {
+            cache_dir: cache,
+            debug_view: a.debug_view,
+            ..Default::default()
+        },
     )?;
     if a.verbose {
         println!("pipeline variants built:");
@@ -390,8 +396,10 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &crate::render::ibl::IblSettings::default(),
-        cache.as_deref(),
+        &crate::headless::RenderOptions {
+            cache_dir: cache,
+            ..Default::default()
+        },
     )?;
     for _ in 0..a.warmup {
         renderer.render()?;

@@ -8,7 +8,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
-use crate::render::forward::{ForwardPass, TargetFormat, TargetViews};
+use crate::render::forward::{DebugView, ForwardPass, TargetFormat, TargetViews};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::scene::Scene;
@@ -23,6 +23,17 @@ pub type LutLayers = Vec<(i32, Vec<[f32; 4]>)>;
 /// The HDR colour format: full float so the EXR and the analytic tests see exact radiance.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// How to render, beyond what the scene says.
+#[derive(Debug, Clone, Default)]
+pub struct RenderOptions {
+    /// Sizes of the image-based lighting data.
+    pub ibl: IblSettings,
+    /// Keep precomputed IBL data here between runs (`render::ibl::default_cache_dir`).
+    pub cache_dir: Option<std::path::PathBuf>,
+    /// Show one quantity instead of the shaded radiance.
+    pub debug_view: DebugView,
+}
 
 /// Timings of one frame.
 #[derive(Debug, Clone, Default)]
@@ -92,17 +103,24 @@ impl Headless {
         scene: &Scene,
         ibl_settings: &IblSettings,
     ) -> Result<Self, VkError> {
-        Self::with_options(ctx, scene, ibl_settings, None)
+        Self::with_options(
+            ctx,
+            scene,
+            &RenderOptions {
+                ibl: *ibl_settings,
+                ..Default::default()
+            },
+        )
     }
 
-    /// As [`Headless::with_ibl_settings`], keeping precomputed IBL data in `cache_dir` (see
-    /// `render::ibl::default_cache_dir`) so that a second start skips the precomputation.
+    /// With every option: IBL sizes, the IBL cache, a debug view.
     pub fn with_options(
         ctx: &Arc<Context>,
         scene: &Scene,
-        ibl_settings: &IblSettings,
-        cache_dir: Option<&std::path::Path>,
+        options: &RenderOptions,
     ) -> Result<Self, VkError> {
+        let ibl_settings = &options.ibl;
+        let cache_dir = options.cache_dir.as_deref();
         let (width, height) = (scene.output.width, scene.output.height);
         let samples = sample_flags(ctx, scene.output.msaa)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
@@ -149,6 +167,7 @@ impl Headless {
             },
             aspect,
             ibl.as_ref(),
+            options.debug_view,
         )?;
         let saturate = SaturatePass::for_scene(ctx, scene, &color)?;
         let timer = GpuTimer::new(ctx, 8)?;

@@ -229,8 +229,16 @@ fn ibl_cache_second_start() {
     );
     let ctx = gpu();
     let run = || {
-        let mut r = Headless::with_options(&ctx, &scene, &IblSettings::fast(), Some(&dir))
-            .expect("renderer");
+        let mut r = Headless::with_options(
+            &ctx,
+            &scene,
+            &luz::headless::RenderOptions {
+                ibl: IblSettings::fast(),
+                cache_dir: Some(dir.clone()),
+                ..Default::default()
+            },
+        )
+        .expect("renderer");
         r.render().unwrap();
         let names: Vec<&str> = r
             .ibl_times()

@@ -89,5 +89,8 @@ layout(push_constant) uniform MaterialPush {
 // The material model (BRDF_MODEL_*), fixed per pipeline so the driver compiles only that model.
 layout(constant_id = 0) const int MODEL = BRDF_MODEL_BLINN_PHONG;
 layout(constant_id = 1) const bool FOG = false;
+// Debug view (src/render/forward.rs: DebugView): 0 = shaded radiance.
+layout(constant_id = 7) const uint DEBUG_VIEW = 0u;
+#define DEBUG_NAN 13u
 
 #endif

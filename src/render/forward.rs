@@ -20,12 +20,54 @@ use crate::vk::pipeline::{
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, VkError};
 
+/// A quantity shown instead of the shaded radiance (specialization constant `DEBUG_VIEW`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, clap::ValueEnum)]
+#[value(rename_all = "snake_case")]
+pub enum DebugView {
+    /// The shaded radiance (no debug view).
+    #[default]
+    None,
+    /// The material's base colour after its maps.
+    BaseColor,
+    /// The shading normal, (n + 1)/2.
+    Normal,
+    /// Metallic, as grey.
+    Metallic,
+    /// Roughness, as grey.
+    Roughness,
+    /// Ambient occlusion, as grey.
+    Ao,
+    /// D of the first light's half vector.
+    D,
+    /// G for the first light.
+    G,
+    /// F for the first light (RGB).
+    F,
+    /// The diffuse part of f for the first light.
+    Diffuse,
+    /// The specular part of f for the first light.
+    Specular,
+    /// The environment's irradiance E(n)/π.
+    Irradiance,
+    /// The prefiltered environment along the reflection at the material's roughness.
+    Prefiltered,
+    /// The shaded radiance with NaN and Inf pixels in magenta.
+    Nan,
+}
+
+impl DebugView {
+    pub fn id(self) -> u32 {
+        self as u32
+    }
+}
+
 /// What distinguishes one pipeline from another.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VariantKey {
     pub shading: ShadingKey,
     pub model: i32,
     pub fog: bool,
+    pub debug: DebugView,
     /// Image-based lighting settings, when the scene has an environment.
     pub ibl: Option<IblKey>,
 }
@@ -119,6 +161,9 @@ impl std::fmt::Display for VariantKey {
                 write!(f, ", energy_compensation")?;
             }
         }
+        if self.debug != DebugView::None {
+            write!(f, ", debug={:?}", self.debug)?;
+        }
         write!(f, "]")
     }
 }
@@ -186,6 +231,7 @@ impl ForwardPass {
         target: TargetFormat,
         aspect: f32,
         ibl: Option<&Ibl>,
+        debug: DebugView,
     ) -> Result<Self, VkError> {
         let d = &ctx.device;
         let ibl_key = match (ibl, &scene.environment) {
@@ -324,6 +370,7 @@ impl ForwardPass {
                     shading: ShadingKey::from_shading(obj.shading),
                     model,
                     fog: scene.fog.is_some(),
+                    debug,
                     ibl: ibl_key,
                 },
                 push,
@@ -638,6 +685,7 @@ fn create_pipeline(
     let mut spec = vec![
         (gpu::SPEC_MODEL, v.model as u32),
         (gpu::SPEC_FOG, v.fog as u32),
+        (gpu::SPEC_DEBUG_VIEW, v.debug.id()),
     ];
     if let Some(i) = v.ibl {
         spec.extend([

@@ -28,6 +28,7 @@ pub const SPEC_DIFFUSE_FROM_SH: u32 = 3;
 pub const SPEC_ENERGY_COMPENSATION: u32 = 4;
 pub const SPEC_IBL_SAMPLES: u32 = 5;
 pub const SPEC_MIP_FILTERED: u32 = 6;
+pub const SPEC_DEBUG_VIEW: u32 = 7;
 
 /// `FrameData` (std140).
 #[repr(C)]
