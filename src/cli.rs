@@ -81,11 +81,31 @@ pub struct RenderArgs {
     /// ($LUZ_CACHE_DIR, else $XDG_CACHE_HOME/luz, else ~/.cache/luz).
     #[arg(long)]
     pub no_cache: bool,
+    /// Sizes of the image-based lighting data: "full" (512² cubes, 512² LUT at 1024 samples) or
+    /// "fast" (128² cubes and LUT, for previews).
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
     /// Show one quantity instead of the shaded radiance (BRDF terms are for the first light).
     #[arg(long, value_enum, default_value_t = crate::render::forward::DebugView::None)]
     pub debug_view: crate::render::forward::DebugView,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// Presets of `render::ibl::IblSettings`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IblQuality {
+    Full,
+    Fast,
+}
+
+impl IblQuality {
+    pub fn settings(self) -> crate::render::ibl::IblSettings {
+        match self {
+            IblQuality::Full => Default::default(),
+            IblQuality::Fast => crate::render::ibl::IblSettings::fast(),
+        }
+    }
 }
 
 #[derive(Args, Debug)]
@@ -307,9 +327,9 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
         &ctx,
         &scene,
         &crate::headless::RenderOptions {
+            ibl: a.ibl_quality.settings(),
             cache_dir: cache,
             debug_view: a.debug_view,
-            ..Default::default()
         },
     )?;
     if a.verbose {

@@ -64,6 +64,8 @@ pub struct Headless {
     pool: CommandPool,
     width: u32,
     height: u32,
+    samples: vk::SampleCountFlags,
+    options: RenderOptions,
     ctx: Arc<Context>,
 }
 
@@ -191,8 +193,51 @@ impl Headless {
             pool,
             width,
             height,
+            samples,
+            options: options.clone(),
             ctx: ctx.clone(),
         })
+    }
+
+    /// Switches to another environment (or none) without restarting: the device, targets and
+    /// meshes stay; the IBL data (from the cache when this environment was seen before) and the
+    /// pipelines that depend on it are rebuilt. `scene` is the scene being shown; its own
+    /// `environment` is ignored in favour of `environment`.
+    pub fn set_environment(
+        &mut self,
+        scene: &Scene,
+        environment: Option<crate::scene::Environment>,
+    ) -> Result<(), VkError> {
+        let mut scene = scene.clone();
+        scene.environment = environment;
+        unsafe { self.ctx.device.device_wait_idle()? };
+        let ibl = match &scene.environment {
+            Some(env) => Some(build_ibl(
+                &self.ctx,
+                &self.pool,
+                &scene,
+                env,
+                &self.options.ibl,
+                self.options.cache_dir.as_deref(),
+            )?),
+            None => None,
+        };
+        let forward = ForwardPass::new(
+            &self.ctx,
+            &self.pool,
+            &scene,
+            TargetFormat {
+                color: COLOR_FORMAT,
+                depth: DEPTH_FORMAT,
+                samples: self.samples,
+            },
+            self.width as f32 / self.height as f32,
+            ibl.as_ref(),
+            self.options.debug_view,
+        )?;
+        self.forward = forward;
+        self.ibl = ibl;
+        Ok(())
     }
 
     /// Wall-time of each IBL precomputation stage (empty without an environment).
