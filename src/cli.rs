@@ -131,6 +131,9 @@ pub struct BenchArgs {
     /// Recompute image-based lighting data instead of reading it from the cache.
     #[arg(long)]
     pub no_cache: bool,
+    /// Sizes of the image-based lighting data (see `luz render --help`).
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -235,6 +238,23 @@ fn validation_exit(ctx: &Context) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// The renderer options the `render` and `bench` flags ask for.
+fn render_options(
+    no_cache: bool,
+    quality: IblQuality,
+    debug_view: crate::render::forward::DebugView,
+) -> crate::headless::RenderOptions {
+    crate::headless::RenderOptions {
+        ibl: quality.settings(),
+        cache_dir: if no_cache {
+            None
+        } else {
+            crate::render::ibl::default_cache_dir()
+        },
+        debug_view,
+    }
+}
+
 fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
     if let Some(w) = width {
         scene.output.width = w;
@@ -318,19 +338,10 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
     apply_size(&mut scene, a.width, a.height);
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let cache = if a.no_cache {
-        None
-    } else {
-        crate::render::ibl::default_cache_dir()
-    };
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &crate::headless::RenderOptions {
-            ibl: a.ibl_quality.settings(),
-            cache_dir: cache,
-            debug_view: a.debug_view,
-        },
+        &render_options(a.no_cache, a.ibl_quality, a.debug_view),
     )?;
     if a.verbose {
         println!("pipeline variants built:");
@@ -408,18 +419,10 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     }
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let cache = if a.no_cache {
-        None
-    } else {
-        crate::render::ibl::default_cache_dir()
-    };
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &crate::headless::RenderOptions {
-            cache_dir: cache,
-            ..Default::default()
-        },
+        &render_options(a.no_cache, a.ibl_quality, Default::default()),
     )?;
     for _ in 0..a.warmup {
         renderer.render()?;

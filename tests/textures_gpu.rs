@@ -9,6 +9,23 @@ use common::*;
 use glam::Vec3;
 use std::path::PathBuf;
 
+/// Renders with small IBL data (the environment is only lighting here), validation checked.
+fn render_fast_ibl(scene: &luz::scene::Scene) -> luz::imageio::LinearImage {
+    let ctx = gpu();
+    let img = {
+        let mut r = luz::headless::Headless::with_ibl_settings(
+            &ctx,
+            scene,
+            &luz::render::ibl::IblSettings::fast(),
+        )
+        .unwrap();
+        r.render().unwrap();
+        r.image().unwrap()
+    };
+    assert_no_validation_messages(&ctx);
+    img
+}
+
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("luz-textures-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
@@ -115,17 +132,7 @@ fn textured_sphere_golden() {
         normal.display(),
         orm.display()
     ));
-    let ctx = gpu();
-    let mut r = luz::headless::Headless::with_ibl_settings(
-        &ctx,
-        &scene,
-        &luz::render::ibl::IblSettings::fast(),
-    )
-    .unwrap();
-    r.render().unwrap();
-    let img = r.image().unwrap();
-    drop(r);
-    assert_no_validation_messages(&ctx);
+    let img = render_fast_ibl(&scene);
     check_golden("textured_sphere_sky", &scene, &img, Tolerance::default());
 }
 
@@ -150,17 +157,7 @@ fn real_gold_texture_set() {
     }}"#,
         gold.display()
     ));
-    let ctx = gpu();
-    let mut r = luz::headless::Headless::with_ibl_settings(
-        &ctx,
-        &scene,
-        &luz::render::ibl::IblSettings::fast(),
-    )
-    .unwrap();
-    r.render().unwrap();
-    let img = r.image().unwrap();
-    drop(r);
-    assert_no_validation_messages(&ctx);
+    let img = render_fast_ibl(&scene);
     assert_eq!(nan_count(&img), 0);
     let lit = img.pixels.iter().filter(|p| p[0] > 0.02).count();
     assert!(lit > 3000, "only {lit} lit pixels");
