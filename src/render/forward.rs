@@ -178,6 +178,8 @@ struct GpuMesh {
 struct Draw {
     mesh: usize,
     material: usize,
+    /// Back faces can be culled: a closed primitive (outward CCW winding) with positive scale.
+    cull: bool,
     variant: VariantKey,
     push: MaterialPush,
 }
@@ -363,9 +365,20 @@ impl ForwardPass {
                 push.flags = i.lut_layer(lut_geometry(&material.to_brdf()));
             }
             objects.push(gpu::object_data(obj.transform.matrix()));
+            use crate::scene::MeshDesc;
+            let closed = matches!(
+                obj.desc,
+                MeshDesc::Sphere { .. }
+                    | MeshDesc::Icosphere { .. }
+                    | MeshDesc::Cube { .. }
+                    | MeshDesc::Cone { .. }
+                    | MeshDesc::Cylinder { .. }
+            );
+            let positive = obj.transform.scale.min_element() > 0.0;
             draws.push(Draw {
                 mesh: mesh_index,
                 material: obj.material,
+                cull: closed && positive,
                 variant: VariantKey {
                     shading: ShadingKey::from_shading(obj.shading),
                     model,
@@ -583,7 +596,19 @@ impl ForwardPass {
             }
             let mut bound: Option<VariantKey> = None;
             let mut bound_material: Option<usize> = None;
+            let mut bound_cull: Option<bool> = None;
             for draw in &self.draws {
+                if bound_cull != Some(draw.cull) {
+                    d.cmd_set_cull_mode(
+                        cmd,
+                        if draw.cull {
+                            vk::CullModeFlags::BACK
+                        } else {
+                            vk::CullModeFlags::NONE
+                        },
+                    );
+                    bound_cull = Some(draw.cull);
+                }
                 if bound_material != Some(draw.material) {
                     if let Some(&set) = self.materials.sets.get(draw.material) {
                         d.cmd_bind_descriptor_sets(
@@ -621,6 +646,7 @@ impl ForwardPass {
                 d.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
             }
             if let Some(sky) = &self.skybox {
+                d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);
                 d.cmd_draw(cmd, 3, 1, 0, 0);
             }
