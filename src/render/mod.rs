@@ -7,3 +7,4 @@ pub mod ibl;
 pub mod material;
 pub mod mesh;
 pub mod saturate;
+pub mod tonemap;

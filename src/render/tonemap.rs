@@ -1,0 +1,275 @@
+//! Display conversion on the GPU: exposure → tone map → clamp → sRGB encode → 8-bit, the same
+//! pipeline as [`crate::color::to_display_rgba8`] (mirrored in `shaders_glsl/include/color.glsl`,
+//! compared byte by byte in `tests/tonemap_gpu.rs`).
+//!
+//! The source is the renderer's HDR image (RGBA32F, read as a sampled image with `texelFetch`, so it
+//! may sit in `GENERAL` or `SHADER_READ_ONLY_OPTIMAL`). The destination is an `R8G8B8A8_UNORM`
+//! storage image: storage images of `*_SRGB` formats are not allowed, so the shader encodes sRGB
+//! itself and writes the rounded code; the viewer then blits or copies that image to the swapchain.
+//!
+//! One pipeline serves all five operators: the operator is a push constant and the shader switches
+//! on it. The branch is uniform across the dispatch (free next to a full-screen image read and
+//! write), and the viewer can change exposure *and* operator every frame without building or
+//! binding another pipeline. Specialization constants would mean five pipelines built up front (or
+//! a rebuild on every change) to save nothing measurable.
+//!
+//! The pass records no layout transitions: it owns image *views* only. Before [`TonemapPass::record`]
+//! the caller puts the source in the layout given at creation ([`TonemapPass::source_access`]) and the
+//! destination in `GENERAL` ([`DESTINATION_ACCESS`]), with the barriers that make earlier writes
+//! visible; afterwards the destination was last written as [`DESTINATION_ACCESS`].
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::color::{exposure_scale, Tonemap};
+use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Context, VkError};
+
+/// (layout, stage, access) of an image at a synchronisation point, as in [`crate::vk::cmd::Transition`].
+pub type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// The source format the pass is written for (the headless HDR target's format).
+pub const SOURCE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+/// The destination format: 8-bit UNORM holding sRGB-encoded codes.
+pub const DESTINATION_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
+/// Descriptor bindings of set 0 (mirrored in `shaders_glsl/tonemap.comp`).
+pub const BINDING_SOURCE: u32 = 0;
+pub const BINDING_DESTINATION: u32 = 1;
+
+/// The destination's state during (and right after) the pass.
+pub const DESTINATION_ACCESS: Access = (
+    vk::ImageLayout::GENERAL,
+    vk::PipelineStageFlags2::COMPUTE_SHADER,
+    vk::AccessFlags2::SHADER_STORAGE_WRITE,
+);
+
+/// Workgroup size of `tonemap.comp` in x and y.
+const GROUP: u32 = 16;
+
+/// Push constants of `tonemap.comp` (`TonemapPush`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TonemapPush {
+    /// [`exposure_scale`] of the exposure in EV, computed on the CPU so both sides use one value.
+    pub exposure_scale: f32,
+    /// [`tonemap_id`] of the operator.
+    pub tonemap: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<TonemapPush>() <= 128);
+
+/// The shader's id of an operator (`TONEMAP_*` in `shaders_glsl/include/color.glsl`).
+pub fn tonemap_id(tonemap: Tonemap) -> u32 {
+    match tonemap {
+        Tonemap::None => 0,
+        Tonemap::Reinhard => 1,
+        Tonemap::Aces => 2,
+        Tonemap::KhronosNeutral => 3,
+        Tonemap::Agx => 4,
+    }
+}
+
+/// The source's state while the pass reads it, for a source kept in `layout`.
+pub fn source_access_in(layout: vk::ImageLayout) -> Access {
+    (
+        layout,
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+    )
+}
+
+fn check_source_layout(layout: vk::ImageLayout) -> Result<(), VkError> {
+    match layout {
+        vk::ImageLayout::GENERAL
+        | vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+        | vk::ImageLayout::READ_ONLY_OPTIMAL => Ok(()),
+        other => Err(VkError::Setup(format!(
+            "tonemap: the source image must be in GENERAL or SHADER_READ_ONLY_OPTIMAL, not {other:?}"
+        ))),
+    }
+}
+
+/// The tone-map pass: one compute pipeline and one descriptor set (source, destination).
+pub struct TonemapPass {
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    set: vk::DescriptorSet,
+    _pool: DescriptorPool,
+    _set_layout: DescriptorSetLayout,
+    source_layout: vk::ImageLayout,
+    extent: vk::Extent2D,
+    // Last: the device outlives everything above.
+    ctx: Arc<Context>,
+}
+
+impl TonemapPass {
+    /// A pass reading `source` (RGBA32F, kept in `source_layout`: `GENERAL` or
+    /// `SHADER_READ_ONLY_OPTIMAL`; its image needs `SAMPLED` usage) and writing `destination`
+    /// (an [`DESTINATION_FORMAT`] view of an image with `STORAGE` usage, in `GENERAL` when recorded)
+    /// over `extent`. Pixels outside either image are not touched.
+    pub fn new(
+        ctx: &Arc<Context>,
+        source: vk::ImageView,
+        source_layout: vk::ImageLayout,
+        destination: vk::ImageView,
+        extent: vk::Extent2D,
+    ) -> Result<Self, VkError> {
+        check_source_layout(source_layout)?;
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(BINDING_SOURCE)
+                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(BINDING_DESTINATION)
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::COMPUTE),
+        ];
+        let set_layout = DescriptorSetLayout::new(ctx, "tonemap set layout", &bindings)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::COMPUTE,
+            offset: 0,
+            size: std::mem::size_of::<TonemapPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(ctx, "tonemap layout", &[&set_layout], &push)?;
+        let pool = DescriptorPool::new(
+            ctx,
+            "tonemap pool",
+            1,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::SAMPLED_IMAGE,
+                    descriptor_count: 1,
+                },
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::STORAGE_IMAGE,
+                    descriptor_count: 1,
+                },
+            ],
+        )?;
+        let set = pool.allocate(&set_layout)?;
+        ctx.set_name(set, "tonemap set");
+        let module = ShaderModule::new(ctx, "tonemap.comp")?;
+        let pipeline = Pipeline::compute(ctx, &layout, "tonemap", &module, &[])?;
+        let mut pass = Self {
+            pipeline,
+            layout,
+            set,
+            _pool: pool,
+            _set_layout: set_layout,
+            source_layout,
+            extent,
+            ctx: ctx.clone(),
+        };
+        pass.write_set(source, destination);
+        Ok(pass)
+    }
+
+    /// Points the pass at other images (a resized viewer). The descriptor set is rewritten in
+    /// place: no command buffer that recorded this pass may still be pending.
+    pub fn set_images(
+        &mut self,
+        source: vk::ImageView,
+        source_layout: vk::ImageLayout,
+        destination: vk::ImageView,
+        extent: vk::Extent2D,
+    ) -> Result<(), VkError> {
+        check_source_layout(source_layout)?;
+        self.source_layout = source_layout;
+        self.extent = extent;
+        self.write_set(source, destination);
+        Ok(())
+    }
+
+    fn write_set(&mut self, source: vk::ImageView, destination: vk::ImageView) {
+        let source_info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: source,
+            image_layout: self.source_layout,
+        }];
+        let destination_info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: destination,
+            image_layout: vk::ImageLayout::GENERAL,
+        }];
+        let writes = [
+            vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(BINDING_SOURCE)
+                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+                .image_info(&source_info),
+            vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(BINDING_DESTINATION)
+                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                .image_info(&destination_info),
+        ];
+        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    }
+
+    /// Name for GPU timers and logs.
+    pub fn name(&self) -> &'static str {
+        "tonemap"
+    }
+
+    pub fn extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+
+    /// The source's state while the pass reads it (the layout given at creation).
+    pub fn source_access(&self) -> Access {
+        source_access_in(self.source_layout)
+    }
+
+    /// Records the conversion with exposure `exposure_ev` (stops) and `tonemap`. The caller has
+    /// made the source readable as [`TonemapPass::source_access`] and the destination writable as
+    /// [`DESTINATION_ACCESS`]; the destination is left as [`DESTINATION_ACCESS`].
+    pub fn record(&self, cmd: vk::CommandBuffer, exposure_ev: f32, tonemap: Tonemap) {
+        let d = &self.ctx.device;
+        let push = TonemapPush {
+            exposure_scale: exposure_scale(exposure_ev),
+            tonemap: tonemap_id(tonemap),
+        };
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.raw);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw,
+                0,
+                &[self.set],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.raw,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            d.cmd_dispatch(
+                cmd,
+                self.extent.width.div_ceil(GROUP),
+                self.extent.height.div_ceil(GROUP),
+                1,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_distinct_and_dense() {
+        let mut ids: Vec<u32> = Tonemap::ALL.iter().map(|&t| tonemap_id(t)).collect();
+        ids.sort();
+        assert_eq!(ids, [0, 1, 2, 3, 4]);
+    }
+}
