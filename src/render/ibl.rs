@@ -803,82 +803,9 @@ impl Ibl {
         ctx: &Arc<Context>,
         pool: &CommandPool,
     ) -> Result<Vec<Vec<[f32; 4]>>, VkError> {
-        let desc = self._lut.desc;
-        let texels = (desc.width * desc.height) as usize;
-        let bytes = (texels * 16 * desc.layers as usize) as u64;
-        let buf = Buffer::new(
-            ctx,
-            "lut readback",
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        let d = &ctx.device;
-        let image = self._lut.raw;
-        let range = self._lut.subresource_range();
-        pool.one_shot(|cmd| {
-            let general = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
-            let src = (
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            );
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image,
-                    range,
-                    from: general,
-                    to: src,
-                }],
-            );
-            let region = vk::BufferImageCopy {
-                image_subresource: vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: desc.layers,
-                },
-                image_extent: vk::Extent3D {
-                    width: desc.width,
-                    height: desc.height,
-                    depth: 1,
-                },
-                ..Default::default()
-            };
-            unsafe {
-                d.cmd_copy_image_to_buffer(
-                    cmd,
-                    image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    buf.raw,
-                    &[region],
-                )
-            };
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image,
-                    range,
-                    from: src,
-                    to: general,
-                }],
-            );
-            memory_barrier(
-                d,
-                cmd,
-                (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-            );
-            Ok(())
-        })?;
-        let data = buf.mapped()?;
-        let floats: Vec<f32> = data
+        let texels = (self._lut.desc.width * self._lut.desc.height) as usize;
+        let bytes = read_image(ctx, pool, &self._lut)?;
+        let floats: Vec<f32> = bytes
             .chunks_exact(4)
             .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
@@ -1116,20 +1043,6 @@ fn upload_regions(
             bytes.len()
         )));
     }
-    let mut staging = Buffer::new(
-        ctx,
-        "ibl cache upload",
-        total,
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
-    )?;
-    staging.write(0, bytes)?;
-    let d = &ctx.device;
-    let dst = (
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        vk::PipelineStageFlags2::COPY,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
     let from = if from_layout == vk::ImageLayout::UNDEFINED {
         (
             vk::ImageLayout::UNDEFINED,
@@ -1139,49 +1052,15 @@ fn upload_regions(
     } else {
         (from_layout, COMPUTE_RW.0, COMPUTE_RW.1)
     };
-    let general = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
-    let raw = image.raw;
-    pool.one_shot(|cmd| {
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from,
-                to: dst,
-            }],
-        );
-        unsafe {
-            d.cmd_copy_buffer_to_image(
-                cmd,
-                staging.raw,
-                raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                regions,
-            )
-        };
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: dst,
-                to: general,
-            }],
-        );
-        memory_barrier(
-            d,
-            cmd,
-            COMPUTE_RW,
-            (
-                vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::VERTEX_SHADER,
-                vk::AccessFlags2::SHADER_SAMPLED_READ,
-            ),
-        );
-        Ok(())
-    })
+    // GENERAL, visible to the compute kernels and to the forward pass's shaders.
+    let to = (
+        vk::ImageLayout::GENERAL,
+        COMPUTE_RW.0
+            | vk::PipelineStageFlags2::FRAGMENT_SHADER
+            | vk::PipelineStageFlags2::VERTEX_SHADER,
+        COMPUTE_RW.1,
+    );
+    crate::vk::image::upload(ctx, pool, image, bytes, regions, range, from, to)
 }
 
 const BLOB_MAGIC: &[u8; 8] = b"LUZIBL01";

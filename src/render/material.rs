@@ -10,7 +10,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::scene::{Filter, Scene, TextureSlot, Wrap};
 use crate::texture::{ColorSpace, TexFormat, TextureData};
-use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::cmd::CommandPool;
 use crate::vk::image::{ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, VkError};
@@ -82,18 +82,9 @@ fn upload(
         name,
         ImageDesc::texture(data.width, data.height, vk_format(data.format), levels, 1),
     )?;
-    let total: usize = data.mips.iter().map(Vec::len).sum();
-    let mut staging = Buffer::new(
-        ctx,
-        &format!("{name} staging"),
-        total as u64,
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
-    )?;
     let mut regions = Vec::with_capacity(data.mips.len());
     let mut offset = 0u64;
-    for (level, bytes) in data.mips.iter().enumerate() {
-        staging.write(offset, bytes)?;
+    for level in 0..data.mips.len() {
         let (w, h) = data.level_extent(level);
         regions.push(vk::BufferImageCopy {
             buffer_offset: offset,
@@ -110,56 +101,27 @@ fn upload(
             },
             ..Default::default()
         });
-        offset += bytes.len() as u64;
+        offset += data.mips[level].len() as u64;
     }
-    let d = &ctx.device;
-    let (raw, range) = (image.raw, image.subresource_range());
-    let dst = (
-        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-        vk::PipelineStageFlags2::COPY,
-        vk::AccessFlags2::TRANSFER_WRITE,
-    );
-    pool.one_shot(|cmd| {
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::TOP_OF_PIPE,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: dst,
-            }],
-        );
-        unsafe {
-            d.cmd_copy_buffer_to_image(
-                cmd,
-                staging.raw,
-                raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &regions,
-            )
-        };
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: dst,
-                to: (
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    vk::PipelineStageFlags2::VERTEX_SHADER
-                        | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            }],
-        );
-        Ok(())
-    })?;
+    let bytes = data.mips.concat();
+    crate::vk::image::upload(
+        ctx,
+        pool,
+        &image,
+        &bytes,
+        &regions,
+        image.subresource_range(),
+        (
+            vk::ImageLayout::UNDEFINED,
+            vk::PipelineStageFlags2::TOP_OF_PIPE,
+            vk::AccessFlags2::NONE,
+        ),
+        (
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+        ),
+    )?;
     Ok(image)
 }
 

@@ -326,3 +326,70 @@ impl Drop for Image {
         }
     }
 }
+
+/// (layout, stages, accesses) of an image before or after a transition.
+pub type ImageState = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// Copies `bytes` into `image` through a staging buffer: `range` goes from `from` to
+/// TRANSFER_DST_OPTIMAL, receives `regions` (offsets into `bytes`), then goes to `to`. Submits and
+/// waits.
+#[allow(clippy::too_many_arguments)]
+pub fn upload(
+    ctx: &Arc<Context>,
+    pool: &super::cmd::CommandPool,
+    image: &Image,
+    bytes: &[u8],
+    regions: &[vk::BufferImageCopy],
+    range: vk::ImageSubresourceRange,
+    from: ImageState,
+    to: ImageState,
+) -> Result<(), VkError> {
+    use super::cmd::{transition, Transition};
+    let mut staging = super::Buffer::new(
+        ctx,
+        "image upload staging",
+        bytes.len() as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
+    staging.write(0, bytes)?;
+    let d = &ctx.device;
+    let dst = (
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let raw = image.raw;
+    pool.one_shot(|cmd| {
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from,
+                to: dst,
+            }],
+        );
+        unsafe {
+            d.cmd_copy_buffer_to_image(
+                cmd,
+                staging.raw,
+                raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                regions,
+            )
+        };
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: dst,
+                to,
+            }],
+        );
+        Ok(())
+    })
+}
