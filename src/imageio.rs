@@ -440,6 +440,21 @@ fn write_with(
     result
 }
 
+/// The `image` crate limits every decoder in luz runs with (declared size and allocation).
+pub fn decode_limits() -> Limits {
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_DIMENSION);
+    limits.max_image_height = Some(MAX_DIMENSION);
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    limits
+}
+
+/// True when a declared `width`×`height` image, `bytes` once decoded, is beyond what luz decodes:
+/// checked from the header, before any pixel is allocated.
+pub fn exceeds_decode_limits(width: u32, height: u32, bytes: u64) -> bool {
+    u64::from(width) * u64::from(height) > MAX_PIXELS || bytes > MAX_DECODE_BYTES
+}
+
 /// Loads a PNG (8/16-bit, decoded from sRGB to linear) or an EXR (linear). The format comes
 /// from the extension; content that does not match it is reported as corrupt.
 pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
@@ -452,10 +467,7 @@ pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
     }
     let file = File::open(path).map_err(|e| read_error(path, e))?;
 
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_DIMENSION);
-    limits.max_image_height = Some(MAX_DIMENSION);
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    let limits = decode_limits();
     let mut reader = ImageReader::with_format(BufReader::new(file), format.image_format());
     reader.limits(limits);
 
@@ -463,8 +475,7 @@ pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
         .into_decoder()
         .map_err(|e| decode_error(path, format, e))?;
     let (width, height) = decoder.dimensions();
-    let too_large = u64::from(width) * u64::from(height) > MAX_PIXELS
-        || decoder.total_bytes() > MAX_DECODE_BYTES;
+    let too_large = exceeds_decode_limits(width, height, decoder.total_bytes());
     if too_large {
         return Err(ImageError::TooLarge {
             path: path.to_path_buf(),
@@ -574,17 +585,13 @@ fn load_hdr(path: &Path) -> Result<LinearImage, ImageError> {
             })
         }
     };
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_DIMENSION);
-    limits.max_image_height = Some(MAX_DIMENSION);
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    let limits = decode_limits();
     let mut reader = ImageReader::with_format(BufReader::new(file), ImageFormat::Hdr);
     reader.limits(limits);
     let decoder = reader.into_decoder().map_err(hdr_error)?;
     let (width, height) = decoder.dimensions();
     // Decoded as RGB f32 here, then widened to RGBA f32: 16 bytes per pixel in the end.
-    let too_large = u64::from(width) * u64::from(height) > MAX_PIXELS
-        || u64::from(width) * u64::from(height) * 16 > MAX_DECODE_BYTES;
+    let too_large = exceeds_decode_limits(width, height, u64::from(width) * u64::from(height) * 16);
     if too_large {
         return Err(ImageError::TooLarge {
             path: path.to_path_buf(),

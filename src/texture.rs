@@ -32,11 +32,11 @@ use std::io::{self, BufReader};
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits, RgbaImage};
+use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, RgbaImage};
 use rayon::prelude::*;
 
 use crate::color::{srgb_decode, srgb_decode_table};
-use crate::imageio::{MAX_DECODE_BYTES, MAX_DIMENSION, MAX_PIXELS};
+use crate::imageio::MAX_DIMENSION;
 use crate::scene::{TextureRef, TextureSlot};
 
 /// How a texture's texels are encoded.
@@ -274,18 +274,14 @@ pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
         });
     }
     let file = File::open(path).map_err(|e| read_error(path, e))?;
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_DIMENSION);
-    limits.max_image_height = Some(MAX_DIMENSION);
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    let limits = crate::imageio::decode_limits();
     let mut reader = ImageReader::with_format(BufReader::new(file), kind.image_format());
     reader.limits(limits);
     let decoder = reader
         .into_decoder()
         .map_err(|e| decode_error(path, kind, e))?;
     let (width, height) = decoder.dimensions();
-    if u64::from(width) * u64::from(height) > MAX_PIXELS || decoder.total_bytes() > MAX_DECODE_BYTES
-    {
+    if crate::imageio::exceeds_decode_limits(width, height, decoder.total_bytes()) {
         return Err(TextureError::TooLarge {
             path: path.to_path_buf(),
             declared: format!("declared {width}×{height}"),
