@@ -44,6 +44,10 @@ pub enum Command {
     Brdf(crate::brdf_cli::BrdfArgs),
     /// List the Vulkan devices luz can use and the one it would pick.
     Devices(GpuArgs),
+    /// Open the interactive viewer: orbit camera, panels for every scene field, frame-time
+    /// profiler, screenshots; `--bench` measures windowed frame times.
+    #[cfg(feature = "window")]
+    View(crate::window::ViewArgs),
 }
 
 /// Options shared by every command that touches the GPU.
@@ -180,6 +184,8 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Diff(a) => diff(a),
         Command::Brdf(a) => crate::brdf_cli::run(a),
         Command::Devices(a) => devices(a),
+        #[cfg(feature = "window")]
+        Command::View(a) => crate::window::run(a),
     }
 }
 
@@ -223,7 +229,7 @@ fn check_output(path: &Path) -> Result<FileFormat> {
     Ok(format)
 }
 
-fn validation_exit(ctx: &Context) -> ExitCode {
+pub(crate) fn validation_exit(ctx: &Context) -> ExitCode {
     let log = ctx.validation_log();
     if ctx.instance.validation {
         eprintln!(
@@ -239,7 +245,7 @@ fn validation_exit(ctx: &Context) -> ExitCode {
 }
 
 /// The renderer options the `render` and `bench` flags ask for.
-fn render_options(
+pub(crate) fn render_options(
     no_cache: bool,
     quality: IblQuality,
     debug_view: crate::render::forward::DebugView,

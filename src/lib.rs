@@ -13,8 +13,11 @@ pub mod env;
 pub mod headless;
 pub mod imageio;
 pub mod plot;
+pub mod profiler;
 pub mod render;
 pub mod scene;
 pub mod stats;
 pub mod texture;
 pub mod vk;
+#[cfg(feature = "window")]
+pub mod window;

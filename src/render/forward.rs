@@ -177,6 +177,8 @@ struct GpuMesh {
 
 struct Draw {
     mesh: usize,
+    /// Index into the scene's objects (and the objects buffer's slot).
+    object: usize,
     material: usize,
     /// Back faces can be culled: a closed primitive (outward CCW winding) with positive scale.
     cull: bool,
@@ -201,19 +203,30 @@ pub struct TargetViews {
     pub extent: vk::Extent2D,
 }
 
+/// The data a frame may change without rebuilding anything: camera and frame uniforms, lights,
+/// object transforms. One copy per frame in flight, so the host can write one while the GPU
+/// reads another.
+struct Slot {
+    frame_ubo: Buffer,
+    lights: Buffer,
+    objects: Buffer,
+    set: vk::DescriptorSet,
+}
+
 pub struct ForwardPass {
     pipelines: BTreeMap<VariantKey, Pipeline>,
     draws: Vec<Draw>,
     meshes: Vec<GpuMesh>,
-    frame_ubo: Buffer,
-    _lights: Buffer,
-    _objects: Buffer,
-    set: vk::DescriptorSet,
+    slots: Vec<Slot>,
+    /// Scene object index → index into the objects buffer (`None`: the object draws nothing).
+    object_slots: Vec<Option<u32>>,
+    lut_layers: Option<Vec<(i32, u32)>>,
     _pool: DescriptorPool,
     layout: PipelineLayout,
     _set_layout: DescriptorSetLayout,
     background: [f32; 4],
     light_count: u32,
+    variant_debug: DebugView,
     skybox: Option<Pipeline>,
     env_set: Option<vk::DescriptorSet>,
     materials: MaterialSets,
@@ -226,6 +239,7 @@ const STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
 );
 
 impl ForwardPass {
+    /// A pass for one frame at a time (headless rendering).
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
@@ -235,7 +249,24 @@ impl ForwardPass {
         ibl: Option<&Ibl>,
         debug: DebugView,
     ) -> Result<Self, VkError> {
-        let d = &ctx.device;
+        Self::in_flight(ctx, pool, scene, target, aspect, ibl, debug, 1)
+    }
+
+    /// A pass with `slots` copies of its per-frame data (camera, lights, transforms), one per
+    /// frame in flight: [`ForwardPass::update`] writes a slot, [`ForwardPass::record_slot`] draws
+    /// with it.
+    #[allow(clippy::too_many_arguments)]
+    pub fn in_flight(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        scene: &Scene,
+        target: TargetFormat,
+        aspect: f32,
+        ibl: Option<&Ibl>,
+        debug: DebugView,
+        slots: usize,
+    ) -> Result<Self, VkError> {
+        let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
             (Some(_), Some(e)) => Some(IblKey::from_env(e)),
             _ => None,
@@ -273,18 +304,18 @@ impl ForwardPass {
             &[&set_layout, env_layout, &materials.set_layout],
             &push,
         )?;
+        let n = slot_count as u32;
         let pool_sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: 1,
+                descriptor_count: n,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 2,
+                descriptor_count: 2 * n,
             },
         ];
-        let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", 1, &pool_sizes)?;
-        let set = desc_pool.allocate(&set_layout)?;
+        let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
 
         // Lights: any number, in a storage buffer (never empty: Vulkan wants a non-zero range).
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
@@ -299,23 +330,14 @@ impl ForwardPass {
             });
         }
         let mut uploader = Uploader::new(ctx);
-        let light_data = if lights.is_empty() {
-            vec![bytemuck::Zeroable::zeroed()]
-        } else {
-            lights.clone()
-        };
-        let lights_buf = uploader.buffer(
-            "lights",
-            bytemuck::cast_slice(&light_data),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
 
         // Meshes: one GPU copy per (mesh, smooth/flat) pair.
         let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
         let mut meshes = Vec::new();
         let mut objects = Vec::new();
         let mut draws = Vec::new();
-        for obj in &scene.objects {
+        let mut object_slots = vec![None; scene.objects.len()];
+        for (object, obj) in scene.objects.iter().enumerate() {
             let flat = matches!(obj.shading, Shading::Flat);
             let key = (Arc::as_ptr(&obj.mesh) as usize, flat);
             let mesh_index = match mesh_cache.get(&key) {
@@ -361,6 +383,7 @@ impl ForwardPass {
             let material = &scene.materials[obj.material].material;
             let (model, mut push) = gpu::material_push(material);
             push.object_index = objects.len() as u32;
+            object_slots[object] = Some(push.object_index);
             if let Some(i) = ibl {
                 push.flags = i.lut_layer(lut_geometry(&material.to_brdf()));
             }
@@ -377,6 +400,7 @@ impl ForwardPass {
             let positive = obj.transform.scale.min_element() > 0.0;
             draws.push(Draw {
                 mesh: mesh_index,
+                object,
                 material: obj.material,
                 cull: closed && positive,
                 variant: VariantKey {
@@ -389,59 +413,20 @@ impl ForwardPass {
                 push,
             });
         }
-        if objects.is_empty() {
-            objects.push(gpu::object_data(glam::Mat4::IDENTITY));
-        }
-        let objects_buf = uploader.buffer(
-            "objects",
-            bytemuck::cast_slice(&objects),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
         uploader.flush(pool)?;
-
-        let frame_ubo = Buffer::new(
-            ctx,
-            "frame uniforms",
-            std::mem::size_of::<gpu::FrameData>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
-        let infos = [
-            [vk::DescriptorBufferInfo {
-                buffer: frame_ubo.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }],
-            [vk::DescriptorBufferInfo {
-                buffer: lights_buf.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }],
-            [vk::DescriptorBufferInfo {
-                buffer: objects_buf.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }],
-        ];
-        let writes = [
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(gpu::BINDING_FRAME)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .buffer_info(&infos[0]),
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(gpu::BINDING_LIGHTS)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&infos[1]),
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(gpu::BINDING_OBJECTS)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&infos[2]),
-        ];
-        unsafe { d.update_descriptor_sets(&writes, &[]) };
-
+        let light_count = lights.len().max(1);
+        let object_count = objects.len().max(1);
+        let mut slots = Vec::with_capacity(slot_count);
+        for i in 0..slot_count {
+            slots.push(Slot::new(
+                ctx,
+                &desc_pool,
+                &set_layout,
+                i,
+                light_count,
+                object_count,
+            )?);
+        }
         // Pipelines: exactly the variants the draws use.
         let mut pipelines = BTreeMap::new();
         let mut modules: HashMap<ShadingKey, (ShaderModule, ShaderModule)> = HashMap::new();
@@ -469,33 +454,111 @@ impl ForwardPass {
             (Some(_), Some(e)) if e.show_background => Some(create_skybox(ctx, &layout, target)?),
             _ => None,
         };
+        let lut_layers = ibl.map(|i| {
+            lut_geometries(scene)
+                .into_iter()
+                .map(|g| (g, i.lut_layer(g)))
+                .collect()
+        });
         let mut pass = Self {
             pipelines,
             draws,
             meshes,
-            frame_ubo,
-            _lights: lights_buf,
-            _objects: objects_buf,
-            set,
+            slots,
+            object_slots,
+            lut_layers,
             _pool: desc_pool,
             layout,
             _set_layout: set_layout,
             background: scene.output.background.extend(1.0).to_array(),
             light_count: lights.len() as u32,
+            variant_debug: debug,
             skybox,
             env_set: ibl.map(|i| i.set),
             materials,
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
-        pass.update_camera(scene, aspect)?;
+        for slot in 0..slot_count {
+            pass.update(slot, scene, aspect)?;
+        }
         Ok(pass)
     }
 
-    /// Rewrites the per-frame uniforms (camera, ambient, fog).
+    /// Number of per-frame data copies.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Rewrites slot `slot`'s per-frame data from `scene`: camera, ambient, fog, background,
+    /// lights, object transforms and material parameters. `scene` must have the structure the
+    /// pass was built for ([`Structure::of`] equal); the slot must not be in use by the GPU.
+    pub fn update(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        if scene.lights.len() as u32 != self.light_count
+            || scene.objects.len() != self.object_slots.len()
+        {
+            return Err(VkError::Setup(format!(
+                "forward pass built for {} lights and {} objects, updated with {} and {}",
+                self.light_count,
+                self.object_slots.len(),
+                scene.lights.len(),
+                scene.objects.len()
+            )));
+        }
+        let s = self
+            .slots
+            .get_mut(slot)
+            .ok_or_else(|| VkError::Setup(format!("no frame slot {slot}")))?;
+        let data = gpu::frame_data(scene, aspect, self.light_count);
+        s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
+        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
+        s.lights.write(0, bytemuck::cast_slice(&lights))?;
+        for (obj, index) in scene.objects.iter().zip(&self.object_slots) {
+            if let Some(i) = index {
+                let data = gpu::object_data(obj.transform.matrix());
+                s.objects.write(
+                    *i as u64 * std::mem::size_of::<gpu::ObjectData>() as u64,
+                    bytemuck::bytes_of(&data),
+                )?;
+            }
+        }
+        self.background = scene.output.background.extend(1.0).to_array();
+        for draw in &mut self.draws {
+            let obj = &scene.objects[draw.object];
+            let material = &scene.materials[obj.material].material;
+            let (model, mut push) = gpu::material_push(material);
+            if model != draw.variant.model {
+                return Err(VkError::Setup(format!(
+                    "object {}: material model changed; rebuild the forward pass",
+                    obj.name
+                )));
+            }
+            push.object_index = draw.push.object_index;
+            if let Some(layers) = &self.lut_layers {
+                let g = lut_geometry(&material.to_brdf());
+                push.flags = layers
+                    .iter()
+                    .find(|(geometry, _)| *geometry == g)
+                    .map(|(_, l)| *l)
+                    .unwrap_or(draw.push.flags);
+            }
+            draw.push = push;
+        }
+        Ok(())
+    }
+
+    /// Rewrites the per-frame uniforms (camera, ambient, fog) of every slot.
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
-        self.frame_ubo.write(0, bytemuck::bytes_of(&data))
+        for s in &mut self.slots {
+            s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
+        }
+        Ok(())
+    }
+
+    /// The debug view the pipelines were built with.
+    pub fn debug_view(&self) -> DebugView {
+        self.variant_debug
     }
 
     /// Texture maps uploaded for the scene's materials.
@@ -519,9 +582,15 @@ impl ForwardPass {
             .sum()
     }
 
-    /// Clears the target to the scene background and draws every object.
+    /// Clears the target to the scene background and draws every object (slot 0's data).
     pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) {
+        self.record_slot(cmd, target, 0)
+    }
+
+    /// As [`ForwardPass::record`], with the per-frame data of `slot`.
+    pub fn record_slot(&self, cmd: vk::CommandBuffer, target: &TargetViews, slot: usize) {
         let d = &self.ctx.device;
+        let set = self.slots[slot.min(self.slots.len() - 1)].set;
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
                 float32: self.background,
@@ -581,7 +650,7 @@ impl ForwardPass {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.layout.raw,
                 gpu::SET_FRAME,
-                &[self.set],
+                &[set],
                 &[],
             );
             if let Some(env) = self.env_set {
@@ -794,4 +863,71 @@ fn create_skybox(
             depth_compare: vk::CompareOp::LESS_OR_EQUAL,
         },
     )
+}
+
+impl Slot {
+    fn new(
+        ctx: &Arc<Context>,
+        pool: &DescriptorPool,
+        layout: &DescriptorSetLayout,
+        index: usize,
+        lights: usize,
+        objects: usize,
+    ) -> Result<Self, VkError> {
+        let buffer = |name: &str, size: usize, usage| {
+            Buffer::new(
+                ctx,
+                &format!("{name} (slot {index})"),
+                size as u64,
+                usage,
+                MemoryLocation::CpuToGpu,
+            )
+        };
+        let frame_ubo = buffer(
+            "frame uniforms",
+            std::mem::size_of::<gpu::FrameData>(),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let lights = buffer(
+            "lights",
+            lights * std::mem::size_of::<GpuLight>(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let objects = buffer(
+            "objects",
+            objects * std::mem::size_of::<gpu::ObjectData>(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let set = pool.allocate(layout)?;
+        let info = |b: &Buffer| {
+            [vk::DescriptorBufferInfo {
+                buffer: b.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        };
+        let infos = [info(&frame_ubo), info(&lights), info(&objects)];
+        let writes = [
+            (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
+            (gpu::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
+            (gpu::BINDING_OBJECTS, vk::DescriptorType::STORAGE_BUFFER),
+        ]
+        .iter()
+        .zip(&infos)
+        .map(|(&(binding, ty), info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(binding)
+                .descriptor_type(ty)
+                .buffer_info(info)
+        })
+        .collect::<Vec<_>>();
+        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        Ok(Self {
+            frame_ubo,
+            lights,
+            objects,
+            set,
+        })
+    }
 }

@@ -5,6 +5,7 @@
 //! (see [`SceneError`]); no input makes this module panic.
 
 mod decode;
+mod encode;
 mod environment;
 mod error;
 pub mod json;
@@ -17,6 +18,7 @@ use std::sync::Arc;
 
 use glam::{Mat3, Mat4, Vec3};
 
+pub use encode::{encode, save, to_json, Encoded};
 pub use environment::{
     DiffuseMethod, EnvSource, Environment, SpecularMethod, DEFAULT_ENV_SAMPLES,
     DEFAULT_SUN_DIRECTION, DEFAULT_SUN_INTENSITY, MAX_ENV_SAMPLES, MAX_SUN_INTENSITY,

@@ -1,0 +1,1088 @@
+//! [`Scene`] → JSON: the inverse of `decode.rs`, so that an edited scene can be saved and loaded
+//! back as the same scene.
+//!
+//! What is written:
+//!
+//! * every section explicitly (camera, output, ambient, saturation, lights, materials, objects,
+//!   and fog and environment when present), every field of every light, material, texture map
+//!   and environment, including the values that equal the defaults, so a saved file does not
+//!   depend on the defaults of the luz that reads it;
+//! * numbers as the shortest decimal text that reads back as the same `f32` through the
+//!   decoder (which parses an `f64` and rounds it to `f32`); unit vectors (camera `up`, light and
+//!   sun directions), which the decoder normalises, as a vector whose normalisation gives back
+//!   exactly the stored one;
+//! * file paths (OBJ meshes, texture maps, `hdr` environments) relative to the folder the scene is
+//!   written into when the two share more than the file-system root, else absolute;
+//! * an OBJ once per OBJ entry: the objects an OBJ file expanded into (one per part, consecutive,
+//!   sharing their meshes) are written back as one `{"type": "obj"}` entry, without `material`
+//!   when the parts take theirs from the MTL file (the MTL materials are then recreated by the
+//!   decoder and not written), with it otherwise.
+//!
+//! Not written: `source` and `warnings`. What the format cannot say (a part of an OBJ moved on its
+//! own, a material given a map its model does not take, an MTL-made material used where the
+//! decoder cannot recreate it, …) is either approximated or dropped, and described in
+//! [`Encoded::notes`].
+//!
+//! `serde_json::Value` (without serde_json's `preserve_order` feature) keeps object keys sorted,
+//! so [`to_json`] loses the order of the materials (a scene read back from its text lists them
+//! by name); [`Encoded::to_text`] and [`save`] keep the scene's order.
+
+use std::collections::{HashMap, HashSet};
+use std::io::Write;
+use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+use serde_json::Value;
+
+use super::decode::{DISTRIBUTIONS, FRESNELS, GEOMETRIES};
+use super::{
+    EnvSource, Environment, Falloff, Fog, Light, LightKind, Material, MaterialTextures, MeshDesc,
+    Object, Saturation, Scene, Shading, TextureRef, TextureSlot, Wrap,
+};
+use crate::brdf::SpecularSource;
+use crate::scene::{slots_for_model, Filter, SamplerDesc};
+
+/// The scene as JSON, with file paths relative to the folder of the file it was loaded from
+/// (absolute for a scene without a `source`, such as the embedded default). Object keys are
+/// sorted (see the module documentation); use [`encode`] and [`Encoded::to_text`] for the text a
+/// file should hold.
+pub fn to_json(scene: &Scene) -> Value {
+    encode(scene, source_dir(scene)).to_json()
+}
+
+/// Writes `scene` to `path` as pretty-printed JSON (two-space indentation, arrays of numbers on
+/// one line), with file paths relative to `path`'s folder. The text is written to a temporary
+/// file next to `path` and renamed over it, so a failed save leaves an existing file intact.
+/// Errors name `path`.
+pub fn save(scene: &Scene, path: &Path) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let text = encode(scene, Some(dir)).to_text();
+    let err = |e: std::io::Error, what: &str| {
+        std::io::Error::new(
+            e.kind(),
+            format!("{}: cannot {what} the scene file: {e}", path.display()),
+        )
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| {
+            std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("{}: not a file name", path.display()),
+            )
+        })?
+        .to_string_lossy()
+        .into_owned();
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let written = std::fs::File::create(&tmp)
+        .and_then(|mut f| {
+            f.write_all(text.as_bytes())?;
+            f.sync_all()
+        })
+        .map_err(|e| err(e, "write"))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| err(e, "replace")));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
+}
+
+/// Encodes `scene` for a file in the folder `dir` (the base of relative paths; `None`: every
+/// path absolute).
+pub fn encode(scene: &Scene, dir: Option<&Path>) -> Encoded {
+    let dir = dir.map(|d| {
+        let d = if d.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            d
+        };
+        canonical_dir(d)
+    });
+    let mut enc = Encoder {
+        scene,
+        dir,
+        notes: Vec::new(),
+        exported: HashMap::new(),
+        export_order: Vec::new(),
+        created: HashSet::new(),
+    };
+    let root = enc.scene_node();
+    Encoded {
+        root,
+        notes: enc.notes,
+    }
+}
+
+/// An encoded scene: its JSON tree, in the scene's order, and what could not be encoded exactly.
+#[derive(Debug, Clone)]
+pub struct Encoded {
+    root: Node,
+    /// One sentence per thing the scene format cannot express, naming the object or material and
+    /// saying what was written instead. Empty for any scene the decoder produced.
+    pub notes: Vec<String>,
+}
+
+impl Encoded {
+    /// The tree as a `serde_json::Value` (object keys sorted).
+    pub fn to_json(&self) -> Value {
+        self.root.to_value()
+    }
+
+    /// Pretty-printed JSON text in the scene's order, ending with a newline.
+    pub fn to_text(&self) -> String {
+        let mut out = String::new();
+        self.root.write(0, &mut out);
+        out.push('\n');
+        out
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// An ordered JSON tree and its printer.
+
+#[derive(Debug, Clone, PartialEq)]
+enum Node {
+    Null,
+    Bool(bool),
+    Int(u64),
+    Num(f32),
+    Str(String),
+    Arr(Vec<Node>),
+    Obj(Vec<(String, Node)>),
+}
+
+impl Node {
+    fn obj() -> Self {
+        Node::Obj(Vec::new())
+    }
+
+    /// Appends `key: value` (objects only).
+    fn put(&mut self, key: &str, value: impl Into<Node>) -> &mut Self {
+        if let Node::Obj(fields) = self {
+            fields.push((key.to_string(), value.into()));
+        }
+        self
+    }
+
+    fn with(mut self, key: &str, value: impl Into<Node>) -> Self {
+        self.put(key, value);
+        self
+    }
+
+    fn is_scalar(&self) -> bool {
+        !matches!(self, Node::Arr(_) | Node::Obj(_))
+    }
+
+    fn to_value(&self) -> Value {
+        match self {
+            Node::Null => Value::Null,
+            Node::Bool(b) => Value::Bool(*b),
+            Node::Int(i) => Value::from(*i),
+            Node::Num(x) => num_value(*x)
+                .and_then(serde_json::Number::from_f64)
+                .map_or(Value::Null, Value::Number),
+            Node::Str(s) => Value::String(s.clone()),
+            Node::Arr(items) => Value::Array(items.iter().map(Node::to_value).collect()),
+            Node::Obj(fields) => Value::Object(
+                fields
+                    .iter()
+                    .map(|(k, v)| (k.clone(), v.to_value()))
+                    .collect(),
+            ),
+        }
+    }
+
+    fn write(&self, indent: usize, out: &mut String) {
+        match self {
+            Node::Null => out.push_str("null"),
+            Node::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
+            Node::Int(i) => out.push_str(&i.to_string()),
+            Node::Num(x) => out.push_str(num_text(*x).as_deref().unwrap_or("null")),
+            Node::Str(s) => out.push_str(&json_string(s)),
+            Node::Arr(items) if items.is_empty() => out.push_str("[]"),
+            Node::Arr(items) if items.iter().all(Node::is_scalar) => {
+                out.push('[');
+                for (i, item) in items.iter().enumerate() {
+                    if i > 0 {
+                        out.push_str(", ");
+                    }
+                    item.write(indent, out);
+                }
+                out.push(']');
+            }
+            Node::Arr(items) => {
+                out.push_str("[\n");
+                for (i, item) in items.iter().enumerate() {
+                    push_indent(out, indent + 1);
+                    item.write(indent + 1, out);
+                    out.push_str(if i + 1 < items.len() { ",\n" } else { "\n" });
+                }
+                push_indent(out, indent);
+                out.push(']');
+            }
+            Node::Obj(fields) if fields.is_empty() => out.push_str("{}"),
+            Node::Obj(fields) => {
+                out.push_str("{\n");
+                for (i, (key, value)) in fields.iter().enumerate() {
+                    push_indent(out, indent + 1);
+                    out.push_str(&json_string(key));
+                    out.push_str(": ");
+                    value.write(indent + 1, out);
+                    out.push_str(if i + 1 < fields.len() { ",\n" } else { "\n" });
+                }
+                push_indent(out, indent);
+                out.push('}');
+            }
+        }
+    }
+}
+
+fn push_indent(out: &mut String, level: usize) {
+    for _ in 0..level {
+        out.push_str("  ");
+    }
+}
+
+fn json_string(s: &str) -> String {
+    serde_json::to_string(s).unwrap_or_else(|_| "\"\"".to_string())
+}
+
+impl From<bool> for Node {
+    fn from(b: bool) -> Self {
+        Node::Bool(b)
+    }
+}
+
+impl From<u32> for Node {
+    fn from(i: u32) -> Self {
+        Node::Int(u64::from(i))
+    }
+}
+
+impl From<f32> for Node {
+    fn from(x: f32) -> Self {
+        Node::Num(x)
+    }
+}
+
+impl From<Vec3> for Node {
+    fn from(v: Vec3) -> Self {
+        Node::Arr(v.to_array().map(Node::Num).to_vec())
+    }
+}
+
+impl From<&str> for Node {
+    fn from(s: &str) -> Self {
+        Node::Str(s.to_string())
+    }
+}
+
+impl From<String> for Node {
+    fn from(s: String) -> Self {
+        Node::Str(s)
+    }
+}
+
+/// The text of `x` in a scene file: the shortest decimal that reads back as `x` when parsed as
+/// an `f64` and rounded to `f32` (what the decoder does); `None` for NaN and infinities, which
+/// JSON cannot hold.
+fn num_text(x: f32) -> Option<String> {
+    if !x.is_finite() {
+        return None;
+    }
+    // `{:?}` is the shortest text that parses back (as an f32) to x, with an exponent for very
+    // large or small values ("1e-7"), always valid JSON. Parsing it as an f64 and rounding could in
+    // principle round twice the wrong way; then the f64 value of x itself is written (exact).
+    let short = format!("{x:?}");
+    if short.parse::<f64>().ok().map(|d| d as f32) == Some(x) {
+        Some(short)
+    } else {
+        Some(format!("{:?}", f64::from(x)))
+    }
+}
+
+/// The `f64` the decoder reads from [`num_text`].
+fn num_value(x: f32) -> Option<f64> {
+    num_text(x).and_then(|t| t.parse().ok())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Vectors the decoder normalises.
+
+/// The decoder's normalisation (`decode::unit`): in f64, then rounded to f32.
+fn unit(v: Vec3) -> Option<Vec3> {
+    let d = DVec3::from(v.to_array().map(f64::from));
+    let len = d.length();
+    (len > 1e-12 && len.is_finite()).then(|| (d / len).as_vec3())
+}
+
+/// A vector `w` with `unit(w) == u`, for a unit vector `u` the decoder produced: `u` itself
+/// when normalising it again does not move it by an ulp, else a nearby vector that normalises to
+/// exactly `u` (found among `u` scaled by factors in [1, 2) and rounded, and their neighbours one
+/// ulp away). A vector that is not of unit length is returned as it is (the decoder will
+/// normalise it), and so is `u` in the unlikely case that the search finds nothing.
+fn unit_preimage(u: Vec3) -> Vec3 {
+    if unit(u) == Some(u) || !u.is_finite() || (u.length() - 1.0).abs() > 1e-4 {
+        return u;
+    }
+    let around = |x: f32| [x, x.next_down(), x.next_up()];
+    for k in 0..256 {
+        // Scaling by a factor that is not a power of two rounds each component differently.
+        let s = 1.0 + f64::from(k) / 256.0;
+        let w = (DVec3::from(u.to_array().map(f64::from)) * s).as_vec3();
+        for x in around(w.x) {
+            for y in around(w.y) {
+                for z in around(w.z) {
+                    let w = Vec3::new(x, y, z);
+                    if unit(w) == Some(u) {
+                        return w;
+                    }
+                }
+            }
+        }
+    }
+    u
+}
+
+// ---------------------------------------------------------------------------------------------
+// Paths.
+
+/// The folder of the file a scene came from.
+fn source_dir(scene: &Scene) -> Option<&Path> {
+    scene
+        .source
+        .as_deref()
+        .map(|p| p.parent().unwrap_or(Path::new("")))
+}
+
+/// `dir` made absolute, with symbolic links resolved when it exists.
+fn canonical_dir(dir: &Path) -> PathBuf {
+    dir.canonicalize().unwrap_or_else(|_| absolute(dir))
+}
+
+/// `p` made absolute and lexically normalised (no `.`, `..` resolved), without touching the
+/// file system.
+fn absolute(p: &Path) -> PathBuf {
+    let p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let mut out = PathBuf::new();
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !out.pop() {
+                    out.push(c);
+                }
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A file's path as written in a scene file in the (canonical) folder `dir`: relative to `dir`
+/// when the two share more than the file-system root, else absolute. The file's folder is
+/// resolved (symbolic links included) but not the file name itself, so a link keeps its name
+/// and extension.
+fn file_path(file: &Path, dir: Option<&Path>) -> String {
+    let parent = match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut target = canonical_dir(parent);
+    if let Some(name) = file.file_name() {
+        target.push(name);
+    }
+    let show = |p: &Path| p.to_string_lossy().into_owned();
+    let Some(dir) = dir else {
+        return show(&target);
+    };
+    let t: Vec<Component> = target.components().collect();
+    let d: Vec<Component> = dir.components().collect();
+    let common = t.iter().zip(&d).take_while(|(a, b)| a == b).count();
+    // Only the root (or a Windows prefix and root) in common: absolute.
+    let shared_named = t[..common]
+        .iter()
+        .any(|c| matches!(c, Component::Normal(_)));
+    if !shared_named || common == t.len() {
+        return show(&target);
+    }
+    let mut parts: Vec<String> = vec!["..".to_string(); d.len() - common];
+    parts.extend(
+        t[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    parts.join("/")
+}
+
+// ---------------------------------------------------------------------------------------------
+// The encoder.
+
+struct Encoder<'a> {
+    scene: &'a Scene,
+    /// Canonical folder of the file being written (`None`: absolute paths).
+    dir: Option<PathBuf>,
+    notes: Vec<String>,
+    /// Materials made from MTL files that must be written as scene materials (used where the
+    /// decoder cannot recreate them): scene material index → the name written.
+    exported: HashMap<usize, String>,
+    export_order: Vec<usize>,
+    /// MTL-made materials the OBJ entries written so far make the decoder recreate (by index):
+    /// objects after them may refer to them by name.
+    created: HashSet<usize>,
+}
+
+/// A name the `materials` block may hold (`/` is reserved for materials made from OBJ files).
+fn is_scene_material_name(name: &str) -> bool {
+    !name.trim().is_empty() && !name.contains('/')
+}
+
+impl Encoder<'_> {
+    fn path(&self, file: &Path) -> String {
+        file_path(file, self.dir.as_deref())
+    }
+
+    fn scene_node(&mut self) -> Node {
+        let s = self.scene;
+        let mut root = Node::obj();
+        root.put("description", s.description.as_str());
+        root.put("camera", camera(&s.camera));
+        root.put(
+            "output",
+            Node::obj()
+                .with("width", s.output.width)
+                .with("height", s.output.height)
+                .with("background", s.output.background)
+                .with("exposure", s.output.exposure)
+                .with("tonemap", s.output.tonemap.name())
+                .with("msaa", s.output.msaa),
+        );
+        root.put("ambient", s.ambient);
+        root.put(
+            "saturation",
+            match s.saturation {
+                Saturation::Clamp => "clamp",
+                Saturation::Normalize => "normalize",
+                Saturation::None => "none",
+            },
+        );
+        root.put("lights", Node::Arr(s.lights.iter().map(light).collect()));
+        // Objects first: they decide which MTL-made materials must be written as scene materials.
+        let objects = self.objects();
+        root.put("materials", self.materials());
+        root.put("objects", Node::Arr(objects));
+        if let Some(f) = &s.fog {
+            root.put("fog", fog(f));
+        }
+        if let Some(e) = &s.environment {
+            root.put("environment", self.environment(e));
+        }
+        root
+    }
+
+    // --- Materials --------------------------------------------------------------------------
+
+    fn materials(&mut self) -> Node {
+        let mut block = Node::obj();
+        let scene = self.scene;
+        for m in &scene.materials {
+            if is_scene_material_name(&m.name) {
+                let node = self.material(&m.name, &m.material, &m.textures);
+                block.put(&m.name, node);
+            }
+        }
+        for &i in &self.export_order.clone() {
+            let m = &scene.materials[i];
+            let name = self.exported[&i].clone();
+            let node = self.material(&name, &m.material, &m.textures);
+            block.put(&name, node);
+        }
+        block
+    }
+
+    fn material(&mut self, name: &str, material: &Material, textures: &MaterialTextures) -> Node {
+        let mut n = Node::obj().with("model", material.model_name());
+        match material {
+            Material::Phong {
+                ka,
+                kd,
+                ks,
+                shininess,
+                diffuse_color,
+                specular_color,
+                ..
+            } => {
+                n.put("ka", *ka)
+                    .put("kd", *kd)
+                    .put("ks", *ks)
+                    .put("shininess", *shininess)
+                    .put("diffuse_color", *diffuse_color)
+                    .put("specular_color", *specular_color);
+            }
+            Material::Lambert { albedo } => {
+                n.put("albedo", *albedo);
+            }
+            Material::CookTorrance(p) => {
+                n.put("color", p.color)
+                    .put("kd", p.kd)
+                    .put("roughness", p.roughness)
+                    .put("distribution", select(DISTRIBUTIONS, p.distribution))
+                    .put("geometry", select(GEOMETRIES, p.geometry))
+                    .put("fresnel", select(FRESNELS, p.fresnel));
+                match p.specular {
+                    SpecularSource::Ior(eta) => n.put("ior", eta),
+                    SpecularSource::F0(f0) => n.put("f0", f0),
+                    SpecularSource::Complex(c) => {
+                        n.put("complex_ior", Node::obj().with("eta", c.eta).with("k", c.k))
+                    }
+                };
+            }
+            Material::MetalRough(p) => {
+                n.put("base_color", p.base_color)
+                    .put("metallic", p.metallic)
+                    .put("roughness", p.roughness)
+                    .put("distribution", select(DISTRIBUTIONS, p.distribution))
+                    .put("geometry", select(GEOMETRIES, p.geometry))
+                    .put("fresnel", select(FRESNELS, p.fresnel))
+                    .put("diffuse_fresnel_weight", p.diffuse_fresnel_weight);
+            }
+            Material::Principled(p) => {
+                n.put("base_color", p.base_color)
+                    .put("subsurface", p.subsurface)
+                    .put("metallic", p.metallic)
+                    .put("specular", p.specular)
+                    .put("specular_tint", p.specular_tint)
+                    .put("roughness", p.roughness)
+                    .put("anisotropic", p.anisotropic)
+                    .put("sheen", p.sheen)
+                    .put("sheen_tint", p.sheen_tint)
+                    .put("clearcoat", p.clearcoat)
+                    .put("clearcoat_gloss", p.clearcoat_gloss);
+            }
+            Material::OrenNayar(p) => {
+                n.put("albedo", p.albedo).put("sigma_deg", p.sigma_deg);
+            }
+        }
+        if let Some(t) = self.textures(name, material.model_name(), textures) {
+            n.put("textures", t);
+        }
+        n
+    }
+
+    /// The `textures` block (`None` when there is nothing to say).
+    fn textures(&mut self, name: &str, model: &str, t: &MaterialTextures) -> Option<Node> {
+        let takes = slots_for_model(model);
+        let mut block = Node::obj();
+        let mut maps = 0;
+        for slot in TextureSlot::ALL {
+            let Some(tex) = t.get(slot) else { continue };
+            if !takes.contains(&slot) {
+                self.notes.push(format!(
+                    "material \"{name}\": a {model} material takes no \"{}\" map; {} not written",
+                    slot.name(),
+                    tex.path.display()
+                ));
+                continue;
+            }
+            let packed = matches!(
+                slot,
+                TextureSlot::Metallic | TextureSlot::Roughness | TextureSlot::Occlusion
+            ) && t.orm.is_some()
+                && takes.contains(&TextureSlot::Orm);
+            if packed {
+                self.notes.push(format!(
+                    "material \"{name}\": the \"orm\" map already gives {}; the separate map {} is not written",
+                    slot.name(),
+                    tex.path.display()
+                ));
+                continue;
+            }
+            block.put(slot.name(), self.texture(name, slot, tex));
+            maps += 1;
+        }
+        let has_normal = block_has(&block, "normal");
+        let has_occlusion = block_has(&block, "occlusion") || block_has(&block, "orm");
+        if has_normal {
+            block.put("normal_scale", t.normal_scale);
+        } else if t.normal_scale != 1.0 {
+            self.notes.push(format!(
+                "material \"{name}\": normal_scale {} without a normal map is not written",
+                t.normal_scale
+            ));
+        }
+        if has_occlusion {
+            block.put("occlusion_strength", t.occlusion_strength);
+        } else if t.occlusion_strength != 1.0 {
+            self.notes.push(format!(
+                "material \"{name}\": occlusion_strength {} without an occlusion or orm map is not written",
+                t.occlusion_strength
+            ));
+        }
+        if maps > 0 || t.emissive_factor != Vec3::ZERO {
+            block.put("emissive_factor", t.emissive_factor);
+        }
+        match &block {
+            Node::Obj(fields) if fields.is_empty() => None,
+            _ => Some(block),
+        }
+    }
+
+    /// One map: its file name alone with the default sampler, else an object.
+    fn texture(&mut self, name: &str, slot: TextureSlot, tex: &TextureRef) -> Node {
+        let path = self.path(&tex.path);
+        let channel = match tex.channel {
+            Some(c) if !slot.is_single_channel() => {
+                self.notes.push(format!(
+                    "material \"{name}\": the {} map uses all its channels; its channel {c} is not written",
+                    slot.name()
+                ));
+                None
+            }
+            c => c,
+        };
+        let s = &tex.sampler;
+        if *s == SamplerDesc::default() && channel.is_none() {
+            return Node::Str(path);
+        }
+        let mut n = Node::obj().with("path", path);
+        if s.wrap_u == s.wrap_v {
+            n.put("wrap", wrap(s.wrap_u));
+        } else {
+            n.put("wrap_u", wrap(s.wrap_u))
+                .put("wrap_v", wrap(s.wrap_v));
+        }
+        if s.mag == s.min {
+            n.put("filter", filter(s.min));
+        } else {
+            n.put("mag_filter", filter(s.mag))
+                .put("min_filter", filter(s.min));
+        }
+        n.put("mipmaps", s.mipmaps).put("anisotropy", s.anisotropy);
+        if let Some(c) = channel {
+            n.put(
+                "channel",
+                ["r", "g", "b", "a"]
+                    .get(usize::from(c))
+                    .copied()
+                    .unwrap_or("r"),
+            );
+        }
+        n
+    }
+
+    /// The name an object refers to material `i` by: a scene material's own name; an MTL-made
+    /// material's name when an OBJ entry written before recreates it; otherwise the name of a
+    /// copy written as a scene material. `None` for an index out of range.
+    fn material_ref(&mut self, i: usize) -> Option<String> {
+        let m = self.scene.materials.get(i)?;
+        if is_scene_material_name(&m.name) || self.created.contains(&i) {
+            return Some(m.name.clone());
+        }
+        if let Some(name) = self.exported.get(&i) {
+            return Some(name.clone());
+        }
+        let base = if m.name.trim().is_empty() {
+            "material".to_string()
+        } else {
+            m.name.replace('/', "_")
+        };
+        let taken = |n: &str| {
+            self.scene.materials.iter().any(|m| m.name == n)
+                || self.exported.values().any(|e| e == n)
+        };
+        let mut name = base.clone();
+        let mut k = 2;
+        while taken(&name) {
+            name = format!("{base}_{k}");
+            k += 1;
+        }
+        self.notes.push(format!(
+            "material \"{}\" (made from an OBJ's MTL file) is used where loading the file cannot recreate it; written as the scene material \"{name}\"",
+            m.name
+        ));
+        self.exported.insert(i, name.clone());
+        self.export_order.push(i);
+        Some(name)
+    }
+
+    // --- Objects ----------------------------------------------------------------------------
+
+    fn objects(&mut self) -> Vec<Node> {
+        let objects = &self.scene.objects;
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < objects.len() {
+            let end = match &objects[i].desc {
+                MeshDesc::Obj { path } => self.obj_run_end(i, path),
+                _ => i + 1,
+            };
+            if let Some(node) = self.object_entry(&objects[i..end]) {
+                out.push(node);
+            }
+            i = end;
+        }
+        out
+    }
+
+    fn material_name(&self, o: &Object) -> &str {
+        self.scene
+            .materials
+            .get(o.material)
+            .map_or("", |m| m.name.as_str())
+    }
+
+    /// Whether `o`'s material was made from the MTL of the OBJ named `file_name`.
+    fn uses_mtl(&self, o: &Object, file_name: &str) -> bool {
+        self.material_name(o).starts_with(&format!("{file_name}/"))
+    }
+
+    /// The end of the run of objects starting at `start` that one OBJ entry made: consecutive
+    /// objects of the same OBJ file, each with its own mesh (a second entry of the same file in
+    /// the same material mode shares the first one's meshes) and the same material mode (MTL
+    /// materials, or one given material). A part whose mode differs but whose name base,
+    /// transform and shading match, and whose name is not yet in the run, is taken as an edited
+    /// part of the same entry (a second entry of the file at the same place repeats the names).
+    fn obj_run_end(&self, start: usize, path: &Path) -> usize {
+        let objects = &self.scene.objects;
+        let first = &objects[start];
+        let file_name = obj_file_name(path);
+        let mut mtl = self.uses_mtl(first, &file_name);
+        let mut meshes = vec![Arc::as_ptr(&first.mesh)];
+        let mut end = start + 1;
+        while let Some(o) = objects.get(end) {
+            let same_file = matches!(&o.desc, MeshDesc::Obj { path: p } if p == path);
+            if !same_file || meshes.contains(&Arc::as_ptr(&o.mesh)) {
+                break;
+            }
+            let o_mtl = self.uses_mtl(o, &file_name);
+            if o_mtl != mtl {
+                let looks_edited = name_base(&o.name) == name_base(&first.name)
+                    && o.transform == first.transform
+                    && o.shading == first.shading
+                    && !objects[start..end].iter().any(|p| p.name == o.name);
+                if !looks_edited {
+                    break;
+                }
+                mtl |= o_mtl;
+            }
+            meshes.push(Arc::as_ptr(&o.mesh));
+            end += 1;
+        }
+        end
+    }
+
+    /// One entry of `objects`: a primitive (`run` has one object) or an OBJ file (`run` holds its
+    /// parts). The name is always written (the decoder's default names depend on the entry's
+    /// index, which edits may change).
+    fn object_entry(&mut self, run: &[Object]) -> Option<Node> {
+        let first = &run[0];
+        let (name, mesh, material) = match &first.desc {
+            MeshDesc::Obj { path } => {
+                let file_name = obj_file_name(path);
+                // A run with any MTL material takes its materials from the MTL file.
+                let mtl = run.iter().any(|o| self.uses_mtl(o, &file_name));
+                let name = self.obj_entry_name(run, path);
+                let mut material = None;
+                if mtl {
+                    for o in run {
+                        if self.uses_mtl(o, &file_name) {
+                            self.created.insert(o.material);
+                        } else {
+                            self.notes.push(format!(
+                                "object \"{}\": one part of an OBJ whose parts take their materials from its MTL file cannot have its own material (\"{}\"); it gets its MTL material back",
+                                o.name,
+                                self.material_name(o)
+                            ));
+                        }
+                    }
+                } else {
+                    material = Some(self.material_ref(first.material)?);
+                    for o in &run[1..] {
+                        if o.material != first.material {
+                            self.notes.push(format!(
+                                "object \"{}\": the parts of one OBJ entry share one material; written with \"{}\" instead of \"{}\"",
+                                o.name,
+                                self.material_name(first),
+                                self.material_name(o)
+                            ));
+                        }
+                    }
+                }
+                for o in &run[1..] {
+                    if o.transform != first.transform || o.shading != first.shading {
+                        self.notes.push(format!(
+                            "object \"{}\": the parts of one OBJ entry share one transform and shading; written with those of \"{}\"",
+                            o.name, first.name
+                        ));
+                    }
+                }
+                let mesh = Node::obj()
+                    .with("type", "obj")
+                    .with("path", self.path(path));
+                (name, mesh, material)
+            }
+            desc => {
+                let Some(material) = self.material_ref(first.material) else {
+                    self.notes.push(format!(
+                        "object \"{}\": material index {} does not exist; the object is not written",
+                        first.name, first.material
+                    ));
+                    return None;
+                };
+                (first.name.clone(), primitive(desc), Some(material))
+            }
+        };
+        let mut n = Node::obj().with("name", name).with("mesh", mesh);
+        if let Some(m) = material {
+            n.put("material", m);
+        }
+        let t = &first.transform;
+        n.put("position", t.position)
+            .put("rotation_deg", t.rotation_deg);
+        if t.scale.x == t.scale.y && t.scale.y == t.scale.z {
+            n.put("scale", t.scale.x);
+        } else {
+            n.put("scale", t.scale);
+        }
+        n.put(
+            "shading",
+            match first.shading {
+                Shading::Flat => "flat",
+                Shading::Gouraud => "gouraud",
+                Shading::Phong => "phong",
+            },
+        );
+        Some(n)
+    }
+
+    /// The `name` of an OBJ entry from its parts' names: a single part carries the entry's name;
+    /// several are called `<name>/<part>`.
+    fn obj_entry_name(&mut self, run: &[Object], path: &Path) -> String {
+        if run.len() == 1 {
+            return run[0].name.clone();
+        }
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| obj_file_name(path));
+        if run.iter().all(|o| o.name.starts_with(&format!("{stem}/"))) {
+            return stem;
+        }
+        // The longest common prefix that ends before a '/'.
+        let mut prefix = run[0].name.as_str();
+        for o in &run[1..] {
+            let n = prefix
+                .char_indices()
+                .zip(o.name.chars())
+                .take_while(|((_, a), b)| a == b)
+                .last()
+                .map_or(0, |((i, a), _)| i + a.len_utf8());
+            prefix = &prefix[..n];
+        }
+        match prefix.rfind('/') {
+            Some(i) if i > 0 => prefix[..i].to_string(),
+            _ => {
+                let base = name_base(&run[0].name).to_string();
+                self.notes.push(format!(
+                    "objects \"{}\" …: the parts of one OBJ entry are named \"<name>/<part>\"; their names do not share a \"<name>/\", written as \"{base}\"",
+                    run[0].name
+                ));
+                base
+            }
+        }
+    }
+
+    // --- Environment ------------------------------------------------------------------------
+
+    fn environment(&self, e: &Environment) -> Node {
+        let mut n = Node::obj();
+        match &e.source {
+            EnvSource::Hdr(p) => {
+                n.put("hdr", self.path(p));
+            }
+            EnvSource::Uniform(c) => {
+                n.put("uniform", *c);
+            }
+            EnvSource::Sky {
+                sun_direction,
+                sun_intensity,
+            } => {
+                n.put("procedural", "sky")
+                    .put("sun_direction", unit_preimage(*sun_direction))
+                    .put("sun_intensity", *sun_intensity);
+            }
+            EnvSource::Studio => {
+                n.put("procedural", "studio");
+            }
+        }
+        n.put("intensity", e.intensity)
+            .put("rotation_deg", e.rotation_deg)
+            .put("specular_method", e.specular_method.name())
+            .put("samples", e.samples)
+            .put("diffuse_method", e.diffuse_method.name())
+            .put("energy_compensation", e.energy_compensation)
+            .put("mip_filtered_samples", e.mip_filtered_samples)
+            .put("show_background", e.show_background);
+        n
+    }
+}
+
+fn block_has(block: &Node, key: &str) -> bool {
+    matches!(block, Node::Obj(fields) if fields.iter().any(|(k, _)| k == key))
+}
+
+/// An OBJ's file name, as MTL-made material names start with it.
+fn obj_file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+/// An object name without its last `/<part>`.
+fn name_base(name: &str) -> &str {
+    name.rfind('/').map_or(name, |i| &name[..i])
+}
+
+fn select<T: PartialEq + Copy>(table: &[(&'static str, T)], value: T) -> &'static str {
+    table
+        .iter()
+        .find(|(_, t)| *t == value)
+        .map_or("", |(n, _)| *n)
+}
+
+fn wrap(w: Wrap) -> &'static str {
+    match w {
+        Wrap::Repeat => "repeat",
+        Wrap::Clamp => "clamp",
+        Wrap::Mirror => "mirror",
+    }
+}
+
+fn filter(f: Filter) -> &'static str {
+    match f {
+        Filter::Nearest => "nearest",
+        Filter::Linear => "linear",
+    }
+}
+
+fn camera(c: &super::Camera) -> Node {
+    Node::obj()
+        .with("position", c.position)
+        .with("target", c.target)
+        .with("up", unit_preimage(c.up))
+        .with("fov_y_deg", c.fov_y_deg)
+        .with("near", c.near)
+        .with("far", c.far)
+}
+
+fn light(l: &Light) -> Node {
+    let mut n = Node::obj();
+    match l.kind {
+        LightKind::Directional => {
+            n.put("type", "directional")
+                .put("direction", unit_preimage(l.direction));
+            // Not used without a target, but the decoder keeps it: keep it too.
+            if l.position != Vec3::ZERO {
+                n.put("position", l.position);
+            }
+        }
+        LightKind::Point => {
+            n.put("type", "point").put("position", l.position);
+        }
+        LightKind::Spot => {
+            n.put("type", "spot")
+                .put("position", l.position)
+                .put("direction", unit_preimage(l.direction));
+        }
+    }
+    n.put("color", l.color).put("intensity", l.intensity);
+    if l.kind != LightKind::Directional {
+        n.put(
+            "falloff",
+            match l.falloff {
+                Falloff::InverseSquare => Node::from("inverse_square"),
+                Falloff::None => Node::from("none"),
+                Falloff::Classic { c1, c2, c3 } => {
+                    Node::obj().with("c1", c1).with("c2", c2).with("c3", c3)
+                }
+            },
+        );
+    }
+    if l.kind == LightKind::Spot {
+        n.put("umbra_deg", l.umbra_deg);
+        if let Some(inner) = l.inner_deg {
+            n.put("inner_deg", inner);
+        }
+        n.put("exponent", l.exponent);
+    }
+    n
+}
+
+fn mesh_type(desc: &MeshDesc) -> &'static str {
+    match desc {
+        MeshDesc::Sphere { .. } => "sphere",
+        MeshDesc::Icosphere { .. } => "icosphere",
+        MeshDesc::Plane { .. } => "plane",
+        MeshDesc::Cube { .. } => "cube",
+        MeshDesc::Cone { .. } => "cone",
+        MeshDesc::Cylinder { .. } => "cylinder",
+        MeshDesc::Obj { .. } => "obj",
+    }
+}
+
+/// A built-in mesh's description.
+fn primitive(desc: &MeshDesc) -> Node {
+    let n = Node::obj().with("type", mesh_type(desc));
+    match *desc {
+        MeshDesc::Sphere {
+            radius,
+            segments,
+            rings,
+        } => n
+            .with("radius", radius)
+            .with("segments", segments)
+            .with("rings", rings),
+        MeshDesc::Icosphere {
+            radius,
+            subdivisions,
+        } => n.with("radius", radius).with("subdivisions", subdivisions),
+        MeshDesc::Plane { size, subdivisions } => n
+            .with(
+                "size",
+                Node::Arr(vec![Node::Num(size[0]), Node::Num(size[1])]),
+            )
+            .with("subdivisions", subdivisions),
+        MeshDesc::Cube { size } => n.with("size", size),
+        MeshDesc::Cone {
+            radius,
+            height,
+            segments,
+        }
+        | MeshDesc::Cylinder {
+            radius,
+            height,
+            segments,
+        } => n
+            .with("radius", radius)
+            .with("height", height)
+            .with("segments", segments),
+        MeshDesc::Obj { .. } => n,
+    }
+}
+
+fn fog(f: &Fog) -> Node {
+    Node::obj()
+        .with("z_a", f.z_a)
+        .with("z_b", f.z_b)
+        .with("s_a", f.s_a)
+        .with("s_b", f.s_b)
+        .with("color", f.color)
+}
+
+#[cfg(test)]
+#[path = "encode_tests.rs"]
+mod tests;

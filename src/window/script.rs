@@ -1,0 +1,167 @@
+//! Scripted viewer actions (`luz view --script`): what a user would do with the mouse, keyboard
+//! and panels, at given frames, so tests and benchmarks can drive the viewer without input.
+
+use std::path::PathBuf;
+
+use anyhow::{anyhow, bail, Result};
+
+use crate::color::Tonemap;
+use crate::render::forward::DebugView;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    Resize(u32, u32),
+    Minimize,
+    Restore,
+    Exposure(f32),
+    Tonemap(Tonemap),
+    Panels(bool),
+    Help(bool),
+    Orbit(f32, f32),
+    Zoom(f32),
+    FrameAll,
+    Reset,
+    Vsync(bool),
+    DebugView(DebugView),
+    Screenshot(PathBuf),
+}
+
+/// `FRAME:ACTION;FRAME:ACTION;…` → (frame, action) sorted by frame (stable).
+pub fn parse(text: &str) -> Result<Vec<(u64, Action)>> {
+    let mut out = Vec::new();
+    for item in text.split(';').map(str::trim).filter(|s| !s.is_empty()) {
+        let (frame, action) = item
+            .split_once(':')
+            .ok_or_else(|| anyhow!("script item {item:?}: expected FRAME:ACTION"))?;
+        let frame: u64 = frame
+            .trim()
+            .parse()
+            .map_err(|_| anyhow!("script item {item:?}: {frame:?} is not a frame number"))?;
+        let action =
+            parse_action(action.trim()).map_err(|e| anyhow!("script item {item:?}: {e}"))?;
+        out.push((frame, action));
+    }
+    out.sort_by_key(|(f, _)| *f);
+    Ok(out)
+}
+
+fn on_off(v: &str) -> Result<bool> {
+    match v {
+        "on" | "true" | "1" => Ok(true),
+        "off" | "false" | "0" => Ok(false),
+        _ => bail!("{v:?} is not on or off"),
+    }
+}
+
+fn finite(v: &str) -> Result<f32> {
+    let x: f32 = v.parse().map_err(|_| anyhow!("{v:?} is not a number"))?;
+    if !x.is_finite() {
+        bail!("{v:?} is not finite");
+    }
+    Ok(x)
+}
+
+fn parse_action(a: &str) -> Result<Action> {
+    let (name, value) = match a.split_once('=') {
+        Some((n, v)) => (n.trim(), Some(v.trim())),
+        None => (a, None),
+    };
+    let need = || value.ok_or_else(|| anyhow!("{name} needs a value ({name}=…)"));
+    Ok(match name {
+        "resize" => {
+            let v = need()?;
+            let (w, h) = v
+                .split_once('x')
+                .ok_or_else(|| anyhow!("resize={v}: expected WIDTHxHEIGHT"))?;
+            let parse = |s: &str| -> Result<u32> {
+                let n: u32 = s.parse().map_err(|_| anyhow!("resize={v}: {s:?}"))?;
+                if n > 16384 {
+                    bail!("resize={v}: {n} is larger than 16384");
+                }
+                Ok(n)
+            };
+            Action::Resize(parse(w)?, parse(h)?)
+        }
+        "minimize" => Action::Minimize,
+        "restore" => Action::Restore,
+        "exposure" => Action::Exposure(finite(need()?)?),
+        "tonemap" => {
+            let v = need()?;
+            let t = Tonemap::ALL
+                .iter()
+                .copied()
+                .find(|t| t.name() == v)
+                .ok_or_else(|| {
+                    anyhow!(
+                        "tonemap={v}: expected one of {}",
+                        Tonemap::ALL.map(|t| t.name()).join(", ")
+                    )
+                })?;
+            Action::Tonemap(t)
+        }
+        "panels" => Action::Panels(on_off(need()?)?),
+        "help" => Action::Help(on_off(need()?)?),
+        "vsync" => Action::Vsync(on_off(need()?)?),
+        "orbit" => {
+            let v = need()?;
+            let (x, y) = v
+                .split_once(',')
+                .ok_or_else(|| anyhow!("orbit={v}: expected DX,DY in degrees"))?;
+            Action::Orbit(finite(x)?, finite(y)?)
+        }
+        "zoom" => Action::Zoom(finite(need()?)?),
+        "frame_all" => Action::FrameAll,
+        "reset" => Action::Reset,
+        "debug_view" => {
+            use clap::ValueEnum;
+            let v = need()?;
+            Action::DebugView(
+                DebugView::from_str(v, true)
+                    .map_err(|_| anyhow!("debug_view={v}: unknown view"))?,
+            )
+        }
+        "screenshot" => Action::Screenshot(PathBuf::from(need()?)),
+        other => bail!(
+            "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
+             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot)"
+        ),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_action() {
+        let s = parse(
+            "20:exposure=1.5; 10:resize=800x600;30:tonemap=agx;31:panels=off;32:orbit=10,-5;\
+             33:minimize;34:restore;35:debug_view=normal;36:screenshot=a.png;37:vsync=on",
+        )
+        .unwrap();
+        assert_eq!(s[0], (10, Action::Resize(800, 600)));
+        assert_eq!(s[1], (20, Action::Exposure(1.5)));
+        assert_eq!(s[2], (30, Action::Tonemap(Tonemap::Agx)));
+        assert_eq!(s[3], (31, Action::Panels(false)));
+        assert_eq!(s[4], (32, Action::Orbit(10.0, -5.0)));
+        assert_eq!(s[7], (35, Action::DebugView(DebugView::Normal)));
+        assert_eq!(s.len(), 10);
+    }
+
+    #[test]
+    fn rejects_bad_items_with_the_item_named() {
+        for (bad, needle) in [
+            ("resize=10x10", "FRAME:ACTION"),
+            ("x:reset", "not a frame number"),
+            ("1:resize=10", "WIDTHxHEIGHT"),
+            ("1:exposure=nan", "not finite"),
+            ("1:tonemap=filmic", "expected one of"),
+            ("1:fly", "unknown action"),
+            ("1:panels=maybe", "not on or off"),
+            ("1:resize=99999x10", "larger than"),
+        ] {
+            let e = parse(bad).unwrap_err().to_string();
+            assert!(e.contains(needle), "{bad}: {e}");
+        }
+    }
+}

@@ -1,0 +1,188 @@
+//! The interactive viewer in a real window: `luz view` under Xvfb on lavapipe, driven by a script
+//! (a resize and a UI change), with validation on. The screenshot (swapchain image, UI included)
+//! is checked against a headless render of the same scene after the same change: the scene must
+//! be there pixel for pixel (±2 levels) where no panel covers it, and the panels must be there.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("luz-viewer-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// `xvfb-run -a luz …` (a real X server and window), or None with a visible note.
+fn luz_in_window(args: &[&str]) -> Option<(i32, String, String)> {
+    let have = Command::new("xvfb-run").arg("--help").output().is_ok();
+    if !have {
+        eprintln!("SKIPPED: xvfb-run is not installed (scripts/setup.sh installs it)");
+        return None;
+    }
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1600x1000x24"])
+        .arg(env!("CARGO_BIN_EXE_luz"))
+        .args(args)
+        .env("LUZ_VALIDATION", "1")
+        .env(
+            "LUZ_CACHE_DIR",
+            std::env::temp_dir().join("luz-viewer-cache"),
+        )
+        .output()
+        .expect("run xvfb-run");
+    Some((
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    ))
+}
+
+fn luz(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
+        .args(args)
+        .env("LUZ_VALIDATION", "1")
+        .output()
+        .expect("run luz");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn rgb(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+fn max_diff(a: &image::Rgb<u8>, b: &image::Rgb<u8>) -> u8 {
+    (0..3).map(|i| a[i].abs_diff(b[i])).max().unwrap()
+}
+
+/// Share of the pixels in columns `x0..x1` and rows `0..y1` whose channels are all within `tol`
+/// of `reference`.
+fn matching(
+    shot: &image::RgbImage,
+    reference: &image::RgbImage,
+    (x0, x1): (u32, u32),
+    y1: u32,
+    tol: u8,
+) -> f64 {
+    let mut ok = 0u64;
+    let mut n = 0u64;
+    for y in 0..y1 {
+        for x in x0..x1 {
+            n += 1;
+            if max_diff(shot.get_pixel(x, y), reference.get_pixel(x, y)) <= tol {
+                ok += 1;
+            }
+        }
+    }
+    ok as f64 / n as f64
+}
+
+#[test]
+fn scripted_resize_and_ui_change_show_in_the_screenshot() {
+    let dir = tmp("script");
+    let scene_text = std::fs::read_to_string(root().join("assets/scenes/default.json")).unwrap();
+    assert!(scene_text.contains("\"exposure\": 0.0"));
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, &scene_text).unwrap();
+    // The same scene after the scripted UI change, for the headless reference.
+    let changed = dir.join("changed.json");
+    std::fs::write(
+        &changed,
+        scene_text.replace("\"exposure\": 0.0", "\"exposure\": 1.0"),
+    )
+    .unwrap();
+    let shot = dir.join("shot.png");
+    let Some((code, out, err)) = luz_in_window(&[
+        "view",
+        scene.to_str().unwrap(),
+        "--width",
+        "900",
+        "--height",
+        "560",
+        "--frames",
+        "30",
+        "--script",
+        "5:resize=640x400;12:exposure=1",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]) else {
+        return;
+    };
+    assert_eq!(code, 0, "luz view failed\nstdout: {out}\nstderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("validation: 0 errors, 0 warnings"),
+        "validation must be silent: {err}"
+    );
+    let shot_img = rgb(&shot);
+    assert_eq!(
+        (shot_img.width(), shot_img.height()),
+        (640, 400),
+        "the scripted resize reached the swapchain"
+    );
+
+    let reference = dir.join("reference.png");
+    let (code, _, err) = luz(&[
+        "render",
+        changed.to_str().unwrap(),
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "-o",
+        reference.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let reference = rgb(&reference);
+    let before = dir.join("before.png");
+    let (code, _, err) = luz(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "-o",
+        before.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let before = rgb(&before);
+
+    // The scene: the top right of the window is not covered by panels (side panel on the left,
+    // profiler at the bottom) and must be the headless render after the change, within 2 levels
+    // (GPU tone map vs CPU, both lavapipe).
+    let (w, h) = shot_img.dimensions();
+    let right = matching(&shot_img, &reference, (w * 2 / 3, w), h / 2, 2);
+    eprintln!("top right matching the reference: {:.2} %", right * 100.0);
+    assert!(
+        right > 0.97,
+        "scene region differs from the headless render: {right}"
+    );
+    // … and not the render before the change (the UI change took effect).
+    let unchanged = matching(&shot_img, &before, (w * 2 / 3, w), h / 2, 2);
+    assert!(unchanged < 0.5, "exposure change not applied: {unchanged}");
+    // The UI: the left panel covers the left part of the window, so most of it differs.
+    let left = matching(&shot_img, &reference, (0, w / 4), h, 8);
+    eprintln!("left quarter matching the reference: {:.2} %", left * 100.0);
+    assert!(left < 0.5, "no panel found in the screenshot: {left}");
+}
+
+#[test]
+fn bad_script_is_a_clear_error() {
+    let (code, _, err) = luz(&["view", "--script", "5:fly=away"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("unknown action") && err.contains("fly"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
