@@ -16,6 +16,9 @@ layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = BINDING_SOURCE) uniform texture2D hdr;
 layout(set = 0, binding = BINDING_DESTINATION, rgba8) uniform writeonly image2D display;
 
+// The operator (TONEMAP_*), fixed per pipeline so only its code is compiled.
+layout(constant_id = 0) const uint TONEMAP = 0u;
+
 layout(push_constant) uniform TonemapPush {
     float exposure_scale;  // color::exposure_scale(ev), computed on the CPU
     uint tonemap;          // TONEMAP_*
@@ -30,6 +33,6 @@ void main() {
         return;
     }
     vec4 c = texelFetch(hdr, p, 0);
-    vec4 codes = to_display_rgba8(c, pc.exposure_scale, pc.tonemap);
+    vec4 codes = to_display_rgba8(c, pc.exposure_scale, TONEMAP);
     imageStore(display, p, codes / 255.0);
 }

@@ -138,8 +138,48 @@ pub struct BenchArgs {
     /// Sizes of the image-based lighting data (see `luz render --help`).
     #[arg(long, value_enum, default_value_t = IblQuality::Full)]
     pub ibl_quality: IblQuality,
+    /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);
+    /// default: a tenth of --frames.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub memory_every: Option<u32>,
+    /// Exit 4 when resident memory grows by more than this many MiB between the first and the
+    /// last sample, or the GPU allocation count or bytes change.
+    #[arg(long)]
+    pub max_memory_growth_mib: Option<f64>,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// One sample of a soak: resident memory and the GPU allocator's live allocations.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct MemorySample {
+    pub frame: u64,
+    pub rss_mib: f64,
+    pub gpu_allocations: usize,
+    pub gpu_bytes: u64,
+}
+
+/// Resident set size of this process in MiB (Linux `/proc/self/statm`; NaN elsewhere).
+pub fn resident_mib() -> f64 {
+    let Ok(statm) = std::fs::read_to_string("/proc/self/statm") else {
+        return f64::NAN;
+    };
+    let pages: f64 = statm
+        .split_whitespace()
+        .nth(1)
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(f64::NAN);
+    pages * 4096.0 / (1024.0 * 1024.0)
+}
+
+fn memory_sample(ctx: &Context, frame: u64) -> MemorySample {
+    let report = ctx.allocator().generate_report();
+    MemorySample {
+        frame,
+        rss_mib: resident_mib(),
+        gpu_allocations: report.allocations.len(),
+        gpu_bytes: report.total_allocated_bytes,
+    }
 }
 
 #[derive(Args, Debug)]
@@ -439,9 +479,14 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let mut frames = Vec::with_capacity(a.frames as usize);
-    for _ in 0..a.frames {
+    let every = a.memory_every.unwrap_or((a.frames / 10).max(1)) as u64;
+    let mut memory = vec![memory_sample(&ctx, 0)];
+    for i in 1..=a.frames as u64 {
         frames.push(renderer.render()?);
         bar.inc(1);
+        if i % every == 0 {
+            memory.push(memory_sample(&ctx, i));
+        }
     }
     bar.finish_and_clear();
     println!(
@@ -458,6 +503,28 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     );
     let report = TimingReport::of(&frames);
     report.print();
+    let wall: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
+    let stutters = crate::profiler::stutter_count(&wall);
+    println!("stutters: {stutters} frames slower than 2x the rolling median of the frame time");
+    println!("memory (resident MiB, GPU allocations, GPU bytes) every {every} frames:");
+    for m in &memory {
+        println!(
+            "  frame {:>8}  {:>9.2} MiB  {:>5} allocations  {:>12} bytes",
+            m.frame, m.rss_mib, m.gpu_allocations, m.gpu_bytes
+        );
+    }
+    // The first sample is before any timed frame; growth is judged from the second on (the
+    // first frames fault in the driver's caches).
+    let base = memory.get(1).unwrap_or(&memory[0]);
+    let last = memory.last().unwrap_or(base);
+    let growth = last.rss_mib - base.rss_mib;
+    let gpu_flat = last.gpu_allocations == base.gpu_allocations && last.gpu_bytes == base.gpu_bytes;
+    println!(
+        "memory growth from frame {} to {}: {growth:+.2} MiB resident, GPU allocations {}",
+        base.frame,
+        last.frame,
+        if gpu_flat { "flat" } else { "CHANGED" }
+    );
     let megapixels = scene.output.width as f64 * scene.output.height as f64 / 1e6;
     let forward = report
         .passes
@@ -509,10 +576,23 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
             "gpu_total_ms": report.gpu_total,
             "gpu_pass_ms": passes,
             "gpu_forward_ms_per_megapixel_light": per_mp_light,
+            "stutters": stutters,
+            "memory": memory,
+            "memory_growth_mib": growth,
+            "gpu_allocations_flat": gpu_flat,
         });
         std::fs::write(p, serde_json::to_string_pretty(&json)?)
             .with_context(|| format!("cannot write {}", p.display()))?;
         println!("wrote {}", p.display());
+    }
+    if let Some(max) = a.max_memory_growth_mib {
+        if growth > max || !gpu_flat {
+            eprintln!(
+                "luz: error: memory not flat: {growth:+.2} MiB resident (limit {max}), GPU allocations {}",
+                if gpu_flat { "flat" } else { "changed" }
+            );
+            return Ok(ExitCode::from(4));
+        }
     }
     Ok(validation_exit(&ctx))
 }

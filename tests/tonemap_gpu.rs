@@ -261,7 +261,7 @@ impl Rig {
                     });
                 }
                 transition(d, cmd, &t);
-                pass.record(cmd, ev, op);
+                pass.record(cmd, ev, op).unwrap();
                 transition(
                     d,
                     cmd,
@@ -368,6 +368,14 @@ fn gpu_tonemap_matches_cpu_bytes() {
             rig.extent(),
         )
         .unwrap();
+        // Recording an operator whose pipeline was not built is an error, not a crash.
+        rig.pool
+            .one_shot(|cmd| {
+                let e = pass.record(cmd, 0.0, Tonemap::Agx).unwrap_err();
+                assert!(e.to_string().contains("not prepared"), "{e}");
+                Ok(())
+            })
+            .unwrap();
         let mut failures = Vec::new();
         let (mut all_off, mut all_max) = (0usize, 0u8);
         let mut results = Vec::new();
@@ -379,6 +387,7 @@ fn gpu_tonemap_matches_cpu_bytes() {
             rig.height
         );
         for op in Tonemap::ALL {
+            pass.prepare(op).unwrap();
             for ev in EXPOSURES {
                 let got = rig.run(&pass, None, ev, op);
                 let (off, max, bad) = compare(&pixels, &exact, &got, ev, op);

@@ -91,6 +91,21 @@ layout(constant_id = 0) const int MODEL = BRDF_MODEL_BLINN_PHONG;
 layout(constant_id = 1) const bool FOG = false;
 // Debug view (src/render/forward.rs: DebugView): 0 = shaded radiance.
 layout(constant_id = 7) const uint DEBUG_VIEW = 0u;
+// The material's distribution, geometry and Fresnel selectors (BrdfParams.sel.yzw) fixed per
+// pipeline, so only the chosen terms are compiled; -1: read them from the push constants.
+layout(constant_id = 8) const int SEL_DISTRIBUTION = -1;
+layout(constant_id = 9) const int SEL_GEOMETRY = -1;
+layout(constant_id = 10) const int SEL_FRESNEL = -1;
+// Bit MAP_* set when the material may have that map (0: no texture code at all).
+layout(constant_id = 11) const uint MAPS = 0xFFu;
+// The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
+layout(constant_id = 12) const uint LIGHT_KINDS = 63u;
+#define LK_DIRECTIONAL 1u
+#define LK_POINT 2u
+#define LK_SPOT 4u
+#define LK_FALLOFF_NONE 8u
+#define LK_FALLOFF_INVERSE_SQUARE 16u
+#define LK_FALLOFF_CLASSIC 32u
 #define DEBUG_NAN 13u
 
 #endif

@@ -8,10 +8,10 @@
 // Distance attenuation: none, inverse square, or the slides' f_at = min(1/(c1 + c2 d + c3 d²), 1).
 float light_falloff(Light L, float d) {
     uint kind = uint(L.direction_falloff.w);
-    if (kind == FALLOFF_INVERSE_SQUARE) {
+    if ((LIGHT_KINDS & LK_FALLOFF_INVERSE_SQUARE) != 0u && kind == FALLOFF_INVERSE_SQUARE) {
         return 1.0 / max(d * d, 1e-8);
     }
-    if (kind == FALLOFF_CLASSIC) {
+    if ((LIGHT_KINDS & LK_FALLOFF_CLASSIC) != 0u && kind == FALLOFF_CLASSIC) {
         float q = L.atten.x + L.atten.y * d + L.atten.z * d * d;
         return q > 1.0 ? 1.0 / q : 1.0;
     }
@@ -21,7 +21,8 @@ float light_falloff(Light L, float d) {
 // Direction towards the light and the irradiance it delivers on a surface facing it.
 void light_incidence(Light L, vec3 P, out vec3 l, out vec3 E) {
     uint type = uint(L.position_type.w);
-    if (type == LIGHT_DIRECTIONAL) {
+    if ((LIGHT_KINDS & (LK_POINT | LK_SPOT)) == 0u
+        || ((LIGHT_KINDS & LK_DIRECTIONAL) != 0u && type == LIGHT_DIRECTIONAL)) {
         l = -L.direction_falloff.xyz;
         E = L.radiance.rgb;
         return;
@@ -30,7 +31,7 @@ void light_incidence(Light L, vec3 P, out vec3 l, out vec3 E) {
     float d = length(to_light);
     l = d > 0.0 ? to_light / d : vec3(0.0, 1.0, 0.0);
     E = L.radiance.rgb * light_falloff(L, d);
-    if (type == LIGHT_SPOT) {
+    if ((LIGHT_KINDS & LK_SPOT) != 0u && type == LIGHT_SPOT) {
         // θ_s: angle between the spot axis and −l.
         float cos_s = dot(L.direction_falloff.xyz, -l);
         float cone = L.cone.z > 0.5 ? smoothstep(L.cone.x, L.cone.y, cos_s) : (cos_s >= L.cone.x ? 1.0 : 0.0);
@@ -43,11 +44,20 @@ void light_incidence(Light L, vec3 P, out vec3 l, out vec3 E) {
 BrdfParams material_params() {
     BrdfParams p = material.brdf;
     p.sel.x = MODEL;
+    if (SEL_DISTRIBUTION >= 0) {
+        p.sel.y = SEL_DISTRIBUTION;
+    }
+    if (SEL_GEOMETRY >= 0) {
+        p.sel.z = SEL_GEOMETRY;
+    }
+    if (SEL_FRESNEL >= 0) {
+        p.sel.w = SEL_FRESNEL;
+    }
     return p;
 }
 
 bool has_map(uint slot) {
-    return (mat_extra.present.x & (1u << slot)) != 0u;
+    return (MAPS & (1u << slot)) != 0u && (mat_extra.present.x & (1u << slot)) != 0u;
 }
 
 vec4 sample_map(sampler2D s, vec2 uv) {
@@ -76,7 +86,7 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     s.y = Y;
     s.occlusion = 1.0;
     s.emission = mat_extra.emissive.rgb;
-    if (mat_extra.present.x == 0u) {
+    if (MAPS == 0u || mat_extra.present.x == 0u) {
         return s;
     }
     if (has_map(MAP_BASE_COLOR)) {

@@ -70,6 +70,38 @@ pub struct VariantKey {
     pub debug: DebugView,
     /// Image-based lighting settings, when the scene has an environment.
     pub ibl: Option<IblKey>,
+    /// The material's (distribution, geometry, Fresnel) selectors, fixed in the pipeline.
+    pub sel: [i32; 3],
+    /// Bit i: the material has map `TextureSlot::ALL[i]` (no texture code without maps).
+    pub maps: u32,
+    /// The scene's light types and falloffs (`gpu::LK_*` bits).
+    pub light_kinds: u32,
+}
+
+/// Names of the selectors in a variant's name.
+fn sel_names(model: i32, sel: [i32; 3]) -> Option<String> {
+    use gpu::model_code as m;
+    if !matches!(model, m::COOK_TORRANCE | m::METAL_ROUGH) {
+        return None;
+    }
+    let d = ["beckmann", "ggx"]
+        .get(sel[0] as usize)
+        .copied()
+        .unwrap_or("?");
+    let g = [
+        "cook_torrance",
+        "smith_ggx",
+        "smith_ggx_correlated",
+        "schlick_ggx",
+    ]
+    .get(sel[1] as usize)
+    .copied()
+    .unwrap_or("?");
+    let f = ["schlick", "schlick_sg", "dielectric", "conductor"]
+        .get(sel[2] as usize)
+        .copied()
+        .unwrap_or("?");
+    Some(format!("{d}/{g}/{f}"))
 }
 
 /// The environment settings that select shader code (specialization constants).
@@ -141,6 +173,12 @@ impl std::fmt::Display for VariantKey {
             model_name(self.model),
             if self.fog { "on" } else { "off" }
         )?;
+        if let Some(terms) = sel_names(self.model, self.sel) {
+            write!(f, ", terms={terms}")?;
+        }
+        if self.maps != 0 {
+            write!(f, ", maps={:#04x}", self.maps)?;
+        }
         if let Some(i) = &self.ibl {
             if i.importance {
                 write!(
@@ -380,8 +418,10 @@ impl ForwardPass {
                     meshes.len() - 1
                 }
             };
-            let material = &scene.materials[obj.material].material;
+            let named = &scene.materials[obj.material];
+            let material = &named.material;
             let (model, mut push) = gpu::material_push(material);
+            let (_, sel) = gpu::material_key(material);
             push.object_index = objects.len() as u32;
             object_slots[object] = Some(push.object_index);
             if let Some(i) = ibl {
@@ -409,6 +449,9 @@ impl ForwardPass {
                     fog: scene.fog.is_some(),
                     debug,
                     ibl: ibl_key,
+                    sel,
+                    maps: super::material::map_bits(&named.textures),
+                    light_kinds: gpu::light_kinds(&scene.lights),
                 },
                 push,
             });
@@ -526,10 +569,12 @@ impl ForwardPass {
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
-            let (model, mut push) = gpu::material_push(material);
-            if model != draw.variant.model {
+            let (_, mut push) = gpu::material_push(material);
+            if (draw.variant.model, draw.variant.sel) != gpu::material_key(material)
+                || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds
+            {
                 return Err(VkError::Setup(format!(
-                    "object {}: material model changed; rebuild the forward pass",
+                    "object {}: material model, BRDF terms or light kinds changed; rebuild the forward pass",
                     obj.name
                 )));
             }
@@ -781,6 +826,11 @@ fn create_pipeline(
         (gpu::SPEC_MODEL, v.model as u32),
         (gpu::SPEC_FOG, v.fog as u32),
         (gpu::SPEC_DEBUG_VIEW, v.debug.id()),
+        (gpu::SPEC_SEL_DISTRIBUTION, v.sel[0] as u32),
+        (gpu::SPEC_SEL_GEOMETRY, v.sel[1] as u32),
+        (gpu::SPEC_SEL_FRESNEL, v.sel[2] as u32),
+        (gpu::SPEC_MAPS, v.maps),
+        (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
     ];
     if let Some(i) = v.ibl {
         spec.extend([

@@ -29,6 +29,40 @@ pub const SPEC_ENERGY_COMPENSATION: u32 = 4;
 pub const SPEC_IBL_SAMPLES: u32 = 5;
 pub const SPEC_MIP_FILTERED: u32 = 6;
 pub const SPEC_DEBUG_VIEW: u32 = 7;
+pub const SPEC_SEL_DISTRIBUTION: u32 = 8;
+pub const SPEC_SEL_GEOMETRY: u32 = 9;
+pub const SPEC_SEL_FRESNEL: u32 = 10;
+pub const SPEC_MAPS: u32 = 11;
+pub const SPEC_LIGHT_KINDS: u32 = 12;
+/// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
+pub const LK_DIRECTIONAL: u32 = 1;
+pub const LK_POINT: u32 = 2;
+pub const LK_SPOT: u32 = 4;
+pub const LK_FALLOFF_NONE: u32 = 8;
+pub const LK_FALLOFF_INVERSE_SQUARE: u32 = 16;
+pub const LK_FALLOFF_CLASSIC: u32 = 32;
+
+/// The light types and falloffs `lights` use, as `LK_*` bits (the shader leaves out the rest).
+pub fn light_kinds(lights: &[Light]) -> u32 {
+    lights.iter().fold(0, |bits, l| {
+        bits | match l.kind {
+            LightKind::Directional => LK_DIRECTIONAL,
+            LightKind::Point => LK_POINT,
+            LightKind::Spot => LK_SPOT,
+        } | match l.falloff {
+            Falloff::None => LK_FALLOFF_NONE,
+            Falloff::InverseSquare => LK_FALLOFF_INVERSE_SQUARE,
+            Falloff::Classic { .. } => LK_FALLOFF_CLASSIC,
+        }
+    })
+}
+
+/// The model and the (distribution, geometry, Fresnel) selectors of a material, as the shader
+/// sees them: what its pipeline variant is specialised for.
+pub fn material_key(m: &Material) -> (i32, [i32; 3]) {
+    let packed = crate::brdf::GpuBrdfParams::from_model(&m.to_brdf());
+    (packed.sel[0], [packed.sel[1], packed.sel[2], packed.sel[3]])
+}
 
 /// `FrameData` (std140).
 #[repr(C)]

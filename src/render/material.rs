@@ -18,6 +18,16 @@ use crate::vk::{Buffer, Context, Image, VkError};
 pub const SET_MATERIAL: u32 = 2;
 /// Bindings 0..8: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
 pub const SLOT_COUNT: usize = 8;
+
+/// Bit i set when `textures` has map `TextureSlot::ALL[i]` (the shader's `MAPS`/`present`).
+pub fn map_bits(textures: &crate::scene::MaterialTextures) -> u32 {
+    TextureSlot::ALL
+        .iter()
+        .take(SLOT_COUNT)
+        .enumerate()
+        .filter(|(_, s)| textures.get(**s).is_some())
+        .fold(0, |bits, (i, _)| bits | 1 << i)
+}
 /// Binding 8: `MaterialExtra`.
 pub const BINDING_EXTRA: u32 = 8;
 

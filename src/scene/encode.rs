@@ -146,7 +146,6 @@ impl Encoded {
 
 #[derive(Debug, Clone, PartialEq)]
 enum Node {
-    Null,
     Bool(bool),
     Int(u64),
     Num(f32),
@@ -179,7 +178,6 @@ impl Node {
 
     fn to_value(&self) -> Value {
         match self {
-            Node::Null => Value::Null,
             Node::Bool(b) => Value::Bool(*b),
             Node::Int(i) => Value::from(*i),
             Node::Num(x) => num_value(*x)
@@ -198,7 +196,6 @@ impl Node {
 
     fn write(&self, indent: usize, out: &mut String) {
         match self {
-            Node::Null => out.push_str("null"),
             Node::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
             Node::Int(i) => out.push_str(&i.to_string()),
             Node::Num(x) => out.push_str(num_text(*x).as_deref().unwrap_or("null")),
@@ -321,19 +318,38 @@ fn unit(v: Vec3) -> Option<Vec3> {
 }
 
 /// A vector `w` with `unit(w) == u`, for a unit vector `u` the decoder produced: `u` itself
-/// when normalising it again does not move it by an ulp, else a nearby vector that normalises to
-/// exactly `u` (found among `u` scaled by factors in [1, 2) and rounded, and their neighbours one
-/// ulp away). A vector that is not of unit length is returned as it is (the decoder will
-/// normalise it), and so is `u` in the unlikely case that the search finds nothing.
+/// when normalising it again does not move it (true of about 99 % of unit vectors), else a
+/// nearby vector that normalises to exactly `u`. A vector that is not of unit length is returned
+/// as it is (the decoder will normalise it), and so is `u` in the rare case that the search finds
+/// nothing (it then moves by an ulp when the file is read).
+///
+/// The directions that round to `u` form a small region around `u + r`, where `r` corrects
+/// `u`'s length error η = |u| − 1 (r·u = −η), spread over the components in proportion to the
+/// rounding slack h_i of each (half an ulp). The search rounds that direction scaled by factors
+/// in [1, 2) (each scale rounds the components differently) and tries the neighbours one ulp
+/// away.
 fn unit_preimage(u: Vec3) -> Vec3 {
     if unit(u) == Some(u) || !u.is_finite() || (u.length() - 1.0).abs() > 1e-4 {
         return u;
     }
+    let ud = DVec3::from(u.to_array().map(f64::from));
+    let eta = ud.length() - 1.0;
+    let half_ulp = |x: f32| {
+        let up = f64::from(x.next_up()) - f64::from(x);
+        let down = f64::from(x) - f64::from(x.next_down());
+        up.min(down) / 2.0
+    };
+    let h = DVec3::new(half_ulp(u.x), half_ulp(u.y), half_ulp(u.z));
+    let slack = h.dot(ud.abs());
+    let target = if slack > 0.0 {
+        ud - h * ud.signum() * (eta / slack)
+    } else {
+        ud
+    };
     let around = |x: f32| [x, x.next_down(), x.next_up()];
-    for k in 0..256 {
-        // Scaling by a factor that is not a power of two rounds each component differently.
-        let s = 1.0 + f64::from(k) / 256.0;
-        let w = (DVec3::from(u.to_array().map(f64::from)) * s).as_vec3();
+    const SCALES: u32 = 2048;
+    for k in 0..SCALES {
+        let w = (target * (1.0 + f64::from(k) / f64::from(SCALES))).as_vec3();
         for x in around(w.x) {
             for y in around(w.y) {
                 for z in around(w.z) {

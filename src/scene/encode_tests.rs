@@ -742,9 +742,10 @@ fn numbers_read_back_exactly() {
         1e-45,
         f32::MAX,
         f32::MIN,
-        16_777_217.0,
+        16_777_216.0,
         1.2,
-        1.1999999999999997,
+        1.0 + f32::EPSILON,
+        f32::from_bits(1),
     ] {
         check(x);
     }

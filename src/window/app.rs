@@ -125,14 +125,14 @@ impl ApplicationHandler for App {
             },
             WindowEvent::DroppedFile(path) => v.open_path(&path),
             WindowEvent::ModifiersChanged(m) => v.modifiers = m.state(),
-            WindowEvent::KeyboardInput { event, .. } if !consumed => {
-                if event.state == ElementState::Pressed && !event.repeat {
-                    if let Key::Named(NamedKey::Escape) = event.logical_key {
-                        self.shutdown(el);
-                        return;
-                    }
-                    v.key(&event.logical_key);
+            WindowEvent::KeyboardInput { event, .. }
+                if !consumed && event.state == ElementState::Pressed && !event.repeat =>
+            {
+                if let Key::Named(NamedKey::Escape) = event.logical_key {
+                    self.shutdown(el);
+                    return;
                 }
+                v.key(&event.logical_key);
             }
             WindowEvent::MouseInput { state, button, .. } => {
                 let pressed = state == ElementState::Pressed;
@@ -251,11 +251,15 @@ impl Targets {
     }
 }
 
+/// (mesh identity, shading, material index, (model, BRDF selectors), map bits) of an object.
+type ObjectStructure = (usize, crate::scene::Shading, usize, (i32, [i32; 3]), u32);
+
 /// What, when it changes, needs the passes rebuilt rather than new per-frame data.
 #[derive(Debug, Clone, PartialEq)]
 struct Structure {
-    objects: Vec<(usize, crate::scene::Shading, usize, i32)>,
+    objects: Vec<ObjectStructure>,
     lights: usize,
+    light_kinds: u32,
     fog: bool,
     saturation: crate::scene::Saturation,
     msaa: u32,
@@ -270,12 +274,18 @@ impl Structure {
                 .objects
                 .iter()
                 .map(|o| {
-                    let model =
-                        crate::render::gpu::material_push(&scene.materials[o.material].material).0;
-                    (Arc::as_ptr(&o.mesh) as usize, o.shading, o.material, model)
+                    let m = &scene.materials[o.material];
+                    (
+                        Arc::as_ptr(&o.mesh) as usize,
+                        o.shading,
+                        o.material,
+                        crate::render::gpu::material_key(&m.material),
+                        crate::render::material::map_bits(&m.textures),
+                    )
                 })
                 .collect(),
             lights: scene.lights.len(),
+            light_kinds: crate::render::gpu::light_kinds(&scene.lights),
             fog: scene.fog.is_some(),
             saturation: scene.saturation,
             msaa: scene.output.msaa,
@@ -856,6 +866,7 @@ impl Viewer {
             .free_textures
             .extend(output.textures_delta.free.iter().copied());
 
+        self.tonemap.prepare(self.scene.output.tonemap)?;
         // 4. Per-frame data of this slot.
         self.scene.camera = self.orbit.to_camera();
         let extent = self.swapchain.extent;
@@ -1044,7 +1055,7 @@ impl Viewer {
         );
         let s = timer.as_mut().and_then(|t| t.begin(cmd, "tonemap"));
         self.tonemap
-            .record(cmd, self.scene.output.exposure, self.scene.output.tonemap);
+            .record(cmd, self.scene.output.exposure, self.scene.output.tonemap)?;
         if let Some(t) = &mut timer {
             t.end(cmd, s);
         }
