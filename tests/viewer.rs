@@ -186,3 +186,78 @@ fn bad_script_is_a_clear_error() {
     );
     assert!(!err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn resizes_minimise_restore_and_vsync_survive() {
+    let script = "2:resize=300x200;4:minimize;6:restore;8:resize=1x1;10:resize=500x300;\
+                  12:vsync=off;14:vsync=on;16:panels=off;18:help=on;20:orbit=40,10;22:zoom=2;\
+                  24:frame_all;26:reset;28:debug_view=normal;30:tonemap=agx";
+    let Some((code, out, err)) = luz_in_window(&["view", "--frames", "36", "--script", script])
+    else {
+        return;
+    };
+    assert_eq!(code, 0, "stdout: {out}\nstderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+    assert!(
+        out.contains("frames: 3"),
+        "the frame count is reported: {out}"
+    );
+}
+
+#[test]
+fn opens_models_and_environments_and_saves_the_scene() {
+    let models = root().join("../shared/models");
+    let envs = root().join("../shared/environments");
+    if !models.exists() || !envs.exists() {
+        eprintln!("SKIPPED: ../shared/models or ../shared/environments not found (a fresh clone)");
+        return;
+    }
+    let obj = std::fs::read_dir(&models)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|e| e == "obj"))
+        .expect("an OBJ in ../shared/models");
+    let hdr = std::fs::read_dir(&envs)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|e| e == "hdr" || e == "exr"))
+        .expect("an HDR in ../shared/environments");
+    let dir = tmp("open");
+    let saved = dir.join("saved.json");
+    let script = format!(
+        "2:open={};4:open={};6:save={};8:open={};10:open={}",
+        obj.display(),
+        hdr.display(),
+        saved.display(),
+        saved.display(),
+        dir.join("missing.json").display()
+    );
+    let Some((code, out, err)) = luz_in_window(&[
+        "view",
+        "--frames",
+        "14",
+        "--ibl-quality",
+        "fast",
+        "--script",
+        &script,
+    ]) else {
+        return;
+    };
+    assert_eq!(code, 0, "stdout: {out}\nstderr: {err}");
+    assert!(out.contains("opened model"), "{out}");
+    assert!(out.contains("environment"), "{out}");
+    assert!(out.contains("saved"), "{out}");
+    assert!(
+        out.contains(&format!("opened {}", saved.display())),
+        "{out}"
+    );
+    // A file that does not exist is reported and the viewer goes on.
+    assert!(err.contains("missing.json"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+    // The saved scene is a valid scene with the model and the environment.
+    let scene = luz::scene::load(&saved).unwrap();
+    assert!(scene.environment.is_some());
+    assert!(scene.triangle_count() > 1000);
+}

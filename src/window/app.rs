@@ -744,6 +744,8 @@ impl Viewer {
                 }
                 Action::DebugView(d) => self.settings.debug_view = d,
                 Action::Screenshot(p) => self.pending_screenshot = Some(p),
+                Action::Open(p) => self.open_path(&p),
+                Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
             }
         }
         Ok(())
@@ -1416,10 +1418,21 @@ impl Viewer {
             match a {
                 UiAction::SceneEdited | UiAction::DebugViewChanged => {}
                 UiAction::VsyncChanged => self.swapchain_dirty = true,
-                UiAction::Save(p) => match crate::scene::save(&self.scene_with_camera(), &p) {
-                    Ok(()) => self.status = Some(format!("saved {}", p.display())),
-                    Err(e) => self.status = Some(format!("{e:#}")),
-                },
+                UiAction::Save(p) => {
+                    let msg = match crate::scene::save(&self.scene_with_camera(), &p) {
+                        Ok(()) => {
+                            let m = format!("saved {}", p.display());
+                            println!("{m}");
+                            m
+                        }
+                        Err(e) => {
+                            let m = format!("{e:#}");
+                            eprintln!("luz: {m}");
+                            m
+                        }
+                    };
+                    self.status = Some(msg);
+                }
                 UiAction::Open(p) | UiAction::OpenEnvironmentFile(p) => self.open_path(&p),
                 UiAction::Screenshot { exr } => {
                     self.pending_screenshot = Some(screenshot_name(exr))

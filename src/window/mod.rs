@@ -31,7 +31,8 @@ pub struct ViewArgs {
     pub screenshot: Option<PathBuf>,
     /// Scripted actions, `FRAME:ACTION` separated by `;`. Actions: resize=WxH, minimize, restore,
     /// exposure=EV, tonemap=NAME, panels=on|off, help=on|off, orbit=DX,DY (degrees), zoom=STEPS,
-    /// frame_all, reset, vsync=on|off, debug_view=NAME, screenshot=PATH.
+    /// frame_all, reset, vsync=on|off, debug_view=NAME, screenshot=PATH, open=PATH (a scene, an
+    /// .obj model or an .hdr/.exr environment, as when dropped on the window), save=PATH.
     /// Example: "10:resize=800x600;20:exposure=1".
     #[arg(long)]
     pub script: Option<String>,

@@ -24,6 +24,10 @@ pub enum Action {
     Vsync(bool),
     DebugView(DebugView),
     Screenshot(PathBuf),
+    /// What dropping a file on the window does: a scene, a model or an environment.
+    Open(PathBuf),
+    /// Save the scene (with the current camera) as JSON.
+    Save(PathBuf),
 }
 
 /// `FRAME:ACTION;FRAME:ACTION;…` → (frame, action) sorted by frame (stable).
@@ -121,9 +125,11 @@ fn parse_action(a: &str) -> Result<Action> {
             )
         }
         "screenshot" => Action::Screenshot(PathBuf::from(need()?)),
+        "open" => Action::Open(PathBuf::from(need()?)),
+        "save" => Action::Save(PathBuf::from(need()?)),
         other => bail!(
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
-             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot)"
+             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save)"
         ),
     })
 }
