@@ -27,7 +27,7 @@ def low_poly(t):
 variant("spheres_16x16", low_poly)
 EOF
 forward() {
-  "$luz" bench "$1" --frames "$frames" --warmup 2 | awk '/^GPU forward /{print $3}'
+  "$luz" bench "$1" --frames "$frames" --warmup 2 | awk '/^GPU forward +[0-9]/{print $3}'
 }
 echo "| variant | GPU forward median (ms) |"
 echo "|---|---|"

@@ -1,0 +1,578 @@
+//! `luz lab`: speed against accuracy. Renders a scene with every method variant that applies to
+//! it — shading frequency × tessellation, BRDF terms, IBL methods — times each on the GPU and
+//! measures its error against the CPU reference, then writes `results.csv`, `results.json`,
+//! `chart.png`/`chart.svg` (error, log, against GPU ms with the Pareto front marked) and one FLIP
+//! heat map per variant.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context as _, Result};
+use clap::Args;
+
+use crate::brdf::{Distribution, Fresnel, Geometry, SpecularSource};
+use crate::cli::{GpuArgs, IblQuality};
+use crate::headless::Headless;
+use crate::imageio::LinearImage;
+use crate::scene::{
+    DiffuseMethod, Material, MeshDesc, Scene, Shading, SpecularMethod, MAX_PRIMITIVE_TRIANGLES,
+};
+
+#[derive(Args, Debug)]
+pub struct LabArgs {
+    /// Scene file (JSON).
+    pub scene: PathBuf,
+    /// Folder for results.csv, results.json, chart.png, chart.svg, reference.exr and heat maps.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Timed frames per variant (median of their GPU time).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub frames: u32,
+    /// Use this linear EXR as the reference instead of rendering it with `luz reference`.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Environment samples per pixel of the reference (Monte Carlo).
+    #[arg(long, default_value_t = 1024)]
+    pub reference_samples: u32,
+    /// Override the scene's output width (the lab renders every variant at this size).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Override the scene's output height.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Only these variant groups (comma separated: tessellation, brdf, ibl).
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+    /// Sizes of the image-based lighting data.
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+/// One method variant: a label, its group and the scene that realises it.
+pub struct Variant {
+    pub group: &'static str,
+    pub label: String,
+    pub scene: Scene,
+}
+
+/// Error of an image against the reference.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct ErrorMetrics {
+    /// Root mean square of the per-channel linear radiance difference.
+    pub rmse: f64,
+    /// Mean over pixels and channels of |x − r| / max(r, 0.01 · mean(r)).
+    pub mean_relative: f64,
+    /// Mean FLIP of the display-encoded images (scene exposure and tone map).
+    pub flip_mean: f64,
+    /// Largest per-channel absolute difference (linear radiance).
+    pub max_abs: f64,
+    /// Pixels with a NaN or Inf channel in the variant's image.
+    pub nan_pixels: u64,
+}
+
+/// Linear-radiance and display-space error of `image` against `reference` (same size).
+pub fn error_metrics(
+    reference: &LinearImage,
+    image: &LinearImage,
+    exposure_ev: f32,
+    tonemap: crate::color::Tonemap,
+) -> Result<(ErrorMetrics, crate::diff::FlipMap)> {
+    if (reference.width, reference.height) != (image.width, image.height) {
+        bail!(
+            "reference is {}x{}, the render {}x{}",
+            reference.width,
+            reference.height,
+            image.width,
+            image.height
+        );
+    }
+    let n = reference.pixels.len().max(1) as f64;
+    let mean_ref: f64 = reference
+        .pixels
+        .iter()
+        .flat_map(|p| p[..3].iter())
+        .filter(|v| v.is_finite())
+        .map(|&v| v as f64)
+        .sum::<f64>()
+        / (3.0 * n);
+    let floor = (0.01 * mean_ref).max(1e-6);
+    let (mut sq, mut rel, mut max_abs, mut nan) = (0.0f64, 0.0f64, 0.0f64, 0u64);
+    for (r, x) in reference.pixels.iter().zip(&image.pixels) {
+        if x[..3].iter().any(|v| !v.is_finite()) {
+            nan += 1;
+            continue;
+        }
+        for c in 0..3 {
+            let d = (x[c] as f64 - r[c] as f64).abs();
+            sq += d * d;
+            rel += d / (r[c] as f64).max(floor);
+            max_abs = max_abs.max(d);
+        }
+    }
+    let finite = (n - nan as f64).max(1.0);
+    let to_rgb = |img: &LinearImage| -> Vec<[u8; 3]> {
+        crate::color::to_display_rgba8(&img.pixels, exposure_ev, tonemap)
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2]])
+            .collect()
+    };
+    let map = crate::diff::flip_error_map(
+        &to_rgb(reference),
+        &to_rgb(image),
+        image.width,
+        image.height,
+        crate::diff::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let flip_mean = map.values.iter().map(|&v| v as f64).sum::<f64>() / n;
+    Ok((
+        ErrorMetrics {
+            rmse: (sq / (3.0 * finite)).sqrt(),
+            mean_relative: rel / (3.0 * finite),
+            flip_mean,
+            max_abs,
+            nan_pixels: nan,
+        },
+        map,
+    ))
+}
+
+/// Segment counts the tessellation sweep uses.
+pub const SEGMENTS: [u32; 6] = [8, 16, 32, 64, 128, 256];
+/// Sample counts of the importance-sampling sweep.
+pub const IBL_SAMPLES: [u32; 6] = [1, 4, 16, 64, 256, 1024];
+
+fn with_tessellation(scene: &Scene, shading: Shading, segments: u32) -> Option<Scene> {
+    let mut s = scene.clone();
+    let mut changed = false;
+    for o in &mut s.objects {
+        let desc = match o.desc {
+            MeshDesc::Sphere { radius, .. } => MeshDesc::Sphere {
+                radius,
+                segments,
+                rings: (segments / 2).max(3),
+            },
+            MeshDesc::Cone { radius, height, .. } => MeshDesc::Cone {
+                radius,
+                height,
+                segments,
+            },
+            MeshDesc::Cylinder { radius, height, .. } => MeshDesc::Cylinder {
+                radius,
+                height,
+                segments,
+            },
+            _ => continue,
+        };
+        if desc.triangle_count().unwrap_or(u64::MAX) > MAX_PRIMITIVE_TRIANGLES {
+            return None;
+        }
+        o.mesh = std::sync::Arc::new(desc.build()?);
+        o.desc = desc;
+        o.shading = shading;
+        changed = true;
+    }
+    changed.then_some(s)
+}
+
+fn with_terms(scene: &Scene, d: Distribution, g: Geometry, f: Fresnel) -> Option<Scene> {
+    let mut s = scene.clone();
+    let mut changed = false;
+    for m in &mut s.materials {
+        match &mut m.material {
+            Material::MetalRough(p) => {
+                if matches!(f, Fresnel::Conductor) {
+                    continue;
+                }
+                p.distribution = d;
+                p.geometry = g;
+                p.fresnel = f;
+                changed = true;
+            }
+            Material::CookTorrance(p) => {
+                p.distribution = d;
+                p.geometry = g;
+                p.fresnel = f;
+                changed = true;
+            }
+            _ => {}
+        }
+    }
+    // Cook-Torrance's Fresnel source must suit the form (F0 vs η/κ): keep only valid scenes.
+    let valid = s.materials.iter().all(|m| match &m.material {
+        Material::CookTorrance(p) => match p.fresnel {
+            Fresnel::Conductor => matches!(p.specular, SpecularSource::Complex(_)),
+            Fresnel::Dielectric => !matches!(p.specular, SpecularSource::Complex(_)),
+            _ => true,
+        },
+        _ => true,
+    });
+    (changed && valid).then_some(s)
+}
+
+/// Every variant of the lab that applies to `scene` (the scene as written comes first).
+pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
+    let want = |g: &str| only.is_empty() || only.iter().any(|o| o == g);
+    let mut out = vec![Variant {
+        group: "as written",
+        label: "as written".into(),
+        scene: scene.clone(),
+    }];
+    if want("tessellation") {
+        for (shading, name) in [
+            (Shading::Flat, "flat"),
+            (Shading::Gouraud, "gouraud"),
+            (Shading::Phong, "phong"),
+        ] {
+            for seg in SEGMENTS {
+                if let Some(s) = with_tessellation(scene, shading, seg) {
+                    out.push(Variant {
+                        group: "tessellation",
+                        label: format!("{name} {seg}"),
+                        scene: s,
+                    });
+                }
+            }
+        }
+    }
+    if want("brdf") {
+        for d in [Distribution::Beckmann, Distribution::Ggx] {
+            for g in [
+                Geometry::CookTorrance,
+                Geometry::SmithGgx,
+                Geometry::SmithGgxCorrelated,
+                Geometry::SchlickGgx,
+            ] {
+                for f in [Fresnel::Schlick, Fresnel::Dielectric, Fresnel::Conductor] {
+                    if let Some(s) = with_terms(scene, d, g, f) {
+                        out.push(Variant {
+                            group: "brdf",
+                            label: format!("{d:?}/{g:?}/{f:?}").to_lowercase(),
+                            scene: s,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    if want("ibl") {
+        if let Some(env) = &scene.environment {
+            let mut push = |label: String, f: &dyn Fn(&mut crate::scene::Environment)| {
+                let mut s = scene.clone();
+                if let Some(e) = &mut s.environment {
+                    f(e);
+                }
+                out.push(Variant {
+                    group: "ibl",
+                    label,
+                    scene: s,
+                });
+            };
+            for (diffuse, dn) in [
+                (DiffuseMethod::Sh9, "sh9"),
+                (DiffuseMethod::Cubemap, "cubemap"),
+            ] {
+                for ec in [false, true] {
+                    push(
+                        format!("split sum, {dn}{}", if ec { ", energy comp." } else { "" }),
+                        &|e| {
+                            e.specular_method = SpecularMethod::SplitSum;
+                            e.diffuse_method = diffuse;
+                            e.energy_compensation = ec;
+                        },
+                    );
+                }
+            }
+            for n in IBL_SAMPLES {
+                push(format!("importance N={n}"), &|e| {
+                    e.specular_method = SpecularMethod::Importance;
+                    e.samples = n;
+                    e.mip_filtered_samples = true;
+                });
+            }
+            let _ = env;
+        }
+    }
+    out
+}
+
+/// One measured variant.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct LabResult {
+    pub group: String,
+    pub label: String,
+    pub gpu_ms: f64,
+    pub triangles: u64,
+    pub pipelines: Vec<String>,
+    pub error: ErrorMetrics,
+    pub pareto: bool,
+}
+
+/// Marks the results no other result beats in both GPU ms and FLIP error.
+pub fn mark_pareto(results: &mut [LabResult]) {
+    let pts: Vec<(f64, f64)> = results
+        .iter()
+        .map(|r| (r.gpu_ms, r.error.flip_mean))
+        .collect();
+    for (i, r) in results.iter_mut().enumerate() {
+        let (t, e) = pts[i];
+        r.pareto = t.is_finite()
+            && e.is_finite()
+            && !pts.iter().enumerate().any(|(j, &(t2, e2))| {
+                j != i && t2 <= t && e2 <= e && (t2 < t || e2 < e)
+            });
+    }
+}
+
+pub fn run(a: LabArgs) -> Result<ExitCode> {
+    let mut scene = crate::scene::load(&a.scene)?;
+    if let Some(w) = a.width {
+        scene.output.width = w;
+    }
+    if let Some(h) = a.height {
+        scene.output.height = h;
+    }
+    std::fs::create_dir_all(a.out.join("heatmaps"))
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let reference = match &a.reference {
+        Some(p) => {
+            let img = crate::imageio::load_radiance(p)?;
+            if (img.width, img.height) != (scene.output.width, scene.output.height) {
+                bail!(
+                    "{}: the reference is {}x{}, the scene renders {}x{}",
+                    p.display(),
+                    img.width,
+                    img.height,
+                    scene.output.width,
+                    scene.output.height
+                );
+            }
+            img
+        }
+        None => {
+            println!("reference: rendering on the CPU ({} environment samples per pixel)", a.reference_samples);
+            let img = crate::reference::render_reference_for_lab(&scene, a.reference_samples)?;
+            crate::imageio::save(
+                &a.out.join("reference.exr"),
+                &img,
+                0.0,
+                crate::color::Tonemap::None,
+            )?;
+            img
+        }
+    };
+    let ctx = crate::cli::context(&a.gpu)?;
+    println!("device: {}", ctx.info.summary());
+    let variants = variants(&scene, &a.only);
+    let bar = indicatif::ProgressBar::new(variants.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} variants {elapsed} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let options = crate::cli::render_options(false, a.ibl_quality, Default::default());
+    let mut results = Vec::new();
+    for (i, v) in variants.iter().enumerate() {
+        bar.set_message(v.label.clone());
+        let mut r = Headless::with_options(&ctx, &v.scene, &options)?;
+        r.render()?;
+        let mut times = Vec::new();
+        for _ in 0..a.frames {
+            let t = r.render()?;
+            let gpu: f64 = t
+                .gpu_ms
+                .iter()
+                .filter(|(n, _)| *n != "readback")
+                .map(|(_, ms)| ms)
+                .sum();
+            times.push(gpu);
+        }
+        let image = r.image()?;
+        let (error, map) = error_metrics(
+            &reference,
+            &image,
+            scene.output.exposure,
+            scene.output.tonemap,
+        )?;
+        crate::diff::write_heatmap(&a.out.join(format!("heatmaps/{i:03}.png")), &map)?;
+        results.push(LabResult {
+            group: v.group.to_string(),
+            label: v.label.clone(),
+            gpu_ms: crate::stats::median(&times),
+            triangles: r.triangle_count(),
+            pipelines: r.variants(),
+            error,
+            pareto: false,
+        });
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    mark_pareto(&mut results);
+    write_outputs(&a.out, &scene, &results)?;
+    println!(
+        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>6}",
+        "", "group", "variant", "GPU ms", "FLIP", "RMSE", "rel err", "NaN"
+    );
+    for (i, r) in results.iter().enumerate() {
+        println!(
+            "{:<4} {:<14} {:<34} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
+            i,
+            r.group,
+            r.label,
+            r.gpu_ms,
+            r.error.flip_mean,
+            r.error.rmse,
+            r.error.mean_relative,
+            r.error.nan_pixels,
+            if r.pareto { "  ← Pareto" } else { "" }
+        );
+    }
+    println!(
+        "wrote {0}/results.csv, {0}/results.json, {0}/chart.png, {0}/chart.svg, {0}/heatmaps/",
+        a.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result<()> {
+    let mut csv = String::from(
+        "group,variant,gpu_ms,flip_mean,rmse,mean_relative,max_abs,nan_pixels,triangles,pareto\n",
+    );
+    for r in results {
+        csv.push_str(&format!(
+            "{},\"{}\",{:.4},{:.6},{:.6},{:.6},{:.6},{},{},{}\n",
+            r.group,
+            r.label,
+            r.gpu_ms,
+            r.error.flip_mean,
+            r.error.rmse,
+            r.error.mean_relative,
+            r.error.max_abs,
+            r.error.nan_pixels,
+            r.triangles,
+            r.pareto
+        ));
+    }
+    std::fs::write(dir.join("results.csv"), csv)
+        .with_context(|| format!("cannot write {}", dir.join("results.csv").display()))?;
+    let json = serde_json::json!({
+        "scene": scene.source.as_ref().map(|p| p.display().to_string()),
+        "width": scene.output.width,
+        "height": scene.output.height,
+        "results": results,
+    });
+    std::fs::write(dir.join("results.json"), serde_json::to_string_pretty(&json)?)
+        .with_context(|| format!("cannot write {}", dir.join("results.json").display()))?;
+    let mut groups: Vec<String> = Vec::new();
+    for r in results {
+        if !groups.contains(&r.group) {
+            groups.push(r.group.clone());
+        }
+    }
+    let pareto_group = groups.len();
+    groups.push("Pareto front".into());
+    let points = results
+        .iter()
+        .filter(|r| r.error.flip_mean > 0.0)
+        .map(|r| crate::plot::LabeledPoint {
+            x: r.gpu_ms,
+            y: r.error.flip_mean,
+            label: if r.pareto { r.label.clone() } else { String::new() },
+            group: if r.pareto {
+                pareto_group
+            } else {
+                groups.iter().position(|g| *g == r.group).unwrap_or(0)
+            },
+        })
+        .collect();
+    let chart = crate::plot::ScatterChart {
+        title: format!(
+            "{}: error against GPU time",
+            scene
+                .source
+                .as_ref()
+                .and_then(|p| p.file_name())
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into())
+        ),
+        x: crate::plot::Axis::new("GPU ms (median)"),
+        y: crate::plot::Axis::new("mean FLIP against the CPU reference").log(),
+        points,
+        groups,
+        legend: crate::plot::Legend::UpperRight,
+    };
+    crate::plot::save_png_svg(&chart.into(), &dir.join("chart"), 1100, 700)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn result(ms: f64, flip: f64) -> LabResult {
+        LabResult {
+            group: "g".into(),
+            label: format!("{ms}/{flip}"),
+            gpu_ms: ms,
+            triangles: 0,
+            pipelines: Vec::new(),
+            error: ErrorMetrics {
+                rmse: 0.0,
+                mean_relative: 0.0,
+                flip_mean: flip,
+                max_abs: 0.0,
+                nan_pixels: 0,
+            },
+            pareto: false,
+        }
+    }
+
+    #[test]
+    fn pareto_front_keeps_only_unbeaten_points() {
+        let mut r = vec![
+            result(1.0, 0.5),
+            result(2.0, 0.2),
+            result(3.0, 0.3), // beaten by (2, 0.2)
+            result(4.0, 0.1),
+            result(4.0, 0.1), // a tie: neither beats the other
+        ];
+        mark_pareto(&mut r);
+        let front: Vec<bool> = r.iter().map(|x| x.pareto).collect();
+        assert_eq!(front, [true, true, false, true, true]);
+    }
+
+    #[test]
+    fn metrics_of_identical_and_shifted_images() {
+        let a = LinearImage::filled(8, 4, [0.5, 0.25, 1.0, 1.0]);
+        let (m, _) = error_metrics(&a, &a, 0.0, crate::color::Tonemap::None).unwrap();
+        assert_eq!((m.rmse, m.max_abs, m.flip_mean, m.nan_pixels), (0.0, 0.0, 0.0, 0));
+        let mut b = a.clone();
+        for p in &mut b.pixels {
+            p[0] += 0.1;
+        }
+        b.pixels[3] = [f32::NAN, 0.0, 0.0, 1.0];
+        let (m, _) = error_metrics(&a, &b, 0.0, crate::color::Tonemap::None).unwrap();
+        assert_eq!(m.nan_pixels, 1);
+        assert!((m.max_abs - 0.1).abs() < 1e-6, "{m:?}");
+        // One channel in three is off by 0.1: RMSE = 0.1/√3.
+        assert!((m.rmse - 0.1 / 3f64.sqrt()).abs() < 1e-6, "{m:?}");
+        assert!(m.flip_mean > 0.0);
+        let small = LinearImage::filled(4, 4, [0.0; 4]);
+        assert!(error_metrics(&a, &small, 0.0, crate::color::Tonemap::None).is_err());
+    }
+
+    #[test]
+    fn variants_cover_each_group_that_applies() {
+        let scene =
+            crate::scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/ibl/seed001_grid_sky.json"))
+                .unwrap();
+        let v = variants(&scene, &[]);
+        let count = |g: &str| v.iter().filter(|x| x.group == g).count();
+        assert_eq!(count("as written"), 1);
+        assert_eq!(count("tessellation"), 3 * SEGMENTS.len());
+        assert!(count("brdf") >= 8, "{}", count("brdf"));
+        assert_eq!(count("ibl"), 4 + IBL_SAMPLES.len());
+        let only = variants(&scene, &["ibl".to_string()]);
+        assert_eq!(only.len(), 1 + 4 + IBL_SAMPLES.len());
+    }
+}
