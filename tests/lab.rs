@@ -1,0 +1,128 @@
+//! `luz lab` end to end on a small scene: every output is written, the tessellation sweep's error
+//! falls as segments grow (Phong shading against the CPU reference's exact sphere), the Pareto
+//! front is marked, and validation stays silent.
+
+use std::process::Command;
+
+#[test]
+fn lab_writes_results_chart_and_a_pareto_front() {
+    let dir = std::env::temp_dir().join(format!("luz-lab-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("sphere.json");
+    std::fs::write(
+        &scene,
+        r#"{
+  "camera": { "position": [0, 0, 3.2], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45 },
+  "output": { "width": 96, "height": 64, "msaa": 1, "tonemap": "none", "background": [0, 0, 0] },
+  "lights": [ { "type": "directional", "direction": [-0.4, -0.5, -1], "intensity": 2.5 } ],
+  "materials": { "m": { "model": "metal_rough", "base_color": [0.9, 0.6, 0.3], "metallic": 0.3, "roughness": 0.4 } },
+  "objects": [ { "mesh": { "type": "sphere", "radius": 1, "segments": 32, "rings": 16 }, "material": "m" } ]
+}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_luz"))
+        .args([
+            "lab",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--frames",
+            "2",
+            "--only",
+            "tessellation",
+        ])
+        .env("LUZ_VALIDATION", "1")
+        .output()
+        .expect("run luz lab");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("validation: 0 errors"), "{stderr}");
+    for f in [
+        "results.csv",
+        "results.json",
+        "chart.png",
+        "chart.svg",
+        "reference.exr",
+    ] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let results = json["results"].as_array().unwrap();
+    // As written + 3 shading frequencies × 6 segment counts.
+    assert_eq!(results.len(), 1 + 3 * 6);
+    assert!(results.iter().any(|r| r["pareto"] == true));
+    let flip = |label: &str| {
+        results
+            .iter()
+            .find(|r| r["label"] == label)
+            .unwrap_or_else(|| panic!("{label} missing"))["error"]["flip_mean"]
+            .as_f64()
+            .unwrap()
+    };
+    let rmse = |label: &str| {
+        results.iter().find(|r| r["label"] == label).unwrap()["error"]["rmse"]
+            .as_f64()
+            .unwrap()
+    };
+    eprintln!(
+        "phong 8: FLIP {:.4}, RMSE {:.4}; phong 256: FLIP {:.4}, RMSE {:.4}; flat 32: FLIP {:.4}",
+        flip("phong 8"),
+        rmse("phong 8"),
+        flip("phong 256"),
+        rmse("phong 256"),
+        flip("flat 32")
+    );
+    assert!(
+        flip("phong 256") < flip("phong 8") * 0.5,
+        "more segments, less error"
+    );
+    assert!(
+        flip("phong 64") < flip("flat 64"),
+        "Phong shading beats flat at equal tessellation"
+    );
+    assert!(
+        flip("phong 256") < 0.02,
+        "a finely tessellated Phong sphere matches the exact one"
+    );
+    for r in results {
+        assert_eq!(r["error"]["nan_pixels"], 0, "{r}");
+        assert!(r["gpu_ms"].as_f64().unwrap() > 0.0);
+    }
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + results.len());
+}
+
+#[test]
+fn lab_rejects_a_reference_of_the_wrong_size() {
+    let dir = std::env::temp_dir().join(format!("luz-lab-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let small = dir.join("small.exr");
+    luz::imageio::save(
+        &small,
+        &luz::imageio::LinearImage::filled(4, 4, [0.0; 4]),
+        0.0,
+        luz::color::Tonemap::None,
+    )
+    .unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_luz"))
+        .args([
+            "lab",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/default.json"),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+            "--reference",
+            small.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(
+        stderr.contains("small.exr") && stderr.contains("4x4"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
