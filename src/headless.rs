@@ -33,6 +33,19 @@ pub struct RenderOptions {
     pub cache_dir: Option<std::path::PathBuf>,
     /// Show one quantity instead of the shaded radiance.
     pub debug_view: DebugView,
+    /// "All features" pipelines instead of ones specialised to the scene (see
+    /// [`crate::render::forward::PassOptions::generic`]).
+    pub generic_pipelines: bool,
+}
+
+impl RenderOptions {
+    fn pass_options(&self) -> crate::render::forward::PassOptions {
+        crate::render::forward::PassOptions {
+            debug: self.debug_view,
+            slots: 1,
+            generic: self.generic_pipelines,
+        }
+    }
 }
 
 /// Timings of one frame.
@@ -158,7 +171,7 @@ impl Headless {
             Some(env) => Some(build_ibl(ctx, &pool, scene, env, ibl_settings, cache_dir)?),
             None => None,
         };
-        let forward = ForwardPass::new(
+        let forward = ForwardPass::in_flight(
             ctx,
             &pool,
             scene,
@@ -169,7 +182,7 @@ impl Headless {
             },
             aspect,
             ibl.as_ref(),
-            options.debug_view,
+            options.pass_options(),
         )?;
         let saturate = SaturatePass::for_scene(ctx, scene, &color)?;
         let timer = GpuTimer::new(ctx, 8)?;
@@ -222,7 +235,7 @@ impl Headless {
             )?),
             None => None,
         };
-        let forward = ForwardPass::new(
+        let forward = ForwardPass::in_flight(
             &self.ctx,
             &self.pool,
             &scene,
@@ -233,7 +246,7 @@ impl Headless {
             },
             self.width as f32 / self.height as f32,
             ibl.as_ref(),
-            self.options.debug_view,
+            self.options.pass_options(),
         )?;
         self.forward = forward;
         self.ibl = ibl;

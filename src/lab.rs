@@ -402,10 +402,27 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
             warm.render()?;
         }
     }
+    // The scene as written once more with "all features" pipelines (runtime BRDF selectors, every
+    // map and light kind): what building only the pipelines a scene needs saves.
+    let mut runs: Vec<(&'static str, String, &Scene, bool)> = variants
+        .iter()
+        .map(|v| (v.group, v.label.clone(), &v.scene, false))
+        .collect();
+    runs.push((
+        "all features",
+        "as written, all-features pipelines".into(),
+        &scene,
+        true,
+    ));
+    bar.set_length(runs.len() as u64);
     let mut results = Vec::new();
-    for (i, v) in variants.iter().enumerate() {
-        bar.set_message(v.label.clone());
-        let mut r = Headless::with_options(&ctx, &v.scene, &options)?;
+    for (i, (group, label, vscene, generic)) in runs.into_iter().enumerate() {
+        bar.set_message(label.clone());
+        let opts = crate::headless::RenderOptions {
+            generic_pipelines: generic,
+            ..options.clone()
+        };
+        let mut r = Headless::with_options(&ctx, vscene, &opts)?;
         // Warm-up: the first frames compile the driver's code and fault in memory.
         r.render()?;
         r.render()?;
@@ -429,8 +446,8 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         )?;
         crate::diff::write_heatmap(&a.out.join(format!("heatmaps/{i:03}.png")), &map)?;
         results.push(LabResult {
-            group: v.group.to_string(),
-            label: v.label.clone(),
+            group: group.to_string(),
+            label,
             gpu_ms: crate::stats::median(&times),
             triangles: r.triangle_count(),
             pipelines: r.variants(),
@@ -442,6 +459,18 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
     mark_pareto(&mut results);
     write_outputs(&a.out, &scene, &results)?;
+    if let (Some(min), Some(all)) = (results.first(), results.last()) {
+        println!(
+            "pipelines built for the scene as written: {}",
+            min.pipelines.join("; ")
+        );
+        println!(
+            "minimal pipelines {:.3} ms, all-features pipelines {:.3} ms ({:.2}x)",
+            min.gpu_ms,
+            all.gpu_ms,
+            all.gpu_ms / min.gpu_ms
+        );
+    }
     println!(
         "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>6}",
         "", "group", "variant", "GPU ms", "FLIP", "RMSE", "rel err", "NaN"

@@ -52,7 +52,8 @@ fn lab_writes_results_chart_and_a_pareto_front() {
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
     let results = json["results"].as_array().unwrap();
     // As written + 3 shading frequencies × 6 segment counts.
-    assert_eq!(results.len(), 1 + 3 * 6);
+    // … and the all-features pipelines.
+    assert_eq!(results.len(), 1 + 3 * 6 + 1);
     assert!(results.iter().any(|r| r["pareto"] == true));
     let flip = |label: &str| {
         results
@@ -79,6 +80,10 @@ fn lab_writes_results_chart_and_a_pareto_front() {
         flip("phong 256") < flip("phong 8") * 0.5,
         "more segments, less error"
     );
+    // The all-features pipelines draw the same image as the specialised ones.
+    let all = flip("as written, all-features pipelines");
+    assert!((all - flip("as written")).abs() < 1e-3, "{all}");
+    assert!(stdout.contains("all-features pipelines"), "{stdout}");
     assert!(
         flip("phong 64") < flip("flat 64"),
         "Phong shading beats flat at equal tessellation"

@@ -224,6 +224,33 @@ struct Draw {
     push: MaterialPush,
 }
 
+/// Selectors, maps and light kinds of a generic ("all features") pipeline: the shader reads the
+/// selectors from the push constants and keeps the code for every map and light kind.
+pub const GENERIC_SEL: [i32; 3] = [-1, -1, -1];
+pub const GENERIC_MAPS: u32 = 0xFF;
+pub const GENERIC_LIGHT_KINDS: u32 = 63;
+
+/// How to build a [`ForwardPass`] beyond the scene and the target.
+#[derive(Debug, Clone, Copy)]
+pub struct PassOptions {
+    pub debug: DebugView,
+    /// Copies of the per-frame data, one per frame in flight (≥ 1).
+    pub slots: usize,
+    /// Build "all features" pipelines (runtime BRDF selectors, every map and light kind) instead
+    /// of pipelines specialised to the scene: what the minimal pipelines save (`luz lab`).
+    pub generic: bool,
+}
+
+impl Default for PassOptions {
+    fn default() -> Self {
+        Self {
+            debug: DebugView::None,
+            slots: 1,
+            generic: false,
+        }
+    }
+}
+
 /// Formats and sample count of the target the pass draws into.
 #[derive(Debug, Clone, Copy)]
 pub struct TargetFormat {
@@ -287,13 +314,23 @@ impl ForwardPass {
         ibl: Option<&Ibl>,
         debug: DebugView,
     ) -> Result<Self, VkError> {
-        Self::in_flight(ctx, pool, scene, target, aspect, ibl, debug, 1)
+        Self::in_flight(
+            ctx,
+            pool,
+            scene,
+            target,
+            aspect,
+            ibl,
+            PassOptions {
+                debug,
+                ..Default::default()
+            },
+        )
     }
 
     /// A pass with `slots` copies of its per-frame data (camera, lights, transforms), one per
     /// frame in flight: [`ForwardPass::update`] writes a slot, [`ForwardPass::record_slot`] draws
     /// with it.
-    #[allow(clippy::too_many_arguments)]
     pub fn in_flight(
         ctx: &Arc<Context>,
         pool: &CommandPool,
@@ -301,9 +338,13 @@ impl ForwardPass {
         target: TargetFormat,
         aspect: f32,
         ibl: Option<&Ibl>,
-        debug: DebugView,
-        slots: usize,
+        options: PassOptions,
     ) -> Result<Self, VkError> {
+        let PassOptions {
+            debug,
+            slots,
+            generic,
+        } = options;
         let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
             (Some(_), Some(e)) => Some(IblKey::from_env(e)),
@@ -443,15 +484,28 @@ impl ForwardPass {
                 object,
                 material: obj.material,
                 cull: closed && positive,
-                variant: VariantKey {
-                    shading: ShadingKey::from_shading(obj.shading),
-                    model,
-                    fog: scene.fog.is_some(),
-                    debug,
-                    ibl: ibl_key,
-                    sel,
-                    maps: super::material::map_bits(&named.textures),
-                    light_kinds: gpu::light_kinds(&scene.lights),
+                variant: if generic {
+                    VariantKey {
+                        shading: ShadingKey::from_shading(obj.shading),
+                        model,
+                        fog: scene.fog.is_some(),
+                        debug,
+                        ibl: ibl_key,
+                        sel: GENERIC_SEL,
+                        maps: GENERIC_MAPS,
+                        light_kinds: GENERIC_LIGHT_KINDS,
+                    }
+                } else {
+                    VariantKey {
+                        shading: ShadingKey::from_shading(obj.shading),
+                        model,
+                        fog: scene.fog.is_some(),
+                        debug,
+                        ibl: ibl_key,
+                        sel,
+                        maps: super::material::map_bits(&named.textures),
+                        light_kinds: gpu::light_kinds(&scene.lights),
+                    }
                 },
                 push,
             });
@@ -570,8 +624,12 @@ impl ForwardPass {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
             let (_, mut push) = gpu::material_push(material);
-            if (draw.variant.model, draw.variant.sel) != gpu::material_key(material)
-                || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds
+            let (model, sel) = gpu::material_key(material);
+            let generic = draw.variant.sel == GENERIC_SEL;
+            if model != draw.variant.model
+                || (!generic
+                    && (sel != draw.variant.sel
+                        || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds))
             {
                 return Err(VkError::Setup(format!(
                     "object {}: material model, BRDF terms or light kinds changed; rebuild the forward pass",

@@ -1486,8 +1486,11 @@ fn make_forward(
         },
         extent.width as f32 / extent.height.max(1) as f32,
         ibl,
-        settings.debug_view,
-        FRAMES_IN_FLIGHT,
+        crate::render::forward::PassOptions {
+            debug: settings.debug_view,
+            slots: FRAMES_IN_FLIGHT,
+            generic: false,
+        },
     )
 }
 
