@@ -49,11 +49,18 @@ pub enum Part {
     /// The sphere, the plane, the side of a cylinder or cone.
     Main,
     /// The cube face whose outward normal is ± the axis (0 = x, 1 = y, 2 = z).
-    CubeFace { axis: usize, positive: bool },
+    CubeFace {
+        axis: usize,
+        positive: bool,
+    },
     TopCap,
     BottomCap,
     /// A triangle with barycentrics (b1, b2) of its second and third vertex.
-    Triangle { index: u32, b1: f32, b2: f32 },
+    Triangle {
+        index: u32,
+        b1: f32,
+        b2: f32,
+    },
 }
 
 /// Surface attributes in local space.
@@ -68,13 +75,6 @@ pub struct LocalSurface {
 }
 
 impl Shape {
-    /// Whether the GPU culls back faces of this shape (closed primitives with positive scale:
-    /// all of them but the plane and OBJ meshes). For a closed convex shape only the entry point
-    /// of the ray can be seen.
-    pub fn culled(&self) -> bool {
-        !matches!(self, Shape::Plane { .. } | Shape::Mesh(_))
-    }
-
     /// Local-space bounding box.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         match self {
@@ -284,7 +284,11 @@ fn sphere(ray: &Ray, radius: f32) -> Option<(f32, Part)> {
     if a == 0.0 {
         return None;
     }
-    let (t0, _) = roots(a, ray.o.dot(ray.d), ray.o.length_squared() - radius * radius)?;
+    let (t0, _) = roots(
+        a,
+        ray.o.dot(ray.d),
+        ray.o.length_squared() - radius * radius,
+    )?;
     Some((t0, Part::Main))
 }
 
@@ -546,7 +550,7 @@ impl MeshAccel {
 
     pub fn bounds(&self) -> (Vec3, Vec3) {
         match self.nodes.first() {
-            Some(n) if self.order.len() > 0 => (n.lo, n.hi),
+            Some(n) if !self.order.is_empty() => (n.lo, n.hi),
             _ => (Vec3::ZERO, Vec3::ZERO),
         }
     }
@@ -573,14 +577,7 @@ impl MeshAccel {
                     if let Some((t, b1, b2)) = triangle(ray, &self.tris[k as usize]) {
                         if t >= t_min && t <= t_best {
                             t_best = t;
-                            best = Some((
-                                t,
-                                Part::Triangle {
-                                    index: k,
-                                    b1,
-                                    b2,
-                                },
-                            ));
+                            best = Some((t, Part::Triangle { index: k, b1, b2 }));
                         }
                     }
                 }
@@ -657,7 +654,7 @@ impl MeshAccel {
         }
     }
 
-    /// The vertex normals and tangents of triangle `index` (for interpolation after the object
+    /// The vertex normals of triangle `index` (for interpolation after the object
     /// transform, as the GPU does).
     pub fn vertex_normals(&self, index: u32) -> [Vec3; 3] {
         let m = &self.mesh;
@@ -668,11 +665,6 @@ impl MeshAccel {
                 .copied()
                 .unwrap_or(Vec3::Y)
         })
-    }
-
-    /// Whether per-vertex tangents were computed.
-    pub fn has_tangents(&self) -> bool {
-        self.tangents.is_some()
     }
 }
 
@@ -815,7 +807,7 @@ mod tests {
             let (t, _) = accel.intersect(&r, 0.0, 10.0).unwrap();
             // The inscribed polyhedron: between cos(π/32) and 1 of the radius.
             let d = o.length() * (1.0 - t);
-            assert!(d <= 1.0 + 1e-5 && d >= 0.99, "{d}");
+            assert!((0.99..=1.0 + 1e-5).contains(&d), "{d}");
         }
     }
 }

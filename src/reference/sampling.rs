@@ -125,18 +125,35 @@ impl EnvDistribution {
         {
             return None;
         }
+        let lum: Vec<f64> = eq
+            .texels
+            .iter()
+            .map(|t| {
+                (0.2126 * f64::from(t[0]) + 0.7152 * f64::from(t[1]) + 0.0722 * f64::from(t[2]))
+                    .max(0.0)
+            })
+            .collect();
+        // A bilinear lookup inside texel (i, j) mixes its 3×3 neighbourhood: weigh each texel by
+        // the brightest of them, so a small bright source (the sky's sun) has a high density
+        // wherever the lookup sees it (no fireflies from its filtered edge).
         let mut weights = vec![0.0f64; w * h];
         for j in 0..h {
             let theta = std::f64::consts::PI * (j as f64 + 0.5) / h as f64;
             let s = theta.sin();
             for i in 0..w {
-                let t = eq.texels[j * w + i];
-                let lum = 0.2126 * f64::from(t[0]) + 0.7152 * f64::from(t[1]) + 0.0722 * f64::from(t[2]);
-                weights[j * w + i] = lum.max(0.0) * s;
+                let mut m = 0.0f64;
+                for dj in [-1i64, 0, 1] {
+                    let jj = (j as i64 + dj).clamp(0, h as i64 - 1) as usize;
+                    for di in [-1i64, 0, 1] {
+                        let ii = (i as i64 + di).rem_euclid(w as i64) as usize;
+                        m = m.max(lum[jj * w + ii]);
+                    }
+                }
+                weights[j * w + i] = m * s;
             }
         }
         let total: f64 = weights.iter().sum();
-        if !(total > 0.0) || !total.is_finite() {
+        if total.is_nan() || total <= 0.0 || !total.is_finite() {
             return None;
         }
         let mut rows = Vec::with_capacity(h + 1);
@@ -150,7 +167,11 @@ impl EnvDistribution {
             cols.push(0.0f32);
             for &x in row {
                 c += x;
-                cols.push(if row_sum > 0.0 { (c / row_sum) as f32 } else { 0.0 });
+                cols.push(if row_sum > 0.0 {
+                    (c / row_sum) as f32
+                } else {
+                    0.0
+                });
             }
             if row_sum > 0.0 {
                 *cols.last_mut().expect("pushed") = 1.0;
@@ -207,7 +228,7 @@ impl EnvDistribution {
 /// it (0 … 1).
 fn pick(cdf: &[f32], u: f32) -> Option<(usize, f32)> {
     let n = cdf.len().checked_sub(1)?;
-    if n == 0 || !(cdf[n] > 0.0) {
+    if n == 0 || cdf[n].is_nan() || cdf[n] <= 0.0 {
         return None;
     }
     // First index whose CDF exceeds u, minus one.
@@ -239,14 +260,19 @@ mod tests {
 
     #[test]
     fn env_distribution_density_integrates_to_one() {
-        let eq = Equirect::from_fn(64, 32, 1, |d| Vec3::splat(1.0 + 10.0 * d.x.max(0.0).powi(8)));
+        let eq = Equirect::from_fn(64, 32, 1, |d| {
+            Vec3::splat(1.0 + 10.0 * d.x.max(0.0).powi(8))
+        });
         let dist = EnvDistribution::new(&eq, 30.0).unwrap();
         // ∫ pdf dω over the sphere by a fine (u, v) grid.
         let n = 400;
         let mut sum = 0.0f64;
         for j in 0..n {
             for i in 0..2 * n {
-                let uv = Vec2::new((i as f32 + 0.5) / (2 * n) as f32, (j as f32 + 0.5) / n as f32);
+                let uv = Vec2::new(
+                    (i as f32 + 0.5) / (2 * n) as f32,
+                    (j as f32 + 0.5) / n as f32,
+                );
                 let d = env_to_world(uv_to_dir(uv), 30.0);
                 let theta = std::f64::consts::PI * f64::from(uv.y);
                 let dw = (2.0 * std::f64::consts::PI / (2 * n) as f64)
@@ -259,9 +285,16 @@ mod tests {
         // Sampled directions carry the density pdf() reports.
         for k in 0..100 {
             let (d, p) = dist
-                .sample((k as f32 + 0.5) / 100.0, ((k * 37) % 100) as f32 / 100.0)
+                .sample(
+                    (k as f32 + 0.5) / 100.0,
+                    (((k * 37) % 100) as f32 + 0.5) / 100.0,
+                )
                 .unwrap();
-            assert!((dist.pdf(d) - p).abs() <= 1e-3 * p, "{} vs {p}", dist.pdf(d));
+            assert!(
+                (dist.pdf(d) - p).abs() <= 1e-3 * p,
+                "{} vs {p}",
+                dist.pdf(d)
+            );
         }
         assert!(EnvDistribution::new(&Equirect::filled(8, 4, Vec3::ONE), 0.0).is_none());
     }

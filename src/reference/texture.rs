@@ -4,35 +4,31 @@
 //! Mip level 0 with bilinear filtering is the map itself, unfiltered by the screen: with
 //! `--spp` > 1 the pixel average does the filtering.
 
+use std::sync::Arc;
+
 use glam::{Vec2, Vec4};
 
 use crate::scene::{Filter, TextureRef, TextureSlot, Wrap};
 use crate::texture::{load_texture, ColorSpace, TextureError};
 
-/// A decoded map: level 0 as linear RGBA floats.
-pub struct CpuTexture {
+/// Level 0 of a decoded map as linear RGBA floats (shared by the materials that use the same
+/// file the same way).
+pub struct Texels {
     width: u32,
     height: u32,
     texels: Vec<Vec4>,
-    wrap_u: Wrap,
-    wrap_v: Wrap,
-    filter: Filter,
 }
 
-impl CpuTexture {
-    /// Loads the map `r` for `slot` (warnings go to `on_warning`).
-    pub fn load(
-        r: &TextureRef,
-        slot: TextureSlot,
-        on_warning: &mut dyn FnMut(String),
-    ) -> Result<Self, TextureError> {
+impl Texels {
+    /// Decodes the map `r` for `slot`: the slot's colour space, `r.channel` copied to RGB.
+    pub fn load(r: &TextureRef, slot: TextureSlot) -> Result<Self, TextureError> {
         let mut level0 = r.clone();
         level0.sampler.mipmaps = false;
         let data = load_texture(
             &level0,
             ColorSpace::for_slot(slot),
             crate::imageio::MAX_DIMENSION,
-            on_warning,
+            &mut |_| {},
         )?;
         let (w, h) = (data.width, data.height);
         let mut texels = Vec::with_capacity(w as usize * h as usize);
@@ -41,30 +37,48 @@ impl CpuTexture {
                 texels.push(Vec4::from_array(data.texel(0, x, y).unwrap_or([0.0; 4])));
             }
         }
-        Ok(CpuTexture {
+        Ok(Texels {
             width: w,
             height: h,
             texels,
+        })
+    }
+}
+
+/// A map with its sampler.
+pub struct CpuTexture {
+    data: Arc<Texels>,
+    wrap_u: Wrap,
+    wrap_v: Wrap,
+    filter: Filter,
+}
+
+impl CpuTexture {
+    /// `data` sampled as `r` says.
+    pub fn new(data: Arc<Texels>, r: &TextureRef) -> Self {
+        CpuTexture {
+            data,
             wrap_u: r.sampler.wrap_u,
             wrap_v: r.sampler.wrap_v,
             filter: r.sampler.mag,
-        })
+        }
     }
 
     fn texel(&self, x: i64, y: i64) -> Vec4 {
-        let i = wrap(x, self.width, self.wrap_u);
-        let j = wrap(y, self.height, self.wrap_v);
-        self.texels[j * self.width as usize + i]
+        let d = &*self.data;
+        let i = wrap(x, d.width, self.wrap_u);
+        let j = wrap(y, d.height, self.wrap_v);
+        d.texels[j * d.width as usize + i]
     }
 
     /// The filtered value at texture coordinates `uv` (Vulkan's rules: texel centres at
     /// half-integers, `REPEAT`, `CLAMP_TO_EDGE` or `MIRRORED_REPEAT`).
     pub fn sample(&self, uv: Vec2) -> Vec4 {
         if !uv.is_finite() {
-            return self.texels[0];
+            return self.data.texels[0];
         }
-        let s = uv.x * self.width as f32;
-        let t = uv.y * self.height as f32;
+        let s = uv.x * self.data.width as f32;
+        let t = uv.y * self.data.height as f32;
         if self.filter == Filter::Nearest {
             return self.texel(s.floor() as i64, t.floor() as i64);
         }
@@ -101,9 +115,11 @@ mod tests {
 
     fn tex(wrap: Wrap) -> CpuTexture {
         CpuTexture {
-            width: 2,
-            height: 1,
-            texels: vec![Vec4::ZERO, Vec4::ONE],
+            data: Arc::new(Texels {
+                width: 2,
+                height: 1,
+                texels: vec![Vec4::ZERO, Vec4::ONE],
+            }),
             wrap_u: wrap,
             wrap_v: wrap,
             filter: Filter::Linear,
