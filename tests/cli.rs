@@ -120,3 +120,24 @@ fn bad_scenes_exit_nonzero_without_panic() {
     }
     assert!(n >= 20, "only {n} bad scenes");
 }
+
+#[test]
+fn a_closed_stdout_pipe_is_not_a_panic() {
+    use std::process::Stdio;
+    let golden = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden"))
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_luz"))
+        .args(["diff", golden.to_str().unwrap(), golden.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the reading end before luz prints (like `luz diff a b | head -0`).
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
