@@ -44,6 +44,15 @@ pub enum Command {
     Brdf(crate::brdf_cli::BrdfArgs),
     /// List the Vulkan devices luz can use and the one it would pick.
     Devices(GpuArgs),
+    /// Speed against accuracy: render the scene with every method variant that applies, time each
+    /// on the GPU, measure its error against the CPU reference, chart error against GPU ms.
+    Lab(crate::lab::LabArgs),
+    /// Render a scene on the CPU as the reference answer (exact primitives, per-pixel shading,
+    /// the environment converged by Monte Carlo) to an EXR or PNG image.
+    Reference(crate::reference::ReferenceArgs),
+    /// Sweep every BRDF model and term to the edges of its domain on the CPU reference and the
+    /// GPU mirror: NaN/Inf/negative counts, largest radiance, energy gain; exit 1 on any finding.
+    Stability(crate::stability::StabilityArgs),
     /// Open the interactive viewer: orbit camera, panels for every scene field, frame-time
     /// profiler, screenshots; `--bench` measures windowed frame times.
     #[cfg(feature = "window")]
@@ -224,6 +233,9 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Diff(a) => diff(a),
         Command::Brdf(a) => crate::brdf_cli::run(a),
         Command::Devices(a) => devices(a),
+        Command::Lab(a) => crate::lab::run(a),
+        Command::Reference(a) => crate::reference::run(a),
+        Command::Stability(a) => crate::stability::run(a),
         #[cfg(feature = "window")]
         Command::View(a) => crate::window::run(a),
     }
@@ -298,6 +310,7 @@ pub(crate) fn render_options(
             crate::render::ibl::default_cache_dir()
         },
         debug_view,
+        generic_pipelines: false,
     }
 }
 

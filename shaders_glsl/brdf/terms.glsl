@@ -18,6 +18,8 @@
 #define BRDF_COS_EPS 1e-4
 // A vector whose squared length is at most this is the zero vector.
 #define BRDF_LEN2_EPS 1e-12
+// Largest refractive index η and extinction κ the Fresnel terms use (squares stay finite).
+#define BRDF_IOR_MAX 1e9
 
 // ------------------------------------------------------------------------------------------------
 // Helpers
@@ -259,8 +261,8 @@ vec3 f_schlick_sg(vec3 f0, float v_h) {
 // Exact unpolarised dielectric Fresnel, eta = η_t/η_i; total internal reflection gives 1.
 float f_dielectric(float cos_i, float eta) {
     float c = brdf_saturate(cos_i);
-    float e = max(eta, 1e-4);
-    float g2 = e * e + c * c - 1.0;
+    float e = clamp(eta, 1e-4, BRDF_IOR_MAX);
+    float g2 = (e - 1.0) * (e + 1.0) + c * c;
     if (g2 < 0.0) {
         return 1.0;
     }
@@ -278,9 +280,10 @@ float f_dielectric(float cos_i, float eta) {
 // Conductor Fresnel, one channel, complex index η + iκ (MODELS.md §3).
 float f_conductor_1(float cos_i, float eta, float k) {
     float c = brdf_saturate(cos_i);
-    float e = max(eta, 0.0);
+    float e = clamp(eta, 0.0, BRDF_IOR_MAX);
+    float kk = min(abs(k), BRDF_IOR_MAX);
     float c2 = c * c;
-    float t0 = e * e + k * k;
+    float t0 = e * e + kk * kk;
     float t1 = 2.0 * e * c;
     float r_perp = (t0 - t1 + c2) / max(t0 + t1 + c2, 1e-12);
     float r_par = (t0 * c2 - t1 + 1.0) / (t0 * c2 + t1 + 1.0);

@@ -14,11 +14,16 @@ pub struct ComplexIor {
 }
 
 impl ComplexIor {
-    /// Reflectance at normal incidence: `((η − 1)² + κ²) / ((η + 1)² + κ²)` per channel.
+    /// Reflectance at normal incidence: `((η − 1)² + κ²) / ((η + 1)² + κ²)` per channel, with η
+    /// clamped to `[0, IOR_MAX]` and `|κ|` to at most `IOR_MAX` as [`super::f_conductor_1`] does
+    /// (larger values overflowed to Inf/Inf = NaN).
     pub fn f0(&self) -> Vec3 {
         let one = Vec3::ONE;
-        let num = (self.eta - one) * (self.eta - one) + self.k * self.k;
-        let den = (self.eta + one) * (self.eta + one) + self.k * self.k;
+        let max = Vec3::splat(super::terms::IOR_MAX);
+        let eta = self.eta.clamp(Vec3::ZERO, max);
+        let k = self.k.abs().min(max);
+        let num = (eta - one) * (eta - one) + k * k;
+        let den = (eta + one) * (eta + one) + k * k;
         num / den.max(Vec3::splat(1e-12))
     }
 }

@@ -20,6 +20,11 @@ pub const ALPHA_MIN: f32 = 1e-3;
 pub const COS_EPS: f32 = 1e-4;
 /// A vector whose squared length is at most this is treated as the zero vector.
 pub const LEN2_EPS: f32 = 1e-12;
+/// Largest refractive index η and extinction κ the Fresnel terms use (inputs are clamped to it).
+/// Beyond ≈ 1.8e19 their squares overflow `f32` (Inf/Inf = NaN); at 1e9 every square stays below
+/// 1e18, and the dip of r∥ near cos θ ≈ 1/η lies below cos θ = 1e-9, so for cos θ ≥ 1e-4 the clamp
+/// moves F by less than 1e-4 from its η → ∞ limit of 1.
+pub const IOR_MAX: f32 = 1e9;
 
 /// GLSL `clamp(x, 0, 1)`.
 #[inline]
@@ -301,11 +306,13 @@ pub fn f_schlick_sg(f0: Vec3, v_h: f32) -> Vec3 {
 /// Exact unpolarised Fresnel reflectance of a dielectric interface, `eta = η_t / η_i`,
 /// `cos_i` the cosine of the incidence angle (clamped to `[0, 1]`). Compact form:
 /// `g = sqrt(η² + c² − 1)`, `F = ½ (g − c)²/(g + c)² · (1 + (c(g + c) − 1)²/(c(g − c) + 1)²)`;
-/// total internal reflection (`η² + c² − 1 < 0`) gives 1. `eta` is clamped to at least 1e-4.
+/// total internal reflection (`η² + c² − 1 < 0`) gives 1. `eta` is clamped to `[1e-4, IOR_MAX]`;
+/// `g²` is summed as `(η − 1)(η + 1) + c²`, exact at η = 1 (index matching gives F = 0 at every
+/// angle; `η² + c² − 1` cancelled to F ≈ 1e-4 at grazing incidence).
 pub fn f_dielectric(cos_i: f32, eta: f32) -> f32 {
     let c = saturate(cos_i);
-    let eta = eta.max(1e-4);
-    let g2 = eta * eta + c * c - 1.0;
+    let eta = eta.clamp(1e-4, IOR_MAX);
+    let g2 = (eta - 1.0) * (eta + 1.0) + c * c;
     if g2 < 0.0 {
         return 1.0;
     }
@@ -322,10 +329,12 @@ pub fn f_dielectric(cos_i: f32, eta: f32) -> f32 {
 }
 
 /// Fresnel reflectance of a conductor with complex index `η + iκ`, one channel
-/// (MODELS.md §3, the formula PBRT 2nd ed. uses; exact at normal incidence).
+/// (MODELS.md §3, the formula PBRT 2nd ed. uses; exact at normal incidence). `eta` is clamped to
+/// `[0, IOR_MAX]`, `|k|` to at most `IOR_MAX`.
 pub fn f_conductor_1(cos_i: f32, eta: f32, k: f32) -> f32 {
     let c = saturate(cos_i);
-    let eta = eta.max(0.0);
+    let eta = eta.clamp(0.0, IOR_MAX);
+    let k = k.abs().min(IOR_MAX);
     let c2 = c * c;
     let t0 = eta * eta + k * k;
     let t1 = 2.0 * eta * c;

@@ -792,6 +792,45 @@ fn gpu_packing() {
     assert!(terms.contains("#define BRDF_ALPHA_MIN 1e-3\n") && ALPHA_MIN == 1e-3);
     assert!(terms.contains("#define BRDF_COS_EPS 1e-4\n") && COS_EPS == 1e-4);
     assert!(terms.contains("#define BRDF_LEN2_EPS 1e-12\n") && LEN2_EPS == 1e-12);
+    assert!(terms.contains("#define BRDF_IOR_MAX 1e9\n") && IOR_MAX == 1e9);
+}
+
+/// Found by `luz stability`: indices whose squares overflow f32 gave NaN (conductor, complex F0),
+/// and index matching (η = 1) gave F ≈ 1e-4 at grazing incidence from cancellation.
+#[test]
+fn fresnel_extreme_indices_stay_finite() {
+    for x in [1e20, 3e38, f32::MAX] {
+        for c in [0.0, 1e-6, 1e-4, 1e-3, 0.5, 1.0] {
+            // The η → ∞ limit is a perfect mirror; within 1e-4 of it from cos θ = 1e-4 on.
+            let low = if c >= 1e-4 { 0.9999 } else { 0.0 };
+            for (what, f) in [
+                ("conductor η", f_conductor_1(c, x, 0.0)),
+                ("conductor κ", f_conductor_1(c, 1.0, x)),
+                ("dielectric η", f_dielectric(c, x)),
+            ] {
+                assert!(
+                    f.is_finite() && f >= low && f <= 1.0,
+                    "{what}={x} c={c}: {f}"
+                );
+            }
+        }
+        let f0 = ComplexIor {
+            eta: Vec3::new(x, 1.0, 0.0),
+            k: Vec3::new(0.0, x, 0.0),
+        }
+        .f0();
+        assert!(
+            f0.is_finite() && f0.cmple(Vec3::ONE).all(),
+            "f0 of {x}: {f0}"
+        );
+        assert!(
+            f0.x > 0.9999 && f0.y > 0.9999 && f0.z == 1.0,
+            "f0 of {x}: {f0}"
+        );
+    }
+    for c in [1e-6, 1e-3, 0.5, 1.0] {
+        assert_eq!(f_dielectric(c, 1.0), 0.0, "index matching at cos θ = {c}");
+    }
 }
 
 #[test]
