@@ -416,8 +416,7 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     ));
     bar.set_length(runs.len() as u64);
     let mut results = Vec::new();
-    for (i, (group, label, vscene, generic)) in runs.into_iter().enumerate() {
-        bar.set_message(label.clone());
+    let time = |vscene: &Scene, generic: bool| -> Result<(f64, Headless)> {
         let opts = crate::headless::RenderOptions {
             generic_pipelines: generic,
             ..options.clone()
@@ -437,6 +436,11 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
                 .sum();
             times.push(gpu);
         }
+        Ok((crate::stats::median(&times), r))
+    };
+    for (i, (group, label, vscene, generic)) in runs.iter().enumerate() {
+        bar.set_message(label.clone());
+        let (ms, r) = time(vscene, *generic)?;
         let image = r.image()?;
         let (error, map) = error_metrics(
             &reference,
@@ -447,13 +451,22 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         crate::diff::write_heatmap(&a.out.join(format!("heatmaps/{i:03}.png")), &map)?;
         results.push(LabResult {
             group: group.to_string(),
-            label,
-            gpu_ms: crate::stats::median(&times),
+            label: label.clone(),
+            gpu_ms: ms,
             triangles: r.triangle_count(),
             pipelines: r.variants(),
             error,
             pareto: false,
         });
+        bar.inc(1);
+    }
+    // A second timing pass in reverse order: a variant's time is the smaller of its two medians,
+    // so where it sits in the run (caches, other load on a shared machine) matters less.
+    bar.set_position(0);
+    bar.set_message("second timing pass".to_string());
+    for (i, (_, _, vscene, generic)) in runs.iter().enumerate().rev() {
+        let (ms, _) = time(vscene, *generic)?;
+        results[i].gpu_ms = results[i].gpu_ms.min(ms);
         bar.inc(1);
     }
     bar.finish_and_clear();
