@@ -31,10 +31,10 @@ use super::ViewArgs;
 use crate::headless::{build_ibl, RenderOptions, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::imageio::LinearImage;
 use crate::profiler::{FrameSample, Profiler};
+use crate::render::display::DisplayPass;
 use crate::render::forward::{ForwardPass, TargetFormat, TargetViews};
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
-use crate::render::tonemap::{TonemapPass, DESTINATION_ACCESS, DESTINATION_FORMAT};
 use crate::scene::Scene;
 use crate::vk::cmd::{transition, CommandPool, Transition};
 use crate::vk::image::ImageDesc;
@@ -213,7 +213,6 @@ struct Targets {
     color: Image,
     msaa: Option<Image>,
     depth: Image,
-    ldr: Image,
 }
 
 impl Targets {
@@ -232,8 +231,6 @@ impl Targets {
         } else {
             None
         };
-        let mut ldr = ImageDesc::color_target(w, h, DESTINATION_FORMAT);
-        ldr.usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
         Ok(Self {
             color: Image::new(
                 ctx,
@@ -246,7 +243,6 @@ impl Targets {
                 "viewer depth",
                 ImageDesc::depth(w, h, DEPTH_FORMAT, samples),
             )?,
-            ldr: Image::new(ctx, "viewer ldr", ldr)?,
         })
     }
 }
@@ -305,7 +301,7 @@ struct Viewer {
     settings: ViewSettings,
     profiler: Profiler,
     bench_frames: Vec<FrameSample>,
-    tonemap: TonemapPass,
+    display: DisplayPass,
     saturate: Option<SaturatePass>,
     forward: ForwardPass,
     ibl: Option<Ibl>,
@@ -457,13 +453,7 @@ impl Viewer {
             extent,
         )?;
         let saturate = SaturatePass::for_scene(&ctx, &scene, &targets.color)?;
-        let tonemap = TonemapPass::new(
-            &ctx,
-            targets.color.view,
-            vk::ImageLayout::GENERAL,
-            targets.ldr.view,
-            nonzero(extent),
-        )?;
+        let display = DisplayPass::new(&ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -499,7 +489,7 @@ impl Viewer {
             settings,
             profiler: Profiler::new(PROFILER_WINDOW),
             bench_frames: Vec::new(),
-            tonemap,
+            display,
             saturate,
             forward,
             ibl,
@@ -704,12 +694,7 @@ impl Viewer {
         let extent = nonzero(self.swapchain.extent);
         if extent != self.targets.color.extent() {
             self.targets = Targets::new(&self.ctx, extent, self.samples)?;
-            self.tonemap.set_images(
-                self.targets.color.view,
-                vk::ImageLayout::GENERAL,
-                self.targets.ldr.view,
-                extent,
-            )?;
+            self.display.set_source(self.targets.color.view);
             self.saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &self.targets.color)?;
         }
         self.swapchain_dirty = false;
@@ -868,7 +853,8 @@ impl Viewer {
             .free_textures
             .extend(output.textures_delta.free.iter().copied());
 
-        self.tonemap.prepare(self.scene.output.tonemap)?;
+        self.display
+            .prepare(self.scene.output.tonemap, self.swapchain.format)?;
         // 4. Per-frame data of this slot.
         self.scene.camera = self.orbit.to_camera();
         let extent = self.swapchain.extent;
@@ -892,7 +878,7 @@ impl Viewer {
         // 6. Submit and present.
         let waits = [vk::SemaphoreSubmitInfo::default()
             .semaphore(acquired)
-            .stage_mask(vk::PipelineStageFlags2::BLIT)];
+            .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
         let render_finished = self.swapchain.render_finished[image_index as usize];
         let signals = [vk::SemaphoreSubmitInfo::default()
             .semaphore(render_finished)
@@ -964,7 +950,7 @@ impl Viewer {
                 range: t.color.subresource_range(),
                 from: (
                     vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::COPY,
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
                     vk::AccessFlags2::NONE,
                 ),
                 to: color_att,
@@ -1027,12 +1013,18 @@ impl Viewer {
         }
         let exr =
             screenshot.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
-        let mut read = self.tonemap.source_access();
+        let mut read = self.display.source_access();
         if exr.is_some() {
             read.1 |= vk::PipelineStageFlags2::COPY;
             read.2 |= vk::AccessFlags2::TRANSFER_READ;
         }
-        let ldr_range = t.ldr.subresource_range();
+        // The swapchain image: written whole by the display pass, then the UI on top.
+        let image = self.swapchain.images[image_index as usize];
+        let attachment: Access = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
         transition(
             &d,
             cmd,
@@ -1044,24 +1036,19 @@ impl Viewer {
                     to: read,
                 },
                 Transition {
-                    image: t.ldr.raw,
-                    range: ldr_range,
+                    image,
+                    range: color_range(),
+                    // Chained to the acquire semaphore's wait at this stage.
                     from: (
                         vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::BLIT,
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
                         vk::AccessFlags2::NONE,
                     ),
-                    to: DESTINATION_ACCESS,
+                    to: attachment,
                 },
             ],
         );
-        let s = timer.as_mut().and_then(|t| t.begin(cmd, "tonemap"));
-        self.tonemap
-            .record(cmd, self.scene.output.exposure, self.scene.output.tonemap)?;
-        if let Some(t) = &mut timer {
-            t.end(cmd, s);
-        }
-        let extent = t.ldr.extent();
+        let extent = t.color.extent();
         let mut shot = None;
         if let Some(path) = exr {
             let buffer = Buffer::new(
@@ -1086,87 +1073,11 @@ impl Viewer {
                 extent,
             });
         }
-        // Blit the display image into the swapchain image, then draw the UI on top.
-        let image = self.swapchain.images[image_index as usize];
-        let blit_dst: Access = (
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::PipelineStageFlags2::BLIT,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        transition(
-            &d,
-            cmd,
-            &[
-                Transition {
-                    image: t.ldr.raw,
-                    range: ldr_range,
-                    from: DESTINATION_ACCESS,
-                    to: (
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        vk::PipelineStageFlags2::BLIT,
-                        vk::AccessFlags2::TRANSFER_READ,
-                    ),
-                },
-                Transition {
-                    image,
-                    range: color_range(),
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::BLIT,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: blit_dst,
-                },
-            ],
-        );
         let sc = self.swapchain.extent;
-        let (w, h) = (
-            extent.width.min(sc.width) as i32,
-            extent.height.min(sc.height) as i32,
-        );
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let region = vk::ImageBlit {
-            src_subresource: layers,
-            src_offsets: [vk::Offset3D::default(), vk::Offset3D { x: w, y: h, z: 1 }],
-            dst_subresource: layers,
-            dst_offsets: [vk::Offset3D::default(), vk::Offset3D { x: w, y: h, z: 1 }],
-        };
-        let s = timer.as_mut().and_then(|t| t.begin(cmd, "present+ui"));
-        unsafe {
-            d.cmd_blit_image(
-                cmd,
-                t.ldr.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                image,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[region],
-                vk::Filter::NEAREST,
-            )
-        };
-        let attachment: Access = (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        transition(
-            &d,
-            cmd,
-            &[Transition {
-                image,
-                range: color_range(),
-                from: blit_dst,
-                to: attachment,
-            }],
-        );
         let colors = [vk::RenderingAttachmentInfo::default()
             .image_view(self.swapchain.views[image_index as usize])
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::LOAD)
+            .load_op(vk::AttachmentLoadOp::DONT_CARE)
             .store_op(vk::AttachmentStoreOp::STORE)];
         let info = vk::RenderingInfo::default()
             .render_area(vk::Rect2D {
@@ -1176,6 +1087,22 @@ impl Viewer {
             .layer_count(1)
             .color_attachments(&colors);
         unsafe { d.cmd_begin_rendering(cmd, &info) };
+        let s = timer.as_mut().and_then(|t| t.begin(cmd, "display"));
+        let area = vk::Extent2D {
+            width: extent.width.min(sc.width),
+            height: extent.height.min(sc.height),
+        };
+        self.display.record(
+            cmd,
+            self.scene.output.tonemap,
+            self.swapchain.format,
+            self.scene.output.exposure,
+            area,
+        )?;
+        if let Some(t) = &mut timer {
+            t.end(cmd, s);
+        }
+        let s = timer.as_mut().and_then(|t| t.begin(cmd, "ui"));
         if let Some(r) = &mut self.egui_renderer {
             r.cmd_draw(cmd, sc, self.egui_ctx.pixels_per_point(), primitives)
                 .map_err(|e| anyhow!("egui: {e}"))?;

@@ -1,0 +1,202 @@
+//! The viewer's display pass: a full-screen triangle whose fragment shader exposes, tone-maps and
+//! sRGB-encodes the HDR image (the code of [`crate::render::tonemap`], `include/color.glsl`) and
+//! writes the codes straight into an 8-bit UNORM colour attachment — the swapchain image — so the
+//! viewer needs no intermediate 8-bit image and no blit. One pipeline per (operator, attachment
+//! format), built on first use ([`DisplayPass::prepare`]).
+//!
+//! The caller records inside a dynamic rendering instance on the attachment, with the HDR image
+//! readable by fragment shaders in the layout given at creation.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::color::{exposure_scale, Tonemap};
+use crate::render::tonemap::tonemap_id;
+use crate::vk::pipeline::{
+    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
+};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Context, VkError};
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct DisplayPush {
+    exposure_scale: f32,
+}
+
+pub struct DisplayPass {
+    pipelines: Vec<((Tonemap, vk::Format), Pipeline)>,
+    vertex: ShaderModule,
+    fragment: ShaderModule,
+    layout: PipelineLayout,
+    set: vk::DescriptorSet,
+    _pool: DescriptorPool,
+    _set_layout: DescriptorSetLayout,
+    source_layout: vk::ImageLayout,
+    ctx: Arc<Context>,
+}
+
+impl DisplayPass {
+    /// A pass reading `source` (an HDR colour view with SAMPLED usage, kept in `source_layout`).
+    pub fn new(
+        ctx: &Arc<Context>,
+        source: vk::ImageView,
+        source_layout: vk::ImageLayout,
+    ) -> Result<Self, VkError> {
+        let bindings = [vk::DescriptorSetLayoutBinding::default()
+            .binding(0)
+            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
+        let set_layout = DescriptorSetLayout::new(ctx, "display set layout", &bindings)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::FRAGMENT,
+            offset: 0,
+            size: std::mem::size_of::<DisplayPush>() as u32,
+        }];
+        let layout = PipelineLayout::new(ctx, "display layout", &[&set_layout], &push)?;
+        let pool = DescriptorPool::new(
+            ctx,
+            "display pool",
+            1,
+            &[vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::SAMPLED_IMAGE,
+                descriptor_count: 1,
+            }],
+        )?;
+        let set = pool.allocate(&set_layout)?;
+        let mut pass = Self {
+            pipelines: Vec::new(),
+            vertex: ShaderModule::new(ctx, "display.vert")?,
+            fragment: ShaderModule::new(ctx, "display.frag")?,
+            layout,
+            set,
+            _pool: pool,
+            _set_layout: set_layout,
+            source_layout,
+            ctx: ctx.clone(),
+        };
+        pass.set_source(source);
+        Ok(pass)
+    }
+
+    /// Points the pass at another HDR view (a resized viewer). No command buffer that recorded
+    /// this pass may still be pending.
+    pub fn set_source(&mut self, source: vk::ImageView) {
+        let info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: source,
+            image_layout: self.source_layout,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+            .image_info(&info);
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// The stage and access the HDR image must be made visible to before [`DisplayPass::record`].
+    pub fn source_access(&self) -> (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2) {
+        (
+            self.source_layout,
+            vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+        )
+    }
+
+    /// Builds the pipeline for `tonemap` into attachments of `format` unless it exists.
+    pub fn prepare(&mut self, tonemap: Tonemap, format: vk::Format) -> Result<(), VkError> {
+        if self.pipelines.iter().any(|(k, _)| *k == (tonemap, format)) {
+            return Ok(());
+        }
+        let name = format!("display[{}, {format:?}]", tonemap.name());
+        let pipeline = Pipeline::graphics(
+            &self.ctx,
+            &self.layout,
+            &GraphicsDesc {
+                name: &name,
+                vertex: &self.vertex,
+                fragment: &self.fragment,
+                spec: &[(0, tonemap_id(tonemap))],
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                color_formats: &[format],
+                depth_format: None,
+                samples: vk::SampleCountFlags::TYPE_1,
+                cull: vk::CullModeFlags::NONE,
+                depth_test: false,
+                depth_write: false,
+                depth_compare: vk::CompareOp::ALWAYS,
+            },
+        )?;
+        self.pipelines.push(((tonemap, format), pipeline));
+        Ok(())
+    }
+
+    /// Draws the display image over `extent` (inside a rendering instance on an attachment of
+    /// `format`, with the pipeline [`DisplayPass::prepare`]d).
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        tonemap: Tonemap,
+        format: vk::Format,
+        exposure_ev: f32,
+        extent: vk::Extent2D,
+    ) -> Result<(), VkError> {
+        let pipeline = self
+            .pipelines
+            .iter()
+            .find(|(k, _)| *k == (tonemap, format))
+            .map(|(_, p)| p.raw)
+            .ok_or_else(|| {
+                VkError::Setup(format!(
+                    "display: the {} pipeline for {format:?} was not prepared",
+                    tonemap.name()
+                ))
+            })?;
+        let d = &self.ctx.device;
+        let push = DisplayPush {
+            exposure_scale: exposure_scale(exposure_ev),
+        };
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        unsafe {
+            d.cmd_set_viewport(
+                cmd,
+                0,
+                &[vk::Viewport {
+                    x: 0.0,
+                    y: 0.0,
+                    width: extent.width as f32,
+                    height: extent.height as f32,
+                    min_depth: 0.0,
+                    max_depth: 1.0,
+                }],
+            );
+            d.cmd_set_scissor(cmd, 0, &[area]);
+            d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                0,
+                &[self.set],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.raw,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            d.cmd_draw(cmd, 3, 1, 0, 0);
+        }
+        Ok(())
+    }
+}
