@@ -24,7 +24,11 @@ device (Mesa lavapipe included), headless or in a window, times every pass, and 
 Examples:\n  luz render -o out.png                 render the embedded default scene\n  \
 luz render scene.json -o out.exr      linear float radiance, no tone mapping\n  \
 luz bench scene.json --frames 100     frame-time statistics\n  \
-luz diff expected.png actual.png      FLIP, max abs difference, NaN count; exit 1 beyond tolerances"
+luz diff expected.png actual.png      FLIP, max abs difference, NaN count; exit 1 beyond tolerances\n  \
+luz view scene.json                   interactive viewer (H lists the keys)\n  \
+luz reference scene.json -o ref.exr   the CPU reference answer\n  \
+luz lab scene.json --out lab/         every method variant: GPU ms against error, chart\n  \
+luz stability                         BRDFs at the edges of their domain, CPU and GPU"
 )]
 pub struct Cli {
     #[command(subcommand)]
