@@ -106,8 +106,10 @@ impl fmt::Debug for FlipMap {
 /// Why a comparison could not be made (as opposed to a comparison that found differences).
 #[derive(Debug, thiserror::Error)]
 pub enum DiffError {
-    #[error(transparent)]
-    Image(#[from] ImageError),
+    // The message already ends with the I/O reason: no `source`, or `{e:#}` (anyhow's chain)
+    // would print the reason twice ("cannot write x.png: Is a directory: Is a directory").
+    #[error("{0}")]
+    Image(ImageError),
     #[error(
         "image sizes differ: expected {}, actual {}",
         describe(.expected_path.as_deref(), *.expected_size),
@@ -119,6 +121,12 @@ pub enum DiffError {
         expected_path: Option<PathBuf>,
         actual_path: Option<PathBuf>,
     },
+}
+
+impl From<ImageError> for DiffError {
+    fn from(e: ImageError) -> Self {
+        DiffError::Image(e)
+    }
 }
 
 fn describe(path: Option<&Path>, (w, h): (u32, u32)) -> String {

@@ -54,8 +54,10 @@ pub const MIN_DIMENSION: u32 = 8;
 #[derive(Debug, thiserror::Error)]
 pub enum EnvError {
     /// The `.hdr` / `.exr` file is missing, unreadable, corrupt or too large.
-    #[error(transparent)]
-    Image(#[from] ImageError),
+    // The message already ends with the I/O reason: no `source`, or `{e:#}` (anyhow's chain)
+    // would print the reason twice ("cannot write x.png: Is a directory: Is a directory").
+    #[error("{0}")]
+    Image(ImageError),
     /// The file is not 2:1 (an equirectangular image spans 360° × 180°).
     #[error(
         "{}: not an equirectangular (latitude-longitude) image: {width}×{height}; expected width = 2 × height",
@@ -69,6 +71,12 @@ pub enum EnvError {
     /// The caller's size limit is too small to be useful.
     #[error("environment size limit {0} is below the minimum of {MIN_DIMENSION} pixels")]
     LimitTooSmall(u32),
+}
+
+impl From<ImageError> for EnvError {
+    fn from(e: ImageError) -> Self {
+        EnvError::Image(e)
+    }
 }
 
 /// What [`load_equirect`] did besides building the image (for logs).

@@ -392,6 +392,15 @@ fn mtl_extras(text: &str, mtl: &Path) -> Result<(Vec<MtlExtra>, Vec<String>), Li
                         ),
                     ));
                 }
+                if path.is_dir() {
+                    return Err((
+                        no,
+                        format!(
+                            "{kw}: texture file {} is a directory, not an image file",
+                            path.display()
+                        ),
+                    ));
+                }
                 if !path.is_file() {
                     return Err((
                         no,

@@ -150,9 +150,9 @@ fn env_image(v: &Value, path: &str, base: &Path) -> Result<PathBuf> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let (magic, format): (&[&[u8]], &str) = match ext.as_deref() {
-        Some("hdr") => (&[b"#?RADIANCE", b"#?RGBE"], "Radiance HDR"),
-        Some("exr") => (&[&[0x76, 0x2f, 0x31, 0x01]], "OpenEXR"),
+    let (magic, format, article): (&[&[u8]], &str, &str) = match ext.as_deref() {
+        Some("hdr") => (&[b"#?RADIANCE", b"#?RGBE"], "Radiance HDR", "a"),
+        Some("exr") => (&[&[0x76, 0x2f, 0x31, 0x01]], "OpenEXR", "an"),
         _ => {
             return Err(Invalid::new(
                 path,
@@ -169,7 +169,7 @@ fn env_image(v: &Value, path: &str, base: &Path) -> Result<PathBuf> {
         return Err(Invalid::new(
             path,
             format!(
-                "{}: not a {format} file (its first bytes are not a {format} header)",
+                "{}: not {article} {format} file (its first bytes are not {article} {format} header)",
                 file.display()
             ),
         ));
