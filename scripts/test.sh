@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what luz needs, then runs every test on Mesa lavapipe with the
-# Vulkan validation layer on (tests fail on any validation message).
+# Vulkan validation layer and its synchronization validation on (tests fail on any validation
+# message or hazard).
 # Extra arguments go to `cargo test` (e.g. a test name filter).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/setup.sh
 export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}"
 export LUZ_VALIDATION=1
+# … with its synchronization checks: any hazard between commands fails the test that recorded it.
+export LUZ_SYNC_VALIDATION=1
 log="$(mktemp)"
 trap 'rm -f "$log"' EXIT
 status=0

@@ -253,10 +253,17 @@ pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
     }
 }
 
+/// `LUZ_SYNC_VALIDATION=1` (with validation on) also enables the layer's synchronization
+/// validation: hazards between commands are reported as errors.
+pub fn sync_validation_requested() -> bool {
+    std::env::var_os("LUZ_SYNC_VALIDATION").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
 pub fn context(gpu: &GpuArgs) -> Result<Arc<Context>> {
     let ctx = Context::new(&ContextDesc {
         instance: InstanceDesc {
             validation: gpu.validate,
+            sync_validation: sync_validation_requested(),
             ..Default::default()
         },
         device_name: gpu.device.clone(),

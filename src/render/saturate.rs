@@ -151,12 +151,14 @@ impl SaturatePass {
         );
         unsafe {
             if self.mode == Saturation::Normalize {
+                // Fill is a transfer command: validation layers place it in COPY or CLEAR
+                // depending on their version, so wait on every transfer stage.
                 d.cmd_fill_buffer(cmd, self.reduction.raw, 0, vk::WHOLE_SIZE, 0);
                 memory_barrier(
                     d,
                     cmd,
                     (
-                        vk::PipelineStageFlags2::CLEAR,
+                        vk::PipelineStageFlags2::ALL_TRANSFER,
                         vk::AccessFlags2::TRANSFER_WRITE,
                     ),
                     (

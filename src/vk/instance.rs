@@ -135,8 +135,23 @@ impl Instance {
         if debug_ext {
             extensions.push(ext::debug_utils::NAME.as_ptr());
         }
+        // VK_EXT_validation_features comes with the validation layer, not the loader: ask the layer.
         let validation_features_ext = c"VK_EXT_validation_features";
-        let sync = desc.validation && desc.sync_validation && has_ext(validation_features_ext);
+        let layer_has_features = desc.validation
+            && unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
+                .map(|exts| {
+                    exts.iter()
+                        .any(|e| e.extension_name_as_c_str().ok() == Some(validation_features_ext))
+                })
+                .unwrap_or(false);
+        let sync = desc.validation && desc.sync_validation;
+        if sync && !layer_has_features {
+            return Err(VkError::Setup(
+                "synchronization validation was requested but the validation layer lacks \
+                 VK_EXT_validation_features"
+                    .into(),
+            ));
+        }
         if sync {
             extensions.push(validation_features_ext.as_ptr());
         }

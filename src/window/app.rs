@@ -364,6 +364,7 @@ impl Viewer {
         let ctx = Context::new(&ContextDesc {
             instance: InstanceDesc {
                 validation: args.gpu.validate,
+                sync_validation: crate::cli::sync_validation_requested(),
                 extensions,
                 ..Default::default()
             },
