@@ -366,7 +366,6 @@ impl Viewer {
                 validation: args.gpu.validate,
                 sync_validation: crate::cli::sync_validation_requested(),
                 extensions,
-                ..Default::default()
             },
             device_name: args.gpu.device.clone(),
             device_extensions: vec![ash::khr::swapchain::NAME],
