@@ -261,3 +261,51 @@ fn opens_models_and_environments_and_saves_the_scene() {
     assert!(scene.environment.is_some());
     assert!(scene.triangle_count() > 1000);
 }
+
+#[test]
+fn a_hundred_resizes_then_a_thousand_frames_leave_nothing_behind() {
+    // 100 scripted resizes (sizes cycling from 1×1 to 640×400, with minimise/restore and a 0×0
+    // request among them), then 1 000 more frames. Validation (object tracking included) and
+    // luz's gpu-allocator leak report run at exit: any message fails the test.
+    let mut script = String::new();
+    let sizes = [
+        (320, 180),
+        (1, 1),
+        (640, 400),
+        (0, 0),
+        (200, 120),
+        (97, 301),
+        (480, 270),
+    ];
+    for i in 0..100u32 {
+        let frame = 2 + i * 2;
+        let (w, h) = sizes[i as usize % sizes.len()];
+        script.push_str(&format!("{frame}:resize={w}x{h};"));
+        if i % 25 == 10 {
+            script.push_str(&format!("{}:minimize;{}:restore;", frame + 1, frame + 1));
+        }
+    }
+    script.push_str("203:resize=320x180");
+    let Some((code, out, err)) = luz_in_window(&[
+        "view",
+        "--width",
+        "320",
+        "--height",
+        "180",
+        "--frames",
+        "1205",
+        "--no-panels",
+        "--script",
+        &script,
+    ]) else {
+        return;
+    };
+    assert_eq!(code, 0, "stdout: {out}\nstderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        !err.contains("[ERROR") && !err.contains("[WARNING"),
+        "validation or leak messages: {err}"
+    );
+    assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+    assert!(out.contains("frames: 1205 shown"), "{out}");
+}

@@ -313,6 +313,26 @@ impl Drop for Context {
         // context, so they are gone by now. The allocator goes before the device.
         unsafe {
             let _ = self.device.device_wait_idle();
+        }
+        // gpu-allocator's own leak report goes to `log`, which luz does not route anywhere: report
+        // live allocations here, as a validation error, so tests see leaks.
+        let report = self.allocator().generate_report();
+        if !report.allocations.is_empty() {
+            let names: Vec<String> = report
+                .allocations
+                .iter()
+                .take(8)
+                .map(|a| format!("{} ({} bytes)", a.name, a.size))
+                .collect();
+            self.instance.log.report_error(format!(
+                "[ERROR LEAK] gpu-allocator: {} allocation(s), {} bytes, still live when the device \
+                 is destroyed: {}",
+                report.allocations.len(),
+                report.total_allocated_bytes,
+                names.join(", ")
+            ));
+        }
+        unsafe {
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
         }

@@ -29,6 +29,12 @@ impl ValidationLog {
     pub fn messages(&self) -> Vec<String> {
         self.messages.lock().map(|m| m.clone()).unwrap_or_default()
     }
+    /// Records (and prints) an error found by luz itself, e.g. a leak at device destruction.
+    pub fn report_error(&self, text: String) {
+        eprintln!("luz: validation: {text}");
+        self.record(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR, text);
+    }
+
     fn record(&self, severity: vk::DebugUtilsMessageSeverityFlagsEXT, text: String) {
         if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
             self.errors.fetch_add(1, Ordering::SeqCst);
