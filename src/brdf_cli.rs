@@ -368,8 +368,12 @@ fn command_line_material(args: &BrdfArgs) -> Result<Option<(Model, Value)>> {
                     .with_context(|| format!("--material: reading {path}"))?,
                 None => m.clone(),
             };
+            let source = match m.strip_prefix('@') {
+                Some(path) => format!("--material {path}"),
+                None => "--material".to_string(),
+            };
             let v: Value = serde_json::from_str(&text)
-                .map_err(|e| anyhow!("--material: not valid JSON: {e}"))?;
+                .map_err(|e| anyhow!("{source}: not valid JSON: {e}"))?;
             if !v.is_object() {
                 bail!("--material: expected a JSON object such as {{\"model\": \"lambert\"}}, not {v}");
             }

@@ -205,17 +205,29 @@ pub struct DiffArgs {
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Fail when the mean FLIP error exceeds this (0..1).
-    #[arg(long)]
+    #[arg(long, value_parser = finite_non_negative)]
     pub max_flip_mean: Option<f32>,
     /// Fail when any channel differs by more than this (8-bit steps for PNG, radiance for EXR).
-    #[arg(long)]
+    #[arg(long, value_parser = finite_non_negative)]
     pub max_abs: Option<f32>,
     /// Fail when more pixels than this differ (by more than --threshold).
     #[arg(long)]
     pub max_bad_pixels: Option<u64>,
     /// A pixel differs when a channel differs by more than this (default 0: any difference).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = finite_non_negative)]
     pub threshold: f32,
+}
+
+/// A tolerance: a finite number ≥ 0 (a NaN tolerance would make every comparison pass).
+fn finite_non_negative(s: &str) -> std::result::Result<f32, String> {
+    let v: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number"))?;
+    if !v.is_finite() || v < 0.0 {
+        return Err(format!("{s:?} must be a finite number ≥ 0"));
+    }
+    Ok(v)
 }
 
 /// Parses the arguments, runs the command, prints errors as `luz: error: …`.

@@ -141,3 +141,33 @@ fn a_closed_stdout_pipe_is_not_a_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn nan_and_negative_diff_tolerances_are_rejected() {
+    for (flag, value) in [
+        ("--max-flip-mean", "nan"),
+        ("--max-abs", "inf"),
+        ("--threshold", "-1"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let (code, _, err) = luz(&["diff", "a.png", "b.png", &arg]);
+        assert_ne!(code, 0, "{flag} {value} accepted");
+        assert!(err.contains(flag) && err.contains("finite"), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
+fn a_bad_material_file_is_named() {
+    let dir = std::env::temp_dir().join(format!("luz-cli-material-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("broken_material.json");
+    std::fs::write(&f, "{ \"model\": ").unwrap();
+    let arg = format!("@{}", f.display());
+    let (code, _, err) = luz(&["brdf", "--material", &arg]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("broken_material.json") && err.contains("not valid JSON"),
+        "{err}"
+    );
+}
