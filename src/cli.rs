@@ -461,18 +461,10 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
         scene.output.exposure,
         scene.output.tonemap,
     )?;
-    let nan = image
-        .pixels
-        .iter()
-        .filter(|p| p.iter().any(|c| !c.is_finite()))
-        .count();
+    let nan = crate::imageio::count_non_finite(&image.pixels);
     println!(
         "scene: {} ({}x{}, msaa {})",
-        scene
-            .source
-            .as_ref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_else(|| "embedded default".into()),
+        scene.display_name(),
         scene.output.width,
         scene.output.height,
         scene.output.msaa
@@ -527,11 +519,7 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
     println!(
         "scene: {} ({}x{}, {} triangles, {} lights)",
-        scene
-            .source
-            .as_ref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_else(|| "embedded default".into()),
+        scene.display_name(),
         scene.output.width,
         scene.output.height,
         renderer.triangle_count(),

@@ -382,32 +382,14 @@ impl Headless {
             }],
         );
         let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "readback"));
-        let region = vk::BufferImageCopy {
-            buffer_offset: 0,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_offset: vk::Offset3D::default(),
-            image_extent: vk::Extent3D {
-                width: self.width,
-                height: self.height,
-                depth: 1,
-            },
-        };
-        unsafe {
-            d.cmd_copy_image_to_buffer(
-                cmd,
-                self.color.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                self.readback.raw,
-                &[region],
-            )
-        };
+        crate::vk::cmd::copy_image_to_buffer(
+            &d,
+            cmd,
+            self.color.raw,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            &self.readback,
+            self.color.extent(),
+        );
         crate::vk::cmd::memory_barrier(
             &d,
             cmd,

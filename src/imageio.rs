@@ -229,10 +229,7 @@ impl LoadedImage {
 
     /// Number of pixels holding a NaN or an infinity in any channel of `linear`.
     pub fn non_finite_pixels(&self) -> u64 {
-        self.linear
-            .iter()
-            .filter(|p| p.iter().any(|c| !c.is_finite()))
-            .count() as u64
+        count_non_finite(&self.linear)
     }
 }
 
@@ -691,6 +688,14 @@ fn declared_size(path: &Path, format: FileFormat) -> Option<(u32, u32)> {
             reader.into_dimensions().ok()
         }
     }
+}
+
+/// Number of pixels with a NaN or an infinity in any channel.
+pub fn count_non_finite(pixels: &[[f32; 4]]) -> u64 {
+    pixels
+        .iter()
+        .filter(|p| p.iter().any(|c| !c.is_finite()))
+        .count() as u64
 }
 
 #[cfg(test)]

@@ -284,18 +284,10 @@ pub fn run(a: ReferenceArgs) -> Result<ExitCode> {
         scene.output.exposure,
         scene.output.tonemap,
     )?;
-    let nan = image
-        .pixels
-        .iter()
-        .filter(|p| p.iter().any(|c| !c.is_finite()))
-        .count();
+    let nan = crate::imageio::count_non_finite(&image.pixels);
     println!(
         "scene: {} ({}x{}, {} objects, {} lights{})",
-        scene
-            .source
-            .as_ref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_else(|| "embedded default".into()),
+        scene.display_name(),
         scene.output.width,
         scene.output.height,
         scene.objects.len(),

@@ -70,6 +70,14 @@ impl Scene {
         self.materials.iter().position(|m| m.name == name)
     }
 
+    /// The scene's file for messages, or "embedded default".
+    pub fn display_name(&self) -> String {
+        self.source
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_else(|| "embedded default".into())
+    }
+
     /// Total number of triangles over all objects.
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangle_count()).sum()

@@ -112,3 +112,33 @@ pub fn memory_barrier(
     let dep = vk::DependencyInfo::default().memory_barriers(&b);
     unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
 }
+
+/// Copies the colour of mip 0, layer 0 of `image` (in `layout`) over `extent` into `buffer`,
+/// tightly packed.
+pub fn copy_image_to_buffer(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    layout: vk::ImageLayout,
+    buffer: &super::Buffer,
+    extent: vk::Extent2D,
+) {
+    let region = vk::BufferImageCopy {
+        buffer_offset: 0,
+        buffer_row_length: 0,
+        buffer_image_height: 0,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: 1,
+        },
+        image_offset: vk::Offset3D::default(),
+        image_extent: vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        },
+    };
+    unsafe { d.cmd_copy_image_to_buffer(cmd, image, layout, buffer.raw, &[region]) };
+}

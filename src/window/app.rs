@@ -36,7 +36,7 @@ use crate::render::forward::{ForwardPass, TargetFormat, TargetViews};
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
 use crate::scene::Scene;
-use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::cmd::{copy_image_to_buffer, transition, CommandPool, Transition};
 use crate::vk::image::ImageDesc;
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Buffer, Context, ContextDesc, Image, InstanceDesc, VkError};
@@ -1058,7 +1058,7 @@ impl Viewer {
                 vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuToCpu,
             )?;
-            copy_to_buffer(
+            copy_image_to_buffer(
                 &d,
                 cmd,
                 t.color.raw,
@@ -1138,7 +1138,7 @@ impl Viewer {
                     vk::BufferUsageFlags::TRANSFER_DST,
                     MemoryLocation::GpuToCpu,
                 )?;
-                copy_to_buffer(
+                copy_image_to_buffer(
                     &d,
                     cmd,
                     image,
@@ -1419,34 +1419,6 @@ fn make_forward(
             generic: false,
         },
     )
-}
-
-fn copy_to_buffer(
-    d: &ash::Device,
-    cmd: vk::CommandBuffer,
-    image: vk::Image,
-    layout: vk::ImageLayout,
-    buffer: &Buffer,
-    extent: vk::Extent2D,
-) {
-    let region = vk::BufferImageCopy {
-        buffer_offset: 0,
-        buffer_row_length: 0,
-        buffer_image_height: 0,
-        image_subresource: vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        },
-        image_offset: vk::Offset3D::default(),
-        image_extent: vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        },
-    };
-    unsafe { d.cmd_copy_image_to_buffer(cmd, image, layout, buffer.raw, &[region]) };
 }
 
 impl Drop for Viewer {
