@@ -218,6 +218,61 @@ pub fn srgb_encode_u8(linear: f32) -> u8 {
     v.round().clamp(0.0, 255.0) as u8
 }
 
+/// Bins of [`srgb_encode_table`]: [0, 1] cut into this many equal bins, each narrow enough that
+/// the 8-bit code changes at most once inside it (the curve's steepest slope, 12.92 × 255 codes per
+/// unit at the linear segment, is below one code per bin).
+pub const SRGB_ENCODE_BINS: usize = 4096;
+
+/// The table behind [`srgb_encode_u8_lut`] and the viewer's display shader (`display.frag`), which
+/// gives [`srgb_encode_u8`]'s exact codes with one lookup and one compare instead of a `pow`: for
+/// bin i, covering [i/BINS, (i+1)/BINS), entry `[code, threshold]` holds the code at the bin's
+/// start and the smallest value in the bin whose code is `code + 1` (2.0 when the code does not
+/// change in the bin). Built by bisection over f32 bit patterns of [`srgb_encode_u8`] itself, so
+/// it is that function by construction wherever that function is monotonic (tests check it).
+pub fn srgb_encode_table() -> &'static [[f32; 2]; SRGB_ENCODE_BINS] {
+    static TABLE: OnceLock<[[f32; 2]; SRGB_ENCODE_BINS]> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let bins = SRGB_ENCODE_BINS as f32;
+        std::array::from_fn(|i| {
+            let lo = i as f32 / bins;
+            // The last bin also holds 1.0 itself (the shader clamps the bin index).
+            let last = if i + 1 == SRGB_ENCODE_BINS {
+                1.0
+            } else {
+                f32::from_bits(((i + 1) as f32 / bins).to_bits() - 1)
+            };
+            let code = srgb_encode_u8(lo);
+            if srgb_encode_u8(last) == code {
+                return [code as f32, 2.0];
+            }
+            // Smallest x in (lo, last] with a higher code: bisect on the bit patterns, which are
+            // ordered like the values for non-negative floats.
+            let (mut a, mut b) = (lo.to_bits(), last.to_bits());
+            while b - a > 1 {
+                let m = a + (b - a) / 2;
+                if srgb_encode_u8(f32::from_bits(m)) == code {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            [code as f32, f32::from_bits(b)]
+        })
+    })
+}
+
+/// [`srgb_encode_u8`] through [`srgb_encode_table`]: the CPU mirror of the display shader's
+/// encode (include/color.glsl: `srgb_encode_u8_lut`).
+pub fn srgb_encode_u8_lut(linear: f32) -> u8 {
+    if linear.is_nan() {
+        return 0;
+    }
+    let x = linear.clamp(0.0, 1.0);
+    let bin = ((x * SRGB_ENCODE_BINS as f32) as usize).min(SRGB_ENCODE_BINS - 1);
+    let [code, threshold] = srgb_encode_table()[bin];
+    code as u8 + u8::from(x >= threshold)
+}
+
 /// The 256-entry table of linear values for every 8-bit sRGB code (computed in f64).
 pub fn srgb_decode_table() -> &'static [f32; 256] {
     static TABLE: OnceLock<[f32; 256]> = OnceLock::new();
@@ -260,6 +315,39 @@ pub fn to_display_rgba8(pixels: &[[f32; 4]], exposure_ev: f32, tonemap: Tonemap)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The table gives srgb_encode_u8's codes for every one of the 1 065 353 217 floats in [0, 1]
+    /// (about 6 s on 2 cores), and for specials and out-of-range values.
+    #[test]
+    fn encode_table_matches_reference_exhaustively() {
+        use rayon::prelude::*;
+        let changes = srgb_encode_table().iter().filter(|e| e[1] <= 1.0).count();
+        assert_eq!(changes, 255, "one code change per code above 0");
+        let bad: Vec<u32> = (0..=1.0f32.to_bits())
+            .into_par_iter()
+            .filter(|&b| {
+                let x = f32::from_bits(b);
+                srgb_encode_u8_lut(x) != srgb_encode_u8(x)
+            })
+            .collect();
+        assert!(
+            bad.is_empty(),
+            "{} floats differ, first {:?}",
+            bad.len(),
+            bad.first().map(|&b| f32::from_bits(b))
+        );
+        for x in [
+            -0.0,
+            -1.0,
+            2.0,
+            1e30,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ] {
+            assert_eq!(srgb_encode_u8_lut(x), srgb_encode_u8(x), "{x:e}");
+        }
+    }
 
     #[test]
     fn known_values() {

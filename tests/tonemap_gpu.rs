@@ -1,5 +1,6 @@
-//! The GPU tone-map pass (`render::tonemap`, `shaders_glsl/tonemap.comp`) against the CPU colour
-//! pipeline (`color::to_display_rgba8`), byte by byte, on lavapipe with the validation layer.
+//! The GPU tone-map pass (`render::tonemap`, `shaders_glsl/tonemap.comp`) and the viewer's display
+//! pass (`render::display`, `display.frag`) against the CPU colour pipeline
+//! (`color::to_display_rgba8`), byte by byte, on lavapipe with the validation layer.
 //!
 //! Input: an RGBA32F image holding a log-spaced grey ramp (0, 1e-6 … 1e4), a fine linear ramp over
 //! [0, 1] (every 8-bit code), their negatives, NaN, ±Inf, the half-float limit, f32::MAX, subnormals,
@@ -15,6 +16,7 @@ use ash::vk;
 use common::*;
 use gpu_allocator::MemoryLocation;
 use luz::color::{to_display_rgba8, Tonemap};
+use luz::render::display::DisplayPass;
 use luz::render::tonemap::{source_access_in, TonemapPass, DESTINATION_ACCESS, DESTINATION_FORMAT};
 use luz::vk::cmd::{memory_barrier, transition, CommandPool, Transition};
 use luz::vk::image::ImageDesc;
@@ -438,6 +440,132 @@ fn gpu_tonemap_matches_cpu_bytes() {
                 .collect::<Vec<_>>()
                 .join("\n")
         );
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// The display pass draws into an 8-bit UNORM attachment (as into the viewer's swapchain image)
+/// with the table encode (`color::srgb_encode_table`) instead of `pow`: with no tone map it must
+/// give the CPU's bytes exactly (only an exposure multiply precedes the encode), and with the
+/// curves at most the compute pass's 1 LSB on 0.1 % of bytes.
+#[test]
+fn display_pass_matches_cpu_bytes() {
+    const FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+    let ctx = gpu();
+    let (pixels, exact) = test_pixels();
+    {
+        let rig = Rig::new(&ctx, &pixels);
+        let target = Image::new(
+            &ctx,
+            "display test target",
+            ImageDesc::color_target(rig.width, rig.height, FORMAT),
+        )
+        .unwrap();
+        let mut pass = DisplayPass::new(
+            &ctx,
+            rig.source.view,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )
+        .unwrap();
+        let attachment = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
+        let d = &ctx.device;
+        let (mut failures, mut all_off, mut compared) = (Vec::new(), 0usize, 0usize);
+        for op in Tonemap::ALL {
+            pass.prepare(op, FORMAT).unwrap();
+            for ev in EXPOSURES {
+                rig.pool
+                    .one_shot(|cmd| {
+                        transition(
+                            d,
+                            cmd,
+                            &[Transition {
+                                image: target.raw,
+                                range: target.subresource_range(),
+                                from: (
+                                    vk::ImageLayout::UNDEFINED,
+                                    vk::PipelineStageFlags2::COPY,
+                                    vk::AccessFlags2::NONE,
+                                ),
+                                to: attachment,
+                            }],
+                        );
+                        let colors = [vk::RenderingAttachmentInfo::default()
+                            .image_view(target.view)
+                            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                            .load_op(vk::AttachmentLoadOp::DONT_CARE)
+                            .store_op(vk::AttachmentStoreOp::STORE)];
+                        let info = vk::RenderingInfo::default()
+                            .render_area(vk::Rect2D {
+                                offset: vk::Offset2D::default(),
+                                extent: rig.extent(),
+                            })
+                            .layer_count(1)
+                            .color_attachments(&colors);
+                        unsafe { d.cmd_begin_rendering(cmd, &info) };
+                        pass.record(cmd, op, FORMAT, ev, rig.extent()).unwrap();
+                        unsafe { d.cmd_end_rendering(cmd) };
+                        transition(
+                            d,
+                            cmd,
+                            &[Transition {
+                                image: target.raw,
+                                range: target.subresource_range(),
+                                from: attachment,
+                                to: (
+                                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                                    vk::PipelineStageFlags2::COPY,
+                                    vk::AccessFlags2::TRANSFER_READ,
+                                ),
+                            }],
+                        );
+                        unsafe {
+                            d.cmd_copy_image_to_buffer(
+                                cmd,
+                                target.raw,
+                                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                                rig.readback.raw,
+                                &[copy_region(rig.width, rig.height)],
+                            )
+                        };
+                        memory_barrier(
+                            d,
+                            cmd,
+                            (
+                                vk::PipelineStageFlags2::COPY,
+                                vk::AccessFlags2::TRANSFER_WRITE,
+                            ),
+                            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+                        );
+                        Ok(())
+                    })
+                    .unwrap();
+                let got = rig.readback.mapped().unwrap()[..pixels.len() * 4].to_vec();
+                let (off, max, bad) = compare(&pixels, &exact, &got, ev, op);
+                println!(
+                    "display {:>16} {ev:+} EV: max |gpu - cpu| = {max}, {off} bytes off by one",
+                    op.name()
+                );
+                if op == Tonemap::None {
+                    assert_eq!(
+                        max, 0,
+                        "no tone map, {ev:+} EV: the table encode must be exact"
+                    );
+                }
+                all_off += off;
+                compared += pixels.len() * 4;
+                failures.extend(bad);
+            }
+        }
+        println!("display overall: {all_off} of {compared} bytes off by one");
+        assert!(
+            all_off * 1000 <= compared,
+            "{all_off} of {compared} bytes off by one"
+        );
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
     assert_no_validation_messages(&ctx);
 }

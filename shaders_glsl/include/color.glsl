@@ -154,14 +154,19 @@ vec3 tonemap_apply(uint op, vec3 rgb) {
     }
 }
 
-// color::to_display_rgba8 for one pixel, as float codes in [0, 255]; `scale` is
-// color::exposure_scale(ev) computed on the CPU. Alpha is always 255.
-vec4 to_display_rgba8(vec4 p, float scale, uint op) {
+// color::to_display_rgba8 for one pixel up to the encode: NaN → 0, exposure, tone map.
+vec3 display_map(vec4 p, float scale, uint op) {
     vec3 rgb;
     for (int i = 0; i < 3; i++) {
         rgb[i] = isnan(p[i]) ? 0.0 : p[i] * scale;
     }
-    vec3 mapped = tonemap_apply(op, rgb);
+    return tonemap_apply(op, rgb);
+}
+
+// color::to_display_rgba8 for one pixel, as float codes in [0, 255]; `scale` is
+// color::exposure_scale(ev) computed on the CPU. Alpha is always 255.
+vec4 to_display_rgba8(vec4 p, float scale, uint op) {
+    vec3 mapped = display_map(p, scale, op);
     return vec4(srgb_encode_u8(mapped.r), srgb_encode_u8(mapped.g), srgb_encode_u8(mapped.b), 255.0);
 }
 

@@ -1,5 +1,6 @@
 //! The viewer's display pass: a full-screen triangle whose fragment shader exposes, tone-maps and
-//! sRGB-encodes the HDR image (the code of [`crate::render::tonemap`], `include/color.glsl`) and
+//! sRGB-encodes the HDR image (the code of [`crate::render::tonemap`], `include/color.glsl`, with
+//! the encode by [`crate::color::srgb_encode_table`] instead of a `pow`) and
 //! writes the codes straight into an 8-bit UNORM colour attachment — the swapchain image — so the
 //! viewer needs no intermediate 8-bit image and no blit. One pipeline per (operator, attachment
 //! format), built on first use ([`DisplayPass::prepare`]).
@@ -11,8 +12,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::color::{exposure_scale, Tonemap};
+use crate::color::{exposure_scale, srgb_encode_table, Tonemap};
 use crate::render::tonemap::tonemap_id;
+use crate::vk::buffer::Buffer;
 use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
 };
@@ -31,6 +33,7 @@ pub struct DisplayPass {
     fragment: ShaderModule,
     layout: PipelineLayout,
     set: vk::DescriptorSet,
+    _srgb_table: Buffer,
     _pool: DescriptorPool,
     _set_layout: DescriptorSetLayout,
     source_layout: vk::ImageLayout,
@@ -44,11 +47,17 @@ impl DisplayPass {
         source: vk::ImageView,
         source_layout: vk::ImageLayout,
     ) -> Result<Self, VkError> {
-        let bindings = [vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::FRAGMENT)];
+        let binding = |index, ty| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(index)
+                .descriptor_type(ty)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT)
+        };
+        let bindings = [
+            binding(0, vk::DescriptorType::SAMPLED_IMAGE),
+            binding(1, vk::DescriptorType::STORAGE_BUFFER),
+        ];
         let set_layout = DescriptorSetLayout::new(ctx, "display set layout", &bindings)?;
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::FRAGMENT,
@@ -60,18 +69,42 @@ impl DisplayPass {
             ctx,
             "display pool",
             1,
-            &[vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::SAMPLED_IMAGE,
-                descriptor_count: 1,
-            }],
+            &[
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::SAMPLED_IMAGE,
+                    descriptor_count: 1,
+                },
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::STORAGE_BUFFER,
+                    descriptor_count: 1,
+                },
+            ],
         )?;
         let set = pool.allocate(&set_layout)?;
+        let srgb_table = Buffer::with_data(
+            ctx,
+            "display sRGB encode table",
+            srgb_encode_table().as_slice(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let table_info = [vk::DescriptorBufferInfo {
+            buffer: srgb_table.raw,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(set)
+            .dst_binding(1)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .buffer_info(&table_info);
+        unsafe { ctx.device.update_descriptor_sets(&[write], &[]) };
         let mut pass = Self {
             pipelines: Vec::new(),
             vertex: ShaderModule::new(ctx, "display.vert")?,
             fragment: ShaderModule::new(ctx, "display.frag")?,
             layout,
             set,
+            _srgb_table: srgb_table,
             _pool: pool,
             _set_layout: set_layout,
             source_layout,
