@@ -137,6 +137,11 @@ impl Headless {
         let ibl_settings = &options.ibl;
         let cache_dir = options.cache_dir.as_deref();
         let (width, height) = (scene.output.width, scene.output.height);
+        // The output size against the device, named after the scene's fields, before any target
+        // is allocated: the readback holds 16 bytes per pixel, the colour target 16 per sample.
+        let target_pixel = 16 * u64::from(scene.output.msaa.max(1));
+        ctx.limits()
+            .check_render_size(&scene.display_name(), width, height, target_pixel, 16)?;
         let samples = sample_flags(ctx, scene.output.msaa)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
         let color = Image::new(
@@ -429,7 +434,7 @@ impl Headless {
     /// The last rendered frame as linear RGBA radiance.
     pub fn image(&self) -> Result<LinearImage, VkError> {
         let bytes = self.readback.mapped()?;
-        let n = (self.width * self.height) as usize;
+        let n = self.width as usize * self.height as usize;
         let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])
             .map_err(|e| VkError::Setup(format!("readback buffer is misaligned: {e}")))?;
         let pixels = floats
@@ -455,6 +460,26 @@ impl Drop for Headless {
     }
 }
 
+/// The widest equirectangular image (2:1, RGBA32F on the GPU) the device takes: at most
+/// `maxImageDimension2D`, and small enough that its 8·width² bytes fit one allocation
+/// (`maxMemoryAllocationSize`) and one staging buffer (`maxBufferSize`). Larger environments are
+/// downscaled to fit ([`crate::env::load_equirect`]).
+pub fn equirect_max_dimension(limits: &crate::vk::Limits) -> u32 {
+    let bytes = limits
+        .max_memory_allocation_size
+        .min(limits.max_buffer_size);
+    let by_memory = ((bytes / 8) as f64).sqrt().floor();
+    // The square root may round up for large values: step down until it fits (in u128: no
+    // overflow).
+    let mut w = by_memory.min(u32::MAX as f64) as u64;
+    while w > 0 && 8 * u128::from(w) * u128::from(w) > u128::from(bytes) {
+        w -= 1;
+    }
+    limits
+        .max_image_dimension_2d
+        .min(u32::try_from(w).unwrap_or(u32::MAX))
+}
+
 /// Loads the scene's environment and precomputes its IBL data on the GPU, with a progress bar on
 /// a terminal.
 pub fn build_ibl(
@@ -465,7 +490,7 @@ pub fn build_ibl(
     settings: &IblSettings,
     cache_dir: Option<&std::path::Path>,
 ) -> Result<Ibl, VkError> {
-    let max = ctx.info.limits.max_image_dimension2_d;
+    let max = equirect_max_dimension(&ctx.limits());
     let eq = crate::env::load_equirect(env, max).map_err(|e| VkError::Setup(e.to_string()))?;
     let sh = crate::env::sh9_irradiance_coeffs(&crate::env::sh9_project(&eq));
     let bar = indicatif::ProgressBar::new(1);
@@ -492,4 +517,30 @@ pub fn build_ibl(
     });
     bar.finish_and_clear();
     ibl
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vk::Limits;
+
+    #[test]
+    fn equirect_fits_the_dimension_and_memory_limits() {
+        let mut l = Limits::unbounded();
+        l.max_image_dimension_2d = 16384;
+        assert_eq!(equirect_max_dimension(&l), 16384);
+        // lavapipe: 2 GiB allocations, 16384 texels: 16384 × 8192 × 16 bytes is exactly 2 GiB.
+        l.max_memory_allocation_size = 1 << 31;
+        assert_eq!(equirect_max_dimension(&l), 16384);
+        // Vulkan's minimum (1 GiB): 11585 × 5792 × 16 bytes fits, 11586 does not.
+        l.max_memory_allocation_size = 1 << 30;
+        let w = equirect_max_dimension(&l) as u64;
+        assert_eq!(w, 11585);
+        assert!(8 * w * w <= 1 << 30 && 8 * (w + 1) * (w + 1) > 1 << 30);
+        l.max_buffer_size = 800;
+        assert_eq!(equirect_max_dimension(&l), 10);
+        // Unbounded memory: the dimension limit alone, no overflow.
+        let l = Limits::unbounded();
+        assert_eq!(equirect_max_dimension(&l), 1_518_500_249);
+    }
 }

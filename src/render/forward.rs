@@ -396,18 +396,13 @@ impl ForwardPass {
         ];
         let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
 
-        // Lights: any number, in a storage buffer (never empty: Vulkan wants a non-zero range).
+        // Lights: any number up to what one storage buffer can bind (never empty: Vulkan wants a
+        // non-zero range); per-object data likewise. Checked against the device's limits.
+        let limits = ctx.limits();
+        let scene_name = scene.display_name();
+        storage_fits::<GpuLight>(&limits, &scene_name, "lights", scene.lights.len())?;
+        storage_fits::<gpu::ObjectData>(&limits, &scene_name, "objects", scene.objects.len())?;
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
-        let max_storage = ctx.info.limits.max_storage_buffer_range as u64;
-        let light_bytes = (lights.len() * std::mem::size_of::<GpuLight>()) as u64;
-        if light_bytes > max_storage {
-            return Err(VkError::Limit {
-                what: format!("{} lights", lights.len()),
-                requested: light_bytes,
-                limit: max_storage,
-                limit_name: "maxStorageBufferRange",
-            });
-        }
         let mut uploader = Uploader::new(ctx);
 
         // Meshes: one GPU copy per (mesh, smooth/flat) pair.
@@ -422,6 +417,24 @@ impl ForwardPass {
             let mesh_index = match mesh_cache.get(&key) {
                 Some(&m) => m,
                 None => {
+                    // Beyond 32-bit indices or the device's index and buffer limits: an error
+                    // naming the object (no split into several draws).
+                    let size = mesh::draw_size(&obj.mesh, flat);
+                    limits.check_mesh(
+                        &format!(
+                            "{scene_name}: object \"{}\"{}",
+                            obj.name,
+                            if flat {
+                                " (flat shading: 3 vertices per triangle)"
+                            } else {
+                                ""
+                            }
+                        ),
+                        size.vertices,
+                        std::mem::size_of::<Vertex>(),
+                        size.indices,
+                        size.max_index,
+                    )?;
                     let data = if flat {
                         mesh::flat(&obj.mesh)
                     } else {
@@ -453,6 +466,7 @@ impl ForwardPass {
                         vertices,
                         centroids,
                         indices,
+                        // Fits: checked by `check_mesh` above.
                         index_count: data.indices.len() as u32,
                     });
                     mesh_cache.insert(key, meshes.len() - 1);
@@ -591,15 +605,23 @@ impl ForwardPass {
     /// lights, object transforms and material parameters. `scene` must have the structure the
     /// pass was built for ([`Structure::of`] equal); the slot must not be in use by the GPU.
     pub fn update(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
-        if scene.lights.len() as u32 != self.light_count
-            || scene.objects.len() != self.object_slots.len()
-        {
+        // The lights and objects buffers are sized when the pass is built.
+        if scene.lights.len() != self.light_count as usize {
             return Err(VkError::Setup(format!(
-                "forward pass built for {} lights and {} objects, updated with {} and {}",
-                self.light_count,
-                self.object_slots.len(),
+                "{}: {} lights, but the forward pass's lights buffer was sized for {}; \
+                 rebuild the pass when lights are added or removed",
+                scene.display_name(),
                 scene.lights.len(),
-                scene.objects.len()
+                self.light_count
+            )));
+        }
+        if scene.objects.len() != self.object_slots.len() {
+            return Err(VkError::Setup(format!(
+                "{}: {} objects, but the forward pass was built for {}; rebuild the pass when \
+                 objects are added or removed",
+                scene.display_name(),
+                scene.objects.len(),
+                self.object_slots.len()
             )));
         }
         let s = self
@@ -825,6 +847,21 @@ impl ForwardPass {
             d.cmd_end_rendering(cmd);
         }
     }
+}
+
+/// `count` elements of `T` in one storage buffer bound whole (`field`: the scene's array):
+/// `maxStorageBufferRange` and the buffer limits.
+fn storage_fits<T>(
+    limits: &crate::vk::Limits,
+    scene: &str,
+    field: &str,
+    count: usize,
+) -> Result<(), VkError> {
+    let size = std::mem::size_of::<T>();
+    limits.check_storage(
+        &format!("{scene}: {field} ({count} × {size} bytes)"),
+        (count as u64).saturating_mul(size as u64),
+    )
 }
 
 fn create_pipeline(

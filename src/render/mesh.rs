@@ -251,8 +251,41 @@ pub fn smooth(mesh: &Mesh) -> MeshData {
     }
 }
 
+/// The size of the draw [`smooth`] or [`flat`] makes of a mesh, known before building it, to be
+/// checked against the device ([`crate::vk::Limits::check_mesh`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DrawSize {
+    pub vertices: usize,
+    pub indices: usize,
+    /// The largest index value (0 without indices).
+    pub max_index: u64,
+}
+
+/// The size of `mesh` drawn smooth (its own vertices and indices) or flat (three vertices per
+/// triangle, indexed 0, 1, 2, …; an upper bound: triangles with an index out of range are
+/// dropped).
+pub fn draw_size(mesh: &Mesh, flat: bool) -> DrawSize {
+    if flat {
+        let corners = mesh.indices.len() / 3 * 3;
+        DrawSize {
+            vertices: corners,
+            indices: corners,
+            max_index: (corners as u64).saturating_sub(1),
+        }
+    } else {
+        DrawSize {
+            vertices: mesh.positions.len(),
+            indices: mesh.indices.len(),
+            max_index: mesh.indices.iter().copied().max().map_or(0, u64::from),
+        }
+    }
+}
+
 /// Flat shading: every triangle gets its own three vertices carrying the face normal and the
 /// triangle's centroid, so lighting is evaluated once per polygon.
+///
+/// Callers check [`draw_size`] against the device first: a mesh of more than 2^32 / 3 triangles
+/// has no 32-bit flat indices (this panics rather than wrap them).
 pub fn flat(mesh: &Mesh) -> MeshData {
     let tri_count = mesh.indices.len() / 3;
     let mut vertices = Vec::with_capacity(tri_count * 3);
@@ -301,7 +334,9 @@ pub fn flat(mesh: &Mesh) -> MeshData {
             centroids.push(centroid.to_array());
         }
     }
-    let indices = (0..vertices.len() as u32).collect();
+    let count = u32::try_from(vertices.len())
+        .expect("flat mesh beyond 32-bit indices (draw_size is checked before building it)");
+    let indices = (0..count).collect();
     MeshData {
         vertices,
         centroids: Some(centroids),
@@ -404,6 +439,25 @@ mod tests {
                 assert!(t3(*x).dot(east) > 0.99 && x[3] == 1.0, "{p}: {x:?}");
             }
         }
+    }
+
+    #[test]
+    fn draw_sizes_match_the_built_data() {
+        let m = Mesh::icosphere(1.0, 2);
+        for flat_shading in [false, true] {
+            let size = draw_size(&m, flat_shading);
+            let data = if flat_shading { flat(&m) } else { smooth(&m) };
+            assert_eq!(size.vertices, data.vertices.len());
+            assert_eq!(size.indices, data.indices.len());
+            let max = data.indices.iter().copied().max().map_or(0, u64::from);
+            assert_eq!(size.max_index, max);
+        }
+        let empty = Mesh {
+            indices: Vec::new(),
+            ..Mesh::cube(1.0)
+        };
+        assert_eq!(draw_size(&empty, true).max_index, 0);
+        assert_eq!(draw_size(&empty, false).max_index, 0);
     }
 
     #[test]

@@ -231,6 +231,13 @@ pub fn load_obj_bytes(
             .map(|p| Vec3::new(p[0], p[1], p[2]))
             .collect();
         let n = positions.len();
+        // tobj numbers vertices with `as u32`: beyond 2^32 of them its indices have wrapped.
+        if n as u64 > 1 << 32 {
+            return Err(err(
+                None,
+                format!("{n} vertices: more than 32-bit indices can address"),
+            ));
+        }
         let mut mesh = Mesh {
             positions,
             normals: Vec::new(),

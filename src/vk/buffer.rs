@@ -25,12 +25,18 @@ impl Buffer {
         location: MemoryLocation,
     ) -> Result<Self, VkError> {
         let size = size.max(4);
+        let limits = ctx.limits();
+        limits.check_buffer(name, size)?;
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         let raw = unsafe { ctx.device.create_buffer(&info, None) }?;
         let requirements = unsafe { ctx.device.get_buffer_memory_requirements(raw) };
+        if let Err(e) = limits.check_allocation(name, requirements.size) {
+            unsafe { ctx.device.destroy_buffer(raw, None) };
+            return Err(e);
+        }
         let allocation = ctx.allocator().allocate(&AllocationCreateDesc {
             name,
             requirements,

@@ -3,12 +3,13 @@
 
 use std::ffi::CStr;
 use std::mem::ManuallyDrop;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, RwLock};
 
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use super::instance::{Instance, InstanceDesc};
+use super::limits::Limits;
 use super::VkError;
 
 /// How to build a [`Context`].
@@ -32,6 +33,9 @@ pub struct DeviceInfo {
     pub timestamp_period_ns: f32,
     pub timestamp_valid_bits: u32,
     pub limits: vk::PhysicalDeviceLimits,
+    /// The limits luz checks input-sized resources against, as the device reports them (the
+    /// context's [`Context::limits`] may be tighter).
+    pub resource_limits: Limits,
     /// Anisotropic filtering is supported and enabled.
     pub sampler_anisotropy: bool,
 }
@@ -85,6 +89,9 @@ pub struct Context {
     pub debug_utils: Option<ash::ext::debug_utils::Device>,
     /// Serialises queue submissions (the queue is externally synchronised).
     pub queue_lock: Mutex<()>,
+    /// The limits resources are checked against: the device's, or tighter ones set by
+    /// [`Context::tighten_limits`].
+    limits: RwLock<Limits>,
     // Last: destroyed after the device.
     pub instance: Instance,
 }
@@ -167,7 +174,12 @@ impl Context {
         let queue_family = chosen.queue_family;
 
         let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+        let mut maintenance4 = vk::PhysicalDeviceMaintenance4Properties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut driver_props)
+            .push_next(&mut maintenance3)
+            .push_next(&mut maintenance4);
         unsafe { inst.get_physical_device_properties2(physical, &mut props2) };
         let props = props2.properties;
         let families = unsafe { inst.get_physical_device_queue_family_properties(physical) };
@@ -186,6 +198,7 @@ impl Context {
             timestamp_period_ns: props.limits.timestamp_period,
             timestamp_valid_bits: families[queue_family as usize].timestamp_valid_bits,
             limits: props.limits,
+            resource_limits: Limits::from_properties(&props.limits, &maintenance3, &maintenance4),
             sampler_anisotropy: false,
         };
 
@@ -209,6 +222,8 @@ impl Context {
         let features = vk::PhysicalDeviceFeatures::default()
             .sampler_anisotropy(supported.sampler_anisotropy == vk::TRUE)
             .fill_mode_non_solid(supported.fill_mode_non_solid == vk::TRUE)
+            // maxDrawIndexedIndexValue is 2^32 − 1 only with this feature enabled.
+            .full_draw_index_uint32(supported.full_draw_index_uint32 == vk::TRUE)
             .shader_float64(false);
         // maintenance4 is required by Vulkan 1.3 (shaderc emits LocalSizeId, which needs it).
         let mut e13 = vk::PhysicalDeviceVulkan13Features::default()
@@ -249,6 +264,7 @@ impl Context {
             .debug_utils
             .as_ref()
             .map(|_| ash::ext::debug_utils::Device::new(inst, &device));
+        let limits = RwLock::new(info.resource_limits);
         let ctx = Arc::new(Self {
             info,
             physical,
@@ -258,6 +274,7 @@ impl Context {
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             debug_utils,
             queue_lock: Mutex::new(()),
+            limits,
             instance,
         });
         ctx.set_name(ctx.queue, "luz queue");
@@ -275,6 +292,18 @@ impl Context {
             .object_name(&cname);
         // Naming is best effort; a failure here must never stop rendering.
         let _ = unsafe { du.set_debug_utils_object_name(&info) };
+    }
+
+    /// The limits input-sized resources are checked against (see [`super::limits`]).
+    pub fn limits(&self) -> Limits {
+        *self.limits.read().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Makes later checks use `limits` where they are tighter than the current ones (never
+    /// looser than the device's): tests exercise the limit checks with small inputs this way.
+    pub fn tighten_limits(&self, limits: &Limits) {
+        let mut l = self.limits.write().unwrap_or_else(|p| p.into_inner());
+        *l = l.min(limits);
     }
 
     /// Validation errors and warnings seen so far.

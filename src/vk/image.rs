@@ -143,7 +143,12 @@ pub struct Image {
 
 impl Image {
     pub fn new(ctx: &Arc<Context>, name: &str, desc: ImageDesc) -> Result<Self, VkError> {
-        let max = ctx.info.limits.max_image_dimension2_d;
+        let limits = ctx.limits();
+        let (max, max_name) = if desc.cube {
+            (limits.max_image_dimension_cube, "maxImageDimensionCube")
+        } else {
+            (limits.max_image_dimension_2d, "maxImageDimension2D")
+        };
         if desc.width == 0 || desc.height == 0 {
             return Err(VkError::Setup(format!(
                 "{name}: image size {}x{} must be at least 1x1",
@@ -155,7 +160,15 @@ impl Image {
                 what: format!("{name} size {}x{}", desc.width, desc.height),
                 requested: desc.width.max(desc.height) as u64,
                 limit: max as u64,
-                limit_name: "maxImageDimension2D",
+                limit_name: max_name,
+            });
+        }
+        if desc.layers > limits.max_image_array_layers {
+            return Err(VkError::Limit {
+                what: format!("{name} array layers"),
+                requested: desc.layers as u64,
+                limit: limits.max_image_array_layers as u64,
+                limit_name: "maxImageArrayLayers",
             });
         }
         let info = vk::ImageCreateInfo::default()
@@ -180,6 +193,13 @@ impl Image {
             .initial_layout(vk::ImageLayout::UNDEFINED);
         let raw = unsafe { ctx.device.create_image(&info, None) }?;
         let requirements = unsafe { ctx.device.get_image_memory_requirements(raw) };
+        if let Err(e) = limits.check_allocation(
+            &format!("{name} ({}x{} image)", desc.width, desc.height),
+            requirements.size,
+        ) {
+            unsafe { ctx.device.destroy_image(raw, None) };
+            return Err(e);
+        }
         let allocation = match ctx.allocator().allocate(&AllocationCreateDesc {
             name,
             requirements,

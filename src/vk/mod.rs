@@ -6,6 +6,7 @@ pub mod cmd;
 pub mod device;
 pub mod image;
 pub mod instance;
+pub mod limits;
 pub mod pipeline;
 pub mod shaders;
 pub mod timing;
@@ -14,6 +15,7 @@ pub use buffer::Buffer;
 pub use device::{Context, ContextDesc, DeviceInfo};
 pub use image::Image;
 pub use instance::{InstanceDesc, ValidationLog};
+pub use limits::Limits;
 
 use ash::vk;
 
