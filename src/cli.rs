@@ -337,12 +337,53 @@ pub(crate) fn render_options(
     }
 }
 
-fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
+/// Says how many objects were tessellated automatically and with how many segments; `verbose`
+/// lists each object's choice.
+pub fn report_tessellation(scene: &Scene, verbose: bool) {
+    let lines = crate::scene::tessellation::report(scene);
+    if lines.is_empty() {
+        return;
+    }
+    let segments: Vec<u32> = scene
+        .objects
+        .iter()
+        .filter(|o| matches!(o.tessellation, crate::scene::Tessellation::Auto { .. }))
+        .filter_map(|o| match o.desc {
+            crate::scene::MeshDesc::Sphere { segments, .. }
+            | crate::scene::MeshDesc::Cone { segments, .. }
+            | crate::scene::MeshDesc::Cylinder { segments, .. } => Some(segments),
+            _ => None,
+        })
+        .collect();
+    let (lo, hi) = (
+        segments.iter().min().copied().unwrap_or(0),
+        segments.iter().max().copied().unwrap_or(0),
+    );
+    println!(
+        "automatic tessellation (budget {} px): {} object(s), {lo}-{hi} segments{}",
+        scene.output.tessellation_error_px,
+        lines.len(),
+        if verbose {
+            ":"
+        } else {
+            " (--verbose lists them)"
+        }
+    );
+    if verbose {
+        for l in lines {
+            println!("  {l}");
+        }
+    }
+}
+
+/// Overrides the output size; automatic tessellation is chosen again for the new height.
+pub fn apply_size(scene: &mut Scene, width: Option<u32>, height: Option<u32>) {
     if let Some(w) = width {
         scene.output.width = w;
     }
     if let Some(h) = height {
         scene.output.height = h;
+        crate::scene::tessellation::resolve(scene);
     }
 }
 
@@ -432,6 +473,7 @@ fn render(a: RenderArgs) -> Result<ExitCode> {
         }
         println!("triangles: {}", renderer.triangle_count());
     }
+    report_tessellation(&scene, a.verbose);
     if let Some(t) = renderer.ibl_times() {
         let stages: Vec<String> = t
             .stages

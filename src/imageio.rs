@@ -14,7 +14,7 @@
 
 use std::fmt;
 use std::fs::{self, File};
-use std::io::{self, BufReader, BufWriter, Read, Write};
+use std::io::{self, BufRead, BufReader, BufWriter, Cursor, Seek, Write};
 use std::path::{Path, PathBuf};
 
 use image::codecs::openexr::OpenExrEncoder;
@@ -437,42 +437,117 @@ fn write_with(
     result
 }
 
+/// Size limits of a decoder: declared size and decoded bytes, checked from the header before any
+/// pixel memory is allocated. [`SizeLimits::DEFAULT`] is what every file loader of luz uses;
+/// the `*_bytes` loaders take the limits as a parameter (the fuzz targets use smaller ones).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SizeLimits {
+    /// Largest width or height.
+    pub max_dimension: u32,
+    /// Largest width × height.
+    pub max_pixels: u64,
+    /// Largest decoded pixel data, in bytes.
+    pub max_bytes: u64,
+}
+
+impl SizeLimits {
+    /// [`MAX_DIMENSION`], [`MAX_PIXELS`], [`MAX_DECODE_BYTES`].
+    pub const DEFAULT: SizeLimits = SizeLimits {
+        max_dimension: MAX_DIMENSION,
+        max_pixels: MAX_PIXELS,
+        max_bytes: MAX_DECODE_BYTES,
+    };
+
+    /// The `image` crate limits for these sizes (declared size and allocation).
+    pub fn image_limits(&self) -> Limits {
+        let mut limits = Limits::default();
+        limits.max_image_width = Some(self.max_dimension);
+        limits.max_image_height = Some(self.max_dimension);
+        limits.max_alloc = Some(self.max_bytes);
+        limits
+    }
+
+    /// True when a declared `width`×`height` image, `bytes` once decoded, is beyond these limits.
+    pub fn exceeded(&self, width: u32, height: u32, bytes: u64) -> bool {
+        width > self.max_dimension
+            || height > self.max_dimension
+            || u64::from(width) * u64::from(height) > self.max_pixels
+            || bytes > self.max_bytes
+    }
+}
+
+impl Default for SizeLimits {
+    fn default() -> Self {
+        SizeLimits::DEFAULT
+    }
+}
+
 /// The `image` crate limits every decoder in luz runs with (declared size and allocation).
 pub fn decode_limits() -> Limits {
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_DIMENSION);
-    limits.max_image_height = Some(MAX_DIMENSION);
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
-    limits
+    SizeLimits::DEFAULT.image_limits()
 }
 
 /// True when a declared `width`×`height` image, `bytes` once decoded, is beyond what luz decodes:
 /// checked from the header, before any pixel is allocated.
 pub fn exceeds_decode_limits(width: u32, height: u32, bytes: u64) -> bool {
-    u64::from(width) * u64::from(height) > MAX_PIXELS || bytes > MAX_DECODE_BYTES
+    SizeLimits::DEFAULT.exceeded(width, height, bytes)
 }
 
 /// Loads a PNG (8/16-bit, decoded from sRGB to linear) or an EXR (linear). The format comes
 /// from the extension; content that does not match it is reported as corrupt.
 pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
     let format = FileFormat::from_path(path)?;
+    let file = open_file(path)?;
+    load_from(
+        BufReader::new(file),
+        path,
+        format,
+        &SizeLimits::DEFAULT,
+        || declared_size(BufReader::new(File::open(path).ok()?), format),
+    )
+}
+
+/// [`load`] on a file's bytes already in memory, with explicit size limits; `name` gives the
+/// format (by extension) and names the image in errors.
+pub fn load_bytes(
+    bytes: &[u8],
+    name: &Path,
+    limits: &SizeLimits,
+) -> Result<LoadedImage, ImageError> {
+    let format = FileFormat::from_path(name)?;
+    load_from(Cursor::new(bytes), name, format, limits, || {
+        declared_size(Cursor::new(bytes), format)
+    })
+}
+
+/// Opens an image file for reading; a directory or a missing file is reported as such.
+fn open_file(path: &Path) -> Result<File, ImageError> {
     let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
     if meta.is_dir() {
         return Err(ImageError::IsDirectory {
             path: path.to_path_buf(),
         });
     }
-    let file = File::open(path).map_err(|e| read_error(path, e))?;
+    File::open(path).map_err(|e| read_error(path, e))
+}
 
-    let limits = decode_limits();
-    let mut reader = ImageReader::with_format(BufReader::new(file), format.image_format());
-    reader.limits(limits);
+/// The decoding shared by [`load`] and [`load_bytes`]; `declared` reads the size the file
+/// declares (for the message when a limit is hit inside the decoder).
+fn load_from<R: BufRead + Seek>(
+    reader: R,
+    path: &Path,
+    format: FileFormat,
+    limits: &SizeLimits,
+    declared: impl Fn() -> Option<(u32, u32)>,
+) -> Result<LoadedImage, ImageError> {
+    let mut reader = ImageReader::with_format(reader, format.image_format());
+    reader.limits(limits.image_limits());
 
     let decoder = reader
         .into_decoder()
-        .map_err(|e| decode_error(path, format, e))?;
+        .map_err(|e| decode_error(path, format, e, &declared))?;
     let (width, height) = decoder.dimensions();
-    let too_large = exceeds_decode_limits(width, height, decoder.total_bytes());
+    let too_large = limits.exceeded(width, height, decoder.total_bytes());
     if too_large {
         return Err(ImageError::TooLarge {
             path: path.to_path_buf(),
@@ -486,7 +561,8 @@ pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
             reason: format!("empty image ({width}×{height})"),
         });
     }
-    let img = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, format, e))?;
+    let img = DynamicImage::from_decoder(decoder)
+        .map_err(|e| decode_error(path, format, e, &declared))?;
 
     Ok(match (format, img) {
         (FileFormat::Exr, img) => {
@@ -530,12 +606,8 @@ pub const RADIANCE_SUPPORTED: &str = ".hdr (Radiance RGBE), .exr (OpenEXR)";
 /// returned exactly as decoded (linear, alpha 1 for `.hdr`); NaN, Inf and negative values of an
 /// EXR are left for the caller to sanitise. Same size limits as [`load`].
 pub fn load_radiance(path: &Path) -> Result<LinearImage, ImageError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("exr") => {
+    match radiance_kind(path)? {
+        RadianceKind::Exr => {
             let img = load(path)?;
             Ok(LinearImage {
                 width: img.width,
@@ -543,21 +615,57 @@ pub fn load_radiance(path: &Path) -> Result<LinearImage, ImageError> {
                 pixels: img.linear,
             })
         }
-        Some("hdr") => load_hdr(path),
+        RadianceKind::Hdr => {
+            let file = open_file(path)?;
+            load_hdr(BufReader::new(file), path, &SizeLimits::DEFAULT)
+        }
+    }
+}
+
+/// [`load_radiance`] on a file's bytes already in memory, with explicit size limits; `name`
+/// gives the format (by extension) and names the image in errors.
+pub fn load_radiance_bytes(
+    bytes: &[u8],
+    name: &Path,
+    limits: &SizeLimits,
+) -> Result<LinearImage, ImageError> {
+    match radiance_kind(name)? {
+        RadianceKind::Exr => {
+            let img = load_bytes(bytes, name, limits)?;
+            Ok(LinearImage {
+                width: img.width,
+                height: img.height,
+                pixels: img.linear,
+            })
+        }
+        RadianceKind::Hdr => load_hdr(Cursor::new(bytes), name, limits),
+    }
+}
+
+enum RadianceKind {
+    Hdr,
+    Exr,
+}
+
+fn radiance_kind(path: &Path) -> Result<RadianceKind, ImageError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("exr") => Ok(RadianceKind::Exr),
+        Some("hdr") => Ok(RadianceKind::Hdr),
         _ => Err(ImageError::NotRadiance {
             path: path.to_path_buf(),
         }),
     }
 }
 
-fn load_hdr(path: &Path) -> Result<LinearImage, ImageError> {
-    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
-    if meta.is_dir() {
-        return Err(ImageError::IsDirectory {
-            path: path.to_path_buf(),
-        });
-    }
-    let file = File::open(path).map_err(|e| read_error(path, e))?;
+fn load_hdr<R: BufRead + Seek>(
+    reader: R,
+    path: &Path,
+    limits: &SizeLimits,
+) -> Result<LinearImage, ImageError> {
     let corrupt = |reason: String| ImageError::CorruptHdr {
         path: path.to_path_buf(),
         reason,
@@ -582,13 +690,12 @@ fn load_hdr(path: &Path) -> Result<LinearImage, ImageError> {
             })
         }
     };
-    let limits = decode_limits();
-    let mut reader = ImageReader::with_format(BufReader::new(file), ImageFormat::Hdr);
-    reader.limits(limits);
+    let mut reader = ImageReader::with_format(reader, ImageFormat::Hdr);
+    reader.limits(limits.image_limits());
     let decoder = reader.into_decoder().map_err(hdr_error)?;
     let (width, height) = decoder.dimensions();
     // Decoded as RGB f32 here, then widened to RGBA f32: 16 bytes per pixel in the end.
-    let too_large = exceeds_decode_limits(width, height, u64::from(width) * u64::from(height) * 16);
+    let too_large = limits.exceeded(width, height, u64::from(width) * u64::from(height) * 16);
     if too_large {
         return Err(ImageError::TooLarge {
             path: path.to_path_buf(),
@@ -625,7 +732,12 @@ fn read_error(path: &Path, e: io::Error) -> ImageError {
     }
 }
 
-fn decode_error(path: &Path, format: FileFormat, e: image::ImageError) -> ImageError {
+fn decode_error(
+    path: &Path,
+    format: FileFormat,
+    e: image::ImageError,
+    declared: &dyn Fn() -> Option<(u32, u32)>,
+) -> ImageError {
     let path_buf = path.to_path_buf();
     match e {
         image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
@@ -640,7 +752,7 @@ fn decode_error(path: &Path, format: FileFormat, e: image::ImageError) -> ImageE
             source,
         },
         image::ImageError::Limits(_) => ImageError::TooLarge {
-            declared: declared_size(path, format)
+            declared: declared()
                 .map(|(w, h)| format!("declared {w}×{h}"))
                 .unwrap_or_else(|| "declared size over the limits".into()),
             path: path_buf,
@@ -667,12 +779,12 @@ fn decode_error(path: &Path, format: FileFormat, e: image::ImageError) -> ImageE
 }
 
 /// The size a file declares, read from its header without decoding (for error messages).
-fn declared_size(path: &Path, format: FileFormat) -> Option<(u32, u32)> {
+fn declared_size<R: BufRead + Seek>(mut reader: R, format: FileFormat) -> Option<(u32, u32)> {
     match format {
         FileFormat::Png => {
             // Signature (8) + IHDR length (4) + "IHDR" (4) + width (4) + height (4), big-endian.
             let mut head = [0u8; 24];
-            File::open(path).ok()?.read_exact(&mut head).ok()?;
+            reader.read_exact(&mut head).ok()?;
             if &head[12..16] != b"IHDR" {
                 return None;
             }
@@ -682,8 +794,7 @@ fn declared_size(path: &Path, format: FileFormat) -> Option<(u32, u32)> {
         }
         FileFormat::Exr => {
             // The EXR reader parses only the header here; no pixel memory is allocated.
-            let file = BufReader::new(File::open(path).ok()?);
-            let mut reader = ImageReader::with_format(file, ImageFormat::OpenExr);
+            let mut reader = ImageReader::with_format(reader, ImageFormat::OpenExr);
             reader.no_limits();
             reader.into_dimensions().ok()
         }

@@ -40,7 +40,7 @@ pub struct LabArgs {
     /// Override the scene's output height.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
-    /// Only these variant groups (comma separated: tessellation, brdf, ibl).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, ibl).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.
@@ -140,6 +140,30 @@ pub fn error_metrics(
 
 /// Segment counts the tessellation sweep uses.
 pub const SEGMENTS: [u32; 6] = [8, 16, 32, 64, 128, 256];
+/// Budgets (px of silhouette error) of the automatic-tessellation sweep
+/// ([`crate::scene::tessellation`]).
+pub const TESSELLATION_BUDGETS_PX: [f32; 7] = [1.0, 0.5, 0.25, 0.1, 0.05, 0.025, 0.01];
+
+/// The scene with every sphere, cone and cylinder tessellated automatically within `budget_px`
+/// (shading as written); `None` when it has none.
+fn with_auto_tessellation(scene: &Scene, budget_px: f32) -> Option<(Scene, u32, u32)> {
+    let mut s = scene.clone();
+    crate::scene::tessellation::make_automatic(&mut s, budget_px);
+    let segments: Vec<u32> = s
+        .objects
+        .iter()
+        .filter_map(|o| match o.desc {
+            MeshDesc::Sphere { segments, .. }
+            | MeshDesc::Cone { segments, .. }
+            | MeshDesc::Cylinder { segments, .. } => Some(segments),
+            _ => None,
+        })
+        .collect();
+    let lo = *segments.iter().min()?;
+    let hi = *segments.iter().max()?;
+    Some((s, lo, hi))
+}
+
 /// Sample counts of the importance-sampling sweep.
 pub const IBL_SAMPLES: [u32; 6] = [1, 4, 16, 64, 256, 1024];
 
@@ -171,6 +195,7 @@ fn with_tessellation(scene: &Scene, shading: Shading, segments: u32) -> Option<S
         o.mesh = std::sync::Arc::new(desc.build()?);
         o.desc = desc;
         o.shading = shading;
+        o.tessellation = crate::scene::Tessellation::Given;
         changed = true;
     }
     changed.then_some(s)
@@ -233,6 +258,22 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
                         scene: s,
                     });
                 }
+            }
+        }
+    }
+    if want("auto") {
+        for budget in TESSELLATION_BUDGETS_PX {
+            if let Some((s, lo, hi)) = with_auto_tessellation(scene, budget) {
+                let range = if lo == hi {
+                    format!("{lo}")
+                } else {
+                    format!("{lo}-{hi}")
+                };
+                out.push(Variant {
+                    group: "auto tessellation",
+                    label: format!("auto {budget} px ({range} seg.)"),
+                    scene: s,
+                });
             }
         }
     }
@@ -330,12 +371,8 @@ pub fn mark_pareto(results: &mut [LabResult]) {
 
 pub fn run(a: LabArgs) -> Result<ExitCode> {
     let mut scene = crate::scene::load(&a.scene)?;
-    if let Some(w) = a.width {
-        scene.output.width = w;
-    }
-    if let Some(h) = a.height {
-        scene.output.height = h;
-    }
+    crate::cli::apply_size(&mut scene, a.width, a.height);
+    crate::cli::report_tessellation(&scene, false);
     std::fs::create_dir_all(a.out.join("heatmaps"))
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let reference = match &a.reference {
@@ -656,6 +693,14 @@ mod tests {
         let count = |g: &str| v.iter().filter(|x| x.group == g).count();
         assert_eq!(count("as written"), 1);
         assert_eq!(count("tessellation"), 3 * SEGMENTS.len());
+        assert_eq!(count("auto tessellation"), TESSELLATION_BUDGETS_PX.len());
+        // Tighter budgets never choose fewer segments.
+        let tri: Vec<usize> = v
+            .iter()
+            .filter(|x| x.group == "auto tessellation")
+            .map(|x| x.scene.triangle_count())
+            .collect();
+        assert!(tri.windows(2).all(|w| w[0] <= w[1]), "{tri:?}");
         // No punctual lights: the BRDF-term variants would all give the same image.
         assert_eq!(count("brdf"), 0);
         let grid = crate::scene::load(

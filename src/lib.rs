@@ -10,6 +10,8 @@ pub mod cli;
 pub mod color;
 pub mod diff;
 pub mod env;
+/// Entry points shared by the fuzz targets (`fuzz/`) and `tests/fuzz_regressions.rs`.
+pub mod fuzzing;
 pub mod headless;
 pub mod imageio;
 pub mod lab;

@@ -264,9 +264,7 @@ pub fn load_texture(
 /// Decodes an image file (PNG, EXR or HDR by extension) with the size limits of
 /// [`crate::imageio`].
 pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
-    let kind = FileKind::from_path(path).ok_or_else(|| TextureError::UnsupportedExtension {
-        path: path.to_path_buf(),
-    })?;
+    let kind = file_kind(path)?;
     let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
     if meta.is_dir() {
         return Err(TextureError::IsDirectory {
@@ -274,14 +272,45 @@ pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
         });
     }
     let file = File::open(path).map_err(|e| read_error(path, e))?;
-    let limits = crate::imageio::decode_limits();
-    let mut reader = ImageReader::with_format(BufReader::new(file), kind.image_format());
-    reader.limits(limits);
+    decode_from(
+        BufReader::new(file),
+        path,
+        kind,
+        &crate::imageio::SizeLimits::DEFAULT,
+    )
+}
+
+/// [`decode_file`] on a file's bytes already in memory, with explicit size limits; `name` gives
+/// the format (by extension) and names the image in errors.
+pub fn decode_bytes(
+    bytes: &[u8],
+    name: &Path,
+    limits: &crate::imageio::SizeLimits,
+) -> Result<DynamicImage, TextureError> {
+    let kind = file_kind(name)?;
+    decode_from(io::Cursor::new(bytes), name, kind, limits)
+}
+
+fn file_kind(path: &Path) -> Result<FileKind, TextureError> {
+    FileKind::from_path(path).ok_or_else(|| TextureError::UnsupportedExtension {
+        path: path.to_path_buf(),
+    })
+}
+
+/// The decoding shared by [`decode_file`] and [`decode_bytes`].
+fn decode_from<R: io::BufRead + io::Seek>(
+    reader: R,
+    path: &Path,
+    kind: FileKind,
+    limits: &crate::imageio::SizeLimits,
+) -> Result<DynamicImage, TextureError> {
+    let mut reader = ImageReader::with_format(reader, kind.image_format());
+    reader.limits(limits.image_limits());
     let decoder = reader
         .into_decoder()
         .map_err(|e| decode_error(path, kind, e))?;
     let (width, height) = decoder.dimensions();
-    if crate::imageio::exceeds_decode_limits(width, height, decoder.total_bytes()) {
+    if limits.exceeded(width, height, decoder.total_bytes()) {
         return Err(TextureError::TooLarge {
             path: path.to_path_buf(),
             declared: format!("declared {width}×{height}"),

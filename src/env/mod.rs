@@ -121,35 +121,10 @@ pub fn load_equirect_with_report(
         ..LoadReport::default()
     };
     let fit = |w: u32| w.min(max_dimension);
-    let mut eq = match &env.source {
+    let eq = match &env.source {
         EnvSource::Hdr(path) => {
             let img = imageio::load_radiance(path)?;
-            let (w, h) = (img.width, img.height);
-            report.source_size = (w, h);
-            let ratio = f64::from(w) / f64::from(h);
-            if (ratio - 2.0).abs() > 0.02 {
-                return Err(EnvError::NotEquirect {
-                    path: path.clone(),
-                    width: w,
-                    height: h,
-                });
-            }
-            let mut eq = Equirect {
-                width: w,
-                height: h,
-                texels: img.pixels,
-            };
-            // Sanitise before averaging so one NaN cannot spread over a block.
-            report.sanitized_texels = eq.sanitize();
-            let mut k = 1;
-            while eq.width.div_ceil(k) > max_dimension || eq.height.div_ceil(k) > max_dimension {
-                k *= 2;
-            }
-            if k > 1 {
-                eq = eq.downsample(k);
-                report.downsampled_by = k;
-            }
-            eq
+            fit_radiance(img, path, max_dimension, &mut report)?
         }
         EnvSource::Uniform(c) => Equirect::filled(UNIFORM_SIZE.0, UNIFORM_SIZE.1, *c),
         EnvSource::Sky {
@@ -158,8 +133,75 @@ pub fn load_equirect_with_report(
         } => sky(fit(SKY_WIDTH), *sun_direction, *sun_intensity),
         EnvSource::Studio => studio(fit(STUDIO_WIDTH)),
     };
-    if env.intensity != 1.0 {
-        eq.scale(env.intensity);
+    finish(eq, env.intensity, report)
+}
+
+/// [`load_equirect_with_report`] for an `hdr` environment whose file is already in memory:
+/// `name` gives the format (`.hdr` or `.exr`, by extension) and names it in errors; `limits`
+/// are the decoder's size limits ([`imageio::SizeLimits::DEFAULT`] for files).
+pub fn load_equirect_bytes(
+    bytes: &[u8],
+    name: &std::path::Path,
+    intensity: f32,
+    max_dimension: u32,
+    limits: &imageio::SizeLimits,
+) -> Result<(Equirect, LoadReport), EnvError> {
+    if max_dimension < MIN_DIMENSION {
+        return Err(EnvError::LimitTooSmall(max_dimension));
+    }
+    let mut report = LoadReport {
+        downsampled_by: 1,
+        ..LoadReport::default()
+    };
+    let img = imageio::load_radiance_bytes(bytes, name, limits)?;
+    let eq = fit_radiance(img, name, max_dimension, &mut report)?;
+    finish(eq, intensity, report)
+}
+
+/// Checks that a decoded environment file is 2:1, sanitises it and halves it until it fits
+/// `max_dimension`.
+fn fit_radiance(
+    img: imageio::LinearImage,
+    path: &std::path::Path,
+    max_dimension: u32,
+    report: &mut LoadReport,
+) -> Result<Equirect, EnvError> {
+    let (w, h) = (img.width, img.height);
+    report.source_size = (w, h);
+    let ratio = f64::from(w) / f64::from(h);
+    if (ratio - 2.0).abs() > 0.02 {
+        return Err(EnvError::NotEquirect {
+            path: path.to_path_buf(),
+            width: w,
+            height: h,
+        });
+    }
+    let mut eq = Equirect {
+        width: w,
+        height: h,
+        texels: img.pixels,
+    };
+    // Sanitise before averaging so one NaN cannot spread over a block.
+    report.sanitized_texels = eq.sanitize();
+    let mut k = 1;
+    while eq.width.div_ceil(k) > max_dimension || eq.height.div_ceil(k) > max_dimension {
+        k *= 2;
+    }
+    if k > 1 {
+        eq = eq.downsample(k);
+        report.downsampled_by = k;
+    }
+    Ok(eq)
+}
+
+/// Applies the intensity and makes every texel finite, non-negative and at most [`TEXEL_MAX`].
+fn finish(
+    mut eq: Equirect,
+    intensity: f32,
+    mut report: LoadReport,
+) -> Result<(Equirect, LoadReport), EnvError> {
+    if intensity != 1.0 {
+        eq.scale(intensity);
     }
     report.sanitized_texels += eq.sanitize();
     Ok((eq, report))

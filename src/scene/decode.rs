@@ -13,6 +13,7 @@ use super::mesh::{
     MAX_SEGMENTS,
 };
 use super::obj::{load_obj, ObjFile};
+use super::tessellation::{self, Tessellation};
 use super::{
     Camera, Falloff, Fog, Light, LightKind, Material, MeshDesc, NamedMaterial, Object, Output,
     Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
@@ -513,6 +514,7 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             object(item, &index("objects", i), i, &mut ctx, &mut scene)?;
         }
     }
+    tessellation::resolve(&mut scene);
     Ok(scene)
 }
 
@@ -574,6 +576,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
             "exposure",
             "tonemap",
             "msaa",
+            "tessellation_error_px",
         ],
         "the output",
     )?;
@@ -589,6 +592,14 @@ fn output(v: &Value, path: &str) -> Result<Output> {
     if ![1, 2, 4, 8].contains(&msaa) {
         return Err(f.err("msaa", format!("must be 1, 2, 4 or 8, got {msaa}")));
     }
+    let tessellation_error_px = f.num(
+        "tessellation_error_px",
+        tessellation::DEFAULT_TESSELLATION_ERROR_PX,
+        Check::In(
+            tessellation::MIN_TESSELLATION_ERROR_PX,
+            tessellation::MAX_TESSELLATION_ERROR_PX,
+        ),
+    )?;
     Ok(Output {
         width,
         height,
@@ -596,6 +607,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
         exposure,
         tonemap,
         msaa,
+        tessellation_error_px,
     })
 }
 
@@ -1173,7 +1185,7 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
         "an object",
     )?;
     let name = f.string("name")?.map(str::to_string);
-    let desc = mesh_desc(f.req("mesh")?, &f.path("mesh"), ctx.base)?;
+    let (desc, tessellation) = mesh_desc(f.req("mesh")?, &f.path("mesh"), ctx.base)?;
     let material = match f.get("material") {
         Some(m) => {
             let name = string(m, &f.path("material"))?;
@@ -1278,12 +1290,15 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
                 material: part_material,
                 transform,
                 shading,
+                tessellation,
             });
         }
         return Ok(());
     }
 
+    // Automatic tessellation builds its mesh once the whole scene is known (resolve).
     let mesh = match ctx.primitives.iter().find(|(d, _)| *d == desc) {
+        _ if tessellation != Tessellation::Given => Arc::new(Mesh::default()),
         Some((_, m)) => m.clone(),
         None => {
             let m = Arc::new(desc.build().unwrap_or_default());
@@ -1307,6 +1322,7 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
         material: material.unwrap_or(0),
         transform,
         shading,
+        tessellation,
     });
     Ok(())
 }
@@ -1355,10 +1371,21 @@ fn mtl_material(
     i
 }
 
-fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<MeshDesc> {
+/// The mesh description and whether its segments are left to [`tessellation::resolve`] (then
+/// the description holds placeholder counts until the scene is resolved).
+fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<(MeshDesc, Tessellation)> {
     let f = Fields::new(v, path)?;
     let kind = choice(f.req("type")?, &f.path("type"), MESH_TYPES)?;
     let seg = |f: &Fields, default| f.int("segments", default, 3, MAX_SEGMENTS);
+    let tessellation =
+        if matches!(kind, "sphere" | "cone" | "cylinder") && f.get("segments").is_none() {
+            Tessellation::Auto {
+                projected_radius_px: 0.0,
+                rings_given: f.get("rings").is_some(),
+            }
+        } else {
+            Tessellation::Given
+        };
     let desc = match kind {
         "sphere" => {
             f.allow(&["type", "radius", "segments", "rings"], "a sphere")?;
@@ -1436,7 +1463,7 @@ fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<MeshDesc> {
             if p.trim().is_empty() {
                 return Err(f.err("path", "must not be empty"));
             }
-            return Ok(MeshDesc::Obj { path: base.join(p) });
+            return Ok((MeshDesc::Obj { path: base.join(p) }, Tessellation::Given));
         }
     };
     if let Some(n) = desc.triangle_count() {
@@ -1449,5 +1476,5 @@ fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<MeshDesc> {
             ));
         }
     }
-    Ok(desc)
+    Ok((desc, tessellation))
 }

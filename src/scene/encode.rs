@@ -41,7 +41,7 @@ use super::{
     Object, Saturation, Scene, Shading, TextureRef, TextureSlot, Wrap,
 };
 use crate::brdf::SpecularSource;
-use crate::scene::{slots_for_model, Filter, SamplerDesc};
+use crate::scene::{slots_for_model, Filter, SamplerDesc, Tessellation};
 
 /// The scene as JSON, with file paths relative to the folder of the file it was loaded from
 /// (absolute for a scene without a `source`, such as the embedded default). Object keys are
@@ -475,7 +475,8 @@ impl Encoder<'_> {
                 .with("background", s.output.background)
                 .with("exposure", s.output.exposure)
                 .with("tonemap", s.output.tonemap.name())
-                .with("msaa", s.output.msaa),
+                .with("msaa", s.output.msaa)
+                .with("tessellation_error_px", s.output.tessellation_error_px),
         );
         root.put("ambient", s.ambient);
         root.put(
@@ -849,7 +850,11 @@ impl Encoder<'_> {
                     ));
                     return None;
                 };
-                (first.name.clone(), primitive(desc), Some(material))
+                (
+                    first.name.clone(),
+                    primitive(desc, first.tessellation),
+                    Some(material),
+                )
             }
         };
         let mut n = Node::obj().with("name", name).with("mesh", mesh);
@@ -1050,18 +1055,34 @@ fn mesh_type(desc: &MeshDesc) -> &'static str {
     }
 }
 
-/// A built-in mesh's description.
-fn primitive(desc: &MeshDesc) -> Node {
+/// A built-in mesh's description; automatically chosen segments (and rings) are left out, so the
+/// file stays automatic.
+fn primitive(desc: &MeshDesc, tessellation: Tessellation) -> Node {
     let n = Node::obj().with("type", mesh_type(desc));
+    let (auto, rings_given) = match tessellation {
+        Tessellation::Given => (false, true),
+        Tessellation::Auto { rings_given, .. } => (true, rings_given),
+    };
+    let segments = |n: Node, segments: u32| {
+        if auto {
+            n
+        } else {
+            n.with("segments", segments)
+        }
+    };
     match *desc {
         MeshDesc::Sphere {
             radius,
-            segments,
+            segments: s,
             rings,
-        } => n
-            .with("radius", radius)
-            .with("segments", segments)
-            .with("rings", rings),
+        } => {
+            let n = segments(n.with("radius", radius), s);
+            if rings_given {
+                n.with("rings", rings)
+            } else {
+                n
+            }
+        }
         MeshDesc::Icosphere {
             radius,
             subdivisions,
@@ -1076,16 +1097,13 @@ fn primitive(desc: &MeshDesc) -> Node {
         MeshDesc::Cone {
             radius,
             height,
-            segments,
+            segments: s,
         }
         | MeshDesc::Cylinder {
             radius,
             height,
-            segments,
-        } => n
-            .with("radius", radius)
-            .with("height", height)
-            .with("segments", segments),
+            segments: s,
+        } => segments(n.with("radius", radius).with("height", height), s),
         MeshDesc::Obj { .. } => n,
     }
 }

@@ -134,6 +134,11 @@ fn assert_same_with(a: &Scene, b: &Scene, what: &str, material_order: bool) {
         assert_eq!(x.transform, y.transform, "{w}: transform");
         assert_eq!(x.shading, y.shading, "{w}: shading");
         assert_eq!(
+            std::mem::discriminant(&x.tessellation),
+            std::mem::discriminant(&y.tessellation),
+            "{w}: tessellation"
+        );
+        assert_eq!(
             x.mesh.triangle_count(),
             y.mesh.triangle_count(),
             "{w}: triangles"
@@ -303,7 +308,15 @@ fn edited_scene_round_trips() {
             sun_intensity: 4.5,
         })
     });
+    scene.output.tessellation_error_px = 0.2;
+    // The spheres stay automatic: the file leaves their segments out, and loading it chooses them
+    // for the edited camera and budget, as resolving the edited scene does.
+    crate::scene::tessellation::resolve(&mut scene);
     let (back, _) = round_trip(&scene, &out.join("edited.json"));
+    assert!(matches!(
+        back.objects[1].tessellation,
+        crate::scene::Tessellation::Auto { .. }
+    ));
     assert_eq!(back.lights[0].intensity, 1.375);
     assert_eq!(back.lights.len(), 3);
     assert_eq!(back.objects[1].material, last);

@@ -11,6 +11,7 @@ mod error;
 pub mod json;
 pub mod mesh;
 pub mod obj;
+pub mod tessellation;
 mod textures;
 
 use std::path::{Path, PathBuf};
@@ -28,6 +29,7 @@ pub use mesh::{
     Mesh, Vertex, MAX_ICOSPHERE_SUBDIVISIONS, MAX_PLANE_SUBDIVISIONS, MAX_PRIMITIVE_TRIANGLES,
     MAX_RINGS, MAX_SEGMENTS,
 };
+pub use tessellation::{Tessellation, DEFAULT_TESSELLATION_ERROR_PX};
 pub use textures::{
     slots_for_model, Filter, MaterialTextures, SamplerDesc, TextureRef, TextureSlot, Wrap,
 };
@@ -153,6 +155,9 @@ pub struct Output {
     pub tonemap: crate::color::Tonemap,
     /// Samples per pixel: 1, 2, 4 or 8.
     pub msaa: u32,
+    /// Budget of automatic tessellation: how many pixels a silhouette may be off
+    /// ([`tessellation`]).
+    pub tessellation_error_px: f32,
 }
 
 impl Output {
@@ -341,6 +346,8 @@ pub struct Object {
     pub material: usize,
     pub transform: Transform,
     pub shading: Shading,
+    /// Whether `desc`'s segments came from the file or from [`tessellation::resolve`].
+    pub tessellation: Tessellation,
 }
 
 /// Object → world: scale, then rotate about X, then Y, then Z, then translate.

@@ -169,14 +169,21 @@ fn defaults() {
     let s = parse_str(&format!("{{{SPHERE}}}")).unwrap();
     let o = &s.objects[0];
     assert_eq!(o.name, "sphere0");
+    // Segments left out: chosen from the projected size (a unit sphere 5 units from the default
+    // camera, fov 45°, 720 px tall: 175.6 px) within the default 0.05 px budget.
+    let r_px = crate::scene::tessellation::projected_radius_px(&s.camera, 720, Vec3::ZERO, 1.0);
+    let n = crate::scene::tessellation::segments_for(r_px, 0.05);
+    assert!(matches!(o.tessellation, crate::scene::Tessellation::Auto { projected_radius_px, .. } if projected_radius_px == r_px));
     assert_eq!(
         o.desc,
         MeshDesc::Sphere {
             radius: 1.0,
-            segments: 64,
-            rings: 32
+            segments: n,
+            rings: n / 2
         }
     );
+    assert_eq!(o.mesh.indices.len() as u64, 3 * o.desc.triangle_count().unwrap());
+    assert_eq!(s.output.tessellation_error_px, 0.05);
     assert_eq!(o.shading, Shading::Phong);
     assert_eq!(o.transform, Transform::default());
     assert_eq!(
@@ -671,4 +678,67 @@ fn no_input_panics() {
         ok > 0,
         "no mutation survived: the fuzzer only tests the JSON reader"
     );
+}
+
+#[test]
+fn automatic_tessellation() {
+    let scene = |objects: &str, output: &str| {
+        parse_str(&format!(
+            r#"{{"camera": {{"position": [0, 0, 10], "target": [0, 0, 0], "fov_y_deg": 90}},
+                "output": {{"height": 720 {output}}},
+                "materials": {{"m": {{"model": "lambert"}}}}, "objects": [{objects}]}}"#
+        ))
+    };
+    let s = scene(
+        r#"{"mesh": {"type": "sphere"}, "material": "m"},
+           {"mesh": {"type": "sphere", "rings": 7}, "material": "m", "position": [0, 0, -90]},
+           {"mesh": {"type": "cylinder", "radius": 0.5, "height": 1}, "material": "m", "scale": 2},
+           {"mesh": {"type": "sphere", "segments": 12}, "material": "m"},
+           {"mesh": {"type": "sphere"}, "material": "m", "position": [0, 0, 9.5]}"#,
+        "",
+    )
+    .unwrap();
+    let seg = |i: usize| match s.objects[i].desc {
+        MeshDesc::Sphere {
+            segments, rings, ..
+        } => (segments, rings),
+        MeshDesc::Cylinder { segments, .. } => (segments, 0),
+        _ => unreachable!(),
+    };
+    // f = 360 px: the unit sphere 10 away is 36.2 px, 100 away 3.6 px.
+    let near = crate::scene::tessellation::segments_for(360.0 / 99f32.sqrt(), 0.05);
+    assert_eq!(seg(0), (near, near / 2));
+    let far = seg(1);
+    assert!(far.0 < near && far.1 == 7, "{far:?}: explicit rings are kept");
+    // The cylinder's bounding sphere (radius √2 after scaling by 2), not just its rim.
+    let cyl = crate::scene::tessellation::segments_for(
+        crate::scene::tessellation::projected_radius_px(&s.camera, 720, Vec3::ZERO, 2f32.sqrt()),
+        0.05,
+    );
+    assert_eq!(seg(2).0, cyl);
+    assert_eq!(seg(3), (12, 32), "given segments stay");
+    assert_eq!(s.objects[3].tessellation, crate::scene::Tessellation::Given);
+    assert_eq!(
+        seg(4).0,
+        crate::scene::tessellation::AUTO_MAX_SEGMENTS,
+        "the camera is inside it"
+    );
+    let report = crate::scene::tessellation::report(&s);
+    assert_eq!(report.len(), 4, "{report:?}");
+    assert!(
+        report[0].contains(&format!("{near} segments x {} rings", near / 2))
+            && report[0].contains("36.2 px"),
+        "{report:?}"
+    );
+
+    // A looser budget, fewer segments; the budget is checked.
+    let loose = scene(r#"{"mesh": {"type": "sphere"}, "material": "m"}"#, r#", "tessellation_error_px": 1"#).unwrap();
+    assert!(matches!(loose.objects[0].desc, MeshDesc::Sphere { segments, .. } if segments < near));
+    for bad in ["0", "-1", "1000", "\"a\""] {
+        let e = scene("", &format!(r#", "tessellation_error_px": {bad}"#)).unwrap_err();
+        assert!(
+            e.to_string().contains("output.tessellation_error_px"),
+            "{bad}: {e}"
+        );
+    }
 }
