@@ -312,6 +312,8 @@ struct Viewer {
     surface: Surface,
     swapchain_dirty: bool,
     structure: Structure,
+    /// The scene the current passes were built for ([`App::rebuild`]).
+    built_scene: Scene,
     scene: Scene,
     initial_camera: OrbitCamera,
     orbit: OrbitCamera,
@@ -500,6 +502,7 @@ impl Viewer {
             surface,
             swapchain_dirty: false,
             structure,
+            built_scene: scene.clone(),
             scene,
             initial_camera: orbit,
             orbit,
@@ -628,10 +631,12 @@ impl Viewer {
     }
 
     /// Rebuilds the passes for the current scene (and the IBL data when `environment` changed).
+    /// All or nothing: everything new is built before anything old is replaced, so a failure
+    /// (say, an environment file that does not load) leaves the previous passes intact.
     fn rebuild(&mut self, environment: bool) -> Result<()> {
         unsafe { self.ctx.device.device_wait_idle()? };
-        if environment {
-            self.ibl = match &self.scene.environment {
+        let ibl = if environment {
+            Some(match &self.scene.environment {
                 Some(env) => Some(build_ibl(
                     &self.ctx,
                     &self.pool,
@@ -641,25 +646,48 @@ impl Viewer {
                     self.render_options.cache_dir.as_deref(),
                 )?),
                 None => None,
-            };
-        }
+            })
+        } else {
+            None
+        };
         let samples = sample_flags(self.scene.output.msaa);
-        if samples != self.samples {
-            self.samples = samples;
-            self.targets = Targets::new(&self.ctx, nonzero(self.swapchain.extent), samples)?;
-        }
+        let targets = if samples != self.samples {
+            Some(Targets::new(
+                &self.ctx,
+                nonzero(self.swapchain.extent),
+                samples,
+            )?)
+        } else {
+            None
+        };
         self.scene.camera = self.orbit.to_camera();
-        self.forward = make_forward(
+        let forward = make_forward(
             &self.ctx,
             &self.pool,
             &self.scene,
-            self.samples,
-            self.ibl.as_ref(),
+            samples,
+            match &ibl {
+                Some(new) => new.as_ref(),
+                None => self.ibl.as_ref(),
+            },
             &self.settings,
             self.swapchain.extent,
         )?;
-        self.saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &self.targets.color)?;
+        let color = targets.as_ref().unwrap_or(&self.targets);
+        let saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &color.color)?;
+        // Everything is built: replace (the old passes are dropped after the new ones exist).
+        self.forward = forward;
+        self.saturate = saturate;
+        if let Some(ibl) = ibl {
+            self.ibl = ibl;
+        }
+        if let Some(t) = targets {
+            self.targets = t;
+            self.samples = samples;
+            self.display.set_source(self.targets.color.view);
+        }
         self.structure = Structure::of(&self.scene, &self.settings);
+        self.built_scene = self.scene.clone();
         Ok(())
     }
 
@@ -837,8 +865,11 @@ impl Viewer {
         if Structure::of(&self.scene, &self.settings) != self.structure {
             let env = self.structure.environment != self.scene.environment;
             if let Err(e) = self.rebuild(env) {
-                self.status = Some(format!("{e:#}"));
-                eprintln!("luz: {e:#}");
+                // The passes still fit the last scene that built: go back to it, so the next
+                // frame's update matches them.
+                self.scene = self.built_scene.clone();
+                self.status = Some(format!("{e:#} (the edit was undone)"));
+                eprintln!("luz: {e:#} (the edit was undone)");
             }
         }
         if let Some(r) = &mut self.egui_renderer {
