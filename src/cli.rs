@@ -535,6 +535,7 @@ fn bench(a: BenchArgs) -> Result<ExitCode> {
     }
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
+    report_tessellation(&scene, false);
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,

@@ -373,6 +373,7 @@ impl Viewer {
             device_extensions: vec![ash::khr::swapchain::NAME],
         })?;
         println!("device: {}", ctx.info.summary());
+        crate::cli::report_tessellation(&scene, false);
         let surface_loader =
             ash::khr::surface::Instance::new(&ctx.instance.entry, &ctx.instance.raw);
         // SAFETY: the window outlives the surface (both owned by the viewer; the surface is
