@@ -10,7 +10,7 @@ use std::process::ExitCode;
 use anyhow::{bail, Context as _, Result};
 use clap::Args;
 
-use crate::brdf::{Distribution, Fresnel, Geometry, SpecularSource};
+use crate::brdf::{Diffuse, Distribution, Fresnel, Geometry, SpecularSource};
 use crate::cli::{GpuArgs, IblQuality};
 use crate::headless::Headless;
 use crate::imageio::LinearImage;
@@ -236,6 +236,39 @@ fn with_terms(scene: &Scene, d: Distribution, g: Geometry, f: Fresnel) -> Option
     (changed && valid).then_some(s)
 }
 
+/// The scene with every Cook-Torrance and metal-rough material's diffuse lobe set to `diffuse`
+/// (the other terms as written), and the label `d/g/f/diffuse` of its terms (`terms as
+/// written/diffuse` when the materials differ). `None` without such materials.
+fn with_diffuse(scene: &Scene, diffuse: Diffuse) -> Option<(Scene, String)> {
+    let mut s = scene.clone();
+    let mut terms = std::collections::BTreeSet::new();
+    for m in &mut s.materials {
+        match &mut m.material {
+            Material::MetalRough(p) => {
+                p.diffuse = diffuse;
+                terms.insert(format!(
+                    "{:?}/{:?}/{:?}",
+                    p.distribution, p.geometry, p.fresnel
+                ));
+            }
+            Material::CookTorrance(p) => {
+                p.diffuse = diffuse;
+                terms.insert(format!(
+                    "{:?}/{:?}/{:?}",
+                    p.distribution, p.geometry, p.fresnel
+                ));
+            }
+            _ => {}
+        }
+    }
+    let terms = match terms.len() {
+        0 => return None,
+        1 => terms.pop_first().unwrap_or_default().to_lowercase(),
+        _ => "terms as written".to_string(),
+    };
+    Some((s, format!("{terms}/{}", diffuse.name())))
+}
+
 /// Every variant of the lab that applies to `scene` (the scene as written comes first).
 pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
     let want = |g: &str| only.is_empty() || only.iter().any(|o| o == g);
@@ -296,6 +329,17 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
                         });
                     }
                 }
+            }
+        }
+        // Lambert vs Burley diffuse, with the scene's own specular terms (two variants rather
+        // than doubling the grid above).
+        for diffuse in Diffuse::ALL {
+            if let Some((s, label)) = with_diffuse(scene, diffuse) {
+                out.push(Variant {
+                    group: "brdf",
+                    label,
+                    scene: s,
+                });
             }
         }
     }
@@ -709,6 +753,48 @@ mod tests {
         .unwrap();
         let g = variants(&grid, &[]);
         assert!(g.iter().filter(|x| x.group == "brdf").count() >= 16);
+        // Lambert vs Burley: two variants with the scene's own terms, every Cook-Torrance and
+        // metal-rough material switched; the grid keeps the diffuse as written.
+        let diffuse: Vec<&Variant> = g
+            .iter()
+            .filter(|x| {
+                x.group == "brdf" && (x.label.ends_with("/lambert") || x.label.ends_with("/burley"))
+            })
+            .collect();
+        assert_eq!(
+            diffuse.len(),
+            2,
+            "{:?}",
+            diffuse.iter().map(|x| &x.label).collect::<Vec<_>>()
+        );
+        for (v, want) in diffuse.iter().zip(Diffuse::ALL) {
+            assert!(v.label.ends_with(want.name()), "{}", v.label);
+            let mut switched = 0;
+            for (m, orig) in v.scene.materials.iter().zip(&grid.materials) {
+                match (&m.material, &orig.material) {
+                    (Material::MetalRough(p), Material::MetalRough(o)) => {
+                        assert_eq!(p.diffuse, want);
+                        assert_eq!(
+                            (p.distribution, p.geometry, p.fresnel),
+                            (o.distribution, o.geometry, o.fresnel)
+                        );
+                        switched += 1;
+                    }
+                    (Material::CookTorrance(p), Material::CookTorrance(o)) => {
+                        assert_eq!(p.diffuse, want);
+                        assert_eq!(
+                            (p.distribution, p.geometry, p.fresnel),
+                            (o.distribution, o.geometry, o.fresnel)
+                        );
+                        switched += 1;
+                    }
+                    _ => {}
+                }
+            }
+            assert!(switched > 0);
+        }
+        let brdf_count = g.iter().filter(|x| x.group == "brdf").count();
+        assert!(brdf_count <= 24 + 2, "{brdf_count}");
         assert_eq!(g.iter().filter(|x| x.group == "ibl").count(), 0);
         assert_eq!(count("ibl"), 4 + IBL_SAMPLES.len());
         let only = variants(&scene, &["ibl".to_string()]);

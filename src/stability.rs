@@ -55,7 +55,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::brdf::{
-    self, metal_preset, ComplexIor, CookTorranceParams, Distribution, Fresnel, Geometry,
+    self, metal_preset, ComplexIor, CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry,
     GpuBrdfParams, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
     PrincipledParams, SpecularSource,
 };
@@ -780,12 +780,32 @@ pub fn rows() -> Vec<Row> {
                                     distribution,
                                     geometry,
                                     fresnel,
+                                    diffuse: Diffuse::Lambert,
                                 }),
                                 // F ≤ 1 scales the specular down: F0 = 1 (and gold, whose η < 1
                                 // gives total reflection in the exact dielectric) bound η = 1.5.
                                 albedo: kd == 0.0 && (sl == "F0=1" || sl == "gold"),
                                 conserving: true,
                             });
+                            // Burley's diffuse (its Fd exceeds 1 near grazing at high roughness:
+                            // measured and reported, not held to R ≤ 1).
+                            if kd > 0.0 && sl == "η=1.5" {
+                                sets.push(ParamSet {
+                                    label: format!("r={roughness} k_d={kd} {sl} burley"),
+                                    model: Model::CookTorrance(CookTorranceParams {
+                                        color: white,
+                                        kd,
+                                        roughness,
+                                        specular,
+                                        distribution,
+                                        geometry,
+                                        fresnel,
+                                        diffuse: Diffuse::Burley,
+                                    }),
+                                    albedo: kd == 1.0,
+                                    conserving: false,
+                                });
+                            }
                         }
                     }
                 }
@@ -811,22 +831,35 @@ pub fn rows() -> Vec<Row> {
                 for &roughness in &ROUGHNESS {
                     for metallic in [0.0, 0.5, 1.0] {
                         for weight in [false, true] {
-                            sets.push(ParamSet {
-                                label: format!("r={roughness} metallic={metallic} (1−F)={weight}"),
-                                model: Model::MetalRough(MetalRoughParams {
-                                    base_color: white,
-                                    metallic,
-                                    roughness,
-                                    distribution,
-                                    geometry,
-                                    fresnel,
-                                    diffuse_fresnel_weight: weight,
-                                }),
-                                // Claimed: metallic 1 (the weight only scales the diffuse, which
-                                // metallic 1 removes); metallic 0 without the weight for the report.
-                                albedo: !weight && metallic != 0.5,
-                                conserving: metallic == 1.0,
-                            });
+                            for diffuse in Diffuse::ALL {
+                                let burley = diffuse == Diffuse::Burley;
+                                sets.push(ParamSet {
+                                    label: format!(
+                                        "r={roughness} metallic={metallic} (1−F)={weight}{}",
+                                        if burley { " burley" } else { "" }
+                                    ),
+                                    model: Model::MetalRough(MetalRoughParams {
+                                        base_color: white,
+                                        metallic,
+                                        roughness,
+                                        distribution,
+                                        geometry,
+                                        fresnel,
+                                        diffuse_fresnel_weight: weight,
+                                        diffuse,
+                                    }),
+                                    // Claimed: metallic 1 (the weight and the diffuse choice only
+                                    // change the diffuse, which metallic 1 removes); metallic 0
+                                    // without the weight for the report (Burley's too).
+                                    albedo: !weight
+                                        && if burley {
+                                            metallic == 0.0
+                                        } else {
+                                            metallic != 0.5
+                                        },
+                                    conserving: metallic == 1.0,
+                                });
+                            }
                         }
                     }
                 }

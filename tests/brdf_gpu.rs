@@ -12,7 +12,7 @@ mod common;
 use common::*;
 use glam::{Vec3, Vec4Swizzles};
 use luz::brdf::{
-    metal_preset, CookTorranceParams, Distribution, Fresnel, Geometry, MetalRoughParams,
+    metal_preset, CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry, MetalRoughParams,
     OrenNayarParams, PrincipledParams, SpecularSource,
 };
 use luz::scene::Material;
@@ -197,6 +197,7 @@ fn cook_torrance_every_term_combination() {
                         distribution,
                         geometry,
                         fresnel,
+                        diffuse: Diffuse::Lambert,
                     });
                     compare(
                         &ctx,
@@ -213,25 +214,102 @@ fn cook_torrance_every_term_combination() {
     assert_no_validation_messages(&ctx);
 }
 
+/// The diffuse selector (Lambert vs Burley) on the GPU: Cook-Torrance over its k_d and roughness
+/// corners and both distributions, metal-rough at metallic 0.5 over every G and F; Burley must
+/// differ from Lambert (the comparison is not vacuous).
+#[test]
+fn diffuse_selector_lambert_and_burley() {
+    let ctx = gpu();
+    for distribution in Distribution::ALL {
+        for kd in [0.5, 1.0] {
+            for roughness in [0.0, 0.5, 1.0] {
+                for diffuse in Diffuse::ALL {
+                    let m = Material::CookTorrance(CookTorranceParams {
+                        color: Vec3::new(0.9, 0.6, 0.3),
+                        kd,
+                        roughness,
+                        distribution,
+                        diffuse,
+                        ..Default::default()
+                    });
+                    compare(
+                        &ctx,
+                        &format!(
+                            "cook_torrance {distribution:?} kd={kd} r={roughness} diffuse={diffuse:?}"
+                        ),
+                        m,
+                        REL,
+                    );
+                }
+            }
+        }
+    }
+    for geometry in Geometry::ALL {
+        for fresnel in Fresnel::ALL {
+            let m = Material::MetalRough(MetalRoughParams {
+                base_color: Vec3::new(0.8, 0.5, 0.2),
+                metallic: 0.5,
+                roughness: 0.7,
+                geometry,
+                fresnel,
+                diffuse: Diffuse::Burley,
+                ..Default::default()
+            });
+            compare(
+                &ctx,
+                &format!("metal_rough burley {geometry:?} {fresnel:?}"),
+                m,
+                REL,
+            );
+        }
+    }
+    // Burley at roughness 1 is visibly not Lambert on the GPU image.
+    let render = |diffuse| {
+        let mut scene = base_scene();
+        scene.materials[0].material = Material::MetalRough(MetalRoughParams {
+            base_color: Vec3::splat(0.8),
+            metallic: 0.0,
+            roughness: 1.0,
+            diffuse,
+            ..Default::default()
+        });
+        render_on(&ctx, &scene)
+    };
+    let (a, b) = (render(Diffuse::Lambert), render(Diffuse::Burley));
+    let max_diff = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(p, q)| (p[0] - q[0]).abs().max((p[1] - q[1]).abs()))
+        .fold(0.0f32, f32::max);
+    assert!(max_diff > 1e-3, "{max_diff}");
+    assert_no_validation_messages(&ctx);
+}
+
 #[test]
 fn metal_rough_corners() {
     let ctx = gpu();
     for metallic in [0.0, 1.0] {
         for roughness in [0.0, 0.5, 1.0] {
             for weight in [false, true] {
-                let m = Material::MetalRough(MetalRoughParams {
-                    base_color: Vec3::new(1.0, 0.78, 0.34),
-                    metallic,
-                    roughness,
-                    diffuse_fresnel_weight: weight,
-                    ..Default::default()
-                });
-                compare(
-                    &ctx,
-                    &format!("metal_rough m={metallic} r={roughness} w={weight}"),
-                    m,
-                    REL,
-                );
+                for diffuse in Diffuse::ALL {
+                    let m = Material::MetalRough(MetalRoughParams {
+                        base_color: Vec3::new(1.0, 0.78, 0.34),
+                        metallic,
+                        roughness,
+                        diffuse_fresnel_weight: weight,
+                        diffuse,
+                        ..Default::default()
+                    });
+                    compare(
+                        &ctx,
+                        &format!(
+                            "metal_rough m={metallic} r={roughness} w={weight} diffuse={diffuse:?}"
+                        ),
+                        m,
+                        REL,
+                    );
+                }
             }
         }
     }
@@ -318,6 +396,7 @@ fn oren_nayar_and_random_metal_rough() {
                 base_color: rng.color(),
                 metallic: rng.next(),
                 roughness,
+                diffuse: Diffuse::ALL[i % 2],
                 ..Default::default()
             }),
             REL,

@@ -28,13 +28,17 @@
 #define BRDF_F_SCHLICK_SG 1
 #define BRDF_F_DIELECTRIC 2
 #define BRDF_F_CONDUCTOR 3
+// p0.y (Cook-Torrance, metal-rough): diffuse, as a float
+#define BRDF_DIFFUSE_LAMBERT 0
+#define BRDF_DIFFUSE_BURLEY 1
 
 // std430 / push-constant layout, 96 bytes. Slot use per model: docs/brdf.md.
 struct BrdfParams {
     vec4 color;  //  0: rgb albedo / base colour / O_d; a roughness (Cook-Torrance, metal-rough, Principled)
     vec4 spec;   // 16: rgb O_s (Phong) or F0 / η (Cook-Torrance); a metallic (metal-rough, Principled)
     vec4 kappa;  // 32: rgb κ (Cook-Torrance conductor); a k_d (Phong, Cook-Torrance)
-    vec4 p0;     // 48: Phong (k_s, n, k_a, -); metal-rough ((1-F) weight, -, -, -);
+    vec4 p0;     // 48: Phong (k_s, n, k_a, -); Cook-Torrance (-, diffuse, -, -);
+                 //     metal-rough ((1-F) weight, diffuse, -, -);
                  //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
     vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss)
     ivec4 sel;   // 80: model, distribution, geometry, fresnel
@@ -92,6 +96,15 @@ vec3 brdf_fresnel(int sel, vec3 spec, vec3 kappa, float v_h) {
         return vec3(f_dielectric(v_h, spec.x), f_dielectric(v_h, spec.y), f_dielectric(v_h, spec.z));
     }
     return f_conductor(v_h, spec, kappa);
+}
+
+// Diffuse::factor: the factor on albedo/π, 1 (Lambert) or fd_burley with the perceptual roughness.
+// `code` is p0.y (a float 0 or 1).
+float brdf_diffuse_factor(float code, float n_l, float n_v, float l_h, float roughness) {
+    if (int(code + 0.5) == BRDF_DIFFUSE_BURLEY) {
+        return fd_burley(n_l, n_v, l_h, roughness);
+    }
+    return 1.0;
 }
 
 // ior_from_f0 of src/brdf/presets.rs.
@@ -197,7 +210,8 @@ BrdfTerms brdf_cook_torrance_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in
     t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
     t.f = brdf_fresnel(p.sel.w, p.spec.xyz, p.kappa.xyz, v_h);
     vec3 spec_brdf = t.f * (t.d * t.g / (4.0 * n_l * n_v));
-    t.diffuse = p.color.xyz * (kd * M_1_PI);
+    // l·h = v·h (h is the half vector).
+    t.diffuse = p.color.xyz * (kd * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness));
     t.specular = spec_brdf * (1.0 - kd);
     return t;
 }
@@ -231,7 +245,7 @@ BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) 
     t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
     t.f = brdf_fresnel(p.sel.w, spec, vec3(0.0), v_h);
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
-    t.diffuse = c_diff * M_1_PI * weight;
+    t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;
     t.specular = t.f * (t.d * t.g / (4.0 * n_l * n_v));
     return t;
 }

@@ -100,6 +100,9 @@ layout(constant_id = 10) const int SEL_FRESNEL = -1;
 layout(constant_id = 11) const uint MAPS = 0xFFu;
 // The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
 layout(constant_id = 12) const uint LIGHT_KINDS = 63u;
+// The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
+// metal-rough) fixed per pipeline; -1: read it from the push constants.
+layout(constant_id = 13) const int SEL_DIFFUSE = -1;
 #define LK_DIRECTIONAL 1u
 #define LK_POINT 2u
 #define LK_SPOT 4u

@@ -53,6 +53,9 @@ BrdfParams material_params() {
     if (SEL_FRESNEL >= 0) {
         p.sel.w = SEL_FRESNEL;
     }
+    if (SEL_DIFFUSE >= 0 && (MODEL == BRDF_MODEL_COOK_TORRANCE || MODEL == BRDF_MODEL_METAL_ROUGH)) {
+        p.p0.y = float(SEL_DIFFUSE);
+    }
     return p;
 }
 

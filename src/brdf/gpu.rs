@@ -6,14 +6,17 @@
 //! | 0  | `vec4 color`  | albedo, – | O_d, – | colour, roughness | base, roughness | base, roughness | ρ, – |
 //! | 16 | `vec4 spec`   | – | O_s, – | F0 or η (by `fresnel`), – | –, metallic | –, metallic | – |
 //! | 32 | `vec4 kappa`  | – | –, k_d | κ, k_d | – | – | – |
-//! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | – | (1−F) weight 0/1, – | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
+//! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | –, diffuse, –, – | (1−F) weight 0/1, diffuse, –, – | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
 //! | 64 | `vec4 p1`     | – | – | – | – | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
 //! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
+//!
+//! `diffuse` is the [`Diffuse`] code as a float (0 Lambert, 1 Burley): `sel` is full. The forward
+//! pass may also fix it per pipeline (specialization constant `SEL_DIFFUSE`).
 //!
 //! Unused slots are 0. The parameters are sanitised first ([`Model::sanitized`]), so the GLSL
 //! does no range checks of its own beyond the clamps inside the terms.
 
-use super::models::{Fresnel, Model};
+use super::models::{Diffuse, Fresnel, Model};
 
 /// `BRDF_MODEL_*` codes in `sel.x`.
 pub mod model_code {
@@ -82,6 +85,7 @@ impl GpuBrdfParams {
                 g.color = p.color.extend(p.roughness).to_array();
                 g.spec = spec.extend(0.0).to_array();
                 g.kappa = kappa.extend(p.kd).to_array();
+                g.p0[1] = p.diffuse as i32 as f32;
                 g.sel = [
                     model_code::COOK_TORRANCE,
                     p.distribution as i32,
@@ -93,6 +97,7 @@ impl GpuBrdfParams {
                 g.color = p.base_color.extend(p.roughness).to_array();
                 g.spec[3] = p.metallic;
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
+                g.p0[1] = p.diffuse as i32 as f32;
                 g.sel = [
                     model_code::METAL_ROUGH,
                     p.distribution as i32,
@@ -114,6 +119,16 @@ impl GpuBrdfParams {
             }
         }
         g
+    }
+
+    /// The diffuse selector (`Diffuse` code) of the models that have one (Cook-Torrance,
+    /// metallic-roughness), `None` for the others: what `SEL_DIFFUSE` is specialised to.
+    pub fn diffuse_selector(model: &Model) -> Option<i32> {
+        match model {
+            Model::CookTorrance(p) => Some(p.diffuse as i32),
+            Model::MetalRough(p) => Some(p.diffuse as i32),
+            _ => None,
+        }
     }
 
     /// The 96 bytes in native (little-endian on every Vulkan target luz runs on) order, ready for
@@ -138,3 +153,4 @@ impl GpuBrdfParams {
 
 // Keep the selector codes in step with the GLSL `BRDF_F_*` etc. (checked in the tests too).
 const _: () = assert!(Fresnel::Conductor as i32 == 3);
+const _: () = assert!(Diffuse::Burley as i32 == 1);

@@ -34,8 +34,8 @@ pub use gpu::{model_code, GpuBrdfParams};
 pub use models::{
     blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,
     metal_rough, metal_rough_terms, oren_nayar, oren_nayar_terms, phong, phong_radiance,
-    phong_terms, principled, principled_terms, radiance, CookTorranceParams, Distribution, Fresnel,
-    Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
+    phong_terms, principled, principled_terms, radiance, CookTorranceParams, Diffuse, Distribution,
+    Fresnel, Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
     PrincipledParams, SpecularSource, Terms,
 };
 pub use presets::{

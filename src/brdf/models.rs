@@ -52,6 +52,41 @@ pub enum Fresnel {
     Conductor = 3,
 }
 
+/// Diffuse lobe selector of Cook-Torrance and metallic-roughness. GPU code: `BRDF_DIFFUSE_*`
+/// in `models.glsl` (packed in `p0.y`, specialization constant `SEL_DIFFUSE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Diffuse {
+    /// [`diffuse_lambert`]: `albedo/π`.
+    #[default]
+    Lambert = 0,
+    /// [`diffuse_burley`]: `albedo/π · Fd` with the model's perceptual roughness (MODELS.md §5).
+    Burley = 1,
+}
+
+impl Diffuse {
+    /// Every value, in code order.
+    pub const ALL: [Diffuse; 2] = [Diffuse::Lambert, Diffuse::Burley];
+
+    /// The scene-format name: "lambert" or "burley".
+    pub fn name(self) -> &'static str {
+        match self {
+            Diffuse::Lambert => "lambert",
+            Diffuse::Burley => "burley",
+        }
+    }
+
+    /// The factor on `albedo/π`: 1 for Lambert ([`diffuse_lambert`]), Burley's
+    /// `Fd(n·l, n·v, l·h, roughness)` ([`fd_burley`], as in [`diffuse_burley`]) with `roughness`
+    /// the perceptual roughness.
+    pub fn factor(self, n_l: f32, n_v: f32, l_h: f32, roughness: f32) -> f32 {
+        match self {
+            Diffuse::Lambert => 1.0,
+            Diffuse::Burley => fd_burley(n_l, n_v, l_h, roughness),
+        }
+    }
+}
+
 impl Distribution {
     /// Every value, in code order.
     pub const ALL: [Distribution; 2] = [Distribution::Beckmann, Distribution::Ggx];
@@ -277,7 +312,8 @@ impl SpecularSource {
     }
 }
 
-/// Cook-Torrance as in seed 000 (MODELS.md §4): `f = k_d · color/π + (1 − k_d) · D F G / (4 (n·l)(n·v))`.
+/// Cook-Torrance as in seed 000 (MODELS.md §4): `f = k_d · color/π + (1 − k_d) · D F G / (4 (n·l)(n·v))`
+/// (`color/π · Fd` with the Burley [`Diffuse`]).
 /// Width of D: `m = roughness` for Beckmann (as the seed), `α = roughness²` for GGX; the Smith
 /// G forms use the same width, Schlick-GGX uses `k_punctual(roughness)`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -297,6 +333,8 @@ pub struct CookTorranceParams {
     pub geometry: Geometry,
     /// Default Schlick.
     pub fresnel: Fresnel,
+    /// The diffuse lobe (weighted by k_d). Default Lambert (the seed's).
+    pub diffuse: Diffuse,
 }
 
 impl Default for CookTorranceParams {
@@ -309,6 +347,7 @@ impl Default for CookTorranceParams {
             distribution: Distribution::Beckmann,
             geometry: Geometry::CookTorrance,
             fresnel: Fresnel::Schlick,
+            diffuse: Diffuse::Lambert,
         }
     }
 }
@@ -336,7 +375,8 @@ impl CookTorranceParams {
 }
 
 /// glTF metallic-roughness (MODELS.md §4): `c_diff = base·(1 − metallic)`,
-/// `F0 = mix(0.04, base, metallic)`, `f = c_diff/π · [1 − F] + D F G / (4 (n·l)(n·v))`,
+/// `F0 = mix(0.04, base, metallic)`, `f = c_diff/π · [Fd] · [1 − F] + D F G / (4 (n·l)(n·v))`
+/// (`Fd`: Burley's factor when [`Diffuse::Burley`] is selected),
 /// `α = roughness²` (also the Beckmann `m` when Beckmann is selected).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -355,6 +395,9 @@ pub struct MetalRoughParams {
     pub fresnel: Fresnel,
     /// Weight the diffuse by `1 − F(v·h)`. Default false.
     pub diffuse_fresnel_weight: bool,
+    /// The diffuse lobe: Lambert `c_diff/π` or Burley `c_diff/π · Fd` (with the perceptual
+    /// roughness). Default Lambert (glTF).
+    pub diffuse: Diffuse,
 }
 
 impl Default for MetalRoughParams {
@@ -367,6 +410,7 @@ impl Default for MetalRoughParams {
             geometry: Geometry::SmithGgxCorrelated,
             fresnel: Fresnel::Schlick,
             diffuse_fresnel_weight: false,
+            diffuse: Diffuse::Lambert,
         }
     }
 }
@@ -740,11 +784,12 @@ pub fn cook_torrance_terms(p: &CookTorranceParams, n: Vec3, l: Vec3, v: Vec3) ->
     let g = p.geometry.eval(n_h, s.n_v, s.n_l, v_h, a, p.roughness);
     let f = p.fresnel.eval(spec, kappa, v_h);
     let spec_brdf = f * (d * g / (4.0 * s.n_l * s.n_v));
+    // l·h = v·h (h is the half vector).
     Terms {
         d,
         g,
         f,
-        diffuse: p.color * (p.kd * INV_PI),
+        diffuse: p.color * (p.kd * INV_PI * p.diffuse.factor(s.n_l, s.n_v, v_h, p.roughness)),
         specular: spec_brdf * (1.0 - p.kd),
     }
 }
@@ -780,7 +825,8 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
         d,
         g,
         f,
-        diffuse: c_diff * INV_PI * weight,
+        // l·h = v·h (h is the half vector); Burley takes the perceptual roughness.
+        diffuse: c_diff * INV_PI * p.diffuse.factor(s.n_l, s.n_v, v_h, p.roughness) * weight,
         specular: f * (d * g / (4.0 * s.n_l * s.n_v)),
     }
 }

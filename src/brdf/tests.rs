@@ -73,27 +73,33 @@ fn all_models(roughness: f32) -> Vec<Model> {
         for g in Geometry::ALL {
             for f in Fresnel::ALL {
                 for (i, s) in sources.iter().enumerate() {
-                    out.push(Model::CookTorrance(CookTorranceParams {
-                        color: Vec3::ONE,
-                        kd: [0.0, 0.5, 0.75, 1.0][i],
-                        roughness,
-                        specular: *s,
-                        distribution: d,
-                        geometry: g,
-                        fresnel: f,
-                    }));
-                }
-                for metallic in [0.0, 1.0] {
-                    for w in [false, true] {
-                        out.push(Model::MetalRough(MetalRoughParams {
-                            base_color: Vec3::ONE,
-                            metallic,
+                    for diffuse in Diffuse::ALL {
+                        out.push(Model::CookTorrance(CookTorranceParams {
+                            color: Vec3::ONE,
+                            kd: [0.0, 0.5, 0.75, 1.0][i],
                             roughness,
+                            specular: *s,
                             distribution: d,
                             geometry: g,
                             fresnel: f,
-                            diffuse_fresnel_weight: w,
+                            diffuse,
                         }));
+                    }
+                }
+                for metallic in [0.0, 1.0] {
+                    for w in [false, true] {
+                        for diffuse in Diffuse::ALL {
+                            out.push(Model::MetalRough(MetalRoughParams {
+                                base_color: Vec3::ONE,
+                                metallic,
+                                roughness,
+                                distribution: d,
+                                geometry: g,
+                                fresnel: f,
+                                diffuse_fresnel_weight: w,
+                                diffuse,
+                            }));
+                        }
                     }
                 }
             }
@@ -760,6 +766,32 @@ fn gpu_packing() {
     });
     let g = GpuBrdfParams::from_model(&ct);
     assert_eq!(g.sel, [model_code::COOK_TORRANCE, 1, 3, 1]);
+    assert_eq!(g.p0[1], 0.0);
+    assert_eq!(GpuBrdfParams::diffuse_selector(&ct), Some(0));
+    // The diffuse selector travels in p0.y (sel is full).
+    for (m, code) in [
+        (
+            Model::CookTorrance(CookTorranceParams {
+                diffuse: Diffuse::Burley,
+                ..Default::default()
+            }),
+            1,
+        ),
+        (
+            Model::MetalRough(MetalRoughParams {
+                diffuse: Diffuse::Burley,
+                diffuse_fresnel_weight: true,
+                ..Default::default()
+            }),
+            1,
+        ),
+        (Model::MetalRough(MetalRoughParams::default()), 0),
+    ] {
+        let g = GpuBrdfParams::from_model(&m);
+        assert_eq!(g.p0[1], code as f32, "{m:?}");
+        assert_eq!(GpuBrdfParams::diffuse_selector(&m), Some(code));
+    }
+    assert_eq!(GpuBrdfParams::diffuse_selector(&p), None);
     assert!((g.spec[0] - 0.04).abs() < 1e-7);
     assert_eq!(g.kappa[3], 0.75);
     // Selector codes as in models.glsl.
@@ -785,6 +817,8 @@ fn gpu_packing() {
         ("BRDF_F_SCHLICK_SG", Fresnel::SchlickSg as i32),
         ("BRDF_F_DIELECTRIC", Fresnel::Dielectric as i32),
         ("BRDF_F_CONDUCTOR", Fresnel::Conductor as i32),
+        ("BRDF_DIFFUSE_LAMBERT", Diffuse::Lambert as i32),
+        ("BRDF_DIFFUSE_BURLEY", Diffuse::Burley as i32),
     ] {
         assert!(glsl.contains(&format!("#define {name} {code}\n")), "{name}");
     }
@@ -890,6 +924,40 @@ fn energy_conservation_where_expected() {
             assert!(a > 0.98, "{a}");
         }
     }
+    // Metal-rough with Burley's diffuse: metallic 1 has no diffuse, so the choice changes
+    // nothing; metallic 0 (white) darkens at roughness 0 (Fd90 = 0.5) and, at roughness 1,
+    // brightens near grazing (Fd90 up to 2.5) beyond Lambert's.
+    for r in [0.0, 0.5, 1.0] {
+        let lambert = MetalRoughParams {
+            roughness: r,
+            ..Default::default()
+        };
+        let burley = MetalRoughParams {
+            diffuse: Diffuse::Burley,
+            ..lambert
+        };
+        for (dl, dv) in [(dir(30.0, 0.0), dir(60.0, 120.0)), (dir(80.0, 10.0), N)] {
+            assert_eq!(
+                eval(&Model::MetalRough(lambert), N, dl, dv, X, Y),
+                eval(&Model::MetalRough(burley), N, dl, dv, X, Y)
+            );
+        }
+    }
+    let white_dielectric = |r: f32, diffuse: Diffuse| {
+        Model::MetalRough(MetalRoughParams {
+            metallic: 0.0,
+            roughness: r,
+            diffuse,
+            ..Default::default()
+        })
+    };
+    let grazing = 0.174;
+    let al0 = directional_albedo(&white_dielectric(0.0, Diffuse::Lambert), grazing, 2048).x;
+    let ab0 = directional_albedo(&white_dielectric(0.0, Diffuse::Burley), grazing, 2048).x;
+    assert!(ab0 < al0, "r 0: burley {ab0} lambert {al0}");
+    let al1 = directional_albedo(&white_dielectric(1.0, Diffuse::Lambert), grazing, 2048).x;
+    let ab1 = directional_albedo(&white_dielectric(1.0, Diffuse::Burley), grazing, 2048).x;
+    assert!(ab1 > al1, "r 1: burley {ab1} lambert {al1}");
     // Oren-Nayar and Burley-based diffuse stay near 1 for white albedo.
     let on = Model::OrenNayar(OrenNayarParams {
         albedo: Vec3::ONE,
@@ -1022,6 +1090,7 @@ fn albedo_report() {
                                     distribution: d,
                                     geometry: g,
                                     fresnel: f,
+                                    diffuse: Diffuse::Lambert,
                                 }),
                             ));
                         }
@@ -1051,20 +1120,25 @@ fn albedo_report() {
     for d in Distribution::ALL {
         for g in Geometry::ALL {
             for w in [false, true] {
-                for metallic in [0.0, 0.5, 1.0] {
-                    for r in rough {
-                        v.push((
-                            format!("{d:?} {g:?} (1-F) {w} metallic {metallic} r {r}"),
-                            Model::MetalRough(MetalRoughParams {
-                                base_color: Vec3::ONE,
-                                metallic,
-                                roughness: r,
-                                distribution: d,
-                                geometry: g,
-                                fresnel: Fresnel::Schlick,
-                                diffuse_fresnel_weight: w,
-                            }),
-                        ));
+                for diffuse in Diffuse::ALL {
+                    for metallic in [0.0, 0.5, 1.0] {
+                        for r in rough {
+                            v.push((
+                                format!(
+                                    "{d:?} {g:?} (1-F) {w} {diffuse:?} metallic {metallic} r {r}"
+                                ),
+                                Model::MetalRough(MetalRoughParams {
+                                    base_color: Vec3::ONE,
+                                    metallic,
+                                    roughness: r,
+                                    distribution: d,
+                                    geometry: g,
+                                    fresnel: Fresnel::Schlick,
+                                    diffuse_fresnel_weight: w,
+                                    diffuse,
+                                }),
+                            ));
+                        }
                     }
                 }
             }
@@ -1073,18 +1147,21 @@ fn albedo_report() {
     report_grid("metal_rough (white, Schlick)", v, samples);
     let mut v = vec![];
     for w in [false, true] {
-        for metallic in [0.0, 1.0] {
-            for r in rough {
-                v.push((
-                    format!("defaults (1-F) {w} metallic {metallic} r {r}"),
-                    Model::MetalRough(MetalRoughParams {
-                        base_color: Vec3::ONE,
-                        metallic,
-                        roughness: r,
-                        diffuse_fresnel_weight: w,
-                        ..Default::default()
-                    }),
-                ));
+        for diffuse in Diffuse::ALL {
+            for metallic in [0.0, 1.0] {
+                for r in rough {
+                    v.push((
+                        format!("defaults (1-F) {w} {diffuse:?} metallic {metallic} r {r}"),
+                        Model::MetalRough(MetalRoughParams {
+                            base_color: Vec3::ONE,
+                            metallic,
+                            roughness: r,
+                            diffuse_fresnel_weight: w,
+                            diffuse,
+                            ..Default::default()
+                        }),
+                    ));
+                }
             }
         }
     }

@@ -72,6 +72,8 @@ pub struct VariantKey {
     pub ibl: Option<IblKey>,
     /// The material's (distribution, geometry, Fresnel) selectors, fixed in the pipeline.
     pub sel: [i32; 3],
+    /// The material's diffuse selector (`gpu::material_diffuse_key`, -1: none / generic).
+    pub diffuse: i32,
     /// Bit i: the material has map `TextureSlot::ALL[i]` (no texture code without maps).
     pub maps: u32,
     /// The scene's light types and falloffs (`gpu::LK_*` bits).
@@ -79,7 +81,7 @@ pub struct VariantKey {
 }
 
 /// Names of the selectors in a variant's name.
-fn sel_names(model: i32, sel: [i32; 3]) -> Option<String> {
+fn sel_names(model: i32, sel: [i32; 3], diffuse: i32) -> Option<String> {
     use gpu::model_code as m;
     if !matches!(model, m::COOK_TORRANCE | m::METAL_ROUGH) {
         return None;
@@ -101,7 +103,10 @@ fn sel_names(model: i32, sel: [i32; 3]) -> Option<String> {
         .get(sel[2] as usize)
         .copied()
         .unwrap_or("?");
-    Some(format!("{d}/{g}/{f}"))
+    Some(match gpu::diffuse_key_name(diffuse) {
+        Some(diffuse) => format!("{d}/{g}/{f}/{diffuse}"),
+        None => format!("{d}/{g}/{f}"),
+    })
 }
 
 /// The environment settings that select shader code (specialization constants).
@@ -173,7 +178,7 @@ impl std::fmt::Display for VariantKey {
             model_name(self.model),
             if self.fog { "on" } else { "off" }
         )?;
-        if let Some(terms) = sel_names(self.model, self.sel) {
+        if let Some(terms) = sel_names(self.model, self.sel, self.diffuse) {
             write!(f, ", terms={terms}")?;
         }
         if self.maps != 0 {
@@ -506,6 +511,7 @@ impl ForwardPass {
                         debug,
                         ibl: ibl_key,
                         sel: GENERIC_SEL,
+                        diffuse: -1,
                         maps: GENERIC_MAPS,
                         light_kinds: GENERIC_LIGHT_KINDS,
                     }
@@ -517,6 +523,7 @@ impl ForwardPass {
                         debug,
                         ibl: ibl_key,
                         sel,
+                        diffuse: gpu::material_diffuse_key(material),
                         maps: super::material::map_bits(&named.textures),
                         light_kinds: gpu::light_kinds(&scene.lights),
                     }
@@ -651,6 +658,7 @@ impl ForwardPass {
             if model != draw.variant.model
                 || (!generic
                     && (sel != draw.variant.sel
+                        || gpu::material_diffuse_key(material) != draw.variant.diffuse
                         || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds))
             {
                 return Err(VkError::Setup(format!(
@@ -924,6 +932,7 @@ fn create_pipeline(
         (gpu::SPEC_SEL_DISTRIBUTION, v.sel[0] as u32),
         (gpu::SPEC_SEL_GEOMETRY, v.sel[1] as u32),
         (gpu::SPEC_SEL_FRESNEL, v.sel[2] as u32),
+        (gpu::SPEC_SEL_DIFFUSE, v.diffuse as u32),
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
     ];

@@ -34,6 +34,8 @@ pub const SPEC_SEL_GEOMETRY: u32 = 9;
 pub const SPEC_SEL_FRESNEL: u32 = 10;
 pub const SPEC_MAPS: u32 = 11;
 pub const SPEC_LIGHT_KINDS: u32 = 12;
+/// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`material_diffuse_key`]).
+pub const SPEC_SEL_DIFFUSE: u32 = 13;
 /// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
 pub const LK_DIRECTIONAL: u32 = 1;
 pub const LK_POINT: u32 = 2;
@@ -62,6 +64,20 @@ pub fn light_kinds(lights: &[Light]) -> u32 {
 pub fn material_key(m: &Material) -> (i32, [i32; 3]) {
     let packed = crate::brdf::GpuBrdfParams::from_model(&m.to_brdf());
     (packed.sel[0], [packed.sel[1], packed.sel[2], packed.sel[3]])
+}
+
+/// The material's diffuse selector (`brdf::Diffuse` code: 0 Lambert, 1 Burley) as the shader's
+/// `SEL_DIFFUSE` sees it, or -1 for models without one (the shader then ignores it).
+pub fn material_diffuse_key(m: &Material) -> i32 {
+    crate::brdf::GpuBrdfParams::diffuse_selector(&m.to_brdf().sanitized()).unwrap_or(-1)
+}
+
+/// Names of a diffuse selector value in pipeline-variant names (`None` for -1).
+pub fn diffuse_key_name(key: i32) -> Option<&'static str> {
+    crate::brdf::Diffuse::ALL
+        .iter()
+        .find(|d| **d as i32 == key)
+        .map(|d| d.name())
 }
 
 /// `FrameData` (std140).

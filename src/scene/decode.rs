@@ -19,9 +19,9 @@ use super::{
     Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
 };
 use crate::brdf::{
-    dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Distribution, Fresnel, Geometry,
-    MetalRoughParams, OrenNayarParams, PrincipledParams, SpecularSource, DIELECTRIC_NAMES,
-    METAL_NAMES,
+    dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Diffuse, Distribution, Fresnel,
+    Geometry, MetalRoughParams, OrenNayarParams, PrincipledParams, SpecularSource,
+    DIELECTRIC_NAMES, METAL_NAMES,
 };
 use crate::color::Tonemap;
 
@@ -806,6 +806,10 @@ pub(crate) const FRESNELS: &[(&str, Fresnel)] = &[
     ("conductor", Fresnel::Conductor),
 ];
 
+/// The `diffuse` selector (Cook-Torrance and metal_rough).
+pub(crate) const DIFFUSES: &[(&str, Diffuse)] =
+    &[("lambert", Diffuse::Lambert), ("burley", Diffuse::Burley)];
+
 /// Cook-Torrance's specular (Fresnel) sources; a material gives at most one.
 const SPECULAR_SOURCES: &[&str] = &["ior", "f0", "complex_ior", "preset"];
 
@@ -893,6 +897,7 @@ fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
             "distribution",
             "geometry",
             "fresnel",
+            "diffuse",
         ],
         &a_material(model),
     )?;
@@ -903,6 +908,7 @@ fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
     let distribution = f.select("distribution", DISTRIBUTIONS, d.distribution)?;
     let geometry = f.select("geometry", GEOMETRIES, d.geometry)?;
     let fresnel = f.select("fresnel", FRESNELS, d.fresnel)?;
+    let diffuse = f.select("diffuse", DIFFUSES, d.diffuse)?;
     let source = specular_source(f)?;
     let name = |s: &Option<(&str, SpecularSource)>| match s {
         Some(("preset", _)) => format!(
@@ -943,6 +949,7 @@ fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
         distribution,
         geometry,
         fresnel,
+        diffuse,
     }))
 }
 
@@ -1026,6 +1033,7 @@ fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "geometry",
             "fresnel",
             "diffuse_fresnel_weight",
+            "diffuse",
         ],
         &a_material(model),
     )?;
@@ -1067,6 +1075,7 @@ fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         geometry: f.select("geometry", GEOMETRIES, d.geometry)?,
         fresnel: f.select("fresnel", FRESNELS, d.fresnel)?,
         diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
+        diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,
     }))
 }
 

@@ -35,7 +35,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use serde_json::Value;
 
-use super::decode::{DISTRIBUTIONS, FRESNELS, GEOMETRIES};
+use super::decode::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
 use super::{
     EnvSource, Environment, Falloff, Fog, Light, LightKind, Material, MaterialTextures, MeshDesc,
     Object, Saturation, Scene, Shading, TextureRef, TextureSlot, Wrap,
@@ -549,7 +549,8 @@ impl Encoder<'_> {
                     .put("roughness", p.roughness)
                     .put("distribution", select(DISTRIBUTIONS, p.distribution))
                     .put("geometry", select(GEOMETRIES, p.geometry))
-                    .put("fresnel", select(FRESNELS, p.fresnel));
+                    .put("fresnel", select(FRESNELS, p.fresnel))
+                    .put("diffuse", select(DIFFUSES, p.diffuse));
                 match p.specular {
                     SpecularSource::Ior(eta) => n.put("ior", eta),
                     SpecularSource::F0(f0) => n.put("f0", f0),
@@ -565,7 +566,8 @@ impl Encoder<'_> {
                     .put("distribution", select(DISTRIBUTIONS, p.distribution))
                     .put("geometry", select(GEOMETRIES, p.geometry))
                     .put("fresnel", select(FRESNELS, p.fresnel))
-                    .put("diffuse_fresnel_weight", p.diffuse_fresnel_weight);
+                    .put("diffuse_fresnel_weight", p.diffuse_fresnel_weight)
+                    .put("diffuse", select(DIFFUSES, p.diffuse));
             }
             Material::Principled(p) => {
                 n.put("base_color", p.base_color)

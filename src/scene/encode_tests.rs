@@ -393,7 +393,7 @@ fn every_field_round_trips() {
      "textures": {"roughness": {"path": "../tex ü/rough.png", "channel": "b"},
                   "base_color": {"path": "../tex ü/albedo.png", "filter": "nearest"}}},
    "ct_f0": {"model": "cook_torrance", "fresnel": "schlick_sg", "f0": [0.04, 0.05, 0.06],
-     "geometry": "schlick_ggx"},
+     "geometry": "schlick_ggx", "diffuse": "burley"},
    "ct_complex": {"model": "cook_torrance", "fresnel": "conductor", "distribution": "beckmann",
      "geometry": "smith_ggx_correlated",
      "complex_ior": {"eta": [0.2378, 1.0066, 1.2404], "k": [3.6264, 2.5823, 2.3929]}},
@@ -403,7 +403,7 @@ fn every_field_round_trips() {
    "ct_default": {"model": "cook_torrance"},
    "mr": {"model": "metal_rough", "base_color": [0.5, 0.25, 0.125], "metallic": 0.3,
      "roughness": 0.6, "distribution": "beckmann", "geometry": "cook_torrance",
-     "fresnel": "dielectric", "diffuse_fresnel_weight": true,
+     "fresnel": "dielectric", "diffuse_fresnel_weight": true, "diffuse": "burley",
      "textures": {"orm": {"path": "../tex ü/orm.png", "anisotropy": 1}, "occlusion_strength": 0.5,
                   "normal": "../tex ü/normal.png"}},
    "mr_copper": {"model": "metal_rough", "preset": "copper", "roughness": 0.4, "fresnel": "conductor",
@@ -451,6 +451,9 @@ fn every_field_round_trips() {
         "{text}"
     );
     assert!(text.contains(r#""hdr": "../../env/sky.hdr""#), "{text}");
+    // The diffuse selector is written (and read back by the round trip).
+    assert!(text.contains(r#""diffuse": "burley""#), "{text}");
+    assert!(text.contains(r#""diffuse": "lambert""#), "{text}");
     assert!(
         text.contains(r#""position": [1e-30, -3e38, 1e20]"#),
         "{text}"

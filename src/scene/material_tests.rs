@@ -1,10 +1,10 @@
 //! Unit tests of the physically based material models: `cook_torrance`, `metal_rough`,
 //! `principled`, `oren_nayar` (defaults, every field, errors, `to_brdf` round trip).
 
-use super::decode::{DISTRIBUTIONS, FRESNELS, GEOMETRIES};
+use super::decode::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
 use super::*;
 use crate::brdf::{
-    dielectric_ior, metal_preset, CookTorranceParams, Distribution, Fresnel, Geometry,
+    dielectric_ior, metal_preset, CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry,
     MetalRoughParams, Model, OrenNayarParams, PrincipledParams, SpecularSource, DIELECTRIC_NAMES,
     METAL_NAMES,
 };
@@ -83,6 +83,10 @@ fn selector_names_match_the_brdf_module() {
     check(DISTRIBUTIONS, &Distribution::ALL);
     check(GEOMETRIES, &Geometry::ALL);
     check(FRESNELS, &Fresnel::ALL);
+    check(DIFFUSES, &Diffuse::ALL);
+    for (name, d) in DIFFUSES {
+        assert_eq!(d.name(), *name);
+    }
 }
 
 #[test]
@@ -106,13 +110,15 @@ fn cook_torrance_defaults_are_the_seeds() {
     assert_eq!(p.fresnel, Fresnel::Schlick);
     assert_eq!(p.specular, SpecularSource::Ior(1.5));
     assert_eq!((p.kd, p.roughness), (0.75, 0.3));
+    assert_eq!(p.diffuse, Diffuse::Lambert);
 }
 
 #[test]
 fn cook_torrance_every_field() {
     let p = cook_torrance(
         r#", "color": [0.1, 0.2, 0.3], "kd": 0.4, "roughness": 0.6, "ior": 1.33,
-        "distribution": "ggx", "geometry": "smith_ggx_correlated", "fresnel": "dielectric""#,
+        "distribution": "ggx", "geometry": "smith_ggx_correlated", "fresnel": "dielectric",
+        "diffuse": "burley""#,
     );
     assert_eq!(
         p,
@@ -124,6 +130,7 @@ fn cook_torrance_every_field() {
             distribution: Distribution::Ggx,
             geometry: Geometry::SmithGgxCorrelated,
             fresnel: Fresnel::Dielectric,
+            diffuse: Diffuse::Burley,
         }
     );
     // Every selector value.
@@ -368,6 +375,7 @@ fn metal_rough_defaults_are_gltfs() {
     assert_eq!(p.geometry, Geometry::SmithGgxCorrelated);
     assert_eq!(p.fresnel, Fresnel::Schlick);
     assert!(!p.diffuse_fresnel_weight);
+    assert_eq!(p.diffuse, Diffuse::Lambert);
 }
 
 #[test]
@@ -375,7 +383,7 @@ fn metal_rough_every_field() {
     let p = metal_rough(
         r#", "base_color": [0.5, 0.1, 0.05], "metallic": 0.25, "roughness": 0.4,
         "distribution": "beckmann", "geometry": "smith_ggx", "fresnel": "schlick_sg",
-        "diffuse_fresnel_weight": true"#,
+        "diffuse_fresnel_weight": true, "diffuse": "burley""#,
     );
     assert_eq!(
         p,
@@ -387,6 +395,7 @@ fn metal_rough_every_field() {
             geometry: Geometry::SmithGgx,
             fresnel: Fresnel::SchlickSg,
             diffuse_fresnel_weight: true,
+            diffuse: Diffuse::Burley,
         }
     );
     // Any Fresnel works (the exact forms take η from F0).
@@ -397,6 +406,39 @@ fn metal_rough_every_field() {
         );
     }
     assert!(!metal_rough(r#", "diffuse_fresnel_weight": false"#).diffuse_fresnel_weight);
+}
+
+#[test]
+fn metal_rough_and_cook_torrance_diffuse() {
+    for (name, d) in DIFFUSES {
+        let rest = format!(r#", "diffuse": "{name}""#);
+        assert_eq!(metal_rough(&rest).diffuse, *d);
+        assert_eq!(cook_torrance(&rest).diffuse, *d);
+    }
+    assert_eq!(metal_rough("").diffuse, Diffuse::Lambert);
+    assert_eq!(cook_torrance("").diffuse, Diffuse::Lambert);
+    // Independent of the (1 − F) weight.
+    let p = metal_rough(r#", "diffuse": "burley", "diffuse_fresnel_weight": true"#);
+    assert!(p.diffuse_fresnel_weight && p.diffuse == Diffuse::Burley);
+    for model in ["metal_rough", "cook_torrance"] {
+        fails(
+            &format!(r#""model": "{model}", "diffuse": "burly""#),
+            &[
+                "materials.m.diffuse: unknown value \"burly\"",
+                "expected one of \"lambert\", \"burley\"",
+                "did you mean \"burley\"?",
+            ],
+        );
+        fails(
+            &format!(r#""model": "{model}", "diffuse": true"#),
+            &["materials.m.diffuse: expected"],
+        );
+    }
+    // Only the models with a diffuse selector take it.
+    fails(
+        r#""model": "principled", "diffuse": "burley""#,
+        &["unknown field \"diffuse\""],
+    );
 }
 
 #[test]

@@ -216,7 +216,9 @@ mod tests {
         for r in [1.0f32, 3.0, 10.0, 35.0, 100.0, 400.0, 2000.0] {
             for e in [0.01f32, 0.05, 0.25, 1.0] {
                 let n = segments_for(r, e);
-                assert!(n.is_multiple_of(4) && (AUTO_MIN_SEGMENTS..=AUTO_MAX_SEGMENTS).contains(&n));
+                assert!(
+                    n.is_multiple_of(4) && (AUTO_MIN_SEGMENTS..=AUTO_MAX_SEGMENTS).contains(&n)
+                );
                 let sagitta = |n: u32| r * (1.0 - (std::f32::consts::PI / n as f32).cos());
                 if n < AUTO_MAX_SEGMENTS {
                     assert!(sagitta(n) <= e * 1.0001, "r {r} e {e}: {n} is over budget");

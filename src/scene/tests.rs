@@ -173,7 +173,9 @@ fn defaults() {
     // camera, fov 45°, 720 px tall: 175.6 px) within the default 0.05 px budget.
     let r_px = crate::scene::tessellation::projected_radius_px(&s.camera, 720, Vec3::ZERO, 1.0);
     let n = crate::scene::tessellation::segments_for(r_px, 0.05);
-    assert!(matches!(o.tessellation, crate::scene::Tessellation::Auto { projected_radius_px, .. } if projected_radius_px == r_px));
+    assert!(
+        matches!(o.tessellation, crate::scene::Tessellation::Auto { projected_radius_px, .. } if projected_radius_px == r_px)
+    );
     assert_eq!(
         o.desc,
         MeshDesc::Sphere {
@@ -182,7 +184,10 @@ fn defaults() {
             rings: n / 2
         }
     );
-    assert_eq!(o.mesh.indices.len() as u64, 3 * o.desc.triangle_count().unwrap());
+    assert_eq!(
+        o.mesh.indices.len() as u64,
+        3 * o.desc.triangle_count().unwrap()
+    );
     assert_eq!(s.output.tessellation_error_px, 0.05);
     assert_eq!(o.shading, Shading::Phong);
     assert_eq!(o.transform, Transform::default());
@@ -709,7 +714,10 @@ fn automatic_tessellation() {
     let near = crate::scene::tessellation::segments_for(360.0 / 99f32.sqrt(), 0.05);
     assert_eq!(seg(0), (near, near / 2));
     let far = seg(1);
-    assert!(far.0 < near && far.1 == 7, "{far:?}: explicit rings are kept");
+    assert!(
+        far.0 < near && far.1 == 7,
+        "{far:?}: explicit rings are kept"
+    );
     // The cylinder's bounding sphere (radius √2 after scaling by 2), not just its rim.
     let cyl = crate::scene::tessellation::segments_for(
         crate::scene::tessellation::projected_radius_px(&s.camera, 720, Vec3::ZERO, 2f32.sqrt()),
@@ -732,7 +740,11 @@ fn automatic_tessellation() {
     );
 
     // A looser budget, fewer segments; the budget is checked.
-    let loose = scene(r#"{"mesh": {"type": "sphere"}, "material": "m"}"#, r#", "tessellation_error_px": 1"#).unwrap();
+    let loose = scene(
+        r#"{"mesh": {"type": "sphere"}, "material": "m"}"#,
+        r#", "tessellation_error_px": 1"#,
+    )
+    .unwrap();
     assert!(matches!(loose.objects[0].desc, MeshDesc::Sphere { segments, .. } if segments < near));
     for bad in ["0", "-1", "1000", "\"a\""] {
         let e = scene("", &format!(r#", "tessellation_error_px": {bad}"#)).unwrap_err();

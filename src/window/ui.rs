@@ -19,9 +19,9 @@ use egui::{
 use glam::{DVec3, Vec3};
 
 use crate::brdf::{
-    dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Distribution, Fresnel, Geometry,
-    MetalRoughParams, OrenNayarParams, PrincipledParams, SpecularSource, DIELECTRIC_NAMES,
-    METAL_NAMES,
+    dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Diffuse, Distribution, Fresnel,
+    Geometry, MetalRoughParams, OrenNayarParams, PrincipledParams, SpecularSource,
+    DIELECTRIC_NAMES, METAL_NAMES,
 };
 use crate::color::Tonemap;
 use crate::profiler::Profiler;
@@ -983,6 +983,11 @@ const DISTRIBUTIONS: [(Distribution, &str); 2] = [
     (Distribution::Ggx, "GGX"),
 ];
 
+const DIFFUSES: [(Diffuse, &str); 2] = [
+    (Diffuse::Lambert, "Lambert"),
+    (Diffuse::Burley, "Burley (Disney)"),
+];
+
 const GEOMETRIES: [(Geometry, &str); 4] = [
     (Geometry::CookTorrance, "Cook-Torrance"),
     (Geometry::SmithGgx, "Smith GGX (separable)"),
@@ -1096,6 +1101,9 @@ fn cook_torrance_ui(ui: &mut Ui, p: &mut CookTorranceParams) -> bool {
     c |= row(ui, "Colour", |ui| color(ui, &mut p.color, 1.0));
     c |= row(ui, "k_d", |ui| unit(ui, &mut p.kd));
     c |= row(ui, "Roughness", |ui| unit(ui, &mut p.roughness));
+    c |= row(ui, "Diffuse", |ui| {
+        combo(ui, "ct_diffuse", &mut p.diffuse, &DIFFUSES)
+    });
     c |= row(ui, "D", |ui| {
         combo(ui, "ct_d", &mut p.distribution, &DISTRIBUTIONS)
     });
@@ -1224,6 +1232,9 @@ fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
         combo(ui, "mr_g", &mut p.geometry, &GEOMETRIES)
     });
     c |= row(ui, "F", |ui| combo(ui, "mr_f", &mut p.fresnel, &FRESNELS));
+    c |= row(ui, "Diffuse", |ui| {
+        combo(ui, "mr_diffuse", &mut p.diffuse, &DIFFUSES)
+    });
     c |= row(ui, "Diffuse × (1 − F)", |ui| {
         checkbox(ui, &mut p.diffuse_fresnel_weight, "")
     });
