@@ -217,10 +217,8 @@ BrdfTerms brdf_cook_torrance_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in
 }
 
 // glTF metallic-roughness: c_diff/π [1 − F] + D F G / (4 (n·l)(n·v)).
-BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
-    vec3 n = brdf_safe_normalize(n_in);
-    vec3 l = brdf_safe_normalize(l_in);
-    vec3 v = brdf_safe_normalize(v_in);
+// brdf_metal_rough_terms for unit n, l and v (no renormalisation).
+BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
     BrdfTerms t = brdf_terms_zero();
     float n_l_raw = dot(n, l);
     float n_v_raw = dot(n, v);
@@ -248,6 +246,11 @@ BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) 
     t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;
     t.specular = t.f * (t.d * t.g / (4.0 * n_l * n_v));
     return t;
+}
+
+BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+    return brdf_metal_rough_terms_unit(
+        p, brdf_safe_normalize(n_in), brdf_safe_normalize(l_in), brdf_safe_normalize(v_in));
 }
 
 // Disney Principled, exactly as BRDF Explorer's disney.brdf (MODELS.md §5).
@@ -374,6 +377,18 @@ vec3 brdf_radiance(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y, vec3 e_
     }
     float n_l = clamp(dot(brdf_safe_normalize(n), brdf_safe_normalize(l)), 0.0, 1.0);
     return brdf_eval(p, n, l, v, x, y) * e_light * n_l;
+}
+
+// brdf_radiance for unit n, l and v, as the renderer's shade() has them (n and v normalised once
+// per fragment, l once per light): the metallic-roughness model skips the five renormalisations
+// brdf_radiance and its terms make per light; the values differ by rounding only (the GPU-vs-CPU
+// tests bound both paths).
+vec3 brdf_radiance_unit(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y, vec3 e_light) {
+    if (p.sel.x == BRDF_MODEL_METAL_ROUGH) {
+        BrdfTerms t = brdf_metal_rough_terms_unit(p, n, l, v);
+        return (t.diffuse + t.specular) * e_light * clamp(dot(n, l), 0.0, 1.0);
+    }
+    return brdf_radiance(p, n, l, v, x, y, e_light);
 }
 
 #endif // LUZ_BRDF_MODELS_GLSL

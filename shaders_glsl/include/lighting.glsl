@@ -199,7 +199,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         vec3 l;
         vec3 E;
         light_incidence(lights[i], P, l, E);
-        result += brdf_radiance(p, s.n, l, V, s.x, s.y, E);
+        result += brdf_radiance_unit(p, s.n, l, V, s.x, s.y, E);
     }
 #ifdef IBL
     result += s.occlusion * ibl_shade(p, s.n, V, s.x, s.y);
