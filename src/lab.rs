@@ -28,6 +28,11 @@ pub struct LabArgs {
     /// Timed frames per variant (median of their GPU time).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub frames: u32,
+    /// Timing rounds over all variants, alternating forward and reverse order; a variant's time
+    /// is the smallest of its rounds' medians, so a burst of load elsewhere on the machine (which
+    /// only ever adds time) or a variant's place in the run weighs less.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub rounds: u32,
     /// Use this linear EXR as the reference instead of rendering it with `luz reference`.
     #[arg(long)]
     pub reference: Option<PathBuf>,
@@ -389,7 +394,10 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
 pub struct LabResult {
     pub group: String,
     pub label: String,
+    /// The smallest of `gpu_ms_rounds`.
     pub gpu_ms: f64,
+    /// Each timing round's median GPU ms, in round order.
+    pub gpu_ms_rounds: Vec<f64>,
     pub triangles: u64,
     pub pipelines: Vec<String>,
     pub error: ErrorMetrics,
@@ -534,6 +542,7 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
             group: group.to_string(),
             label: label.clone(),
             gpu_ms: ms,
+            gpu_ms_rounds: vec![ms],
             triangles: r.triangle_count(),
             pipelines: r.variants(),
             error,
@@ -541,14 +550,24 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         });
         bar.inc(1);
     }
-    // A second timing pass in reverse order: a variant's time is the smaller of its two medians,
-    // so where it sits in the run (caches, other load on a shared machine) matters less.
-    bar.set_position(0);
-    bar.set_message("second timing pass".to_string());
-    for (i, (_, _, vscene, generic)) in runs.iter().enumerate().rev() {
-        let (ms, _) = time(vscene, *generic)?;
-        results[i].gpu_ms = results[i].gpu_ms.min(ms);
-        bar.inc(1);
+    // More timing rounds, alternating reverse and forward order: a variant's time is the
+    // smallest of its rounds' medians, so where it sits in the run (caches, other load on a
+    // shared machine) matters less.
+    for round in 1..a.rounds {
+        bar.set_position(0);
+        bar.set_message(format!("timing round {}/{}", round + 1, a.rounds));
+        let order: Vec<usize> = if round % 2 == 1 {
+            (0..runs.len()).rev().collect()
+        } else {
+            (0..runs.len()).collect()
+        };
+        for i in order {
+            let (_, _, vscene, generic) = &runs[i];
+            let (ms, _) = time(vscene, *generic)?;
+            results[i].gpu_ms = results[i].gpu_ms.min(ms);
+            results[i].gpu_ms_rounds.push(ms);
+            bar.inc(1);
+        }
     }
     bar.finish_and_clear();
     mark_pareto(&mut results);
@@ -677,6 +696,7 @@ mod tests {
             group: "g".into(),
             label: format!("{ms}/{flip}"),
             gpu_ms: ms,
+            gpu_ms_rounds: vec![ms],
             triangles: 0,
             pipelines: Vec::new(),
             error: ErrorMetrics {
