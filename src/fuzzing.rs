@@ -65,6 +65,13 @@ pub const SCENE_TRIANGLE_BUDGET: u64 = 1 << 20;
 /// `../../../shared/…` names the shared models, textures and environments), then the CPU side
 /// of `luz render`.
 pub fn scene(data: &[u8]) {
+    let origin = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs/fuzz.json");
+    scene_at(data, &origin);
+}
+
+/// [`scene`] with the scene file's path given: `origin` names it in messages and its folder is
+/// the base of relative paths (the regression test runs `tests/bad_scenes/*.json` from there).
+pub fn scene_at(data: &[u8], origin: &Path) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
@@ -73,8 +80,7 @@ pub fn scene(data: &[u8]) {
             return;
         }
     }
-    let origin = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs/fuzz.json");
-    if let Ok(scene) = crate::scene::parse(text, &origin) {
+    if let Ok(scene) = crate::scene::parse(text, origin) {
         render_cpu_work(&scene, true);
     }
 }

@@ -299,16 +299,27 @@ fn file_kind(path: &Path) -> Result<FileKind, TextureError> {
 
 /// The decoding shared by [`decode_file`] and [`decode_bytes`].
 fn decode_from<R: io::BufRead + io::Seek>(
-    reader: R,
+    mut reader: R,
     path: &Path,
     kind: FileKind,
     limits: &crate::imageio::SizeLimits,
 ) -> Result<DynamicImage, TextureError> {
+    // Scanned first, reported after the decoder has read (and validated) the header.
+    let exr_too_large = match kind {
+        FileKind::Exr => crate::imageio::exr_header_exceeds(&mut reader, limits),
+        FileKind::Png | FileKind::Hdr => None,
+    };
     let mut reader = ImageReader::with_format(reader, kind.image_format());
     reader.limits(limits.image_limits());
     let decoder = reader
         .into_decoder()
         .map_err(|e| decode_error(path, kind, e))?;
+    if let Some(declared) = exr_too_large {
+        return Err(TextureError::TooLarge {
+            path: path.to_path_buf(),
+            declared,
+        });
+    }
     let (width, height) = decoder.dimensions();
     if limits.exceeded(width, height, decoder.total_bytes()) {
         return Err(TextureError::TooLarge {

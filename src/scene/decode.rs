@@ -504,6 +504,7 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
         let mut ctx = Ctx {
             base,
             primitives: Vec::new(),
+            primitive_triangles: 0,
             objs: HashMap::new(),
             mtl_materials: HashMap::new(),
         };
@@ -1154,10 +1155,16 @@ fn fog(v: &Value, path: &str, camera: &Camera, output: &Output) -> Result<Fog> {
 // ---------------------------------------------------------------------------------------------
 // Objects.
 
+/// Most triangles of all distinct built-in meshes of one scene (2^25, about 1.9 GB of vertices
+/// and indices): a small file must not make the loader build gigabytes.
+pub const MAX_SCENE_PRIMITIVE_TRIANGLES: u64 = 1 << 25;
+
 struct Ctx<'a> {
     base: &'a Path,
     /// Built primitives, shared between objects with equal descriptions.
     primitives: Vec<(MeshDesc, Arc<Mesh>)>,
+    /// Triangles of the distinct primitives built so far ([`MAX_SCENE_PRIMITIVE_TRIANGLES`]).
+    primitive_triangles: u64,
     /// Loaded OBJ files by (resolved path, with materials).
     objs: HashMap<(PathBuf, bool), Arc<LoadedObj>>,
     /// (resolved OBJ path, MTL material index or None for the default) → scene material index.
@@ -1310,6 +1317,19 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
         _ if tessellation != Tessellation::Given => Arc::new(Mesh::default()),
         Some((_, m)) => m.clone(),
         None => {
+            let n = desc.triangle_count().unwrap_or(0);
+            ctx.primitive_triangles += n;
+            if ctx.primitive_triangles > MAX_SCENE_PRIMITIVE_TRIANGLES {
+                return Err(f.err(
+                    "mesh",
+                    format!(
+                        "the scene's built-in meshes would have {} triangles with this one ({n}); \
+                         the limit per scene is {MAX_SCENE_PRIMITIVE_TRIANGLES} (objects with equal \
+                         meshes share one)",
+                        ctx.primitive_triangles
+                    ),
+                ));
+            }
             let m = Arc::new(desc.build().unwrap_or_default());
             ctx.primitives.push((desc.clone(), m.clone()));
             m

@@ -754,3 +754,32 @@ fn automatic_tessellation() {
         );
     }
 }
+
+#[test]
+fn scene_triangle_limit() {
+    // Three distinct 4096 x 2049 spheres: 50 million triangles from 300 bytes.
+    let sphere = |r: f32| {
+        format!(
+            r#"{{"mesh": {{"type": "sphere", "radius": {r}, "segments": 4096, "rings": 2049}}, "material": "m"}}"#
+        )
+    };
+    let text = format!(
+        r#"{{"materials": {{"m": {{"model": "lambert"}}}}, "objects": [{}, {}, {}]}}"#,
+        sphere(1.0),
+        sphere(2.0),
+        sphere(3.0)
+    );
+    let e = parse_str(&text).unwrap_err().to_string();
+    assert!(
+        e.contains("objects[2].mesh: the scene's built-in meshes would have 50331648 triangles"),
+        "{e}"
+    );
+    // Equal meshes are shared, so they count once.
+    let text = format!(
+        r#"{{"materials": {{"m": {{"model": "lambert"}}}}, "objects": [{}, {}, {}]}}"#,
+        sphere(1.0),
+        sphere(1.0),
+        sphere(1.0)
+    );
+    assert_eq!(parse_str(&text).unwrap().objects.len(), 3);
+}

@@ -1,0 +1,183 @@
+//! Every input the fuzzers found a crash, hang or out-of-memory with (`tests/fuzz_regressions/
+//! <target>/`), every committed seed (`fuzz/seeds/<target>/`), every file of `tests/bad_inputs/`
+//! and the scenes of `tests/bad_scenes/` go through the same entry points as the fuzz targets
+//! (`luz::fuzzing`), which must return without panicking. `scripts/fuzz.sh` runs the fuzzers.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+/// A fuzz entry point.
+type Target = fn(&[u8]);
+
+const TARGETS: [(&str, Target); 4] = [
+    ("scene", luz::fuzzing::scene),
+    ("obj_mtl", luz::fuzzing::obj_mtl),
+    ("image", luz::fuzzing::image),
+    ("diff", luz::fuzzing::diff),
+];
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The files of `dir` (not recursive, sorted; none when it does not exist).
+fn files(dir: &Path) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_file())
+                .collect()
+        })
+        .unwrap_or_default();
+    out.sort();
+    out
+}
+
+/// Runs `f` on each `(name, bytes)`; panics afterwards naming every input that panicked.
+fn run_all(target: &str, f: Target, inputs: Vec<(String, Vec<u8>)>) -> usize {
+    let mut failed = Vec::new();
+    for (name, bytes) in &inputs {
+        if catch_unwind(AssertUnwindSafe(|| f(bytes))).is_err() {
+            failed.push(name.clone());
+        }
+    }
+    assert!(
+        failed.is_empty(),
+        "luz::fuzzing::{target} panicked on: {}",
+        failed.join(", ")
+    );
+    inputs.len()
+}
+
+fn read(path: &Path) -> (String, Vec<u8>) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    (path.display().to_string(), bytes)
+}
+
+#[test]
+fn fuzz_regressions_and_seeds_do_not_panic() {
+    let mut total = 0;
+    for (target, f) in TARGETS {
+        let mut inputs: Vec<(String, Vec<u8>)> = Vec::new();
+        for dir in [
+            root().join("tests/fuzz_regressions").join(target),
+            root().join("fuzz/seeds").join(target),
+        ] {
+            inputs.extend(files(&dir).iter().map(|p| read(p)));
+        }
+        total += run_all(target, f, inputs);
+    }
+    assert!(total > 0, "no regression inputs or seeds found");
+}
+
+/// The first byte of an `image` / `diff` input for a file's extension.
+fn ext_code(path: &Path) -> Option<u8> {
+    match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+        "png" => Some(0),
+        "exr" => Some(1),
+        "hdr" => Some(2),
+        _ => None,
+    }
+}
+
+#[test]
+fn bad_inputs_through_the_fuzz_entry_points() {
+    let dir = root().join("tests/bad_inputs");
+    let all = files(&dir);
+    let with_ext = |e: &str| -> Vec<&PathBuf> {
+        all.iter()
+            .filter(|p| p.extension().is_some_and(|x| x == e))
+            .collect()
+    };
+
+    // The malformed scenes of tests/bad_scenes, from their own folder (so their OBJ, MTL and
+    // image files are found).
+    let bad_scenes = files(&root().join("tests/bad_scenes"));
+    let mut count = 0;
+    for p in bad_scenes
+        .iter()
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+    {
+        let (name, bytes) = read(p);
+        let ok = catch_unwind(AssertUnwindSafe(|| luz::fuzzing::scene_at(&bytes, p))).is_ok();
+        assert!(ok, "luz::fuzzing::scene_at panicked on {name}");
+        count += 1;
+    }
+    assert!(count > 0, "no scenes in tests/bad_scenes");
+
+    let scenes: Vec<_> = with_ext("json")
+        .into_iter()
+        .filter(|p| !p.ends_with("EXPECTATIONS.json"))
+        .map(|p| read(p))
+        .collect();
+    assert!(run_all("scene", luz::fuzzing::scene, scenes) > 0);
+
+    let mut objs = Vec::new();
+    for p in with_ext("obj") {
+        let (name, mut bytes) = read(p);
+        let mtl = p.with_extension("mtl");
+        if mtl.is_file() {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let renamed: Vec<String> = text
+                .lines()
+                .map(|l| {
+                    if l.starts_with("mtllib ") {
+                        "mtllib m.mtl".to_string()
+                    } else {
+                        l.to_string()
+                    }
+                })
+                .collect();
+            bytes = renamed.join("\n").into_bytes();
+            bytes.extend_from_slice(luz::fuzzing::SPLIT);
+            bytes.extend(std::fs::read(&mtl).unwrap());
+        }
+        objs.push((name, bytes));
+    }
+    assert!(run_all("obj_mtl", luz::fuzzing::obj_mtl, objs) > 0);
+
+    let mut images = Vec::new();
+    let mut diffs = Vec::new();
+    for p in &all {
+        let Some(code) = ext_code(p) else { continue };
+        let (name, bytes) = read(p);
+        // sRGB with mipmaps; linear, channel R; normal map without mipmaps.
+        for opts in [code, code | 4 | 16, code | 8 | 128] {
+            let mut input = vec![opts];
+            input.extend_from_slice(&bytes);
+            images.push((format!("{name} (options {opts})"), input));
+        }
+        if code < 2 {
+            let mut input = vec![code | 2 | 4 | 16];
+            input.extend_from_slice(&bytes);
+            diffs.push((name, input));
+        }
+    }
+    assert!(run_all("image", luz::fuzzing::image, images) > 0);
+    assert!(run_all("diff", luz::fuzzing::diff, diffs) > 0);
+}
+
+/// The `diff` fuzzer's out-of-memory: a 590-byte EXR whose display window is small but whose
+/// tiles (64 × 4194304) sized the decoder's block buffer (1.7 GB). Beyond the limits it must be
+/// refused from its header (within the file loaders' 4 GiB it is still decoded, and found
+/// corrupt).
+#[test]
+fn exr_with_huge_tiles_is_refused_before_decoding() {
+    let input =
+        std::fs::read(root().join("tests/fuzz_regressions/diff/oom-exr-block-size-1.7GB")).unwrap();
+    let (expected, _) = luz::fuzzing::split(&input);
+    let exr = &expected[1..];
+    let name = Path::new("huge.exr");
+    for limits in [luz::fuzzing::FUZZ_LIMITS, luz::fuzzing::DIFF_LIMITS] {
+        match luz::imageio::load_bytes(exr, name, &limits) {
+            Err(luz::imageio::ImageError::TooLarge { declared, .. }) => {
+                assert!(declared.starts_with("declared "), "{declared}")
+            }
+            other => panic!("expected TooLarge, got {other:?}"),
+        }
+        match luz::texture::decode_bytes(exr, name, &limits) {
+            Err(luz::texture::TextureError::TooLarge { .. }) => {}
+            other => panic!("expected TooLarge, got {:?}", other.map(|_| ())),
+        }
+    }
+}
