@@ -30,6 +30,8 @@ pub const MAX_DIMENSION: u32 = 32_768;
 pub const MAX_PIXELS: u64 = 1 << 30;
 /// Largest accepted size of the decoded pixel data of a loaded image, in bytes (4 GiB).
 pub const MAX_DECODE_BYTES: u64 = 4 << 30;
+/// Largest EXR tile (decoded bytes) accepted when the tile reaches beyond the data window.
+pub const MAX_OVERSIZED_TILE_BYTES: u64 = 64 << 20;
 
 /// A linear-light RGBA float image, row-major, (0, 0) at the top left.
 #[derive(Clone, PartialEq)]
@@ -638,8 +640,18 @@ fn scan_exr_headers<R: Read + Seek>(r: &mut R, limits: &SizeLimits) -> Option<St
             }
         }
         if let Some((tw, th)) = tile {
-            if tw.saturating_mul(th).saturating_mul(bytes_per_pixel) > limits.max_bytes {
+            let tile_bytes = tw.saturating_mul(th).saturating_mul(bytes_per_pixel);
+            if tile_bytes > limits.max_bytes {
                 return Some(format!("declared tiles of {tw}×{th}"));
+            }
+            // The decoder allocates whole tiles: a tile beyond the data window only wastes
+            // memory (a 590-byte file with an 8×8 window and 64×4194304 tiles took 1.7 GB).
+            if let Some((w, h)) = window {
+                if (tw > w as u64 || th > h as u64) && tile_bytes > MAX_OVERSIZED_TILE_BYTES {
+                    return Some(format!(
+                        "declared tiles of {tw}×{th}, larger than the {w}×{h} data window"
+                    ));
+                }
             }
         }
         if !multipart {

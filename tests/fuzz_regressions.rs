@@ -158,9 +158,9 @@ fn bad_inputs_through_the_fuzz_entry_points() {
 }
 
 /// The `diff` fuzzer's out-of-memory: a 590-byte EXR whose display window is small but whose
-/// tiles (64 × 4194304) sized the decoder's block buffer (1.7 GB). Beyond the limits it must be
-/// refused from its header (within the file loaders' 4 GiB it is still decoded, and found
-/// corrupt).
+/// tiles (64 × 4194304) sized the decoder's block buffer (1.7 GB). It must be refused from its
+/// header, with the fuzzers' limits and with the file loaders' defaults (`luz diff`, textures):
+/// tiles beyond the data window may not exceed `MAX_OVERSIZED_TILE_BYTES`.
 #[test]
 fn exr_with_huge_tiles_is_refused_before_decoding() {
     let input =
@@ -168,7 +168,11 @@ fn exr_with_huge_tiles_is_refused_before_decoding() {
     let (expected, _) = luz::fuzzing::split(&input);
     let exr = &expected[1..];
     let name = Path::new("huge.exr");
-    for limits in [luz::fuzzing::FUZZ_LIMITS, luz::fuzzing::DIFF_LIMITS] {
+    for limits in [
+        luz::fuzzing::FUZZ_LIMITS,
+        luz::fuzzing::DIFF_LIMITS,
+        luz::imageio::SizeLimits::DEFAULT,
+    ] {
         match luz::imageio::load_bytes(exr, name, &limits) {
             Err(luz::imageio::ImageError::TooLarge { declared, .. }) => {
                 assert!(declared.starts_with("declared "), "{declared}")

@@ -185,7 +185,8 @@ impl MaterialSets {
         let desc_pool = DescriptorPool::new(ctx, "material pool", n, &pool_sizes)?;
 
         let limits = &ctx.info.limits;
-        let max_dim = limits.max_image_dimension2_d;
+        // The limits in force (tests tighten them to reach the downscale path).
+        let max_dim = ctx.limits().max_image_dimension_2d;
         let anisotropy_supported = ctx.info.sampler_anisotropy;
         let mut images = Vec::new();
         let mut samplers = Vec::new();
