@@ -348,12 +348,7 @@ pub fn report_tessellation(scene: &Scene, verbose: bool) {
         .objects
         .iter()
         .filter(|o| matches!(o.tessellation, crate::scene::Tessellation::Auto { .. }))
-        .filter_map(|o| match o.desc {
-            crate::scene::MeshDesc::Sphere { segments, .. }
-            | crate::scene::MeshDesc::Cone { segments, .. }
-            | crate::scene::MeshDesc::Cylinder { segments, .. } => Some(segments),
-            _ => None,
-        })
+        .filter_map(|o| o.desc.segments())
         .collect();
     let (lo, hi) = (
         segments.iter().min().copied().unwrap_or(0),

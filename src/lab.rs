@@ -154,16 +154,7 @@ pub const TESSELLATION_BUDGETS_PX: [f32; 7] = [1.0, 0.5, 0.25, 0.1, 0.05, 0.025,
 fn with_auto_tessellation(scene: &Scene, budget_px: f32) -> Option<(Scene, u32, u32)> {
     let mut s = scene.clone();
     crate::scene::tessellation::make_automatic(&mut s, budget_px);
-    let segments: Vec<u32> = s
-        .objects
-        .iter()
-        .filter_map(|o| match o.desc {
-            MeshDesc::Sphere { segments, .. }
-            | MeshDesc::Cone { segments, .. }
-            | MeshDesc::Cylinder { segments, .. } => Some(segments),
-            _ => None,
-        })
-        .collect();
+    let segments: Vec<u32> = s.objects.iter().filter_map(|o| o.desc.segments()).collect();
     let lo = *segments.iter().min()?;
     let hi = *segments.iter().max()?;
     Some((s, lo, hi))

@@ -18,7 +18,7 @@ use gpu_allocator::MemoryLocation;
 use luz::color::{to_display_rgba8, Tonemap};
 use luz::render::display::DisplayPass;
 use luz::render::tonemap::{source_access_in, TonemapPass, DESTINATION_ACCESS, DESTINATION_FORMAT};
-use luz::vk::cmd::{memory_barrier, transition, CommandPool, Transition};
+use luz::vk::cmd::{copy_image_to_buffer, memory_barrier, transition, CommandPool, Transition};
 use luz::vk::image::ImageDesc;
 use luz::vk::{Buffer, Context, Image};
 use std::sync::Arc;
@@ -231,6 +231,37 @@ impl Rig {
         }
     }
 
+    /// Records the copy of `image` (last written in state `from`) into the readback buffer, made
+    /// visible to the host.
+    fn read_back(&self, cmd: vk::CommandBuffer, image: &Image, from: luz::render::tonemap::Access) {
+        let d = &self.ctx.device;
+        let copy_src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: image.raw,
+                range: image.subresource_range(),
+                from,
+                to: (
+                    copy_src,
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
+        );
+        copy_image_to_buffer(d, cmd, image.raw, copy_src, &self.readback, self.extent());
+        memory_barrier(
+            d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+    }
+
     /// Runs the pass (after moving the source from `source_from` to the pass's source state) and
     /// returns the destination's bytes.
     fn run(
@@ -264,38 +295,7 @@ impl Rig {
                 }
                 transition(d, cmd, &t);
                 pass.record(cmd, ev, op).unwrap();
-                transition(
-                    d,
-                    cmd,
-                    &[Transition {
-                        image: self.destination.raw,
-                        range: self.destination.subresource_range(),
-                        from: DESTINATION_ACCESS,
-                        to: (
-                            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                            vk::PipelineStageFlags2::COPY,
-                            vk::AccessFlags2::TRANSFER_READ,
-                        ),
-                    }],
-                );
-                unsafe {
-                    d.cmd_copy_image_to_buffer(
-                        cmd,
-                        self.destination.raw,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        self.readback.raw,
-                        &[copy_region(self.width, self.height)],
-                    )
-                };
-                memory_barrier(
-                    d,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags2::COPY,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                    (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-                );
+                self.read_back(cmd, &self.destination, DESTINATION_ACCESS);
                 Ok(())
             })
             .unwrap();
@@ -508,38 +508,7 @@ fn display_pass_matches_cpu_bytes() {
                         unsafe { d.cmd_begin_rendering(cmd, &info) };
                         pass.record(cmd, op, FORMAT, ev, rig.extent()).unwrap();
                         unsafe { d.cmd_end_rendering(cmd) };
-                        transition(
-                            d,
-                            cmd,
-                            &[Transition {
-                                image: target.raw,
-                                range: target.subresource_range(),
-                                from: attachment,
-                                to: (
-                                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                                    vk::PipelineStageFlags2::COPY,
-                                    vk::AccessFlags2::TRANSFER_READ,
-                                ),
-                            }],
-                        );
-                        unsafe {
-                            d.cmd_copy_image_to_buffer(
-                                cmd,
-                                target.raw,
-                                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                                rig.readback.raw,
-                                &[copy_region(rig.width, rig.height)],
-                            )
-                        };
-                        memory_barrier(
-                            d,
-                            cmd,
-                            (
-                                vk::PipelineStageFlags2::COPY,
-                                vk::AccessFlags2::TRANSFER_WRITE,
-                            ),
-                            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-                        );
+                        rig.read_back(cmd, &target, attachment);
                         Ok(())
                     })
                     .unwrap();

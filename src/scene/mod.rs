@@ -423,6 +423,16 @@ pub enum MeshDesc {
 }
 
 impl MeshDesc {
+    /// Segments around a sphere, cone or cylinder (`None` for other meshes).
+    pub fn segments(&self) -> Option<u32> {
+        match *self {
+            MeshDesc::Sphere { segments, .. }
+            | MeshDesc::Cone { segments, .. }
+            | MeshDesc::Cylinder { segments, .. } => Some(segments),
+            _ => None,
+        }
+    }
+
     /// Triangle count of a built-in primitive (`None` for OBJ), computed without overflow.
     pub fn triangle_count(&self) -> Option<u64> {
         Some(match *self {

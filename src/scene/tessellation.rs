@@ -194,10 +194,7 @@ pub fn report(scene: &Scene) -> Vec<String> {
 pub fn make_automatic(scene: &mut Scene, budget_px: f32) {
     scene.output.tessellation_error_px = budget_px;
     for o in &mut scene.objects {
-        if matches!(
-            o.desc,
-            MeshDesc::Sphere { .. } | MeshDesc::Cone { .. } | MeshDesc::Cylinder { .. }
-        ) {
+        if o.desc.segments().is_some() {
             o.tessellation = Tessellation::Auto {
                 projected_radius_px: 0.0,
                 rings_given: false,
