@@ -34,7 +34,7 @@ void main() {
     vec3 c = shade(in_world, n, x, y, in_uv);
 #endif
     c = apply_fog(c, in_depth);
-    if (DEBUG_VIEW == DEBUG_NAN && (any(isnan(c)) || any(isinf(c)))) {
+    if (DEBUG_VIEW == DEBUG_VIEW_NAN && (any(isnan(c)) || any(isinf(c)))) {
         c = vec3(1.0, 0.0, 1.0);
     }
     out_color = vec4(c, 1.0);

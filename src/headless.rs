@@ -12,6 +12,7 @@ use crate::render::forward::{DebugView, ForwardPass, TargetFormat, TargetViews};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::scene::Scene;
+use crate::stats::Summary;
 use crate::vk::cmd::{transition, CommandPool, Transition};
 use crate::vk::image::ImageDesc;
 use crate::vk::timing::GpuTimer;
@@ -36,9 +37,27 @@ pub struct RenderOptions {
     /// "All features" pipelines instead of ones specialised to the scene (see
     /// [`crate::render::forward::PassOptions::generic`]).
     pub generic_pipelines: bool,
+    /// Told the progress of the IBL precomputation (the binary draws a bar).
+    pub progress: Option<crate::progress::ProgressSink>,
 }
 
 impl RenderOptions {
+    /// The options most commands want: IBL sizes, the default cache unless `no_cache`, a debug
+    /// view.
+    pub fn new(ibl: IblSettings, no_cache: bool, debug_view: DebugView) -> Self {
+        Self {
+            ibl,
+            cache_dir: if no_cache {
+                None
+            } else {
+                crate::render::ibl::default_cache_dir()
+            },
+            debug_view,
+            generic_pipelines: false,
+            progress: None,
+        }
+    }
+
     fn pass_options(&self) -> crate::render::forward::PassOptions {
         crate::render::forward::PassOptions {
             debug: self.debug_view,
@@ -60,6 +79,45 @@ pub struct FrameTimes {
 impl FrameTimes {
     pub fn gpu_total(&self) -> f64 {
         self.gpu_ms.iter().map(|(_, t)| t).sum()
+    }
+}
+
+/// Per-pass statistics over many frames.
+pub struct TimingReport {
+    pub frames: usize,
+    pub cpu: Summary,
+    pub passes: Vec<(&'static str, Summary)>,
+    pub gpu_total: Summary,
+}
+
+impl TimingReport {
+    pub fn of(frames: &[FrameTimes]) -> Self {
+        let cpu: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
+        let mut names: Vec<&'static str> = Vec::new();
+        for f in frames {
+            for (n, _) in &f.gpu_ms {
+                if !names.contains(n) {
+                    names.push(n);
+                }
+            }
+        }
+        let passes = names
+            .iter()
+            .map(|n| {
+                let v: Vec<f64> = frames
+                    .iter()
+                    .filter_map(|f| f.gpu_ms.iter().find(|(m, _)| m == n).map(|(_, t)| *t))
+                    .collect();
+                (*n, Summary::of(&v))
+            })
+            .collect();
+        let totals: Vec<f64> = frames.iter().map(|f| f.gpu_total()).collect();
+        Self {
+            frames: frames.len(),
+            cpu: Summary::of(&cpu),
+            passes,
+            gpu_total: Summary::of(&totals),
+        }
     }
 }
 
@@ -173,7 +231,15 @@ impl Headless {
         )?;
         let aspect = width as f32 / height as f32;
         let ibl = match &scene.environment {
-            Some(env) => Some(build_ibl(ctx, &pool, scene, env, ibl_settings, cache_dir)?),
+            Some(env) => Some(build_ibl(
+                ctx,
+                &pool,
+                scene,
+                env,
+                ibl_settings,
+                cache_dir,
+                options.progress.as_deref(),
+            )?),
             None => None,
         };
         let forward = ForwardPass::in_flight(
@@ -237,6 +303,7 @@ impl Headless {
                 env,
                 &self.options.ibl,
                 self.options.cache_dir.as_deref(),
+                self.options.progress.as_deref(),
             )?),
             None => None,
         };
@@ -480,8 +547,8 @@ pub fn equirect_max_dimension(limits: &crate::vk::Limits) -> u32 {
         .min(u32::try_from(w).unwrap_or(u32::MAX))
 }
 
-/// Loads the scene's environment and precomputes its IBL data on the GPU, with a progress bar on
-/// a terminal.
+/// Loads the scene's environment and precomputes its IBL data on the GPU, telling `progress` each
+/// stage.
 pub fn build_ibl(
     ctx: &Arc<Context>,
     pool: &CommandPool,
@@ -489,15 +556,12 @@ pub fn build_ibl(
     env: &crate::scene::Environment,
     settings: &IblSettings,
     cache_dir: Option<&std::path::Path>,
+    progress: Option<&dyn crate::progress::Progress>,
 ) -> Result<Ibl, VkError> {
     let max = equirect_max_dimension(&ctx.limits());
     let eq = crate::env::load_equirect(env, max).map_err(|e| VkError::Setup(e.to_string()))?;
     let sh = crate::env::sh9_irradiance_coeffs(&crate::env::sh9_project(&eq));
-    let bar = indicatif::ProgressBar::new(1);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("IBL {bar:30} {pos}/{len} {msg} {elapsed}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    let reporting = crate::progress::Reporting(progress);
     let lut_geometries = crate::render::forward::lut_geometries(scene);
     let inputs = IblInputs {
         equirect: EquirectView {
@@ -510,13 +574,9 @@ pub fn build_ibl(
         lut_geometries: &lut_geometries,
         cache: cache_dir.map(|d| (d, crate::env::cache_key(env, &settings.describe()))),
     };
-    let ibl = Ibl::new(ctx, pool, &inputs, settings, |name, step, total| {
-        bar.set_length(total);
-        bar.set_position(step);
-        bar.set_message(name.to_string());
-    });
-    bar.finish_and_clear();
-    ibl
+    Ibl::new(ctx, pool, &inputs, settings, |name, step, total| {
+        reporting.update(name, step, total)
+    })
 }
 
 #[cfg(test)]

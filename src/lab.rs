@@ -4,56 +4,16 @@
 //! `chart.png`/`chart.svg` (error, log, against GPU ms with the Pareto front marked) and one FLIP
 //! heat map per variant.
 
-use std::path::{Path, PathBuf};
-use std::process::ExitCode;
+use std::path::Path;
 
 use anyhow::{bail, Context as _, Result};
-use clap::Args;
 
 use crate::brdf::{Diffuse, Distribution, Fresnel, Geometry, SpecularSource};
-use crate::cli::{GpuArgs, IblQuality};
 use crate::headless::Headless;
 use crate::imageio::LinearImage;
 use crate::scene::{
     DiffuseMethod, Material, MeshDesc, Scene, Shading, SpecularMethod, MAX_PRIMITIVE_TRIANGLES,
 };
-
-#[derive(Args, Debug)]
-pub struct LabArgs {
-    /// Scene file (JSON).
-    pub scene: PathBuf,
-    /// Folder for results.csv, results.json, chart.png, chart.svg, reference.exr and heat maps.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Timed frames per variant (median of their GPU time).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
-    pub frames: u32,
-    /// Timing rounds over all variants, alternating forward and reverse order; a variant's time
-    /// is the smallest of its rounds' medians, so a burst of load elsewhere on the machine (which
-    /// only ever adds time) or a variant's place in the run weighs less.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
-    pub rounds: u32,
-    /// Use this linear EXR as the reference instead of rendering it with `luz reference`.
-    #[arg(long)]
-    pub reference: Option<PathBuf>,
-    /// Environment samples per pixel of the reference (Monte Carlo).
-    #[arg(long, default_value_t = 1024)]
-    pub reference_samples: u32,
-    /// Override the scene's output width (the lab renders every variant at this size).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    /// Override the scene's output height.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, ibl).
-    #[arg(long, value_delimiter = ',')]
-    pub only: Vec<String>,
-    /// Sizes of the image-based lighting data.
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
-    #[command(flatten)]
-    pub gpu: GpuArgs,
-}
 
 /// One method variant: a label, its group and the scene that realises it.
 pub struct Variant {
@@ -412,72 +372,36 @@ pub fn mark_pareto(results: &mut [LabResult]) {
     }
 }
 
-pub fn run(a: LabArgs) -> Result<ExitCode> {
-    let mut scene = crate::scene::load(&a.scene)?;
-    crate::cli::apply_size(&mut scene, a.width, a.height);
-    crate::cli::report_tessellation(&scene, false);
-    std::fs::create_dir_all(a.out.join("heatmaps"))
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
-    let reference = match &a.reference {
-        Some(p) => {
-            let img = crate::imageio::load_radiance(p)?;
-            if (img.width, img.height) != (scene.output.width, scene.output.height) {
-                bail!(
-                    "{}: the reference is {}x{}, the scene renders {}x{}",
-                    p.display(),
-                    img.width,
-                    img.height,
-                    scene.output.width,
-                    scene.output.height
-                );
-            }
-            img
-        }
-        None => {
-            println!(
-                "reference: rendering on the CPU ({} environment samples per pixel)",
-                a.reference_samples
-            );
-            let bar = indicatif::ProgressBar::new(1);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "reference {bar:40} {pos}/{len} rows {elapsed}",
-                )
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            let progress = |done: u64, total: u64| {
-                bar.set_length(total);
-                bar.set_position(done);
-            };
-            // As many primary rays per pixel as the rasteriser's samples, so edges compare alike.
-            let opts = crate::reference::ReferenceOptions {
-                samples: a.reference_samples,
-                spp: scene.output.msaa.max(1),
-                ..Default::default()
-            };
-            let img = crate::reference::render_reference(&scene, &opts, Some(&progress))?;
-            bar.finish_and_clear();
-            crate::imageio::save(
-                &a.out.join("reference.exr"),
-                &img,
-                0.0,
-                crate::color::Tonemap::None,
-            )?;
-            img
-        }
-    };
-    let ctx = crate::cli::context(&a.gpu)?;
-    println!("device: {}", ctx.info.summary());
-    let variants = variants(&scene, &a.only);
-    let bar = indicatif::ProgressBar::new(variants.len() as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} variants {elapsed} {msg}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    let options = crate::cli::render_options(false, a.ibl_quality, Default::default());
+/// How [`measure`] times each variant.
+#[derive(Debug, Clone)]
+pub struct LabOptions {
+    /// Timed frames per variant (median of their GPU time).
+    pub frames: u32,
+    /// Timing rounds over all variants, alternating forward and reverse order; a variant's time
+    /// is the smallest of its rounds' medians.
+    pub rounds: u32,
+    /// How every variant is rendered (IBL sizes, cache).
+    pub render: crate::headless::RenderOptions,
+}
+
+/// Renders the scene as written and every variant on `ctx`, times each (`options.rounds` rounds
+/// of `options.frames` frames, alternating order), measures each image against `reference` and
+/// writes its FLIP heat map to `heatmaps/NNN.png` under `out`. The last result is the scene as
+/// written with "all features" pipelines. `progress` is told each variant (stage: its label, or
+/// the timing round).
+pub fn measure(
+    ctx: &std::sync::Arc<crate::vk::Context>,
+    scene: &Scene,
+    variants: &[Variant],
+    reference: &LinearImage,
+    out: &Path,
+    options: &LabOptions,
+    progress: Option<&dyn crate::progress::Progress>,
+) -> Result<Vec<LabResult>> {
+    let reporting = crate::progress::Reporting(progress);
     // A throw-away run first, so the first variant is not timed on cold caches.
     {
-        let mut warm = Headless::with_options(&ctx, &scene, &options)?;
+        let mut warm = Headless::with_options(ctx, scene, &options.render)?;
         for _ in 0..3 {
             warm.render()?;
         }
@@ -491,22 +415,22 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     runs.push((
         "all features",
         "as written, all-features pipelines".into(),
-        &scene,
+        scene,
         true,
     ));
-    bar.set_length(runs.len() as u64);
+    let total = runs.len() as u64;
     let mut results = Vec::new();
     let time = |vscene: &Scene, generic: bool| -> Result<(f64, Headless)> {
         let opts = crate::headless::RenderOptions {
             generic_pipelines: generic,
-            ..options.clone()
+            ..options.render.clone()
         };
-        let mut r = Headless::with_options(&ctx, vscene, &opts)?;
+        let mut r = Headless::with_options(ctx, vscene, &opts)?;
         // Warm-up: the first frames compile the driver's code and fault in memory.
         r.render()?;
         r.render()?;
         let mut times = Vec::new();
-        for _ in 0..a.frames {
+        for _ in 0..options.frames {
             let t = r.render()?;
             let gpu: f64 = t
                 .gpu_ms
@@ -519,16 +443,16 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         Ok((crate::stats::median(&times), r))
     };
     for (i, (group, label, vscene, generic)) in runs.iter().enumerate() {
-        bar.set_message(label.clone());
+        reporting.update(label, i as u64, total);
         let (ms, r) = time(vscene, *generic)?;
         let image = r.image()?;
         let (error, map) = error_metrics(
-            &reference,
+            reference,
             &image,
             scene.output.exposure,
             scene.output.tonemap,
         )?;
-        crate::diff::write_heatmap(&a.out.join(format!("heatmaps/{i:03}.png")), &map)?;
+        crate::diff::write_heatmap(&out.join(format!("heatmaps/{i:03}.png")), &map)?;
         results.push(LabResult {
             group: group.to_string(),
             label: label.clone(),
@@ -539,68 +463,31 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
             error,
             pareto: false,
         });
-        bar.inc(1);
     }
     // More timing rounds, alternating reverse and forward order: a variant's time is the
     // smallest of its rounds' medians, so where it sits in the run (caches, other load on a
     // shared machine) matters less.
-    for round in 1..a.rounds {
-        bar.set_position(0);
-        bar.set_message(format!("timing round {}/{}", round + 1, a.rounds));
+    for round in 1..options.rounds {
+        let stage = format!("timing round {}/{}", round + 1, options.rounds);
         let order: Vec<usize> = if round % 2 == 1 {
             (0..runs.len()).rev().collect()
         } else {
             (0..runs.len()).collect()
         };
-        for i in order {
+        for (done, i) in order.into_iter().enumerate() {
+            reporting.update(&stage, done as u64, total);
             let (_, _, vscene, generic) = &runs[i];
             let (ms, _) = time(vscene, *generic)?;
             results[i].gpu_ms = results[i].gpu_ms.min(ms);
             results[i].gpu_ms_rounds.push(ms);
-            bar.inc(1);
         }
     }
-    bar.finish_and_clear();
     mark_pareto(&mut results);
-    write_outputs(&a.out, &scene, &results)?;
-    if let (Some(min), Some(all)) = (results.first(), results.last()) {
-        println!(
-            "pipelines built for the scene as written: {}",
-            min.pipelines.join("; ")
-        );
-        println!(
-            "minimal pipelines {:.3} ms, all-features pipelines {:.3} ms ({:.2}x)",
-            min.gpu_ms,
-            all.gpu_ms,
-            all.gpu_ms / min.gpu_ms
-        );
-    }
-    println!(
-        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>6}",
-        "", "group", "variant", "GPU ms", "FLIP", "RMSE", "rel err", "NaN"
-    );
-    for (i, r) in results.iter().enumerate() {
-        println!(
-            "{:<4} {:<14} {:<34} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
-            i,
-            r.group,
-            r.label,
-            r.gpu_ms,
-            r.error.flip_mean,
-            r.error.rmse,
-            r.error.mean_relative,
-            r.error.nan_pixels,
-            if r.pareto { "  ← Pareto" } else { "" }
-        );
-    }
-    println!(
-        "wrote {0}/results.csv, {0}/results.json, {0}/chart.png, {0}/chart.svg, {0}/heatmaps/",
-        a.out.display()
-    );
-    Ok(crate::cli::validation_exit(&ctx))
+    Ok(results)
 }
 
-fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result<()> {
+/// Writes `results.csv`, `results.json` and the chart (`chart.png`, `chart.svg`) into `dir`.
+pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result<()> {
     let mut csv = String::from(
         "group,variant,gpu_ms,flip_mean,rmse,mean_relative,max_abs,nan_pixels,triangles,pareto\n",
     );

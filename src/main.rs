@@ -1,3 +1,5 @@
+mod cli;
+
 fn main() -> std::process::ExitCode {
     // Rust ignores SIGPIPE, so printing into a closed pipe (`luz diff a b | head -1`) would panic in
     // println!. Behave like other command-line tools instead: end quietly.
@@ -6,5 +8,5 @@ fn main() -> std::process::ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    luz::cli::run()
+    cli::run()
 }

@@ -1,5 +1,7 @@
 // Descriptor sets, bindings, push constants and specialization constants of the forward pass.
-// Mirrored in src/render/gpu.rs (the constants and the #[repr(C)] structs); keep both in step.
+// The numbers here are the one source: build.rs turns every #define and constant_id into a Rust
+// constant (src/render/gpu.rs: `glsl::include_bindings`); the #[repr(C)] structs are mirrored in
+// src/render/gpu.rs and tested for size and offsets.
 #ifndef LUZ_BINDINGS_GLSL
 #define LUZ_BINDINGS_GLSL
 
@@ -62,15 +64,16 @@ layout(set = SET_FRAME, binding = BINDING_OBJECTS, std430) readonly buffer Objec
 #define MAP_NORMAL 5
 #define MAP_OCCLUSION 6
 #define MAP_EMISSIVE 7
-layout(set = SET_MATERIAL, binding = 0) uniform sampler2D map_base_color;
-layout(set = SET_MATERIAL, binding = 1) uniform sampler2D map_specular;
-layout(set = SET_MATERIAL, binding = 2) uniform sampler2D map_metallic;
-layout(set = SET_MATERIAL, binding = 3) uniform sampler2D map_roughness;
-layout(set = SET_MATERIAL, binding = 4) uniform sampler2D map_orm;
-layout(set = SET_MATERIAL, binding = 5) uniform sampler2D map_normal;
-layout(set = SET_MATERIAL, binding = 6) uniform sampler2D map_occlusion;
-layout(set = SET_MATERIAL, binding = 7) uniform sampler2D map_emissive;
-layout(set = SET_MATERIAL, binding = 8, std140) uniform MaterialExtra {
+#define BINDING_MATERIAL_EXTRA 8
+layout(set = SET_MATERIAL, binding = MAP_BASE_COLOR) uniform sampler2D map_base_color;
+layout(set = SET_MATERIAL, binding = MAP_SPECULAR) uniform sampler2D map_specular;
+layout(set = SET_MATERIAL, binding = MAP_METALLIC) uniform sampler2D map_metallic;
+layout(set = SET_MATERIAL, binding = MAP_ROUGHNESS) uniform sampler2D map_roughness;
+layout(set = SET_MATERIAL, binding = MAP_ORM) uniform sampler2D map_orm;
+layout(set = SET_MATERIAL, binding = MAP_NORMAL) uniform sampler2D map_normal;
+layout(set = SET_MATERIAL, binding = MAP_OCCLUSION) uniform sampler2D map_occlusion;
+layout(set = SET_MATERIAL, binding = MAP_EMISSIVE) uniform sampler2D map_emissive;
+layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor
     vec4 params;    // normal_scale, occlusion_strength
     uvec4 present;  // x: bit MAP_* set when that map exists
@@ -89,8 +92,22 @@ layout(push_constant) uniform MaterialPush {
 // The material model (BRDF_MODEL_*), fixed per pipeline so the driver compiles only that model.
 layout(constant_id = 0) const int MODEL = BRDF_MODEL_BLINN_PHONG;
 layout(constant_id = 1) const bool FOG = false;
-// Debug view (src/render/forward.rs: DebugView): 0 = shaded radiance.
+// Debug view (src/render/forward.rs: DebugView, codes DEBUG_VIEW_*): 0 = shaded radiance.
 layout(constant_id = 7) const uint DEBUG_VIEW = 0u;
+#define DEBUG_VIEW_NONE 0u
+#define DEBUG_VIEW_BASE_COLOR 1u
+#define DEBUG_VIEW_NORMAL 2u
+#define DEBUG_VIEW_METALLIC 3u
+#define DEBUG_VIEW_ROUGHNESS 4u
+#define DEBUG_VIEW_AO 5u
+#define DEBUG_VIEW_D 6u
+#define DEBUG_VIEW_G 7u
+#define DEBUG_VIEW_F 8u
+#define DEBUG_VIEW_DIFFUSE 9u
+#define DEBUG_VIEW_SPECULAR 10u
+#define DEBUG_VIEW_IRRADIANCE 11u
+#define DEBUG_VIEW_PREFILTERED 12u
+#define DEBUG_VIEW_NAN 13u
 // The material's distribution, geometry and Fresnel selectors (BrdfParams.sel.yzw) fixed per
 // pipeline, so only the chosen terms are compiled; -1: read them from the push constants.
 layout(constant_id = 8) const int SEL_DISTRIBUTION = -1;
@@ -109,6 +126,5 @@ layout(constant_id = 13) const int SEL_DIFFUSE = -1;
 #define LK_FALLOFF_NONE 8u
 #define LK_FALLOFF_INVERSE_SQUARE 16u
 #define LK_FALLOFF_CLASSIC 32u
-#define DEBUG_NAN 13u
 
 #endif

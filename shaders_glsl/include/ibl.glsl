@@ -7,11 +7,17 @@
 #include "../brdf/sampling.glsl"
 
 #define SET_ENV 1
-layout(set = SET_ENV, binding = 0) uniform samplerCube env_cube;
-layout(set = SET_ENV, binding = 1) uniform samplerCube irradiance_cube;
-layout(set = SET_ENV, binding = 2) uniform samplerCube prefiltered_cube;
-layout(set = SET_ENV, binding = 3) uniform sampler2DArray brdf_lut;
-layout(set = SET_ENV, binding = 4, std140) uniform EnvData {
+// Bindings 0..3: the cubes and the LUT (src/render/ibl.rs binds them in this order).
+#define BINDING_ENV_CUBE 0
+#define BINDING_IRRADIANCE_CUBE 1
+#define BINDING_PREFILTERED_CUBE 2
+#define BINDING_BRDF_LUT 3
+#define BINDING_ENV_DATA 4
+layout(set = SET_ENV, binding = BINDING_ENV_CUBE) uniform samplerCube env_cube;
+layout(set = SET_ENV, binding = BINDING_IRRADIANCE_CUBE) uniform samplerCube irradiance_cube;
+layout(set = SET_ENV, binding = BINDING_PREFILTERED_CUBE) uniform samplerCube prefiltered_cube;
+layout(set = SET_ENV, binding = BINDING_BRDF_LUT) uniform sampler2DArray brdf_lut;
+layout(set = SET_ENV, binding = BINDING_ENV_DATA, std140) uniform EnvData {
     vec4 sh[9];      // convolved irradiance SH: E(n) = Σ sh[i] Y_i(n)
     vec4 rotation;   // cos θ, sin θ (about +y), environment cube size, its mip count
     vec4 params;     // prefiltered mip count

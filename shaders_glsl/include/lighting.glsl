@@ -159,26 +159,26 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 // The quantity a debug view shows (DebugView in src/render/forward.rs).
 vec3 debug_value(Surface s, vec3 P, vec3 V) {
     BrdfParams p = s.p;
-    if (DEBUG_VIEW == 1u) return p.color.rgb;
-    if (DEBUG_VIEW == 2u) return s.n * 0.5 + 0.5;
-    if (DEBUG_VIEW == 3u) return vec3(p.spec.w);
-    if (DEBUG_VIEW == 4u) return vec3(p.color.w);
-    if (DEBUG_VIEW == 5u) return vec3(s.occlusion);
-    if (DEBUG_VIEW >= 6u && DEBUG_VIEW <= 10u) {
+    if (DEBUG_VIEW == DEBUG_VIEW_BASE_COLOR) return p.color.rgb;
+    if (DEBUG_VIEW == DEBUG_VIEW_NORMAL) return s.n * 0.5 + 0.5;
+    if (DEBUG_VIEW == DEBUG_VIEW_METALLIC) return vec3(p.spec.w);
+    if (DEBUG_VIEW == DEBUG_VIEW_ROUGHNESS) return vec3(p.color.w);
+    if (DEBUG_VIEW == DEBUG_VIEW_AO) return vec3(s.occlusion);
+    if (DEBUG_VIEW >= DEBUG_VIEW_D && DEBUG_VIEW <= DEBUG_VIEW_SPECULAR) {
         if (frame.counts.x == 0u) return vec3(0.0);
         vec3 l;
         vec3 E;
         light_incidence(lights[0], P, l, E);
         BrdfTerms t = brdf_eval_terms(p, s.n, l, V, s.x, s.y);
-        if (DEBUG_VIEW == 6u) return vec3(t.d);
-        if (DEBUG_VIEW == 7u) return vec3(t.g);
-        if (DEBUG_VIEW == 8u) return t.f;
-        if (DEBUG_VIEW == 9u) return t.diffuse;
+        if (DEBUG_VIEW == DEBUG_VIEW_D) return vec3(t.d);
+        if (DEBUG_VIEW == DEBUG_VIEW_G) return vec3(t.g);
+        if (DEBUG_VIEW == DEBUG_VIEW_F) return t.f;
+        if (DEBUG_VIEW == DEBUG_VIEW_DIFFUSE) return t.diffuse;
         return t.specular;
     }
 #ifdef IBL
-    if (DEBUG_VIEW == 11u) return env_irradiance(s.n) / M_PI;
-    if (DEBUG_VIEW == 12u) {
+    if (DEBUG_VIEW == DEBUG_VIEW_IRRADIANCE) return env_irradiance(s.n) / M_PI;
+    if (DEBUG_VIEW == DEBUG_VIEW_PREFILTERED) {
         vec3 r = 2.0 * dot(s.n, V) * s.n - V;
         return textureLod(prefiltered_cube, r, p.color.w * (env.params.x - 1.0)).rgb;
     }
@@ -190,7 +190,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     Surface s = surface_at(N, X, Y, uv);
     BrdfParams p = s.p;
     vec3 V = normalize(frame.camera_pos.xyz - P);
-    if (DEBUG_VIEW != 0u && DEBUG_VIEW != DEBUG_NAN) {
+    if (DEBUG_VIEW != DEBUG_VIEW_NONE && DEBUG_VIEW != DEBUG_VIEW_NAN) {
         return debug_value(s, P, V);
     }
     vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);

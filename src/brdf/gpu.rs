@@ -21,19 +21,19 @@ use super::models::{Diffuse, Fresnel, Model};
 /// `BRDF_MODEL_*` codes in `sel.x`.
 pub mod model_code {
     /// Lambert.
-    pub const LAMBERT: i32 = 0;
+    pub const LAMBERT: i32 = crate::glsl::brdf_models::BRDF_MODEL_LAMBERT;
     /// Phong.
-    pub const PHONG: i32 = 1;
+    pub const PHONG: i32 = crate::glsl::brdf_models::BRDF_MODEL_PHONG;
     /// Blinn-Phong.
-    pub const BLINN_PHONG: i32 = 2;
+    pub const BLINN_PHONG: i32 = crate::glsl::brdf_models::BRDF_MODEL_BLINN_PHONG;
     /// Cook-Torrance.
-    pub const COOK_TORRANCE: i32 = 3;
+    pub const COOK_TORRANCE: i32 = crate::glsl::brdf_models::BRDF_MODEL_COOK_TORRANCE;
     /// glTF metallic-roughness.
-    pub const METAL_ROUGH: i32 = 4;
+    pub const METAL_ROUGH: i32 = crate::glsl::brdf_models::BRDF_MODEL_METAL_ROUGH;
     /// Disney Principled.
-    pub const PRINCIPLED: i32 = 5;
+    pub const PRINCIPLED: i32 = crate::glsl::brdf_models::BRDF_MODEL_PRINCIPLED;
     /// Oren-Nayar.
-    pub const OREN_NAYAR: i32 = 6;
+    pub const OREN_NAYAR: i32 = crate::glsl::brdf_models::BRDF_MODEL_OREN_NAYAR;
 }
 
 /// The GLSL `BrdfParams` struct, byte for byte (see the module docs for the slot table).
@@ -151,6 +151,21 @@ impl GpuBrdfParams {
     }
 }
 
-// Keep the selector codes in step with the GLSL `BRDF_F_*` etc. (checked in the tests too).
-const _: () = assert!(Fresnel::Conductor as i32 == 3);
-const _: () = assert!(Diffuse::Burley as i32 == 1);
+// The selector codes are the GLSL's `BRDF_D_*`, `BRDF_G_*`, `BRDF_F_*` and `BRDF_DIFFUSE_*`
+// (generated from shaders_glsl/brdf/models.glsl; every code is checked in the tests too).
+const _: () = {
+    use super::models::{Distribution, Geometry};
+    use crate::glsl::brdf_models as g;
+    assert!(Distribution::Beckmann as i32 == g::BRDF_D_BECKMANN);
+    assert!(Distribution::Ggx as i32 == g::BRDF_D_GGX);
+    assert!(Geometry::CookTorrance as i32 == g::BRDF_G_COOK_TORRANCE);
+    assert!(Geometry::SmithGgx as i32 == g::BRDF_G_SMITH_GGX);
+    assert!(Geometry::SmithGgxCorrelated as i32 == g::BRDF_G_SMITH_GGX_CORRELATED);
+    assert!(Geometry::SchlickGgx as i32 == g::BRDF_G_SCHLICK_GGX);
+    assert!(Fresnel::Schlick as i32 == g::BRDF_F_SCHLICK);
+    assert!(Fresnel::SchlickSg as i32 == g::BRDF_F_SCHLICK_SG);
+    assert!(Fresnel::Dielectric as i32 == g::BRDF_F_DIELECTRIC);
+    assert!(Fresnel::Conductor as i32 == g::BRDF_F_CONDUCTOR);
+    assert!(Diffuse::Lambert as i32 == g::BRDF_DIFFUSE_LAMBERT);
+    assert!(Diffuse::Burley as i32 == g::BRDF_DIFFUSE_BURLEY);
+};

@@ -794,9 +794,31 @@ fn gpu_packing() {
     assert_eq!(GpuBrdfParams::diffuse_selector(&p), None);
     assert!((g.spec[0] - 0.04).abs() < 1e-7);
     assert_eq!(g.kappa[3], 0.75);
-    // Selector codes as in models.glsl.
+    // Selector codes as in models.glsl (the source text and the constants build.rs generates).
     let glsl = include_str!("../../shaders_glsl/brdf/models.glsl");
-    for (name, code) in [
+    use crate::glsl::brdf_models as g;
+    let generated = [
+        g::BRDF_MODEL_LAMBERT,
+        g::BRDF_MODEL_PHONG,
+        g::BRDF_MODEL_BLINN_PHONG,
+        g::BRDF_MODEL_COOK_TORRANCE,
+        g::BRDF_MODEL_METAL_ROUGH,
+        g::BRDF_MODEL_PRINCIPLED,
+        g::BRDF_MODEL_OREN_NAYAR,
+        g::BRDF_D_BECKMANN,
+        g::BRDF_D_GGX,
+        g::BRDF_G_COOK_TORRANCE,
+        g::BRDF_G_SMITH_GGX,
+        g::BRDF_G_SMITH_GGX_CORRELATED,
+        g::BRDF_G_SCHLICK_GGX,
+        g::BRDF_F_SCHLICK,
+        g::BRDF_F_SCHLICK_SG,
+        g::BRDF_F_DIELECTRIC,
+        g::BRDF_F_CONDUCTOR,
+        g::BRDF_DIFFUSE_LAMBERT,
+        g::BRDF_DIFFUSE_BURLEY,
+    ];
+    for ((name, code), generated) in [
         ("BRDF_MODEL_LAMBERT", model_code::LAMBERT),
         ("BRDF_MODEL_PHONG", model_code::PHONG),
         ("BRDF_MODEL_BLINN_PHONG", model_code::BLINN_PHONG),
@@ -819,14 +841,29 @@ fn gpu_packing() {
         ("BRDF_F_CONDUCTOR", Fresnel::Conductor as i32),
         ("BRDF_DIFFUSE_LAMBERT", Diffuse::Lambert as i32),
         ("BRDF_DIFFUSE_BURLEY", Diffuse::Burley as i32),
-    ] {
+    ]
+    .into_iter()
+    .zip(generated)
+    {
         assert!(glsl.contains(&format!("#define {name} {code}\n")), "{name}");
+        assert_eq!(code, generated, "{name}");
     }
     let terms = include_str!("../../shaders_glsl/brdf/terms.glsl");
     assert!(terms.contains("#define BRDF_ALPHA_MIN 1e-3\n") && ALPHA_MIN == 1e-3);
     assert!(terms.contains("#define BRDF_COS_EPS 1e-4\n") && COS_EPS == 1e-4);
     assert!(terms.contains("#define BRDF_LEN2_EPS 1e-12\n") && LEN2_EPS == 1e-12);
     assert!(terms.contains("#define BRDF_IOR_MAX 1e9\n") && IOR_MAX == 1e9);
+    use crate::glsl::brdf_terms as t;
+    assert_eq!(
+        [ALPHA_MIN, COS_EPS, LEN2_EPS, IOR_MAX],
+        [
+            t::BRDF_ALPHA_MIN,
+            t::BRDF_COS_EPS,
+            t::BRDF_LEN2_EPS,
+            t::BRDF_IOR_MAX
+        ]
+        .map(|v| v as f32)
+    );
 }
 
 /// Found by `luz stability`: indices whose squares overflow f32 gave NaN (conductor, complex F0),

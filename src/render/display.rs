@@ -152,7 +152,7 @@ impl DisplayPass {
                 name: &name,
                 vertex: &self.vertex,
                 fragment: &self.fragment,
-                spec: &[(0, tonemap_id(tonemap))],
+                spec: &[(crate::glsl::display_frag::SPEC_TONEMAP, tonemap_id(tonemap))],
                 vertex_bindings: &[],
                 vertex_attributes: &[],
                 color_formats: &[format],

@@ -20,9 +20,9 @@ use crate::vk::pipeline::{
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, VkError};
 
-/// A quantity shown instead of the shaded radiance (specialization constant `DEBUG_VIEW`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, clap::ValueEnum)]
-#[value(rename_all = "snake_case")]
+/// A quantity shown instead of the shaded radiance (specialization constant `DEBUG_VIEW`; the
+/// codes are `DEBUG_VIEW_*` of `shaders_glsl/include/bindings.glsl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub enum DebugView {
     /// The shaded radiance (no debug view).
     #[default]
@@ -56,8 +56,92 @@ pub enum DebugView {
 }
 
 impl DebugView {
+    /// Every view, in code order.
+    pub const ALL: [DebugView; 14] = [
+        DebugView::None,
+        DebugView::BaseColor,
+        DebugView::Normal,
+        DebugView::Metallic,
+        DebugView::Roughness,
+        DebugView::Ao,
+        DebugView::D,
+        DebugView::G,
+        DebugView::F,
+        DebugView::Diffuse,
+        DebugView::Specular,
+        DebugView::Irradiance,
+        DebugView::Prefiltered,
+        DebugView::Nan,
+    ];
+
+    /// The name on the command line, in scripts and in the viewer.
+    pub fn name(self) -> &'static str {
+        match self {
+            DebugView::None => "none",
+            DebugView::BaseColor => "base_color",
+            DebugView::Normal => "normal",
+            DebugView::Metallic => "metallic",
+            DebugView::Roughness => "roughness",
+            DebugView::Ao => "ao",
+            DebugView::D => "d",
+            DebugView::G => "g",
+            DebugView::F => "f",
+            DebugView::Diffuse => "diffuse",
+            DebugView::Specular => "specular",
+            DebugView::Irradiance => "irradiance",
+            DebugView::Prefiltered => "prefiltered",
+            DebugView::Nan => "nan",
+        }
+    }
+
+    /// The view named `name` (case-insensitive), if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|v| v.name().eq_ignore_ascii_case(name))
+    }
+
+    /// One line of help: what the view shows.
+    pub fn help(self) -> &'static str {
+        match self {
+            DebugView::None => "the shaded radiance (no debug view)",
+            DebugView::BaseColor => "the material's base colour after its maps",
+            DebugView::Normal => "the shading normal, (n + 1)/2",
+            DebugView::Metallic => "metallic, as grey",
+            DebugView::Roughness => "roughness, as grey",
+            DebugView::Ao => "ambient occlusion, as grey",
+            DebugView::D => "D of the first light's half vector",
+            DebugView::G => "G for the first light",
+            DebugView::F => "F for the first light (RGB)",
+            DebugView::Diffuse => "the diffuse part of f for the first light",
+            DebugView::Specular => "the specular part of f for the first light",
+            DebugView::Irradiance => "the environment's irradiance E(n)/π",
+            DebugView::Prefiltered => {
+                "the prefiltered environment along the reflection at the material's roughness"
+            }
+            DebugView::Nan => "the shaded radiance with NaN and Inf pixels in magenta",
+        }
+    }
+
+    /// The value of the `DEBUG_VIEW` specialization constant.
     pub fn id(self) -> u32 {
-        self as u32
+        use crate::render::gpu::glsl::include_bindings as glsl;
+        match self {
+            DebugView::None => glsl::DEBUG_VIEW_NONE,
+            DebugView::BaseColor => glsl::DEBUG_VIEW_BASE_COLOR,
+            DebugView::Normal => glsl::DEBUG_VIEW_NORMAL,
+            DebugView::Metallic => glsl::DEBUG_VIEW_METALLIC,
+            DebugView::Roughness => glsl::DEBUG_VIEW_ROUGHNESS,
+            DebugView::Ao => glsl::DEBUG_VIEW_AO,
+            DebugView::D => glsl::DEBUG_VIEW_D,
+            DebugView::G => glsl::DEBUG_VIEW_G,
+            DebugView::F => glsl::DEBUG_VIEW_F,
+            DebugView::Diffuse => glsl::DEBUG_VIEW_DIFFUSE,
+            DebugView::Specular => glsl::DEBUG_VIEW_SPECULAR,
+            DebugView::Irradiance => glsl::DEBUG_VIEW_IRRADIANCE,
+            DebugView::Prefiltered => glsl::DEBUG_VIEW_PREFILTERED,
+            DebugView::Nan => glsl::DEBUG_VIEW_NAN,
+        }
     }
 }
 
@@ -378,8 +462,9 @@ impl ForwardPass {
             offset: 0,
             size: std::mem::size_of::<MaterialPush>() as u32,
         }];
-        let materials = MaterialSets::new(ctx, pool, scene, &mut |w| eprintln!("warning: {w}"))?;
-        // Set 1 is the environment; without one, an empty layout keeps set 2 at index 2.
+        let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
+        // Sets in index order (asserted in gpu.rs): frame, environment (an empty layout without
+        // one, so the materials keep their index), materials.
         let empty_layout = DescriptorSetLayout::new(ctx, "empty set layout", &[])?;
         let env_layout = ibl.map(|i| &i.set_layout).unwrap_or(&empty_layout);
         let layout = PipelineLayout::new(
@@ -791,7 +876,7 @@ impl ForwardPass {
                     cmd,
                     vk::PipelineBindPoint::GRAPHICS,
                     self.layout.raw,
-                    1,
+                    gpu::SET_ENV,
                     &[env],
                     &[],
                 );

@@ -1,48 +1,61 @@
-//! GPU-side data layouts, mirrored in `shaders_glsl/include/bindings.glsl`.
+//! GPU-side data layouts, mirrored in `shaders_glsl/include/bindings.glsl`; the numbers shared with
+//! GLSL come from it ([`glsl`]).
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
 use crate::scene::{Falloff, Light, LightKind, Material, Scene};
 
-pub const SET_FRAME: u32 = 0;
-pub const BINDING_FRAME: u32 = 0;
-pub const BINDING_LIGHTS: u32 = 1;
-pub const BINDING_OBJECTS: u32 = 2;
+pub use crate::glsl;
 
-pub const LIGHT_DIRECTIONAL: u32 = 0;
-pub const LIGHT_POINT: u32 = 1;
-pub const LIGHT_SPOT: u32 = 2;
-pub const FALLOFF_NONE: u32 = 0;
-pub const FALLOFF_INVERSE_SQUARE: u32 = 1;
-pub const FALLOFF_CLASSIC: u32 = 2;
+use glsl::include_bindings as b;
+
+pub const SET_FRAME: u32 = b::SET_FRAME as u32;
+pub const BINDING_FRAME: u32 = b::BINDING_FRAME as u32;
+pub const BINDING_LIGHTS: u32 = b::BINDING_LIGHTS as u32;
+pub const BINDING_OBJECTS: u32 = b::BINDING_OBJECTS as u32;
+/// The environment's set (`shaders_glsl/include/ibl.glsl`).
+pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
+/// The material maps' set.
+pub const SET_MATERIAL: u32 = b::SET_MATERIAL as u32;
+
+pub const LIGHT_DIRECTIONAL: u32 = b::LIGHT_DIRECTIONAL;
+pub const LIGHT_POINT: u32 = b::LIGHT_POINT;
+pub const LIGHT_SPOT: u32 = b::LIGHT_SPOT;
+pub const FALLOFF_NONE: u32 = b::FALLOFF_NONE;
+pub const FALLOFF_INVERSE_SQUARE: u32 = b::FALLOFF_INVERSE_SQUARE;
+pub const FALLOFF_CLASSIC: u32 = b::FALLOFF_CLASSIC;
+
+// The forward pipeline layout lists its set layouts in index order (frame, environment,
+// materials; `render::forward`).
+const _: () = assert!(SET_FRAME == 0 && SET_ENV == 1 && SET_MATERIAL == 2);
 
 /// Material model ids (specialization constant 0): the CPU reference's codes.
 pub use crate::brdf::model_code;
 
 /// Specialization constant ids.
-pub const SPEC_MODEL: u32 = 0;
-pub const SPEC_FOG: u32 = 1;
-pub const SPEC_SPECULAR_METHOD: u32 = 2;
-pub const SPEC_DIFFUSE_FROM_SH: u32 = 3;
-pub const SPEC_ENERGY_COMPENSATION: u32 = 4;
-pub const SPEC_IBL_SAMPLES: u32 = 5;
-pub const SPEC_MIP_FILTERED: u32 = 6;
-pub const SPEC_DEBUG_VIEW: u32 = 7;
-pub const SPEC_SEL_DISTRIBUTION: u32 = 8;
-pub const SPEC_SEL_GEOMETRY: u32 = 9;
-pub const SPEC_SEL_FRESNEL: u32 = 10;
-pub const SPEC_MAPS: u32 = 11;
-pub const SPEC_LIGHT_KINDS: u32 = 12;
+pub const SPEC_MODEL: u32 = b::SPEC_MODEL;
+pub const SPEC_FOG: u32 = b::SPEC_FOG;
+pub const SPEC_SPECULAR_METHOD: u32 = glsl::include_ibl::SPEC_SPECULAR_METHOD;
+pub const SPEC_DIFFUSE_FROM_SH: u32 = glsl::include_ibl::SPEC_DIFFUSE_FROM_SH;
+pub const SPEC_ENERGY_COMPENSATION: u32 = glsl::include_ibl::SPEC_ENERGY_COMPENSATION;
+pub const SPEC_IBL_SAMPLES: u32 = glsl::include_ibl::SPEC_IBL_SAMPLES;
+pub const SPEC_MIP_FILTERED: u32 = glsl::include_ibl::SPEC_MIP_FILTERED_SAMPLES;
+pub const SPEC_DEBUG_VIEW: u32 = b::SPEC_DEBUG_VIEW;
+pub const SPEC_SEL_DISTRIBUTION: u32 = b::SPEC_SEL_DISTRIBUTION;
+pub const SPEC_SEL_GEOMETRY: u32 = b::SPEC_SEL_GEOMETRY;
+pub const SPEC_SEL_FRESNEL: u32 = b::SPEC_SEL_FRESNEL;
+pub const SPEC_MAPS: u32 = b::SPEC_MAPS;
+pub const SPEC_LIGHT_KINDS: u32 = b::SPEC_LIGHT_KINDS;
 /// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`material_diffuse_key`]).
-pub const SPEC_SEL_DIFFUSE: u32 = 13;
+pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
 /// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
-pub const LK_DIRECTIONAL: u32 = 1;
-pub const LK_POINT: u32 = 2;
-pub const LK_SPOT: u32 = 4;
-pub const LK_FALLOFF_NONE: u32 = 8;
-pub const LK_FALLOFF_INVERSE_SQUARE: u32 = 16;
-pub const LK_FALLOFF_CLASSIC: u32 = 32;
+pub const LK_DIRECTIONAL: u32 = b::LK_DIRECTIONAL;
+pub const LK_POINT: u32 = b::LK_POINT;
+pub const LK_SPOT: u32 = b::LK_SPOT;
+pub const LK_FALLOFF_NONE: u32 = b::LK_FALLOFF_NONE;
+pub const LK_FALLOFF_INVERSE_SQUARE: u32 = b::LK_FALLOFF_INVERSE_SQUARE;
+pub const LK_FALLOFF_CLASSIC: u32 = b::LK_FALLOFF_CLASSIC;
 
 /// The light types and falloffs `lights` use, as `LK_*` bits (the shader leaves out the rest).
 pub fn light_kinds(lights: &[Light]) -> u32 {
@@ -223,5 +236,116 @@ pub fn object_data(model: Mat4) -> ObjectData {
     ObjectData {
         model,
         normal_matrix: Mat4::from_mat3(n3),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glsl;
+    use crate::render::forward::DebugView;
+    use crate::scene::TextureSlot;
+
+    /// Every debug view has its GLSL code `DEBUG_VIEW_<NAME>`, the codes are dense in `ALL` order,
+    /// and each name parses back to its view.
+    #[test]
+    fn debug_view_codes_names_and_glsl_agree() {
+        let generated = include_str!(concat!(env!("OUT_DIR"), "/glsl_constants.rs"));
+        for (i, v) in DebugView::ALL.iter().enumerate() {
+            assert_eq!(v.id(), i as u32, "{v:?}");
+            let line = format!(
+                "pub const DEBUG_VIEW_{}: u32 = {i};",
+                v.name().to_ascii_uppercase()
+            );
+            assert!(generated.contains(&line), "{line} not generated");
+            assert_eq!(DebugView::from_name(v.name()), Some(*v));
+            assert_eq!(DebugView::from_name(&v.name().to_uppercase()), Some(*v));
+        }
+        assert_eq!(DebugView::from_name("bogus"), None);
+        assert_eq!(
+            generated.matches("pub const DEBUG_VIEW_").count(),
+            DebugView::ALL.len()
+        );
+    }
+
+    /// The material set binds map `TextureSlot::ALL[i]` at binding i = its GLSL `MAP_*`, then the
+    /// extra uniforms.
+    #[test]
+    fn material_map_bindings_follow_the_slots() {
+        use glsl::include_bindings as b;
+        let maps = [
+            b::MAP_BASE_COLOR,
+            b::MAP_SPECULAR,
+            b::MAP_METALLIC,
+            b::MAP_ROUGHNESS,
+            b::MAP_ORM,
+            b::MAP_NORMAL,
+            b::MAP_OCCLUSION,
+            b::MAP_EMISSIVE,
+        ];
+        assert_eq!(maps.len(), TextureSlot::ALL.len());
+        assert_eq!(crate::render::material::SLOT_COUNT, TextureSlot::ALL.len());
+        for (i, (slot, map)) in TextureSlot::ALL.iter().zip(maps).enumerate() {
+            assert_eq!(map, i as i32, "{slot:?}");
+        }
+        assert_eq!(
+            crate::render::material::BINDING_EXTRA,
+            TextureSlot::ALL.len() as u32
+        );
+    }
+
+    /// The forward pass's specialization constants have distinct ids (across `bindings.glsl` and
+    /// `ibl.glsl`, which share the pipeline), and the Rust names point at them.
+    #[test]
+    fn specialization_ids_are_distinct_and_named() {
+        let ids = [
+            super::SPEC_MODEL,
+            super::SPEC_FOG,
+            super::SPEC_SPECULAR_METHOD,
+            super::SPEC_DIFFUSE_FROM_SH,
+            super::SPEC_ENERGY_COMPENSATION,
+            super::SPEC_IBL_SAMPLES,
+            super::SPEC_MIP_FILTERED,
+            super::SPEC_DEBUG_VIEW,
+            super::SPEC_SEL_DISTRIBUTION,
+            super::SPEC_SEL_GEOMETRY,
+            super::SPEC_SEL_FRESNEL,
+            super::SPEC_MAPS,
+            super::SPEC_LIGHT_KINDS,
+            super::SPEC_SEL_DIFFUSE,
+        ];
+        let mut sorted = ids.to_vec();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), ids.len(), "{ids:?}");
+        assert_eq!(sorted, (0..ids.len() as u32).collect::<Vec<_>>());
+        // The LK_* bits are distinct single bits.
+        let lk = [
+            super::LK_DIRECTIONAL,
+            super::LK_POINT,
+            super::LK_SPOT,
+            super::LK_FALLOFF_NONE,
+            super::LK_FALLOFF_INVERSE_SQUARE,
+            super::LK_FALLOFF_CLASSIC,
+        ];
+        assert!(lk.iter().all(|b| b.is_power_of_two()));
+        assert_eq!(lk.iter().fold(0, |a, b| a | b).count_ones(), 6);
+    }
+
+    /// The generator reads what the sources say: a few values checked against the GLSL text.
+    #[test]
+    fn generated_constants_match_the_sources() {
+        let bindings = include_str!("../../shaders_glsl/include/bindings.glsl");
+        assert!(bindings.contains("#define SET_MATERIAL 2\n"));
+        assert_eq!(glsl::include_bindings::SET_MATERIAL, 2);
+        assert!(bindings.contains("layout(constant_id = 13) const int SEL_DIFFUSE"));
+        assert_eq!(glsl::include_bindings::SPEC_SEL_DIFFUSE, 13);
+        assert!(bindings.contains("#define LK_FALLOFF_CLASSIC 32u\n"));
+        assert_eq!(glsl::include_bindings::LK_FALLOFF_CLASSIC, 32);
+        let ibl = include_str!("../../shaders_glsl/include/ibl.glsl");
+        assert!(ibl.contains("#define SET_ENV 1\n"));
+        assert_eq!(super::SET_ENV, 1);
+        let color = include_str!("../../shaders_glsl/include/color.glsl");
+        assert!(color.contains("#define TONEMAP_AGX 4u\n"));
+        assert_eq!(glsl::include_color::TONEMAP_AGX, 4);
     }
 }

@@ -16,6 +16,19 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, Pipelin
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, Image, VkError};
 
+use super::gpu::glsl::include_ibl as glsl_ibl;
+
+/// The environment set's bindings (`shaders_glsl/include/ibl.glsl`): the environment cube, the
+/// irradiance cube, the prefiltered cube and the LUT are 0..4 in that order, then the uniforms.
+const BINDING_ENV_DATA: u32 = glsl_ibl::BINDING_ENV_DATA as u32;
+const _: () = assert!(
+    glsl_ibl::BINDING_ENV_CUBE == 0
+        && glsl_ibl::BINDING_IRRADIANCE_CUBE == 1
+        && glsl_ibl::BINDING_PREFILTERED_CUBE == 2
+        && glsl_ibl::BINDING_BRDF_LUT == 3
+        && glsl_ibl::BINDING_ENV_DATA == 4
+);
+
 pub const CUBE_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 pub const LUT_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -725,7 +738,8 @@ impl Ibl {
         )?;
         ubo.write(0, bytemuck::bytes_of(&ubo_data))?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let mut bindings: Vec<_> = (0..4)
+        // Bindings 0..4 (BINDING_ENV_CUBE … BINDING_BRDF_LUT) in the order of the writes below.
+        let mut bindings: Vec<_> = (0..BINDING_ENV_DATA)
             .map(|i| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(i)
@@ -736,7 +750,7 @@ impl Ibl {
             .collect();
         bindings.push(
             vk::DescriptorSetLayoutBinding::default()
-                .binding(4)
+                .binding(BINDING_ENV_DATA)
                 .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(stages),
@@ -775,7 +789,7 @@ impl Ibl {
         }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(set)
-            .dst_binding(4)
+            .dst_binding(BINDING_ENV_DATA)
             .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
             .buffer_info(&ubo_info);
         unsafe { d.update_descriptor_sets(&[write], &[]) };

@@ -15,7 +15,7 @@ use crate::vk::image::{ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, VkError};
 
-pub const SET_MATERIAL: u32 = 2;
+pub const SET_MATERIAL: u32 = super::gpu::SET_MATERIAL;
 /// Bindings 0..8: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
 pub const SLOT_COUNT: usize = 8;
 
@@ -28,8 +28,8 @@ pub fn map_bits(textures: &crate::scene::MaterialTextures) -> u32 {
         .filter(|(_, s)| textures.get(**s).is_some())
         .fold(0, |bits, (i, _)| bits | 1 << i)
 }
-/// Binding 8: `MaterialExtra`.
-pub const BINDING_EXTRA: u32 = 8;
+/// The binding of `MaterialExtra` (after the maps, whose bindings are their `MAP_*` slots).
+pub const BINDING_EXTRA: u32 = super::gpu::glsl::include_bindings::BINDING_MATERIAL_EXTRA as u32;
 
 /// `MaterialExtra` (std140) in `shaders_glsl/include/bindings.glsl`.
 #[repr(C)]

@@ -47,7 +47,7 @@ pub const DESTINATION_ACCESS: Access = (
 );
 
 /// Specialization constant id of the operator in `tonemap.comp`.
-const SPEC_TONEMAP: u32 = 0;
+const SPEC_TONEMAP: u32 = crate::glsl::tonemap_comp::SPEC_TONEMAP;
 
 /// Workgroup size of `tonemap.comp` in x and y.
 const GROUP: u32 = 16;
@@ -66,12 +66,13 @@ const _: () = assert!(std::mem::size_of::<TonemapPush>() <= 128);
 
 /// The shader's id of an operator (`TONEMAP_*` in `shaders_glsl/include/color.glsl`).
 pub fn tonemap_id(tonemap: Tonemap) -> u32 {
+    use crate::glsl::include_color as c;
     match tonemap {
-        Tonemap::None => 0,
-        Tonemap::Reinhard => 1,
-        Tonemap::Aces => 2,
-        Tonemap::KhronosNeutral => 3,
-        Tonemap::Agx => 4,
+        Tonemap::None => c::TONEMAP_NONE,
+        Tonemap::Reinhard => c::TONEMAP_REINHARD,
+        Tonemap::Aces => c::TONEMAP_ACES,
+        Tonemap::KhronosNeutral => c::TONEMAP_KHRONOS_NEUTRAL,
+        Tonemap::Agx => c::TONEMAP_AGX,
     }
 }
 

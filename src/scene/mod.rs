@@ -67,6 +67,17 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Overrides the output size; automatic tessellation is chosen again for a new height.
+    pub fn override_size(&mut self, width: Option<u32>, height: Option<u32>) {
+        if let Some(w) = width {
+            self.output.width = w;
+        }
+        if let Some(h) = height {
+            self.output.height = h;
+            tessellation::resolve(self);
+        }
+    }
+
     /// Index of the material called `name`.
     pub fn material_index(&self, name: &str) -> Option<usize> {
         self.materials.iter().position(|m| m.name == name)
@@ -559,6 +570,14 @@ pub fn parse(text: &str, origin: &Path) -> Result<Scene, SceneError> {
     let mut scene = decode::decode(&root, base).map_err(|e| e.into_scene_error(origin))?;
     scene.source = Some(origin.to_path_buf());
     Ok(scene)
+}
+
+/// The scene file at `path`, or the embedded default scene when there is none.
+pub fn load_or_default(path: Option<&Path>) -> Result<Scene, SceneError> {
+    match path {
+        Some(p) => load(p),
+        None => Ok(default_scene()),
+    }
 }
 
 /// The embedded default scene.

@@ -156,6 +156,40 @@ pub fn resolve(scene: &mut Scene) {
     }
 }
 
+/// What `luz render` and the viewer say of automatic tessellation: a summary line (how many
+/// objects, the segment range) and, when `verbose`, one line per object (indented); nothing when
+/// no object is tessellated automatically.
+pub fn summary(scene: &Scene, verbose: bool) -> Vec<String> {
+    let lines = report(scene);
+    if lines.is_empty() {
+        return lines;
+    }
+    let segments: Vec<u32> = scene
+        .objects
+        .iter()
+        .filter(|o| matches!(o.tessellation, Tessellation::Auto { .. }))
+        .filter_map(|o| o.desc.segments())
+        .collect();
+    let (lo, hi) = (
+        segments.iter().min().copied().unwrap_or(0),
+        segments.iter().max().copied().unwrap_or(0),
+    );
+    let mut out = vec![format!(
+        "automatic tessellation (budget {} px): {} object(s), {lo}-{hi} segments{}",
+        scene.output.tessellation_error_px,
+        lines.len(),
+        if verbose {
+            ":"
+        } else {
+            " (--verbose lists them)"
+        }
+    )];
+    if verbose {
+        out.extend(lines.into_iter().map(|l| format!("  {l}")));
+    }
+    out
+}
+
 /// One line per automatically tessellated object: its name, the choice and why.
 pub fn report(scene: &Scene) -> Vec<String> {
     scene

@@ -31,7 +31,7 @@ impl ValidationLog {
     }
     /// Records (and prints) an error found by luz itself, e.g. a leak at device destruction.
     pub fn report_error(&self, text: String) {
-        eprintln!("luz: validation: {text}");
+        log::error!("validation: {text}");
         self.record(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR, text);
     }
 
@@ -94,7 +94,7 @@ unsafe extern "system" fn debug_callback(
         vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
             | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING,
     ) {
-        eprintln!("luz: validation: {text}");
+        log::error!("validation: {text}");
     }
     log.record(severity, text);
     vk::FALSE

@@ -8,7 +8,6 @@
 //! barrier on them waits for the previous frame's last use on the same queue.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -27,7 +26,7 @@ use super::camera::OrbitCamera;
 use super::script::{self, Action};
 use super::swapchain::{color_range, Swapchain};
 use super::ui::{self, UiAction, UiState, ViewSettings};
-use super::ViewArgs;
+use super::{ViewOptions, ViewOutcome};
 use crate::headless::{build_ibl, RenderOptions, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::imageio::LinearImage;
 use crate::profiler::{FrameSample, Profiler};
@@ -48,10 +47,10 @@ const PROFILER_WINDOW: usize = 300;
 
 type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
 
-pub fn run(args: ViewArgs) -> Result<ExitCode> {
-    let scene = crate::cli::load_scene(args.scene.as_deref())?;
+pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
+    let scene = crate::scene::load_or_default(args.scene.as_deref())?;
     for w in &scene.warnings {
-        eprintln!("warning: {w}");
+        log::warn!("{w}");
     }
     let script = match &args.script {
         Some(s) => script::parse(s)?,
@@ -70,15 +69,15 @@ pub fn run(args: ViewArgs) -> Result<ExitCode> {
         result: None,
     };
     event_loop.run_app(&mut app)?;
-    app.result.unwrap_or(Ok(ExitCode::SUCCESS))
+    app.result.unwrap_or(Ok(ViewOutcome::default()))
 }
 
 struct App {
-    args: ViewArgs,
+    args: ViewOptions,
     scene: Option<Scene>,
     script: Vec<(u64, Action)>,
     viewer: Option<Viewer>,
-    result: Option<Result<ExitCode>>,
+    result: Option<Result<ViewOutcome>>,
 }
 
 impl App {
@@ -342,7 +341,7 @@ impl Viewer {
     fn new(
         el: &ActiveEventLoop,
         scene: Scene,
-        args: &ViewArgs,
+        args: &ViewOptions,
         script: Vec<(u64, Action)>,
     ) -> Result<Self> {
         let width = args.width.unwrap_or(scene.output.width);
@@ -365,15 +364,17 @@ impl Viewer {
             .collect();
         let ctx = Context::new(&ContextDesc {
             instance: InstanceDesc {
-                validation: args.gpu.validate,
-                sync_validation: crate::cli::sync_validation_requested(),
+                validation: args.validate,
+                sync_validation: args.sync_validation,
                 extensions,
             },
-            device_name: args.gpu.device.clone(),
+            device_name: args.device.clone(),
             device_extensions: vec![ash::khr::swapchain::NAME],
         })?;
-        println!("device: {}", ctx.info.summary());
-        crate::cli::report_tessellation(&scene, false);
+        log::info!("device: {}", ctx.info.summary());
+        for line in crate::scene::tessellation::summary(&scene, false) {
+            log::info!("{line}");
+        }
         let surface_loader =
             ash::khr::surface::Instance::new(&ctx.instance.entry, &ctx.instance.raw);
         // SAFETY: the window outlives the surface (both owned by the viewer; the surface is
@@ -430,8 +431,10 @@ impl Viewer {
                 frame_ms: 0.0,
             });
         }
-        let render_options =
-            crate::cli::render_options(args.no_cache, args.ibl_quality, settings.debug_view);
+        let render_options = RenderOptions {
+            progress: args.progress.clone(),
+            ..RenderOptions::new(args.ibl, args.no_cache, settings.debug_view)
+        };
         let samples = sample_flags(scene.output.msaa);
         let extent = swapchain.extent;
         let targets = Targets::new(&ctx, nonzero(extent), samples)?;
@@ -443,6 +446,7 @@ impl Viewer {
                 env,
                 &render_options.ibl,
                 render_options.cache_dir.as_deref(),
+                render_options.progress.as_deref(),
             )?),
             None => None,
         };
@@ -555,12 +559,12 @@ impl Viewer {
     fn open_path(&mut self, path: &Path) {
         match self.try_open(path) {
             Ok(msg) => {
-                println!("{msg}");
+                log::info!("{msg}");
                 self.status = Some(msg);
             }
             Err(e) => {
                 let msg = format!("{e:#}");
-                eprintln!("luz: {msg}");
+                log::error!("{msg}");
                 self.status = Some(msg);
             }
         }
@@ -645,6 +649,7 @@ impl Viewer {
                     env,
                     &self.render_options.ibl,
                     self.render_options.cache_dir.as_deref(),
+                    self.render_options.progress.as_deref(),
                 )?),
                 None => None,
             })
@@ -870,7 +875,7 @@ impl Viewer {
                 // frame's update matches them.
                 self.scene = self.built_scene.clone();
                 self.status = Some(format!("{e:#} (the edit was undone)"));
-                eprintln!("luz: {e:#} (the edit was undone)");
+                log::error!("{e:#} (the edit was undone)");
             }
         }
         if let Some(r) = &mut self.egui_renderer {
@@ -1249,13 +1254,13 @@ impl Viewer {
             crate::imageio::save(&shot.path, &img, 0.0, crate::color::Tonemap::None)?;
         }
         let msg = format!("wrote {} ({w}x{h})", shot.path.display());
-        println!("{msg}");
+        log::info!("{msg}");
         self.status = Some(msg);
         Ok(())
     }
 
     /// Ends the session: the final screenshot, the benchmark report, validation's verdict.
-    fn finish(mut self, args: &ViewArgs) -> Result<ExitCode> {
+    fn finish(mut self, args: &ViewOptions) -> Result<ViewOutcome> {
         unsafe { self.ctx.device.device_wait_idle()? };
         if let Some(path) = &args.screenshot {
             // One more frame, copied: what the window shows at the end.
@@ -1268,16 +1273,21 @@ impl Viewer {
             self.report_bench(args)?;
         }
         let stats = self.profiler.stats();
-        println!(
+        log::info!(
             "frames: {} shown, frame time p50 {:.2} ms, p95 {:.2} ms, p99 {:.2} ms, {} stutters (> 2x median)",
             self.frame_index, stats.p50, stats.p95, stats.p99, stats.stutters
         );
         let ctx = self.ctx.clone();
         drop(self);
-        Ok(crate::cli::validation_exit(&ctx))
+        let log = ctx.validation_log();
+        Ok(ViewOutcome {
+            validation: ctx.instance.validation,
+            validation_errors: log.errors(),
+            validation_warnings: log.warnings(),
+        })
     }
 
-    fn report_bench(&self, args: &ViewArgs) -> Result<()> {
+    fn report_bench(&self, args: &ViewOptions) -> Result<()> {
         let frames: Vec<&FrameSample> = self
             .bench_frames
             .iter()
@@ -1294,7 +1304,7 @@ impl Viewer {
         let summary = crate::stats::Summary::of(&frame_ms);
         let stutters = crate::profiler::stutter_count(&frame_ms);
         let extent = self.swapchain.extent;
-        println!(
+        log::info!(
             "view --bench: {} frames at {}x{} ({} triangles, present mode {:?})",
             frames.len(),
             extent.width,
@@ -1302,7 +1312,7 @@ impl Viewer {
             self.forward.triangle_count(),
             self.swapchain.present_mode
         );
-        println!(
+        log::info!(
             "frame ms (wall, presenting): median {:.2}, p95 {:.2}, p99 {:.2}, max {:.2}; p99/p50 {:.3}; stutters {}",
             summary.median,
             summary.p95,
@@ -1326,9 +1336,11 @@ impl Viewer {
                 .filter_map(|f| f.gpu_ms.iter().find(|(m, _)| m == n).map(|(_, t)| *t))
                 .collect();
             let s = crate::stats::Summary::of(&v);
-            println!(
+            log::info!(
                 "  GPU {n:<20} median {:8.3} ms  p95 {:8.3}  p99 {:8.3}",
-                s.median, s.p95, s.p99
+                s.median,
+                s.p95,
+                s.p99
             );
             passes.insert(n.to_string(), serde_json::to_value(s)?);
         }
@@ -1347,7 +1359,7 @@ impl Viewer {
                 out.push('\n');
             }
             std::fs::write(p, out).with_context(|| format!("cannot write {}", p.display()))?;
-            println!("wrote {}", p.display());
+            log::info!("wrote {}", p.display());
         }
         if let Some(p) = &args.json {
             let json = serde_json::json!({
@@ -1367,7 +1379,7 @@ impl Viewer {
             });
             std::fs::write(p, serde_json::to_string_pretty(&json)?)
                 .with_context(|| format!("cannot write {}", p.display()))?;
-            println!("wrote {}", p.display());
+            log::info!("wrote {}", p.display());
         }
         Ok(())
     }
@@ -1381,12 +1393,12 @@ impl Viewer {
                     let msg = match crate::scene::save(&self.scene_with_camera(), &p) {
                         Ok(()) => {
                             let m = format!("saved {}", p.display());
-                            println!("{m}");
+                            log::info!("{m}");
                             m
                         }
                         Err(e) => {
                             let m = format!("{e:#}");
-                            eprintln!("luz: {m}");
+                            log::error!("{m}");
                             m
                         }
                     };

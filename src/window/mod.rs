@@ -9,67 +9,60 @@ mod swapchain;
 pub mod ui;
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use anyhow::Result;
-use clap::Args;
 
-use crate::cli::{GpuArgs, IblQuality};
-
-/// `luz view`: the interactive viewer.
-#[derive(Args, Debug, Clone)]
-pub struct ViewArgs {
-    /// Scene file (JSON); the embedded default scene when omitted.
+/// What the viewer is asked to do (`luz view`'s options, without the command line).
+#[derive(Debug, Clone, Default)]
+pub struct ViewOptions {
+    /// Scene file; the embedded default scene when `None`.
     pub scene: Option<PathBuf>,
-    #[command(flatten)]
-    pub gpu: GpuArgs,
-    /// Quit after this many frames (scripts, tests and --bench).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Enable the Khronos validation layer.
+    pub validate: bool,
+    /// Also enable its synchronization validation.
+    pub sync_validation: bool,
+    /// Use the device whose name contains this text instead of the best one.
+    pub device: Option<String>,
+    /// Quit after this many frames.
     pub frames: Option<u64>,
     /// Write a screenshot of the last frame, UI included (.png), or the linear radiance (.exr).
-    #[arg(long)]
     pub screenshot: Option<PathBuf>,
-    /// Scripted actions, `FRAME:ACTION` separated by `;`. Actions: resize=WxH, minimize, restore,
-    /// exposure=EV, tonemap=NAME, panels=on|off, help=on|off, orbit=DX,DY (degrees), zoom=STEPS,
-    /// frame_all, reset, vsync=on|off, debug_view=NAME, screenshot=PATH, open=PATH (a scene, an
-    /// .obj model or an .hdr/.exr environment, as when dropped on the window), save=PATH.
-    /// Example: "10:resize=800x600;20:exposure=1".
-    #[arg(long)]
+    /// Scripted actions, `FRAME:ACTION` separated by `;` ([`script::parse`]).
     pub script: Option<String>,
-    /// Frame-time benchmark: no panels, no vsync, the scene's output size; prints p50/p95/p99
-    /// frame time, the stutter count and per-pass GPU medians (300 frames unless --frames).
-    #[arg(long)]
+    /// Frame-time benchmark: no panels, no vsync, the scene's output size.
     pub bench: bool,
-    /// Frames excluded from --bench statistics (pipeline warm-up, first presents).
-    #[arg(long, default_value_t = 10)]
+    /// Frames excluded from the benchmark's statistics.
     pub warmup: u64,
-    /// With --bench: per-frame times as CSV.
-    #[arg(long)]
+    /// With `bench`: per-frame times as CSV.
     pub csv: Option<PathBuf>,
-    /// With --bench: a JSON summary.
-    #[arg(long)]
+    /// With `bench`: a JSON summary.
     pub json: Option<PathBuf>,
-    /// Window width in pixels (default: the scene's output width).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    /// Window width (default: the scene's output width).
     pub width: Option<u32>,
-    /// Window height in pixels (default: the scene's output height).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    /// Window height (default: the scene's output height).
     pub height: Option<u32>,
-    /// Start with vsync off (V toggles it).
-    #[arg(long)]
+    /// Start with vsync off.
     pub no_vsync: bool,
-    /// Hide the panels at start (Tab toggles them).
-    #[arg(long)]
+    /// Hide the panels at start.
     pub no_panels: bool,
     /// Sizes of the image-based lighting data.
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
+    pub ibl: crate::render::ibl::IblSettings,
     /// Do not read or write the IBL cache.
-    #[arg(long)]
     pub no_cache: bool,
+    /// Told the progress of IBL precomputations.
+    pub progress: Option<crate::progress::ProgressSink>,
 }
 
-/// Runs the viewer until the window closes (or `--frames` have been shown).
-pub fn run(args: ViewArgs) -> Result<ExitCode> {
-    app::run(args)
+/// How a viewer session ended: what the validation layer counted before the device went away.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ViewOutcome {
+    pub validation: bool,
+    pub validation_errors: u32,
+    pub validation_warnings: u32,
+}
+
+/// Runs the viewer until the window closes (or `frames` have been shown). Messages go through the
+/// `log` facade (info: what was written or opened; error: what failed).
+pub fn run(options: ViewOptions) -> Result<ViewOutcome> {
+    app::run(options)
 }

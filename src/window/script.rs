@@ -117,11 +117,9 @@ fn parse_action(a: &str) -> Result<Action> {
         "frame_all" => Action::FrameAll,
         "reset" => Action::Reset,
         "debug_view" => {
-            use clap::ValueEnum;
             let v = need()?;
             Action::DebugView(
-                DebugView::from_str(v, true)
-                    .map_err(|_| anyhow!("debug_view={v}: unknown view"))?,
+                DebugView::from_name(v).ok_or_else(|| anyhow!("debug_view={v}: unknown view"))?,
             )
         }
         "screenshot" => Action::Screenshot(PathBuf::from(need()?)),

@@ -11,7 +11,6 @@
 use std::ops::RangeInclusive;
 use std::path::PathBuf;
 
-use clap::ValueEnum;
 use egui::{
     Align2, CollapsingHeader, Color32, ComboBox, DragValue, FontId, Grid, Id, Panel, Pos2,
     ScrollArea, Sense, Slider, SliderClamping, Stroke, Ui, Vec2,
@@ -472,8 +471,7 @@ fn file_ui(ui: &mut Ui, state: &mut UiState, out: &mut Out) {
 // Scene settings.
 
 fn debug_view_name(v: DebugView) -> String {
-    v.to_possible_value()
-        .map_or_else(|| format!("{v:?}"), |p| p.get_name().to_string())
+    v.name().to_string()
 }
 
 fn scene_ui(ui: &mut Ui, scene: &mut Scene, settings: &mut ViewSettings, out: &mut Out) {
@@ -536,7 +534,7 @@ fn scene_ui(ui: &mut Ui, scene: &mut Scene, settings: &mut ViewSettings, out: &m
             ComboBox::from_id_salt("luz_debug_view")
                 .selected_text(debug_view_name(v))
                 .show_ui(ui, |ui| {
-                    for o in DebugView::value_variants() {
+                    for o in &DebugView::ALL {
                         changed |= ui
                             .selectable_value(&mut v, *o, debug_view_name(*o))
                             .changed();

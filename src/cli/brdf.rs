@@ -1,4 +1,4 @@
-//! `luz brdf`: values and plots of a reflection model from the CPU reference ([`crate::brdf`]).
+//! `luz brdf`: values and plots of a reflection model from the CPU reference ([`luz::brdf`]).
 //!
 //! Everything printed or plotted comes from [`brdf::eval_terms`] and [`brdf::directional_albedo`],
 //! the functions the tests check. Local frame: n = +z, tangent x = +x, bitangent y = +y;
@@ -14,8 +14,8 @@ use glam::Vec3;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
-use crate::brdf::{self, Model};
-use crate::plot;
+use luz::brdf::{self, Model};
+use luz::plot;
 
 const EXAMPLES: &str = "\
 Materials use the scene file's syntax: a JSON object tagged by \"model\" (lambert, phong, blinn_phong,

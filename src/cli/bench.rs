@@ -1,0 +1,218 @@
+//! `luz bench`: frame-time statistics over many frames, and memory samples (a soak).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context as _, Result};
+use clap::Args;
+
+use luz::headless::{Headless, TimingReport};
+use luz::vk::Context;
+
+use super::common::{
+    context, load_scene, print_timing, render_options, report_tessellation, validation_exit, Bar,
+    GpuArgs, IblQuality,
+};
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Scene file (JSON); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Frames to time (after the warm-up).
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub frames: u32,
+    /// Frames rendered first and not timed.
+    #[arg(long, default_value_t = 3)]
+    pub warmup: u32,
+    /// Write one line per frame: frame, cpu_ms, then GPU ms of each pass.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Write the summary as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Recompute image-based lighting data instead of reading it from the cache.
+    #[arg(long)]
+    pub no_cache: bool,
+    /// Sizes of the image-based lighting data (see `luz render --help`).
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
+    /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);
+    /// default: a tenth of --frames.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub memory_every: Option<u32>,
+    /// Exit 4 when resident memory grows by more than this many MiB between the first and the
+    /// last sample, or the GPU allocation count or bytes change.
+    #[arg(long)]
+    pub max_memory_growth_mib: Option<f64>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+/// One sample of a soak: resident memory and the GPU allocator's live allocations.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct MemorySample {
+    pub frame: u64,
+    pub rss_mib: f64,
+    pub gpu_allocations: usize,
+    pub gpu_bytes: u64,
+}
+
+/// Resident set size of this process in MiB (Linux `/proc/self/statm`; NaN elsewhere).
+pub fn resident_mib() -> f64 {
+    let Ok(statm) = std::fs::read_to_string("/proc/self/statm") else {
+        return f64::NAN;
+    };
+    let pages: f64 = statm
+        .split_whitespace()
+        .nth(1)
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(f64::NAN);
+    pages * 4096.0 / (1024.0 * 1024.0)
+}
+
+fn memory_sample(ctx: &Context, frame: u64) -> MemorySample {
+    let report = ctx.allocator().generate_report();
+    MemorySample {
+        frame,
+        rss_mib: resident_mib(),
+        gpu_allocations: report.allocations.len(),
+        gpu_bytes: report.total_allocated_bytes,
+    }
+}
+
+pub fn run(a: BenchArgs) -> Result<ExitCode> {
+    let mut scene = load_scene(a.scene.as_deref())?;
+    scene.override_size(a.width, a.height);
+    for p in [&a.csv, &a.json].into_iter().flatten() {
+        std::fs::write(p, b"").with_context(|| format!("cannot write {}", p.display()))?;
+    }
+    let ctx = context(&a.gpu)?;
+    println!("device: {}", ctx.info.summary());
+    report_tessellation(&scene, false);
+    let mut renderer = Headless::with_options(
+        &ctx,
+        &scene,
+        &render_options(a.no_cache, a.ibl_quality, Default::default()),
+    )?;
+    for _ in 0..a.warmup {
+        renderer.render()?;
+    }
+    let bar = Bar::with_length("{bar:40} {pos}/{len} frames {elapsed}", a.frames as u64);
+    let mut frames = Vec::with_capacity(a.frames as usize);
+    let every = a.memory_every.unwrap_or((a.frames / 10).max(1)) as u64;
+    let mut memory = vec![memory_sample(&ctx, 0)];
+    for i in 1..=a.frames as u64 {
+        frames.push(renderer.render()?);
+        bar.inc(1);
+        if i % every == 0 {
+            memory.push(memory_sample(&ctx, i));
+        }
+    }
+    bar.finish_and_clear();
+    println!(
+        "scene: {} ({}x{}, {} triangles, {} lights)",
+        scene.display_name(),
+        scene.output.width,
+        scene.output.height,
+        renderer.triangle_count(),
+        scene.lights.len()
+    );
+    let report = TimingReport::of(&frames);
+    print_timing(&report);
+    let wall: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
+    let stutters = luz::profiler::stutter_count(&wall);
+    println!("stutters: {stutters} frames slower than 2x the rolling median of the frame time");
+    println!("memory (resident MiB, GPU allocations, GPU bytes) every {every} frames:");
+    for m in &memory {
+        println!(
+            "  frame {:>8}  {:>9.2} MiB  {:>5} allocations  {:>12} bytes",
+            m.frame, m.rss_mib, m.gpu_allocations, m.gpu_bytes
+        );
+    }
+    // The first sample is before any timed frame; growth is judged from the second on (the
+    // first frames fault in the driver's caches).
+    let base = memory.get(1).unwrap_or(&memory[0]);
+    let last = memory.last().unwrap_or(base);
+    let growth = last.rss_mib - base.rss_mib;
+    let gpu_flat = last.gpu_allocations == base.gpu_allocations && last.gpu_bytes == base.gpu_bytes;
+    println!(
+        "memory growth from frame {} to {}: {growth:+.2} MiB resident, GPU allocations {}",
+        base.frame,
+        last.frame,
+        if gpu_flat { "flat" } else { "CHANGED" }
+    );
+    let megapixels = scene.output.width as f64 * scene.output.height as f64 / 1e6;
+    let forward = report
+        .passes
+        .iter()
+        .find(|(n, _)| *n == "forward")
+        .map(|(_, s)| s.median);
+    let per_mp_light = match forward {
+        Some(ms) if !scene.lights.is_empty() => {
+            let v = ms / (megapixels * scene.lights.len() as f64);
+            println!(
+                "GPU forward per megapixel·light: {v:.4} ms (median {ms:.3} ms / ({megapixels:.4} MP × {} lights))",
+                scene.lights.len()
+            );
+            Some(v)
+        }
+        _ => None,
+    };
+    if let Some(p) = &a.csv {
+        let mut out = String::from("frame,cpu_ms");
+        for (n, _) in &report.passes {
+            out.push_str(&format!(",gpu_{n}_ms"));
+        }
+        out.push('\n');
+        for (i, f) in frames.iter().enumerate() {
+            out.push_str(&format!("{i},{:.4}", f.cpu_ms));
+            for (n, _) in &report.passes {
+                let t = f.gpu_ms.iter().find(|(m, _)| m == n).map(|(_, t)| *t);
+                out.push_str(&format!(",{:.4}", t.unwrap_or(f64::NAN)));
+            }
+            out.push('\n');
+        }
+        std::fs::write(p, out).with_context(|| format!("cannot write {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(p) = &a.json {
+        let passes: serde_json::Map<String, serde_json::Value> = report
+            .passes
+            .iter()
+            .map(|(n, s)| (n.to_string(), serde_json::to_value(s).unwrap_or_default()))
+            .collect();
+        let json = serde_json::json!({
+            "device": ctx.info.summary(),
+            "frames": report.frames,
+            "width": scene.output.width,
+            "height": scene.output.height,
+            "triangles": renderer.triangle_count(),
+            "lights": scene.lights.len(),
+            "cpu_ms": report.cpu,
+            "gpu_total_ms": report.gpu_total,
+            "gpu_pass_ms": passes,
+            "gpu_forward_ms_per_megapixel_light": per_mp_light,
+            "stutters": stutters,
+            "memory": memory,
+            "memory_growth_mib": growth,
+            "gpu_allocations_flat": gpu_flat,
+        });
+        std::fs::write(p, serde_json::to_string_pretty(&json)?)
+            .with_context(|| format!("cannot write {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(max) = a.max_memory_growth_mib {
+        if growth > max || !gpu_flat {
+            eprintln!(
+                "luz: error: memory not flat: {growth:+.2} MiB resident (limit {max}), GPU allocations {}",
+                if gpu_flat { "flat" } else { "changed" }
+            );
+            return Ok(ExitCode::from(4));
+        }
+    }
+    Ok(validation_exit(&ctx))
+}

@@ -1,0 +1,248 @@
+//! Options and helpers shared by the subcommands: GPU selection and validation, IBL sizes, scene
+//! loading, progress bars, timing tables, exit codes, and the logger that prints the library's
+//! messages.
+
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::{bail, Context as _, Result};
+use clap::Args;
+
+use luz::headless::{RenderOptions, TimingReport};
+use luz::imageio::FileFormat;
+use luz::render::forward::DebugView;
+use luz::scene::Scene;
+use luz::vk::{Context, ContextDesc, InstanceDesc};
+
+/// Options shared by every command that touches the GPU.
+#[derive(Args, Debug, Clone)]
+pub struct GpuArgs {
+    /// Enable the Khronos validation layer; errors are counted and make the exit code 3.
+    #[arg(long, env = "LUZ_VALIDATION", value_parser = clap::builder::BoolishValueParser::new(), default_value_t = false, action = clap::ArgAction::Set, num_args = 0..=1, default_missing_value = "true")]
+    pub validate: bool,
+    /// Use the device whose name contains this text (case-insensitive) instead of the best one
+    /// (discrete > integrated > virtual > CPU).
+    #[arg(long, env = "LUZ_DEVICE")]
+    pub device: Option<String>,
+}
+
+/// Presets of `render::ibl::IblSettings`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IblQuality {
+    Full,
+    Fast,
+}
+
+impl IblQuality {
+    pub fn settings(self) -> luz::render::ibl::IblSettings {
+        match self {
+            IblQuality::Full => Default::default(),
+            IblQuality::Fast => luz::render::ibl::IblSettings::fast(),
+        }
+    }
+}
+
+/// A tolerance: a finite number ≥ 0 (a NaN tolerance would make every comparison pass).
+pub fn finite_non_negative(s: &str) -> std::result::Result<f32, String> {
+    let v: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number"))?;
+    if !v.is_finite() || v < 0.0 {
+        return Err(format!("{s:?} must be a finite number ≥ 0"));
+    }
+    Ok(v)
+}
+
+/// Parses a `--debug-view` name ([`DebugView::name`]).
+pub fn debug_view_parser() -> impl clap::builder::TypedValueParser<Value = DebugView> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(
+        DebugView::ALL.map(|v| clap::builder::PossibleValue::new(v.name()).help(v.help())),
+    )
+    .map(|s| DebugView::from_name(&s).unwrap_or_default())
+}
+
+/// Loads the scene named on the command line, or the embedded default.
+pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    Ok(luz::scene::load_or_default(path)?)
+}
+
+/// `LUZ_SYNC_VALIDATION=1` (with validation on) also enables the layer's synchronization
+/// validation: hazards between commands are reported as errors.
+pub fn sync_validation_requested() -> bool {
+    std::env::var_os("LUZ_SYNC_VALIDATION").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+pub fn context(gpu: &GpuArgs) -> Result<Arc<Context>> {
+    let ctx = Context::new(&ContextDesc {
+        instance: InstanceDesc {
+            validation: gpu.validate,
+            sync_validation: sync_validation_requested(),
+            ..Default::default()
+        },
+        device_name: gpu.device.clone(),
+        device_extensions: Vec::new(),
+    })?;
+    Ok(ctx)
+}
+
+/// Fails early (before any rendering) when the output cannot be written.
+pub fn check_output(path: &Path) -> Result<FileFormat> {
+    let format = FileFormat::from_path(path)?;
+    if path.is_dir() {
+        bail!("cannot write {}: it is a directory", path.display());
+    }
+    let existed = path.exists();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    if !existed {
+        // Only a probe: leave nothing behind if rendering fails later.
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(format)
+}
+
+/// Prints the validation counts (when validation is on) and returns exit code 3 on any error.
+pub fn validation_exit(ctx: &Context) -> ExitCode {
+    validation_exit_counts(
+        ctx.instance.validation,
+        ctx.validation_log().errors(),
+        ctx.validation_log().warnings(),
+    )
+}
+
+/// [`validation_exit`] from counts taken before the device was destroyed.
+pub fn validation_exit_counts(enabled: bool, errors: u32, warnings: u32) -> ExitCode {
+    if enabled {
+        eprintln!("validation: {errors} errors, {warnings} warnings");
+        if errors > 0 {
+            return ExitCode::from(3);
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// The renderer options the `render` and `bench` flags ask for, with a progress bar for the IBL
+/// precomputation.
+pub fn render_options(no_cache: bool, quality: IblQuality, debug_view: DebugView) -> RenderOptions {
+    RenderOptions {
+        progress: Some(luz::progress::ProgressSink::new(Bar::new(
+            "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
+        ))),
+        ..RenderOptions::new(quality.settings(), no_cache, debug_view)
+    }
+}
+
+/// Says how many objects were tessellated automatically and with how many segments; `verbose`
+/// lists each object's choice.
+pub fn report_tessellation(scene: &Scene, verbose: bool) {
+    for line in luz::scene::tessellation::summary(scene, verbose) {
+        println!("{line}");
+    }
+}
+
+/// A terminal progress bar (hidden when stderr is not a terminal) for the library's
+/// [`luz::progress::Progress`] reports.
+pub struct Bar(indicatif::ProgressBar);
+
+impl Bar {
+    /// A bar with an indicatif template; its length is set by the first update.
+    pub fn new(template: &str) -> Self {
+        Self::with_length(template, 1)
+    }
+
+    pub fn with_length(template: &str, len: u64) -> Self {
+        let bar = indicatif::ProgressBar::new(len);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Self(bar)
+    }
+
+    pub fn inc(&self, n: u64) {
+        self.0.inc(n);
+    }
+
+    pub fn finish_and_clear(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+impl luz::progress::Progress for Bar {
+    fn update(&self, stage: &str, done: u64, total: u64) {
+        self.0.set_length(total);
+        self.0.set_position(done);
+        self.0.set_message(stage.to_string());
+    }
+
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+/// Prints the library's log records: info on stdout as is, warnings on stderr as
+/// `warning: …`, errors on stderr as `luz: …`.
+pub struct Logger;
+
+static LOGGER: Logger = Logger;
+
+impl Logger {
+    pub fn install() {
+        if log::set_logger(&LOGGER).is_ok() {
+            log::set_max_level(log::LevelFilter::Info);
+        }
+    }
+}
+
+impl log::Log for Logger {
+    fn enabled(&self, metadata: &log::Metadata<'_>) -> bool {
+        metadata.level() <= log::Level::Info
+    }
+
+    fn log(&self, record: &log::Record<'_>) {
+        match record.level() {
+            log::Level::Error => eprintln!("luz: {}", record.args()),
+            log::Level::Warn => eprintln!("warning: {}", record.args()),
+            log::Level::Info => println!("{}", record.args()),
+            _ => {}
+        }
+    }
+
+    fn flush(&self) {}
+}
+
+/// Prints per-pass statistics: median, p95 and p99 of each pass, the GPU total and the CPU frame.
+pub fn print_timing(report: &TimingReport) {
+    println!(
+        "{:<22} {:>10} {:>10} {:>10}   ({} frames)",
+        "", "median ms", "p95 ms", "p99 ms", report.frames
+    );
+    for (name, s) in &report.passes {
+        println!(
+            "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+            format!("GPU {name}"),
+            s.median,
+            s.p95,
+            s.p99
+        );
+    }
+    if !report.passes.is_empty() {
+        let s = &report.gpu_total;
+        println!(
+            "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+            "GPU total", s.median, s.p95, s.p99
+        );
+    }
+    let s = &report.cpu;
+    println!(
+        "{:<22} {:>10.3} {:>10.3} {:>10.3}",
+        "CPU frame", s.median, s.p95, s.p99
+    );
+}

@@ -1,0 +1,124 @@
+//! `luz render`: a scene headless to a PNG or EXR image.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::Result;
+use clap::Args;
+
+use luz::headless::{Headless, TimingReport};
+use luz::imageio::FileFormat;
+use luz::render::forward::DebugView;
+
+use super::common::{
+    check_output, context, debug_view_parser, load_scene, print_timing, render_options,
+    report_tessellation, validation_exit, GpuArgs, IblQuality,
+};
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (JSON); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output image: .png (exposed, tone-mapped, sRGB) or .exr (linear float32 radiance).
+    #[arg(short, long, default_value = "luz.png")]
+    pub output: PathBuf,
+    /// Frames to render; timings are the median over them.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Override the scene's output width.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Override the scene's output height.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// List the pipeline variants built and more detail.
+    #[arg(short, long)]
+    pub verbose: bool,
+    /// Recompute image-based lighting data instead of reading it from the cache
+    /// ($LUZ_CACHE_DIR, else $XDG_CACHE_HOME/luz, else ~/.cache/luz).
+    #[arg(long)]
+    pub no_cache: bool,
+    /// Sizes of the image-based lighting data: "full" (512² cubes, 512² LUT at 1024 samples) or
+    /// "fast" (128² cubes and LUT, for previews).
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
+    /// Show one quantity instead of the shaded radiance (BRDF terms are for the first light).
+    #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
+    pub debug_view: DebugView,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+pub fn run(a: RenderArgs) -> Result<ExitCode> {
+    let t0 = Instant::now();
+    let format = check_output(&a.output)?;
+    let mut scene = load_scene(a.scene.as_deref())?;
+    scene.override_size(a.width, a.height);
+    let ctx = context(&a.gpu)?;
+    println!("device: {}", ctx.info.summary());
+    let mut renderer = Headless::with_options(
+        &ctx,
+        &scene,
+        &render_options(a.no_cache, a.ibl_quality, a.debug_view),
+    )?;
+    if a.verbose {
+        println!("pipeline variants built:");
+        for v in renderer.variants() {
+            println!("  {v}");
+        }
+        println!("triangles: {}", renderer.triangle_count());
+    }
+    report_tessellation(&scene, a.verbose);
+    if let Some(t) = renderer.ibl_times() {
+        let stages: Vec<String> = t
+            .stages
+            .iter()
+            .map(|(n, ms)| format!("{n} {ms:.0} ms"))
+            .collect();
+        println!(
+            "IBL precomputation: {:.0} ms ({})",
+            t.total(),
+            stages.join(", ")
+        );
+    }
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut frames = Vec::with_capacity(a.frames as usize);
+    let first = renderer.render()?;
+    let ttff = t0.elapsed().as_secs_f64() * 1e3;
+    frames.push(first);
+    for _ in 1..a.frames {
+        frames.push(renderer.render()?);
+    }
+    let image = renderer.image()?;
+    luz::imageio::save(
+        &a.output,
+        &image,
+        scene.output.exposure,
+        scene.output.tonemap,
+    )?;
+    let nan = luz::imageio::count_non_finite(&image.pixels);
+    println!(
+        "scene: {} ({}x{}, msaa {})",
+        scene.display_name(),
+        scene.output.width,
+        scene.output.height,
+        scene.output.msaa
+    );
+    println!("time to first frame: {ttff:.1} ms (process start to first frame on the host)");
+    print_timing(&TimingReport::of(&frames));
+    if nan > 0 {
+        eprintln!("warning: {nan} pixels hold NaN or Inf");
+    }
+    println!(
+        "wrote {} ({})",
+        a.output.display(),
+        match format {
+            FileFormat::Png => "PNG, exposed, tone-mapped, sRGB",
+            FileFormat::Exr => "EXR, linear float32 radiance",
+        }
+    );
+    Ok(validation_exit(&ctx))
+}

@@ -1,0 +1,95 @@
+//! `luz view`: the interactive viewer ([`luz::window`]).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::Args;
+
+use luz::window::ViewOptions;
+
+use super::common::{sync_validation_requested, validation_exit_counts, Bar, GpuArgs, IblQuality};
+
+/// `luz view`: the interactive viewer.
+#[derive(Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Scene file (JSON); the embedded default scene when omitted.
+    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+    /// Quit after this many frames (scripts, tests and --bench).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Write a screenshot of the last frame, UI included (.png), or the linear radiance (.exr).
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Scripted actions, `FRAME:ACTION` separated by `;`. Actions: resize=WxH, minimize, restore,
+    /// exposure=EV, tonemap=NAME, panels=on|off, help=on|off, orbit=DX,DY (degrees), zoom=STEPS,
+    /// frame_all, reset, vsync=on|off, debug_view=NAME, screenshot=PATH, open=PATH (a scene, an
+    /// .obj model or an .hdr/.exr environment, as when dropped on the window), save=PATH.
+    /// Example: "10:resize=800x600;20:exposure=1".
+    #[arg(long)]
+    pub script: Option<String>,
+    /// Frame-time benchmark: no panels, no vsync, the scene's output size; prints p50/p95/p99
+    /// frame time, the stutter count and per-pass GPU medians (300 frames unless --frames).
+    #[arg(long)]
+    pub bench: bool,
+    /// Frames excluded from --bench statistics (pipeline warm-up, first presents).
+    #[arg(long, default_value_t = 10)]
+    pub warmup: u64,
+    /// With --bench: per-frame times as CSV.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// With --bench: a JSON summary.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Window width in pixels (default: the scene's output width).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Window height in pixels (default: the scene's output height).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Start with vsync off (V toggles it).
+    #[arg(long)]
+    pub no_vsync: bool,
+    /// Hide the panels at start (Tab toggles them).
+    #[arg(long)]
+    pub no_panels: bool,
+    /// Sizes of the image-based lighting data.
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
+    /// Do not read or write the IBL cache.
+    #[arg(long)]
+    pub no_cache: bool,
+}
+
+/// Runs the viewer until the window closes (or `--frames` have been shown).
+pub fn run(a: ViewArgs) -> Result<ExitCode> {
+    let outcome = luz::window::run(ViewOptions {
+        scene: a.scene,
+        validate: a.gpu.validate,
+        sync_validation: sync_validation_requested(),
+        device: a.gpu.device,
+        frames: a.frames,
+        screenshot: a.screenshot,
+        script: a.script,
+        bench: a.bench,
+        warmup: a.warmup,
+        csv: a.csv,
+        json: a.json,
+        width: a.width,
+        height: a.height,
+        no_vsync: a.no_vsync,
+        no_panels: a.no_panels,
+        ibl: a.ibl_quality.settings(),
+        no_cache: a.no_cache,
+        progress: Some(luz::progress::ProgressSink::new(Bar::new(
+            "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
+        ))),
+    })?;
+    Ok(validation_exit_counts(
+        outcome.validation,
+        outcome.validation_errors,
+        outcome.validation_warnings,
+    ))
+}
