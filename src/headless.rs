@@ -8,22 +8,20 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
-use crate::render::forward::{DebugView, ForwardPass, TargetFormat, TargetViews};
+use crate::render::forward::{DebugView, ForwardPass};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
+use crate::render::target::{FrameStart, HdrTarget, COLOR_ATTACHMENT};
 use crate::scene::Scene;
 use crate::stats::Summary;
 use crate::vk::cmd::{transition, CommandPool, Transition};
-use crate::vk::image::ImageDesc;
 use crate::vk::timing::GpuTimer;
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, VkError};
 
 /// The split-sum LUT read back: (geometry selector BRDF_G_*, texels) per layer.
 pub type LutLayers = Vec<(i32, Vec<[f32; 4]>)>;
 
-/// The HDR colour format: full float so the EXR and the analytic tests see exact radiance.
-pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+pub use crate::render::target::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// How to render, beyond what the scene says.
 #[derive(Debug, Clone, Default)]
@@ -127,15 +125,12 @@ pub struct Headless {
     saturate: Option<SaturatePass>,
     timer: Option<GpuTimer>,
     readback: Buffer,
-    msaa_color: Option<Image>,
-    color: Image,
-    depth: Image,
+    target: HdrTarget,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
     pool: CommandPool,
     width: u32,
     height: u32,
-    samples: vk::SampleCountFlags,
     options: RenderOptions,
     ctx: Arc<Context>,
 }
@@ -202,25 +197,7 @@ impl Headless {
             .check_render_size(&scene.display_name(), width, height, target_pixel, 16)?;
         let samples = sample_flags(ctx, scene.output.msaa)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
-        let color = Image::new(
-            ctx,
-            "hdr color",
-            ImageDesc::color_target(width, height, COLOR_FORMAT),
-        )?;
-        let msaa_color = if samples != vk::SampleCountFlags::TYPE_1 {
-            Some(Image::new(
-                ctx,
-                "hdr color msaa",
-                ImageDesc::msaa_color(width, height, COLOR_FORMAT, samples),
-            )?)
-        } else {
-            None
-        };
-        let depth = Image::new(
-            ctx,
-            "depth",
-            ImageDesc::depth(width, height, DEPTH_FORMAT, samples),
-        )?;
+        let target = HdrTarget::new(ctx, "headless", vk::Extent2D { width, height }, samples)?;
         let bytes = width as u64 * height as u64 * 16;
         let readback = Buffer::new(
             ctx,
@@ -246,16 +223,12 @@ impl Headless {
             ctx,
             &pool,
             scene,
-            TargetFormat {
-                color: COLOR_FORMAT,
-                depth: DEPTH_FORMAT,
-                samples,
-            },
+            target.format(),
             aspect,
             ibl.as_ref(),
             options.pass_options(),
         )?;
-        let saturate = SaturatePass::for_scene(ctx, scene, &color)?;
+        let saturate = SaturatePass::for_scene(ctx, scene, &target.color)?;
         let timer = GpuTimer::new(ctx, 8)?;
         let cmd = pool.allocate(1)?[0];
         let fence = unsafe {
@@ -269,15 +242,12 @@ impl Headless {
             saturate,
             timer,
             readback,
-            msaa_color,
-            color,
-            depth,
+            target,
             cmd,
             fence,
             pool,
             width,
             height,
-            samples,
             options: options.clone(),
             ctx: ctx.clone(),
         })
@@ -311,11 +281,7 @@ impl Headless {
             &self.ctx,
             &self.pool,
             &scene,
-            TargetFormat {
-                color: COLOR_FORMAT,
-                depth: DEPTH_FORMAT,
-                samples: self.samples,
-            },
+            self.target.format(),
             self.width as f32 / self.height as f32,
             ibl.as_ref(),
             self.options.pass_options(),
@@ -370,67 +336,15 @@ impl Headless {
         if let Some(t) = &mut self.timer {
             t.reset(cmd);
         }
-        let color_att = (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        let undefined = (
-            vk::ImageLayout::UNDEFINED,
-            vk::PipelineStageFlags2::TOP_OF_PIPE,
-            vk::AccessFlags2::NONE,
-        );
-        let mut begin = vec![
-            Transition {
-                image: self.color.raw,
-                range: self.color.subresource_range(),
-                from: undefined,
-                to: color_att,
-            },
-            Transition {
-                image: self.depth.raw,
-                range: self.depth.subresource_range(),
-                from: undefined,
-                to: (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
-                ),
-            },
-        ];
-        if let Some(m) = &self.msaa_color {
-            begin.push(Transition {
-                image: m.raw,
-                range: m.subresource_range(),
-                from: undefined,
-                to: color_att,
-            });
-        }
-        transition(&d, cmd, &begin);
-
-        let views = match &self.msaa_color {
-            Some(m) => TargetViews {
-                color: m.view,
-                resolve: Some(self.color.view),
-                depth: self.depth.view,
-                extent: self.color.extent(),
-            },
-            None => TargetViews {
-                color: self.color.view,
-                resolve: None,
-                depth: self.depth.view,
-                extent: self.color.extent(),
-            },
-        };
+        self.target.begin_frame(&d, cmd, FrameStart::Idle);
+        let views = self.target.views();
         let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
         self.forward.record(cmd, &views);
         if let Some(t) = &mut self.timer {
             t.end(cmd, slot);
         }
 
-        let mut last = color_att;
+        let mut last = COLOR_ATTACHMENT;
         if let Some(s) = &self.saturate {
             let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));
             last = s.record(cmd, last);
@@ -443,8 +357,8 @@ impl Headless {
             &d,
             cmd,
             &[Transition {
-                image: self.color.raw,
-                range: self.color.subresource_range(),
+                image: self.target.color.raw,
+                range: self.target.color.subresource_range(),
                 from: last,
                 to: (
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
@@ -457,10 +371,10 @@ impl Headless {
         crate::vk::cmd::copy_image_to_buffer(
             &d,
             cmd,
-            self.color.raw,
+            self.target.color.raw,
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             &self.readback,
-            self.color.extent(),
+            self.target.extent(),
         );
         crate::vk::cmd::memory_barrier(
             &d,

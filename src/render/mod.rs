@@ -8,4 +8,5 @@ pub mod ibl;
 pub mod material;
 pub mod mesh;
 pub mod saturate;
+pub mod target;
 pub mod tonemap;

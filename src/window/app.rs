@@ -27,18 +27,18 @@ use super::script::{self, Action};
 use super::swapchain::{color_range, Swapchain};
 use super::ui::{self, UiAction, UiState, ViewSettings};
 use super::{ViewOptions, ViewOutcome};
-use crate::headless::{build_ibl, RenderOptions, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::headless::{build_ibl, RenderOptions};
 use crate::imageio::LinearImage;
 use crate::profiler::{FrameSample, Profiler};
 use crate::render::display::DisplayPass;
-use crate::render::forward::{ForwardPass, TargetFormat, TargetViews};
+use crate::render::forward::{ForwardPass, TargetFormat};
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
+use crate::render::target::{FrameStart, HdrTarget, COLOR_ATTACHMENT, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::scene::Scene;
 use crate::vk::cmd::{copy_image_to_buffer, transition, CommandPool, Transition};
-use crate::vk::image::ImageDesc;
 use crate::vk::timing::GpuTimer;
-use crate::vk::{Buffer, Context, ContextDesc, Image, InstanceDesc, VkError};
+use crate::vk::{Buffer, Context, ContextDesc, InstanceDesc, VkError};
 
 /// Frames the CPU may record ahead of the GPU.
 const FRAMES_IN_FLIGHT: usize = 2;
@@ -207,45 +207,6 @@ struct Shot {
     extent: vk::Extent2D,
 }
 
-/// The images the passes draw into, at the window's size.
-struct Targets {
-    color: Image,
-    msaa: Option<Image>,
-    depth: Image,
-}
-
-impl Targets {
-    fn new(
-        ctx: &Arc<Context>,
-        extent: vk::Extent2D,
-        samples: vk::SampleCountFlags,
-    ) -> Result<Self> {
-        let (w, h) = (extent.width, extent.height);
-        let msaa = if samples != vk::SampleCountFlags::TYPE_1 {
-            Some(Image::new(
-                ctx,
-                "viewer hdr msaa",
-                ImageDesc::msaa_color(w, h, COLOR_FORMAT, samples),
-            )?)
-        } else {
-            None
-        };
-        Ok(Self {
-            color: Image::new(
-                ctx,
-                "viewer hdr",
-                ImageDesc::color_target(w, h, COLOR_FORMAT),
-            )?,
-            msaa,
-            depth: Image::new(
-                ctx,
-                "viewer depth",
-                ImageDesc::depth(w, h, DEPTH_FORMAT, samples),
-            )?,
-        })
-    }
-}
-
 /// (mesh identity, shading, material index, (model, BRDF selectors), map bits) of an object.
 type ObjectStructure = (usize, crate::scene::Shading, usize, (i32, [i32; 3]), u32);
 
@@ -304,7 +265,7 @@ struct Viewer {
     saturate: Option<SaturatePass>,
     forward: ForwardPass,
     ibl: Option<Ibl>,
-    targets: Targets,
+    targets: HdrTarget,
     frames: Vec<FrameSlot>,
     pool: CommandPool,
     swapchain: Swapchain,
@@ -437,7 +398,7 @@ impl Viewer {
         };
         let samples = sample_flags(scene.output.msaa);
         let extent = swapchain.extent;
-        let targets = Targets::new(&ctx, nonzero(extent), samples)?;
+        let targets = HdrTarget::new(&ctx, "viewer", nonzero(extent), samples)?;
         let ibl = match &scene.environment {
             Some(env) => Some(build_ibl(
                 &ctx,
@@ -658,8 +619,9 @@ impl Viewer {
         };
         let samples = sample_flags(self.scene.output.msaa);
         let targets = if samples != self.samples {
-            Some(Targets::new(
+            Some(HdrTarget::new(
                 &self.ctx,
+                "viewer",
                 nonzero(self.swapchain.extent),
                 samples,
             )?)
@@ -727,7 +689,7 @@ impl Viewer {
         }
         let extent = nonzero(self.swapchain.extent);
         if extent != self.targets.color.extent() {
-            self.targets = Targets::new(&self.ctx, extent, self.samples)?;
+            self.targets = self.targets.resized(&self.ctx, extent)?;
             self.display.set_source(self.targets.color.view);
             self.saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &self.targets.color)?;
         }
@@ -972,75 +934,24 @@ impl Viewer {
         if let Some(t) = &mut timer {
             t.reset(cmd);
         }
-        let color_att: Access = (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        let fragment_tests = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let t = &self.targets;
-        // The previous frame's last uses of the shared images come first on the queue.
-        let mut begin = vec![
-            Transition {
-                image: t.color.raw,
-                range: t.color.subresource_range(),
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: color_att,
+        // The previous frame's last uses of the shared images come first on the queue: the
+        // display pass's read and a screenshot's copy of the colour image.
+        t.begin_frame(
+            &d,
+            cmd,
+            FrameStart::AfterPrevious {
+                color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags2::COPY,
             },
-            Transition {
-                image: t.depth.raw,
-                range: t.depth.subresource_range(),
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    fragment_tests,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ),
-                to: (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    fragment_tests,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
-                ),
-            },
-        ];
-        if let Some(m) = &t.msaa {
-            begin.push(Transition {
-                image: m.raw,
-                range: m.subresource_range(),
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                to: color_att,
-            });
-        }
-        transition(&d, cmd, &begin);
-        let views = match &t.msaa {
-            Some(m) => TargetViews {
-                color: m.view,
-                resolve: Some(t.color.view),
-                depth: t.depth.view,
-                extent: t.color.extent(),
-            },
-            None => TargetViews {
-                color: t.color.view,
-                resolve: None,
-                depth: t.depth.view,
-                extent: t.color.extent(),
-            },
-        };
+        );
+        let views = t.views();
         let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
         self.forward.record_slot(cmd, &views, slot);
         if let Some(t) = &mut timer {
             t.end(cmd, s);
         }
-        let mut last = color_att;
+        let mut last = COLOR_ATTACHMENT;
         if let Some(sat) = &self.saturate {
             let s = timer.as_mut().and_then(|t| t.begin(cmd, sat.name()));
             last = sat.record(cmd, last);
