@@ -97,6 +97,10 @@ impl DisplayPass {
             .dst_binding(1)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .buffer_info(&table_info);
+        // SAFETY: `write` and the `table_info` it points to outlive the call. `set` was just
+        // allocated from `pool` and no command buffer has used it; binding 1 is a STORAGE_BUFFER
+        // in `set_layout`, and `srgb_table` is a live STORAGE_BUFFER-usage buffer, kept by the pass
+        // as long as the set.
         unsafe { ctx.device.update_descriptor_sets(&[write], &[]) };
         let mut pass = Self {
             pipelines: Vec::new(),
@@ -127,6 +131,11 @@ impl DisplayPass {
             .dst_binding(0)
             .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
             .image_info(&info);
+        // SAFETY: `write` and `info` outlive the call; binding 0 of `self.set` is a SAMPLED_IMAGE.
+        // `&mut self` gives this call sole access to the set. The caller's part, documented above
+        // and in `new`: `source` is a live view with SAMPLED usage, and no pending command buffer
+        // recorded this pass (VUID-vkUpdateDescriptorSets-None-03047) — the viewer waits for the
+        // device to go idle before it points the pass at a new image.
         unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
     }
 
@@ -197,6 +206,13 @@ impl DisplayPass {
             offset: vk::Offset2D::default(),
             extent,
         };
+        // SAFETY: `pipeline` is this pass's prepared pipeline for (`tonemap`, `format`) (looked up
+        // above); it declares viewport, scissor and cull mode dynamic, and all three are set here
+        // before the draw. `self.set` matches set 0 of `self.layout`, and the push-constant bytes
+        // are a `DisplayPush`, the FRAGMENT range of the layout. The draw reads no vertex buffers
+        // (the pipeline has no vertex input). The caller's part, documented above: `cmd` is
+        // recording inside a dynamic rendering instance on one attachment of `format`, and the
+        // source image is in the layout given at creation and readable by fragment shaders.
         unsafe {
             d.cmd_set_viewport(
                 cmd,

@@ -295,6 +295,12 @@ impl MaterialSets {
                     .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                     .buffer_info(&buffer_info),
             );
+            // SAFETY: `writes` and the `image_infos` / `buffer_info` they point to outlive the
+            // call. `set` was just allocated and no command buffer has used it; each binding is
+            // written with the type `set_layout` declares (COMBINED_IMAGE_SAMPLER slots, the
+            // UNIFORM_BUFFER extras). Every view and sampler is alive — owned by `images` and
+            // `samplers`, which the returned struct keeps — and the uniform range lies inside
+            // `extra` at an offset aligned to minUniformBufferOffsetAlignment (`stride`).
             unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
             sets.push(set);
         }

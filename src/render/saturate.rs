@@ -100,6 +100,10 @@ impl SaturatePass {
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .buffer_info(&buffer_info),
         ];
+        // SAFETY: `writes` and the infos they point to outlive the call. `set` was just allocated
+        // and no command buffer has used it; the bindings match `set_layout` (STORAGE_IMAGE 0,
+        // STORAGE_BUFFER 1). `target.view` is a live view of a colour target with STORAGE usage,
+        // and `reduction` a STORAGE_BUFFER that the pass keeps as long as the set.
         unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
         let pipelines = kernels
             .iter()
@@ -149,6 +153,11 @@ impl SaturatePass {
                 to: general,
             }],
         );
+        // SAFETY: `reduction` has TRANSFER_DST usage and is filled whole; each pipeline was built
+        // with `self.layout`, whose set 0 `self.set` matches; the barriers order the fill before
+        // the reduction and each kernel before the next. The transition above puts the target in
+        // GENERAL for the storage accesses. The caller's part: `cmd` is recording outside a render
+        // pass, and `from` is the target's actual state.
         unsafe {
             if self.mode == Saturation::Normalize {
                 // Fill is a transfer command: validation layers place it in COPY or CLEAR

@@ -215,6 +215,11 @@ impl TonemapPass {
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                 .image_info(&destination_info),
         ];
+        // SAFETY: `writes` and the infos they point to outlive the call; bindings and types match
+        // `_set_layout` (SAMPLED_IMAGE source, STORAGE_IMAGE destination), and `&mut self` gives
+        // this call sole access to `self.set`. The caller's part, documented on `new` and
+        // `set_images`: both views are live, with SAMPLED and STORAGE usage, and no pending
+        // command buffer recorded this pass (VUID-vkUpdateDescriptorSets-None-03047).
         unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
     }
 
@@ -275,6 +280,12 @@ impl TonemapPass {
             exposure_scale: exposure_scale(exposure_ev),
             tonemap: tonemap_id(tonemap),
         };
+        // SAFETY: `pipeline` is this pass's prepared compute pipeline for `tonemap` (looked up
+        // above), built with `self.layout`; `self.set` matches its set 0 and the push-constant
+        // bytes are a `TonemapPush`, the COMPUTE range of the layout. The dispatch covers
+        // `extent`, and the shader skips pixels outside either image. The caller's part,
+        // documented above: `cmd` is recording outside a render pass, and the source and
+        // destination are in the states `source_access` and `DESTINATION_ACCESS` describe.
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
             d.cmd_bind_descriptor_sets(

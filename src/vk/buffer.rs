@@ -31,9 +31,14 @@ impl Buffer {
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: `info` is a local that outlives the call; its size is non-zero (at least 4) and
+        // within maxBufferSize (`check_buffer` above); the device is alive while `ctx` is.
         let raw = unsafe { ctx.device.create_buffer(&info, None) }?;
+        // SAFETY: `raw` was just created from `ctx.device`.
         let requirements = unsafe { ctx.device.get_buffer_memory_requirements(raw) };
         if let Err(e) = limits.check_allocation(name, requirements.size) {
+            // SAFETY: `raw` was created above, never bound or used by any command, and is not used
+            // after this.
             unsafe { ctx.device.destroy_buffer(raw, None) };
             return Err(e);
         }
@@ -47,15 +52,21 @@ impl Buffer {
         let allocation = match allocation {
             Ok(a) => a,
             Err(e) => {
+                // SAFETY: as above: `raw` is unbound, unused by any command, and dropped here.
                 unsafe { ctx.device.destroy_buffer(raw, None) };
                 return Err(e.into());
             }
         };
+        // SAFETY: `raw` is a new buffer with no memory bound yet (VUID-vkBindBufferMemory-buffer-07459);
+        // `allocation` came from this device's allocator for `requirements`, so its memory type,
+        // offset alignment and size fit the buffer.
         if let Err(e) = unsafe {
             ctx.device
                 .bind_buffer_memory(raw, allocation.memory(), allocation.offset())
         } {
             let _ = ctx.allocator().free(allocation);
+            // SAFETY: `raw` is unused by any command (the bind failed, nothing recorded it) and is
+            // not used after this.
             unsafe { ctx.device.destroy_buffer(raw, None) };
             return Err(e.into());
         }
@@ -114,6 +125,12 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device`, which `self.ctx` keeps alive, and is
+        // destroyed only here. No submitted command still uses it (VUID-vkDestroyBuffer-buffer-00922):
+        // luz drops GPU resources only after their work finished — one-shot submissions are waited
+        // for (`Context::submit_and_wait`), and the owners of per-frame work (`Headless`, the
+        // viewer) wait on their frame fences or `device_wait_idle` before dropping what they
+        // recorded. The memory is freed after the buffer is gone.
         unsafe { self.ctx.device.destroy_buffer(self.raw, None) };
         if let Some(a) = self.allocation.take() {
             let _ = self.ctx.allocator().free(a);
@@ -135,7 +152,8 @@ impl Uploader {
         }
     }
 
-    /// A device-local buffer that will hold `bytes` once [`Uploader::flush`] has run.
+    /// A device-local buffer that will hold `bytes` once [`Uploader::flush`] has run. Keep the
+    /// returned buffer alive until `flush` has returned: the copy into it is recorded there.
     pub fn buffer(
         &mut self,
         name: &str,
@@ -176,6 +194,12 @@ impl Uploader {
                     dst_offset: 0,
                     size: *size,
                 }];
+                // SAFETY: `one_shot` hands over `cmd` in the recording state, outside any render
+                // pass. `src` (TRANSFER_SRC staging) lives in `pending` until `one_shot` has waited
+                // for the copy. `*dst` was created with TRANSFER_DST by `buffer`; that it is still
+                // alive is the caller's part of `Uploader`'s contract (the returned `Buffer` is kept
+                // until `flush` returns — the forward pass stores it in its meshes first). Both hold
+                // `size` bytes, so the region is in bounds.
                 unsafe { d.cmd_copy_buffer(cmd, src.raw, *dst, &region) };
             }
             super::cmd::memory_barrier(

@@ -17,6 +17,8 @@ impl CommandPool {
         let info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(ctx.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: `info` is a local that outlives the call; `ctx.queue_family` is the family the
+        // device's queue was created from.
         let raw = unsafe { ctx.device.create_command_pool(&info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
@@ -30,6 +32,9 @@ impl CommandPool {
             .command_pool(self.raw)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(count);
+        // SAFETY: `info` is a local naming `self.raw`, a live pool of this device. The pool is
+        // externally synchronised: luz records and submits on one thread only (its rayon work is
+        // CPU-only), so no other call uses this pool concurrently.
         Ok(unsafe { self.ctx.device.allocate_command_buffers(&info) }?)
     }
 
@@ -41,6 +46,10 @@ impl CommandPool {
         let cmd = self.allocate(1)?[0];
         let d = &self.ctx.device;
         let result = (|| {
+            // SAFETY: `cmd` was just allocated from `self.raw`, so it is in the initial state, not
+            // recording or pending (VUID-vkBeginCommandBuffer-commandBuffer-00049); the begin info
+            // is a temporary that outlives the call. Pool access is single-threaded (see
+            // `allocate`).
             unsafe {
                 d.begin_command_buffer(
                     cmd,
@@ -49,9 +58,15 @@ impl CommandPool {
                 )
             }?;
             f(cmd)?;
+            // SAFETY: `cmd` is in the recording state: it began above and `f` only records into
+            // it (it does not own it and never ends or submits it).
             unsafe { d.end_command_buffer(cmd) }?;
             self.ctx.submit_and_wait(cmd)
         })();
+        // SAFETY: `cmd` was allocated from `self.raw` and is not pending
+        // (VUID-vkFreeCommandBuffers-pCommandBuffers-00047): it was never submitted (an earlier
+        // step failed), or the submission failed, or `submit_and_wait` waited for its fence. It is
+        // not used after this.
         unsafe { d.free_command_buffers(self.raw, &[cmd]) };
         result
     }
@@ -59,6 +74,11 @@ impl CommandPool {
 
 impl Drop for CommandPool {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here. The idle wait first makes sure no command buffer allocated from it
+        // is pending (VUID-vkDestroyCommandPool-commandPool-00041). Waiting idle also needs the
+        // queue externally synchronised, which holds because all submissions come from the same
+        // single thread that drops the pool.
         unsafe {
             // Buffers from this pool may still be executing if a frame was abandoned on error.
             let _ = self.ctx.device.device_wait_idle();
@@ -94,6 +114,10 @@ pub fn transition(device: &ash::Device, cmd: vk::CommandBuffer, transitions: &[T
         })
         .collect();
     let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
+    // SAFETY: `dep` and `barriers` are locals that outlive the call. The caller passes `cmd` in the
+    // recording state, from a pool used only on this thread, and images and states that are valid
+    // for it (the contract of this function; the synchronization2 feature is enabled by
+    // `Context::new`).
     unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
 }
 
@@ -110,6 +134,8 @@ pub fn memory_barrier(
         .dst_stage_mask(dst.0)
         .dst_access_mask(dst.1)];
     let dep = vk::DependencyInfo::default().memory_barriers(&b);
+    // SAFETY: `dep` and `b` are locals that outlive the call; the caller passes `cmd` in the
+    // recording state, from a pool used only on this thread (the contract of this function).
     unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
 }
 
@@ -140,5 +166,9 @@ pub fn copy_image_to_buffer(
             depth: 1,
         },
     };
+    // SAFETY: the region is a local that outlives the call. The caller passes `cmd` in the
+    // recording state outside a render pass, `image` (TRANSFER_SRC, at least `extent`, in `layout`)
+    // and a TRANSFER_DST `buffer` large enough for the tightly packed pixels, and keeps both alive
+    // until the submission completes (the contract of this function).
     unsafe { d.cmd_copy_image_to_buffer(cmd, image, layout, buffer.raw, &[region]) };
 }

@@ -107,10 +107,14 @@ impl Context {
     pub fn new(desc: &ContextDesc) -> Result<Arc<Self>, VkError> {
         let instance = Instance::new(&desc.instance)?;
         let inst = &instance.raw;
+        // SAFETY: `inst` is the instance `Instance::new` just created and `instance` keeps alive; the
+        // call only fills a Vec that ash sizes from the count query.
         let physicals = unsafe { inst.enumerate_physical_devices() }?;
         let mut candidates = Vec::new();
         let mut rejected = Vec::new();
         for &p in &physicals {
+            // SAFETY: `p` was enumerated from `inst` above; physical devices live as long as their
+            // instance.
             let props = unsafe { inst.get_physical_device_properties(p) };
             let name = props
                 .device_name_as_c_str()
@@ -120,6 +124,7 @@ impl Context {
                 rejected.push(format!("{name} (Vulkan < 1.3)"));
                 continue;
             }
+            // SAFETY: `p` was enumerated from `inst` above; ash sizes the output from the count query.
             let families = unsafe { inst.get_physical_device_queue_family_properties(p) };
             let family = families.iter().position(|f| {
                 f.queue_flags
@@ -180,8 +185,13 @@ impl Context {
             .push_next(&mut driver_props)
             .push_next(&mut maintenance3)
             .push_next(&mut maintenance4);
+        // SAFETY: `physical` was enumerated from `inst`. The structs chained into `props2`
+        // (driver, maintenance3, maintenance4 properties) are live locals that outlive the call, and
+        // each is a valid extension of VkPhysicalDeviceProperties2 here: all three are core in
+        // Vulkan 1.3, and devices below 1.3 were rejected above.
         unsafe { inst.get_physical_device_properties2(physical, &mut props2) };
         let props = props2.properties;
+        // SAFETY: `physical` was enumerated from `inst`, which is alive.
         let families = unsafe { inst.get_physical_device_queue_family_properties(physical) };
         let mut info = DeviceInfo {
             name: chosen.name.clone(),
@@ -208,6 +218,9 @@ impl Context {
         let mut f2 = vk::PhysicalDeviceFeatures2::default()
             .push_next(&mut f12)
             .push_next(&mut f13);
+        // SAFETY: `physical` was enumerated from `inst`; `f12` and `f13`, chained into `f2`, are live
+        // locals that outlive the call, and the Vulkan 1.2/1.3 feature structs are valid in the chain
+        // of a Vulkan 1.3 device (older devices were rejected above).
         unsafe { inst.get_physical_device_features2(physical, &mut f2) };
         let supported = f2.features;
         let (dyn_rendering, sync2) = (f13.dynamic_rendering, f13.synchronization2);
@@ -243,7 +256,14 @@ impl Context {
             .enabled_features(&features)
             .push_next(&mut e12)
             .push_next(&mut e13);
+        // SAFETY: `device_info` and everything it points to (queue infos and priorities, the
+        // extension-name pointers into `'static` CStrs, `features`, the `e12`/`e13` chain) are locals
+        // that outlive the call. `queue_family` is an index into this physical device's families,
+        // and only features the device reported (`supported`, `f12`, `f13`, checked above) are
+        // enabled. An extension the device lacks makes the call fail, which is returned as an error.
         let device = unsafe { inst.create_device(physical, &device_info, None) }?;
+        // SAFETY: the device was created with one queue of family `queue_family` (`queue_infos`), so
+        // index 0 exists (VUID-vkGetDeviceQueue-queueIndex-00385).
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: inst.clone(),
@@ -256,6 +276,9 @@ impl Context {
         let allocator = match allocator {
             Ok(a) => a,
             Err(e) => {
+                // SAFETY: `device` was created just above and nothing has been created from it
+                // (the allocator failed to build), so it has no child objects and no pending work
+                // (VUID-vkDestroyDevice-device-00378); it is not used after this.
                 unsafe { device.destroy_device(None) };
                 return Err(e.into());
             }
@@ -291,6 +314,10 @@ impl Context {
             .object_handle(handle)
             .object_name(&cname);
         // Naming is best effort; a failure here must never stop rendering.
+        // SAFETY: `info` and the `cname` it points to outlive the call; `du` was loaded for
+        // `self.device`. Callers pass handles they created from `self.device` and name them right
+        // after creation, before any other thread can see them (objectHandle is externally
+        // synchronised).
         let _ = unsafe { du.set_debug_utils_object_name(&info) };
     }
 
@@ -319,6 +346,8 @@ impl Context {
 
     /// Submits one command buffer and waits for it (fence), with the queue lock held.
     pub fn submit_and_wait(&self, cmd: vk::CommandBuffer) -> Result<(), VkError> {
+        // SAFETY: `self.device` is alive for `&self`; the create info is a temporary that outlives
+        // the call.
         let fence = unsafe {
             self.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
@@ -327,10 +356,22 @@ impl Context {
         let submit = vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos);
         let result = {
             let _q = self.queue_lock.lock().unwrap_or_else(|p| p.into_inner());
+            // SAFETY: `_q` holds `queue_lock`, which serialises every use of `self.queue` (queue
+            // access is externally synchronised). `submit` points to `cmd_infos`, a live local.
+            // `fence` was just created, unsignalled and unused (VUID-vkQueueSubmit2-fence-04894).
+            // `cmd` is a command buffer of this device that the caller has finished recording and
+            // that is not pending (the contract of this function; `CommandPool::one_shot` passes a
+            // fresh, ended one).
             unsafe { self.device.queue_submit2(self.queue, &[submit], fence) }
         };
+        // SAFETY: `fence` was created above from `self.device` and is destroyed only below, after
+        // this wait returns.
         let result =
             result.and_then(|_| unsafe { self.device.wait_for_fences(&[fence], true, u64::MAX) });
+        // SAFETY: no queue operation still refers to `fence` (VUID-vkDestroyFence-fence-01120):
+        // either the submit failed, so it was never used, or the unbounded wait above returned
+        // (success, or device loss, after which every submission counts as complete). It is not
+        // used after this.
         unsafe { self.device.destroy_fence(fence, None) };
         result.map_err(VkError::from)
     }
@@ -338,8 +379,9 @@ impl Context {
 
 impl Drop for Context {
     fn drop(&mut self) {
-        // SAFETY: all objects created from this device are owned by wrappers holding an Arc of the
-        // context, so they are gone by now. The allocator goes before the device.
+        // SAFETY: `self.device` is still alive (destroyed at the end of this function). Waiting
+        // idle needs every queue of the device externally synchronised: `&mut self` in `drop`
+        // means no other reference to this context, and so to `self.queue`, exists.
         unsafe {
             let _ = self.device.device_wait_idle();
         }
@@ -361,6 +403,11 @@ impl Drop for Context {
                 names.join(", ")
             ));
         }
+        // SAFETY: `self.allocator` is dropped exactly once, here, and not touched afterwards (the
+        // context is being dropped); it returns its memory blocks while the device is still alive.
+        // Then the device has no children left (VUID-vkDestroyDevice-device-00378): every object
+        // created from it is owned by a wrapper holding an `Arc<Context>`, so all of them were
+        // dropped before this `drop` could run, and the idle wait above finished all their work.
         unsafe {
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);

@@ -191,12 +191,19 @@ impl Image {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: `info` is a local that outlives the call. Extent and layer count are non-zero and
+        // within the device limits (checked above); format, usage, samples and mip count come from
+        // the `ImageDesc` constructors, whose callers choose combinations the device supports
+        // (this is not re-checked here).
         let raw = unsafe { ctx.device.create_image(&info, None) }?;
+        // SAFETY: `raw` was just created from `ctx.device` (non-disjoint, so no plane info needed).
         let requirements = unsafe { ctx.device.get_image_memory_requirements(raw) };
         if let Err(e) = limits.check_allocation(
             &format!("{name} ({}x{} image)", desc.width, desc.height),
             requirements.size,
         ) {
+            // SAFETY: `raw` was created above, has no memory, view or command using it, and is not
+            // used after this.
             unsafe { ctx.device.destroy_image(raw, None) };
             return Err(e);
         }
@@ -209,10 +216,14 @@ impl Image {
         }) {
             Ok(a) => a,
             Err(e) => {
+                // SAFETY: as above: `raw` is unbound, unused, and dropped here.
                 unsafe { ctx.device.destroy_image(raw, None) };
                 return Err(e.into());
             }
         };
+        // SAFETY: `raw` is a new image with no memory bound yet (VUID-vkBindImageMemory-image-07460);
+        // `allocation` came from this device's allocator for `requirements` (non-linear, so
+        // bufferImageGranularity is respected), so its memory type, alignment and size fit.
         let bound = unsafe {
             ctx.device
                 .bind_image_memory(raw, allocation.memory(), allocation.offset())
@@ -229,12 +240,18 @@ impl Image {
                     base_array_layer: 0,
                     layer_count: desc.layers,
                 });
+            // SAFETY: `view_info` is a local that outlives the call; `raw` is bound to memory
+            // (this closure runs only when the bind succeeded); the view covers exactly the
+            // image's mips and layers with its own format, aspect and a view type matching its
+            // layer count and cube flag (`view_type`).
             unsafe { ctx.device.create_image_view(&view_info, None) }
         });
         let view = match view {
             Ok(v) => v,
             Err(e) => {
                 let _ = ctx.allocator().free(allocation);
+                // SAFETY: `raw` has no view (creating it failed) and no command ever used it; it is
+                // not used after this, so the memory freed just before is never accessed through it.
                 unsafe { ctx.device.destroy_image(raw, None) };
                 return Err(e.into());
             }
@@ -281,6 +298,9 @@ impl Image {
                 base_array_layer: 0,
                 layer_count: self.desc.layers,
             });
+        // SAFETY: `info` is a local that outlives the call; `self.raw` is a live, bound image of
+        // this device. The range is one mip at `level` over all layers; the caller passes
+        // `level < mip_levels` (as the IBL passes do: one view per mip).
         let view = unsafe { self.ctx.device.create_image_view(&info, None) }?;
         self.ctx.set_name(view, &format!("mip {level} view"));
         self.extra_views.push(view);
@@ -300,6 +320,9 @@ impl Sampler {
         name: &str,
         info: &vk::SamplerCreateInfo<'_>,
     ) -> Result<Self, VkError> {
+        // SAFETY: `info` is borrowed for the call. Callers enable anisotropy only when the device
+        // feature is on, with `max_anisotropy` clamped to `maxSamplerAnisotropy`
+        // (`SamplerDesc::anisotropy_for`).
         let raw = unsafe { ctx.device.create_sampler(info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
@@ -328,12 +351,22 @@ impl Sampler {
 
 impl Drop for Sampler {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here, after the work that used it finished (VUID-vkDestroySampler-sampler-01082):
+        // owners wait for their submissions (fences, `device_wait_idle`) before dropping samplers.
         unsafe { self.ctx.device.destroy_sampler(self.raw, None) };
     }
 }
 
 impl Drop for Image {
     fn drop(&mut self) {
+        // SAFETY: the views and the image were created from `self.ctx.device` (alive through
+        // `self.ctx`) and are destroyed exactly once: `drain` empties `extra_views`, and `view` and
+        // `raw` are not used again. Views go before their image. No submitted command still uses
+        // them (VUID-vkDestroyImage-image-01000, VUID-vkDestroyImageView-imageView-01026): owners
+        // drop images only after waiting for the work that used them (one-shot submissions wait;
+        // `Headless` and the viewer wait on fences or `device_wait_idle`). The memory is freed
+        // after the image is gone.
         unsafe {
             for v in self.extra_views.drain(..) {
                 self.ctx.device.destroy_image_view(v, None);
@@ -391,6 +424,11 @@ pub fn upload(
                 to: dst,
             }],
         );
+        // SAFETY: `one_shot` hands over `cmd` recording, outside a render pass. `staging`
+        // (TRANSFER_SRC, holding `bytes`) lives until `one_shot` has waited for the copy; `raw` is
+        // in TRANSFER_DST_OPTIMAL over `range` after the transition just recorded. The caller
+        // passes `regions` inside `bytes` and inside `range` of `image`, and `image` with
+        // TRANSFER_DST usage (the contract of this function).
         unsafe {
             d.cmd_copy_buffer_to_image(
                 cmd,

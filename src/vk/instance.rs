@@ -70,6 +70,15 @@ pub struct Instance {
     pub validation: bool,
 }
 
+/// The debug-utils messenger's callback: counts and records errors and warnings in the
+/// [`ValidationLog`] passed as user data.
+///
+/// # Safety
+///
+/// Only the Vulkan loader calls this, as a `PFN_vkDebugUtilsMessengerCallbackEXT`: `data`, when not
+/// null, points to callback data valid for the call (with `p_message` null or a NUL-terminated
+/// string), and `user`, when not null, is the `Arc::as_ptr` of a [`ValidationLog`] that outlives
+/// the messenger (as [`Instance::new`] registers it).
 unsafe extern "system" fn debug_callback(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     types: vk::DebugUtilsMessageTypeFlagsEXT,
@@ -79,12 +88,17 @@ unsafe extern "system" fn debug_callback(
     if data.is_null() || user.is_null() {
         return vk::FALSE;
     }
-    // SAFETY: the loader passes valid callback data; `user` is the Arc<ValidationLog> pointer
-    // we registered, kept alive by the Instance for the messenger's whole life.
+    // SAFETY: both are non-null (checked above). The loader passes callback data valid for the
+    // duration of the call; `user` is the `Arc::as_ptr` of the `ValidationLog` that `Instance::new`
+    // registered, and the `Instance` holds that Arc (never replaced) until after the messenger and
+    // the instance are destroyed, so the pointee is alive and only shared references exist.
     let (data, log) = unsafe { (&*data, &*(user as *const ValidationLog)) };
     let msg = if data.p_message.is_null() {
         String::from("(no message)")
     } else {
+        // SAFETY: `p_message` is non-null (checked above) and, per the callback data's valid usage,
+        // a NUL-terminated UTF-8 string valid for the duration of the callback; the borrow ends
+        // with `into_owned` below.
         unsafe { CStr::from_ptr(data.p_message) }
             .to_string_lossy()
             .into_owned()
@@ -102,9 +116,13 @@ unsafe extern "system" fn debug_callback(
 
 impl Instance {
     pub fn new(desc: &InstanceDesc) -> Result<Self, VkError> {
-        // SAFETY: loading the system Vulkan loader; failure is reported as an error.
+        // SAFETY: `Entry::load` dlopens the system Vulkan loader (libvulkan.so.1) and runs its
+        // initialisers; that library is trusted to be a conforming loader. Failure is an error.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| VkError::Loader(e.to_string()))?;
+        // SAFETY: global commands need only a loaded entry; ash sizes the output from the count
+        // query.
         let layers_avail = unsafe { entry.enumerate_instance_layer_properties() }?;
+        // SAFETY: as above; `None` asks for the loader's and implicit layers' extensions.
         let exts_avail = unsafe { entry.enumerate_instance_extension_properties(None) }?;
         let has_layer = |name: &CStr| {
             layers_avail
@@ -143,6 +161,7 @@ impl Instance {
         }
         // VK_EXT_validation_features comes with the validation layer, not the loader: ask the layer.
         let validation_features_ext = c"VK_EXT_validation_features";
+        // SAFETY: a global command on the loaded entry; the layer name is a `'static` C string.
         let layer_has_features = desc.validation
             && unsafe { entry.enumerate_instance_extension_properties(Some(VALIDATION_LAYER)) }
                 .map(|exts| {
@@ -195,11 +214,22 @@ impl Instance {
         if sync {
             info = info.push_next(&mut features);
         }
+        // SAFETY: `info` and everything it points to (`app` and `app_name`, the layer and extension
+        // name arrays, whose pointers are into `'static` CStrs, `messenger_info`, `features` and
+        // `enables`) are locals that outlive the call. Every layer and extension named was checked
+        // available above, and the chained structs are allowed by them: the messenger info by
+        // VK_EXT_debug_utils (chained only when `debug_ext`), the validation features by
+        // VK_EXT_validation_features (chained only when `sync`, which enables it). The messenger's
+        // user data is `log`, which the returned `Instance` keeps alive.
         let raw = unsafe { entry.create_instance(&info, None) }?;
 
         let (debug_utils, messenger) = if debug_ext {
             let du = ext::debug_utils::Instance::new(&entry, &raw);
             let messenger = if desc.validation {
+                // SAFETY: `du` was loaded for `raw`, which enabled VK_EXT_debug_utils
+                // (`debug_ext`). `messenger_info` is a live local whose pNext is null (push_next put
+                // it last in `info`'s chain); its user data is `log`, kept alive by the `Instance`
+                // for longer than the messenger.
                 unsafe { du.create_debug_utils_messenger(&messenger_info, None) }?
             } else {
                 vk::DebugUtilsMessengerEXT::null()
@@ -221,7 +251,12 @@ impl Instance {
 
 impl Drop for Instance {
     fn drop(&mut self) {
-        // SAFETY: every child object (device, surfaces) is destroyed by its owner before this.
+        // SAFETY: the messenger was created from this instance and is destroyed first, exactly
+        // once. Every other child object (the device, surfaces) is owned by something that holds
+        // this instance and drops it last: `Context` keeps it as its last field, after the device,
+        // and the viewer's surface is destroyed before its context
+        // (VUID-vkDestroyInstance-instance-00629). `self.log`, the messenger's user data, is dropped
+        // only after this function, so callbacks during destruction still find it.
         unsafe {
             if let Some(du) = &self.debug_utils {
                 if self.messenger != vk::DebugUtilsMessengerEXT::null() {

@@ -22,6 +22,8 @@ impl DescriptorSetLayout {
         bindings: &[vk::DescriptorSetLayoutBinding<'_>],
     ) -> Result<Self, VkError> {
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
+        // SAFETY: `info` and the `bindings` slice it points to outlive the call; the device is
+        // alive while `ctx` is.
         let raw = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
@@ -33,6 +35,10 @@ impl DescriptorSetLayout {
 
 impl Drop for DescriptorSetLayout {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here. A set layout may be destroyed while sets and pipeline layouts made
+        // from it are still used; the passes that own one never update their sets after dropping it
+        // (they drop it along with the sets' pool).
         unsafe {
             self.ctx
                 .device
@@ -56,6 +62,7 @@ impl DescriptorPool {
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(max_sets)
             .pool_sizes(sizes);
+        // SAFETY: `info` and the `sizes` slice it points to outlive the call.
         let raw = unsafe { ctx.device.create_descriptor_pool(&info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
@@ -69,12 +76,20 @@ impl DescriptorPool {
         let info = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.raw)
             .set_layouts(&layouts);
+        // SAFETY: `info` and `layouts` are locals that outlive the call; `self.raw` and
+        // `layout.raw` are live objects of this device. The pool is externally synchronised: luz
+        // uses pools only from the one thread that records and submits. An exhausted pool is an
+        // error result, not undefined behaviour.
         Ok(unsafe { self.ctx.device.allocate_descriptor_sets(&info) }?[0])
     }
 }
 
 impl Drop for DescriptorPool {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here, which also frees its sets; their owners never use those sets again.
+        // No submitted command uses the sets any more (VUID-vkDestroyDescriptorPool-descriptorPool-00303):
+        // owners drop passes only after waiting for their work (fences, `device_wait_idle`).
         unsafe { self.ctx.device.destroy_descriptor_pool(self.raw, None) };
     }
 }
@@ -106,6 +121,9 @@ impl PipelineLayout {
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&raw_sets)
             .push_constant_ranges(push);
+        // SAFETY: `info`, `raw_sets` and `push` outlive the call; the set layouts are live objects
+        // of this device (borrowed for the call), and every push-constant range fits
+        // maxPushConstantsSize (checked above).
         let raw = unsafe { ctx.device.create_pipeline_layout(&info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
@@ -117,6 +135,10 @@ impl PipelineLayout {
 
 impl Drop for PipelineLayout {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here. No command buffer that used it is still recording
+        // (VUID-vkDestroyPipelineLayout-pipelineLayout-02004): recording happens within one
+        // method call of the pass that owns the layout, so it cannot be dropped mid-recording.
         unsafe { self.ctx.device.destroy_pipeline_layout(self.raw, None) };
     }
 }
@@ -128,6 +150,9 @@ pub struct Pipeline {
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here. No submitted command uses it (VUID-vkDestroyPipeline-pipeline-00765):
+        // owners drop pipelines only after waiting for their work (fences, `device_wait_idle`).
         unsafe { self.ctx.device.destroy_pipeline(self.raw, None) };
     }
 }
@@ -241,6 +266,13 @@ impl Pipeline {
             .dynamic_state(&dynamic)
             .layout(layout.raw)
             .push_next(&mut rendering);
+        // SAFETY: `info` and everything it points to (`stages` with `spec`, `e` and `d`, the state
+        // structs, `blend_attachments`, `dynamic_states`, `rendering` with the colour formats) are
+        // locals or borrows of `desc` that outlive the call. The shader modules and `layout` are
+        // live objects of this device (borrowed). Dynamic rendering is enabled by `Context::new`,
+        // so a null render pass with `rendering` chained is allowed. Each specialization entry
+        // reads 4 bytes at `4 * i` of `d`, which holds 4 bytes per entry. That the layout matches
+        // the shaders' interface is the caller's part (each pass builds both together).
         let raw = unsafe {
             ctx.device
                 .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
@@ -270,6 +302,11 @@ impl Pipeline {
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.raw);
+        // SAFETY: `info` and what it points to (`stage` with `spec`, `e`, `d` and the `'static`
+        // entry name) outlive the call; `module` and `layout` are live objects of this device
+        // (borrowed). Each specialization entry reads 4 bytes at `4 * i` of `d`, which holds 4
+        // bytes per entry. That the layout matches the shader's interface is the caller's part
+        // (each pass builds both together).
         let raw = unsafe {
             ctx.device
                 .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)

@@ -36,6 +36,9 @@ impl ShaderModule {
         let words = ash::util::read_spv(&mut Cursor::new(bytes))
             .map_err(|e| VkError::Setup(format!("bad SPIR-V in {key}: {e}")))?;
         let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: `info` points to `words`, a local that outlives the call, holding whole u32 words
+        // (`read_spv` rejects a length that is not a multiple of 4). The code is SPIR-V that
+        // build.rs compiled from `shaders_glsl/` with shaderc for Vulkan 1.3, embedded unchanged.
         let raw = unsafe { ctx.device.create_shader_module(&info, None) }?;
         ctx.set_name(raw, key);
         Ok(Self {
@@ -48,6 +51,9 @@ impl ShaderModule {
 
 impl Drop for ShaderModule {
     fn drop(&mut self) {
+        // SAFETY: `self.raw` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here. A module may be destroyed while pipelines built from it are in use
+        // (it is only read during pipeline creation), so there is no other requirement.
         unsafe { self.ctx.device.destroy_shader_module(self.raw, None) };
     }
 }

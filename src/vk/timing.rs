@@ -25,6 +25,9 @@ impl GpuTimer {
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(capacity * 2);
+        // SAFETY: `info` is a local that outlives the call; the device's queue family has
+        // timestamp support (`bits` != 0, checked above). Callers pass a non-zero `capacity` (8),
+        // so the query count is positive.
         let pool = unsafe { ctx.device.create_query_pool(&info, None) }?;
         ctx.set_name(pool, "luz timestamps");
         Ok(Some(Self {
@@ -44,6 +47,10 @@ impl GpuTimer {
     /// Resets the pool for a new frame; call outside a render pass.
     pub fn reset(&mut self, cmd: vk::CommandBuffer) {
         self.names.clear();
+        // SAFETY: `self.pool` is a live pool of this device with `capacity * 2` queries, so the
+        // range is in bounds. The caller passes `cmd` in the recording state, outside a render pass
+        // (VUID-vkCmdResetQueryPool-renderpass), with no pending submission still using these
+        // queries (it waited for the previous frame's fence) — the contract of this method.
         unsafe {
             self.ctx
                 .device
@@ -58,6 +65,9 @@ impl GpuTimer {
             return None;
         }
         self.names.push(name);
+        // SAFETY: `slot < capacity` (checked above), so query `slot * 2` exists in `self.pool`; it
+        // was reset by `reset` earlier in this frame (`names` counts writes since then). The caller
+        // passes `cmd` in the recording state, the one `reset` recorded into.
         unsafe {
             self.ctx.device.cmd_write_timestamp2(
                 cmd,
@@ -71,6 +81,8 @@ impl GpuTimer {
 
     pub fn end(&mut self, cmd: vk::CommandBuffer, slot: Option<u32>) {
         let Some(slot) = slot else { return };
+        // SAFETY: `slot` came from `begin`, so `slot < capacity` and query `slot * 2 + 1` exists and
+        // was reset with the others; the caller passes `cmd` in the recording state.
         unsafe {
             self.ctx.device.cmd_write_timestamp2(
                 cmd,
@@ -88,6 +100,10 @@ impl GpuTimer {
             return Ok(Vec::new());
         }
         let mut data = vec![0u64; n * 2];
+        // SAFETY: `data` holds exactly the 2·n 64-bit results asked for (ash derives the query count
+        // and stride from the slice and TYPE_64), and n ≤ capacity, so queries 0..2n exist in
+        // `self.pool`. All of them were written by the frame last recorded, which the caller has
+        // submitted and waited for, so WAIT returns.
         unsafe {
             self.ctx.device.get_query_pool_results(
                 self.pool,
@@ -112,6 +128,9 @@ impl GpuTimer {
 
 impl Drop for GpuTimer {
     fn drop(&mut self) {
+        // SAFETY: `self.pool` was created from `self.ctx.device` (alive through `self.ctx`) and is
+        // destroyed only here; its owner (`Headless`, the viewer) waits for the device to go idle
+        // before dropping it, so no submitted command uses it (VUID-vkDestroyQueryPool-queryPool-00793).
         unsafe { self.ctx.device.destroy_query_pool(self.pool, None) };
     }
 }

@@ -39,6 +39,9 @@ impl Swapchain {
         old: vk::SwapchainKHR,
     ) -> Result<Self, VkError> {
         let pd = ctx.physical;
+        // SAFETY: `pd` is the context's physical device and `ctx.queue_family` one of its queue
+        // families; `surface` is a live surface created from the same instance as
+        // `surface_loader` (the caller's `Surface` outlives this swapchain).
         let supported = unsafe {
             surface_loader.get_physical_device_surface_support(pd, ctx.queue_family, surface)?
         };
@@ -48,7 +51,10 @@ impl Swapchain {
                 ctx.info.name, ctx.queue_family
             )));
         }
+        // SAFETY: as above: `pd` and `surface` are live and belong to `surface_loader`'s instance,
+        // and presentation support was checked.
         let caps = unsafe { surface_loader.get_physical_device_surface_capabilities(pd, surface)? };
+        // SAFETY: as above; ash sizes the output from the count query.
         let formats = unsafe { surface_loader.get_physical_device_surface_formats(pd, surface)? };
         let chosen = FORMATS
             .iter()
@@ -64,6 +70,7 @@ impl Swapchain {
                     formats.iter().map(|f| f.format).collect::<Vec<_>>()
                 ))
             })?;
+        // SAFETY: as above; ash sizes the output from the count query.
         let modes =
             unsafe { surface_loader.get_physical_device_surface_present_modes(pd, surface)? };
         let present_mode = if vsync {
@@ -123,6 +130,12 @@ impl Swapchain {
             .present_mode(present_mode)
             .clipped(true)
             .old_swapchain(old);
+        // SAFETY: `info` is a local that outlives the call. Its values come from what the surface
+        // reported: a supported (format, colour space) pair, an extent clamped to the
+        // capabilities, an image count within [min, max], usage and composite alpha the surface
+        // supports, its current transform and an available present mode (FIFO always is). The
+        // device was created with VK_KHR_swapchain by the viewer (`loader` needs it). `old` is null
+        // or the caller's current, not yet retired swapchain of this `surface`.
         let raw = unsafe { loader.create_swapchain(&info, None)? };
         let mut this = Self {
             loader,
@@ -136,9 +149,14 @@ impl Swapchain {
             can_read,
             ctx: ctx.clone(),
         };
+        // SAFETY: `raw` was just created by `this.loader`; ash sizes the output from the count
+        // query.
         this.images = unsafe { this.loader.get_swapchain_images(raw)? };
         for (i, &image) in this.images.iter().enumerate() {
             ctx.set_name(image, &format!("swapchain image {i}"));
+            // SAFETY: the create info is a temporary that outlives the call; `image` is a
+            // swapchain image of `raw` (bound by the swapchain), 2D with one layer and one mip,
+            // viewed with the swapchain's own format over its colour aspect.
             let view = unsafe {
                 ctx.device.create_image_view(
                     &vk::ImageViewCreateInfo::default()
@@ -150,6 +168,8 @@ impl Swapchain {
                 )?
             };
             this.views.push(view);
+            // SAFETY: the create info is a temporary that outlives the call; the device is alive
+            // while `ctx` is.
             let sem = unsafe {
                 ctx.device
                     .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)?
@@ -173,6 +193,13 @@ pub fn color_range() -> vk::ImageSubresourceRange {
 
 impl Drop for Swapchain {
     fn drop(&mut self) {
+        // SAFETY: the views, semaphores and swapchain were created from `self.ctx.device` /
+        // `self.loader` (the device is alive through `self.ctx`) and are destroyed exactly once,
+        // views before the swapchain that owns their images. The viewer calls `device_wait_idle`
+        // before it replaces or drops a swapchain, so no submitted batch still uses a view or a
+        // semaphore and every use of an acquired image has completed
+        // (VUID-vkDestroySemaphore-semaphore-01137, VUID-vkDestroySwapchainKHR-swapchain-01282).
+        // The surface it was created for is dropped after it (the viewer's field order).
         unsafe {
             for &v in &self.views {
                 self.ctx.device.destroy_image_view(v, None);
