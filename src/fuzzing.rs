@@ -236,7 +236,7 @@ fn render_cpu_work(scene: &Scene, files: bool) {
     }
     let _ = crate::render::forward::lut_geometries(scene);
     for m in &scene.materials {
-        let _ = m.material.to_brdf();
+        let _ = m.material.sanitized();
         if !files {
             continue;
         }

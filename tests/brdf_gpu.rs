@@ -71,8 +71,8 @@ fn hit(i: u32, j: u32) -> Vec3 {
 /// as a fraction of the allowed bound.
 fn compare(ctx: &Arc<Context>, name: &str, material: Material, rel: f32) -> f32 {
     let mut scene = base_scene();
-    scene.materials[0].material = material.clone();
-    let model = material.to_brdf();
+    scene.materials[0].material = material;
+    let model = material;
     // The plane's tangent frame exactly as the renderer derives it.
     let mesh = &scene.objects[0].mesh;
     let tan =
@@ -141,9 +141,9 @@ fn lambert_and_classic() {
     compare(
         &ctx,
         "lambert",
-        Material::Lambert {
+        Material::Lambert(luz::brdf::LambertParams {
             albedo: Vec3::new(0.9, 0.5, 0.1),
-        },
+        }),
         REL,
     );
     for blinn in [false, true] {
@@ -151,7 +151,7 @@ fn lambert_and_classic() {
             compare(
                 &ctx,
                 &format!("phong blinn={blinn} n={shininess}"),
-                Material::Phong {
+                Material::Phong(luz::brdf::PhongParams {
                     blinn,
                     ka: 0.0,
                     kd: 0.6,
@@ -159,7 +159,7 @@ fn lambert_and_classic() {
                     shininess,
                     diffuse_color: Vec3::new(0.8, 0.3, 0.2),
                     specular_color: Vec3::ONE,
-                },
+                }),
                 REL,
             );
         }
@@ -411,9 +411,9 @@ fn oren_nayar_and_random_metal_rough() {
 fn every_model_with_every_shading_frequency() {
     let ctx = gpu();
     let models = [
-        Material::Lambert {
+        Material::Lambert(luz::brdf::LambertParams {
             albedo: Vec3::splat(0.7),
-        },
+        }),
         Material::default_phong(true),
         Material::CookTorrance(CookTorranceParams {
             roughness: 0.5,
@@ -446,27 +446,23 @@ fn every_model_with_every_shading_frequency() {
                 "objects": [{{"mesh": {{"type": "sphere", "radius": 1, "segments": 32, "rings": 16}}, "material": "m", "shading": "{shading}"}}]
             }}"#
             ));
-            scene.materials[0].material = m.clone();
+            scene.materials[0].material = m;
             let img = render_on(&ctx, &scene);
-            assert_eq!(nan_count(&img), 0, "{} {shading}: NaN/Inf", m.model_name());
+            assert_eq!(nan_count(&img), 0, "{} {shading}: NaN/Inf", m.name());
             let lit: Vec<f32> = img
                 .pixels
                 .iter()
                 .map(|p| p[0] + p[1] + p[2])
                 .filter(|&s| s > 0.0)
                 .collect();
-            assert!(
-                lit.len() > 500,
-                "{} {shading}: sphere not lit",
-                m.model_name()
-            );
+            assert!(lit.len() > 500, "{} {shading}: sphere not lit", m.name());
             means.push(lit.iter().sum::<f32>() / lit.len() as f32);
         }
         let (gouraud, phong) = (means[1], means[2]);
         assert!(
             (gouraud - phong).abs() < 0.1 * phong,
             "{}: Gouraud mean {gouraud} vs Phong shading mean {phong}",
-            m.model_name()
+            m.name()
         );
     }
     assert_no_validation_messages(&ctx);

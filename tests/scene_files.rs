@@ -144,7 +144,7 @@ fn documented_material_examples_parse() {
         let s = scene::parse(&text, Path::new("docs/materials.json"))
             .unwrap_or_else(|e| panic!("{e}\n{block}"));
         for m in &s.materials {
-            models.insert(m.material.model_name());
+            models.insert(m.material.name());
         }
     }
     for model in ["cook_torrance", "metal_rough", "principled", "oren_nayar"] {

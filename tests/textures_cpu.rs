@@ -512,15 +512,15 @@ fn mtl_maps_become_material_textures() {
     let b = s.materials.iter().find(|m| m.name == "t.obj/b").unwrap();
     // a: classic Phong with diffuse, specular and normal maps.
     assert!(
-        matches!(a.material, Material::Phong { .. }),
+        matches!(a.material, Material::Phong(luz::brdf::PhongParams { .. })),
         "{:?}",
         a.material
     );
-    if let Material::Phong {
+    if let Material::Phong(luz::brdf::PhongParams {
         diffuse_color,
         specular_color,
         ..
-    } = a.material
+    }) = a.material
     {
         assert_eq!(diffuse_color, glam::Vec3::splat(0.5));
         assert_eq!(

@@ -15,7 +15,7 @@ use super::terms::*;
 // ---------------------------------------------------------------------------------------------
 
 /// Normal distribution selector. GPU code: `BRDF_D_*` in `models.glsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Distribution {
     /// [`d_beckmann`].
@@ -25,7 +25,7 @@ pub enum Distribution {
 }
 
 /// Masking-shadowing selector. GPU code: `BRDF_G_*` in `models.glsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Geometry {
     /// [`g_cook_torrance`].
@@ -39,7 +39,7 @@ pub enum Geometry {
 }
 
 /// Fresnel selector. GPU code: `BRDF_F_*` in `models.glsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Fresnel {
     /// [`f_schlick`] (needs F0).
@@ -54,7 +54,9 @@ pub enum Fresnel {
 
 /// Diffuse lobe selector of Cook-Torrance and metallic-roughness. GPU code: `BRDF_DIFFUSE_*`
 /// in `models.glsl` (packed in `p0.y`, specialization constant `SEL_DIFFUSE`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, Serialize, Deserialize,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Diffuse {
     /// [`diffuse_lambert`]: `albedo/π`.
@@ -64,18 +66,48 @@ pub enum Diffuse {
     Burley = 1,
 }
 
-impl Diffuse {
-    /// Every value, in code order.
-    pub const ALL: [Diffuse; 2] = [Diffuse::Lambert, Diffuse::Burley];
+/// `ALL`, `name()`, `NAMED` and `from_name()` of a selector enum from one list of (variant, name):
+/// the one source of the names the scene format, the CLI, the stability sweep and pipeline-variant
+/// names use (equal to the serde names; tested).
+macro_rules! selector_names {
+    ($t:ident { $($v:ident => $n:literal),+ $(,)? }) => {
+        impl $t {
+            /// Every value, in code order.
+            pub const ALL: [$t; [$($n),+].len()] = [$($t::$v),+];
+            /// (name, value) of every value, in code order.
+            pub const NAMED: [(&'static str, $t); [$($n),+].len()] = [$(($n, $t::$v)),+];
 
-    /// The scene-format name: "lambert" or "burley".
-    pub fn name(self) -> &'static str {
-        match self {
-            Diffuse::Lambert => "lambert",
-            Diffuse::Burley => "burley",
+            /// The name in scene files, on the command line and in reports (the serde name).
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $($t::$v => $n),+
+                }
+            }
+
+            /// The value called `name`.
+            pub fn from_name(name: &str) -> Option<Self> {
+                Self::NAMED.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
+            }
         }
-    }
+    };
+}
 
+selector_names!(Distribution { Beckmann => "beckmann", Ggx => "ggx" });
+selector_names!(Geometry {
+    CookTorrance => "cook_torrance",
+    SmithGgx => "smith_ggx",
+    SmithGgxCorrelated => "smith_ggx_correlated",
+    SchlickGgx => "schlick_ggx",
+});
+selector_names!(Fresnel {
+    Schlick => "schlick",
+    SchlickSg => "schlick_sg",
+    Dielectric => "dielectric",
+    Conductor => "conductor",
+});
+selector_names!(Diffuse { Lambert => "lambert", Burley => "burley" });
+
+impl Diffuse {
     /// The factor on `albedo/π`: 1 for Lambert ([`diffuse_lambert`]), Burley's
     /// `Fd(n·l, n·v, l·h, roughness)` ([`fd_burley`], as in [`diffuse_burley`]) with `roughness`
     /// the perceptual roughness.
@@ -88,9 +120,6 @@ impl Diffuse {
 }
 
 impl Distribution {
-    /// Every value, in code order.
-    pub const ALL: [Distribution; 2] = [Distribution::Beckmann, Distribution::Ggx];
-
     /// Evaluates the selected D with width `a` (`m` for Beckmann, `α` for GGX);
     /// `sin2_h = |n × h|²` (see [`sin2_from_cos`]).
     pub fn eval(self, n_h: f32, sin2_h: f32, a: f32) -> f32 {
@@ -102,14 +131,6 @@ impl Distribution {
 }
 
 impl Geometry {
-    /// Every value, in code order.
-    pub const ALL: [Geometry; 4] = [
-        Geometry::CookTorrance,
-        Geometry::SmithGgx,
-        Geometry::SmithGgxCorrelated,
-        Geometry::SchlickGgx,
-    ];
-
     /// Evaluates the selected G. `a` is the width of the distribution (used by the Smith forms),
     /// `roughness` the perceptual roughness (used by Schlick-GGX's `k_punctual`).
     pub fn eval(self, n_h: f32, n_v: f32, n_l: f32, v_h: f32, a: f32, roughness: f32) -> f32 {
@@ -123,14 +144,6 @@ impl Geometry {
 }
 
 impl Fresnel {
-    /// Every value, in code order.
-    pub const ALL: [Fresnel; 4] = [
-        Fresnel::Schlick,
-        Fresnel::SchlickSg,
-        Fresnel::Dielectric,
-        Fresnel::Conductor,
-    ];
-
     /// Evaluates the selected F at `v·h`. `spec` is F0 (Schlick, SchlickSg) or η (Dielectric,
     /// Conductor); `kappa` is κ (Conductor only).
     pub fn eval(self, spec: Vec3, kappa: Vec3, v_h: f32) -> Vec3 {
@@ -544,6 +557,50 @@ pub enum Model {
     OrenNayar(OrenNayarParams),
 }
 
+/// A model without its parameters, in `BRDF_MODEL_*` code order: what a pipeline is specialised
+/// for ([`Model::kind`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ModelKind {
+    Lambert,
+    Phong,
+    BlinnPhong,
+    CookTorrance,
+    MetalRough,
+    Principled,
+    OrenNayar,
+}
+
+selector_names!(ModelKind {
+    Lambert => "lambert",
+    Phong => "phong",
+    BlinnPhong => "blinn_phong",
+    CookTorrance => "cook_torrance",
+    MetalRough => "metal_rough",
+    Principled => "principled",
+    OrenNayar => "oren_nayar",
+});
+
+impl ModelKind {
+    /// The GLSL `BRDF_MODEL_*` code (specialization constant `MODEL`, `sel.x`).
+    pub const fn code(self) -> i32 {
+        use super::gpu::model_code as m;
+        match self {
+            ModelKind::Lambert => m::LAMBERT,
+            ModelKind::Phong => m::PHONG,
+            ModelKind::BlinnPhong => m::BLINN_PHONG,
+            ModelKind::CookTorrance => m::COOK_TORRANCE,
+            ModelKind::MetalRough => m::METAL_ROUGH,
+            ModelKind::Principled => m::PRINCIPLED,
+            ModelKind::OrenNayar => m::OREN_NAYAR,
+        }
+    }
+
+    /// Whether the model's D, G, F and diffuse lobe are selectable.
+    pub const fn has_terms(self) -> bool {
+        matches!(self, ModelKind::CookTorrance | ModelKind::MetalRough)
+    }
+}
+
 /// The serde shape of [`Model`]: like it, plus a `blinn_phong` tag.
 #[derive(Serialize, Deserialize)]
 #[serde(tag = "model", rename_all = "snake_case")]
@@ -586,18 +643,32 @@ impl From<Model> for ModelRepr {
 }
 
 impl Model {
-    /// The serde tag: "lambert", "phong", "blinn_phong", "cook_torrance", "metal_rough",
-    /// "principled", "oren_nayar".
-    pub fn name(&self) -> &'static str {
+    /// The model without its parameters.
+    pub fn kind(&self) -> ModelKind {
         match self {
-            Model::Lambert(_) => "lambert",
-            Model::Phong(p) if p.blinn => "blinn_phong",
-            Model::Phong(_) => "phong",
-            Model::CookTorrance(_) => "cook_torrance",
-            Model::MetalRough(_) => "metal_rough",
-            Model::Principled(_) => "principled",
-            Model::OrenNayar(_) => "oren_nayar",
+            Model::Lambert(_) => ModelKind::Lambert,
+            Model::Phong(p) if p.blinn => ModelKind::BlinnPhong,
+            Model::Phong(_) => ModelKind::Phong,
+            Model::CookTorrance(_) => ModelKind::CookTorrance,
+            Model::MetalRough(_) => ModelKind::MetalRough,
+            Model::Principled(_) => ModelKind::Principled,
+            Model::OrenNayar(_) => ModelKind::OrenNayar,
         }
+    }
+
+    /// The serde tag and the scene format's `model`: "lambert", "phong", "blinn_phong",
+    /// "cook_torrance", "metal_rough", "principled", "oren_nayar" ([`ModelKind::name`]).
+    pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The classic model with the format's defaults (also the material of OBJ parts without an
+    /// MTL material): ka 0.2, kd 0.8, ks 0.5, shininess 32, diffuse 0.8 grey, specular white.
+    pub fn default_phong(blinn: bool) -> Self {
+        Model::Phong(PhongParams {
+            blinn,
+            ..Default::default()
+        })
     }
 
     /// Helmholtz reciprocity `f(l, v) = f(v, l)` holds for every model but the classic

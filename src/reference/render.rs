@@ -109,7 +109,7 @@ impl Prepared {
                 maps.insert(slot, Arc::new(CpuTexture::new(data, r)));
             }
             materials.push(RefMaterial {
-                model: m.material.to_brdf().sanitized(),
+                model: m.material.sanitized(),
                 maps,
                 normal_scale: m.textures.normal_scale,
                 occlusion_strength: m.textures.occlusion_strength,

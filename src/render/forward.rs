@@ -11,6 +11,7 @@ use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
+use crate::brdf::{Diffuse, Distribution, Fresnel, Geometry, ModelKind};
 use crate::scene::{Scene, Shading};
 use crate::vk::buffer::Uploader;
 use crate::vk::cmd::CommandPool;
@@ -149,48 +150,66 @@ impl DebugView {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct VariantKey {
     pub shading: ShadingKey,
-    pub model: i32,
+    pub model: ModelKind,
     pub fog: bool,
     pub debug: DebugView,
     /// Image-based lighting settings, when the scene has an environment.
     pub ibl: Option<IblKey>,
-    /// The material's (distribution, geometry, Fresnel) selectors, fixed in the pipeline.
-    pub sel: [i32; 3],
-    /// The material's diffuse selector (`gpu::material_diffuse_key`, -1: none / generic).
-    pub diffuse: i32,
+    /// The material's BRDF terms, fixed in the pipeline or read at run time.
+    pub terms: TermsKey,
     /// Bit i: the material has map `TextureSlot::ALL[i]` (no texture code without maps).
     pub maps: u32,
     /// The scene's light types and falloffs (`gpu::LK_*` bits).
     pub light_kinds: u32,
 }
 
-/// Names of the selectors in a variant's name.
-fn sel_names(model: i32, sel: [i32; 3], diffuse: i32) -> Option<String> {
-    use gpu::model_code as m;
-    if !matches!(model, m::COOK_TORRANCE | m::METAL_ROUGH) {
-        return None;
+/// The BRDF terms a pipeline is specialised for (`SEL_DISTRIBUTION`, `SEL_GEOMETRY`,
+/// `SEL_FRESNEL`, `SEL_DIFFUSE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum TermsKey {
+    /// "All features": the shader reads the selectors from the push constants (-1).
+    Generic,
+    /// The model has no selectable terms (the shader ignores the selectors; 0, and -1 for the
+    /// diffuse).
+    Unused,
+    /// Cook-Torrance and metallic-roughness: D, G, F and the diffuse lobe, compiled in.
+    Fixed(Distribution, Geometry, Fresnel, Diffuse),
+}
+
+impl TermsKey {
+    /// The terms of `m` as its pipeline is specialised.
+    pub fn of(m: &crate::scene::Material) -> Self {
+        use crate::brdf::Model;
+        match m.sanitized() {
+            Model::CookTorrance(p) => Self::Fixed(p.distribution, p.geometry, p.fresnel, p.diffuse),
+            Model::MetalRough(p) => Self::Fixed(p.distribution, p.geometry, p.fresnel, p.diffuse),
+            _ => Self::Unused,
+        }
     }
-    let d = ["beckmann", "ggx"]
-        .get(sel[0] as usize)
-        .copied()
-        .unwrap_or("?");
-    let g = [
-        "cook_torrance",
-        "smith_ggx",
-        "smith_ggx_correlated",
-        "schlick_ggx",
-    ]
-    .get(sel[1] as usize)
-    .copied()
-    .unwrap_or("?");
-    let f = ["schlick", "schlick_sg", "dielectric", "conductor"]
-        .get(sel[2] as usize)
-        .copied()
-        .unwrap_or("?");
-    Some(match gpu::diffuse_key_name(diffuse) {
-        Some(diffuse) => format!("{d}/{g}/{f}/{diffuse}"),
-        None => format!("{d}/{g}/{f}"),
-    })
+
+    /// The values of the `SEL_DISTRIBUTION`, `SEL_GEOMETRY`, `SEL_FRESNEL` and `SEL_DIFFUSE`
+    /// specialization constants.
+    pub fn spec_values(self) -> [i32; 4] {
+        match self {
+            Self::Generic => [-1; 4],
+            Self::Unused => [0, 0, 0, -1],
+            Self::Fixed(d, g, f, diffuse) => [d as i32, g as i32, f as i32, diffuse as i32],
+        }
+    }
+
+    /// "d/g/f/diffuse" in a variant's name, for the models with selectable terms ("?" where the
+    /// pipeline reads them at run time).
+    fn names(self, model: ModelKind) -> Option<String> {
+        if !model.has_terms() {
+            return None;
+        }
+        Some(match self {
+            Self::Fixed(d, g, f, diffuse) => {
+                format!("{}/{}/{}/{}", d.name(), g.name(), f.name(), diffuse.name())
+            }
+            Self::Generic | Self::Unused => "?/?/?".to_string(),
+        })
+    }
 }
 
 /// The environment settings that select shader code (specialization constants).
@@ -239,30 +258,16 @@ impl ShadingKey {
     }
 }
 
-pub fn model_name(model: i32) -> &'static str {
-    use gpu::model_code as m;
-    match model {
-        m::LAMBERT => "lambert",
-        m::PHONG => "phong",
-        m::BLINN_PHONG => "blinn_phong",
-        m::COOK_TORRANCE => "cook_torrance",
-        m::METAL_ROUGH => "metal_rough",
-        m::PRINCIPLED => "principled",
-        m::OREN_NAYAR => "oren_nayar",
-        _ => "unknown",
-    }
-}
-
 impl std::fmt::Display for VariantKey {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
             "forward[shading={}, model={}, fog={}",
             self.shading.name(),
-            model_name(self.model),
+            self.model.name(),
             if self.fog { "on" } else { "off" }
         )?;
-        if let Some(terms) = sel_names(self.model, self.sel, self.diffuse) {
+        if let Some(terms) = self.terms.names(self.model) {
             write!(f, ", terms={terms}")?;
         }
         if self.maps != 0 {
@@ -313,9 +318,8 @@ struct Draw {
     push: MaterialPush,
 }
 
-/// Selectors, maps and light kinds of a generic ("all features") pipeline: the shader reads the
-/// selectors from the push constants and keeps the code for every map and light kind.
-pub const GENERIC_SEL: [i32; 3] = [-1, -1, -1];
+/// Maps and light kinds of a generic ("all features") pipeline (its terms are
+/// [`TermsKey::Generic`]): the shader keeps the code for every map and light kind.
 pub const GENERIC_MAPS: u32 = 0xFF;
 pub const GENERIC_LIGHT_KINDS: u32 = 63;
 
@@ -565,12 +569,12 @@ impl ForwardPass {
             };
             let named = &scene.materials[obj.material];
             let material = &named.material;
-            let (model, mut push) = gpu::material_push(material);
-            let (_, sel) = gpu::material_key(material);
+            let mut push = gpu::material_push(material);
+            let (model, terms) = gpu::material_key(material);
             push.object_index = objects.len() as u32;
             object_slots[object] = Some(push.object_index);
             if let Some(i) = ibl {
-                push.flags = i.lut_layer(lut_geometry(&material.to_brdf()));
+                push.flags = i.lut_layer(lut_geometry(material));
             }
             objects.push(gpu::object_data(obj.transform.matrix()));
             use crate::scene::MeshDesc;
@@ -595,8 +599,7 @@ impl ForwardPass {
                         fog: scene.fog.is_some(),
                         debug,
                         ibl: ibl_key,
-                        sel: GENERIC_SEL,
-                        diffuse: -1,
+                        terms: TermsKey::Generic,
                         maps: GENERIC_MAPS,
                         light_kinds: GENERIC_LIGHT_KINDS,
                     }
@@ -607,8 +610,7 @@ impl ForwardPass {
                         fog: scene.fog.is_some(),
                         debug,
                         ibl: ibl_key,
-                        sel,
-                        diffuse: gpu::material_diffuse_key(material),
+                        terms,
                         maps: super::material::map_bits(&named.textures),
                         light_kinds: gpu::light_kinds(&scene.lights),
                     }
@@ -737,13 +739,12 @@ impl ForwardPass {
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
-            let (_, mut push) = gpu::material_push(material);
-            let (model, sel) = gpu::material_key(material);
-            let generic = draw.variant.sel == GENERIC_SEL;
+            let mut push = gpu::material_push(material);
+            let (model, terms) = gpu::material_key(material);
+            let generic = draw.variant.terms == TermsKey::Generic;
             if model != draw.variant.model
                 || (!generic
-                    && (sel != draw.variant.sel
-                        || gpu::material_diffuse_key(material) != draw.variant.diffuse
+                    && (terms != draw.variant.terms
                         || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds))
             {
                 return Err(VkError::Setup(format!(
@@ -753,7 +754,7 @@ impl ForwardPass {
             }
             push.object_index = draw.push.object_index;
             if let Some(layers) = &self.lut_layers {
-                let g = lut_geometry(&material.to_brdf());
+                let g = lut_geometry(material);
                 push.flags = layers
                     .iter()
                     .find(|(geometry, _)| *geometry == g)
@@ -1010,14 +1011,15 @@ fn create_pipeline(
             offset: 0,
         });
     }
+    let sel = v.terms.spec_values();
     let mut spec = vec![
-        (gpu::SPEC_MODEL, v.model as u32),
+        (gpu::SPEC_MODEL, v.model.code() as u32),
         (gpu::SPEC_FOG, v.fog as u32),
         (gpu::SPEC_DEBUG_VIEW, v.debug.id()),
-        (gpu::SPEC_SEL_DISTRIBUTION, v.sel[0] as u32),
-        (gpu::SPEC_SEL_GEOMETRY, v.sel[1] as u32),
-        (gpu::SPEC_SEL_FRESNEL, v.sel[2] as u32),
-        (gpu::SPEC_SEL_DIFFUSE, v.diffuse as u32),
+        (gpu::SPEC_SEL_DISTRIBUTION, sel[0] as u32),
+        (gpu::SPEC_SEL_GEOMETRY, sel[1] as u32),
+        (gpu::SPEC_SEL_FRESNEL, sel[2] as u32),
+        (gpu::SPEC_SEL_DIFFUSE, sel[3] as u32),
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
     ];
@@ -1069,7 +1071,7 @@ pub fn lut_geometries(scene: &Scene) -> Vec<i32> {
     let mut g: Vec<i32> = scene
         .materials
         .iter()
-        .map(|m| lut_geometry(&m.material.to_brdf()))
+        .map(|m| lut_geometry(&m.material))
         .collect();
     g.sort_unstable();
     g.dedup();

@@ -47,7 +47,7 @@ pub const SPEC_SEL_GEOMETRY: u32 = b::SPEC_SEL_GEOMETRY;
 pub const SPEC_SEL_FRESNEL: u32 = b::SPEC_SEL_FRESNEL;
 pub const SPEC_MAPS: u32 = b::SPEC_MAPS;
 pub const SPEC_LIGHT_KINDS: u32 = b::SPEC_LIGHT_KINDS;
-/// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`material_diffuse_key`]).
+/// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`material_key`]).
 pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
 /// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
 pub const LK_DIRECTIONAL: u32 = b::LK_DIRECTIONAL;
@@ -72,25 +72,9 @@ pub fn light_kinds(lights: &[Light]) -> u32 {
     })
 }
 
-/// The model and the (distribution, geometry, Fresnel) selectors of a material, as the shader
-/// sees them: what its pipeline variant is specialised for.
-pub fn material_key(m: &Material) -> (i32, [i32; 3]) {
-    let packed = crate::brdf::GpuBrdfParams::from_model(&m.to_brdf());
-    (packed.sel[0], [packed.sel[1], packed.sel[2], packed.sel[3]])
-}
-
-/// The material's diffuse selector (`brdf::Diffuse` code: 0 Lambert, 1 Burley) as the shader's
-/// `SEL_DIFFUSE` sees it, or -1 for models without one (the shader then ignores it).
-pub fn material_diffuse_key(m: &Material) -> i32 {
-    crate::brdf::GpuBrdfParams::diffuse_selector(&m.to_brdf().sanitized()).unwrap_or(-1)
-}
-
-/// Names of a diffuse selector value in pipeline-variant names (`None` for -1).
-pub fn diffuse_key_name(key: i32) -> Option<&'static str> {
-    crate::brdf::Diffuse::ALL
-        .iter()
-        .find(|d| **d as i32 == key)
-        .map(|d| d.name())
+/// The model and the BRDF terms of a material, as its pipeline variant is specialised.
+pub fn material_key(m: &Material) -> (crate::brdf::ModelKind, crate::render::forward::TermsKey) {
+    (m.kind(), crate::render::forward::TermsKey::of(m))
 }
 
 /// `FrameData` (std140).
@@ -180,23 +164,20 @@ impl GpuLight {
     }
 }
 
-/// The model code (specialization constant) and push constants for a material.
-pub fn material_push(m: &Material) -> (i32, MaterialPush) {
-    let packed = crate::brdf::GpuBrdfParams::from_model(&m.to_brdf());
+/// The push constants of a material (its packed BRDF parameters).
+pub fn material_push(m: &Material) -> MaterialPush {
+    let packed = crate::brdf::GpuBrdfParams::from_model(m);
     let bytes = packed.to_bytes();
     let mut brdf = [0u32; 24];
     for (w, c) in brdf.iter_mut().zip(bytes.chunks_exact(4)) {
         *w = u32::from_ne_bytes([c[0], c[1], c[2], c[3]]);
     }
-    (
-        packed.sel[0],
-        MaterialPush {
-            brdf,
-            object_index: 0,
-            flags: 0,
-            reserved: [0; 2],
-        },
-    )
+    MaterialPush {
+        brdf,
+        object_index: 0,
+        flags: 0,
+        reserved: [0; 2],
+    }
 }
 
 /// Vulkan clip space from a right-handed view: y down, depth in [0, 1].

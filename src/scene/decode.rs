@@ -785,31 +785,17 @@ const MATERIAL_MODELS: &[(&str, MaterialDecoder)] = &[
     ("oren_nayar", oren_nayar),
 ];
 
-/// The `distribution` selector (names as `brdf::Distribution`'s serde names).
-pub(crate) const DISTRIBUTIONS: &[(&str, Distribution)] = &[
-    ("beckmann", Distribution::Beckmann),
-    ("ggx", Distribution::Ggx),
-];
+/// The `distribution` selector (the names are `brdf::Distribution::name`).
+pub(crate) const DISTRIBUTIONS: &[(&str, Distribution)] = &Distribution::NAMED;
 
 /// The `geometry` selector.
-pub(crate) const GEOMETRIES: &[(&str, Geometry)] = &[
-    ("cook_torrance", Geometry::CookTorrance),
-    ("smith_ggx", Geometry::SmithGgx),
-    ("smith_ggx_correlated", Geometry::SmithGgxCorrelated),
-    ("schlick_ggx", Geometry::SchlickGgx),
-];
+pub(crate) const GEOMETRIES: &[(&str, Geometry)] = &Geometry::NAMED;
 
 /// The `fresnel` selector.
-pub(crate) const FRESNELS: &[(&str, Fresnel)] = &[
-    ("schlick", Fresnel::Schlick),
-    ("schlick_sg", Fresnel::SchlickSg),
-    ("dielectric", Fresnel::Dielectric),
-    ("conductor", Fresnel::Conductor),
-];
+pub(crate) const FRESNELS: &[(&str, Fresnel)] = &Fresnel::NAMED;
 
 /// The `diffuse` selector (Cook-Torrance and metal_rough).
-pub(crate) const DIFFUSES: &[(&str, Diffuse)] =
-    &[("lambert", Diffuse::Lambert), ("burley", Diffuse::Burley)];
+pub(crate) const DIFFUSES: &[(&str, Diffuse)] = &Diffuse::NAMED;
 
 /// Cook-Torrance's specular (Fresnel) sources; a material gives at most one.
 const SPECULAR_SOURCES: &[&str] = &["ior", "f0", "complex_ior", "preset"];
@@ -845,7 +831,7 @@ fn phong(f: &Fields, model: &str) -> Result<Material> {
     )?;
     // Start from the documented defaults and override what the file gives.
     let mut m = Material::default_phong(model == "blinn_phong");
-    if let Material::Phong {
+    if let Material::Phong(crate::brdf::PhongParams {
         ka,
         kd,
         ks,
@@ -853,7 +839,7 @@ fn phong(f: &Fields, model: &str) -> Result<Material> {
         diffuse_color,
         specular_color,
         ..
-    } = &mut m
+    }) = &mut m
     {
         *ka = f.num("ka", *ka, Check::NonNegative)?;
         *kd = f.num("kd", *kd, Check::NonNegative)?;
@@ -879,7 +865,7 @@ fn lambert(f: &Fields, model: &str) -> Result<Material> {
             ),
         ));
     }
-    Ok(Material::Lambert { albedo })
+    Ok(Material::Lambert(crate::brdf::LambertParams { albedo }))
 }
 
 /// Cook-Torrance (seed 000). Defaults are `brdf::CookTorranceParams::default()`.

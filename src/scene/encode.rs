@@ -522,9 +522,9 @@ impl Encoder<'_> {
     }
 
     fn material(&mut self, name: &str, material: &Material, textures: &MaterialTextures) -> Node {
-        let mut n = Node::obj().with("model", material.model_name());
+        let mut n = Node::obj().with("model", material.name());
         match material {
-            Material::Phong {
+            Material::Phong(crate::brdf::PhongParams {
                 ka,
                 kd,
                 ks,
@@ -532,7 +532,7 @@ impl Encoder<'_> {
                 diffuse_color,
                 specular_color,
                 ..
-            } => {
+            }) => {
                 n.put("ka", *ka)
                     .put("kd", *kd)
                     .put("ks", *ks)
@@ -540,7 +540,7 @@ impl Encoder<'_> {
                     .put("diffuse_color", *diffuse_color)
                     .put("specular_color", *specular_color);
             }
-            Material::Lambert { albedo } => {
+            Material::Lambert(crate::brdf::LambertParams { albedo }) => {
                 n.put("albedo", *albedo);
             }
             Material::CookTorrance(p) => {
@@ -586,7 +586,7 @@ impl Encoder<'_> {
                 n.put("albedo", p.albedo).put("sigma_deg", p.sigma_deg);
             }
         }
-        if let Some(t) = self.textures(name, material.model_name(), textures) {
+        if let Some(t) = self.textures(name, material.name(), textures) {
             n.put("textures", t);
         }
         n

@@ -251,7 +251,9 @@ fn edited_scene_round_trips() {
     let mut scene = default_scene();
     scene.lights[0].intensity = 1.375;
     scene.lights[1].color = Vec3::new(0.1, 0.2, 0.3);
-    let Material::Phong { kd, shininess, .. } = &mut scene.materials[0].material else {
+    let Material::Phong(crate::brdf::PhongParams { kd, shininess, .. }) =
+        &mut scene.materials[0].material
+    else {
         panic!("the default scene's first material is Blinn-Phong")
     };
     *kd = 0.123_456_79;
@@ -323,7 +325,7 @@ fn edited_scene_round_trips() {
     assert_eq!(back.materials[last].name, "new clay");
     assert!(matches!(
         back.materials[0].material,
-        Material::Phong { kd, shininess, .. } if kd == 0.123_456_79 && shininess == 77.7
+        Material::Phong(crate::brdf::PhongParams { kd, shininess, .. }) if kd == 0.123_456_79 && shininess == 77.7
     ));
     std::fs::remove_dir_all(out).unwrap();
 }

@@ -1,5 +1,5 @@
 //! Unit tests of the physically based material models: `cook_torrance`, `metal_rough`,
-//! `principled`, `oren_nayar` (defaults, every field, errors, `to_brdf` round trip).
+//! `principled`, `oren_nayar` (defaults, every field, errors, the CPU reference's serde round trip).
 
 use super::decode::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
 use super::*;
@@ -14,7 +14,7 @@ fn material(body: &str) -> Result<Material, SceneError> {
     let text = format!(
         r#"{{"materials": {{"m": {{{body}}}}}, "objects": [{{"mesh": {{"type": "sphere"}}, "material": "m"}}]}}"#
     );
-    parse(&text, Path::new("scenes/a.json")).map(|s| s.materials[0].material.clone())
+    parse(&text, Path::new("scenes/a.json")).map(|s| s.materials[0].material)
 }
 
 fn ok(body: &str) -> Material {
@@ -97,7 +97,7 @@ fn model_names() {
         (r#""model": "principled""#, "principled"),
         (r#""model": "oren_nayar""#, "oren_nayar"),
     ] {
-        assert_eq!(ok(body).model_name(), name);
+        assert_eq!(ok(body).name(), name);
     }
 }
 
@@ -647,10 +647,10 @@ fn oren_nayar_fields_and_errors() {
     );
 }
 
-/// `to_brdf` hands the parameters over unchanged, and the model the CPU reference reads back
+/// A decoded material is the CPU reference's model, and the model the CPU reference reads back
 /// from its own serde form of them is the same.
 #[test]
-fn to_brdf_round_trip() {
+fn material_is_the_reference_model() {
     let bodies = [
         r#""model": "cook_torrance", "color": [0.1, 0.2, 0.3], "kd": 0.4, "roughness": 0.6, "preset": "copper", "distribution": "ggx", "geometry": "schlick_ggx", "fresnel": "conductor""#,
         r#""model": "cook_torrance", "f0": [0.9, 0.6, 0.3], "fresnel": "schlick_sg""#,
@@ -660,7 +660,7 @@ fn to_brdf_round_trip() {
     ];
     for body in bodies {
         let m = ok(body);
-        let brdf = m.to_brdf();
+        let brdf = m;
         match (&m, brdf) {
             (Material::CookTorrance(p), Model::CookTorrance(q)) => assert_eq!(*p, q),
             (Material::MetalRough(p), Model::MetalRough(q)) => assert_eq!(*p, q),
@@ -670,7 +670,7 @@ fn to_brdf_round_trip() {
         }
         // The CPU reference's own JSON form has the same model name and reads back equal.
         let json = serde_json::to_value(brdf).unwrap();
-        assert_eq!(json["model"].as_str(), Some(m.model_name()), "{json}");
+        assert_eq!(json["model"].as_str(), Some(m.name()), "{json}");
         let back: Model = serde_json::from_value(json).unwrap();
         assert_eq!(back, brdf);
         // Decoded parameters are already within the ranges the reference sanitises to.
@@ -722,7 +722,7 @@ fn brdf_scenes() {
         } else {
             "principled"
         };
-        assert!(s.materials.iter().all(|m| m.material.model_name() == model));
+        assert!(s.materials.iter().all(|m| m.material.name() == model));
     }
     let ct = load_one("seed000_demo01_cook_torrance.json");
     let gold = &ct.materials[ct.material_index("gold").unwrap()].material;

@@ -254,95 +254,12 @@ pub struct NamedMaterial {
     pub textures: MaterialTextures,
 }
 
-/// A reflection model and its parameters.
+/// A material's reflection model and its parameters: the CPU reference's [`crate::brdf::Model`]
+/// itself, so the scene, the reference and the GPU packing share one type (no conversion).
 ///
-/// To add a model: add a variant here, a decoder in `decode.rs` (`MATERIAL_MODELS` table), its
-/// name in [`Material::model_name`], and a section in `docs/scene-format.md`.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Material {
-    /// The slides' classic model, literally (no 1/π):
-    /// I = I_a k_a O_d + Σ f_at I_L (k_d O_d (n·l) + k_s O_s (r·v)^n), or (n·h)^n with `blinn`.
-    /// O_d = `diffuse_color`, O_s = `specular_color`, n = `shininess`.
-    Phong {
-        blinn: bool,
-        ka: f32,
-        kd: f32,
-        ks: f32,
-        shininess: f32,
-        diffuse_color: Vec3,
-        specular_color: Vec3,
-    },
-    /// Lambert: f = albedo / π (each channel in [0, 1]).
-    Lambert { albedo: Vec3 },
-    /// Cook-Torrance as in seed 000: f = k_d · color/π + (1 − k_d) · D F G / (4 (n·l)(n·v)),
-    /// with selectable D, G and F and a Fresnel source (η, F0 or a complex index).
-    CookTorrance(crate::brdf::CookTorranceParams),
-    /// glTF metallic-roughness (seed 001): c_diff = base·(1 − metallic),
-    /// F0 = mix(0.04, base, metallic), α = roughness².
-    MetalRough(crate::brdf::MetalRoughParams),
-    /// Disney "Principled" (Burley 2012, as BRDF Explorer's `disney.brdf`).
-    Principled(crate::brdf::PrincipledParams),
-    /// Qualitative Oren-Nayar: ρ/π (A + B max(0, cos(φi − φo)) sin α tan β).
-    OrenNayar(crate::brdf::OrenNayarParams),
-}
-
-impl Material {
-    /// The `model` string of the scene format.
-    pub fn model_name(&self) -> &'static str {
-        match self {
-            Material::Phong { blinn: false, .. } => "phong",
-            Material::Phong { blinn: true, .. } => "blinn_phong",
-            Material::Lambert { .. } => "lambert",
-            Material::CookTorrance(_) => "cook_torrance",
-            Material::MetalRough(_) => "metal_rough",
-            Material::Principled(_) => "principled",
-            Material::OrenNayar(_) => "oren_nayar",
-        }
-    }
-
-    /// The same material as the CPU reference (and, packed, the GPU) sees it.
-    pub fn to_brdf(&self) -> crate::brdf::Model {
-        use crate::brdf::{LambertParams, Model, PhongParams};
-        match self {
-            Material::Phong {
-                blinn,
-                ka,
-                kd,
-                ks,
-                shininess,
-                diffuse_color,
-                specular_color,
-            } => Model::Phong(PhongParams {
-                diffuse_color: *diffuse_color,
-                specular_color: *specular_color,
-                ka: *ka,
-                kd: *kd,
-                ks: *ks,
-                shininess: *shininess,
-                blinn: *blinn,
-            }),
-            Material::Lambert { albedo } => Model::Lambert(LambertParams { albedo: *albedo }),
-            Material::CookTorrance(p) => Model::CookTorrance(*p),
-            Material::MetalRough(p) => Model::MetalRough(*p),
-            Material::Principled(p) => Model::Principled(*p),
-            Material::OrenNayar(p) => Model::OrenNayar(*p),
-        }
-    }
-
-    /// The classic model with the format's defaults (also the material of OBJ parts without an
-    /// MTL material): ka 0.2, kd 0.8, ks 0.5, shininess 32, diffuse 0.8 grey, specular white.
-    pub fn default_phong(blinn: bool) -> Material {
-        Material::Phong {
-            blinn,
-            ka: 0.2,
-            kd: 0.8,
-            ks: 0.5,
-            shininess: 32.0,
-            diffuse_color: Vec3::splat(0.8),
-            specular_color: Vec3::ONE,
-        }
-    }
-}
+/// To add a model: add a variant to `brdf::Model` (and `brdf::ModelKind`), a decoder in
+/// `decode.rs` (`MATERIAL_MODELS` table), and a section in `docs/scene-format.md`.
+pub type Material = crate::brdf::Model;
 
 /// A drawable: a mesh with a material, a transform and a shading frequency.
 #[derive(Debug, Clone)]

@@ -68,12 +68,12 @@ fn default_scene_is_clearly_lit() {
         .iter()
         .filter(|o| matches!(o.desc, MeshDesc::Sphere { .. }))
     {
-        let Material::Phong {
+        let Material::Phong(crate::brdf::PhongParams {
             ka,
             kd,
             diffuse_color,
             ..
-        } = s.materials[o.material].material
+        }) = s.materials[o.material].material
         else {
             panic!("the default scene uses the classic model")
         };
@@ -127,7 +127,7 @@ fn classic_scenes_match_the_slides() {
     assert_eq!(s.lights[0].falloff, Falloff::None);
     let xs: Vec<f32> = s.objects.iter().map(|o| o.transform.position.x).collect();
     assert!(xs[0] < xs[1] && xs[1] < xs[2]);
-    let Material::Phong {
+    let Material::Phong(crate::brdf::PhongParams {
         blinn,
         ka,
         kd,
@@ -135,7 +135,7 @@ fn classic_scenes_match_the_slides() {
         shininess,
         diffuse_color,
         ..
-    } = s.materials[s.objects[0].material].material
+    }) = s.materials[s.objects[0].material].material
     else {
         panic!()
     };
@@ -193,9 +193,9 @@ fn defaults() {
     assert_eq!(o.transform, Transform::default());
     assert_eq!(
         s.materials[0].material,
-        Material::Lambert {
+        Material::Lambert(crate::brdf::LambertParams {
             albedo: Vec3::splat(0.8)
-        }
+        })
     );
 }
 
@@ -534,7 +534,7 @@ fn obj_meshes_and_mtl_materials() {
         mats,
         ["m", "quad.obj/red", "quad.obj/shiny", "quad.obj/default"]
     );
-    let Material::Phong {
+    let Material::Phong(crate::brdf::PhongParams {
         ka,
         kd,
         ks,
@@ -542,14 +542,15 @@ fn obj_meshes_and_mtl_materials() {
         diffuse_color,
         specular_color,
         ..
-    } = s.materials[1].material
+    }) = s.materials[1].material
     else {
         panic!()
     };
     assert_eq!((ka, kd, ks), (0.3, 1.0, 1.0));
     assert_eq!((diffuse_color, specular_color), (Vec3::X, Vec3::ZERO));
     assert_eq!(shininess, 32.0);
-    let Material::Phong { shininess, .. } = s.materials[2].material else {
+    let Material::Phong(crate::brdf::PhongParams { shininess, .. }) = s.materials[2].material
+    else {
         panic!()
     };
     assert_eq!(shininess, 100.0);

@@ -208,7 +208,13 @@ struct Shot {
 }
 
 /// (mesh identity, shading, material index, (model, BRDF selectors), map bits) of an object.
-type ObjectStructure = (usize, crate::scene::Shading, usize, (i32, [i32; 3]), u32);
+type ObjectStructure = (
+    usize,
+    crate::scene::Shading,
+    usize,
+    (crate::brdf::ModelKind, crate::render::forward::TermsKey),
+    u32,
+);
 
 /// What, when it changes, needs the passes rebuilt rather than new per-frame data.
 #[derive(Debug, Clone, PartialEq)]

@@ -903,7 +903,7 @@ fn objects_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState, out: &mut Out
             String::new()
         }
     ));
-    let mut model = named.material.model_name();
+    let mut model = named.material.name();
     let models = [
         "phong",
         "blinn_phong",
@@ -935,9 +935,9 @@ fn objects_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState, out: &mut Out
 pub fn default_material(model: &str) -> Material {
     match model {
         "blinn_phong" => Material::default_phong(true),
-        "lambert" => Material::Lambert {
+        "lambert" => Material::Lambert(crate::brdf::LambertParams {
             albedo: crate::brdf::LambertParams::default().albedo,
-        },
+        }),
         "cook_torrance" => Material::CookTorrance(CookTorranceParams::default()),
         "metal_rough" => Material::MetalRough(MetalRoughParams::default()),
         "principled" => Material::Principled(PrincipledParams::default()),
@@ -954,15 +954,17 @@ pub fn set_material_model(
     textures: &mut crate::scene::MaterialTextures,
     model: &str,
 ) {
-    if material.model_name() == model {
+    if material.name() == model {
         return;
     }
     let phong_pair = matches!(model, "phong" | "blinn_phong");
     match material {
-        Material::Phong { blinn, .. } if phong_pair => *blinn = model == "blinn_phong",
+        Material::Phong(crate::brdf::PhongParams { blinn, .. }) if phong_pair => {
+            *blinn = model == "blinn_phong"
+        }
         _ => *material = default_material(model),
     }
-    let takes = slots_for_model(material.model_name());
+    let takes = slots_for_model(material.name());
     for slot in crate::scene::TextureSlot::ALL {
         if !takes.contains(&slot) {
             *textures.get_mut(slot) = None;
@@ -1005,7 +1007,7 @@ const FRESNELS: [(Fresnel, &str); 4] = [
 
 fn material_ui(ui: &mut Ui, m: &mut Material) -> bool {
     grid(ui, "luz_material_grid", |ui| match m {
-        Material::Phong {
+        Material::Phong(crate::brdf::PhongParams {
             blinn,
             ka,
             kd,
@@ -1013,7 +1015,7 @@ fn material_ui(ui: &mut Ui, m: &mut Material) -> bool {
             shininess,
             diffuse_color,
             specular_color,
-        } => {
+        }) => {
             let mut c = false;
             c |= row(ui, "Blinn (n·h)", |ui| checkbox(ui, blinn, ""));
             c |= row(ui, "k_a", |ui| drag(ui, ka, 0.0..=f32::INFINITY));
@@ -1030,7 +1032,9 @@ fn material_ui(ui: &mut Ui, m: &mut Material) -> bool {
             });
             c
         }
-        Material::Lambert { albedo } => row(ui, "Albedo", |ui| color(ui, albedo, 1.0)),
+        Material::Lambert(crate::brdf::LambertParams { albedo }) => {
+            row(ui, "Albedo", |ui| color(ui, albedo, 1.0))
+        }
         Material::CookTorrance(p) => cook_torrance_ui(ui, p),
         Material::MetalRough(p) => metal_rough_ui(ui, p),
         Material::Principled(p) => {
@@ -1663,7 +1667,7 @@ mod tests {
         for model in models {
             let m = &mut scene.materials[0];
             set_material_model(&mut m.material, &mut m.textures, model);
-            assert_eq!(m.material.model_name(), model);
+            assert_eq!(m.material.name(), model);
             let mut settings = ViewSettings::default();
             assert!(run(&mut scene, &mut settings).is_empty());
         }
@@ -1739,19 +1743,21 @@ mod tests {
         set_material_model(&mut m, &mut t, "lambert");
         assert_eq!(
             m,
-            Material::Lambert {
+            Material::Lambert(crate::brdf::LambertParams {
                 albedo: Vec3::splat(0.8)
-            }
+            })
         );
         assert!(t.metallic.is_none() && t.normal.is_some());
         set_material_model(&mut m, &mut t, "phong");
         assert_eq!(m, Material::default_phong(false));
-        if let Material::Phong { ks, .. } = &mut m {
+        if let Material::Phong(crate::brdf::PhongParams { ks, .. }) = &mut m {
             *ks = 0.9;
         }
         // Phong ↔ Blinn-Phong keeps the parameters.
         set_material_model(&mut m, &mut t, "blinn_phong");
-        assert!(matches!(m, Material::Phong { blinn: true, ks, .. } if ks == 0.9));
+        assert!(
+            matches!(m, Material::Phong(crate::brdf::PhongParams { blinn: true, ks, .. }) if ks == 0.9)
+        );
     }
 
     #[test]

@@ -308,7 +308,7 @@ pub(super) fn mtl_material(
         })
     } else {
         textures.specular = maps.specular.as_ref().map(mtl_texture);
-        Material::Phong {
+        Material::Phong(crate::brdf::PhongParams {
             blinn: false,
             ka: m.ambient.map_or(0.0, |a| a[0].max(a[1]).max(a[2])),
             kd: 1.0,
@@ -319,7 +319,7 @@ pub(super) fn mtl_material(
                 Vec3::splat(if maps.specular.is_some() { 1.0 } else { 0.0 }),
                 Vec3::from_array,
             ),
-        }
+        })
     };
     (material, textures)
 }
