@@ -11,294 +11,17 @@ use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
-use crate::brdf::{Diffuse, Distribution, Fresnel, Geometry, ModelKind};
 use crate::scene::{Scene, Shading};
 use crate::vk::buffer::Uploader;
 use crate::vk::cmd::CommandPool;
-use crate::vk::pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
-};
+use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, VkError};
 
-/// A quantity shown instead of the shaded radiance (specialization constant `DEBUG_VIEW`; the
-/// codes are `DEBUG_VIEW_*` of `shaders_glsl/include/bindings.glsl`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
-pub enum DebugView {
-    /// The shaded radiance (no debug view).
-    #[default]
-    None,
-    /// The material's base colour after its maps.
-    BaseColor,
-    /// The shading normal, (n + 1)/2.
-    Normal,
-    /// Metallic, as grey.
-    Metallic,
-    /// Roughness, as grey.
-    Roughness,
-    /// Ambient occlusion, as grey.
-    Ao,
-    /// D of the first light's half vector.
-    D,
-    /// G for the first light.
-    G,
-    /// F for the first light (RGB).
-    F,
-    /// The diffuse part of f for the first light.
-    Diffuse,
-    /// The specular part of f for the first light.
-    Specular,
-    /// The environment's irradiance E(n)/π.
-    Irradiance,
-    /// The prefiltered environment along the reflection at the material's roughness.
-    Prefiltered,
-    /// The shaded radiance with NaN and Inf pixels in magenta.
-    Nan,
-}
+mod variant;
 
-impl DebugView {
-    /// Every view, in code order.
-    pub const ALL: [DebugView; 14] = [
-        DebugView::None,
-        DebugView::BaseColor,
-        DebugView::Normal,
-        DebugView::Metallic,
-        DebugView::Roughness,
-        DebugView::Ao,
-        DebugView::D,
-        DebugView::G,
-        DebugView::F,
-        DebugView::Diffuse,
-        DebugView::Specular,
-        DebugView::Irradiance,
-        DebugView::Prefiltered,
-        DebugView::Nan,
-    ];
-
-    /// The name on the command line, in scripts and in the viewer.
-    pub fn name(self) -> &'static str {
-        match self {
-            DebugView::None => "none",
-            DebugView::BaseColor => "base_color",
-            DebugView::Normal => "normal",
-            DebugView::Metallic => "metallic",
-            DebugView::Roughness => "roughness",
-            DebugView::Ao => "ao",
-            DebugView::D => "d",
-            DebugView::G => "g",
-            DebugView::F => "f",
-            DebugView::Diffuse => "diffuse",
-            DebugView::Specular => "specular",
-            DebugView::Irradiance => "irradiance",
-            DebugView::Prefiltered => "prefiltered",
-            DebugView::Nan => "nan",
-        }
-    }
-
-    /// The view named `name` (case-insensitive), if any.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|v| v.name().eq_ignore_ascii_case(name))
-    }
-
-    /// One line of help: what the view shows.
-    pub fn help(self) -> &'static str {
-        match self {
-            DebugView::None => "the shaded radiance (no debug view)",
-            DebugView::BaseColor => "the material's base colour after its maps",
-            DebugView::Normal => "the shading normal, (n + 1)/2",
-            DebugView::Metallic => "metallic, as grey",
-            DebugView::Roughness => "roughness, as grey",
-            DebugView::Ao => "ambient occlusion, as grey",
-            DebugView::D => "D of the first light's half vector",
-            DebugView::G => "G for the first light",
-            DebugView::F => "F for the first light (RGB)",
-            DebugView::Diffuse => "the diffuse part of f for the first light",
-            DebugView::Specular => "the specular part of f for the first light",
-            DebugView::Irradiance => "the environment's irradiance E(n)/π",
-            DebugView::Prefiltered => {
-                "the prefiltered environment along the reflection at the material's roughness"
-            }
-            DebugView::Nan => "the shaded radiance with NaN and Inf pixels in magenta",
-        }
-    }
-
-    /// The value of the `DEBUG_VIEW` specialization constant.
-    pub fn id(self) -> u32 {
-        use crate::render::gpu::glsl::include_bindings as glsl;
-        match self {
-            DebugView::None => glsl::DEBUG_VIEW_NONE,
-            DebugView::BaseColor => glsl::DEBUG_VIEW_BASE_COLOR,
-            DebugView::Normal => glsl::DEBUG_VIEW_NORMAL,
-            DebugView::Metallic => glsl::DEBUG_VIEW_METALLIC,
-            DebugView::Roughness => glsl::DEBUG_VIEW_ROUGHNESS,
-            DebugView::Ao => glsl::DEBUG_VIEW_AO,
-            DebugView::D => glsl::DEBUG_VIEW_D,
-            DebugView::G => glsl::DEBUG_VIEW_G,
-            DebugView::F => glsl::DEBUG_VIEW_F,
-            DebugView::Diffuse => glsl::DEBUG_VIEW_DIFFUSE,
-            DebugView::Specular => glsl::DEBUG_VIEW_SPECULAR,
-            DebugView::Irradiance => glsl::DEBUG_VIEW_IRRADIANCE,
-            DebugView::Prefiltered => glsl::DEBUG_VIEW_PREFILTERED,
-            DebugView::Nan => glsl::DEBUG_VIEW_NAN,
-        }
-    }
-}
-
-/// What distinguishes one pipeline from another.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct VariantKey {
-    pub shading: ShadingKey,
-    pub model: ModelKind,
-    pub fog: bool,
-    pub debug: DebugView,
-    /// Image-based lighting settings, when the scene has an environment.
-    pub ibl: Option<IblKey>,
-    /// The material's BRDF terms, fixed in the pipeline or read at run time.
-    pub terms: TermsKey,
-    /// Bit i: the material has map `TextureSlot::ALL[i]` (no texture code without maps).
-    pub maps: u32,
-    /// The scene's light types and falloffs (`gpu::LK_*` bits).
-    pub light_kinds: u32,
-}
-
-/// The BRDF terms a pipeline is specialised for (`SEL_DISTRIBUTION`, `SEL_GEOMETRY`,
-/// `SEL_FRESNEL`, `SEL_DIFFUSE`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum TermsKey {
-    /// "All features": the shader reads the selectors from the push constants (-1).
-    Generic,
-    /// The model has no selectable terms (the shader ignores the selectors; 0, and -1 for the
-    /// diffuse).
-    Unused,
-    /// Cook-Torrance and metallic-roughness: D, G, F and the diffuse lobe, compiled in.
-    Fixed(Distribution, Geometry, Fresnel, Diffuse),
-}
-
-impl TermsKey {
-    /// The terms of `m` as its pipeline is specialised.
-    pub fn of(m: &crate::scene::Material) -> Self {
-        use crate::brdf::Model;
-        match m.sanitized() {
-            Model::CookTorrance(p) => Self::Fixed(p.distribution, p.geometry, p.fresnel, p.diffuse),
-            Model::MetalRough(p) => Self::Fixed(p.distribution, p.geometry, p.fresnel, p.diffuse),
-            _ => Self::Unused,
-        }
-    }
-
-    /// The values of the `SEL_DISTRIBUTION`, `SEL_GEOMETRY`, `SEL_FRESNEL` and `SEL_DIFFUSE`
-    /// specialization constants.
-    pub fn spec_values(self) -> [i32; 4] {
-        match self {
-            Self::Generic => [-1; 4],
-            Self::Unused => [0, 0, 0, -1],
-            Self::Fixed(d, g, f, diffuse) => [d as i32, g as i32, f as i32, diffuse as i32],
-        }
-    }
-
-    /// "d/g/f/diffuse" in a variant's name, for the models with selectable terms ("?" where the
-    /// pipeline reads them at run time).
-    fn names(self, model: ModelKind) -> Option<String> {
-        if !model.has_terms() {
-            return None;
-        }
-        Some(match self {
-            Self::Fixed(d, g, f, diffuse) => {
-                format!("{}/{}/{}/{}", d.name(), g.name(), f.name(), diffuse.name())
-            }
-            Self::Generic | Self::Unused => "?/?/?".to_string(),
-        })
-    }
-}
-
-/// The environment settings that select shader code (specialization constants).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct IblKey {
-    pub importance: bool,
-    pub samples: u32,
-    pub diffuse_sh: bool,
-    pub energy_compensation: bool,
-    pub mip_filtered: bool,
-}
-
-impl IblKey {
-    pub fn from_env(e: &crate::scene::Environment) -> Self {
-        Self {
-            importance: e.specular_method == crate::scene::SpecularMethod::Importance,
-            samples: e.samples,
-            diffuse_sh: e.diffuse_method == crate::scene::DiffuseMethod::Sh9,
-            energy_compensation: e.energy_compensation,
-            mip_filtered: e.mip_filtered_samples,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ShadingKey {
-    Flat,
-    Gouraud,
-    Phong,
-}
-
-impl ShadingKey {
-    fn from_shading(s: Shading) -> Self {
-        match s {
-            Shading::Flat => Self::Flat,
-            Shading::Gouraud => Self::Gouraud,
-            Shading::Phong => Self::Phong,
-        }
-    }
-    fn name(self) -> &'static str {
-        match self {
-            Self::Flat => "flat",
-            Self::Gouraud => "gouraud",
-            Self::Phong => "phong",
-        }
-    }
-}
-
-impl std::fmt::Display for VariantKey {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "forward[shading={}, model={}, fog={}",
-            self.shading.name(),
-            self.model.name(),
-            if self.fog { "on" } else { "off" }
-        )?;
-        if let Some(terms) = self.terms.names(self.model) {
-            write!(f, ", terms={terms}")?;
-        }
-        if self.maps != 0 {
-            write!(f, ", maps={:#04x}", self.maps)?;
-        }
-        if let Some(i) = &self.ibl {
-            if i.importance {
-                write!(
-                    f,
-                    ", ibl=importance({}{})",
-                    i.samples,
-                    if i.mip_filtered { ", mip-filtered" } else { "" }
-                )?;
-            } else {
-                write!(f, ", ibl=split_sum")?;
-            }
-            write!(
-                f,
-                ", diffuse={}",
-                if i.diffuse_sh { "sh9" } else { "cubemap" }
-            )?;
-            if i.energy_compensation {
-                write!(f, ", energy_compensation")?;
-            }
-        }
-        if self.debug != DebugView::None {
-            write!(f, ", debug={:?}", self.debug)?;
-        }
-        write!(f, "]")
-    }
-}
+use variant::{create_pipeline, create_skybox};
+pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 
 struct GpuMesh {
     vertices: Buffer,
@@ -443,24 +166,7 @@ impl ForwardPass {
             (Some(_), Some(e)) => Some(IblKey::from_env(e)),
             _ => None,
         };
-        let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(gpu::BINDING_FRAME)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(STAGES),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(gpu::BINDING_LIGHTS)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(STAGES),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(gpu::BINDING_OBJECTS)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(STAGES),
-        ];
-        let set_layout = DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)?;
+        let set_layout = frame_set_layout(ctx)?;
         let push = [vk::PushConstantRange {
             stage_flags: STAGES,
             offset: 0,
@@ -499,125 +205,12 @@ impl ForwardPass {
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
         let mut uploader = Uploader::new(ctx);
 
-        // Meshes: one GPU copy per (mesh, smooth/flat) pair.
-        let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
-        let mut meshes = Vec::new();
-        let mut objects = Vec::new();
-        let mut draws = Vec::new();
-        let mut object_slots = vec![None; scene.objects.len()];
-        for (object, obj) in scene.objects.iter().enumerate() {
-            let flat = matches!(obj.shading, Shading::Flat);
-            let key = (Arc::as_ptr(&obj.mesh) as usize, flat);
-            let mesh_index = match mesh_cache.get(&key) {
-                Some(&m) => m,
-                None => {
-                    // Beyond 32-bit indices or the device's index and buffer limits: an error
-                    // naming the object (no split into several draws).
-                    let size = mesh::draw_size(&obj.mesh, flat);
-                    limits.check_mesh(
-                        &format!(
-                            "{scene_name}: object \"{}\"{}",
-                            obj.name,
-                            if flat {
-                                " (flat shading: 3 vertices per triangle)"
-                            } else {
-                                ""
-                            }
-                        ),
-                        size.vertices,
-                        std::mem::size_of::<Vertex>(),
-                        size.indices,
-                        size.max_index,
-                    )?;
-                    let data = if flat {
-                        mesh::flat(&obj.mesh)
-                    } else {
-                        mesh::smooth(&obj.mesh)
-                    };
-                    if data.indices.is_empty() {
-                        continue;
-                    }
-                    let name = &obj.name;
-                    let vertices = uploader.buffer(
-                        &format!("{name} vertices"),
-                        bytemuck::cast_slice(&data.vertices),
-                        vk::BufferUsageFlags::VERTEX_BUFFER,
-                    )?;
-                    let centroids = match &data.centroids {
-                        Some(c) => Some(uploader.buffer(
-                            &format!("{name} centroids"),
-                            bytemuck::cast_slice(c),
-                            vk::BufferUsageFlags::VERTEX_BUFFER,
-                        )?),
-                        None => None,
-                    };
-                    let indices = uploader.buffer(
-                        &format!("{name} indices"),
-                        bytemuck::cast_slice(&data.indices),
-                        vk::BufferUsageFlags::INDEX_BUFFER,
-                    )?;
-                    meshes.push(GpuMesh {
-                        vertices,
-                        centroids,
-                        indices,
-                        // Fits: checked by `check_mesh` above.
-                        index_count: data.indices.len() as u32,
-                    });
-                    mesh_cache.insert(key, meshes.len() - 1);
-                    meshes.len() - 1
-                }
-            };
-            let named = &scene.materials[obj.material];
-            let material = &named.material;
-            let mut push = gpu::material_push(material);
-            let (model, terms) = gpu::material_key(material);
-            push.object_index = objects.len() as u32;
-            object_slots[object] = Some(push.object_index);
-            if let Some(i) = ibl {
-                push.flags = i.lut_layer(lut_geometry(material));
-            }
-            objects.push(gpu::object_data(obj.transform.matrix()));
-            use crate::scene::MeshDesc;
-            let closed = matches!(
-                obj.desc,
-                MeshDesc::Sphere { .. }
-                    | MeshDesc::Icosphere { .. }
-                    | MeshDesc::Cube { .. }
-                    | MeshDesc::Cone { .. }
-                    | MeshDesc::Cylinder { .. }
-            );
-            let positive = obj.transform.scale.min_element() > 0.0;
-            draws.push(Draw {
-                mesh: mesh_index,
-                object,
-                material: obj.material,
-                cull: closed && positive,
-                variant: if generic {
-                    VariantKey {
-                        shading: ShadingKey::from_shading(obj.shading),
-                        model,
-                        fog: scene.fog.is_some(),
-                        debug,
-                        ibl: ibl_key,
-                        terms: TermsKey::Generic,
-                        maps: GENERIC_MAPS,
-                        light_kinds: GENERIC_LIGHT_KINDS,
-                    }
-                } else {
-                    VariantKey {
-                        shading: ShadingKey::from_shading(obj.shading),
-                        model,
-                        fog: scene.fog.is_some(),
-                        debug,
-                        ibl: ibl_key,
-                        terms,
-                        maps: super::material::map_bits(&named.textures),
-                        light_kinds: gpu::light_kinds(&scene.lights),
-                    }
-                },
-                push,
-            });
-        }
+        let Draws {
+            meshes,
+            objects,
+            draws,
+            object_slots,
+        } = build_draws(scene, ibl, ibl_key, debug, generic, &limits, &mut uploader)?;
         uploader.flush(pool)?;
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
@@ -632,28 +225,7 @@ impl ForwardPass {
                 object_count,
             )?);
         }
-        // Pipelines: exactly the variants the draws use.
-        let mut pipelines = BTreeMap::new();
-        let mut modules: HashMap<ShadingKey, (ShaderModule, ShaderModule)> = HashMap::new();
-        let needed: std::collections::BTreeSet<VariantKey> =
-            draws.iter().map(|d| d.variant).collect();
-        for v in needed {
-            let (vs, fs) = match modules.entry(v.shading) {
-                std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-                std::collections::hash_map::Entry::Vacant(e) => {
-                    let s = match v.ibl {
-                        Some(_) => format!("{}_ibl", v.shading.name()),
-                        None => v.shading.name().to_string(),
-                    };
-                    e.insert((
-                        ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
-                        ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
-                    ))
-                }
-            };
-            let pipeline = create_pipeline(ctx, &layout, target, v, vs, fs)?;
-            pipelines.insert(v, pipeline);
-        }
+        let pipelines = build_pipelines(ctx, &layout, target, &draws)?;
 
         let skybox = match (ibl, &scene.environment) {
             (Some(_), Some(e)) if e.show_background => Some(create_skybox(ctx, &layout, target)?),
@@ -958,100 +530,206 @@ fn storage_fits<T>(
     )
 }
 
-fn create_pipeline(
+/// The per-frame set's layout: frame uniforms, lights, objects (`bindings.glsl`, set 0).
+fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
+    let bindings = [
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_FRAME)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(STAGES),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_LIGHTS)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(STAGES),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_OBJECTS)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(STAGES),
+    ];
+    DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
+}
+
+/// What [`build_draws`] makes: the meshes queued for upload, the objects' data and one draw per
+/// drawn object.
+struct Draws {
+    meshes: Vec<GpuMesh>,
+    objects: Vec<gpu::ObjectData>,
+    draws: Vec<Draw>,
+    /// Each scene object's index in `objects` (`None`: nothing to draw).
+    object_slots: Vec<Option<u32>>,
+}
+
+/// One GPU copy of each mesh per (mesh, smooth/flat) pair, queued on `uploader`, and a draw with
+/// its pipeline variant and push constants for every object.
+fn build_draws(
+    scene: &Scene,
+    ibl: Option<&Ibl>,
+    ibl_key: Option<IblKey>,
+    debug: DebugView,
+    generic: bool,
+    limits: &crate::vk::Limits,
+    uploader: &mut Uploader,
+) -> Result<Draws, VkError> {
+    let scene_name = scene.display_name();
+    // Meshes: one GPU copy per (mesh, smooth/flat) pair.
+    let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
+    let mut meshes = Vec::new();
+    let mut objects = Vec::new();
+    let mut draws = Vec::new();
+    let mut object_slots = vec![None; scene.objects.len()];
+    for (object, obj) in scene.objects.iter().enumerate() {
+        let flat = matches!(obj.shading, Shading::Flat);
+        let key = (Arc::as_ptr(&obj.mesh) as usize, flat);
+        let mesh_index = match mesh_cache.get(&key) {
+            Some(&m) => m,
+            None => {
+                // Beyond 32-bit indices or the device's index and buffer limits: an error
+                // naming the object (no split into several draws).
+                let size = mesh::draw_size(&obj.mesh, flat);
+                limits.check_mesh(
+                    &format!(
+                        "{scene_name}: object \"{}\"{}",
+                        obj.name,
+                        if flat {
+                            " (flat shading: 3 vertices per triangle)"
+                        } else {
+                            ""
+                        }
+                    ),
+                    size.vertices,
+                    std::mem::size_of::<Vertex>(),
+                    size.indices,
+                    size.max_index,
+                )?;
+                let data = if flat {
+                    mesh::flat(&obj.mesh)
+                } else {
+                    mesh::smooth(&obj.mesh)
+                };
+                if data.indices.is_empty() {
+                    continue;
+                }
+                let name = &obj.name;
+                let vertices = uploader.buffer(
+                    &format!("{name} vertices"),
+                    bytemuck::cast_slice(&data.vertices),
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                )?;
+                let centroids = match &data.centroids {
+                    Some(c) => Some(uploader.buffer(
+                        &format!("{name} centroids"),
+                        bytemuck::cast_slice(c),
+                        vk::BufferUsageFlags::VERTEX_BUFFER,
+                    )?),
+                    None => None,
+                };
+                let indices = uploader.buffer(
+                    &format!("{name} indices"),
+                    bytemuck::cast_slice(&data.indices),
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                )?;
+                meshes.push(GpuMesh {
+                    vertices,
+                    centroids,
+                    indices,
+                    // Fits: checked by `check_mesh` above.
+                    index_count: data.indices.len() as u32,
+                });
+                mesh_cache.insert(key, meshes.len() - 1);
+                meshes.len() - 1
+            }
+        };
+        let named = &scene.materials[obj.material];
+        let material = &named.material;
+        let mut push = gpu::material_push(material);
+        let (model, terms) = gpu::material_key(material);
+        push.object_index = objects.len() as u32;
+        object_slots[object] = Some(push.object_index);
+        if let Some(i) = ibl {
+            push.flags = i.lut_layer(lut_geometry(material));
+        }
+        objects.push(gpu::object_data(obj.transform.matrix()));
+        use crate::scene::MeshDesc;
+        let closed = matches!(
+            obj.desc,
+            MeshDesc::Sphere { .. }
+                | MeshDesc::Icosphere { .. }
+                | MeshDesc::Cube { .. }
+                | MeshDesc::Cone { .. }
+                | MeshDesc::Cylinder { .. }
+        );
+        let positive = obj.transform.scale.min_element() > 0.0;
+        draws.push(Draw {
+            mesh: mesh_index,
+            object,
+            material: obj.material,
+            cull: closed && positive,
+            variant: if generic {
+                VariantKey {
+                    shading: ShadingKey::from_shading(obj.shading),
+                    model,
+                    fog: scene.fog.is_some(),
+                    debug,
+                    ibl: ibl_key,
+                    terms: TermsKey::Generic,
+                    maps: GENERIC_MAPS,
+                    light_kinds: GENERIC_LIGHT_KINDS,
+                }
+            } else {
+                VariantKey {
+                    shading: ShadingKey::from_shading(obj.shading),
+                    model,
+                    fog: scene.fog.is_some(),
+                    debug,
+                    ibl: ibl_key,
+                    terms,
+                    maps: super::material::map_bits(&named.textures),
+                    light_kinds: gpu::light_kinds(&scene.lights),
+                }
+            },
+            push,
+        });
+    }
+    Ok(Draws {
+        meshes,
+        objects,
+        draws,
+        object_slots,
+    })
+}
+
+/// Exactly the pipeline variants `draws` use.
+fn build_pipelines(
     ctx: &Arc<Context>,
     layout: &PipelineLayout,
     target: TargetFormat,
-    v: VariantKey,
-    vs: &ShaderModule,
-    fs: &ShaderModule,
-) -> Result<Pipeline, VkError> {
-    let stride = std::mem::size_of::<Vertex>() as u32;
-    let mut bindings = vec![vk::VertexInputBindingDescription {
-        binding: 0,
-        stride,
-        input_rate: vk::VertexInputRate::VERTEX,
-    }];
-    let mut attributes = vec![
-        vk::VertexInputAttributeDescription {
-            location: 0,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 0,
-        },
-        vk::VertexInputAttributeDescription {
-            location: 1,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 12,
-        },
-        vk::VertexInputAttributeDescription {
-            location: 2,
-            binding: 0,
-            format: vk::Format::R32G32_SFLOAT,
-            offset: 24,
-        },
-        vk::VertexInputAttributeDescription {
-            location: 3,
-            binding: 0,
-            format: vk::Format::R32G32B32A32_SFLOAT,
-            offset: 32,
-        },
-    ];
-    if v.shading == ShadingKey::Flat {
-        bindings.push(vk::VertexInputBindingDescription {
-            binding: 1,
-            stride: 12,
-            input_rate: vk::VertexInputRate::VERTEX,
-        });
-        attributes.push(vk::VertexInputAttributeDescription {
-            location: 4,
-            binding: 1,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 0,
-        });
+    draws: &[Draw],
+) -> Result<BTreeMap<VariantKey, Pipeline>, VkError> {
+    let mut pipelines = BTreeMap::new();
+    let mut modules: HashMap<ShadingKey, (ShaderModule, ShaderModule)> = HashMap::new();
+    let needed: std::collections::BTreeSet<VariantKey> = draws.iter().map(|d| d.variant).collect();
+    for v in needed {
+        let (vs, fs) = match modules.entry(v.shading) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                let s = match v.ibl {
+                    Some(_) => format!("{}_ibl", v.shading.name()),
+                    None => v.shading.name().to_string(),
+                };
+                e.insert((
+                    ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
+                    ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
+                ))
+            }
+        };
+        let pipeline = create_pipeline(ctx, layout, target, v, vs, fs)?;
+        pipelines.insert(v, pipeline);
     }
-    let sel = v.terms.spec_values();
-    let mut spec = vec![
-        (gpu::SPEC_MODEL, v.model.code() as u32),
-        (gpu::SPEC_FOG, v.fog as u32),
-        (gpu::SPEC_DEBUG_VIEW, v.debug.id()),
-        (gpu::SPEC_SEL_DISTRIBUTION, sel[0] as u32),
-        (gpu::SPEC_SEL_GEOMETRY, sel[1] as u32),
-        (gpu::SPEC_SEL_FRESNEL, sel[2] as u32),
-        (gpu::SPEC_SEL_DIFFUSE, sel[3] as u32),
-        (gpu::SPEC_MAPS, v.maps),
-        (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
-    ];
-    if let Some(i) = v.ibl {
-        spec.extend([
-            (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),
-            (gpu::SPEC_DIFFUSE_FROM_SH, i.diffuse_sh as u32),
-            (gpu::SPEC_ENERGY_COMPENSATION, i.energy_compensation as u32),
-            (gpu::SPEC_IBL_SAMPLES, i.samples.max(1)),
-            (gpu::SPEC_MIP_FILTERED, i.mip_filtered as u32),
-        ]);
-    }
-    let name = v.to_string();
-    Pipeline::graphics(
-        ctx,
-        layout,
-        &GraphicsDesc {
-            name: &name,
-            vertex: vs,
-            fragment: fs,
-            spec: &spec,
-            vertex_bindings: &bindings,
-            vertex_attributes: &attributes,
-            color_formats: &[target.color],
-            depth_format: Some(target.depth),
-            samples: target.samples,
-            cull: vk::CullModeFlags::NONE,
-            depth_test: true,
-            depth_write: true,
-            depth_compare: vk::CompareOp::LESS,
-        },
-    )
+
+    Ok(pipelines)
 }
 
 /// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
@@ -1076,34 +754,6 @@ pub fn lut_geometries(scene: &Scene) -> Vec<i32> {
     g.sort_unstable();
     g.dedup();
     g
-}
-
-fn create_skybox(
-    ctx: &Arc<Context>,
-    layout: &PipelineLayout,
-    target: TargetFormat,
-) -> Result<Pipeline, VkError> {
-    let vs = ShaderModule::new(ctx, "skybox.vert")?;
-    let fs = ShaderModule::new(ctx, "skybox.frag")?;
-    Pipeline::graphics(
-        ctx,
-        layout,
-        &GraphicsDesc {
-            name: "skybox",
-            vertex: &vs,
-            fragment: &fs,
-            spec: &[],
-            vertex_bindings: &[],
-            vertex_attributes: &[],
-            color_formats: &[target.color],
-            depth_format: Some(target.depth),
-            samples: target.samples,
-            cull: vk::CullModeFlags::NONE,
-            depth_test: true,
-            depth_write: false,
-            depth_compare: vk::CompareOp::LESS_OR_EQUAL,
-        },
-    )
 }
 
 impl Slot {

@@ -1,0 +1,418 @@
+//! Pipeline variants of the forward pass: what distinguishes one pipeline from another
+//! ([`VariantKey`]: shading frequency, model, BRDF terms, fog, debug view, IBL method, maps, light
+//! kinds), its name in reports, and building it (specialization constants) and the skybox.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::TargetFormat;
+use crate::brdf::{Diffuse, Distribution, Fresnel, Geometry, ModelKind};
+use crate::render::gpu::{self, Vertex};
+use crate::scene::Shading;
+use crate::vk::pipeline::{GraphicsDesc, Pipeline, PipelineLayout};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Context, VkError};
+
+/// A quantity shown instead of the shaded radiance (specialization constant `DEBUG_VIEW`; the
+/// codes are `DEBUG_VIEW_*` of `shaders_glsl/include/bindings.glsl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum DebugView {
+    /// The shaded radiance (no debug view).
+    #[default]
+    None,
+    /// The material's base colour after its maps.
+    BaseColor,
+    /// The shading normal, (n + 1)/2.
+    Normal,
+    /// Metallic, as grey.
+    Metallic,
+    /// Roughness, as grey.
+    Roughness,
+    /// Ambient occlusion, as grey.
+    Ao,
+    /// D of the first light's half vector.
+    D,
+    /// G for the first light.
+    G,
+    /// F for the first light (RGB).
+    F,
+    /// The diffuse part of f for the first light.
+    Diffuse,
+    /// The specular part of f for the first light.
+    Specular,
+    /// The environment's irradiance E(n)/π.
+    Irradiance,
+    /// The prefiltered environment along the reflection at the material's roughness.
+    Prefiltered,
+    /// The shaded radiance with NaN and Inf pixels in magenta.
+    Nan,
+}
+
+impl DebugView {
+    /// Every view, in code order.
+    pub const ALL: [DebugView; 14] = [
+        DebugView::None,
+        DebugView::BaseColor,
+        DebugView::Normal,
+        DebugView::Metallic,
+        DebugView::Roughness,
+        DebugView::Ao,
+        DebugView::D,
+        DebugView::G,
+        DebugView::F,
+        DebugView::Diffuse,
+        DebugView::Specular,
+        DebugView::Irradiance,
+        DebugView::Prefiltered,
+        DebugView::Nan,
+    ];
+
+    /// The name on the command line, in scripts and in the viewer.
+    pub fn name(self) -> &'static str {
+        match self {
+            DebugView::None => "none",
+            DebugView::BaseColor => "base_color",
+            DebugView::Normal => "normal",
+            DebugView::Metallic => "metallic",
+            DebugView::Roughness => "roughness",
+            DebugView::Ao => "ao",
+            DebugView::D => "d",
+            DebugView::G => "g",
+            DebugView::F => "f",
+            DebugView::Diffuse => "diffuse",
+            DebugView::Specular => "specular",
+            DebugView::Irradiance => "irradiance",
+            DebugView::Prefiltered => "prefiltered",
+            DebugView::Nan => "nan",
+        }
+    }
+
+    /// The view named `name` (case-insensitive), if any.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|v| v.name().eq_ignore_ascii_case(name))
+    }
+
+    /// One line of help: what the view shows.
+    pub fn help(self) -> &'static str {
+        match self {
+            DebugView::None => "the shaded radiance (no debug view)",
+            DebugView::BaseColor => "the material's base colour after its maps",
+            DebugView::Normal => "the shading normal, (n + 1)/2",
+            DebugView::Metallic => "metallic, as grey",
+            DebugView::Roughness => "roughness, as grey",
+            DebugView::Ao => "ambient occlusion, as grey",
+            DebugView::D => "D of the first light's half vector",
+            DebugView::G => "G for the first light",
+            DebugView::F => "F for the first light (RGB)",
+            DebugView::Diffuse => "the diffuse part of f for the first light",
+            DebugView::Specular => "the specular part of f for the first light",
+            DebugView::Irradiance => "the environment's irradiance E(n)/π",
+            DebugView::Prefiltered => {
+                "the prefiltered environment along the reflection at the material's roughness"
+            }
+            DebugView::Nan => "the shaded radiance with NaN and Inf pixels in magenta",
+        }
+    }
+
+    /// The value of the `DEBUG_VIEW` specialization constant.
+    pub fn id(self) -> u32 {
+        use crate::render::gpu::glsl::include_bindings as glsl;
+        match self {
+            DebugView::None => glsl::DEBUG_VIEW_NONE,
+            DebugView::BaseColor => glsl::DEBUG_VIEW_BASE_COLOR,
+            DebugView::Normal => glsl::DEBUG_VIEW_NORMAL,
+            DebugView::Metallic => glsl::DEBUG_VIEW_METALLIC,
+            DebugView::Roughness => glsl::DEBUG_VIEW_ROUGHNESS,
+            DebugView::Ao => glsl::DEBUG_VIEW_AO,
+            DebugView::D => glsl::DEBUG_VIEW_D,
+            DebugView::G => glsl::DEBUG_VIEW_G,
+            DebugView::F => glsl::DEBUG_VIEW_F,
+            DebugView::Diffuse => glsl::DEBUG_VIEW_DIFFUSE,
+            DebugView::Specular => glsl::DEBUG_VIEW_SPECULAR,
+            DebugView::Irradiance => glsl::DEBUG_VIEW_IRRADIANCE,
+            DebugView::Prefiltered => glsl::DEBUG_VIEW_PREFILTERED,
+            DebugView::Nan => glsl::DEBUG_VIEW_NAN,
+        }
+    }
+}
+
+/// What distinguishes one pipeline from another.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct VariantKey {
+    pub shading: ShadingKey,
+    pub model: ModelKind,
+    pub fog: bool,
+    pub debug: DebugView,
+    /// Image-based lighting settings, when the scene has an environment.
+    pub ibl: Option<IblKey>,
+    /// The material's BRDF terms, fixed in the pipeline or read at run time.
+    pub terms: TermsKey,
+    /// Bit i: the material has map `TextureSlot::ALL[i]` (no texture code without maps).
+    pub maps: u32,
+    /// The scene's light types and falloffs (`gpu::LK_*` bits).
+    pub light_kinds: u32,
+}
+
+/// The BRDF terms a pipeline is specialised for (`SEL_DISTRIBUTION`, `SEL_GEOMETRY`,
+/// `SEL_FRESNEL`, `SEL_DIFFUSE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum TermsKey {
+    /// "All features": the shader reads the selectors from the push constants (-1).
+    Generic,
+    /// The model has no selectable terms (the shader ignores the selectors; 0, and -1 for the
+    /// diffuse).
+    Unused,
+    /// Cook-Torrance and metallic-roughness: D, G, F and the diffuse lobe, compiled in.
+    Fixed(Distribution, Geometry, Fresnel, Diffuse),
+}
+
+impl TermsKey {
+    /// The terms of `m` as its pipeline is specialised.
+    pub fn of(m: &crate::scene::Material) -> Self {
+        use crate::brdf::Model;
+        match m.sanitized() {
+            Model::CookTorrance(p) => Self::Fixed(p.distribution, p.geometry, p.fresnel, p.diffuse),
+            Model::MetalRough(p) => Self::Fixed(p.distribution, p.geometry, p.fresnel, p.diffuse),
+            _ => Self::Unused,
+        }
+    }
+
+    /// The values of the `SEL_DISTRIBUTION`, `SEL_GEOMETRY`, `SEL_FRESNEL` and `SEL_DIFFUSE`
+    /// specialization constants.
+    pub fn spec_values(self) -> [i32; 4] {
+        match self {
+            Self::Generic => [-1; 4],
+            Self::Unused => [0, 0, 0, -1],
+            Self::Fixed(d, g, f, diffuse) => [d as i32, g as i32, f as i32, diffuse as i32],
+        }
+    }
+
+    /// "d/g/f/diffuse" in a variant's name, for the models with selectable terms ("?" where the
+    /// pipeline reads them at run time).
+    fn names(self, model: ModelKind) -> Option<String> {
+        if !model.has_terms() {
+            return None;
+        }
+        Some(match self {
+            Self::Fixed(d, g, f, diffuse) => {
+                format!("{}/{}/{}/{}", d.name(), g.name(), f.name(), diffuse.name())
+            }
+            Self::Generic | Self::Unused => "?/?/?".to_string(),
+        })
+    }
+}
+
+/// The environment settings that select shader code (specialization constants).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct IblKey {
+    pub importance: bool,
+    pub samples: u32,
+    pub diffuse_sh: bool,
+    pub energy_compensation: bool,
+    pub mip_filtered: bool,
+}
+
+impl IblKey {
+    pub fn from_env(e: &crate::scene::Environment) -> Self {
+        Self {
+            importance: e.specular_method == crate::scene::SpecularMethod::Importance,
+            samples: e.samples,
+            diffuse_sh: e.diffuse_method == crate::scene::DiffuseMethod::Sh9,
+            energy_compensation: e.energy_compensation,
+            mip_filtered: e.mip_filtered_samples,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ShadingKey {
+    Flat,
+    Gouraud,
+    Phong,
+}
+
+impl ShadingKey {
+    pub(super) fn from_shading(s: Shading) -> Self {
+        match s {
+            Shading::Flat => Self::Flat,
+            Shading::Gouraud => Self::Gouraud,
+            Shading::Phong => Self::Phong,
+        }
+    }
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Self::Flat => "flat",
+            Self::Gouraud => "gouraud",
+            Self::Phong => "phong",
+        }
+    }
+}
+
+impl std::fmt::Display for VariantKey {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "forward[shading={}, model={}, fog={}",
+            self.shading.name(),
+            self.model.name(),
+            if self.fog { "on" } else { "off" }
+        )?;
+        if let Some(terms) = self.terms.names(self.model) {
+            write!(f, ", terms={terms}")?;
+        }
+        if self.maps != 0 {
+            write!(f, ", maps={:#04x}", self.maps)?;
+        }
+        if let Some(i) = &self.ibl {
+            if i.importance {
+                write!(
+                    f,
+                    ", ibl=importance({}{})",
+                    i.samples,
+                    if i.mip_filtered { ", mip-filtered" } else { "" }
+                )?;
+            } else {
+                write!(f, ", ibl=split_sum")?;
+            }
+            write!(
+                f,
+                ", diffuse={}",
+                if i.diffuse_sh { "sh9" } else { "cubemap" }
+            )?;
+            if i.energy_compensation {
+                write!(f, ", energy_compensation")?;
+            }
+        }
+        if self.debug != DebugView::None {
+            write!(f, ", debug={:?}", self.debug)?;
+        }
+        write!(f, "]")
+    }
+}
+
+pub(super) fn create_pipeline(
+    ctx: &Arc<Context>,
+    layout: &PipelineLayout,
+    target: TargetFormat,
+    v: VariantKey,
+    vs: &ShaderModule,
+    fs: &ShaderModule,
+) -> Result<Pipeline, VkError> {
+    let stride = std::mem::size_of::<Vertex>() as u32;
+    let mut bindings = vec![vk::VertexInputBindingDescription {
+        binding: 0,
+        stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let mut attributes = vec![
+        vk::VertexInputAttributeDescription {
+            location: 0,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 0,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 1,
+            binding: 0,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 12,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 2,
+            binding: 0,
+            format: vk::Format::R32G32_SFLOAT,
+            offset: 24,
+        },
+        vk::VertexInputAttributeDescription {
+            location: 3,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 32,
+        },
+    ];
+    if v.shading == ShadingKey::Flat {
+        bindings.push(vk::VertexInputBindingDescription {
+            binding: 1,
+            stride: 12,
+            input_rate: vk::VertexInputRate::VERTEX,
+        });
+        attributes.push(vk::VertexInputAttributeDescription {
+            location: 4,
+            binding: 1,
+            format: vk::Format::R32G32B32_SFLOAT,
+            offset: 0,
+        });
+    }
+    let sel = v.terms.spec_values();
+    let mut spec = vec![
+        (gpu::SPEC_MODEL, v.model.code() as u32),
+        (gpu::SPEC_FOG, v.fog as u32),
+        (gpu::SPEC_DEBUG_VIEW, v.debug.id()),
+        (gpu::SPEC_SEL_DISTRIBUTION, sel[0] as u32),
+        (gpu::SPEC_SEL_GEOMETRY, sel[1] as u32),
+        (gpu::SPEC_SEL_FRESNEL, sel[2] as u32),
+        (gpu::SPEC_SEL_DIFFUSE, sel[3] as u32),
+        (gpu::SPEC_MAPS, v.maps),
+        (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
+    ];
+    if let Some(i) = v.ibl {
+        spec.extend([
+            (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),
+            (gpu::SPEC_DIFFUSE_FROM_SH, i.diffuse_sh as u32),
+            (gpu::SPEC_ENERGY_COMPENSATION, i.energy_compensation as u32),
+            (gpu::SPEC_IBL_SAMPLES, i.samples.max(1)),
+            (gpu::SPEC_MIP_FILTERED, i.mip_filtered as u32),
+        ]);
+    }
+    let name = v.to_string();
+    Pipeline::graphics(
+        ctx,
+        layout,
+        &GraphicsDesc {
+            name: &name,
+            vertex: vs,
+            fragment: fs,
+            spec: &spec,
+            vertex_bindings: &bindings,
+            vertex_attributes: &attributes,
+            color_formats: &[target.color],
+            depth_format: Some(target.depth),
+            samples: target.samples,
+            cull: vk::CullModeFlags::NONE,
+            depth_test: true,
+            depth_write: true,
+            depth_compare: vk::CompareOp::LESS,
+        },
+    )
+}
+
+pub(super) fn create_skybox(
+    ctx: &Arc<Context>,
+    layout: &PipelineLayout,
+    target: TargetFormat,
+) -> Result<Pipeline, VkError> {
+    let vs = ShaderModule::new(ctx, "skybox.vert")?;
+    let fs = ShaderModule::new(ctx, "skybox.frag")?;
+    Pipeline::graphics(
+        ctx,
+        layout,
+        &GraphicsDesc {
+            name: "skybox",
+            vertex: &vs,
+            fragment: &fs,
+            spec: &[],
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            color_formats: &[target.color],
+            depth_format: Some(target.depth),
+            samples: target.samples,
+            cull: vk::CullModeFlags::NONE,
+            depth_test: true,
+            depth_write: false,
+            depth_compare: vk::CompareOp::LESS_OR_EQUAL,
+        },
+    )
+}
