@@ -231,6 +231,8 @@ impl Headless {
         let saturate = SaturatePass::for_scene(ctx, scene, &target.color)?;
         let timer = GpuTimer::new(ctx, 8)?;
         let cmd = pool.allocate(1)?[0];
+        // SAFETY: `ctx.device` is a live device; the default create info is valid, and the fence is
+        // destroyed in `Drop` after the device is idle.
         let fence = unsafe {
             ctx.device
                 .create_fence(&vk::FenceCreateInfo::default(), None)
@@ -264,6 +266,8 @@ impl Headless {
     ) -> Result<(), VkError> {
         let mut scene = scene.clone();
         scene.environment = environment;
+        // SAFETY: the device is live; waiting for idle has no preconditions beyond external
+        // synchronisation of the queue, which only this thread submits to here.
         unsafe { self.ctx.device.device_wait_idle()? };
         let ibl = match &scene.environment {
             Some(env) => Some(build_ibl(
@@ -325,6 +329,8 @@ impl Headless {
         let start = Instant::now();
         let d = self.ctx.device.clone();
         let cmd = self.cmd;
+        // SAFETY: `cmd` was allocated from `self.pool` (created with RESET_COMMAND_BUFFER) and is
+        // not pending: the previous `render` waited for its fence before returning.
         unsafe {
             d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
             d.begin_command_buffer(
@@ -388,6 +394,7 @@ impl Headless {
         if let Some(t) = &mut self.timer {
             t.end(cmd, slot);
         }
+        // SAFETY: `cmd` is in the recording state (begun above) and no render pass is open.
         unsafe { d.end_command_buffer(cmd)? };
 
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
@@ -398,8 +405,12 @@ impl Headless {
                 .queue_lock
                 .lock()
                 .unwrap_or_else(|p| p.into_inner());
+            // SAFETY: `cmd` is executable (ended above), `self.fence` is unsignalled (reset after
+            // the last wait), and the queue is externally synchronised by `queue_lock`.
             unsafe { d.queue_submit2(self.ctx.queue, &[submit], self.fence)? };
         }
+        // SAFETY: the fence belongs to this device and was just submitted with the frame;
+        // resetting it after the wait leaves no queue operation referring to it.
         unsafe {
             d.wait_for_fences(&[self.fence], true, u64::MAX)?;
             d.reset_fences(&[self.fence])?;
@@ -432,6 +443,8 @@ impl Headless {
 
 impl Drop for Headless {
     fn drop(&mut self) {
+        // SAFETY: after the device is idle no submission uses the fence, which was created from
+        // this device and is destroyed exactly once.
         unsafe {
             let _ = self.ctx.device.device_wait_idle();
             self.ctx.device.destroy_fence(self.fence, None);

@@ -662,6 +662,19 @@ impl Model {
         self.kind().name()
     }
 
+    /// The model of kind `kind` with its default parameters.
+    pub fn default_of(kind: ModelKind) -> Self {
+        match kind {
+            ModelKind::Lambert => Model::Lambert(Default::default()),
+            ModelKind::Phong => Model::default_phong(false),
+            ModelKind::BlinnPhong => Model::default_phong(true),
+            ModelKind::CookTorrance => Model::CookTorrance(Default::default()),
+            ModelKind::MetalRough => Model::MetalRough(Default::default()),
+            ModelKind::Principled => Model::Principled(Default::default()),
+            ModelKind::OrenNayar => Model::OrenNayar(Default::default()),
+        }
+    }
+
     /// The classic model with the format's defaults (also the material of OBJ parts without an
     /// MTL material): ka 0.2, kd 0.8, ks 0.5, shininess 32, diffuse 0.8 grey, specular white.
     pub fn default_phong(blinn: bool) -> Self {

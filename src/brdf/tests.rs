@@ -1413,3 +1413,43 @@ fn albedo_report() {
         println!("  {name:40} {}", row.join("  "));
     }
 }
+
+/// Each model kind: its name is the serde tag of its default model, `kind()` gives it back, its
+/// code is the GLSL `BRDF_MODEL_*`, and the names parse back; the same for every selector.
+#[test]
+fn model_kinds_and_selector_names_have_one_source() {
+    use crate::glsl::brdf_models as g;
+    let codes = [
+        g::BRDF_MODEL_LAMBERT,
+        g::BRDF_MODEL_PHONG,
+        g::BRDF_MODEL_BLINN_PHONG,
+        g::BRDF_MODEL_COOK_TORRANCE,
+        g::BRDF_MODEL_METAL_ROUGH,
+        g::BRDF_MODEL_PRINCIPLED,
+        g::BRDF_MODEL_OREN_NAYAR,
+    ];
+    for (kind, code) in ModelKind::ALL.into_iter().zip(codes) {
+        let m = Model::default_of(kind);
+        assert_eq!(m.kind(), kind);
+        assert_eq!(m.name(), kind.name());
+        let json = serde_json::to_value(m).unwrap();
+        assert_eq!(json["model"].as_str(), Some(kind.name()), "{json}");
+        assert_eq!(kind.code(), code, "{kind:?}");
+        assert_eq!(GpuBrdfParams::from_model(&m).sel[0], code);
+        assert_eq!(ModelKind::from_name(kind.name()), Some(kind));
+    }
+    fn serde_names<T: serde::Serialize + Copy + PartialEq + std::fmt::Debug>(
+        named: &[(&str, T)],
+        from_name: fn(&str) -> Option<T>,
+    ) {
+        for (name, v) in named {
+            assert_eq!(serde_json::to_value(v).unwrap().as_str(), Some(*name));
+            assert_eq!(from_name(name), Some(*v));
+        }
+        assert_eq!(from_name("bogus"), None);
+    }
+    serde_names(&Distribution::NAMED, Distribution::from_name);
+    serde_names(&Geometry::NAMED, Geometry::from_name);
+    serde_names(&Fresnel::NAMED, Fresnel::from_name);
+    serde_names(&Diffuse::NAMED, Diffuse::from_name);
+}

@@ -241,22 +241,11 @@ pub fn run(args: BrdfArgs) -> Result<ExitCode> {
 
 /// One model of each kind with its default parameters, in `--list-models` order.
 pub fn default_models() -> Vec<Model> {
-    vec![
-        Model::Lambert(Default::default()),
-        Model::Phong(Default::default()),
-        Model::Phong(brdf::PhongParams {
-            blinn: true,
-            ..Default::default()
-        }),
-        Model::CookTorrance(Default::default()),
-        Model::MetalRough(Default::default()),
-        Model::Principled(Default::default()),
-        Model::OrenNayar(Default::default()),
-    ]
+    brdf::ModelKind::ALL.map(Model::default_of).to_vec()
 }
 
 fn model_names() -> Vec<&'static str> {
-    default_models().iter().map(|m| m.name()).collect()
+    brdf::ModelKind::ALL.map(|k| k.name()).to_vec()
 }
 
 /// A [`Model`] from its JSON value (scene-file syntax), with errors that name the field.

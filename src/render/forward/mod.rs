@@ -421,6 +421,10 @@ impl ForwardPass {
             .layer_count(1)
             .color_attachments(&colors)
             .depth_attachment(&depth);
+        // SAFETY: the caller passes a command buffer in the recording state whose target views
+        // are in the attachment layouts (`HdrTarget::begin_frame`); `info` and the slices it
+        // points to outlive the calls; every pipeline, set and buffer bound below belongs to this
+        // pass and outlives the command buffer's execution (the owner waits before dropping it).
         unsafe {
             d.cmd_begin_rendering(cmd, &info);
             d.cmd_set_viewport(
@@ -813,6 +817,8 @@ impl Slot {
                 .buffer_info(info)
         })
         .collect::<Vec<_>>();
+        // SAFETY: `set` was just allocated and is not in use by any command buffer; the writes'
+        // buffers are live, of the usages the bindings need, and `infos` outlives the call.
         unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
         Ok(Self {
             frame_ubo,
