@@ -1,0 +1,575 @@
+//! The precomputation's compute kernels: equirect → cube, downsample, irradiance, prefilter, LUT.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::vk::cmd::{memory_barrier, transition, CommandPool, Transition};
+use crate::vk::image::{ImageDesc, Sampler};
+use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Buffer, Context, Image, VkError};
+
+use super::{EquirectView, IblSettings};
+
+struct Kernel {
+    pipeline: Pipeline,
+    layout: PipelineLayout,
+    set_layout: DescriptorSetLayout,
+}
+
+impl Kernel {
+    fn new(
+        ctx: &Arc<Context>,
+        key: &str,
+        bindings: &[vk::DescriptorType],
+        push_size: u32,
+    ) -> Result<Self, VkError> {
+        let b: Vec<_> = bindings
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(i as u32)
+                    .descriptor_type(*t)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let set_layout = DescriptorSetLayout::new(ctx, &format!("{key} set layout"), &b)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::COMPUTE,
+            offset: 0,
+            size: push_size,
+        }];
+        let layout = PipelineLayout::new(ctx, &format!("{key} layout"), &[&set_layout], &push)?;
+        let module = ShaderModule::new(ctx, key)?;
+        let pipeline = Pipeline::compute(ctx, &layout, key, &module, &[])?;
+        Ok(Self {
+            pipeline,
+            layout,
+            set_layout,
+        })
+    }
+}
+
+/// Descriptor writes for one dispatch: (binding, image view + layout + sampler) pairs.
+pub(super) enum Bind {
+    Sampled(vk::ImageView, vk::Sampler),
+    Storage(vk::ImageView),
+}
+
+pub(super) fn write_set(ctx: &Context, set: vk::DescriptorSet, binds: &[Bind]) {
+    let infos: Vec<[vk::DescriptorImageInfo; 1]> = binds
+        .iter()
+        .map(|b| match b {
+            Bind::Sampled(view, sampler) => [vk::DescriptorImageInfo {
+                sampler: *sampler,
+                image_view: *view,
+                image_layout: vk::ImageLayout::GENERAL,
+            }],
+            Bind::Storage(view) => [vk::DescriptorImageInfo {
+                sampler: vk::Sampler::null(),
+                image_view: *view,
+                image_layout: vk::ImageLayout::GENERAL,
+            }],
+        })
+        .collect();
+    let writes: Vec<_> = binds
+        .iter()
+        .zip(&infos)
+        .enumerate()
+        .map(|(i, (b, info))| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(i as u32)
+                .descriptor_type(match b {
+                    Bind::Sampled(..) => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    Bind::Storage(..) => vk::DescriptorType::STORAGE_IMAGE,
+                })
+                .image_info(info)
+        })
+        .collect();
+    unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+}
+
+pub(super) fn mip_count(size: u32) -> u32 {
+    32 - size.max(1).leading_zeros()
+}
+
+pub(super) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+    vk::PipelineStageFlags2::COMPUTE_SHADER,
+    vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw()
+            | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+            | vk::AccessFlags2::SHADER_SAMPLED_READ.as_raw(),
+    ),
+);
+
+type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
+const GENERAL: Access = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
+const UNDEFINED: Access = (
+    vk::ImageLayout::UNDEFINED,
+    vk::PipelineStageFlags2::TOP_OF_PIPE,
+    vk::AccessFlags2::NONE,
+);
+
+fn groups(n: u32) -> u32 {
+    n.div_ceil(8)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn dispatch(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    k: &Kernel,
+    set: vk::DescriptorSet,
+    push: &[u8],
+    x: u32,
+    y: u32,
+    z: u32,
+) {
+    unsafe {
+        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, k.pipeline.raw);
+        d.cmd_bind_descriptor_sets(
+            cmd,
+            vk::PipelineBindPoint::COMPUTE,
+            k.layout.raw,
+            0,
+            &[set],
+            &[],
+        );
+        d.cmd_push_constants(cmd, k.layout.raw, vk::ShaderStageFlags::COMPUTE, 0, push);
+        d.cmd_dispatch(cmd, x, y, z);
+    }
+}
+
+/// The equirectangular input on the GPU (sampled by the equirect → cube kernel).
+pub(super) struct Equirect {
+    pub image: Image,
+    pub sampler: Sampler,
+    width: u32,
+    height: u32,
+}
+
+impl Equirect {
+    /// Creates the image and fills a staging buffer; the copy is recorded by
+    /// [`Baker::environment_cube`].
+    pub fn upload(
+        ctx: &Arc<Context>,
+        equirect: &EquirectView<'_>,
+    ) -> Result<(Self, Buffer), VkError> {
+        let eq = Image::new(
+            ctx,
+            "equirect",
+            ImageDesc::texture(
+                equirect.width,
+                equirect.height,
+                vk::Format::R32G32B32A32_SFLOAT,
+                1,
+                1,
+            ),
+        )?;
+        let bytes: &[u8] = bytemuck::cast_slice(equirect.texels);
+        let mut staging = Buffer::new(
+            ctx,
+            "equirect staging",
+            bytes.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        staging.write(0, bytes)?;
+        let sampler_eq = Sampler::linear(ctx, "equirect sampler", vk::SamplerAddressMode::REPEAT)?;
+        Ok((
+            Self {
+                image: eq,
+                sampler: sampler_eq,
+                width: equirect.width,
+                height: equirect.height,
+            },
+            staging,
+        ))
+    }
+}
+
+/// The five kernels, the descriptor pool their dispatches draw from, and what they run with.
+pub(super) struct Baker<'a> {
+    pub ctx: &'a Arc<Context>,
+    pub pool: &'a CommandPool,
+    pub s: &'a IblSettings,
+    k_cube: Kernel,
+    k_down: Kernel,
+    k_irr: Kernel,
+    k_pre: Kernel,
+    k_lut: Kernel,
+    work_pool: DescriptorPool,
+}
+
+impl<'a> Baker<'a> {
+    /// Builds the kernels and a descriptor pool for `dispatches` dispatches.
+    pub fn new(
+        ctx: &'a Arc<Context>,
+        pool: &'a CommandPool,
+        s: &'a IblSettings,
+        dispatches: u32,
+    ) -> Result<Self, VkError> {
+        let k_cube = Kernel::new(
+            ctx,
+            "ibl/equirect_to_cube.comp",
+            &[
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ],
+            16,
+        )?;
+        let k_down = Kernel::new(
+            ctx,
+            "ibl/cube_downsample.comp",
+            &[
+                vk::DescriptorType::STORAGE_IMAGE,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ],
+            4,
+        )?;
+        let k_irr = Kernel::new(
+            ctx,
+            "ibl/irradiance.comp",
+            &[
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ],
+            16,
+        )?;
+        let k_pre = Kernel::new(
+            ctx,
+            "ibl/prefilter.comp",
+            &[
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::DescriptorType::STORAGE_IMAGE,
+            ],
+            16,
+        )?;
+        let k_lut = Kernel::new(
+            ctx,
+            "ibl/brdf_lut.comp",
+            &[vk::DescriptorType::STORAGE_IMAGE],
+            16,
+        )?;
+        let work_pool = DescriptorPool::new(
+            ctx,
+            "ibl work pool",
+            dispatches,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    descriptor_count: dispatches,
+                },
+                vk::DescriptorPoolSize {
+                    ty: vk::DescriptorType::STORAGE_IMAGE,
+                    descriptor_count: 2 * dispatches,
+                },
+            ],
+        )?;
+        Ok(Self {
+            ctx,
+            pool,
+            s,
+            k_cube,
+            k_down,
+            k_irr,
+            k_pre,
+            k_lut,
+            work_pool,
+        })
+    }
+
+    /// Stage 1: upload, equirect → cube level 0 (rotated by `cos`, `sin` about +y), then the mip
+    /// chain.
+    pub fn environment_cube(
+        &self,
+        eq: &Equirect,
+        staging: Buffer,
+        env: &mut Image,
+        env_mips: u32,
+        (cos, sin): (f32, f32),
+    ) -> Result<(), VkError> {
+        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (k_cube, k_down, work_pool) = (&self.k_cube, &self.k_down, &self.work_pool);
+        let env_views: Vec<vk::ImageView> = (0..env_mips)
+            .map(|m| env.mip_view(m))
+            .collect::<Result<_, _>>()?;
+        let set = work_pool.allocate(&k_cube.set_layout)?;
+        write_set(
+            ctx,
+            set,
+            &[
+                Bind::Sampled(eq.image.view, eq.sampler.raw),
+                Bind::Storage(env_views[0]),
+            ],
+        );
+        let down_sets: Vec<vk::DescriptorSet> = (1..env_mips)
+            .map(|m| {
+                let set = work_pool.allocate(&k_down.set_layout)?;
+                write_set(
+                    ctx,
+                    set,
+                    &[
+                        Bind::Storage(env_views[m as usize - 1]),
+                        Bind::Storage(env_views[m as usize]),
+                    ],
+                );
+                Ok(set)
+            })
+            .collect::<Result<_, VkError>>()?;
+        let eq_raw = eq.image.raw;
+        let eq_range = eq.image.subresource_range();
+        let env_raw = env.raw;
+        let env_range = env.subresource_range();
+        pool.one_shot(|cmd| {
+            transition(
+                d,
+                cmd,
+                &[
+                    Transition {
+                        image: eq_raw,
+                        range: eq_range,
+                        from: UNDEFINED,
+                        to: (
+                            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                            vk::PipelineStageFlags2::COPY,
+                            vk::AccessFlags2::TRANSFER_WRITE,
+                        ),
+                    },
+                    Transition {
+                        image: env_raw,
+                        range: env_range,
+                        from: UNDEFINED,
+                        to: GENERAL,
+                    },
+                ],
+            );
+            let region = vk::BufferImageCopy {
+                image_subresource: vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                },
+                image_extent: vk::Extent3D {
+                    width: eq.width,
+                    height: eq.height,
+                    depth: 1,
+                },
+                ..Default::default()
+            };
+            unsafe {
+                d.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw,
+                    eq_raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[region],
+                )
+            };
+            transition(
+                d,
+                cmd,
+                &[Transition {
+                    image: eq_raw,
+                    range: eq_range,
+                    from: (
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::TRANSFER_WRITE,
+                    ),
+                    to: GENERAL,
+                }],
+            );
+            let push: [u32; 4] = [cos.to_bits(), sin.to_bits(), s.env_size, 0];
+            dispatch(
+                d,
+                cmd,
+                k_cube,
+                set,
+                bytemuck::bytes_of(&push),
+                groups(s.env_size),
+                groups(s.env_size),
+                6,
+            );
+            for (i, set) in down_sets.iter().enumerate() {
+                memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+                let size = (s.env_size >> (i + 1)).max(1);
+                dispatch(
+                    d,
+                    cmd,
+                    k_down,
+                    *set,
+                    bytemuck::bytes_of(&size),
+                    groups(size),
+                    groups(size),
+                    6,
+                );
+            }
+            Ok(())
+        })?;
+        drop(staging);
+        Ok(())
+    }
+
+    /// Stage 2: the irradiance cube.
+    pub fn irradiance(
+        &self,
+        env: &Image,
+        sampler: &Sampler,
+        irradiance: &mut Image,
+    ) -> Result<(), VkError> {
+        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (k_irr, work_pool) = (&self.k_irr, &self.work_pool);
+        let irr_view = irradiance.mip_view(0)?;
+        let set = work_pool.allocate(&k_irr.set_layout)?;
+        write_set(
+            ctx,
+            set,
+            &[
+                Bind::Sampled(env.view, sampler.raw),
+                Bind::Storage(irr_view),
+            ],
+        );
+        let irr_raw = irradiance.raw;
+        let irr_range = irradiance.subresource_range();
+        pool.one_shot(|cmd| {
+            transition(
+                d,
+                cmd,
+                &[Transition {
+                    image: irr_raw,
+                    range: irr_range,
+                    from: UNDEFINED,
+                    to: GENERAL,
+                }],
+            );
+            memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+            let push: [u32; 4] = [s.irradiance_size, s.irradiance_samples, s.env_size, 0];
+            dispatch(
+                d,
+                cmd,
+                k_irr,
+                set,
+                bytemuck::bytes_of(&push),
+                groups(s.irradiance_size),
+                groups(s.irradiance_size),
+                6,
+            );
+            Ok(())
+        })?;
+        Ok(())
+    }
+
+    /// Moves every level and layer of a fresh image to GENERAL layout.
+    pub fn to_general(&self, image: &Image) -> Result<(), VkError> {
+        let d = &self.ctx.device;
+        let raw = image.raw;
+        let range = image.subresource_range();
+        self.pool.one_shot(|cmd| {
+            transition(
+                d,
+                cmd,
+                &[Transition {
+                    image: raw,
+                    range,
+                    from: UNDEFINED,
+                    to: GENERAL,
+                }],
+            );
+            Ok(())
+        })
+    }
+
+    /// Stage 3: the prefiltered cube, one roughness per mip (roughness = mip / (mips − 1));
+    /// `tick` after each mip.
+    pub fn prefilter(
+        &self,
+        env: &Image,
+        sampler: &Sampler,
+        prefiltered: &mut Image,
+        pre_mips: u32,
+        tick: &mut dyn FnMut(&str),
+    ) -> Result<(), VkError> {
+        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (k_pre, work_pool) = (&self.k_pre, &self.work_pool);
+        self.to_general(prefiltered)?;
+        for m in 0..pre_mips {
+            let view = prefiltered.mip_view(m)?;
+            let set = work_pool.allocate(&k_pre.set_layout)?;
+            write_set(
+                ctx,
+                set,
+                &[Bind::Sampled(env.view, sampler.raw), Bind::Storage(view)],
+            );
+            let size = (s.prefilter_size >> m).max(1);
+            let roughness = if pre_mips > 1 {
+                m as f32 / (pre_mips - 1) as f32
+            } else {
+                0.0
+            };
+            let push: [u32; 4] = [roughness.to_bits(), size, s.prefilter_samples, s.env_size];
+            pool.one_shot(|cmd| {
+                memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+                dispatch(
+                    d,
+                    cmd,
+                    k_pre,
+                    set,
+                    bytemuck::bytes_of(&push),
+                    groups(size),
+                    groups(size),
+                    6,
+                );
+                Ok(())
+            })?;
+            tick("prefiltered mip");
+        }
+        Ok(())
+    }
+
+    /// Stage 4, one layer: the split-sum BRDF LUT for geometry selector `g` into `layer` of the
+    /// LUT (already in GENERAL layout), made visible to the forward pass's shaders.
+    pub fn brdf_lut_layer(
+        &self,
+        lut_view: vk::ImageView,
+        g: i32,
+        layer: u32,
+    ) -> Result<(), VkError> {
+        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (k_lut, work_pool) = (&self.k_lut, &self.work_pool);
+        let set = work_pool.allocate(&k_lut.set_layout)?;
+        write_set(ctx, set, &[Bind::Storage(lut_view)]);
+        let push: [u32; 4] = [s.lut_size, s.lut_samples, g as u32, layer];
+        pool.one_shot(|cmd| {
+            memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+            dispatch(
+                d,
+                cmd,
+                k_lut,
+                set,
+                bytemuck::bytes_of(&push),
+                groups(s.lut_size),
+                groups(s.lut_size),
+                1,
+            );
+            memory_barrier(
+                d,
+                cmd,
+                COMPUTE_RW,
+                (
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER
+                        | vk::PipelineStageFlags2::VERTEX_SHADER,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            );
+            Ok(())
+        })
+    }
+}
