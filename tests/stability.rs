@@ -167,7 +167,7 @@ impl Evaluator for Planted {
 fn small_sweep() -> Vec<stability::Row> {
     stability::rows()
         .into_iter()
-        .filter(|r| r.model == "lambert" || r.variant == "ggx smith_ggx_corr schlick")
+        .filter(|r| r.model == "lambert" || r.variant == "ggx smith_ggx_correlated schlick")
         .collect()
 }
 

@@ -22,7 +22,7 @@ fn fmt_gain(g: Option<f32>) -> String {
     }
 }
 
-const VARIANT_W: usize = 34;
+const VARIANT_W: usize = 36;
 
 fn side_header(name: &str) -> String {
     format!(

@@ -72,31 +72,6 @@ pub fn claim_note(model: &str) -> &'static str {
     }
 }
 
-fn d_name(d: Distribution) -> &'static str {
-    match d {
-        Distribution::Beckmann => "beckmann",
-        Distribution::Ggx => "ggx",
-    }
-}
-
-fn g_name(g: Geometry) -> &'static str {
-    match g {
-        Geometry::CookTorrance => "cook_torrance",
-        Geometry::SmithGgx => "smith_ggx",
-        Geometry::SmithGgxCorrelated => "smith_ggx_corr",
-        Geometry::SchlickGgx => "schlick_ggx",
-    }
-}
-
-fn f_name(f: Fresnel) -> &'static str {
-    match f {
-        Fresnel::Schlick => "schlick",
-        Fresnel::SchlickSg => "schlick_sg",
-        Fresnel::Dielectric => "dielectric",
-        Fresnel::Conductor => "conductor",
-    }
-}
-
 /// The whole sweep, row by row, in [`MODELS`] order.
 pub fn rows() -> Vec<Row> {
     let mut rows = Vec::new();
@@ -231,9 +206,9 @@ fn cook_torrance_rows(rows: &mut Vec<Row>, white: Vec3) {
                     model: "cook_torrance",
                     variant: format!(
                         "{} {} {}",
-                        d_name(distribution),
-                        g_name(geometry),
-                        f_name(fresnel)
+                        distribution.name(),
+                        geometry.name(),
+                        fresnel.name()
                     ),
                     claim: "yes",
                     sets,
@@ -289,9 +264,9 @@ fn metal_rough_rows(rows: &mut Vec<Row>, white: Vec3) {
                     model: "metal_rough",
                     variant: format!(
                         "{} {} {}",
-                        d_name(distribution),
-                        g_name(geometry),
-                        f_name(fresnel)
+                        distribution.name(),
+                        geometry.name(),
+                        fresnel.name()
                     ),
                     claim: "metallic=1",
                     sets,
