@@ -134,12 +134,16 @@ impl GpuEvaluator {
                     .buffer_info(info)
             })
             .collect();
+        // SAFETY: no command buffer using `self.set` is pending (the previous chunk's `one_shot` waited);
+        // the buffers in `infos` are live storage buffers and `infos` outlives the call.
         unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
         let count = cases.len() as u32;
         let max_groups = ctx.info.limits.max_compute_work_group_count[0].min(65_535);
         let d = ctx.device.clone();
         let (layout, pipeline, set) = (self.layout.raw, self.pipeline.raw, self.set);
         self.pool.one_shot(|cmd| {
+            // SAFETY: `cmd` is recording (inside `one_shot`); the pipeline, layout and set belong to this
+            // evaluator and outlive the submission, which `one_shot` waits for.
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
                 d.cmd_bind_descriptor_sets(
@@ -161,6 +165,8 @@ impl GpuEvaluator {
                 for u in [base, count, with_radiance as u32, 0] {
                     push.extend_from_slice(&u.to_ne_bytes());
                 }
+                // SAFETY: `cmd` is recording (inside `one_shot`), the pipeline bound above uses `layout`, and
+                // `push` is the 32 bytes of its COMPUTE push-constant range.
                 unsafe {
                     d.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, &push);
                     d.cmd_dispatch(cmd, groups, 1, 1);

@@ -91,6 +91,9 @@ pub(super) fn write_set(ctx: &Context, set: vk::DescriptorSet, binds: &[Bind]) {
                 .image_info(info)
         })
         .collect();
+    // SAFETY: `set` is not in use by any pending command buffer (each stage writes its set before
+    // recording); the views and samplers in `infos` are live, and `writes` and `infos` outlive
+    // the call.
     unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
 }
 
@@ -131,6 +134,9 @@ fn dispatch(
     y: u32,
     z: u32,
 ) {
+    // SAFETY: the caller records into a command buffer in the recording state; the kernel's pipeline,
+    // layout and `set` are live and outlive the submission (`one_shot` waits); `push` fits the
+    // layout's push-constant range.
     unsafe {
         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, k.pipeline.raw);
         d.cmd_bind_descriptor_sets(
@@ -364,6 +370,8 @@ impl<'a> Baker<'a> {
                 },
                 ..Default::default()
             };
+            // SAFETY: the staging buffer holds the texels (written and flushed before recording) and the
+            // image is in TRANSFER_DST_OPTIMAL (transitioned above); `region` lies inside both.
             unsafe {
                 d.cmd_copy_buffer_to_image(
                     cmd,

@@ -108,6 +108,8 @@ pub(super) fn read_image(
                 to: src,
             }],
         );
+        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (transitioned above), `buf` is a live
+        // TRANSFER_DST buffer large enough for every region, and the command buffer is recording.
         unsafe {
             d.cmd_copy_image_to_buffer(
                 cmd,

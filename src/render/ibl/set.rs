@@ -106,6 +106,8 @@ impl EnvSet {
             .dst_binding(BINDING_ENV_DATA)
             .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
             .buffer_info(&ubo_info);
+        // SAFETY: `set` was just allocated and is unused; `ubo` is a live uniform buffer and `ubo_info`
+        // outlives the call.
         unsafe { d.update_descriptor_sets(&[write], &[]) };
         Ok(Self {
             set,
