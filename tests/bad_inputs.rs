@@ -13,15 +13,18 @@
 //! that use them in `helper_for`. Big inputs are generated at test time (`generate`): the scene
 //! is copied into a scratch folder and the named files are written next to it.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
 use serde_json::Value;
 
+use common::{luz_command, root, scratch};
+
 fn corpus() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_inputs")
+    root().join("tests/bad_inputs")
 }
 
 /// Writes a generated input named by `kind` to `path`.
@@ -88,15 +91,6 @@ fn uses(dir: &Path, user: &str, helper: &str) -> bool {
     .any(|f| std::fs::read_to_string(dir.join(f)).is_ok_and(|t| t.contains(helper)))
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir()
-        .join(format!("luz-bad-inputs-{}", std::process::id()))
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Runs one case; returns the problems found (empty when it behaved as expected).
 fn run_case(name: &str, entry: &Value) -> Vec<String> {
     let dir = corpus();
@@ -119,13 +113,9 @@ fn run_case(name: &str, entry: &Value) -> Vec<String> {
         };
         let args: Vec<String> = strings(run, "args").iter().map(|a| fill(a)).collect();
         let expected_exit = run["exit"].as_i64().expect("exit") as i32;
-        let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-            .args(&args)
-            .env("LUZ_VALIDATION", "1")
-            .output()
-            .expect("run luz");
-        let code = out.status.code().unwrap_or(-1);
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let out = common::run(&mut luz_command(&args));
+        let code = out.code;
+        let stderr = &out.stderr;
         let label = format!("{name} (luz {})", strings(run, "args").join(" "));
         let mut fail = |why: String| problems.push(format!("{label}: {why}\n    stderr: {stderr}"));
         if code != expected_exit {
@@ -147,7 +137,7 @@ fn run_case(name: &str, entry: &Value) -> Vec<String> {
                 fail(format!("stderr does not contain {s:?}"));
             }
         }
-        let stdout = String::from_utf8_lossy(&out.stdout);
+        let stdout = &out.stdout;
         for s in strings(run, "stdout") {
             if !stdout.contains(s.as_str()) {
                 fail(format!("stdout does not contain {s:?}; stdout: {stdout}"));
@@ -187,7 +177,6 @@ fn run_case(name: &str, entry: &Value) -> Vec<String> {
                 }
             }
         }
-        let _ = std::fs::remove_dir_all(&tmp);
     }
     problems
 }
@@ -272,9 +261,6 @@ fn bad_input_corpus_matches_its_expectations() {
         "{} corpus entries, {run_count} runs in {:.1} s",
         cases.len(),
         start.elapsed().as_secs_f64()
-    );
-    let _ = std::fs::remove_dir_all(
-        std::env::temp_dir().join(format!("luz-bad-inputs-{}", std::process::id())),
     );
     assert!(problems.is_empty(), "\n{}", problems.join("\n\n"));
 }

@@ -2,58 +2,36 @@
 //! protocol, error handling and the `--plot` files. No GPU needed. The plot test needs the chart
 //! font (Debian package fonts-dejavu-core, or $LUZ_FONT).
 
-use std::io::Write;
-use std::path::PathBuf;
-use std::process::{Command, Output, Stdio};
+mod common;
 
 use glam::Vec3;
 use luz::brdf;
 use serde_json::Value;
 
-fn luz(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .arg("brdf")
-        .args(args)
-        .stdin(if stdin.is_some() {
-            Stdio::piped()
-        } else {
-            Stdio::null()
-        })
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run luz");
-    if let Some(text) = stdin {
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(text.as_bytes())
-            .unwrap();
+use common::{luz_command, run, run_with_stdin, scratch, Ran};
+
+/// `luz brdf <args>`, with `stdin` as its standard input when given.
+fn brdf(args: &[&str], stdin: Option<&str>) -> Ran {
+    let mut cmd = luz_command(["brdf"]);
+    cmd.args(args);
+    match stdin {
+        Some(text) => run_with_stdin(&mut cmd, text),
+        None => run(&mut cmd),
     }
-    child.wait_with_output().unwrap()
 }
 
-fn stdout(o: &Output) -> String {
-    String::from_utf8(o.stdout.clone()).unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8(o.stderr.clone()).unwrap()
-}
-
-fn assert_ok(o: &Output) {
+fn assert_ok(o: &Ran) {
     assert!(
         o.status.success(),
         "exit {:?}\nstdout: {}\nstderr: {}",
         o.status,
-        stdout(o),
-        stderr(o)
+        o.stdout,
+        o.stderr
     );
 }
 
-fn no_panic(o: &Output) {
-    let e = stderr(o);
+fn no_panic(o: &Ran) {
+    let e = &o.stderr;
     assert!(!e.contains("panicked"), "panic: {e}");
     assert!(o.status.code().is_some(), "killed by a signal: {e}");
 }
@@ -83,7 +61,7 @@ fn lambert_is_albedo_over_pi() {
     let mat = r#"{"model":"lambert","albedo":[0.5,0.25,1.0]}"#;
     let expected = albedo / std::f32::consts::PI;
 
-    let o = luz(
+    let o = brdf(
         &[
             "--material",
             mat,
@@ -97,21 +75,21 @@ fn lambert_is_albedo_over_pi() {
         None,
     );
     assert_ok(&o);
-    let out = stdout(&o);
+    let out = &o.stdout;
     assert_eq!(out.lines().count(), 1, "{out}");
-    let f = text_field(&out, "f");
+    let f = text_field(out, "f");
     for k in 0..3 {
         assert!(
             (f[k] - expected[k]).abs() < 1e-6,
             "f = {f:?}, expected {expected}"
         );
     }
-    assert_eq!(text_field(&out, "specular"), vec![0.0, 0.0, 0.0]);
-    assert!((text_field(&out, "n_l")[0] - 20f32.to_radians().cos()).abs() < 1e-6);
-    assert!((text_field(&out, "n_v")[0] - 50f32.to_radians().cos()).abs() < 1e-6);
+    assert_eq!(text_field(out, "specular"), vec![0.0, 0.0, 0.0]);
+    assert!((text_field(out, "n_l")[0] - 20f32.to_radians().cos()).abs() < 1e-6);
+    assert!((text_field(out, "n_v")[0] - 50f32.to_radians().cos()).abs() < 1e-6);
 
     // The same through --model/--set, vectors and --json.
-    let o = luz(
+    let o = brdf(
         &[
             "--model",
             "lambert",
@@ -126,7 +104,7 @@ fn lambert_is_albedo_over_pi() {
         None,
     );
     assert_ok(&o);
-    let j: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let j: Value = serde_json::from_str(o.stdout.trim()).unwrap();
     assert_eq!(j["model"], "lambert");
     let f = json_vec3(&j["f"]);
     assert!(
@@ -141,7 +119,7 @@ fn metal_rough_mirror_matches_d_g_f() {
     let base = Vec3::new(1.0, 0.8, 0.3);
     let roughness = 0.3f32;
     let mat = r#"{"model":"metal_rough","base_color":[1,0.8,0.3],"roughness":0.3}"#;
-    let o = luz(
+    let o = brdf(
         &[
             "--material",
             mat,
@@ -154,7 +132,7 @@ fn metal_rough_mirror_matches_d_g_f() {
         None,
     );
     assert_ok(&o);
-    let j: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let j: Value = serde_json::from_str(o.stdout.trim()).unwrap();
 
     // Mirror configuration: h = n, v·h = n·l = n·v = cos 30°; metallic 1 (default): no diffuse.
     let c = 30f32.to_radians().cos();
@@ -195,9 +173,9 @@ fn stdin_three_lines_give_three_json_lines() {
         r#"{"material":{"model":"principled","anisotropic":0.5},"theta_l":40,"phi_l":20,"theta_v":60,"phi_v":250}"#,
         "\n",
     );
-    let o = luz(&["--stdin"], Some(input));
+    let o = brdf(&["--stdin"], Some(input));
     assert_ok(&o);
-    let out = stdout(&o);
+    let out = &o.stdout;
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 3, "{out}");
     let models = ["lambert", "metal_rough", "principled"];
@@ -214,12 +192,12 @@ fn stdin_three_lines_give_three_json_lines() {
     assert!((json_vec3(&j["f"]).x - 0.8 / std::f32::consts::PI).abs() < 1e-6);
 
     // The command-line material is the default for lines without one.
-    let o = luz(
+    let o = brdf(
         &["--stdin", "--model", "lambert"],
         Some("{\"l\":[0,0,1],\"v\":[0,0,1]}\n"),
     );
     assert_ok(&o);
-    assert_eq!(stdout(&o).lines().count(), 1);
+    assert_eq!(o.stdout.lines().count(), 1);
 }
 
 #[test]
@@ -233,10 +211,10 @@ fn stdin_bad_line_reports_line_number_and_continues() {
         r#"{"material":{"model":"lambert"},"l":[0,0,1],"v":[0,0,1]}"#,
         "\n",
     );
-    let o = luz(&["--stdin"], Some(input));
+    let o = brdf(&["--stdin"], Some(input));
     no_panic(&o);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    let out = stdout(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", o.stderr);
+    let out = &o.stdout;
     let lines: Vec<Value> = out
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
@@ -251,7 +229,7 @@ fn stdin_bad_line_reports_line_number_and_continues() {
     );
     assert_eq!(lines[2]["line"], 3);
     assert_eq!(lines[3]["model"], "lambert");
-    assert!(stderr(&o).contains("line 2"), "{}", stderr(&o));
+    assert!(o.stderr.contains("line 2"), "{}", o.stderr);
 }
 
 #[test]
@@ -276,11 +254,11 @@ fn bad_material_is_a_clear_error() {
     for (args, needle) in cases {
         let mut all = args.to_vec();
         all.extend(["--theta-l", "0", "--theta-v", "0"]);
-        let o = luz(&all, None);
+        let o = brdf(&all, None);
         no_panic(&o);
-        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
-        assert!(stdout(&o).is_empty(), "{args:?}: {}", stdout(&o));
-        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", o.stderr);
+        assert!(o.stdout.is_empty(), "{args:?}: {}", o.stdout);
+        let e = &o.stderr;
         assert!(e.contains("error") && e.contains(needle), "{args:?}: {e}");
     }
     // Missing directions and nothing to do are errors too.
@@ -288,23 +266,18 @@ fn bad_material_is_a_clear_error() {
         &["--model", "lambert", "--theta-l", "10"][..],
         &["--model", "lambert"][..],
     ] {
-        let o = luz(args, None);
+        let o = brdf(args, None);
         no_panic(&o);
-        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", o.stderr);
     }
-}
-
-fn tmp_dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    d
 }
 
 #[test]
 fn plot_writes_decodable_non_blank_pngs() {
-    let dir = tmp_dir("brdf_cli_plot");
+    let tmp = scratch("plot");
+    let dir = tmp.join("plot");
     let dir_s = dir.to_str().unwrap();
-    let o = luz(
+    let o = brdf(
         &[
             "--model",
             "metal_rough",
@@ -322,7 +295,7 @@ fn plot_writes_decodable_non_blank_pngs() {
         None,
     );
     assert_ok(&o);
-    let out = stdout(&o);
+    let out = &o.stdout;
     let printed: Vec<&str> = out.lines().map(str::trim).collect();
     for stem in ["lobe_polar", "slice_thetah_thetad", "albedo"] {
         let png = dir.join(format!("{stem}.png"));
@@ -362,8 +335,8 @@ fn plot_writes_decodable_non_blank_pngs() {
     }
 
     // --plot-size is honoured; a bad sweep key fails before anything is written.
-    let dir2 = tmp_dir("brdf_cli_plot_small");
-    let o = luz(
+    let dir2 = tmp.join("plot_small");
+    let o = brdf(
         &[
             "--model",
             "lambert",
@@ -377,8 +350,8 @@ fn plot_writes_decodable_non_blank_pngs() {
     assert_ok(&o);
     let img = image::open(dir2.join("albedo.png")).unwrap();
     assert_eq!((img.width(), img.height()), (320, 240));
-    let dir3 = tmp_dir("brdf_cli_plot_bad");
-    let o = luz(
+    let dir3 = tmp.join("plot_bad");
+    let o = brdf(
         &[
             "--model",
             "lambert",
@@ -391,6 +364,6 @@ fn plot_writes_decodable_non_blank_pngs() {
     );
     no_panic(&o);
     assert_eq!(o.status.code(), Some(1));
-    assert!(stderr(&o).contains("roughness"), "{}", stderr(&o));
+    assert!(o.stderr.contains("roughness"), "{}", o.stderr);
     assert!(!dir3.exists());
 }

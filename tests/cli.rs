@@ -1,19 +1,10 @@
 //! The binary's behaviour on bad input: one clear message, a non-zero exit, never a panic.
 
-use std::process::Command;
+mod common;
 
-fn luz(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args(args)
-        .env("LUZ_VALIDATION", "1")
-        .output()
-        .expect("run luz");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use std::process::Stdio;
+
+use common::{luz, luz_command, root, scratch};
 
 fn assert_clean_failure(code: i32, stderr: &str, needle: &str) {
     assert_ne!(code, 0, "expected a failure; stderr: {stderr}");
@@ -26,8 +17,7 @@ fn assert_clean_failure(code: i32, stderr: &str, needle: &str) {
 
 #[test]
 fn unknown_device_name() {
-    let dir = std::env::temp_dir().join("luz-cli-device");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("device");
     let out = dir.join("x.png");
     let (code, _, err) = luz(&[
         "render",
@@ -62,8 +52,7 @@ fn unsupported_extension() {
 
 #[test]
 fn render_writes_png_and_exr_and_reports_timings() {
-    let dir = std::env::temp_dir().join("luz-cli-render");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("render");
     for ext in ["png", "exr"] {
         let out = dir.join(format!("default.{ext}"));
         let _ = std::fs::remove_file(&out);
@@ -99,14 +88,15 @@ fn render_writes_png_and_exr_and_reports_timings() {
 /// no panic and no Vulkan error (the scene is rejected before any device work).
 #[test]
 fn bad_scenes_exit_nonzero_without_panic() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_scenes");
+    let dir = root().join("tests/bad_scenes");
+    let tmp = scratch("bad-scenes");
     let mut n = 0;
     for e in std::fs::read_dir(&dir).unwrap() {
         let p = e.unwrap().path();
         if p.extension().and_then(|e| e.to_str()) != Some("json") {
             continue;
         }
-        let out = std::env::temp_dir().join("luz-bad-scene.png");
+        let out = tmp.join("bad-scene.png");
         let (code, _, err) = luz(&["render", p.to_str().unwrap(), "-o", out.to_str().unwrap()]);
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
         assert_eq!(code, 1, "{name}: exit code {code}, stderr: {err}");
@@ -123,14 +113,12 @@ fn bad_scenes_exit_nonzero_without_panic() {
 
 #[test]
 fn a_closed_stdout_pipe_is_not_a_panic() {
-    use std::process::Stdio;
-    let golden = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden"))
+    let golden = std::fs::read_dir(root().join("tests/golden"))
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
         .find(|p| p.extension().is_some_and(|e| e == "png"))
         .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args(["diff", golden.to_str().unwrap(), golden.to_str().unwrap()])
+    let mut child = luz_command(["diff", golden.to_str().unwrap(), golden.to_str().unwrap()])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -159,8 +147,7 @@ fn nan_and_negative_diff_tolerances_are_rejected() {
 
 #[test]
 fn a_bad_material_file_is_named() {
-    let dir = std::env::temp_dir().join(format!("luz-cli-material-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("material");
     let f = dir.join("broken_material.json");
     std::fs::write(&f, "{ \"model\": ").unwrap();
     let arg = format!("@{}", f.display());

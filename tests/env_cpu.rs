@@ -3,7 +3,8 @@
 //! Checks loading (size, finite, non-negative) and that 9-coefficient SH irradiance matches Monte
 //! Carlo and quadrature irradiance at the six axis normals; prints timings.
 
-use std::path::PathBuf;
+mod common;
+
 use std::time::Instant;
 
 use glam::Vec3;
@@ -13,17 +14,10 @@ use luz::env::{
 };
 use luz::scene::{EnvSource, Environment};
 
-fn loft_path() -> Option<PathBuf> {
-    let p =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/environments/newport_loft.hdr");
-    p.is_file().then_some(p)
-}
+use common::shared_dir;
 
 fn load(max_dimension: u32) -> Option<Equirect> {
-    let Some(path) = loft_path() else {
-        println!("SKIPPED: ../shared/environments/newport_loft.hdr is absent");
-        return None;
-    };
+    let path = shared_dir("environments/newport_loft.hdr")?;
     let t = Instant::now();
     let env = Environment::new(EnvSource::Hdr(path));
     let (eq, report) = load_equirect_with_report(&env, max_dimension).expect("loads");

@@ -3,8 +3,12 @@
 //! and the scenes of `tests/bad_scenes/` go through the same entry points as the fuzz targets
 //! (`luz::fuzzing`), which must return without panicking. `scripts/fuzz.sh` runs the fuzzers.
 
+mod common;
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+
+use common::root;
 
 /// A fuzz entry point.
 type Target = fn(&[u8]);
@@ -15,10 +19,6 @@ const TARGETS: [(&str, Target); 4] = [
     ("image", luz::fuzzing::image),
     ("diff", luz::fuzzing::diff),
 ];
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// The files of `dir` (not recursive, sorted; none when it does not exist).
 fn files(dir: &Path) -> Vec<PathBuf> {

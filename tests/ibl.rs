@@ -221,8 +221,8 @@ fn split_sum_vs_importance_on_real_environment() {
 /// cache, skips the precomputation and renders the same bytes.
 #[test]
 fn ibl_cache_second_start() {
-    let dir = std::env::temp_dir().join(format!("luz-ibl-cache-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let tmp = scratch("cache");
+    let dir = tmp.join("cache");
     let scene = sphere_scene(
         r#"{"model": "metal_rough", "base_color": [0.9, 0.6, 0.5], "metallic": 1, "roughness": 0.4}"#,
         r#"{"procedural": "sky"}"#,
@@ -258,7 +258,6 @@ fn ibl_cache_second_start() {
         first.pixels == second.pixels,
         "cached IBL data renders differently"
     );
-    let _ = std::fs::remove_dir_all(&dir);
     assert_no_validation_messages(&ctx);
 }
 

@@ -2,12 +2,13 @@
 //! falls as segments grow (Phong shading against the CPU reference's exact sphere), the Pareto
 //! front is marked, and validation stays silent.
 
-use std::process::Command;
+mod common;
+
+use common::{luz_command, root, run, scratch};
 
 #[test]
 fn lab_writes_results_chart_and_a_pareto_front() {
-    let dir = std::env::temp_dir().join(format!("luz-lab-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("sphere");
     let scene = dir.join("sphere.json");
     std::fs::write(
         &scene,
@@ -21,23 +22,18 @@ fn lab_writes_results_chart_and_a_pareto_front() {
     )
     .unwrap();
     let out = dir.join("out");
-    let run = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args([
-            "lab",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--frames",
-            "2",
-            "--only",
-            "tessellation",
-        ])
-        .env("LUZ_VALIDATION", "1")
-        .output()
-        .expect("run luz lab");
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{stdout}\n{stderr}");
+    let ran = run(&mut luz_command([
+        "lab",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--frames",
+        "2",
+        "--only",
+        "tessellation",
+    ]));
+    let (stdout, stderr) = (&ran.stdout, &ran.stderr);
+    assert!(ran.status.success(), "{stdout}\n{stderr}");
     assert!(stderr.contains("validation: 0 errors"), "{stderr}");
     for f in [
         "results.csv",
@@ -102,8 +98,7 @@ fn lab_writes_results_chart_and_a_pareto_front() {
 
 #[test]
 fn lab_rejects_a_reference_of_the_wrong_size() {
-    let dir = std::env::temp_dir().join(format!("luz-lab-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("bad-reference");
     let small = dir.join("small.exr");
     luz::imageio::save(
         &small,
@@ -112,19 +107,16 @@ fn lab_rejects_a_reference_of_the_wrong_size() {
         luz::color::Tonemap::None,
     )
     .unwrap();
-    let run = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args([
-            "lab",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/default.json"),
-            "--out",
-            dir.join("out").to_str().unwrap(),
-            "--reference",
-            small.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(!run.status.success());
+    let ran = run(&mut luz_command([
+        "lab",
+        root().join("assets/scenes/default.json").to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--reference",
+        small.to_str().unwrap(),
+    ]));
+    let stderr = &ran.stderr;
+    assert!(!ran.status.success());
     assert!(
         stderr.contains("small.exr") && stderr.contains("4x4"),
         "{stderr}"

@@ -7,7 +7,6 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
 use ash::vk;
 use luz::headless::{Headless, DEPTH_FORMAT};
@@ -17,7 +16,7 @@ use luz::vk::cmd::CommandPool;
 use luz::vk::image::ImageDesc;
 use luz::vk::{Buffer, Image, Limits, VkError};
 
-use common::{assert_no_validation_messages, gpu, parse};
+use common::{assert_no_validation_messages, gpu, luz_command, parse, run, scratch};
 
 /// A scene with `lights` point lights and one object of `mesh` (JSON) shaded `shading`.
 fn scene_json(width: u32, height: u32, lights: usize, mesh: &str, shading: &str) -> String {
@@ -321,17 +320,11 @@ fn luz_render_names_output_size_beyond_the_allocation_limit() {
         return;
     }
     drop(ctx);
-    let dir = std::env::temp_dir().join(format!("luz-limits-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("huge-output");
     let scene = dir.join("huge_output.json");
     std::fs::write(&scene, scene_json(16384, 16384, 1, CUBE, "phong")).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args(["render", scene.to_str().unwrap(), "-o"])
-        .arg(dir.join("out.exr"))
-        .env("LUZ_VALIDATION", "1")
-        .output()
-        .expect("run luz");
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let out = run(luz_command(["render", scene.to_str().unwrap(), "-o"]).arg(dir.join("out.exr")));
+    let stderr = &out.stderr;
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("huge_output.json: output.width × output.height (16384x16384)")
@@ -343,5 +336,4 @@ fn luz_render_names_output_size_beyond_the_allocation_limit() {
         "{stderr}"
     );
     assert!(!Path::new(&dir.join("out.exr")).exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -4,14 +4,13 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
 use glam::{DVec3, Vec3};
 use luz::imageio::LinearImage;
 use luz::reference::{primary_ray, render_reference, ReferenceOptions};
 use luz::scene::Scene;
 
-use common::parse;
+use common::{luz, parse, scratch};
 
 fn reference(scene: &Scene, opts: &ReferenceOptions) -> LinearImage {
     render_reference(scene, opts, None).unwrap_or_else(|e| panic!("{e:#}"))
@@ -149,8 +148,7 @@ fn lit_sphere_matches_the_gpu() {
 /// both read the same texels) on a sphere, a cube and a cylinder, compared with `luz render`.
 #[test]
 fn textured_primitives_match_the_gpu() {
-    let dir = std::env::temp_dir().join(format!("luz-reference-tex-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("textures");
     luz::texture::checker(64, 8, [230, 200, 40, 255], [30, 60, 200, 255])
         .save(dir.join("checker.png"))
         .unwrap();
@@ -211,7 +209,6 @@ fn textured_primitives_match_the_gpu() {
         off * 100 <= both * 3,
         "{off} of {both} pixels differ by more than 5 %"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// (2) A Lambert plane under a directional light and an inverse-square point light: every
@@ -391,18 +388,6 @@ fn lambert_under_the_sky_converges_to_the_irradiance() {
     assert!(worst < 1e-2, "worst relative error {worst}");
 }
 
-fn luz(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args(args)
-        .output()
-        .expect("run luz");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
 fn assert_clean_failure(code: i32, stderr: &str, needle: &str) {
     assert_ne!(code, 0, "expected a failure; stderr: {stderr}");
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
@@ -416,8 +401,7 @@ fn assert_clean_failure(code: i32, stderr: &str, needle: &str) {
 /// its file.
 #[test]
 fn bad_input_fails_cleanly() {
-    let dir = std::env::temp_dir().join(format!("luz-reference-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("bad-input");
     let out = dir.join("ref.exr");
     let out_s = out.to_str().unwrap();
 
@@ -484,7 +468,6 @@ fn bad_input_fails_cleanly() {
     assert!(stdout.contains("wrote"), "{stdout}");
     let img = luz::imageio::load(Path::new(&out)).unwrap();
     assert_eq!((img.width, img.height), (32, 18));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The progress callback sees every row, on the calling thread.

@@ -6,14 +6,14 @@
 //! and every substring; the first substring includes the JSON path. Lines starting with `#` and
 //! blank lines are ignored. Other files in the folder (`.obj`, `.mtl`) are helpers the scenes use.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use luz::scene;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use common::{root, shared_dir, shared_path};
 
 fn expectations(dir: &Path) -> BTreeMap<String, Vec<String>> {
     let text = std::fs::read_to_string(dir.join("expected.txt")).expect("expected.txt");
@@ -106,7 +106,7 @@ fn documented_example_parses() {
     let start = doc.find("```json\n").expect("a ```json block") + 8;
     let end = start + doc[start..].find("```").unwrap();
     let mut text = doc[start..end].to_string();
-    let teapot = root().join("../shared/models/teapot.obj");
+    let teapot = shared_path("models/teapot.obj");
     let replacement = if teapot.is_file() {
         format!("{:?}", teapot.to_str().unwrap())
     } else {
@@ -154,11 +154,9 @@ fn documented_material_examples_parse() {
 
 #[test]
 fn real_obj_models_load() {
-    let models = root().join("../shared/models");
-    if !models.is_dir() {
-        println!("SKIPPED: ../shared/models not found");
+    let Some(models) = shared_dir("models") else {
         return;
-    }
+    };
     for (file, min_triangles) in [
         ("stanford-bunny.obj", 69_000),
         ("teapot.obj", 6_000),

@@ -9,8 +9,11 @@
 //! sphere shows it (see the README's Reliability section); this soak keeps those two shadings
 //! out so that it tests everything else.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
+
+use common::{luz_command, run, scratch};
 
 /// A scene with every feature of luz on, written into `dir` with its textures and OBJ + MTL:
 /// all seven material models (principled with anisotropy, clearcoat, sheen and subsurface), every
@@ -91,30 +94,24 @@ fn every_feature_scene(dir: &Path) -> std::path::PathBuf {
 
 #[test]
 fn ten_thousand_frames_keep_memory_flat() {
-    let dir = std::env::temp_dir().join(format!("luz-soak-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("soak");
     let scene = every_feature_scene(&dir);
     let json = dir.join("soak.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args([
-            "bench",
-            scene.to_str().unwrap(),
-            "--frames",
-            "10000",
-            "--warmup",
-            "20",
-            "--memory-every",
-            "1000",
-            "--max-memory-growth-mib",
-            "4",
-            "--json",
-            json.to_str().unwrap(),
-        ])
-        .env("LUZ_VALIDATION", "1")
-        .output()
-        .expect("run luz bench");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let out = run(&mut luz_command([
+        "bench",
+        scene.to_str().unwrap(),
+        "--frames",
+        "10000",
+        "--warmup",
+        "20",
+        "--memory-every",
+        "1000",
+        "--max-memory-growth-mib",
+        "4",
+        "--json",
+        json.to_str().unwrap(),
+    ]));
+    let (stdout, stderr) = (&out.stdout, &out.stderr);
     eprintln!("{stdout}");
     assert!(
         out.status.success(),

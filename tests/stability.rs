@@ -2,7 +2,7 @@
 //! Inf or negative value, no energy gain of a model that claims conservation, validation silent),
 //! and the checker does fail when an evaluator misbehaves.
 
-use std::process::Command;
+mod common;
 
 use anyhow::Result;
 use luz::brdf::Model;
@@ -11,18 +11,7 @@ use luz::stability::{
 };
 use serde_json::Value;
 
-fn run_luz(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args(args)
-        .env("LUZ_VALIDATION", "1")
-        .output()
-        .expect("run luz");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{luz, scratch};
 
 fn num(v: &Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
@@ -31,10 +20,9 @@ fn num(v: &Value) -> f64 {
 /// The whole sweep, CPU and GPU, through the binary.
 #[test]
 fn sweep_is_clean_on_cpu_and_gpu() {
-    let dir = std::env::temp_dir().join(format!("luz-stability-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("sweep");
     let json = dir.join("stability.json");
-    let (code, stdout, stderr) = run_luz(&["stability", "--json", json.to_str().unwrap()]);
+    let (code, stdout, stderr) = luz(&["stability", "--json", json.to_str().unwrap()]);
     assert_eq!(code, 0, "stdout:\n{stdout}\nstderr:\n{stderr}");
     assert!(
         stderr.contains("validation: 0 errors"),
@@ -101,18 +89,17 @@ fn sweep_is_clean_on_cpu_and_gpu() {
     }
     // Lambert, 32 Cook-Torrance and 32 metal-rough term combinations.
     assert_eq!(claimed_rows, 65);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `--cpu-only` needs no device and prints no validation line.
 #[test]
 fn cpu_only_needs_no_device() {
-    let (code, stdout, stderr) = run_luz(&["stability", "--cpu-only", "--model", "oren_nayar"]);
+    let (code, stdout, stderr) = luz(&["stability", "--cpu-only", "--model", "oren_nayar"]);
     assert_eq!(code, 0, "stdout:\n{stdout}\nstderr:\n{stderr}");
     assert!(stdout.contains("== oren_nayar") && !stdout.contains("== lambert"));
     assert!(!stdout.contains(" GPU "), "{stdout}");
     assert!(!stderr.contains("validation:"), "{stderr}");
-    let (code, _, stderr) = run_luz(&["stability", "--cpu-only", "--model", "nope"]);
+    let (code, _, stderr) = luz(&["stability", "--cpu-only", "--model", "nope"]);
     assert_eq!(code, 1);
     assert!(
         stderr.contains("luz: error:") && stderr.contains("nope"),

@@ -3,30 +3,15 @@
 //! a barrier are not. `scripts/test.sh` runs every GPU test with `LUZ_SYNC_VALIDATION=1`, so a
 //! hazard anywhere in luz fails the test that recorded it.
 
+mod common;
+
 use gpu_allocator::MemoryLocation;
 use luz::vk::cmd::CommandPool;
-use luz::vk::{Buffer, Context, ContextDesc, InstanceDesc};
+use luz::vk::{Buffer, Context};
 
 use ash::vk;
 
-fn context(sync: bool) -> std::sync::Arc<Context> {
-    if std::env::var_os("VK_ICD_FILENAMES").is_none() {
-        std::env::set_var(
-            "VK_ICD_FILENAMES",
-            "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json",
-        );
-    }
-    Context::new(&ContextDesc {
-        instance: InstanceDesc {
-            validation: true,
-            sync_validation: sync,
-            ..Default::default()
-        },
-        device_name: None,
-        device_extensions: Vec::new(),
-    })
-    .unwrap()
-}
+use common::gpu_with;
 
 fn fill_twice(ctx: &std::sync::Arc<Context>, barrier: bool) {
     let pool = CommandPool::new(ctx, "sync test").unwrap();
@@ -63,7 +48,7 @@ fn fill_twice(ctx: &std::sync::Arc<Context>, barrier: bool) {
 
 #[test]
 fn a_missing_barrier_is_reported_only_with_sync_validation() {
-    let ctx = context(true);
+    let ctx = gpu_with(true);
     fill_twice(&ctx, true);
     assert_eq!(
         ctx.validation_log().errors(),
@@ -78,14 +63,14 @@ fn a_missing_barrier_is_reported_only_with_sync_validation() {
         "sync validation did not see the write-after-write hazard: {messages:?}"
     );
     // Without synchronization validation the core layer does not see it.
-    let plain = context(false);
+    let plain = gpu_with(false);
     fill_twice(&plain, false);
     assert_eq!(plain.validation_log().errors(), 0);
 }
 
 #[test]
 fn a_leaked_allocation_is_reported_when_the_device_goes() {
-    let ctx = context(false);
+    let ctx = gpu_with(false);
     let log = ctx.instance.log.clone();
     let leaked = Buffer::new(
         &ctx,

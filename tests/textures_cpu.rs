@@ -2,23 +2,18 @@
 //! downscaling to a device limit, errors naming the file; the `textures` block of scene files and
 //! the texture maps of OBJ/MTL files. No GPU.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use common::{scratch, shared_dir};
 use image::{DynamicImage, ImageBuffer, Luma, Rgba, RgbaImage};
 use luz::scene::{self, Material, TextureRef, TextureSlot, Wrap};
 use luz::texture::{
     checker, load_texture, mip_count, mip_extent, noise_normal_map, texture_from_image, ColorSpace,
     TexFormat, TextureData, TextureError,
 };
-
-/// A fresh scratch folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("luz-textures-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn write_png(dir: &Path, name: &str, img: &RgbaImage) -> PathBuf {
     let p = dir.join(name);
@@ -54,14 +49,9 @@ fn check_chain(t: &TextureData) {
 
 #[test]
 fn real_pbr_set_decodes_with_full_mip_chains() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/textures/gold");
-    if !dir.exists() {
-        eprintln!(
-            "SKIPPED: {} not found (a fresh clone without ../shared)",
-            dir.display()
-        );
+    let Some(dir) = shared_dir("textures/gold") else {
         return;
-    }
+    };
     for (file, space, format, size) in [
         ("albedo.png", ColorSpace::Srgb, TexFormat::Rgba8Srgb, 2048),
         (

@@ -7,7 +7,6 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use std::path::PathBuf;
 
 /// Renders with small IBL data (the environment is only lighting here), validation checked.
 fn render_fast_ibl(scene: &luz::scene::Scene) -> luz::imageio::LinearImage {
@@ -26,17 +25,11 @@ fn render_fast_ibl(scene: &luz::scene::Scene) -> luz::imageio::LinearImage {
     img
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("luz-textures-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
 /// A plane seen from straight above with a red/blue checker (nearest filtering, no mips) under a
 /// directional light and a Lambert material: every pixel is exactly red·E cosθ/π or blue·E cosθ/π.
 #[test]
 fn checker_texels_reach_the_plane() {
-    let dir = temp_dir("checker");
+    let dir = scratch("checker");
     let png = dir.join("checker.png");
     luz::texture::checker(64, 8, [255, 0, 0, 255], [0, 0, 255, 255])
         .save(&png)
@@ -78,7 +71,7 @@ fn checker_texels_reach_the_plane() {
 /// mip chain (sRGB-correct mips), not to 0.214 (the linear value of an sRGB average of 128).
 #[test]
 fn mips_are_gamma_correct_on_the_gpu() {
-    let dir = temp_dir("mips");
+    let dir = scratch("mips");
     let png = dir.join("fine.png");
     luz::texture::checker(512, 256, [0, 0, 0, 255], [255, 255, 255, 255])
         .save(&png)
@@ -105,7 +98,7 @@ fn mips_are_gamma_correct_on_the_gpu() {
 /// sky (IBL, split sum), against its golden.
 #[test]
 fn textured_sphere_golden() {
-    let dir = temp_dir("golden");
+    let dir = scratch("golden");
     let base = dir.join("base.png");
     let normal = dir.join("normal.png");
     let orm = dir.join("orm.png");

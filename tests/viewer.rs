@@ -3,56 +3,11 @@
 //! is checked against a headless render of the same scene after the same change: the scene must
 //! be there pixel for pixel (±2 levels) where no panel covers it, and the panels must be there.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use std::path::Path;
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("luz-viewer-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// `xvfb-run -a luz …` (a real X server and window), or None with a visible note.
-fn luz_in_window(args: &[&str]) -> Option<(i32, String, String)> {
-    let have = Command::new("xvfb-run").arg("--help").output().is_ok();
-    if !have {
-        eprintln!("SKIPPED: xvfb-run is not installed (scripts/setup.sh installs it)");
-        return None;
-    }
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1600x1000x24"])
-        .arg(env!("CARGO_BIN_EXE_luz"))
-        .args(args)
-        .env("LUZ_VALIDATION", "1")
-        .env(
-            "LUZ_CACHE_DIR",
-            std::env::temp_dir().join("luz-viewer-cache"),
-        )
-        .output()
-        .expect("run xvfb-run");
-    Some((
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    ))
-}
-
-fn luz(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_luz"))
-        .args(args)
-        .env("LUZ_VALIDATION", "1")
-        .output()
-        .expect("run luz");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{luz, luz_in_window, root, scratch, shared_dir};
 
 fn rgb(path: &Path) -> image::RgbImage {
     image::open(path)
@@ -88,7 +43,7 @@ fn matching(
 
 #[test]
 fn scripted_resize_and_ui_change_show_in_the_screenshot() {
-    let dir = tmp("script");
+    let dir = scratch("script");
     let scene_text = std::fs::read_to_string(root().join("assets/scenes/default.json")).unwrap();
     assert!(scene_text.contains("\"exposure\": 0.0"));
     let scene = dir.join("scene.json");
@@ -207,12 +162,9 @@ fn resizes_minimise_restore_and_vsync_survive() {
 
 #[test]
 fn opens_models_and_environments_and_saves_the_scene() {
-    let models = root().join("../shared/models");
-    let envs = root().join("../shared/environments");
-    if !models.exists() || !envs.exists() {
-        eprintln!("SKIPPED: ../shared/models or ../shared/environments not found (a fresh clone)");
+    let (Some(models), Some(envs)) = (shared_dir("models"), shared_dir("environments")) else {
         return;
-    }
+    };
     let obj = std::fs::read_dir(&models)
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -223,7 +175,7 @@ fn opens_models_and_environments_and_saves_the_scene() {
         .filter_map(|e| e.ok().map(|e| e.path()))
         .find(|p| p.extension().is_some_and(|e| e == "hdr" || e == "exr"))
         .expect("an HDR in ../shared/environments");
-    let dir = tmp("open");
+    let dir = scratch("open");
     let saved = dir.join("saved.json");
     let script = format!(
         "2:open={};4:open={};6:save={};8:open={};10:open={}",

@@ -1,22 +1,40 @@
-//! Shared test harness: a validated lavapipe context, rendering helpers and golden-image checks.
-#![allow(dead_code)]
+//! The one shared test harness, included by every test binary with `mod common;`:
+//!
+//! * paths: [`root`] (the checkout), [`shared_dir`] (`../shared` beside it, or a visible skip);
+//! * [`scratch`]: a fresh folder per test under the system's temporary folder;
+//! * [`process`]: the `luz` binary as a child process ([`luz`], [`luz_command`], [`run`],
+//!   [`run_with_stdin`], [`luz_in_window`], [`Ran`]);
+//! * [`vulkan`]: a validated lavapipe context ([`gpu`]), rendering helpers and golden-image checks
+//!   ([`check_golden`]).
+//!
+//! Nothing here changes the test process's environment (tests run on parallel threads): options
+//! for a child process go to its `Command` only.
+#![allow(dead_code, unused_imports)]
 
+pub mod process;
+pub mod vulkan;
+
+use std::ops::Deref;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-use luz::diff::{DiffOptions, DiffReport};
-use luz::headless::Headless;
-use luz::imageio::{FileFormat, LinearImage, LoadedImage};
-use luz::scene::Scene;
-use luz::vk::{Context, ContextDesc, InstanceDesc};
+pub use process::*;
+pub use vulkan::*;
 
+/// The checkout (the folder of `Cargo.toml`), wherever the clone lives.
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `../shared` (real models, environments, textures), or None with a visible note.
+/// `../shared/<what>`: the folder beside the checkout with real models, environments and
+/// textures (not part of the project), whether or not it exists.
+pub fn shared_path(what: &str) -> PathBuf {
+    root().join("..").join("shared").join(what)
+}
+
+/// [`shared_path`] when it exists, else None with a visible note (the caller skips).
 pub fn shared_dir(what: &str) -> Option<PathBuf> {
-    let p = root().join("..").join("shared").join(what);
+    let p = shared_path(what);
     if p.exists() {
         Some(p)
     } else {
@@ -28,150 +46,49 @@ pub fn shared_dir(what: &str) -> Option<PathBuf> {
     }
 }
 
-/// A device context with the validation layer on (always, in tests).
-pub fn gpu() -> Arc<Context> {
-    if std::env::var_os("VK_ICD_FILENAMES").is_none() {
-        std::env::set_var(
-            "VK_ICD_FILENAMES",
-            "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json",
-        );
+/// A fresh, empty folder of one test (see [`scratch`]). It derefs to its [`Path`]; dropping it
+/// removes the folder, unless the test is failing (then it is kept and its path printed).
+pub struct Scratch {
+    path: PathBuf,
+}
+
+/// A fresh, empty folder for one test: `<temp>/luz-test-<binary>-<pid>-<n>-<name>`, unique to this
+/// test binary, process and call (`n` counts the calls), so parallel tests and concurrent runs of
+/// the suite from any number of clones never share one. Removed when the returned [`Scratch`] is
+/// dropped (kept when the test fails).
+pub fn scratch(name: &str) -> Scratch {
+    static NEXT: AtomicUsize = AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    let path = std::env::temp_dir().join(format!(
+        "luz-test-{}-{}-{n}-{name}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&path);
+    std::fs::create_dir_all(&path)
+        .unwrap_or_else(|e| panic!("cannot create {}: {e}", path.display()));
+    Scratch { path }
+}
+
+impl Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.path
     }
-    Context::new(&ContextDesc {
-        instance: InstanceDesc {
-            validation: true,
-            sync_validation: std::env::var_os("LUZ_SYNC_VALIDATION").is_some(),
-            ..Default::default()
-        },
-        device_name: None,
-        device_extensions: Vec::new(),
-    })
-    .expect("a Vulkan device with the validation layer (run scripts/setup.sh)")
 }
 
-/// Fails the test when the validation layer reported anything.
-pub fn assert_no_validation_messages(ctx: &Context) {
-    let log = ctx.validation_log();
-    let msgs = log.messages();
-    assert!(
-        log.errors() == 0 && log.warnings() == 0,
-        "validation reported {} errors and {} warnings:\n{}",
-        log.errors(),
-        log.warnings(),
-        msgs.join("\n")
-    );
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.path
+    }
 }
 
-pub fn parse(json: &str) -> Scene {
-    luz::scene::parse(json, Path::new("<test scene>")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Renders `scene` once on `ctx` (call [`assert_no_validation_messages`] when done with it).
-pub fn render_on(ctx: &Arc<Context>, scene: &Scene) -> LinearImage {
-    let mut r = Headless::new(ctx, scene).expect("renderer");
-    r.render().expect("frame");
-    r.image().expect("readback")
-}
-
-/// Renders `scene` once and returns its linear radiance, asserting a clean validation log.
-pub fn render(scene: &Scene) -> LinearImage {
-    let ctx = gpu();
-    let img = render_on(&ctx, scene);
-    assert_no_validation_messages(&ctx);
-    img
-}
-
-pub fn nan_count(img: &LinearImage) -> usize {
-    img.pixels
-        .iter()
-        .filter(|p| p.iter().any(|c| !c.is_finite()))
-        .count()
-}
-
-/// Tolerances of one golden comparison.
-#[derive(Clone, Copy)]
-pub struct Tolerance {
-    pub max_flip_mean: f32,
-    /// In 8-bit steps.
-    pub max_abs: f32,
-    /// Pixels allowed to differ by more than `bad_threshold` steps.
-    pub max_bad_pixels: u64,
-    pub bad_threshold: f32,
-}
-
-impl Default for Tolerance {
-    /// Same machine: byte-exact. Other CPUs: lavapipe's approximate rcp/rsqrt move a few LSB.
-    fn default() -> Self {
-        Self {
-            max_flip_mean: 0.005,
-            max_abs: 8.0,
-            max_bad_pixels: 64,
-            bad_threshold: 3.0,
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            eprintln!("kept {} (the test failed)", self.path.display());
+        } else {
+            let _ = std::fs::remove_dir_all(&self.path);
         }
     }
-}
-
-/// Compares the PNG encoding of `img` with `tests/golden/<name>.png`. With `LUZ_BLESS=1` the golden
-/// is (re)written instead. On failure actual, expected and diff images go to
-/// `target/golden-failures/`.
-pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance) -> DiffReport {
-    assert_eq!(
-        nan_count(img),
-        0,
-        "{name}: NaN/Inf pixels in the linear buffer"
-    );
-    let golden = root().join("tests/golden").join(format!("{name}.png"));
-    let fail_dir = root().join("target/golden-failures");
-    std::fs::create_dir_all(&fail_dir).unwrap();
-    let actual_path = fail_dir.join(format!("{name}.actual.png"));
-    luz::imageio::save(
-        &actual_path,
-        img,
-        scene.output.exposure,
-        scene.output.tonemap,
-    )
-    .unwrap();
-    if std::env::var_os("LUZ_BLESS").is_some() {
-        std::fs::copy(&actual_path, &golden).unwrap();
-        let ctx_driver = driver_string();
-        std::fs::write(root().join("tests/golden/DRIVER.txt"), ctx_driver).unwrap();
-        eprintln!("blessed {}", golden.display());
-    }
-    assert!(
-        golden.exists(),
-        "no golden {}; bless it with LUZ_BLESS=1 scripts/test.sh {name}",
-        golden.display()
-    );
-    let opts = DiffOptions {
-        max_flip_mean: Some(tol.max_flip_mean),
-        max_abs: Some(tol.max_abs),
-        max_bad_pixels: Some(tol.max_bad_pixels),
-        bad_pixel_threshold: tol.bad_threshold,
-        heatmap: Some(fail_dir.join(format!("{name}.diff.png"))),
-        ..Default::default()
-    };
-    let expected = luz::imageio::load(&golden).unwrap();
-    let actual: LoadedImage = luz::imageio::load(&actual_path).unwrap();
-    assert_eq!(expected.format, FileFormat::Png);
-    let report = luz::diff::compare(&expected, &actual, &opts).unwrap();
-    let violations = report.violations(&opts);
-    if violations.is_empty() {
-        let _ = std::fs::remove_file(&actual_path);
-        let _ = std::fs::remove_file(fail_dir.join(format!("{name}.diff.png")));
-    } else {
-        std::fs::copy(&golden, fail_dir.join(format!("{name}.expected.png"))).unwrap();
-        panic!(
-            "{name}: golden mismatch:\n{report}\n{}\nimages in {}",
-            violations.join("\n"),
-            fail_dir.display()
-        );
-    }
-    report
-}
-
-fn driver_string() -> String {
-    let ctx = gpu();
-    format!(
-        "Goldens in this folder were blessed on: {}\n",
-        ctx.info.summary()
-    )
 }
