@@ -25,6 +25,8 @@ fn fill_twice(ctx: &std::sync::Arc<Context>, barrier: bool) {
     .unwrap();
     let d = ctx.device.clone();
     pool.one_shot(|cmd| {
+        // SAFETY: `cmd` is recording (inside `one_shot`); the buffer is live, has TRANSFER_DST
+        // usage and 256 bytes, a multiple of 4 from offset 0.
         unsafe { d.cmd_fill_buffer(cmd, buffer.raw, 0, 256, 1) };
         if barrier {
             luz::vk::cmd::memory_barrier(
@@ -40,6 +42,8 @@ fn fill_twice(ctx: &std::sync::Arc<Context>, barrier: bool) {
                 ),
             );
         }
+        // SAFETY: as for the first fill; the hazard between the two (without the barrier) is what
+        // this test wants the validation layer to report, not undefined behaviour on the host.
         unsafe { d.cmd_fill_buffer(cmd, buffer.raw, 0, 256, 2) };
         Ok(())
     })

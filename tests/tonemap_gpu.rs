@@ -187,6 +187,8 @@ impl Rig {
                 }],
             );
             let region = copy_region(W, height);
+            // SAFETY: `cmd` is recording, the staging buffer holds the source texels and the image
+            // is in TRANSFER_DST_OPTIMAL (transitioned above); the region lies inside both.
             unsafe {
                 d.cmd_copy_buffer_to_image(
                     cmd,
@@ -505,8 +507,11 @@ fn display_pass_matches_cpu_bytes() {
                             })
                             .layer_count(1)
                             .color_attachments(&colors);
+                        // SAFETY: `cmd` is recording and the swapchain-like target image was
+                        // transitioned to COLOR_ATTACHMENT_OPTIMAL above; `info` outlives the call.
                         unsafe { d.cmd_begin_rendering(cmd, &info) };
                         pass.record(cmd, op, FORMAT, ev, rig.extent()).unwrap();
+                        // SAFETY: closes the rendering begun above in the same command buffer.
                         unsafe { d.cmd_end_rendering(cmd) };
                         rig.read_back(cmd, &target, attachment);
                         Ok(())
