@@ -6,8 +6,8 @@ use glam::Vec3;
 
 use super::*;
 use crate::scene::{
-    default_scene, load, parse, DiffuseMethod, MaterialTextures, MeshDesc, NamedMaterial, Scene,
-    SpecularMethod, DEFAULT_SCENE_JSON,
+    default_scene, load, parse, DiffuseMethod, Falloff, Fog, Light, LightKind, MaterialTextures,
+    MeshDesc, NamedMaterial, Scene, SpecularMethod, DEFAULT_SCENE_JSON,
 };
 
 // ---------------------------------------------------------------------------------------------
