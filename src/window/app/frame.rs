@@ -1,0 +1,494 @@
+//! One frame: scripted actions, the UI, recording the scene passes, the display pass and the UI
+//! into the swapchain image, presenting, and screenshots.
+
+use super::*;
+
+impl Viewer {
+    pub(super) fn run_script(&mut self) -> Result<()> {
+        while let Some((f, _)) = self.script.first() {
+            if *f > self.frame_index {
+                break;
+            }
+            let (_, action) = self.script.remove(0);
+            match action {
+                Action::Resize(w, h) => {
+                    let _ = self
+                        .window
+                        .request_inner_size(PhysicalSize::new(w.max(1), h.max(1)));
+                }
+                Action::Minimize => self.window.set_minimized(true),
+                Action::Restore => self.window.set_minimized(false),
+                Action::Exposure(e) => self.scene.output.exposure = e,
+                Action::Tonemap(t) => self.scene.output.tonemap = t,
+                Action::Panels(on) => self.settings.show_panels = on,
+                Action::Help(on) => self.settings.show_help = on,
+                Action::Orbit(dx, dy) => self.orbit.orbit(dx, dy),
+                Action::Zoom(s) => self.orbit.zoom(s),
+                Action::FrameAll => self.frame_all(),
+                Action::Reset => self.orbit = self.initial_camera,
+                Action::Vsync(on) => {
+                    self.settings.vsync = on;
+                    self.swapchain_dirty = true;
+                }
+                Action::DebugView(d) => self.settings.debug_view = d,
+                Action::Screenshot(p) => self.pending_screenshot = Some(p),
+                Action::Open(p) => self.open_path(&p),
+                Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
+            }
+        }
+        Ok(())
+    }
+
+    /// Draws one frame; false when `--frames` are done.
+    pub(super) fn frame(&mut self) -> Result<bool> {
+        self.run_script()?;
+        if self.swapchain_dirty {
+            self.recreate_swapchain()?;
+        }
+        let size = self.window.inner_size();
+        let minimized =
+            size.width == 0 || size.height == 0 || self.window.is_minimized() == Some(true);
+        if minimized {
+            // Nothing to present to; count the frame so scripts and --frames still advance.
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            self.frame_index += 1;
+            return Ok(!self.done());
+        }
+        let start = Instant::now();
+        let d = self.ctx.device.clone();
+        let slot = self.slot;
+        let previous = (slot + FRAMES_IN_FLIGHT - 1) % FRAMES_IN_FLIGHT;
+        if let Some(last) = self.last_frame_start {
+            self.frames[previous].frame_ms = (start - last).as_secs_f64() * 1e3;
+        }
+        self.last_frame_start = Some(start);
+        // 1. This slot's previous frame: wait, read its timestamps, free its egui textures.
+        {
+            let f = &mut self.frames[slot];
+            if f.submitted {
+                // SAFETY: the fence belongs to this device and was submitted with this slot's last frame.
+                unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX)? };
+                // SAFETY: the wait above returned, so no queue operation still refers to the fence.
+                unsafe { d.reset_fences(&[f.fence])? };
+                f.submitted = false;
+                let gpu_ms = match &f.timer {
+                    Some(t) => t.read()?,
+                    None => Vec::new(),
+                };
+                let sample = FrameSample {
+                    frame_ms: f.frame_ms,
+                    cpu_ms: f.cpu_ms,
+                    gpu_ms,
+                };
+                if self.bench {
+                    self.bench_frames.push(sample.clone());
+                }
+                self.profiler.push(sample);
+                if let Some(r) = &mut self.egui_renderer {
+                    for id in std::mem::take(&mut f.free_textures) {
+                        r.free_texture(id).map_err(|e| anyhow!("egui: {e}"))?;
+                    }
+                }
+            }
+        }
+        // 2. Acquire.
+        let acquired = self.frames[slot].acquired;
+        // SAFETY: `acquired` is this slot's semaphore, unsignalled: its last wait was by the submission
+        // whose fence was waited for above; the swapchain is live (recreated only between frames).
+        let image_index = match unsafe {
+            self.swapchain.loader.acquire_next_image(
+                self.swapchain.raw,
+                u64::MAX,
+                acquired,
+                vk::Fence::null(),
+            )
+        } {
+            Ok((i, suboptimal)) => {
+                if suboptimal {
+                    self.swapchain_dirty = true;
+                }
+                i
+            }
+            Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => {
+                self.swapchain_dirty = true;
+                return Ok(true);
+            }
+            Err(e) => return Err(e.into()),
+        };
+        // 3. UI.
+        let raw = self.egui_state.take_egui_input(&self.window);
+        let mut actions = Vec::new();
+        let output = {
+            let (scene, settings, profiler, state) = (
+                &mut self.scene,
+                &mut self.settings,
+                &self.profiler,
+                &mut self.ui_state,
+            );
+            let status = &self.status;
+            self.egui_ctx.run_ui(raw, |ui| {
+                if let Some(s) = status {
+                    egui::Panel::bottom("status").show(ui, |ui| {
+                        ui.label(s.as_str());
+                    });
+                }
+                actions = ui::draw(ui, scene, settings, profiler, state);
+            })
+        };
+        self.egui_state
+            .handle_platform_output(&self.window, output.platform_output);
+        let primitives = self
+            .egui_ctx
+            .tessellate(output.shapes, output.pixels_per_point);
+        self.apply_actions(actions)?;
+        if Structure::of(&self.scene, &self.settings) != self.structure {
+            let env = self.structure.environment != self.scene.environment;
+            if let Err(e) = self.rebuild(env) {
+                // The passes still fit the last scene that built: go back to it, so the next
+                // frame's update matches them.
+                self.scene = self.built_scene.clone();
+                self.status = Some(format!("{e:#} (the edit was undone)"));
+                log::error!("{e:#} (the edit was undone)");
+            }
+        }
+        if let Some(r) = &mut self.egui_renderer {
+            for (id, deltas) in &output.textures_delta.set {
+                for delta in deltas {
+                    r.set_texture(self.ctx.queue, self.pool.raw, *id, delta)
+                        .map_err(|e| anyhow!("egui: {e}"))?;
+                }
+            }
+        }
+        self.frames[slot]
+            .free_textures
+            .extend(output.textures_delta.free.iter().copied());
+
+        self.display
+            .prepare(self.scene.output.tonemap, self.swapchain.format)?;
+        // 4. Per-frame data of this slot.
+        self.scene.camera = self.orbit.to_camera();
+        let extent = self.swapchain.extent;
+        let aspect = extent.width as f32 / extent.height.max(1) as f32;
+        self.forward.update(slot, &self.scene, aspect)?;
+
+        // 5. Record.
+        let cmd = self.frames[slot].cmd;
+        // SAFETY: the slot's command buffer is not pending (its fence was waited for above) and comes
+        // from a pool created with RESET_COMMAND_BUFFER.
+        unsafe {
+            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+            d.begin_command_buffer(
+                cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )?;
+        }
+        let screenshot = self.pending_screenshot.take();
+        let readback = self.record(cmd, slot, image_index, &primitives, screenshot.as_deref())?;
+        // SAFETY: `cmd` is recording (begun above) and `record` closed its rendering instances.
+        unsafe { d.end_command_buffer(cmd)? };
+
+        // 6. Submit and present.
+        let waits = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(acquired)
+            .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
+        let render_finished = self.swapchain.render_finished[image_index as usize];
+        let signals = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(render_finished)
+            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
+        let submit = vk::SubmitInfo2::default()
+            .wait_semaphore_infos(&waits)
+            .command_buffer_infos(&cmds)
+            .signal_semaphore_infos(&signals);
+        // SAFETY: `cmd` is executable, the slot's fence is unsignalled (reset after its wait), the
+        // semaphores are live, and this thread alone submits to the queue.
+        unsafe { d.queue_submit2(self.ctx.queue, &[submit], self.frames[slot].fence)? };
+        self.frames[slot].submitted = true;
+        let swapchains = [self.swapchain.raw];
+        let indices = [image_index];
+        let wait = [render_finished];
+        let present = vk::PresentInfoKHR::default()
+            .wait_semaphores(&wait)
+            .swapchains(&swapchains)
+            .image_indices(&indices);
+        // SAFETY: the image was acquired for this frame and the submission above signals the semaphore
+        // the present waits on; the queue is used by this thread only.
+        match unsafe {
+            self.swapchain
+                .loader
+                .queue_present(self.ctx.queue, &present)
+        } {
+            Ok(false) => {}
+            Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.swapchain_dirty = true,
+            Err(e) => return Err(e.into()),
+        }
+        if let Some(shot) = readback {
+            let f = &self.frames[slot];
+            // SAFETY: the fence was submitted with this frame just above; waiting makes its copy visible.
+            unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX)? };
+            self.save_screenshot(&shot)?;
+        }
+        self.frames[slot].cpu_ms = start.elapsed().as_secs_f64() * 1e3;
+        self.slot = (slot + 1) % FRAMES_IN_FLIGHT;
+        self.frame_index += 1;
+        Ok(!self.done())
+    }
+
+    pub(super) fn done(&self) -> bool {
+        self.frame_limit.is_some_and(|n| self.frame_index >= n)
+    }
+
+    /// Records the frame's passes into `cmd`; returns the screenshot being copied, if any.
+    pub(super) fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        image_index: u32,
+        primitives: &[egui::ClippedPrimitive],
+        screenshot: Option<&Path>,
+    ) -> Result<Option<Shot>> {
+        let d = self.ctx.device.clone();
+        let mut timer = self.frames[slot].timer.take();
+        if let Some(t) = &mut timer {
+            t.reset(cmd);
+        }
+        let t = &self.targets;
+        // The previous frame's last uses of the shared images come first on the queue: the
+        // display pass's read and a screenshot's copy of the colour image.
+        t.begin_frame(
+            &d,
+            cmd,
+            FrameStart::AfterPrevious {
+                color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags2::COPY,
+            },
+        );
+        let views = t.views();
+        let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+        self.forward.record_slot(cmd, &views, slot);
+        if let Some(t) = &mut timer {
+            t.end(cmd, s);
+        }
+        let mut last = COLOR_ATTACHMENT;
+        if let Some(sat) = &self.saturate {
+            let s = timer.as_mut().and_then(|t| t.begin(cmd, sat.name()));
+            last = sat.record(cmd, last);
+            if let Some(t) = &mut timer {
+                t.end(cmd, s);
+            }
+        }
+        let exr =
+            screenshot.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
+        let mut read = self.display.source_access();
+        if exr.is_some() {
+            read.1 |= vk::PipelineStageFlags2::COPY;
+            read.2 |= vk::AccessFlags2::TRANSFER_READ;
+        }
+        // The swapchain image: written whole by the display pass, then the UI on top.
+        let image = self.swapchain.images[image_index as usize];
+        let attachment: Access = (
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
+        transition(
+            &d,
+            cmd,
+            &[
+                Transition {
+                    image: t.color.raw,
+                    range: t.color.subresource_range(),
+                    from: last,
+                    to: read,
+                },
+                Transition {
+                    image,
+                    range: color_range(),
+                    // Chained to the acquire semaphore's wait at this stage.
+                    from: (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    to: attachment,
+                },
+            ],
+        );
+        let extent = t.color.extent();
+        let mut shot = None;
+        if let Some(path) = exr {
+            let buffer = Buffer::new(
+                &self.ctx,
+                "screenshot (hdr)",
+                extent.width as u64 * extent.height as u64 * 16,
+                vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuToCpu,
+            )?;
+            copy_image_to_buffer(
+                &d,
+                cmd,
+                t.color.raw,
+                vk::ImageLayout::GENERAL,
+                &buffer,
+                extent,
+            );
+            shot = Some(Shot {
+                path: path.to_path_buf(),
+                buffer,
+                display: false,
+                extent,
+            });
+        }
+        let sc = self.swapchain.extent;
+        let colors = [vk::RenderingAttachmentInfo::default()
+            .image_view(self.swapchain.views[image_index as usize])
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let info = vk::RenderingInfo::default()
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: sc,
+            })
+            .layer_count(1)
+            .color_attachments(&colors);
+        // SAFETY: `cmd` is recording; the swapchain image was transitioned to COLOR_ATTACHMENT_OPTIMAL
+        // above and `info` outlives the call.
+        unsafe { d.cmd_begin_rendering(cmd, &info) };
+        let s = timer.as_mut().and_then(|t| t.begin(cmd, "display"));
+        let area = vk::Extent2D {
+            width: extent.width.min(sc.width),
+            height: extent.height.min(sc.height),
+        };
+        self.display.record(
+            cmd,
+            self.scene.output.tonemap,
+            self.swapchain.format,
+            self.scene.output.exposure,
+            area,
+        )?;
+        if let Some(t) = &mut timer {
+            t.end(cmd, s);
+        }
+        let s = timer.as_mut().and_then(|t| t.begin(cmd, "ui"));
+        if let Some(r) = &mut self.egui_renderer {
+            r.cmd_draw(cmd, sc, self.egui_ctx.pixels_per_point(), primitives)
+                .map_err(|e| anyhow!("egui: {e}"))?;
+        }
+        // SAFETY: closes the rendering begun above in the same command buffer.
+        unsafe { d.cmd_end_rendering(cmd) };
+        let mut last = attachment;
+        let png = screenshot.filter(|_| exr.is_none());
+        if let Some(path) = png {
+            if !self.swapchain.can_read {
+                self.status =
+                    Some("this window's images cannot be read back: no screenshot".into());
+            } else {
+                let src: Access = (
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                );
+                transition(
+                    &d,
+                    cmd,
+                    &[Transition {
+                        image,
+                        range: color_range(),
+                        from: last,
+                        to: src,
+                    }],
+                );
+                last = src;
+                let buffer = Buffer::new(
+                    &self.ctx,
+                    "screenshot (display)",
+                    sc.width as u64 * sc.height as u64 * 4,
+                    vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )?;
+                copy_image_to_buffer(
+                    &d,
+                    cmd,
+                    image,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    &buffer,
+                    sc,
+                );
+                shot = Some(Shot {
+                    path: path.to_path_buf(),
+                    buffer,
+                    display: true,
+                    extent: sc,
+                });
+            }
+        }
+        transition(
+            &d,
+            cmd,
+            &[Transition {
+                image,
+                range: color_range(),
+                from: last,
+                to: (
+                    vk::ImageLayout::PRESENT_SRC_KHR,
+                    vk::PipelineStageFlags2::NONE,
+                    vk::AccessFlags2::NONE,
+                ),
+            }],
+        );
+        if let Some(t) = &mut timer {
+            t.end(cmd, s);
+        }
+        if shot.is_some() {
+            crate::vk::cmd::memory_barrier(
+                &d,
+                cmd,
+                (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+            );
+        }
+        self.frames[slot].timer = timer;
+        Ok(shot)
+    }
+
+    pub(super) fn save_screenshot(&mut self, shot: &Shot) -> Result<()> {
+        let bytes = shot.buffer.mapped()?;
+        let (w, h) = (shot.extent.width, shot.extent.height);
+        let n = w as usize * h as usize;
+        if shot.display {
+            let bgra = self.swapchain.format == vk::Format::B8G8R8A8_UNORM;
+            let rgb: Vec<u8> = bytes[..n * 4]
+                .chunks_exact(4)
+                .flat_map(|p| {
+                    if bgra {
+                        [p[2], p[1], p[0]]
+                    } else {
+                        [p[0], p[1], p[2]]
+                    }
+                })
+                .collect();
+            crate::imageio::save_png_rgb8(&shot.path, w, h, &rgb)?;
+        } else {
+            let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])
+                .map_err(|e| anyhow!("screenshot buffer: {e}"))?;
+            let img = LinearImage {
+                width: w,
+                height: h,
+                pixels: floats
+                    .chunks_exact(4)
+                    .map(|c| [c[0], c[1], c[2], c[3]])
+                    .collect(),
+            };
+            crate::imageio::save(&shot.path, &img, 0.0, crate::color::Tonemap::None)?;
+        }
+        let msg = format!("wrote {} ({w}x{h})", shot.path.display());
+        log::info!("{msg}");
+        self.status = Some(msg);
+        Ok(())
+    }
+}
