@@ -5,6 +5,8 @@
 //! (see [`SceneError`]); no input makes this module panic.
 
 mod decode;
+/// The viewer's edit rules (no egui): changes that keep a scene valid.
+pub mod edit;
 mod encode;
 mod environment;
 mod error;

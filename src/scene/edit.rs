@@ -1,0 +1,268 @@
+//! The viewer's edit rules, without egui: what a change to a light, a material or the fog does to
+//! the rest of the scene so that it stays valid by the decoder's rules (`decode*.rs`,
+//! `docs/scene-format.md`). The panels (`window::ui`) call these; they are unit-tested here.
+
+use glam::{DVec3, Vec3};
+
+use crate::brdf::{metal_preset, CookTorranceParams, Fresnel, ModelKind, SpecularSource};
+use crate::scene::{slots_for_model, Falloff, Light, LightKind, Material, MaterialTextures};
+
+/// Unit vector of `v` (in f64, like the decoder); `None` for a zero or non-finite vector.
+pub fn unit_vec(v: Vec3) -> Option<Vec3> {
+    let d = DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z));
+    let len = d.length();
+    (len > 1e-12 && len.is_finite()).then(|| (d / len).as_vec3())
+}
+
+/// Smallest separation kept between the fog's z_a and z_b.
+pub fn fog_gap(z: f32) -> f32 {
+    (z.abs() * 1e-3).max(1e-3)
+}
+
+/// A new light of `kind` with sensible defaults, placed for a scene whose objects span `bounds`.
+pub fn default_light(kind: LightKind, bounds: Option<(Vec3, Vec3)>) -> Light {
+    let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
+    let centre = (lo + hi) * 0.5;
+    let size = (hi - lo).length().max(1.0);
+    let above = centre + Vec3::new(0.0, size, 0.0);
+    let base = Light {
+        kind,
+        direction: Vec3::NEG_Y,
+        position: above,
+        color: Vec3::ONE,
+        intensity: 1.0,
+        falloff: Falloff::InverseSquare,
+        umbra_deg: 180.0,
+        inner_deg: None,
+        exponent: 0.0,
+    };
+    match kind {
+        LightKind::Directional => Light {
+            direction: Vec3::new(-0.4, -1.0, -0.5).normalize(),
+            position: Vec3::ZERO,
+            falloff: Falloff::None,
+            ..base
+        },
+        // About irradiance 1 at the scene's centre.
+        LightKind::Point => Light {
+            position: centre + Vec3::new(0.5, 1.0, 0.5) * size * 0.7,
+            intensity: size * size,
+            ..base
+        },
+        LightKind::Spot => Light {
+            intensity: 2.0 * size * size,
+            umbra_deg: 30.0,
+            inner_deg: Some(20.0),
+            ..base
+        },
+    }
+}
+
+/// Changes a light's kind, keeping what carries over and resetting what the new kind fixes
+/// (the decoder's values: point lights point down, non-spots have umbra 180°, no inner cone and
+/// exponent 0, directional lights have no falloff).
+pub fn set_light_kind(light: &mut Light, kind: LightKind) {
+    if light.kind == kind {
+        return;
+    }
+    let from = light.kind;
+    light.kind = kind;
+    match kind {
+        LightKind::Directional => {
+            light.falloff = Falloff::None;
+            light.umbra_deg = 180.0;
+            light.inner_deg = None;
+            light.exponent = 0.0;
+            if from == LightKind::Point {
+                light.direction = Vec3::new(-0.4, -1.0, -0.5).normalize();
+            }
+        }
+        LightKind::Point => {
+            light.direction = Vec3::NEG_Y;
+            light.umbra_deg = 180.0;
+            light.inner_deg = None;
+            light.exponent = 0.0;
+            if from == LightKind::Directional {
+                light.falloff = Falloff::InverseSquare;
+            }
+        }
+        LightKind::Spot => {
+            light.umbra_deg = 30.0;
+            light.inner_deg = None;
+            light.exponent = 0.0;
+            if from == LightKind::Directional {
+                light.falloff = Falloff::InverseSquare;
+            }
+        }
+    }
+}
+
+/// The material `model` (a scene-format model name) with its defaults, as the decoder makes it
+/// when a material gives only its model. Unknown names give the classic Phong.
+pub fn default_material(model: &str) -> Material {
+    Material::default_of(ModelKind::from_name(model).unwrap_or(ModelKind::Phong))
+}
+
+/// Switches a material to another model: Phong ↔ Blinn-Phong only flips `blinn`; any other
+/// switch replaces the material with the model's defaults. Texture maps the new model does not
+/// take are dropped (the decoder rejects them).
+pub fn set_material_model(material: &mut Material, textures: &mut MaterialTextures, model: &str) {
+    if material.name() == model {
+        return;
+    }
+    let phong_pair = matches!(model, "phong" | "blinn_phong");
+    match material {
+        Material::Phong(crate::brdf::PhongParams { blinn, .. }) if phong_pair => {
+            *blinn = model == "blinn_phong"
+        }
+        _ => *material = default_material(model),
+    }
+    let takes = slots_for_model(material.name());
+    for slot in crate::scene::TextureSlot::ALL {
+        if !takes.contains(&slot) {
+            *textures.get_mut(slot) = None;
+        }
+    }
+    if textures.occlusion.is_none() && textures.orm.is_none() {
+        textures.occlusion_strength = 1.0;
+    }
+    if textures.normal.is_none() {
+        textures.normal_scale = 1.0;
+    }
+}
+
+/// Makes the Fresnel term and its source agree as the decoder requires: the conductor Fresnel
+/// needs a complex index (gold when there is none), the dielectric one a real index (the mean η
+/// of a complex one).
+pub fn fix_cook_torrance(p: &mut CookTorranceParams) {
+    match (p.fresnel, p.specular) {
+        (Fresnel::Conductor, SpecularSource::Ior(_) | SpecularSource::F0(_)) => {
+            if let Some(gold) = metal_preset("gold") {
+                p.specular = SpecularSource::Complex(gold);
+            }
+        }
+        (Fresnel::Dielectric, SpecularSource::Complex(c)) => {
+            let eta = (c.eta.x + c.eta.y + c.eta.z) / 3.0;
+            p.specular = SpecularSource::Ior(if eta.is_finite() && eta > 0.0 {
+                eta
+            } else {
+                1.5
+            });
+        }
+        _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::{MetalRoughParams, PrincipledParams};
+
+    /// The decoder's rules for a light (src/scene/decode.rs `light`).
+    fn assert_valid_light(l: &Light) {
+        assert!((l.direction.length() - 1.0).abs() < 1e-5, "{l:?}");
+        assert!(l.color.min_element() >= 0.0 && l.intensity >= 0.0, "{l:?}");
+        match l.kind {
+            LightKind::Directional => assert_eq!(l.falloff, Falloff::None),
+            LightKind::Point => assert_eq!(l.direction, Vec3::NEG_Y),
+            LightKind::Spot => {}
+        }
+        if l.kind == LightKind::Spot {
+            assert!(l.umbra_deg > 0.0 && l.umbra_deg <= 90.0, "{l:?}");
+            if let Some(i) = l.inner_deg {
+                assert!(i >= 0.0 && i < l.umbra_deg, "{l:?}");
+            }
+            assert!(l.exponent >= 0.0);
+        } else {
+            assert_eq!((l.umbra_deg, l.inner_deg, l.exponent), (180.0, None, 0.0));
+        }
+    }
+
+    #[test]
+    fn light_kind_changes_keep_lights_valid() {
+        let kinds = [LightKind::Directional, LightKind::Point, LightKind::Spot];
+        for from in kinds {
+            for to in kinds {
+                let mut l = default_light(from, None);
+                assert_valid_light(&l);
+                set_light_kind(&mut l, to);
+                assert_eq!(l.kind, to);
+                assert_valid_light(&l);
+            }
+        }
+    }
+
+    #[test]
+    fn model_switch_uses_defaults_and_drops_foreign_maps() {
+        use crate::scene::{MaterialTextures, TextureRef};
+        let mut m = Material::MetalRough(MetalRoughParams {
+            roughness: 0.1,
+            ..Default::default()
+        });
+        let mut t = MaterialTextures {
+            metallic: Some(TextureRef::new("m.png")),
+            normal: Some(TextureRef::new("n.png")),
+            ..Default::default()
+        };
+        set_material_model(&mut m, &mut t, "principled");
+        assert_eq!(m, Material::Principled(PrincipledParams::default()));
+        assert!(t.metallic.is_some());
+        set_material_model(&mut m, &mut t, "lambert");
+        assert_eq!(
+            m,
+            Material::Lambert(crate::brdf::LambertParams {
+                albedo: Vec3::splat(0.8)
+            })
+        );
+        assert!(t.metallic.is_none() && t.normal.is_some());
+        set_material_model(&mut m, &mut t, "phong");
+        assert_eq!(m, Material::default_phong(false));
+        if let Material::Phong(crate::brdf::PhongParams { ks, .. }) = &mut m {
+            *ks = 0.9;
+        }
+        // Phong ↔ Blinn-Phong keeps the parameters.
+        set_material_model(&mut m, &mut t, "blinn_phong");
+        assert!(
+            matches!(m, Material::Phong(crate::brdf::PhongParams { blinn: true, ks, .. }) if ks == 0.9)
+        );
+    }
+
+    #[test]
+    fn cook_torrance_fresnel_and_source_agree() {
+        let mut p = CookTorranceParams {
+            fresnel: Fresnel::Conductor,
+            ..Default::default()
+        };
+        fix_cook_torrance(&mut p);
+        assert!(matches!(p.specular, SpecularSource::Complex(_)));
+        p.fresnel = Fresnel::Dielectric;
+        fix_cook_torrance(&mut p);
+        assert!(matches!(p.specular, SpecularSource::Ior(eta) if eta > 0.0));
+        p.fresnel = Fresnel::Schlick;
+        let before = p;
+        fix_cook_torrance(&mut p);
+        assert_eq!(p, before);
+    }
+
+    #[test]
+    fn default_materials_are_the_models_defaults() {
+        for kind in ModelKind::ALL {
+            let m = default_material(kind.name());
+            assert_eq!(m, Material::default_of(kind));
+            assert_eq!(m.name(), kind.name());
+        }
+        // An unknown name: the classic Phong, as the decoder's default.
+        assert_eq!(default_material("bogus"), Material::default_phong(false));
+    }
+
+    #[test]
+    fn unit_vectors_and_fog_gaps() {
+        assert_eq!(unit_vec(Vec3::new(0.0, 3.0, 0.0)), Some(Vec3::Y));
+        assert_eq!(unit_vec(Vec3::ZERO), None);
+        assert_eq!(unit_vec(Vec3::new(f32::NAN, 0.0, 1.0)), None);
+        let u = unit_vec(Vec3::new(1.0, 2.0, 2.0)).unwrap();
+        assert!((u - Vec3::new(1.0, 2.0, 2.0) / 3.0).length() < 1e-7);
+        assert_eq!(fog_gap(0.0), 1e-3);
+        assert_eq!(fog_gap(-5000.0), 5.0);
+    }
+}
