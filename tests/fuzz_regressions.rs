@@ -5,8 +5,10 @@
 
 mod common;
 
+use std::fmt::Write as _;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use common::root;
 
@@ -184,4 +186,77 @@ fn exr_with_huge_tiles_is_refused_before_decoding() {
             other => panic!("expected TooLarge, got {:?}", other.map(|_| ())),
         }
     }
+}
+
+/// A one-line (machine-written) scene of point lights, about `bytes` long.
+fn one_line_lights(bytes: usize) -> String {
+    let mut s = String::from(r#"{"lights":["#);
+    let mut i = 0u32;
+    while s.len() < bytes {
+        if i > 0 {
+            s.push(',');
+        }
+        let f = i as f32 * 0.001;
+        let _ = write!(
+            s,
+            r#"{{"type":"point","position":[{f},1,-{f}],"color":[1,0.5,0.25],"intensity":{}}}"#,
+            1.0 + f
+        );
+        i += 1;
+    }
+    s.push_str("]}");
+    s
+}
+
+/// The scene fuzz target is linear in the size of its input: its time per megabyte of one-line
+/// scenes does not grow from 1 KB to 10 MB (the JSON reader used to count every value's column
+/// from the start of its line: 200,000 lights on one line took 301 s to load). Each size's time
+/// is the best of 3 batches of about 2 MB (a loaded machine only makes times longer); a larger
+/// size's time per MB may be at most 4 times a smaller one's plus 50 ms.
+#[test]
+fn scene_fuzz_target_time_per_megabyte_is_flat() {
+    const MIB: f64 = 1048576.0;
+    let mut per_mb = Vec::new();
+    for bytes in [1 << 10, 10 << 10, 100 << 10, 1 << 20, 10 << 20] {
+        let text = one_line_lights(bytes);
+        let scene = luz::scene::parse(&text, Path::new("lights.json")).unwrap();
+        assert!(
+            scene.lights.len() * 100 > bytes,
+            "{} lights",
+            scene.lights.len()
+        );
+        let reps = ((2 << 20) / bytes).max(1) as u32;
+        let best = (0..3)
+            .map(|_| {
+                let t = Instant::now();
+                for _ in 0..reps {
+                    luz::fuzzing::scene(text.as_bytes());
+                }
+                t.elapsed() / reps
+            })
+            .min()
+            .unwrap_or_default();
+        per_mb.push((text.len(), best.as_secs_f64() * MIB / text.len() as f64));
+    }
+    let report: Vec<String> = per_mb
+        .iter()
+        .map(|(n, s)| format!("{n} bytes: {:.1} ms/MB", s * 1e3))
+        .collect();
+    println!("luz::fuzzing::scene: {}", report.join(", "));
+    for (i, &(small, small_per_mb)) in per_mb.iter().enumerate() {
+        for &(large, large_per_mb) in &per_mb[i + 1..] {
+            assert!(
+                large_per_mb <= 4.0 * small_per_mb + 0.05,
+                "time per MB grows with size ({small} vs {large} bytes): {}",
+                report.join(", ")
+            );
+        }
+    }
+    // And 10 MB in well under a second (twice parsed: the triangle estimate, then the loader).
+    let ten = per_mb.last().map_or(0.0, |(n, s)| s * *n as f64 / MIB);
+    assert!(
+        Duration::from_secs_f64(ten) < Duration::from_secs(2),
+        "{}",
+        report.join(", ")
+    );
 }

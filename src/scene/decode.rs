@@ -64,19 +64,42 @@ fn distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// Most cells of edit-distance tables one [`suggestion`] fills (about 50 ms): the options may be
+/// every material name of a huge scene. Beyond it there is no "did you mean".
+const SUGGESTION_WORK: usize = 50_000_000;
+
 fn suggestion(word: &str, options: &[&str]) -> String {
     let word = word.to_lowercase();
-    options
-        .iter()
-        .map(|o| (distance(&word, o), o))
-        .filter(|(d, o)| *d <= 2.max(o.len() / 4) && *d < o.len())
-        .min()
-        .map(|(_, o)| *o)
+    let word_chars = word.chars().count();
+    let mut best: Option<(usize, &str)> = None;
+    let mut work = 0usize;
+    for o in options {
+        let (o_chars, limit) = (o.chars().count(), 2.max(o.len() / 4));
+        // The distance is at least the difference in length: skip what the limit rejects anyway
+        // (a huge unknown key must not cost its length times every option's).
+        if word_chars.abs_diff(o_chars) > limit {
+            continue;
+        }
+        work = work.saturating_add(word_chars.saturating_mul(o_chars));
+        if work > SUGGESTION_WORK {
+            best = None;
+            break;
+        }
+        let d = distance(&word, o);
+        if d <= limit && d < o.len() && best.is_none_or(|b| (d, *o) < b) {
+            best = Some((d, o));
+        }
+    }
+    best.map(|(_, o)| o)
         // A field name without its unit suffix ("sigma" for "sigma_deg").
         .or_else(|| {
             options
                 .iter()
-                .find(|o| word.len() >= 3 && o.starts_with(&format!("{word}_")))
+                .find(|o| {
+                    word.len() >= 3
+                        && o.strip_prefix(word.as_str())
+                            .is_some_and(|rest| rest.starts_with('_'))
+                })
                 .copied()
         })
         .map(|o| format!(" (did you mean \"{o}\"?)"))
@@ -503,11 +526,15 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
     if let Some(v) = top.get("objects") {
         let mut ctx = Ctx {
             base,
-            primitives: Vec::new(),
+            primitives: MeshCache::default(),
             primitive_triangles: 0,
             objs: HashMap::new(),
             mtl_materials: HashMap::new(),
+            material_index: HashMap::new(),
         };
+        for (i, m) in scene.materials.iter().enumerate() {
+            ctx.material_index.entry(m.name.clone()).or_insert(i);
+        }
         for (i, item) in array(v, "objects", "an array of objects")?
             .iter()
             .enumerate()
@@ -1148,13 +1175,70 @@ pub const MAX_SCENE_PRIMITIVE_TRIANGLES: u64 = 1 << 25;
 struct Ctx<'a> {
     base: &'a Path,
     /// Built primitives, shared between objects with equal descriptions.
-    primitives: Vec<(MeshDesc, Arc<Mesh>)>,
+    primitives: MeshCache,
     /// Triangles of the distinct primitives built so far ([`MAX_SCENE_PRIMITIVE_TRIANGLES`]).
     primitive_triangles: u64,
     /// Loaded OBJ files by (resolved path, with materials).
     objs: HashMap<(PathBuf, bool), Arc<LoadedObj>>,
     /// (resolved OBJ path, MTL material index or None for the default) → scene material index.
     mtl_materials: HashMap<(PathBuf, Option<usize>), usize>,
+    /// Index in `scene.materials` by name (the scene's materials, then the MTL ones as added).
+    material_index: HashMap<String, usize>,
+}
+
+/// Built meshes by description, shared between objects with equal descriptions: a hash of the
+/// fields picks a short list searched with `==` (one list searched linearly made scenes of many
+/// distinct meshes quadratic).
+#[derive(Default)]
+pub(crate) struct MeshCache {
+    by_key: HashMap<[u32; 5], Vec<(MeshDesc, Arc<Mesh>)>>,
+}
+
+impl MeshCache {
+    /// Equal descriptions have equal keys (−0 counts as 0; a NaN never equals, as with `==`).
+    fn key(desc: &MeshDesc) -> [u32; 5] {
+        let f = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
+        match *desc {
+            MeshDesc::Sphere {
+                radius,
+                segments,
+                rings,
+            } => [0, f(radius), segments, rings, 0],
+            MeshDesc::Icosphere {
+                radius,
+                subdivisions,
+            } => [1, f(radius), subdivisions, 0, 0],
+            MeshDesc::Plane { size, subdivisions } => [2, f(size[0]), f(size[1]), subdivisions, 0],
+            MeshDesc::Cube { size } => [3, f(size), 0, 0, 0],
+            MeshDesc::Cone {
+                radius,
+                height,
+                segments,
+            } => [4, f(radius), f(height), segments, 0],
+            MeshDesc::Cylinder {
+                radius,
+                height,
+                segments,
+            } => [5, f(radius), f(height), segments, 0],
+            MeshDesc::Obj { .. } => [6, 0, 0, 0, 0],
+        }
+    }
+
+    /// The mesh built for a description equal to `desc`.
+    pub(crate) fn get(&self, desc: &MeshDesc) -> Option<&Arc<Mesh>> {
+        self.by_key
+            .get(&Self::key(desc))?
+            .iter()
+            .find(|(d, _)| d == desc)
+            .map(|(_, m)| m)
+    }
+
+    pub(crate) fn insert(&mut self, desc: MeshDesc, mesh: Arc<Mesh>) {
+        self.by_key
+            .entry(Self::key(&desc))
+            .or_default()
+            .push((desc, mesh));
+    }
 }
 
 struct LoadedObj {
@@ -1191,7 +1275,7 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
     let material = match f.get("material") {
         Some(m) => {
             let name = string(m, &f.path("material"))?;
-            let found = scene.materials.iter().position(|x| x.name == name);
+            let found = ctx.material_index.get(name).copied();
             Some(found.ok_or_else(|| {
                 let defined: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
                 f.err(
@@ -1299,9 +1383,9 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
     }
 
     // Automatic tessellation builds its mesh once the whole scene is known (resolve).
-    let mesh = match ctx.primitives.iter().find(|(d, _)| *d == desc) {
+    let mesh = match ctx.primitives.get(&desc) {
         _ if tessellation != Tessellation::Given => Arc::new(Mesh::default()),
-        Some((_, m)) => m.clone(),
+        Some(m) => m.clone(),
         None => {
             let n = desc.triangle_count().unwrap_or(0);
             ctx.primitive_triangles += n;
@@ -1317,7 +1401,7 @@ fn object(v: &Value, path: &str, i: usize, ctx: &mut Ctx, scene: &mut Scene) -> 
                 ));
             }
             let m = Arc::new(desc.build().unwrap_or_default());
-            ctx.primitives.push((desc.clone(), m.clone()));
+            ctx.primitives.insert(desc.clone(), m.clone());
             m
         }
     };
@@ -1372,16 +1456,17 @@ fn mtl_material(
     };
     let mut name = format!("{file_name}/{mtl_name}");
     let mut n = 2;
-    while scene.materials.iter().any(|m| m.name == name) {
+    while ctx.material_index.contains_key(&name) {
         name = format!("{file_name}/{mtl_name}#{n}");
         n += 1;
     }
+    let i = scene.materials.len();
+    ctx.material_index.insert(name.clone(), i);
     scene.materials.push(NamedMaterial {
         name,
         material,
         textures,
     });
-    let i = scene.materials.len() - 1;
     ctx.mtl_materials.insert(key, i);
     i
 }

@@ -6,7 +6,10 @@
 //! wrote), keeps object fields in file order, rejects duplicate keys, and never recurses deeper
 //! than [`MAX_DEPTH`], so no input can overflow the stack.
 
+use std::cell::Cell;
+use std::collections::HashSet;
 use std::fmt::Write as _;
+use std::hash::{BuildHasher, RandomState};
 
 /// Deepest nesting of arrays and objects accepted.
 pub const MAX_DEPTH: usize = 64;
@@ -110,6 +113,7 @@ pub fn parse(text: &str) -> Result<Value, SyntaxError> {
         pos: 0,
         line: 1,
         line_start: 0,
+        column_mark: Cell::new((0, 1)),
         path: Vec::new(),
     };
     p.skip_ws();
@@ -133,18 +137,30 @@ struct Parser<'a> {
     pos: usize,
     line: u32,
     line_start: usize,
+    /// The last column computed: (byte offset, its column). Columns are counted from there, not
+    /// from the start of the line, which made one-line files quadratic.
+    column_mark: Cell<(usize, u32)>,
     path: Vec<Step>,
 }
 
 impl Parser<'_> {
+    /// The 1-based column of the cursor, in characters.
     fn column(&self) -> u32 {
-        // Count characters, not bytes, from the start of the line.
         let start = self.line_start.min(self.text.len());
         let end = self.pos.min(self.text.len());
-        let slice = self.text.get(start..end).unwrap_or("");
-        u32::try_from(slice.chars().count())
-            .unwrap_or(u32::MAX)
-            .saturating_add(1)
+        let (mark, mark_column) = self.column_mark.get();
+        let (from, base) = if (start..=end).contains(&mark) {
+            (mark, mark_column)
+        } else {
+            (start, 1)
+        };
+        let Some(slice) = self.text.get(from..end) else {
+            // Not at a character boundary (unreachable): counted as the start of the line.
+            return 1;
+        };
+        let column = base.saturating_add(u32::try_from(slice.chars().count()).unwrap_or(u32::MAX));
+        self.column_mark.set((end, column));
+        column
     }
 
     fn error(&self, reason: impl Into<String>) -> SyntaxError {
@@ -461,6 +477,9 @@ impl Parser<'_> {
     fn object(&mut self, depth: usize) -> Result<Kind, SyntaxError> {
         self.pos += 1; // '{'
         let mut fields: Vec<(String, Value)> = Vec::new();
+        // Hashes of the keys, once the object is large enough for a linear search per key to
+        // matter (a hash seen before is then checked by a search).
+        let mut hashes: Option<(RandomState, HashSet<u64>)> = None;
         self.skip_ws();
         if self.peek() == Some(b'}') {
             self.pos += 1;
@@ -481,8 +500,25 @@ impl Parser<'_> {
                 }
             }
             let key = self.string()?;
-            self.path.push(Step::Key(key.clone()));
-            if fields.iter().any(|(k, _)| *k == key) {
+            let duplicate = match &mut hashes {
+                Some((state, set)) => {
+                    !set.insert(state.hash_one(&key)) && fields.iter().any(|(k, _)| *k == key)
+                }
+                None => {
+                    let duplicate = fields.iter().any(|(k, _)| *k == key);
+                    if !duplicate && fields.len() >= 16 {
+                        let state = RandomState::new();
+                        let mut set: HashSet<u64> =
+                            fields.iter().map(|(k, _)| state.hash_one(k)).collect();
+                        set.insert(state.hash_one(&key));
+                        hashes = Some((state, set));
+                    }
+                    duplicate
+                }
+            };
+            // The key moves into the path while its value is read, and back out after.
+            self.path.push(Step::Key(key));
+            if duplicate {
                 return Err(self.error("duplicate field"));
             }
             self.skip_ws();
@@ -497,7 +533,9 @@ impl Parser<'_> {
                 }
             }
             let v = self.value(depth + 1)?;
-            self.path.pop();
+            let Some(Step::Key(key)) = self.path.pop() else {
+                unreachable!("the path ends with this field's key")
+            };
             fields.push((key, v));
             self.skip_ws();
             match self.peek() {
@@ -582,6 +620,36 @@ mod tests {
         assert!(err("{} x").reason.contains("after the end"));
         assert!(err("\"\\ud800\"").reason.contains("surrogate"));
         assert!(err("[-]").reason.contains("malformed number"));
+    }
+
+    #[test]
+    fn columns_count_characters_along_a_long_line() {
+        // Columns are counted on from the previous value; multi-byte characters count once.
+        let v = parse("[\"é\", \"日本\", 1,\n  2]").unwrap();
+        let Kind::Array(items) = v.kind else { panic!() };
+        let at: Vec<(u32, u32)> = items.iter().map(|i| (i.line, i.column)).collect();
+        assert_eq!(at, [(1, 2), (1, 7), (1, 13), (2, 3)]);
+        let e = err("[\"é\", \"\\é\"]");
+        assert_eq!((e.line, e.column), (1, 9), "{e:?}");
+        let long = format!("[{}x]", "\"é\",".repeat(10_000));
+        assert_eq!(err(&long).column, 40_002);
+    }
+
+    #[test]
+    fn duplicate_keys_are_found_in_large_objects() {
+        let fields: Vec<String> = (0..100).map(|i| format!("\"k{i}\": {i}")).collect();
+        let text = format!("{{{}, \"k42\": 0}}", fields.join(", "));
+        let e = err(&text);
+        assert_eq!(
+            (e.path.as_str(), e.reason.as_str()),
+            ("k42", "duplicate field")
+        );
+        let text = format!("{{{}, \"k100\": 0}}", fields.join(", "));
+        let Kind::Object(fields) = parse(&text).unwrap().kind else {
+            panic!()
+        };
+        assert_eq!(fields.len(), 101);
+        assert_eq!(fields[100].0, "k100");
     }
 
     #[test]

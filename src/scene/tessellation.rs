@@ -23,7 +23,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::{Camera, Mesh, MeshDesc, Object, Scene};
+use super::{Camera, MeshDesc, Object, Scene};
 
 /// Default budget: the silhouette may be off by this many pixels (see the module docs for how it
 /// was measured).
@@ -103,7 +103,7 @@ fn world_radius(object: &Object) -> Option<f32> {
 /// output size.
 pub fn resolve(scene: &mut Scene) {
     let budget = scene.output.tessellation_error_px;
-    let mut built: Vec<(MeshDesc, Arc<Mesh>)> = Vec::new();
+    let mut built = super::decode::MeshCache::default();
     for object in &mut scene.objects {
         let Tessellation::Auto { rings_given, .. } = object.tessellation else {
             continue;
@@ -143,11 +143,11 @@ pub fn resolve(scene: &mut Scene) {
         if desc == object.desc && !object.mesh.indices.is_empty() {
             continue;
         }
-        let mesh = match built.iter().find(|(d, _)| *d == desc) {
-            Some((_, m)) => m.clone(),
+        let mesh = match built.get(&desc) {
+            Some(m) => m.clone(),
             None => {
                 let m = Arc::new(desc.build().unwrap_or_default());
-                built.push((desc.clone(), m.clone()));
+                built.insert(desc.clone(), m.clone());
                 m
             }
         };
