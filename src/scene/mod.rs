@@ -260,7 +260,7 @@ pub struct NamedMaterial {
 /// itself, so the scene, the reference and the GPU packing share one type (no conversion).
 ///
 /// To add a model: add a variant to `brdf::Model` (and `brdf::ModelKind`), a decoder in
-/// `decode.rs` (`MATERIAL_MODELS` table), and a section in `docs/scene-format.md`.
+/// `decode/material.rs` (`MATERIAL_MODELS` and `decoder`), and a section in `docs/scene-format.md`.
 pub type Material = crate::brdf::Model;
 
 /// A drawable: a mesh with a material, a transform and a shading frequency.

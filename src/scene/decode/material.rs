@@ -1,0 +1,376 @@
+//! Materials: one decoder per model (the `model` names are `brdf::ModelKind`'s), the BRDF term
+//! selectors and the Cook-Torrance specular sources.
+
+use super::*;
+use crate::brdf::ModelKind;
+
+pub(super) type MaterialDecoder = fn(&Fields, &str) -> Result<Material>;
+
+/// Every model, in the order the format (and its error messages) lists them; the names are
+/// [`ModelKind::name`].
+pub(super) const MATERIAL_MODELS: [ModelKind; 7] = [
+    ModelKind::Phong,
+    ModelKind::BlinnPhong,
+    ModelKind::Lambert,
+    ModelKind::CookTorrance,
+    ModelKind::MetalRough,
+    ModelKind::Principled,
+    ModelKind::OrenNayar,
+];
+
+/// The decoder of a model (a new `ModelKind` does not compile without one).
+fn decoder(kind: ModelKind) -> MaterialDecoder {
+    match kind {
+        ModelKind::Phong | ModelKind::BlinnPhong => phong,
+        ModelKind::Lambert => lambert,
+        ModelKind::CookTorrance => cook_torrance,
+        ModelKind::MetalRough => metal_rough,
+        ModelKind::Principled => principled,
+        ModelKind::OrenNayar => oren_nayar,
+    }
+}
+
+/// The `distribution` selector (the names are `brdf::Distribution::name`).
+pub(crate) const DISTRIBUTIONS: &[(&str, Distribution)] = &Distribution::NAMED;
+
+/// The `geometry` selector.
+pub(crate) const GEOMETRIES: &[(&str, Geometry)] = &Geometry::NAMED;
+
+/// The `fresnel` selector.
+pub(crate) const FRESNELS: &[(&str, Fresnel)] = &Fresnel::NAMED;
+
+/// The `diffuse` selector (Cook-Torrance and metal_rough).
+pub(crate) const DIFFUSES: &[(&str, Diffuse)] = &Diffuse::NAMED;
+
+/// Cook-Torrance's specular (Fresnel) sources; a material gives at most one.
+pub(super) const SPECULAR_SOURCES: &[&str] = &["ior", "f0", "complex_ior", "preset"];
+
+/// Every unit-range parameter in [0, 1].
+pub(super) const UNIT: Check = Check::In(0.0, 1.0);
+
+pub(super) fn material(v: &Value, path: &str) -> Result<Material> {
+    let f = Fields::new(v, path)?;
+    let names = MATERIAL_MODELS.map(|k| k.name());
+    let model = choice(f.req("model")?, &f.path("model"), &names)?;
+    let decode = ModelKind::from_name(model).map_or(phong as MaterialDecoder, decoder);
+    decode(&f, model)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_model_kind_is_listed_and_decodes_from_its_name() {
+        let mut listed = MATERIAL_MODELS.to_vec();
+        listed.sort();
+        assert_eq!(listed, ModelKind::ALL.to_vec());
+        for kind in ModelKind::ALL {
+            let text = format!(r#"{{"model": "{}"}}"#, kind.name());
+            let v = crate::scene::json::parse(&text).unwrap();
+            let m = material(&v, "materials.m").unwrap();
+            assert_eq!(m.kind(), kind);
+            assert_eq!(m, Material::default_of(kind), "{kind:?}");
+        }
+    }
+}
+
+pub(super) fn phong(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "textures",
+            "ka",
+            "kd",
+            "ks",
+            "shininess",
+            "diffuse_color",
+            "specular_color",
+        ],
+        &a_material(model),
+    )?;
+    // Start from the documented defaults and override what the file gives.
+    let mut m = Material::default_phong(model == "blinn_phong");
+    if let Material::Phong(crate::brdf::PhongParams {
+        ka,
+        kd,
+        ks,
+        shininess,
+        diffuse_color,
+        specular_color,
+        ..
+    }) = &mut m
+    {
+        *ka = f.num("ka", *ka, Check::NonNegative)?;
+        *kd = f.num("kd", *kd, Check::NonNegative)?;
+        *ks = f.num("ks", *ks, Check::NonNegative)?;
+        *shininess = f.num("shininess", *shininess, Check::NonNegative)?;
+        *diffuse_color = f.color("diffuse_color", *diffuse_color)?;
+        *specular_color = f.color("specular_color", *specular_color)?;
+    }
+    Ok(m)
+}
+
+pub(super) fn lambert(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(&["model", "albedo", "textures"], &a_material(model))?;
+    let albedo = f.color("albedo", Vec3::splat(0.8))?;
+    if albedo.max_element() > 1.0 {
+        return Err(f.err(
+            "albedo",
+            format!(
+                "every channel must be in [0, 1] (energy conservation), got [{}, {}, {}]",
+                show(albedo.x),
+                show(albedo.y),
+                show(albedo.z)
+            ),
+        ));
+    }
+    Ok(Material::Lambert(crate::brdf::LambertParams { albedo }))
+}
+
+/// Cook-Torrance (seed 000). Defaults are `brdf::CookTorranceParams::default()`.
+pub(super) fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "textures",
+            "color",
+            "kd",
+            "roughness",
+            "ior",
+            "f0",
+            "complex_ior",
+            "preset",
+            "distribution",
+            "geometry",
+            "fresnel",
+            "diffuse",
+        ],
+        &a_material(model),
+    )?;
+    let d = CookTorranceParams::default();
+    let color = f.color_in("color", d.color, UNIT)?;
+    let kd = f.num("kd", d.kd, UNIT)?;
+    let roughness = f.num("roughness", d.roughness, UNIT)?;
+    let distribution = f.select("distribution", DISTRIBUTIONS, d.distribution)?;
+    let geometry = f.select("geometry", GEOMETRIES, d.geometry)?;
+    let fresnel = f.select("fresnel", FRESNELS, d.fresnel)?;
+    let diffuse = f.select("diffuse", DIFFUSES, d.diffuse)?;
+    let source = specular_source(f)?;
+    let name = |s: &Option<(&str, SpecularSource)>| match s {
+        Some(("preset", _)) => format!(
+            "preset \"{}\"",
+            f.string("preset").ok().flatten().unwrap_or("")
+        ),
+        Some((key, _)) => format!("\"{key}\""),
+        None => "the default ior 1.5".to_string(),
+    };
+    match (fresnel, &source) {
+        (Fresnel::Conductor, Some((_, SpecularSource::Complex(_)))) => {}
+        (Fresnel::Conductor, s) => {
+            return Err(f.err(
+                "fresnel",
+                format!(
+                    "the \"conductor\" Fresnel needs a complex index of refraction (η and κ), got {}; give complex_ior {{\"eta\": [r, g, b], \"k\": [r, g, b]}} or a metal preset ({})",
+                    name(s),
+                    METAL_NAMES.join(", ")
+                ),
+            ))
+        }
+        (Fresnel::Dielectric, s @ Some((_, SpecularSource::Complex(_)))) => {
+            return Err(f.err(
+                "fresnel",
+                format!(
+                    "the \"dielectric\" Fresnel takes a real index of refraction, but {} is a complex one (its κ would be dropped); give ior or f0, or use fresnel \"conductor\" or \"schlick\"",
+                    name(s)
+                ),
+            ))
+        }
+        _ => {}
+    }
+    Ok(Material::CookTorrance(CookTorranceParams {
+        color,
+        kd,
+        roughness,
+        specular: source.map_or(d.specular, |(_, s)| s),
+        distribution,
+        geometry,
+        fresnel,
+        diffuse,
+    }))
+}
+
+/// The one specular source of a Cook-Torrance material (`None`: not given), with its key.
+pub(super) fn specular_source(f: &Fields) -> Result<Option<(&'static str, SpecularSource)>> {
+    let mut given = f
+        .fields
+        .iter()
+        .filter_map(|(k, _)| SPECULAR_SOURCES.iter().find(|s| **s == k.as_str()).copied());
+    let Some(key) = given.next() else {
+        return Ok(None);
+    };
+    if let Some(second) = given.next() {
+        return Err(f.err(
+            second,
+            format!(
+                "\"{key}\" and \"{second}\" both give the Fresnel reflectance; keep exactly one of: {}",
+                SPECULAR_SOURCES.join(", ")
+            ),
+        ));
+    }
+    let v = f.get(key).unwrap_or(&NULL);
+    let path = f.path(key);
+    let source = match key {
+        "ior" => SpecularSource::Ior(number(v, &path, Check::Positive)?),
+        "f0" => SpecularSource::F0(color_in(v, &path, UNIT)?),
+        "complex_ior" => SpecularSource::Complex(complex_ior(v, &path)?),
+        _ => {
+            let name = string(v, &path)?;
+            if let Some(c) = metal_preset(name) {
+                SpecularSource::Complex(c)
+            } else if let Some(eta) = dielectric_ior(name) {
+                SpecularSource::Ior(eta)
+            } else {
+                let all: Vec<&str> = METAL_NAMES
+                    .iter()
+                    .chain(&DIELECTRIC_NAMES)
+                    .copied()
+                    .collect();
+                return Err(Invalid::new(
+                    &path,
+                    format!(
+                        "unknown preset \"{name}\"; metals: {}; dielectrics: {}{}",
+                        METAL_NAMES.join(", "),
+                        DIELECTRIC_NAMES.join(", "),
+                        suggestion(name, &all)
+                    ),
+                ));
+            }
+        }
+    };
+    Ok(Some((key, source)))
+}
+
+pub(super) const NULL: Value = Value {
+    kind: Kind::Null,
+    line: 0,
+    column: 0,
+};
+
+/// `{"eta": [r, g, b], "k": [r, g, b]}` (either may be one number for all channels).
+pub(super) fn complex_ior(v: &Value, path: &str) -> Result<ComplexIor> {
+    let f = Fields::new(v, path)?;
+    f.allow(&["eta", "k"], "a complex index of refraction")?;
+    let eta = color_in(f.req("eta")?, &f.path("eta"), Check::Positive)?;
+    let k = color_in(f.req("k")?, &f.path("k"), Check::NonNegative)?;
+    Ok(ComplexIor { eta, k })
+}
+
+/// glTF metallic-roughness (seed 001). Defaults are `brdf::MetalRoughParams::default()` (glTF's).
+pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "textures",
+            "base_color",
+            "metallic",
+            "roughness",
+            "preset",
+            "distribution",
+            "geometry",
+            "fresnel",
+            "diffuse_fresnel_weight",
+            "diffuse",
+        ],
+        &a_material(model),
+    )?;
+    let d = MetalRoughParams::default();
+    let (base_color, metallic) = match f.string("preset")? {
+        None => (
+            f.color_in("base_color", d.base_color, UNIT)?,
+            f.num("metallic", d.metallic, UNIT)?,
+        ),
+        Some(name) => {
+            for key in ["base_color", "metallic"] {
+                if f.has(key) {
+                    return Err(f.err(
+                        key,
+                        format!("a preset sets base_color and metallic; give either the preset \"{name}\" or {key}, not both"),
+                    ));
+                }
+            }
+            let Some(c) = metal_preset(name) else {
+                let reason = if dielectric_ior(name).is_some() {
+                    format!("\"{name}\" is a dielectric; metal_rough presets are metals (a dielectric is metallic 0 with its F0 fixed at 0.04): {}", METAL_NAMES.join(", "))
+                } else {
+                    format!(
+                        "unknown metal preset \"{name}\"; expected one of: {}{}",
+                        METAL_NAMES.join(", "),
+                        suggestion(name, &METAL_NAMES)
+                    )
+                };
+                return Err(f.err("preset", reason));
+            };
+            (c.f0(), 1.0)
+        }
+    };
+    Ok(Material::MetalRough(MetalRoughParams {
+        base_color,
+        metallic,
+        roughness: f.num("roughness", d.roughness, UNIT)?,
+        distribution: f.select("distribution", DISTRIBUTIONS, d.distribution)?,
+        geometry: f.select("geometry", GEOMETRIES, d.geometry)?,
+        fresnel: f.select("fresnel", FRESNELS, d.fresnel)?,
+        diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
+        diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,
+    }))
+}
+
+/// Disney "Principled". Defaults are `brdf::PrincipledParams::default()` (`disney.brdf`'s).
+pub(super) fn principled(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &[
+            "model",
+            "textures",
+            "base_color",
+            "subsurface",
+            "metallic",
+            "specular",
+            "specular_tint",
+            "roughness",
+            "anisotropic",
+            "sheen",
+            "sheen_tint",
+            "clearcoat",
+            "clearcoat_gloss",
+        ],
+        &a_material(model),
+    )?;
+    let d = PrincipledParams::default();
+    Ok(Material::Principled(PrincipledParams {
+        base_color: f.color_in("base_color", d.base_color, UNIT)?,
+        subsurface: f.num("subsurface", d.subsurface, UNIT)?,
+        metallic: f.num("metallic", d.metallic, UNIT)?,
+        specular: f.num("specular", d.specular, UNIT)?,
+        specular_tint: f.num("specular_tint", d.specular_tint, UNIT)?,
+        roughness: f.num("roughness", d.roughness, UNIT)?,
+        anisotropic: f.num("anisotropic", d.anisotropic, UNIT)?,
+        sheen: f.num("sheen", d.sheen, UNIT)?,
+        sheen_tint: f.num("sheen_tint", d.sheen_tint, UNIT)?,
+        clearcoat: f.num("clearcoat", d.clearcoat, UNIT)?,
+        clearcoat_gloss: f.num("clearcoat_gloss", d.clearcoat_gloss, UNIT)?,
+    }))
+}
+
+/// Qualitative Oren-Nayar. Defaults are `brdf::OrenNayarParams::default()`.
+pub(super) fn oren_nayar(f: &Fields, model: &str) -> Result<Material> {
+    f.allow(
+        &["model", "albedo", "sigma_deg", "textures"],
+        &a_material(model),
+    )?;
+    let d = OrenNayarParams::default();
+    Ok(Material::OrenNayar(OrenNayarParams {
+        albedo: f.color_in("albedo", d.albedo, UNIT)?,
+        sigma_deg: f.num("sigma_deg", d.sigma_deg, Check::In(0.0, 90.0))?,
+    }))
+}
