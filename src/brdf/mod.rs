@@ -20,6 +20,7 @@
 mod albedo;
 mod gpu;
 mod models;
+mod names;
 mod presets;
 mod sampling;
 mod terms;
@@ -35,9 +36,10 @@ pub use models::{
     blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,
     metal_rough, metal_rough_terms, oren_nayar, oren_nayar_terms, phong, phong_radiance,
     phong_terms, principled, principled_terms, radiance, CookTorranceParams, Diffuse, Distribution,
-    Fresnel, Geometry, LambertParams, MetalRoughParams, Model, ModelKind, OrenNayarParams,
-    PhongParams, PrincipledParams, SpecularSource, Terms,
+    Fresnel, Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
+    PrincipledParams, SpecularSource, Terms,
 };
+pub use names::ModelKind;
 pub use presets::{
     dielectric_ior, f0_from_ior, ior_from_f0, metal_preset, ComplexIor, DIELECTRIC_NAMES,
     METAL_NAMES,
