@@ -56,25 +56,6 @@ pub(super) fn material(v: &Value, path: &str) -> Result<Material> {
     decode(&f, model)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_model_kind_is_listed_and_decodes_from_its_name() {
-        let mut listed = MATERIAL_MODELS.to_vec();
-        listed.sort();
-        assert_eq!(listed, ModelKind::ALL.to_vec());
-        for kind in ModelKind::ALL {
-            let text = format!(r#"{{"model": "{}"}}"#, kind.name());
-            let v = crate::scene::json::parse(&text).unwrap();
-            let m = material(&v, "materials.m").unwrap();
-            assert_eq!(m.kind(), kind);
-            assert_eq!(m, Material::default_of(kind), "{kind:?}");
-        }
-    }
-}
-
 pub(super) fn phong(f: &Fields, model: &str) -> Result<Material> {
     f.allow(
         &[
@@ -373,4 +354,23 @@ pub(super) fn oren_nayar(f: &Fields, model: &str) -> Result<Material> {
         albedo: f.color_in("albedo", d.albedo, UNIT)?,
         sigma_deg: f.num("sigma_deg", d.sigma_deg, Check::In(0.0, 90.0))?,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_model_kind_is_listed_and_decodes_from_its_name() {
+        let mut listed = MATERIAL_MODELS.to_vec();
+        listed.sort();
+        assert_eq!(listed, ModelKind::ALL.to_vec());
+        for kind in ModelKind::ALL {
+            let text = format!(r#"{{"model": "{}"}}"#, kind.name());
+            let v = crate::scene::json::parse(&text).unwrap();
+            let m = material(&v, "materials.m").unwrap();
+            assert_eq!(m.kind(), kind);
+            assert_eq!(m, Material::default_of(kind), "{kind:?}");
+        }
+    }
 }
