@@ -34,6 +34,7 @@ mod material;
 mod object;
 
 use fields::*;
+pub use material::MATERIAL_MODELS;
 use material::*;
 pub(crate) use material::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
 pub(crate) use object::MeshCache;

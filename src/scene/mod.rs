@@ -5,6 +5,7 @@
 //! (see [`SceneError`]); no input makes this module panic.
 
 mod decode;
+pub use decode::MATERIAL_MODELS;
 /// The viewer's edit rules (no egui): changes that keep a scene valid.
 pub mod edit;
 mod encode;

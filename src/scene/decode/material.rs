@@ -8,7 +8,7 @@ pub(super) type MaterialDecoder = fn(&Fields, &str) -> Result<Material>;
 
 /// Every model, in the order the format (and its error messages) lists them; the names are
 /// [`ModelKind::name`].
-pub(super) const MATERIAL_MODELS: [ModelKind; 7] = [
+pub const MATERIAL_MODELS: [ModelKind; 7] = [
     ModelKind::Phong,
     ModelKind::BlinnPhong,
     ModelKind::Lambert,

@@ -316,30 +316,10 @@ impl Viewer {
             ],
         );
         let extent = t.color.extent();
-        let mut shot = None;
-        if let Some(path) = exr {
-            let buffer = Buffer::new(
-                &self.ctx,
-                "screenshot (hdr)",
-                extent.width as u64 * extent.height as u64 * 16,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            )?;
-            copy_image_to_buffer(
-                &d,
-                cmd,
-                t.color.raw,
-                vk::ImageLayout::GENERAL,
-                &buffer,
-                extent,
-            );
-            shot = Some(Shot {
-                path: path.to_path_buf(),
-                buffer,
-                display: false,
-                extent,
-            });
-        }
+        let mut shot = match exr {
+            Some(path) => Some(self.copy_hdr(&d, cmd, path)?),
+            None => None,
+        };
         let sc = self.swapchain.extent;
         let colors = [vk::RenderingAttachmentInfo::default()
             .image_view(self.swapchain.views[image_index as usize])
@@ -381,47 +361,8 @@ impl Viewer {
         let mut last = attachment;
         let png = screenshot.filter(|_| exr.is_none());
         if let Some(path) = png {
-            if !self.swapchain.can_read {
-                self.status =
-                    Some("this window's images cannot be read back: no screenshot".into());
-            } else {
-                let src: Access = (
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_READ,
-                );
-                transition(
-                    &d,
-                    cmd,
-                    &[Transition {
-                        image,
-                        range: color_range(),
-                        from: last,
-                        to: src,
-                    }],
-                );
-                last = src;
-                let buffer = Buffer::new(
-                    &self.ctx,
-                    "screenshot (display)",
-                    sc.width as u64 * sc.height as u64 * 4,
-                    vk::BufferUsageFlags::TRANSFER_DST,
-                    MemoryLocation::GpuToCpu,
-                )?;
-                copy_image_to_buffer(
-                    &d,
-                    cmd,
-                    image,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    &buffer,
-                    sc,
-                );
-                shot = Some(Shot {
-                    path: path.to_path_buf(),
-                    buffer,
-                    display: true,
-                    extent: sc,
-                });
+            if let Some(copy) = self.copy_display(&d, cmd, image, &mut last, path)? {
+                shot = Some(copy);
             }
         }
         transition(
@@ -454,6 +395,89 @@ impl Viewer {
         }
         self.frames[slot].timer = timer;
         Ok(shot)
+    }
+
+    /// Copies the HDR colour image (in GENERAL layout after the scene passes) for an EXR
+    /// screenshot; the copy is read after the frame's fence.
+    fn copy_hdr(&self, d: &ash::Device, cmd: vk::CommandBuffer, path: &Path) -> Result<Shot> {
+        let t = &self.targets;
+        let extent = t.color.extent();
+        let buffer = Buffer::new(
+            &self.ctx,
+            "screenshot (hdr)",
+            extent.width as u64 * extent.height as u64 * 16,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        copy_image_to_buffer(
+            d,
+            cmd,
+            t.color.raw,
+            vk::ImageLayout::GENERAL,
+            &buffer,
+            extent,
+        );
+        Ok(Shot {
+            path: path.to_path_buf(),
+            buffer,
+            display: false,
+            extent,
+        })
+    }
+
+    /// Copies the swapchain image (what the window shows, UI included) for a PNG screenshot,
+    /// moving it from `last` to TRANSFER_SRC; `None` (and a status line) when this swapchain's
+    /// images cannot be read back.
+    fn copy_display(
+        &mut self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        image: vk::Image,
+        last: &mut Access,
+        path: &Path,
+    ) -> Result<Option<Shot>> {
+        let sc = self.swapchain.extent;
+        if !self.swapchain.can_read {
+            self.status = Some("this window's images cannot be read back: no screenshot".into());
+            return Ok(None);
+        }
+        let src: Access = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        );
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image,
+                range: color_range(),
+                from: *last,
+                to: src,
+            }],
+        );
+        *last = src;
+        let buffer = Buffer::new(
+            &self.ctx,
+            "screenshot (display)",
+            sc.width as u64 * sc.height as u64 * 4,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        copy_image_to_buffer(
+            d,
+            cmd,
+            image,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            &buffer,
+            sc,
+        );
+        Ok(Some(Shot {
+            path: path.to_path_buf(),
+            buffer,
+            display: true,
+            extent: sc,
+        }))
     }
 
     pub(super) fn save_screenshot(&mut self, shot: &Shot) -> Result<()> {

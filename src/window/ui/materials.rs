@@ -79,16 +79,10 @@ pub(super) fn objects_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState, ou
         }
     ));
     let mut model = named.material.name();
-    let models = [
-        "phong",
-        "blinn_phong",
-        "lambert",
-        "cook_torrance",
-        "metal_rough",
-        "principled",
-        "oren_nayar",
-    ];
-    let options: Vec<(&str, &str)> = models.iter().map(|m| (*m, *m)).collect();
+    let options: Vec<(&str, &str)> = crate::scene::MATERIAL_MODELS
+        .iter()
+        .map(|k| (k.name(), k.name()))
+        .collect();
     if combo(ui, ("luz_model", mi), &mut model, &options) {
         set_material_model(&mut named.material, &mut named.textures, model);
         out.edit(true);

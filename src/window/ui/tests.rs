@@ -74,16 +74,7 @@ fn draws_without_input_and_edits_nothing() {
 #[test]
 fn every_material_model_draws() {
     let mut scene = crate::scene::default_scene();
-    let models = [
-        "phong",
-        "blinn_phong",
-        "lambert",
-        "cook_torrance",
-        "metal_rough",
-        "principled",
-        "oren_nayar",
-    ];
-    for model in models {
+    for model in crate::brdf::ModelKind::ALL.map(|k| k.name()) {
         let m = &mut scene.materials[0];
         set_material_model(&mut m.material, &mut m.textures, model);
         assert_eq!(m.material.name(), model);
