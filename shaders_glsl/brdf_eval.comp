@@ -17,14 +17,18 @@ struct BrdfCase {
     uvec4 meta; // x: index into params[]
 };
 
-layout(std430, set = 0, binding = 0) readonly buffer Params {
+// Bindings (src/stability/gpu.rs reads them as luz::glsl::brdf_eval_comp::BINDING_*).
+#define BINDING_PARAMS 0
+#define BINDING_CASES 1
+#define BINDING_RESULTS 2
+layout(std430, set = 0, binding = BINDING_PARAMS) readonly buffer Params {
     BrdfParams params[];
 };
-layout(std430, set = 0, binding = 1) readonly buffer Cases {
+layout(std430, set = 0, binding = BINDING_CASES) readonly buffer Cases {
     BrdfCase cases[];
 };
 // with_radiance == 0: one vec4 per case (f); else four: f, then the radiance at e_light.x, .y, .z.
-layout(std430, set = 0, binding = 2) writeonly buffer Results {
+layout(std430, set = 0, binding = BINDING_RESULTS) writeonly buffer Results {
     vec4 results[];
 };
 

@@ -11,11 +11,14 @@
 // The operator (TONEMAP_*), fixed per pipeline.
 layout(constant_id = 0) const uint TONEMAP = 0u;
 
-layout(set = 0, binding = 0) uniform texture2D hdr;
+// Bindings (src/render/display.rs reads them as luz::glsl::display_frag::BINDING_*).
+#define BINDING_HDR 0
+#define BINDING_SRGB_TABLE 1
+layout(set = 0, binding = BINDING_HDR) uniform texture2D hdr;
 
 // color::srgb_encode_table: per bin of [0, 1], the code at the bin's start and the value where it
 // steps up by one (2.0: no step in this bin).
-layout(set = 0, binding = 1, std430) readonly buffer SrgbEncodeTable {
+layout(set = 0, binding = BINDING_SRGB_TABLE, std430) readonly buffer SrgbEncodeTable {
     vec2 srgb_table[];
 };
 const float SRGB_ENCODE_BINS = 4096.0;  // color::SRGB_ENCODE_BINS

@@ -6,8 +6,11 @@
 //! variant normalize: SATURATE_NORMALIZE
 
 layout(local_size_x = 16, local_size_y = 16) in;
-layout(set = 0, binding = 0, rgba32f) uniform image2D hdr;
-layout(set = 0, binding = 1, std430) buffer Reduction {
+// Bindings (src/render/saturate.rs reads them as luz::glsl::saturate_comp::BINDING_*).
+#define BINDING_HDR 0
+#define BINDING_REDUCTION 1
+layout(set = 0, binding = BINDING_HDR, rgba32f) uniform image2D hdr;
+layout(set = 0, binding = BINDING_REDUCTION, std430) buffer Reduction {
     uint max_bits;  // float bits of the largest channel value; non-negative floats order like uints
 } red;
 

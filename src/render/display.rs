@@ -21,6 +21,10 @@ use crate::vk::pipeline::{
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Context, VkError};
 
+/// Bindings of `display.frag` (its `BINDING_*`).
+const BINDING_HDR: u32 = crate::glsl::display_frag::BINDING_HDR as u32;
+const BINDING_SRGB_TABLE: u32 = crate::glsl::display_frag::BINDING_SRGB_TABLE as u32;
+
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct DisplayPush {
@@ -55,8 +59,8 @@ impl DisplayPass {
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT)
         };
         let bindings = [
-            binding(0, vk::DescriptorType::SAMPLED_IMAGE),
-            binding(1, vk::DescriptorType::STORAGE_BUFFER),
+            binding(BINDING_HDR, vk::DescriptorType::SAMPLED_IMAGE),
+            binding(BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
         ];
         let set_layout = DescriptorSetLayout::new(ctx, "display set layout", &bindings)?;
         let push = [vk::PushConstantRange {
@@ -94,7 +98,7 @@ impl DisplayPass {
         }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(set)
-            .dst_binding(1)
+            .dst_binding(BINDING_SRGB_TABLE)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .buffer_info(&table_info);
         // SAFETY: `write` and the `table_info` it points to outlive the call. `set` was just
@@ -128,7 +132,7 @@ impl DisplayPass {
         }];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.set)
-            .dst_binding(0)
+            .dst_binding(BINDING_HDR)
             .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
             .image_info(&info);
         // SAFETY: `write` and `info` outlive the call; binding 0 of `self.set` is a SAMPLED_IMAGE.

@@ -12,6 +12,10 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, Pipelin
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, Image, VkError};
 
+/// Bindings of `saturate.comp` (its `BINDING_*`).
+const BINDING_HDR: u32 = crate::glsl::saturate_comp::BINDING_HDR as u32;
+const BINDING_REDUCTION: u32 = crate::glsl::saturate_comp::BINDING_REDUCTION as u32;
+
 type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
 
 pub struct SaturatePass {
@@ -43,12 +47,12 @@ impl SaturatePass {
         };
         let bindings = [
             vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
+                .binding(BINDING_HDR)
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::COMPUTE),
             vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
+                .binding(BINDING_REDUCTION)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .descriptor_count(1)
                 .stage_flags(vk::ShaderStageFlags::COMPUTE),
@@ -91,12 +95,12 @@ impl SaturatePass {
         let writes = [
             vk::WriteDescriptorSet::default()
                 .dst_set(set)
-                .dst_binding(0)
+                .dst_binding(BINDING_HDR)
                 .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                 .image_info(&image_info),
             vk::WriteDescriptorSet::default()
                 .dst_set(set)
-                .dst_binding(1)
+                .dst_binding(BINDING_REDUCTION)
                 .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                 .buffer_info(&buffer_info),
         ];

@@ -36,8 +36,8 @@ pub const SOURCE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DESTINATION_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
 /// Descriptor bindings of set 0 (mirrored in `shaders_glsl/tonemap.comp`).
-pub const BINDING_SOURCE: u32 = 0;
-pub const BINDING_DESTINATION: u32 = 1;
+pub const BINDING_SOURCE: u32 = crate::glsl::tonemap_comp::BINDING_SOURCE as u32;
+pub const BINDING_DESTINATION: u32 = crate::glsl::tonemap_comp::BINDING_DESTINATION as u32;
 
 /// The destination's state during (and right after) the pass.
 pub const DESTINATION_ACCESS: Access = (

@@ -8,6 +8,7 @@ use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use crate::brdf::{GpuBrdfParams, Model};
+use crate::glsl::brdf_eval_comp as glsl;
 use crate::vk::cmd::{memory_barrier, CommandPool};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
@@ -28,6 +29,10 @@ pub struct GpuEvaluator {
     ctx: Arc<Context>,
 }
 
+// The buffers are written in binding order (params, cases, results) below.
+const _: () =
+    assert!(glsl::BINDING_PARAMS == 0 && glsl::BINDING_CASES == 1 && glsl::BINDING_RESULTS == 2);
+
 /// The GLSL `BrdfCase` (std430, 96 bytes).
 const CASE_BYTES: usize = 96;
 const GROUP: u32 = 64;
@@ -44,7 +49,11 @@ impl GpuEvaluator {
         let set_layout = DescriptorSetLayout::new(
             ctx,
             "brdf_eval set layout",
-            &[binding(0), binding(1), binding(2)],
+            &[
+                binding(glsl::BINDING_PARAMS as u32),
+                binding(glsl::BINDING_CASES as u32),
+                binding(glsl::BINDING_RESULTS as u32),
+            ],
         )?;
         let push = [vk::PushConstantRange {
             stage_flags: vk::ShaderStageFlags::COMPUTE,
