@@ -117,7 +117,7 @@ pub fn set_material_model(material: &mut Material, textures: &mut MaterialTextur
         }
         _ => *material = default_material(model),
     }
-    let takes = slots_for_model(material.name());
+    let takes = slots_for_model(material.kind());
     for slot in crate::scene::TextureSlot::ALL {
         if !takes.contains(&slot) {
             *textures.get_mut(slot) = None;

@@ -257,18 +257,18 @@ impl MaterialTextures {
     }
 }
 
-/// The maps a material model takes, by its `model` name (`Material::model_name`). Metallic,
-/// roughness and packed maps need the parameters they multiply; every model takes a base colour
-/// (its main colour), a normal map, an occlusion map and emission.
-pub fn slots_for_model(model: &str) -> &'static [TextureSlot] {
+/// The maps a material model takes. Metallic, roughness and packed maps need the parameters they
+/// multiply; every model takes a base colour (its main colour), a normal map, an occlusion map
+/// and emission.
+pub fn slots_for_model(model: crate::brdf::ModelKind) -> &'static [TextureSlot] {
+    use crate::brdf::ModelKind as K;
     use TextureSlot::*;
     match model {
-        "phong" | "blinn_phong" => &[BaseColor, Specular, Normal, Occlusion, Emissive],
-        "cook_torrance" => &[BaseColor, Roughness, Normal, Occlusion, Emissive],
-        "metal_rough" | "principled" => &[
+        K::Phong | K::BlinnPhong => &[BaseColor, Specular, Normal, Occlusion, Emissive],
+        K::CookTorrance => &[BaseColor, Roughness, Normal, Occlusion, Emissive],
+        K::MetalRough | K::Principled => &[
             BaseColor, Metallic, Roughness, Orm, Normal, Occlusion, Emissive,
         ],
-        // lambert, oren_nayar
-        _ => &[BaseColor, Normal, Occlusion, Emissive],
+        K::Lambert | K::OrenNayar => &[BaseColor, Normal, Occlusion, Emissive],
     }
 }

@@ -63,7 +63,9 @@ pub(super) fn material_textures(v: &Value, path: &str, base: &Path) -> Result<Ma
     let model = m.string("model")?.unwrap_or("");
     let f = Fields::new(t, &m.path("textures"))?;
     f.allow(TEXTURE_FIELDS, "a textures block")?;
-    let takes = slots_for_model(model);
+    // The model was validated by the material's decoder (an unknown one would take the fewest).
+    let kind = crate::brdf::ModelKind::from_name(model).unwrap_or(crate::brdf::ModelKind::Lambert);
+    let takes = slots_for_model(kind);
     // What the block asks for is checked before any file is looked at.
     for slot in TextureSlot::ALL {
         if f.has(slot.name()) && !takes.contains(&slot) {

@@ -300,14 +300,19 @@ impl Encoder<'_> {
                 n.put("albedo", p.albedo).put("sigma_deg", p.sigma_deg);
             }
         }
-        if let Some(t) = self.textures(name, material.name(), textures) {
+        if let Some(t) = self.textures(name, material.kind(), textures) {
             n.put("textures", t);
         }
         n
     }
 
     /// The `textures` block (`None` when there is nothing to say).
-    fn textures(&mut self, name: &str, model: &str, t: &MaterialTextures) -> Option<Node> {
+    fn textures(
+        &mut self,
+        name: &str,
+        model: crate::brdf::ModelKind,
+        t: &MaterialTextures,
+    ) -> Option<Node> {
         let takes = slots_for_model(model);
         let mut block = Node::obj();
         let mut maps = 0;
@@ -315,7 +320,8 @@ impl Encoder<'_> {
             let Some(tex) = t.get(slot) else { continue };
             if !takes.contains(&slot) {
                 self.notes.push(format!(
-                    "material \"{name}\": a {model} material takes no \"{}\" map; {} not written",
+                    "material \"{name}\": a {} material takes no \"{}\" map; {} not written",
+                    model.name(),
                     slot.name(),
                     tex.path.display()
                 ));
