@@ -7,7 +7,11 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
+
+/// The timed tests run one at a time (the test harness would run them in parallel).
+static TIMING: Mutex<()> = Mutex::new(());
 
 /// A one-line scene of point lights, about `bytes` long.
 fn lights_scene(bytes: usize) -> String {
@@ -85,6 +89,7 @@ fn origin() -> &'static Path {
 
 #[test]
 fn ten_megabyte_one_line_scenes_parse_in_under_a_second() {
+    let _timing = TIMING.lock().unwrap_or_else(|e| e.into_inner());
     let lights = lights_scene(10 << 20);
     let n = 40_000;
     let objects = objects_scene(n);
@@ -113,6 +118,7 @@ fn ten_megabyte_one_line_scenes_parse_in_under_a_second() {
 /// A 200,000-element array and then an unknown field (2.6 MB; 2.4 MB took 35 s to be refused).
 #[test]
 fn errors_after_a_huge_array_are_reported_at_once() {
+    let _timing = TIMING.lock().unwrap_or_else(|e| e.into_inner());
     let mut text = String::from(r#"{"lights":["#);
     for i in 0..200_000 {
         if i > 0 {
