@@ -108,6 +108,21 @@ pub fn check_output(path: &Path) -> Result<FileFormat> {
     Ok(format)
 }
 
+/// Says what was written (and warns when the image holds `nan` non-finite pixels).
+pub fn report_written(path: &Path, format: FileFormat, nan: u64) {
+    if nan > 0 {
+        eprintln!("warning: {nan} pixels hold NaN or Inf");
+    }
+    println!(
+        "wrote {} ({})",
+        path.display(),
+        match format {
+            FileFormat::Png => "PNG, exposed, tone-mapped, sRGB",
+            FileFormat::Exr => "EXR, linear float32 radiance",
+        }
+    );
+}
+
 /// Prints the validation counts (when validation is on) and returns exit code 3 on any error.
 pub fn validation_exit(ctx: &Context) -> ExitCode {
     validation_exit_counts(

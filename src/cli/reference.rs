@@ -7,9 +7,7 @@ use std::time::Instant;
 use anyhow::Result;
 use clap::Args;
 
-use luz::imageio::FileFormat;
-
-use super::common::{check_output, Bar};
+use super::common::{check_output, report_written, Bar};
 
 /// `luz reference`.
 #[derive(Args, Debug)]
@@ -112,16 +110,6 @@ pub fn run(a: ReferenceArgs) -> Result<ExitCode> {
         "render time: {render_s:.2} s ({:.2} s in all)",
         t0.elapsed().as_secs_f64()
     );
-    if nan > 0 {
-        eprintln!("warning: {nan} pixels hold NaN or Inf");
-    }
-    println!(
-        "wrote {} ({})",
-        a.output.display(),
-        match format {
-            FileFormat::Png => "PNG, exposed, tone-mapped, sRGB",
-            FileFormat::Exr => "EXR, linear float32 radiance",
-        }
-    );
+    report_written(&a.output, format, nan);
     Ok(ExitCode::SUCCESS)
 }

@@ -8,12 +8,11 @@ use anyhow::Result;
 use clap::Args;
 
 use luz::headless::{Headless, TimingReport};
-use luz::imageio::FileFormat;
 use luz::render::forward::DebugView;
 
 use super::common::{
     check_output, context, debug_view_parser, load_scene, print_timing, render_options,
-    report_tessellation, validation_exit, GpuArgs, IblQuality,
+    report_tessellation, report_written, validation_exit, GpuArgs, IblQuality,
 };
 
 #[derive(Args, Debug)]
@@ -109,16 +108,6 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     );
     println!("time to first frame: {ttff:.1} ms (process start to first frame on the host)");
     print_timing(&TimingReport::of(&frames));
-    if nan > 0 {
-        eprintln!("warning: {nan} pixels hold NaN or Inf");
-    }
-    println!(
-        "wrote {} ({})",
-        a.output.display(),
-        match format {
-            FileFormat::Png => "PNG, exposed, tone-mapped, sRGB",
-            FileFormat::Exr => "EXR, linear float32 radiance",
-        }
-    );
+    report_written(&a.output, format, nan);
     Ok(validation_exit(&ctx))
 }
