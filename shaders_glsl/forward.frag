@@ -2,9 +2,11 @@
 //! variant flat: SHADING_FLAT
 //! variant gouraud: SHADING_GOURAUD
 //! variant phong: SHADING_PHONG
+//! variant phong_maps: SHADING_PHONG PHONG_MAPS
 //! variant flat_ibl: SHADING_FLAT IBL
 //! variant gouraud_ibl: SHADING_GOURAUD IBL
 //! variant phong_ibl: SHADING_PHONG IBL
+//! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
 
 #define LUZ_FRAGMENT
 #include "include/lighting.glsl"
@@ -17,8 +19,10 @@ layout(location = 1) in vec3 in_color;
 #else
 layout(location = 1) in vec3 in_world;
 layout(location = 2) in vec3 in_normal;
+#ifdef PHONG_MAPS
 layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in vec2 in_uv;
+#endif
 #endif
 
 layout(location = 0) out vec4 out_color;
@@ -30,8 +34,14 @@ void main() {
     vec3 n = normalize(in_normal);
     vec3 x;
     vec3 y;
+#ifdef PHONG_MAPS
     tangent_frame(n, in_tangent, x, y);
     vec3 c = shade(in_world, n, x, y, in_uv);
+#else
+    // No maps and a model without a tangent frame: any frame around n (unused by the model).
+    tangent_frame(n, vec4(0.0, 0.0, 0.0, 1.0), x, y);
+    vec3 c = shade(in_world, n, x, y, vec2(0.0));
+#endif
 #endif
     c = apply_fog(c, in_depth);
     if (DEBUG_VIEW == DEBUG_VIEW_NAN && (any(isnan(c)) || any(isinf(c)))) {

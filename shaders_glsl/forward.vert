@@ -2,16 +2,25 @@
 //! variant flat: SHADING_FLAT
 //! variant gouraud: SHADING_GOURAUD
 //! variant phong: SHADING_PHONG
+//! variant phong_maps: SHADING_PHONG PHONG_MAPS
 //! variant flat_ibl: SHADING_FLAT IBL
 //! variant gouraud_ibl: SHADING_GOURAUD IBL
 //! variant phong_ibl: SHADING_PHONG IBL
+//! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
+
+// Phong shading interpolates only what the fragment stage reads: lavapipe sets up every triangle
+// on the CPU, at a cost that grows with the number of outputs. Without PHONG_MAPS (no texture
+// maps, a model without a tangent frame) that is the view depth, world position and normal; with
+// it also the tangent and the texture coordinates.
 
 #include "include/lighting.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
+#if !defined(SHADING_PHONG) || defined(PHONG_MAPS)
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
+#endif
 #ifdef SHADING_FLAT
 layout(location = 4) in vec3 in_centroid;  // triangle centroid, object space (binding 1)
 #endif
@@ -24,8 +33,10 @@ layout(location = 1) out vec3 out_color;
 #else
 layout(location = 1) out vec3 out_world;
 layout(location = 2) out vec3 out_normal;
+#ifdef PHONG_MAPS
 layout(location = 3) out vec4 out_tangent;
 layout(location = 4) out vec2 out_uv;
+#endif
 #endif
 
 void main() {
@@ -35,7 +46,9 @@ void main() {
     out_depth = -view_pos.z;
     gl_Position = frame.proj * view_pos;
     vec3 n = normalize(mat3(obj.normal_matrix) * in_normal);
+#if !defined(SHADING_PHONG) || defined(PHONG_MAPS)
     vec4 t = vec4(mat3(obj.model) * in_tangent.xyz, in_tangent.w);
+#endif
 #if defined(SHADING_FLAT)
     // Lighting once per polygon, at its centroid, with the face normal.
     vec3 c = (obj.model * vec4(in_centroid, 1.0)).xyz;
@@ -51,7 +64,9 @@ void main() {
 #else
     out_world = world.xyz;
     out_normal = n;
+#ifdef PHONG_MAPS
     out_tangent = t;
     out_uv = in_uv;
+#endif
 #endif
 }

@@ -7,11 +7,12 @@ use anyhow::{Context as _, Result};
 use clap::Args;
 
 use luz::headless::{Headless, TimingReport};
+use luz::render::forward::DebugView;
 use luz::vk::Context;
 
 use super::common::{
-    context, load_scene, print_timing, render_options, report_tessellation, validation_exit, Bar,
-    GpuArgs, IblQuality,
+    context, debug_view_parser, load_scene, print_timing, render_options, report_tessellation,
+    validation_exit, Bar, GpuArgs, IblQuality,
 };
 
 #[derive(Args, Debug)]
@@ -40,6 +41,10 @@ pub struct BenchArgs {
     /// Sizes of the image-based lighting data (see `luz render --help`).
     #[arg(long, value_enum, default_value_t = IblQuality::Full)]
     pub ibl_quality: IblQuality,
+    /// Show one quantity instead of the shaded radiance (see `luz render --help`);
+    /// `base_color` is the unlit floor: the same geometry and pixels with no lighting.
+    #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
+    pub debug_view: DebugView,
     /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);
     /// default: a tenth of --frames.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -96,7 +101,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &render_options(a.no_cache, a.ibl_quality, Default::default()),
+        &render_options(a.no_cache, a.ibl_quality, a.debug_view),
     )?;
     for _ in 0..a.warmup {
         renderer.render()?;

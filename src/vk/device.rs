@@ -38,13 +38,15 @@ pub struct DeviceInfo {
     pub resource_limits: Limits,
     /// Anisotropic filtering is supported and enabled.
     pub sampler_anisotropy: bool,
+    /// The host allocator setting made for a CPU device ([`super::host`]); `None` on a GPU.
+    pub malloc_tuning: Option<super::host::MallocTuning>,
 }
 
 impl DeviceInfo {
     /// One line: name, type, driver, API version.
     pub fn summary(&self) -> String {
         let v = self.api_version;
-        format!(
+        let mut s = format!(
             "{} ({}), driver {} {}, Vulkan {}.{}.{}",
             self.name,
             type_name(self.device_type),
@@ -53,7 +55,12 @@ impl DeviceInfo {
             vk::api_version_major(v),
             vk::api_version_minor(v),
             vk::api_version_patch(v)
-        )
+        );
+        if let Some(m) = self.malloc_tuning {
+            s.push_str("; host: ");
+            s.push_str(m.describe());
+        }
+        s
     }
 }
 
@@ -210,6 +217,8 @@ impl Context {
             limits: props.limits,
             resource_limits: Limits::from_properties(&props.limits, &maintenance3, &maintenance4),
             sampler_anisotropy: false,
+            malloc_tuning: (props.device_type == vk::PhysicalDeviceType::CPU)
+                .then(super::host::tune_for_cpu_device),
         };
 
         // Features: Vulkan 1.3 dynamic rendering + synchronization2; optional extras when present.

@@ -4,6 +4,7 @@
 pub mod buffer;
 pub mod cmd;
 pub mod device;
+pub mod host;
 pub mod image;
 pub mod instance;
 pub mod limits;

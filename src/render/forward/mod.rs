@@ -713,16 +713,13 @@ fn build_pipelines(
     draws: &[Draw],
 ) -> Result<BTreeMap<VariantKey, Pipeline>, VkError> {
     let mut pipelines = BTreeMap::new();
-    let mut modules: HashMap<ShadingKey, (ShaderModule, ShaderModule)> = HashMap::new();
+    let mut modules: HashMap<String, (ShaderModule, ShaderModule)> = HashMap::new();
     let needed: std::collections::BTreeSet<VariantKey> = draws.iter().map(|d| d.variant).collect();
     for v in needed {
-        let (vs, fs) = match modules.entry(v.shading) {
+        let (vs, fs) = match modules.entry(v.module_variant()) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => {
-                let s = match v.ibl {
-                    Some(_) => format!("{}_ibl", v.shading.name()),
-                    None => v.shading.name().to_string(),
-                };
+                let s = e.key().clone();
                 e.insert((
                     ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
                     ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
