@@ -16,22 +16,9 @@ layout(constant_id = 0) const uint TONEMAP = 0u;
 #define BINDING_SRGB_TABLE 1
 layout(set = 0, binding = BINDING_HDR) uniform texture2D hdr;
 
-// color::srgb_encode_table: per bin of [0, 1], the code at the bin's start and the value where it
-// steps up by one (2.0: no step in this bin).
-layout(set = 0, binding = BINDING_SRGB_TABLE, std430) readonly buffer SrgbEncodeTable {
-    vec2 srgb_table[];
-};
-const float SRGB_ENCODE_BINS = 4096.0;  // color::SRGB_ENCODE_BINS
-
-// color::srgb_encode_u8_lut, as a float code in [0, 255].
-float srgb_encode_u8_lut(float linear) {
-    if (isnan(linear)) {
-        return 0.0;
-    }
-    float x = clamp(linear, 0.0, 1.0);
-    vec2 e = srgb_table[min(int(x * SRGB_ENCODE_BINS), int(SRGB_ENCODE_BINS) - 1)];
-    return x >= e.y ? e.x + 1.0 : e.x;
-}
+#define SRGB_TABLE_SET 0
+#define SRGB_TABLE_BINDING BINDING_SRGB_TABLE
+#include "include/srgb_lut.glsl"
 
 layout(push_constant) uniform DisplayPush {
     float exposure_scale;  // color::exposure_scale(ev), computed on the CPU

@@ -10,6 +10,7 @@
 
 #define LUZ_FRAGMENT
 #include "include/lighting.glsl"
+#include "include/output.glsl"
 
 layout(location = 0) in float in_depth;
 #if defined(SHADING_FLAT)
@@ -47,5 +48,5 @@ void main() {
     if (DEBUG_VIEW == DEBUG_VIEW_NAN && (any(isnan(c)) || any(isinf(c)))) {
         c = vec3(1.0, 0.0, 1.0);
     }
-    out_color = vec4(c, 1.0);
+    out_color = forward_output(c);
 }

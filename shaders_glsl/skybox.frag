@@ -2,6 +2,7 @@
 // The environment as the background: the view ray through the pixel, looked up in the cube.
 #define IBL
 #include "include/lighting.glsl"
+#include "include/output.glsl"
 
 layout(location = 0) in vec2 in_ndc;
 layout(location = 0) out vec4 out_color;
@@ -9,5 +10,5 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec4 far = frame.inv_view_proj * vec4(in_ndc, 1.0, 1.0);
     vec3 dir = normalize(far.xyz / far.w - frame.camera_pos.xyz);
-    out_color = vec4(textureLod(env_cube, dir, 0.0).rgb, 1.0);
+    out_color = forward_output(textureLod(env_cube, dir, 0.0).rgb);
 }

@@ -9,7 +9,9 @@ use std::sync::OnceLock;
 use serde::{Deserialize, Serialize};
 
 /// Tone-mapping operator applied after exposure and before sRGB encoding.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, Serialize, Deserialize,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Tonemap {
     /// Clamp to [0, 1] only.

@@ -8,15 +8,16 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
-use crate::render::forward::{DebugView, ForwardPass};
+use crate::render::forward::{DebugView, ForwardPass, Output, TargetViews};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::render::target::{FrameStart, HdrTarget, COLOR_ATTACHMENT};
 use crate::scene::Scene;
 use crate::stats::Summary;
 use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::image::ImageDesc;
 use crate::vk::timing::GpuTimer;
-use crate::vk::{Buffer, Context, VkError};
+use crate::vk::{Buffer, Context, Image, VkError};
 
 /// The split-sum LUT read back: (geometry selector BRDF_G_*, texels) per layer.
 pub type LutLayers = Vec<(i32, Vec<[f32; 4]>)>;
@@ -61,6 +62,7 @@ impl RenderOptions {
             debug: self.debug_view,
             slots: 1,
             generic: self.generic_pipelines,
+            output: crate::render::forward::Output::Hdr,
         }
     }
 }
@@ -119,8 +121,15 @@ impl TimingReport {
     }
 }
 
+/// The 8-bit UNORM format [`Headless::render_display`] writes.
+pub const DISPLAY_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+
 pub struct Headless {
     forward: ForwardPass,
+    /// The display output's 8-bit target, allocated on the first [`Headless::render_display`].
+    display_target: Option<Image>,
+    /// What the last frame wrote into the readback buffer.
+    last_output: Output,
     ibl: Option<Ibl>,
     saturate: Option<SaturatePass>,
     timer: Option<GpuTimer>,
@@ -240,6 +249,8 @@ impl Headless {
         ctx.set_name(fence, "headless frame fence");
         Ok(Self {
             forward,
+            display_target: None,
+            last_output: Output::Hdr,
             ibl,
             saturate,
             timer,
@@ -326,9 +337,49 @@ impl Headless {
 
     /// Renders one frame, copies it to the host-visible readback buffer and waits for it.
     pub fn render(&mut self) -> Result<FrameTimes, VkError> {
+        self.render_frame(Output::Hdr)
+    }
+
+    /// The display output of this scene ([`Output::display_for`] into [`DISPLAY_FORMAT`]), or an
+    /// error naming why the scene needs the float image first.
+    pub fn display_output(&self, scene: &Scene) -> Result<Output, VkError> {
+        if self.target.samples() != vk::SampleCountFlags::TYPE_1 {
+            return Err(VkError::Setup(format!(
+                "{}: output.msaa {} resolves radiance: the display output needs msaa 1",
+                scene.display_name(),
+                scene.output.msaa
+            )));
+        }
+        Output::display_for(scene, DISPLAY_FORMAT).ok_or_else(|| {
+            VkError::Setup(format!(
+                "{}: saturation \"normalize\" needs the whole float image: no display output",
+                scene.display_name()
+            ))
+        })
+    }
+
+    /// Renders one frame as the viewer's direct path does: exposure, tone map and sRGB encode in
+    /// the forward pass's fragment shader, into an 8-bit target ([`Headless::display_codes`]
+    /// reads it). `output` comes from [`Headless::display_output`].
+    pub fn render_display(&mut self, output: Output) -> Result<FrameTimes, VkError> {
+        if output == Output::Hdr {
+            return Err(VkError::Setup(
+                "render_display: the HDR output is what render() writes".into(),
+            ));
+        }
+        self.render_frame(output)
+    }
+
+    fn render_frame(&mut self, output: Output) -> Result<FrameTimes, VkError> {
         let start = Instant::now();
         let d = self.ctx.device.clone();
         let cmd = self.cmd;
+        self.forward.prepare(output)?;
+        if output != Output::Hdr && self.display_target.is_none() {
+            let mut desc = ImageDesc::color_target(self.width, self.height, DISPLAY_FORMAT);
+            desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+            self.display_target = Some(Image::new(&self.ctx, "headless display codes", desc)?);
+        }
         // SAFETY: `cmd` was allocated from `self.pool` (created with RESET_COMMAND_BUFFER) and is
         // not pending: the previous `render` waited for its fence before returning.
         unsafe {
@@ -343,28 +394,64 @@ impl Headless {
             t.reset(cmd);
         }
         self.target.begin_frame(&d, cmd, FrameStart::Idle);
-        let views = self.target.views();
-        let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-        self.forward.record(cmd, &views);
-        if let Some(t) = &mut self.timer {
-            t.end(cmd, slot);
-        }
-
-        let mut last = COLOR_ATTACHMENT;
-        if let Some(s) = &self.saturate {
-            let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));
-            last = s.record(cmd, last);
-            if let Some(t) = &mut self.timer {
-                t.end(cmd, slot);
+        let (source, last) = match (&self.display_target, output) {
+            (Some(display), Output::Display { .. }) => {
+                transition(
+                    &d,
+                    cmd,
+                    &[Transition {
+                        image: display.raw,
+                        range: display.subresource_range(),
+                        from: (
+                            vk::ImageLayout::UNDEFINED,
+                            vk::PipelineStageFlags2::TOP_OF_PIPE,
+                            vk::AccessFlags2::NONE,
+                        ),
+                        to: COLOR_ATTACHMENT,
+                    }],
+                );
+                let views = TargetViews {
+                    color: display.view,
+                    resolve: None,
+                    depth: self.target.depth.view,
+                    extent: self.target.extent(),
+                };
+                let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+                self.forward.record_slot(cmd, &views, 0, output)?;
+                if let Some(t) = &mut self.timer {
+                    t.end(cmd, slot);
+                }
+                ((display.raw, display.subresource_range()), COLOR_ATTACHMENT)
             }
-        }
+            _ => {
+                let views = self.target.views();
+                let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+                self.forward.record(cmd, &views)?;
+                if let Some(t) = &mut self.timer {
+                    t.end(cmd, slot);
+                }
+                let mut last = COLOR_ATTACHMENT;
+                if let Some(s) = &self.saturate {
+                    let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));
+                    last = s.record(cmd, last);
+                    if let Some(t) = &mut self.timer {
+                        t.end(cmd, slot);
+                    }
+                }
+                (
+                    (self.target.color.raw, self.target.color.subresource_range()),
+                    last,
+                )
+            }
+        };
+        let (image, range) = source;
 
         transition(
             &d,
             cmd,
             &[Transition {
-                image: self.target.color.raw,
-                range: self.target.color.subresource_range(),
+                image,
+                range,
                 from: last,
                 to: (
                     vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
@@ -377,7 +464,7 @@ impl Headless {
         crate::vk::cmd::copy_image_to_buffer(
             &d,
             cmd,
-            self.target.color.raw,
+            image,
             vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             &self.readback,
             self.target.extent(),
@@ -415,6 +502,7 @@ impl Headless {
             d.wait_for_fences(&[self.fence], true, u64::MAX)?;
             d.reset_fences(&[self.fence])?;
         }
+        self.last_output = output;
         let cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         let gpu_ms = match &self.timer {
             Some(t) => t.read()?,
@@ -423,8 +511,25 @@ impl Headless {
         Ok(FrameTimes { gpu_ms, cpu_ms })
     }
 
+    /// The last frame of [`Headless::render_display`]: RGBA8 display codes, row by row.
+    pub fn display_codes(&self) -> Result<Vec<u8>, VkError> {
+        if self.last_output == Output::Hdr {
+            return Err(VkError::Setup(
+                "display_codes: the last frame was rendered by render(), not render_display()"
+                    .into(),
+            ));
+        }
+        let n = self.width as usize * self.height as usize;
+        Ok(self.readback.mapped()?[..n * 4].to_vec())
+    }
+
     /// The last rendered frame as linear RGBA radiance.
     pub fn image(&self) -> Result<LinearImage, VkError> {
+        if self.last_output != Output::Hdr {
+            return Err(VkError::Setup(
+                "image: the last frame was rendered by render_display(), not render()".into(),
+            ));
+        }
         let bytes = self.readback.mapped()?;
         let n = self.width as usize * self.height as usize;
         let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])

@@ -9,6 +9,8 @@
 #define BINDING_FRAME 0
 #define BINDING_LIGHTS 1
 #define BINDING_OBJECTS 2
+// color::srgb_encode_table, read by the display output (include/output.glsl).
+#define BINDING_SRGB_TABLE 3
 
 // Light types and falloff kinds (src/render/gpu.rs: LIGHT_*, FALLOFF_*).
 #define LIGHT_DIRECTIONAL 0u
@@ -30,6 +32,7 @@ layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {
     vec4 fog;         // z_a, z_b, s_a, s_b
     uvec4 counts;     // x: number of lights
     mat4 inv_view_proj;
+    vec4 display;     // x: color::exposure_scale(ev) of the display output (include/output.glsl)
 } frame;
 
 struct Light {

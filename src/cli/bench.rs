@@ -7,7 +7,7 @@ use anyhow::{Context as _, Result};
 use clap::Args;
 
 use luz::headless::{Headless, TimingReport};
-use luz::render::forward::DebugView;
+use luz::render::forward::{DebugView, Output};
 use luz::vk::Context;
 
 use super::common::{
@@ -45,6 +45,11 @@ pub struct BenchArgs {
     /// `base_color` is the unlit floor: the same geometry and pixels with no lighting.
     #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
     pub debug_view: DebugView,
+    /// What the forward pass writes: "hdr" (RGBA32F radiance, read back at 16 bytes per pixel,
+    /// as `luz render`) or "display" (exposure, tone map and sRGB encode in the fragment shader
+    /// into RGBA8, the viewer's direct path; not with normalize saturation or MSAA).
+    #[arg(long, value_enum, default_value_t = BenchOutput::Hdr)]
+    pub output: BenchOutput,
     /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);
     /// default: a tenth of --frames.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -55,6 +60,13 @@ pub struct BenchArgs {
     pub max_memory_growth_mib: Option<f64>,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+/// `--output` values.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BenchOutput {
+    Hdr,
+    Display,
 }
 
 /// One sample of a soak: resident memory and the GPU allocator's live allocations.
@@ -103,15 +115,23 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         &scene,
         &render_options(a.no_cache, a.ibl_quality, a.debug_view),
     )?;
+    let output = match a.output {
+        BenchOutput::Hdr => Output::Hdr,
+        BenchOutput::Display => renderer.display_output(&scene)?,
+    };
+    let render = |r: &mut Headless| match output {
+        Output::Hdr => r.render(),
+        o => r.render_display(o),
+    };
     for _ in 0..a.warmup {
-        renderer.render()?;
+        render(&mut renderer)?;
     }
     let bar = Bar::with_length("{bar:40} {pos}/{len} frames {elapsed}", a.frames as u64);
     let mut frames = Vec::with_capacity(a.frames as usize);
     let every = a.memory_every.unwrap_or((a.frames / 10).max(1)) as u64;
     let mut memory = vec![memory_sample(&ctx, 0)];
     for i in 1..=a.frames as u64 {
-        frames.push(renderer.render()?);
+        frames.push(render(&mut renderer)?);
         bar.inc(1);
         if i % every == 0 {
             memory.push(memory_sample(&ctx, i));
@@ -119,12 +139,19 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     println!(
-        "scene: {} ({}x{}, {} triangles, {} lights)",
+        "scene: {} ({}x{}, {} triangles, {} lights), output {}",
         scene.display_name(),
         scene.output.width,
         scene.output.height,
         renderer.triangle_count(),
-        scene.lights.len()
+        scene.lights.len(),
+        match output {
+            Output::Hdr => "hdr (RGBA32F radiance)".to_string(),
+            Output::Display { tonemap, .. } => format!(
+                "display (RGBA8 codes, {} tone map in the forward pass)",
+                tonemap.name()
+            ),
+        }
     );
     let report = TimingReport::of(&frames);
     print_timing(&report);
@@ -197,6 +224,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "height": scene.output.height,
             "triangles": renderer.triangle_count(),
             "lights": scene.lights.len(),
+            "output": match output { Output::Hdr => "hdr", Output::Display { .. } => "display" },
             "cpu_ms": report.cpu,
             "gpu_total_ms": report.gpu_total,
             "gpu_pass_ms": passes,

@@ -61,6 +61,19 @@ pub struct ViewArgs {
     /// Do not read or write the IBL cache.
     #[arg(long)]
     pub no_cache: bool,
+    /// How frames reach the window: "auto" shades, tone-maps and encodes straight into the
+    /// window's image when the frame needs no whole-image operation (normalize saturation, MSAA,
+    /// an EXR screenshot take the float path); "hdr" always renders the float image first and
+    /// runs the display pass (same codes, more time: for comparisons).
+    #[arg(long, value_enum, default_value_t = DisplayPathArg::Auto)]
+    pub display_path: DisplayPathArg,
+}
+
+/// `--display-path` values.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DisplayPathArg {
+    Auto,
+    Hdr,
 }
 
 /// Runs the viewer until the window closes (or `--frames` have been shown).
@@ -83,6 +96,10 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
         no_panels: a.no_panels,
         ibl: a.ibl_quality.settings(),
         no_cache: a.no_cache,
+        display_path: match a.display_path {
+            DisplayPathArg::Auto => luz::window::DisplayPath::Auto,
+            DisplayPathArg::Hdr => luz::window::DisplayPath::Hdr,
+        },
         progress: Some(luz::progress::ProgressSink::new(Bar::new(
             "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
         ))),

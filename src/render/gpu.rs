@@ -14,6 +14,7 @@ pub const SET_FRAME: u32 = b::SET_FRAME as u32;
 pub const BINDING_FRAME: u32 = b::BINDING_FRAME as u32;
 pub const BINDING_LIGHTS: u32 = b::BINDING_LIGHTS as u32;
 pub const BINDING_OBJECTS: u32 = b::BINDING_OBJECTS as u32;
+pub const BINDING_SRGB_TABLE: u32 = b::BINDING_SRGB_TABLE as u32;
 /// The environment's set (`shaders_glsl/include/ibl.glsl`).
 pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
 /// The material maps' set.
@@ -47,6 +48,9 @@ pub const SPEC_SEL_GEOMETRY: u32 = b::SPEC_SEL_GEOMETRY;
 pub const SPEC_SEL_FRESNEL: u32 = b::SPEC_SEL_FRESNEL;
 pub const SPEC_MAPS: u32 = b::SPEC_MAPS;
 pub const SPEC_LIGHT_KINDS: u32 = b::SPEC_LIGHT_KINDS;
+pub const SPEC_OUTPUT: u32 = glsl::include_output::SPEC_OUTPUT;
+pub const SPEC_OUTPUT_TONEMAP: u32 = glsl::include_output::SPEC_OUTPUT_TONEMAP;
+pub const SPEC_OUTPUT_CLAMP: u32 = glsl::include_output::SPEC_OUTPUT_CLAMP;
 /// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`material_key`]).
 pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
 /// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
@@ -90,6 +94,8 @@ pub struct FrameData {
     pub fog: Vec4,
     pub counts: [u32; 4],
     pub inv_view_proj: Mat4,
+    /// x: `color::exposure_scale` of the scene's exposure, for the display output.
+    pub display: Vec4,
 }
 
 /// `Light` (std430, 80 bytes).
@@ -125,7 +131,7 @@ pub struct MaterialPush {
 /// Vulkan guarantees 128 bytes of push constants; lavapipe offers exactly that.
 const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 80);
-const _: () = assert!(std::mem::size_of::<FrameData>() == 4 * 64 + 4 * 16 + 16);
+const _: () = assert!(std::mem::size_of::<FrameData>() == 4 * 64 + 4 * 16 + 16 + 16);
 
 /// One vertex: position, normal, uv, tangent (xyz + handedness).
 #[repr(C)]
@@ -209,6 +215,12 @@ pub fn frame_data(scene: &Scene, aspect: f32, light_count: u32) -> FrameData {
         fog,
         counts: [light_count, 0, 0, 0],
         inv_view_proj: (proj * view).inverse(),
+        display: Vec4::new(
+            crate::color::exposure_scale(scene.output.exposure),
+            0.0,
+            0.0,
+            0.0,
+        ),
     }
 }
 

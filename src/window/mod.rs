@@ -51,6 +51,20 @@ pub struct ViewOptions {
     pub no_cache: bool,
     /// Told the progress of IBL precomputations.
     pub progress: Option<crate::progress::ProgressSink>,
+    /// How frames reach the window.
+    pub display_path: DisplayPath,
+}
+
+/// How the viewer's frames reach the swapchain image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum DisplayPath {
+    /// Straight from the forward pass (tone map and encode in its fragment shader) whenever the
+    /// frame needs no whole-image operation; through the float image otherwise (`normalize`
+    /// saturation, multisampling, an EXR screenshot).
+    #[default]
+    Auto,
+    /// Always through the float HDR image and the display pass (the path `luz render` takes).
+    Hdr,
 }
 
 /// How a viewer session ended: what the validation layer counted before the device went away.

@@ -11,16 +11,16 @@ use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
-use crate::scene::{Scene, Shading};
+use crate::color::Tonemap;
+use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
 use crate::vk::cmd::CommandPool;
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
-use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, VkError};
 
 mod variant;
 
-use variant::{create_pipeline, create_skybox};
+use variant::{create_pipeline, create_skybox, Modules};
 pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 
 struct GpuMesh {
@@ -55,6 +55,8 @@ pub struct PassOptions {
     /// Build "all features" pipelines (runtime BRDF selectors, every map and light kind) instead
     /// of pipelines specialised to the scene: what the minimal pipelines save (`luz lab`).
     pub generic: bool,
+    /// The output whose pipelines are built up front (others on [`ForwardPass::prepare`]).
+    pub output: Output,
 }
 
 impl Default for PassOptions {
@@ -63,6 +65,84 @@ impl Default for PassOptions {
             debug: DebugView::None,
             slots: 1,
             generic: false,
+            output: Output::Hdr,
+        }
+    }
+}
+
+/// What the forward pass writes into its colour attachment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Output {
+    /// Radiance into the float HDR target ([`TargetFormat::color`]): for EXR output, whole-image
+    /// saturation, the lab and the readback of radiance.
+    Hdr,
+    /// Display codes straight into an 8-bit UNORM attachment of `format` (the swapchain image):
+    /// the scene's clamp saturation when `clamp`, exposure, `tonemap` and the exact sRGB encode in
+    /// the fragment shader (`include/output.glsl`), the codes the display pass would give after
+    /// the float target, without writing and reading 16 bytes per pixel again.
+    Display {
+        format: vk::Format,
+        tonemap: Tonemap,
+        clamp: bool,
+    },
+}
+
+impl Output {
+    /// The display output for `scene` into attachments of `format`, or `None` when a frame of the
+    /// scene needs the whole float image first (`normalize` saturation).
+    pub fn display_for(scene: &Scene, format: vk::Format) -> Option<Self> {
+        match scene.saturation {
+            Saturation::Normalize => None,
+            s => Some(Output::Display {
+                format,
+                tonemap: scene.output.tonemap,
+                clamp: s == Saturation::Clamp,
+            }),
+        }
+    }
+
+    /// The colour format the pipelines write (`hdr`: the float target's).
+    pub fn color_format(self, hdr: vk::Format) -> vk::Format {
+        match self {
+            Output::Hdr => hdr,
+            Output::Display { format, .. } => format,
+        }
+    }
+
+    /// The values of the `OUTPUT`, `OUTPUT_TONEMAP` and `OUTPUT_CLAMP` specialization constants.
+    pub(crate) fn spec(self) -> [(u32, u32); 3] {
+        use crate::glsl::include_output as o;
+        match self {
+            Output::Hdr => [
+                (gpu::SPEC_OUTPUT, o::OUTPUT_HDR),
+                (gpu::SPEC_OUTPUT_TONEMAP, 0),
+                (gpu::SPEC_OUTPUT_CLAMP, 0),
+            ],
+            Output::Display { tonemap, clamp, .. } => [
+                (gpu::SPEC_OUTPUT, o::OUTPUT_DISPLAY),
+                (
+                    gpu::SPEC_OUTPUT_TONEMAP,
+                    crate::render::tonemap::tonemap_id(tonemap),
+                ),
+                (gpu::SPEC_OUTPUT_CLAMP, clamp as u32),
+            ],
+        }
+    }
+
+    /// The clear colour of the background `rgb` in this output: the radiance, or the display
+    /// codes (as UNORM floats) the shader would write for it at `exposure_ev`.
+    pub fn clear_color(self, rgb: glam::Vec3, exposure_ev: f32) -> [f32; 4] {
+        match self {
+            Output::Hdr => rgb.extend(1.0).to_array(),
+            Output::Display { tonemap, clamp, .. } => {
+                let c = if clamp { rgb.min(glam::Vec3::ONE) } else { rgb };
+                let codes = crate::color::to_display_rgba8(
+                    &[c.extend(1.0).to_array()],
+                    exposure_ev,
+                    tonemap,
+                );
+                [0, 1, 2, 3].map(|i| codes[i] as f32 / 255.0)
+            }
         }
     }
 }
@@ -95,7 +175,10 @@ struct Slot {
 }
 
 pub struct ForwardPass {
-    pipelines: BTreeMap<VariantKey, Pipeline>,
+    /// Built per (variant, output) on [`ForwardPass::prepare`].
+    pipelines: BTreeMap<(VariantKey, Output), Pipeline>,
+    modules: Modules,
+    target: TargetFormat,
     draws: Vec<Draw>,
     meshes: Vec<GpuMesh>,
     slots: Vec<Slot>,
@@ -105,10 +188,15 @@ pub struct ForwardPass {
     _pool: DescriptorPool,
     layout: PipelineLayout,
     _set_layout: DescriptorSetLayout,
-    background: [f32; 4],
+    background: glam::Vec3,
+    exposure: f32,
     light_count: u32,
     variant_debug: DebugView,
-    skybox: Option<Pipeline>,
+    /// The environment is drawn as the background: one pipeline per output.
+    has_skybox: bool,
+    skyboxes: BTreeMap<Output, Pipeline>,
+    /// Bound in every slot's set (`BINDING_SRGB_TABLE`); kept as long as they are.
+    _srgb_table: Buffer,
     env_set: Option<vk::DescriptorSet>,
     materials: MaterialSets,
     _empty_layout: DescriptorSetLayout,
@@ -160,6 +248,7 @@ impl ForwardPass {
             debug,
             slots,
             generic,
+            output,
         } = options;
         let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
@@ -191,7 +280,7 @@ impl ForwardPass {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 2 * n,
+                descriptor_count: 3 * n,
             },
         ];
         let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
@@ -214,6 +303,12 @@ impl ForwardPass {
         uploader.flush(pool)?;
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
+        let srgb_table = Buffer::with_data(
+            ctx,
+            "forward sRGB encode table",
+            crate::color::srgb_encode_table().as_slice(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         let mut slots = Vec::with_capacity(slot_count);
         for i in 0..slot_count {
             slots.push(Slot::new(
@@ -221,16 +316,12 @@ impl ForwardPass {
                 &desc_pool,
                 &set_layout,
                 i,
-                light_count,
-                object_count,
+                (light_count, object_count),
+                &srgb_table,
             )?);
         }
-        let pipelines = build_pipelines(ctx, &layout, target, &draws)?;
-
-        let skybox = match (ibl, &scene.environment) {
-            (Some(_), Some(e)) if e.show_background => Some(create_skybox(ctx, &layout, target)?),
-            _ => None,
-        };
+        let has_skybox =
+            matches!((ibl, &scene.environment), (Some(_), Some(e)) if e.show_background);
         let lut_layers = ibl.map(|i| {
             lut_geometries(scene)
                 .into_iter()
@@ -238,7 +329,9 @@ impl ForwardPass {
                 .collect()
         });
         let mut pass = Self {
-            pipelines,
+            pipelines: BTreeMap::new(),
+            modules: Modules::default(),
+            target,
             draws,
             meshes,
             slots,
@@ -247,19 +340,45 @@ impl ForwardPass {
             _pool: desc_pool,
             layout,
             _set_layout: set_layout,
-            background: scene.output.background.extend(1.0).to_array(),
+            background: scene.output.background,
+            exposure: scene.output.exposure,
             light_count: lights.len() as u32,
             variant_debug: debug,
-            skybox,
+            has_skybox,
+            skyboxes: BTreeMap::new(),
+            _srgb_table: srgb_table,
             env_set: ibl.map(|i| i.set),
             materials,
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
+        pass.prepare(output)?;
         for slot in 0..slot_count {
             pass.update(slot, scene, aspect)?;
         }
         Ok(pass)
+    }
+
+    /// Builds the pipelines drawing with `output` that are not built yet (each variant the draws
+    /// use, and the skybox).
+    pub fn prepare(&mut self, output: Output) -> Result<(), VkError> {
+        let needed: std::collections::BTreeSet<VariantKey> =
+            self.draws.iter().map(|d| d.variant).collect();
+        for v in needed {
+            if self.pipelines.contains_key(&(v, output)) {
+                continue;
+            }
+            let (vs, fs) = self.modules.forward(&self.ctx, v)?;
+            let pipeline =
+                create_pipeline(&self.ctx, &self.layout, self.target, v, output, vs, fs)?;
+            self.pipelines.insert((v, output), pipeline);
+        }
+        if self.has_skybox && !self.skyboxes.contains_key(&output) {
+            let (vs, fs) = self.modules.skybox(&self.ctx)?;
+            let sky = create_skybox(&self.ctx, &self.layout, self.target, output, vs, fs)?;
+            self.skyboxes.insert(output, sky);
+        }
+        Ok(())
     }
 
     /// Number of per-frame data copies.
@@ -307,7 +426,8 @@ impl ForwardPass {
                 )?;
             }
         }
-        self.background = scene.output.background.extend(1.0).to_array();
+        self.background = scene.output.background;
+        self.exposure = scene.output.exposure;
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
@@ -359,8 +479,15 @@ impl ForwardPass {
 
     /// The pipeline variants this pass built, in a stable order.
     pub fn variants(&self) -> Vec<String> {
-        let mut v: Vec<String> = self.pipelines.keys().map(|k| k.to_string()).collect();
-        if self.skybox.is_some() {
+        let mut v: Vec<String> = self
+            .draws
+            .iter()
+            .map(|d| d.variant)
+            .collect::<std::collections::BTreeSet<_>>()
+            .iter()
+            .map(|k| k.to_string())
+            .collect();
+        if self.has_skybox {
             v.push("skybox".to_string());
         }
         v
@@ -373,18 +500,45 @@ impl ForwardPass {
             .sum()
     }
 
-    /// Clears the target to the scene background and draws every object (slot 0's data).
-    pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) {
-        self.record_slot(cmd, target, 0)
+    /// Clears the target to the scene background and draws every object (slot 0's data, the HDR
+    /// output).
+    pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) -> Result<(), VkError> {
+        self.record_slot(cmd, target, 0, Output::Hdr)
     }
 
-    /// As [`ForwardPass::record`], with the per-frame data of `slot`.
-    pub fn record_slot(&self, cmd: vk::CommandBuffer, target: &TargetViews, slot: usize) {
+    /// As [`ForwardPass::record`], with the per-frame data of `slot`, writing `output` (its
+    /// pipelines [`ForwardPass::prepare`]d; `target.color` of its format).
+    pub fn record_slot(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: &TargetViews,
+        slot: usize,
+        output: Output,
+    ) -> Result<(), VkError> {
         let d = &self.ctx.device;
         let set = self.slots[slot.min(self.slots.len() - 1)].set;
+        let mut pipelines = Vec::new();
+        for draw in &self.draws {
+            let p = self.pipelines.get(&(draw.variant, output)).ok_or_else(|| {
+                VkError::Setup(format!(
+                    "forward: the pipeline {} for {output:?} was not prepared",
+                    draw.variant
+                ))
+            })?;
+            pipelines.push(p.raw);
+        }
+        let skybox = match (self.has_skybox, self.skyboxes.get(&output)) {
+            (false, _) => None,
+            (true, Some(p)) => Some(p.raw),
+            (true, None) => {
+                return Err(VkError::Setup(format!(
+                    "forward: the skybox for {output:?} was not prepared"
+                )))
+            }
+        };
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
-                float32: self.background,
+                float32: output.clear_color(self.background, self.exposure),
             },
         };
         let mut color = vk::RenderingAttachmentInfo::default()
@@ -458,10 +612,10 @@ impl ForwardPass {
                     &[],
                 );
             }
-            let mut bound: Option<VariantKey> = None;
+            let mut bound: Option<vk::Pipeline> = None;
             let mut bound_material: Option<usize> = None;
             let mut bound_cull: Option<bool> = None;
-            for draw in &self.draws {
+            for (draw, &pipeline) in self.draws.iter().zip(&pipelines) {
                 if bound_cull != Some(draw.cull) {
                     d.cmd_set_cull_mode(
                         cmd,
@@ -486,13 +640,9 @@ impl ForwardPass {
                     }
                     bound_material = Some(draw.material);
                 }
-                if bound != Some(draw.variant) {
-                    d.cmd_bind_pipeline(
-                        cmd,
-                        vk::PipelineBindPoint::GRAPHICS,
-                        self.pipelines[&draw.variant].raw,
-                    );
-                    bound = Some(draw.variant);
+                if bound != Some(pipeline) {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                    bound = Some(pipeline);
                 }
                 let m = &self.meshes[draw.mesh];
                 d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
@@ -509,13 +659,14 @@ impl ForwardPass {
                 );
                 d.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
             }
-            if let Some(sky) = &self.skybox {
+            if let Some(sky) = skybox {
                 d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky.raw);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
                 d.cmd_draw(cmd, 3, 1, 0, 0);
             }
             d.cmd_end_rendering(cmd);
         }
+        Ok(())
     }
 }
 
@@ -534,7 +685,8 @@ fn storage_fits<T>(
     )
 }
 
-/// The per-frame set's layout: frame uniforms, lights, objects (`bindings.glsl`, set 0).
+/// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table
+/// (`bindings.glsl`, set 0).
 fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
     let bindings = [
         vk::DescriptorSetLayoutBinding::default()
@@ -552,6 +704,11 @@ fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> 
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .descriptor_count(1)
             .stage_flags(STAGES),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_SRGB_TABLE)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT),
     ];
     DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
 }
@@ -705,34 +862,6 @@ fn build_draws(
     })
 }
 
-/// Exactly the pipeline variants `draws` use.
-fn build_pipelines(
-    ctx: &Arc<Context>,
-    layout: &PipelineLayout,
-    target: TargetFormat,
-    draws: &[Draw],
-) -> Result<BTreeMap<VariantKey, Pipeline>, VkError> {
-    let mut pipelines = BTreeMap::new();
-    let mut modules: HashMap<String, (ShaderModule, ShaderModule)> = HashMap::new();
-    let needed: std::collections::BTreeSet<VariantKey> = draws.iter().map(|d| d.variant).collect();
-    for v in needed {
-        let (vs, fs) = match modules.entry(v.module_variant()) {
-            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::hash_map::Entry::Vacant(e) => {
-                let s = e.key().clone();
-                e.insert((
-                    ShaderModule::new(ctx, &format!("forward.vert:{s}"))?,
-                    ShaderModule::new(ctx, &format!("forward.frag:{s}"))?,
-                ))
-            }
-        };
-        let pipeline = create_pipeline(ctx, layout, target, v, vs, fs)?;
-        pipelines.insert(v, pipeline);
-    }
-
-    Ok(pipelines)
-}
-
 /// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
 pub fn lut_geometry(m: &crate::brdf::Model) -> i32 {
     use crate::brdf::{Geometry, Model};
@@ -763,8 +892,8 @@ impl Slot {
         pool: &DescriptorPool,
         layout: &DescriptorSetLayout,
         index: usize,
-        lights: usize,
-        objects: usize,
+        (lights, objects): (usize, usize),
+        srgb_table: &Buffer,
     ) -> Result<Self, VkError> {
         let buffer = |name: &str, size: usize, usage| {
             Buffer::new(
@@ -798,11 +927,17 @@ impl Slot {
                 range: vk::WHOLE_SIZE,
             }]
         };
-        let infos = [info(&frame_ubo), info(&lights), info(&objects)];
+        let infos = [
+            info(&frame_ubo),
+            info(&lights),
+            info(&objects),
+            info(srgb_table),
+        ];
         let writes = [
             (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
             (gpu::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
             (gpu::BINDING_OBJECTS, vk::DescriptorType::STORAGE_BUFFER),
+            (gpu::BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
         ]
         .iter()
         .zip(&infos)

@@ -6,7 +6,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::TargetFormat;
+use std::collections::HashMap;
+
+use super::{Output, TargetFormat};
 use crate::brdf::{Diffuse, Distribution, Fresnel, Geometry, ModelKind};
 use crate::render::gpu::{self, Vertex};
 use crate::scene::Shading;
@@ -320,11 +322,51 @@ impl std::fmt::Display for VariantKey {
     }
 }
 
+/// The shader modules pipelines are built from, loaded on first use and kept for later outputs.
+#[derive(Default)]
+pub(super) struct Modules {
+    forward: HashMap<String, (ShaderModule, ShaderModule)>,
+    skybox: Option<(ShaderModule, ShaderModule)>,
+}
+
+impl Modules {
+    /// `forward.vert` and `forward.frag` in the variant `v` needs.
+    pub(super) fn forward(
+        &mut self,
+        ctx: &Arc<Context>,
+        v: VariantKey,
+    ) -> Result<&(ShaderModule, ShaderModule), VkError> {
+        let name = v.module_variant();
+        if !self.forward.contains_key(&name) {
+            let pair = (
+                ShaderModule::new(ctx, &format!("forward.vert:{name}"))?,
+                ShaderModule::new(ctx, &format!("forward.frag:{name}"))?,
+            );
+            self.forward.insert(name.clone(), pair);
+        }
+        Ok(&self.forward[&name])
+    }
+
+    pub(super) fn skybox(
+        &mut self,
+        ctx: &Arc<Context>,
+    ) -> Result<&(ShaderModule, ShaderModule), VkError> {
+        if self.skybox.is_none() {
+            self.skybox = Some((
+                ShaderModule::new(ctx, "skybox.vert")?,
+                ShaderModule::new(ctx, "skybox.frag")?,
+            ));
+        }
+        Ok(self.skybox.as_ref().expect("loaded above"))
+    }
+}
+
 pub(super) fn create_pipeline(
     ctx: &Arc<Context>,
     layout: &PipelineLayout,
     target: TargetFormat,
     v: VariantKey,
+    output: Output,
     vs: &ShaderModule,
     fs: &ShaderModule,
 ) -> Result<Pipeline, VkError> {
@@ -389,6 +431,7 @@ pub(super) fn create_pipeline(
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
     ];
+    spec.extend(output.spec());
     if let Some(i) = v.ibl {
         spec.extend([
             (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),
@@ -398,7 +441,10 @@ pub(super) fn create_pipeline(
             (gpu::SPEC_MIP_FILTERED, i.mip_filtered as u32),
         ]);
     }
-    let name = v.to_string();
+    let name = match output {
+        Output::Hdr => v.to_string(),
+        Output::Display { format, .. } => format!("{v} → {format:?}"),
+    };
     Pipeline::graphics(
         ctx,
         layout,
@@ -409,7 +455,7 @@ pub(super) fn create_pipeline(
             spec: &spec,
             vertex_bindings: &bindings,
             vertex_attributes: &attributes,
-            color_formats: &[target.color],
+            color_formats: &[output.color_format(target.color)],
             depth_format: Some(target.depth),
             samples: target.samples,
             cull: vk::CullModeFlags::NONE,
@@ -424,20 +470,21 @@ pub(super) fn create_skybox(
     ctx: &Arc<Context>,
     layout: &PipelineLayout,
     target: TargetFormat,
+    output: Output,
+    vs: &ShaderModule,
+    fs: &ShaderModule,
 ) -> Result<Pipeline, VkError> {
-    let vs = ShaderModule::new(ctx, "skybox.vert")?;
-    let fs = ShaderModule::new(ctx, "skybox.frag")?;
     Pipeline::graphics(
         ctx,
         layout,
         &GraphicsDesc {
             name: "skybox",
-            vertex: &vs,
-            fragment: &fs,
-            spec: &[],
+            vertex: vs,
+            fragment: fs,
+            spec: &output.spec(),
             vertex_bindings: &[],
             vertex_attributes: &[],
-            color_formats: &[target.color],
+            color_formats: &[output.color_format(target.color)],
             depth_format: Some(target.depth),
             samples: target.samples,
             cull: vk::CullModeFlags::NONE,

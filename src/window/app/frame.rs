@@ -184,7 +184,16 @@ impl Viewer {
             )?;
         }
         let screenshot = self.pending_screenshot.take();
-        let readback = self.record(cmd, slot, image_index, &primitives, screenshot.as_deref())?;
+        let output = self.frame_output(screenshot.as_deref());
+        self.forward.prepare(output)?;
+        let readback = self.record(
+            cmd,
+            slot,
+            image_index,
+            &primitives,
+            screenshot.as_deref(),
+            output,
+        )?;
         // SAFETY: `cmd` is recording (begun above) and `record` closed its rendering instances.
         unsafe { d.end_command_buffer(cmd)? };
 
@@ -239,6 +248,22 @@ impl Viewer {
         self.frame_limit.is_some_and(|n| self.frame_index >= n)
     }
 
+    /// What this frame's forward pass writes: the display codes straight into the swapchain
+    /// image when nothing needs the float image ([`preferred_output`]) and the target matches
+    /// the window, else the HDR radiance.
+    pub(super) fn frame_output(&self, screenshot: Option<&Path>) -> Output {
+        let exr = screenshot.is_some_and(is_exr);
+        if exr || self.targets.extent() != self.swapchain.extent {
+            return Output::Hdr;
+        }
+        preferred_output(
+            &self.scene,
+            self.display_path,
+            self.samples,
+            self.swapchain.format,
+        )
+    }
+
     /// Records the frame's passes into `cmd`; returns the screenshot being copied, if any.
     pub(super) fn record(
         &mut self,
@@ -247,6 +272,7 @@ impl Viewer {
         image_index: u32,
         primitives: &[egui::ClippedPrimitive],
         screenshot: Option<&Path>,
+        output: Output,
     ) -> Result<Option<Shot>> {
         let d = self.ctx.device.clone();
         let mut timer = self.frames[slot].timer.take();
@@ -264,102 +290,130 @@ impl Viewer {
                     | vk::PipelineStageFlags2::COPY,
             },
         );
-        let views = t.views();
-        let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-        self.forward.record_slot(cmd, &views, slot);
-        if let Some(t) = &mut timer {
-            t.end(cmd, s);
-        }
-        let mut last = COLOR_ATTACHMENT;
-        if let Some(sat) = &self.saturate {
-            let s = timer.as_mut().and_then(|t| t.begin(cmd, sat.name()));
-            last = sat.record(cmd, last);
-            if let Some(t) = &mut timer {
-                t.end(cmd, s);
-            }
-        }
-        let exr =
-            screenshot.filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")));
-        let mut read = self.display.source_access();
-        if exr.is_some() {
-            read.1 |= vk::PipelineStageFlags2::COPY;
-            read.2 |= vk::AccessFlags2::TRANSFER_READ;
-        }
-        // The swapchain image: written whole by the display pass, then the UI on top.
+        // The swapchain image: written whole by the forward pass or the display pass, then the UI
+        // on top.
         let image = self.swapchain.images[image_index as usize];
         let attachment: Access = (
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
-        transition(
-            &d,
-            cmd,
-            &[
-                Transition {
-                    image: t.color.raw,
-                    range: t.color.subresource_range(),
-                    from: last,
-                    to: read,
-                },
-                Transition {
-                    image,
-                    range: color_range(),
-                    // Chained to the acquire semaphore's wait at this stage.
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: attachment,
-                },
-            ],
-        );
-        let extent = t.color.extent();
-        let mut shot = match exr {
-            Some(path) => Some(self.copy_hdr(&d, cmd, path)?),
-            None => None,
+        let to_attachment = Transition {
+            image,
+            range: color_range(),
+            // Chained to the acquire semaphore's wait at this stage.
+            from: (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::NONE,
+            ),
+            to: attachment,
         };
         let sc = self.swapchain.extent;
-        let colors = [vk::RenderingAttachmentInfo::default()
-            .image_view(self.swapchain.views[image_index as usize])
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        let info = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D::default(),
+        let swapchain_view = self.swapchain.views[image_index as usize];
+        let mut shot = None;
+        let ui_load = if let Output::Display { .. } = output {
+            transition(&d, cmd, &[to_attachment]);
+            let views = TargetViews {
+                color: swapchain_view,
+                resolve: None,
+                depth: t.depth.view,
                 extent: sc,
-            })
-            .layer_count(1)
-            .color_attachments(&colors);
-        // SAFETY: `cmd` is recording; the swapchain image was transitioned to COLOR_ATTACHMENT_OPTIMAL
-        // above and `info` outlives the call.
-        unsafe { d.cmd_begin_rendering(cmd, &info) };
-        let s = timer.as_mut().and_then(|t| t.begin(cmd, "display"));
-        let area = vk::Extent2D {
-            width: extent.width.min(sc.width),
-            height: extent.height.min(sc.height),
+            };
+            let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+            self.forward.record_slot(cmd, &views, slot, output)?;
+            if let Some(t) = &mut timer {
+                t.end(cmd, s);
+            }
+            vk::AttachmentLoadOp::LOAD
+        } else {
+            let views = t.views();
+            let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+            self.forward.record_slot(cmd, &views, slot, output)?;
+            if let Some(t) = &mut timer {
+                t.end(cmd, s);
+            }
+            let mut last = COLOR_ATTACHMENT;
+            if let Some(sat) = &self.saturate {
+                let s = timer.as_mut().and_then(|t| t.begin(cmd, sat.name()));
+                last = sat.record(cmd, last);
+                if let Some(t) = &mut timer {
+                    t.end(cmd, s);
+                }
+            }
+            let exr = screenshot.filter(|p| is_exr(p));
+            let mut read = self.display.source_access();
+            if exr.is_some() {
+                read.1 |= vk::PipelineStageFlags2::COPY;
+                read.2 |= vk::AccessFlags2::TRANSFER_READ;
+            }
+            transition(
+                &d,
+                cmd,
+                &[
+                    Transition {
+                        image: t.color.raw,
+                        range: t.color.subresource_range(),
+                        from: last,
+                        to: read,
+                    },
+                    to_attachment,
+                ],
+            );
+            if let Some(path) = exr {
+                shot = Some(self.copy_hdr(&d, cmd, path)?);
+            }
+            vk::AttachmentLoadOp::DONT_CARE
         };
-        self.display.record(
-            cmd,
-            self.scene.output.tonemap,
-            self.swapchain.format,
-            self.scene.output.exposure,
-            area,
-        )?;
-        if let Some(t) = &mut timer {
-            t.end(cmd, s);
+        let hdr_extent = self.targets.color.extent();
+        let display = ui_load == vk::AttachmentLoadOp::DONT_CARE;
+        let has_ui = self.egui_renderer.is_some() && !primitives.is_empty();
+        if display || has_ui {
+            let colors = [vk::RenderingAttachmentInfo::default()
+                .image_view(swapchain_view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(ui_load)
+                .store_op(vk::AttachmentStoreOp::STORE)];
+            let info = vk::RenderingInfo::default()
+                .render_area(vk::Rect2D {
+                    offset: vk::Offset2D::default(),
+                    extent: sc,
+                })
+                .layer_count(1)
+                .color_attachments(&colors);
+            // SAFETY: `cmd` is recording; the swapchain image is in COLOR_ATTACHMENT_OPTIMAL (the
+            // transition above, or the forward pass that drew into it), and `info` outlives the call.
+            unsafe { d.cmd_begin_rendering(cmd, &info) };
+            if display {
+                let s = timer.as_mut().and_then(|t| t.begin(cmd, "display"));
+                let area = vk::Extent2D {
+                    width: hdr_extent.width.min(sc.width),
+                    height: hdr_extent.height.min(sc.height),
+                };
+                self.display.record(
+                    cmd,
+                    self.scene.output.tonemap,
+                    self.swapchain.format,
+                    self.scene.output.exposure,
+                    area,
+                )?;
+                if let Some(t) = &mut timer {
+                    t.end(cmd, s);
+                }
+            }
+            let s = timer.as_mut().and_then(|t| t.begin(cmd, "ui"));
+            if let Some(r) = &mut self.egui_renderer {
+                r.cmd_draw(cmd, sc, self.egui_ctx.pixels_per_point(), primitives)
+                    .map_err(|e| anyhow!("egui: {e}"))?;
+            }
+            // SAFETY: closes the rendering begun above in the same command buffer.
+            unsafe { d.cmd_end_rendering(cmd) };
+            if let Some(t) = &mut timer {
+                t.end(cmd, s);
+            }
         }
-        let s = timer.as_mut().and_then(|t| t.begin(cmd, "ui"));
-        if let Some(r) = &mut self.egui_renderer {
-            r.cmd_draw(cmd, sc, self.egui_ctx.pixels_per_point(), primitives)
-                .map_err(|e| anyhow!("egui: {e}"))?;
-        }
-        // SAFETY: closes the rendering begun above in the same command buffer.
-        unsafe { d.cmd_end_rendering(cmd) };
         let mut last = attachment;
-        let png = screenshot.filter(|_| exr.is_none());
+        let png = screenshot.filter(|p| !is_exr(p));
         if let Some(path) = png {
             if let Some(copy) = self.copy_display(&d, cmd, image, &mut last, path)? {
                 shot = Some(copy);
@@ -379,9 +433,6 @@ impl Viewer {
                 ),
             }],
         );
-        if let Some(t) = &mut timer {
-            t.end(cmd, s);
-        }
         if shot.is_some() {
             crate::vk::cmd::memory_barrier(
                 &d,
@@ -515,4 +566,24 @@ impl Viewer {
         self.status = Some(msg);
         Ok(())
     }
+}
+
+fn is_exr(p: &Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// The output the viewer's forward pass draws with when nothing else in the frame needs the float
+/// image: straight into the swapchain image unless `path` asks for the float path, the scene
+/// needs the whole float image (normalize saturation) or is multisampled (the resolve averages
+/// radiance, as `luz render` does).
+pub(super) fn preferred_output(
+    scene: &Scene,
+    path: DisplayPath,
+    samples: vk::SampleCountFlags,
+    format: vk::Format,
+) -> Output {
+    if path == DisplayPath::Hdr || samples != vk::SampleCountFlags::TYPE_1 {
+        return Output::Hdr;
+    }
+    Output::display_for(scene, format).unwrap_or(Output::Hdr)
 }

@@ -26,12 +26,12 @@ use super::camera::OrbitCamera;
 use super::script::{self, Action};
 use super::swapchain::{color_range, Swapchain};
 use super::ui::{self, UiAction, UiState, ViewSettings};
-use super::{ViewOptions, ViewOutcome};
+use super::{DisplayPath, ViewOptions, ViewOutcome};
 use crate::headless::{build_ibl, RenderOptions};
 use crate::imageio::LinearImage;
 use crate::profiler::{FrameSample, Profiler};
 use crate::render::display::DisplayPass;
-use crate::render::forward::{ForwardPass, TargetFormat};
+use crate::render::forward::{ForwardPass, Output, TargetFormat, TargetViews};
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
 use crate::render::target::{FrameStart, HdrTarget, COLOR_ATTACHMENT, COLOR_FORMAT, DEPTH_FORMAT};
@@ -289,6 +289,7 @@ struct Viewer {
     orbit: OrbitCamera,
     render_options: RenderOptions,
     samples: vk::SampleCountFlags,
+    display_path: DisplayPath,
     script: Vec<(u64, Action)>,
     frame_limit: Option<u64>,
     bench: bool,
@@ -432,6 +433,7 @@ impl Viewer {
             ibl.as_ref(),
             &settings,
             extent,
+            frame::preferred_output(&scene, args.display_path, samples, swapchain.format),
         )?;
         let saturate = SaturatePass::for_scene(&ctx, &scene, &targets.color)?;
         let display = DisplayPass::new(&ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
@@ -487,6 +489,7 @@ impl Viewer {
             orbit,
             render_options,
             samples,
+            display_path: args.display_path,
             script,
             frame_limit: args.frames.or(if args.bench { Some(300) } else { None }),
             bench: args.bench,
@@ -590,6 +593,7 @@ fn make_forward(
     ibl: Option<&Ibl>,
     settings: &ViewSettings,
     extent: vk::Extent2D,
+    output: Output,
 ) -> Result<ForwardPass, VkError> {
     ForwardPass::in_flight(
         ctx,
@@ -606,6 +610,7 @@ fn make_forward(
             debug: settings.debug_view,
             slots: FRAMES_IN_FLIGHT,
             generic: false,
+            output,
         },
     )
 }

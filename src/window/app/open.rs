@@ -130,6 +130,12 @@ impl Viewer {
             },
             &self.settings,
             self.swapchain.extent,
+            frame::preferred_output(
+                &self.scene,
+                self.display_path,
+                samples,
+                self.swapchain.format,
+            ),
         )?;
         let color = targets.as_ref().unwrap_or(&self.targets);
         let saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &color.color)?;
