@@ -7,11 +7,13 @@
 //! variant gouraud_ibl: SHADING_GOURAUD IBL
 //! variant phong_ibl: SHADING_PHONG IBL
 //! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
+//! variant gbuffer: SHADING_PHONG GBUFFER
 
 // Phong shading interpolates only what the fragment stage reads: lavapipe sets up every triangle
 // on the CPU, at a cost that grows with the number of outputs. Without PHONG_MAPS (no texture
 // maps, a model without a tangent frame) that is the view depth, world position and normal; with
-// it also the tangent and the texture coordinates.
+// it also the tangent and the texture coordinates. GBUFFER (the deferred path's geometry pass):
+// only the view depth and the normal.
 
 #include "include/lighting.glsl"
 
@@ -30,6 +32,8 @@ layout(location = 0) out float out_depth;  // view-space depth, for depth cueing
 layout(location = 1) flat out vec3 out_color;
 #elif defined(SHADING_GOURAUD)
 layout(location = 1) out vec3 out_color;
+#elif defined(GBUFFER)
+layout(location = 2) out vec3 out_normal;
 #else
 layout(location = 1) out vec3 out_world;
 layout(location = 2) out vec3 out_normal;
@@ -61,6 +65,8 @@ void main() {
     vec3 y;
     tangent_frame(n, t, x, y);
     out_color = shade(world.xyz, n, x, y, in_uv);
+#elif defined(GBUFFER)
+    out_normal = n;
 #else
     out_world = world.xyz;
     out_normal = n;

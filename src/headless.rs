@@ -38,6 +38,8 @@ pub struct RenderOptions {
     pub generic_pipelines: bool,
     /// Told the progress of the IBL precomputation (the binary draws a bar).
     pub progress: Option<crate::progress::ProgressSink>,
+    /// Deferred lighting where the scene allows it, or always forward.
+    pub render_path: crate::render::forward::RenderPath,
 }
 
 impl RenderOptions {
@@ -54,6 +56,7 @@ impl RenderOptions {
             debug_view,
             generic_pipelines: false,
             progress: None,
+            render_path: Default::default(),
         }
     }
 
@@ -63,6 +66,7 @@ impl RenderOptions {
             slots: 1,
             generic: self.generic_pipelines,
             output: crate::render::forward::Output::Hdr,
+            path: self.render_path,
         }
     }
 }
@@ -335,6 +339,11 @@ impl Headless {
         self.forward.triangle_count()
     }
 
+    /// "deferred" or "forward": how the scene is drawn ([`crate::render::forward::RenderPath`]).
+    pub fn render_path(&self) -> &'static str {
+        self.forward.render_path()
+    }
+
     /// Renders one frame, copies it to the host-visible readback buffer and waits for it.
     pub fn render(&mut self) -> Result<FrameTimes, VkError> {
         self.render_frame(Output::Hdr)
@@ -375,6 +384,7 @@ impl Headless {
         let d = self.ctx.device.clone();
         let cmd = self.cmd;
         self.forward.prepare(output)?;
+        self.forward.prepare_extent(self.target.extent())?;
         if output != Output::Hdr && self.display_target.is_none() {
             let mut desc = ImageDesc::color_target(self.width, self.height, DISPLAY_FORMAT);
             desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;

@@ -76,6 +76,7 @@ layout(set = SET_MATERIAL, binding = MAP_ORM) uniform sampler2D map_orm;
 layout(set = SET_MATERIAL, binding = MAP_NORMAL) uniform sampler2D map_normal;
 layout(set = SET_MATERIAL, binding = MAP_OCCLUSION) uniform sampler2D map_occlusion;
 layout(set = SET_MATERIAL, binding = MAP_EMISSIVE) uniform sampler2D map_emissive;
+#ifndef LUZ_DEFERRED
 layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor
     vec4 params;    // normal_scale, occlusion_strength
@@ -91,6 +92,27 @@ layout(push_constant) uniform MaterialPush {
     uint reserved0;
     uint reserved1;
 } material;
+#else
+// The deferred lighting pass (deferred_light.frag) shades every pixel in one draw: the same two
+// blocks, as globals it fills per pixel from the per-object array below (src/render/gpu.rs:
+// DeferredMaterial) before calling shade().
+struct MaterialExtraData {
+    vec4 emissive;
+    vec4 params;
+    uvec4 present;
+};
+struct MaterialPushData {
+    BrdfParams brdf;
+    uint object_index;
+    uint flags;
+    uint reserved0;
+    uint reserved1;
+};
+MaterialExtraData mat_extra;
+MaterialPushData material;
+#endif
+// Per object slot: its material's push constants and extra block, for the deferred lighting pass.
+#define BINDING_DEFERRED_MATERIALS 4
 
 // The material model (BRDF_MODEL_*), fixed per pipeline so the driver compiles only that model.
 layout(constant_id = 0) const int MODEL = BRDF_MODEL_BLINN_PHONG;

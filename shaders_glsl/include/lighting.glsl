@@ -63,6 +63,7 @@ bool has_map(uint slot) {
     return (MAPS & (1u << slot)) != 0u && (mat_extra.present.x & (1u << slot)) != 0u;
 }
 
+#ifndef LUZ_DEFERRED
 vec4 sample_map(sampler2D s, vec2 uv) {
 #ifdef LUZ_FRAGMENT
     return texture(s, uv);
@@ -70,6 +71,7 @@ vec4 sample_map(sampler2D s, vec2 uv) {
     return textureLod(s, uv, 0.0);
 #endif
 }
+#endif
 
 // What the maps make of the material at one point: parameters, shading frame, occlusion, emission.
 struct Surface {
@@ -92,6 +94,7 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     if (MAPS == 0u || mat_extra.present.x == 0u) {
         return s;
     }
+#ifndef LUZ_DEFERRED
     if (has_map(MAP_BASE_COLOR)) {
         s.p.color.rgb *= sample_map(map_base_color, uv).rgb;
     }
@@ -131,6 +134,7 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
             s.n = n;
         }
     }
+#endif
     return s;
 }
 

@@ -12,7 +12,7 @@ use luz::vk::Context;
 
 use super::common::{
     context, debug_view_parser, load_scene, print_timing, render_options, report_tessellation,
-    validation_exit, Bar, GpuArgs, IblQuality,
+    validation_exit, Bar, GpuArgs, IblQuality, RenderPathArg,
 };
 
 #[derive(Args, Debug)]
@@ -50,6 +50,11 @@ pub struct BenchArgs {
     /// into RGBA8, the viewer's direct path; not with normalize saturation or MSAA).
     #[arg(long, value_enum, default_value_t = BenchOutput::Hdr)]
     pub output: BenchOutput,
+    /// "auto": deferred lighting (a G-buffer pass, then one lighting pass over the covered
+    /// pixels) when every object shares one lean Phong variant, no environment, no MSAA; forward
+    /// otherwise. "forward": always forward (for comparisons).
+    #[arg(long, value_enum, default_value_t = RenderPathArg::Auto)]
+    pub render_path: RenderPathArg,
     /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);
     /// default: a tenth of --frames.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -113,7 +118,10 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &render_options(a.no_cache, a.ibl_quality, a.debug_view),
+        &luz::headless::RenderOptions {
+            render_path: a.render_path.path(),
+            ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
+        },
     )?;
     let output = match a.output {
         BenchOutput::Hdr => Output::Hdr,

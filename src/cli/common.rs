@@ -261,3 +261,20 @@ pub fn print_timing(report: &TimingReport) {
         "CPU frame", s.median, s.p95, s.p99
     );
 }
+
+/// `--render-path` values (`luz bench`, `luz view`): deferred lighting where the scene allows it,
+/// or always forward.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RenderPathArg {
+    Auto,
+    Forward,
+}
+
+impl RenderPathArg {
+    pub fn path(self) -> luz::render::forward::RenderPath {
+        match self {
+            RenderPathArg::Auto => luz::render::forward::RenderPath::Auto,
+            RenderPathArg::Forward => luz::render::forward::RenderPath::Forward,
+        }
+    }
+}

@@ -8,7 +8,9 @@ use clap::Args;
 
 use luz::window::ViewOptions;
 
-use super::common::{sync_validation_requested, validation_exit_counts, Bar, GpuArgs, IblQuality};
+use super::common::{
+    sync_validation_requested, validation_exit_counts, Bar, GpuArgs, IblQuality, RenderPathArg,
+};
 
 /// `luz view`: the interactive viewer.
 #[derive(Args, Debug, Clone)]
@@ -67,6 +69,11 @@ pub struct ViewArgs {
     /// runs the display pass (same codes, more time: for comparisons).
     #[arg(long, value_enum, default_value_t = DisplayPathArg::Auto)]
     pub display_path: DisplayPathArg,
+    /// "auto": deferred lighting (a G-buffer pass, then one lighting pass over the covered
+    /// pixels) when every object shares one lean Phong variant, no environment, no MSAA; forward
+    /// otherwise. "forward": always forward (for comparisons).
+    #[arg(long, value_enum, default_value_t = RenderPathArg::Auto)]
+    pub render_path: RenderPathArg,
 }
 
 /// `--display-path` values.
@@ -100,6 +107,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
             DisplayPathArg::Auto => luz::window::DisplayPath::Auto,
             DisplayPathArg::Hdr => luz::window::DisplayPath::Hdr,
         },
+        render_path: a.render_path.path(),
         progress: Some(luz::progress::ProgressSink::new(Bar::new(
             "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
         ))),

@@ -15,6 +15,7 @@ pub const BINDING_FRAME: u32 = b::BINDING_FRAME as u32;
 pub const BINDING_LIGHTS: u32 = b::BINDING_LIGHTS as u32;
 pub const BINDING_OBJECTS: u32 = b::BINDING_OBJECTS as u32;
 pub const BINDING_SRGB_TABLE: u32 = b::BINDING_SRGB_TABLE as u32;
+pub const BINDING_DEFERRED_MATERIALS: u32 = b::BINDING_DEFERRED_MATERIALS as u32;
 /// The environment's set (`shaders_glsl/include/ibl.glsl`).
 pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
 /// The material maps' set.
@@ -127,6 +128,18 @@ pub struct MaterialPush {
     pub flags: u32,
     pub reserved: [u32; 2],
 }
+
+/// `DeferredMaterial` (std430) of `deferred_light.frag`: one per object slot, the push constants
+/// and the extra block its material has in the forward pass.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub struct DeferredMaterial {
+    pub push: MaterialPush,
+    pub extra: crate::render::material::MaterialExtra,
+}
+
+const _: () = assert!(std::mem::size_of::<MaterialPush>() == 112);
+const _: () = assert!(std::mem::size_of::<DeferredMaterial>() == 160);
 
 /// Vulkan guarantees 128 bytes of push constants; lavapipe offers exactly that.
 const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);

@@ -43,6 +43,18 @@ pub struct MaterialExtra {
     pub present: [u32; 4],
 }
 
+impl MaterialExtra {
+    /// The block of a material without maps (`present` 0): emission, normal scale, occlusion
+    /// strength, as [`MaterialSets::new`] writes it.
+    pub fn without_maps(t: &crate::scene::MaterialTextures) -> Self {
+        Self {
+            emissive: t.emissive_factor.extend(0.0).to_array(),
+            params: [t.normal_scale, t.occlusion_strength, 0.0, 0.0],
+            present: [0; 4],
+        }
+    }
+}
+
 pub struct MaterialSets {
     pub set_layout: DescriptorSetLayout,
     /// One descriptor set per scene material, by material index.

@@ -53,6 +53,8 @@ pub struct ViewOptions {
     pub progress: Option<crate::progress::ProgressSink>,
     /// How frames reach the window.
     pub display_path: DisplayPath,
+    /// Deferred lighting where the scene allows it, or always forward.
+    pub render_path: crate::render::forward::RenderPath,
 }
 
 /// How the viewer's frames reach the swapchain image.

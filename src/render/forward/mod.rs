@@ -18,7 +18,10 @@ use crate::vk::cmd::CommandPool;
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::{Buffer, Context, VkError};
 
+mod deferred;
 mod variant;
+
+pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};
 
 use variant::{create_pipeline, create_skybox, Modules};
 pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
@@ -57,6 +60,8 @@ pub struct PassOptions {
     pub generic: bool,
     /// The output whose pipelines are built up front (others on [`ForwardPass::prepare`]).
     pub output: Output,
+    /// Deferred lighting where the scene allows it, or always forward.
+    pub path: RenderPath,
 }
 
 impl Default for PassOptions {
@@ -66,6 +71,7 @@ impl Default for PassOptions {
             slots: 1,
             generic: false,
             output: Output::Hdr,
+            path: RenderPath::Auto,
         }
     }
 }
@@ -171,6 +177,8 @@ struct Slot {
     frame_ubo: Buffer,
     lights: Buffer,
     objects: Buffer,
+    /// Per object slot: its material ([`gpu::DeferredMaterial`]), read by the deferred path.
+    deferred_materials: Buffer,
     set: vk::DescriptorSet,
 }
 
@@ -197,6 +205,8 @@ pub struct ForwardPass {
     skyboxes: BTreeMap<Output, Pipeline>,
     /// Bound in every slot's set (`BINDING_SRGB_TABLE`); kept as long as they are.
     _srgb_table: Buffer,
+    /// The deferred path, when the scene takes it ([`deferred::eligible`]).
+    deferred: Option<deferred::Deferred>,
     env_set: Option<vk::DescriptorSet>,
     materials: MaterialSets,
     _empty_layout: DescriptorSetLayout,
@@ -249,6 +259,7 @@ impl ForwardPass {
             slots,
             generic,
             output,
+            path,
         } = options;
         let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
@@ -280,7 +291,7 @@ impl ForwardPass {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 3 * n,
+                descriptor_count: 4 * n,
             },
         ];
         let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
@@ -322,6 +333,17 @@ impl ForwardPass {
         }
         let has_skybox =
             matches!((ibl, &scene.environment), (Some(_), Some(e)) if e.show_background);
+        let variants: Vec<VariantKey> = draws.iter().map(|d| d.variant).collect();
+        let deferred = match (path, deferred::eligible(&variants, target.samples)) {
+            (RenderPath::Auto, Some(v)) if !has_skybox => Some(deferred::Deferred::new(
+                ctx,
+                &layout,
+                &set_layout,
+                target,
+                v,
+            )?),
+            _ => None,
+        };
         let lut_layers = ibl.map(|i| {
             lut_geometries(scene)
                 .into_iter()
@@ -347,6 +369,7 @@ impl ForwardPass {
             has_skybox,
             skyboxes: BTreeMap::new(),
             _srgb_table: srgb_table,
+            deferred,
             env_set: ibl.map(|i| i.set),
             materials,
             _empty_layout: empty_layout,
@@ -362,6 +385,9 @@ impl ForwardPass {
     /// Builds the pipelines drawing with `output` that are not built yet (each variant the draws
     /// use, and the skybox).
     pub fn prepare(&mut self, output: Output) -> Result<(), VkError> {
+        if let Some(d) = &mut self.deferred {
+            return d.prepare(output);
+        }
         let needed: std::collections::BTreeSet<VariantKey> =
             self.draws.iter().map(|d| d.variant).collect();
         for v in needed {
@@ -379,6 +405,24 @@ impl ForwardPass {
             self.skyboxes.insert(output, sky);
         }
         Ok(())
+    }
+
+    /// Allocates what drawing at `extent` needs beyond the caller's target (the deferred path's
+    /// G-buffer). No frame recorded at another extent may still be pending.
+    pub fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
+        match &mut self.deferred {
+            Some(d) => d.prepare_extent(extent),
+            None => Ok(()),
+        }
+    }
+
+    /// "deferred" or "forward": how this pass draws.
+    pub fn render_path(&self) -> &'static str {
+        if self.deferred.is_some() {
+            "deferred"
+        } else {
+            "forward"
+        }
     }
 
     /// Number of per-frame data copies.
@@ -455,6 +499,21 @@ impl ForwardPass {
             }
             draw.push = push;
         }
+        if self.deferred.is_some() {
+            let s = &mut self.slots[slot];
+            for draw in &self.draws {
+                let textures = &scene.materials[scene.objects[draw.object].material].textures;
+                let data = gpu::DeferredMaterial {
+                    push: draw.push,
+                    extra: super::material::MaterialExtra::without_maps(textures),
+                };
+                s.deferred_materials.write(
+                    draw.push.object_index as u64
+                        * std::mem::size_of::<gpu::DeferredMaterial>() as u64,
+                    bytemuck::bytes_of(&data),
+                )?;
+            }
+        }
         Ok(())
     }
 
@@ -517,6 +576,24 @@ impl ForwardPass {
     ) -> Result<(), VkError> {
         let d = &self.ctx.device;
         let set = self.slots[slot.min(self.slots.len() - 1)].set;
+        if let Some(def) = &self.deferred {
+            if !def.ready(output, target.extent) || target.resolve.is_some() {
+                return Err(VkError::Setup(format!(
+                    "forward (deferred): not prepared for {output:?} at {}x{} \
+                     (call prepare and prepare_extent first)",
+                    target.extent.width, target.extent.height
+                )));
+            }
+            let clear = vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: output.clear_color(self.background, self.exposure),
+                },
+            };
+            def.record(cmd, target, output, set, clear, |pipeline| {
+                self.record_draws(cmd, set, |_| pipeline)
+            });
+            return Ok(());
+        }
         let mut pipelines = Vec::new();
         for draw in &self.draws {
             let p = self.pipelines.get(&(draw.variant, output)).ok_or_else(|| {
@@ -594,6 +671,33 @@ impl ForwardPass {
                 }],
             );
             d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        self.record_draws(cmd, set, |i| pipelines[i]);
+        // SAFETY: as above; the draws left the rendering instance open.
+        unsafe {
+            if let Some(sky) = skybox {
+                d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
+                d.cmd_draw(cmd, 3, 1, 0, 0);
+            }
+            d.cmd_end_rendering(cmd);
+        }
+        Ok(())
+    }
+    /// Binds the frame (and environment) sets and records every draw with `pipeline_of(draw
+    /// index)`, inside the caller's rendering instance.
+    fn record_draws(
+        &self,
+        cmd: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+        pipeline_of: impl Fn(usize) -> vk::Pipeline,
+    ) {
+        let d = &self.ctx.device;
+        // SAFETY: `cmd` is recording inside a rendering instance on attachments of the pipelines'
+        // formats (both callers); every pipeline, set and buffer bound here belongs to this pass
+        // and outlives the command buffer's execution (the owner waits before dropping it); the
+        // push-constant bytes are a `MaterialPush`, the layout's range.
+        unsafe {
             d.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,
@@ -615,7 +719,8 @@ impl ForwardPass {
             let mut bound: Option<vk::Pipeline> = None;
             let mut bound_material: Option<usize> = None;
             let mut bound_cull: Option<bool> = None;
-            for (draw, &pipeline) in self.draws.iter().zip(&pipelines) {
+            for (i, draw) in self.draws.iter().enumerate() {
+                let pipeline = pipeline_of(i);
                 if bound_cull != Some(draw.cull) {
                     d.cmd_set_cull_mode(
                         cmd,
@@ -659,14 +764,7 @@ impl ForwardPass {
                 );
                 d.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
             }
-            if let Some(sky) = skybox {
-                d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
-                d.cmd_draw(cmd, 3, 1, 0, 0);
-            }
-            d.cmd_end_rendering(cmd);
         }
-        Ok(())
     }
 }
 
@@ -685,8 +783,8 @@ fn storage_fits<T>(
     )
 }
 
-/// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table
-/// (`bindings.glsl`, set 0).
+/// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table, the
+/// deferred path's materials (`bindings.glsl`, set 0).
 fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
     let bindings = [
         vk::DescriptorSetLayoutBinding::default()
@@ -706,6 +804,11 @@ fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> 
             .stage_flags(STAGES),
         vk::DescriptorSetLayoutBinding::default()
             .binding(gpu::BINDING_SRGB_TABLE)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_DEFERRED_MATERIALS)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .descriptor_count(1)
             .stage_flags(vk::ShaderStageFlags::FRAGMENT),
@@ -892,7 +995,7 @@ impl Slot {
         pool: &DescriptorPool,
         layout: &DescriptorSetLayout,
         index: usize,
-        (lights, objects): (usize, usize),
+        (light_count, object_count): (usize, usize),
         srgb_table: &Buffer,
     ) -> Result<Self, VkError> {
         let buffer = |name: &str, size: usize, usage| {
@@ -911,12 +1014,12 @@ impl Slot {
         )?;
         let lights = buffer(
             "lights",
-            lights * std::mem::size_of::<GpuLight>(),
+            light_count * std::mem::size_of::<GpuLight>(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
         let objects = buffer(
             "objects",
-            objects * std::mem::size_of::<gpu::ObjectData>(),
+            object_count * std::mem::size_of::<gpu::ObjectData>(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
         let set = pool.allocate(layout)?;
@@ -927,17 +1030,27 @@ impl Slot {
                 range: vk::WHOLE_SIZE,
             }]
         };
+        let deferred_materials = buffer(
+            "deferred materials",
+            object_count * std::mem::size_of::<gpu::DeferredMaterial>(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         let infos = [
             info(&frame_ubo),
             info(&lights),
             info(&objects),
             info(srgb_table),
+            info(&deferred_materials),
         ];
         let writes = [
             (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
             (gpu::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
             (gpu::BINDING_OBJECTS, vk::DescriptorType::STORAGE_BUFFER),
             (gpu::BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
+            (
+                gpu::BINDING_DEFERRED_MATERIALS,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
         ]
         .iter()
         .zip(&infos)
@@ -956,6 +1069,7 @@ impl Slot {
             frame_ubo,
             lights,
             objects,
+            deferred_materials,
             set,
         })
     }

@@ -361,15 +361,13 @@ impl Modules {
     }
 }
 
-pub(super) fn create_pipeline(
-    ctx: &Arc<Context>,
-    layout: &PipelineLayout,
-    target: TargetFormat,
+/// The vertex buffers and attributes a variant's vertex stage reads.
+pub(super) fn vertex_input(
     v: VariantKey,
-    output: Output,
-    vs: &ShaderModule,
-    fs: &ShaderModule,
-) -> Result<Pipeline, VkError> {
+) -> (
+    Vec<vk::VertexInputBindingDescription>,
+    Vec<vk::VertexInputAttributeDescription>,
+) {
     let stride = std::mem::size_of::<Vertex>() as u32;
     let mut bindings = vec![vk::VertexInputBindingDescription {
         binding: 0,
@@ -419,6 +417,12 @@ pub(super) fn create_pipeline(
             offset: 0,
         });
     }
+    (bindings, attributes)
+}
+
+/// The specialization constants of a variant (model, terms, fog, debug view, maps, light kinds,
+/// IBL settings), without the output's.
+pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
     let sel = v.terms.spec_values();
     let mut spec = vec![
         (gpu::SPEC_MODEL, v.model.code() as u32),
@@ -431,7 +435,6 @@ pub(super) fn create_pipeline(
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
     ];
-    spec.extend(output.spec());
     if let Some(i) = v.ibl {
         spec.extend([
             (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),
@@ -441,6 +444,21 @@ pub(super) fn create_pipeline(
             (gpu::SPEC_MIP_FILTERED, i.mip_filtered as u32),
         ]);
     }
+    spec
+}
+
+pub(super) fn create_pipeline(
+    ctx: &Arc<Context>,
+    layout: &PipelineLayout,
+    target: TargetFormat,
+    v: VariantKey,
+    output: Output,
+    vs: &ShaderModule,
+    fs: &ShaderModule,
+) -> Result<Pipeline, VkError> {
+    let (bindings, attributes) = vertex_input(v);
+    let mut spec = variant_spec(v);
+    spec.extend(output.spec());
     let name = match output {
         Output::Hdr => v.to_string(),
         Output::Display { format, .. } => format!("{v} → {format:?}"),

@@ -290,6 +290,7 @@ struct Viewer {
     render_options: RenderOptions,
     samples: vk::SampleCountFlags,
     display_path: DisplayPath,
+    render_path: crate::render::forward::RenderPath,
     script: Vec<(u64, Action)>,
     frame_limit: Option<u64>,
     bench: bool,
@@ -434,6 +435,7 @@ impl Viewer {
             &settings,
             extent,
             frame::preferred_output(&scene, args.display_path, samples, swapchain.format),
+            args.render_path,
         )?;
         let saturate = SaturatePass::for_scene(&ctx, &scene, &targets.color)?;
         let display = DisplayPass::new(&ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
@@ -490,6 +492,7 @@ impl Viewer {
             render_options,
             samples,
             display_path: args.display_path,
+            render_path: args.render_path,
             script,
             frame_limit: args.frames.or(if args.bench { Some(300) } else { None }),
             bench: args.bench,
@@ -594,6 +597,7 @@ fn make_forward(
     settings: &ViewSettings,
     extent: vk::Extent2D,
     output: Output,
+    path: crate::render::forward::RenderPath,
 ) -> Result<ForwardPass, VkError> {
     ForwardPass::in_flight(
         ctx,
@@ -611,6 +615,7 @@ fn make_forward(
             slots: FRAMES_IN_FLIGHT,
             generic: false,
             output,
+            path,
         },
     )
 }

@@ -136,6 +136,7 @@ impl Viewer {
                 samples,
                 self.swapchain.format,
             ),
+            self.render_path,
         )?;
         let color = targets.as_ref().unwrap_or(&self.targets);
         let saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &color.color)?;

@@ -1,0 +1,369 @@
+//! The deferred path of the forward pass, for scenes whose objects all share one lean Phong
+//! variant (no maps, no environment, one sample per pixel; [`eligible`]).
+//!
+//! lavapipe runs a fragment shader on whole 4×4 blocks: a triangle of two pixels still pays for
+//! sixteen lanes of lighting. On grid49 (221k triangles, ~2 covered pixels each) most of the
+//! forward pass's lighting is spent on pixels no triangle covers. The deferred path draws the
+//! geometry once into a G-buffer (normal, view depth, object slot: `deferred_gbuffer.frag`), then
+//! lights each covered pixel exactly once in a full-screen draw (`deferred_light.frag`) with the
+//! forward pass's own shading code, and writes the same output (radiance or display codes).
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::variant::{variant_spec, vertex_input, ShadingKey};
+use super::{DebugView, Output, TargetFormat, TargetViews, TermsKey, VariantKey};
+use crate::render::gpu;
+use crate::vk::cmd::{memory_barrier, transition, Transition};
+use crate::vk::image::ImageDesc;
+use crate::vk::pipeline::{
+    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
+};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Context, Image, VkError};
+
+/// The G-buffer: octahedral normal (2 × f32 bits), view depth (f32 bits), object slot.
+pub const GBUFFER_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
+const SET_GBUFFER: u32 = crate::glsl::deferred_light_frag::SET_GBUFFER as u32;
+const BINDING_GBUFFER: u32 = crate::glsl::deferred_light_frag::BINDING_GBUFFER as u32;
+
+/// Which render path the forward pass takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RenderPath {
+    /// Deferred where [`eligible`], forward otherwise.
+    #[default]
+    Auto,
+    /// Always forward (for comparisons).
+    Forward,
+}
+
+/// The one variant every draw uses, when the deferred path can draw the scene: a lean Phong
+/// variant (no texture maps, no tangent frame), fixed BRDF terms, no environment, no debug view
+/// but `nan`, one sample per pixel.
+pub fn eligible(variants: &[VariantKey], samples: vk::SampleCountFlags) -> Option<VariantKey> {
+    let first = *variants.first()?;
+    let ok = variants.iter().all(|v| *v == first)
+        && samples == vk::SampleCountFlags::TYPE_1
+        && first.shading == ShadingKey::Phong
+        && !first.phong_maps()
+        && first.ibl.is_none()
+        && matches!(first.debug, DebugView::None | DebugView::Nan)
+        && first.terms != TermsKey::Generic;
+    ok.then_some(first)
+}
+
+pub(super) struct Deferred {
+    variant: VariantKey,
+    target: TargetFormat,
+    gbuffer_pipeline: Pipeline,
+    light_pipelines: BTreeMap<Output, Pipeline>,
+    light_layout: PipelineLayout,
+    light_vertex: ShaderModule,
+    light_fragment: ShaderModule,
+    set: vk::DescriptorSet,
+    _pool: DescriptorPool,
+    _set_layout: DescriptorSetLayout,
+    gbuffer: Option<Image>,
+    ctx: Arc<Context>,
+}
+
+impl Deferred {
+    /// Pipelines for `variant`: the geometry pass in the forward layout, the lighting pass in a
+    /// layout of the frame set and the G-buffer set.
+    pub(super) fn new(
+        ctx: &Arc<Context>,
+        forward_layout: &PipelineLayout,
+        frame_set_layout: &DescriptorSetLayout,
+        target: TargetFormat,
+        variant: VariantKey,
+    ) -> Result<Self, VkError> {
+        let set_layout = DescriptorSetLayout::new(
+            ctx,
+            "deferred G-buffer set layout",
+            &[vk::DescriptorSetLayoutBinding::default()
+                .binding(BINDING_GBUFFER)
+                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT)],
+        )?;
+        const _: () = assert!(SET_GBUFFER == 1 && gpu::SET_FRAME == 0);
+        let light_layout = PipelineLayout::new(
+            ctx,
+            "deferred lighting layout",
+            &[frame_set_layout, &set_layout],
+            &[],
+        )?;
+        let pool = DescriptorPool::new(
+            ctx,
+            "deferred pool",
+            1,
+            &[vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::SAMPLED_IMAGE,
+                descriptor_count: 1,
+            }],
+        )?;
+        let set = pool.allocate(&set_layout)?;
+        let vs = ShaderModule::new(ctx, "forward.vert:gbuffer")?;
+        let fs = ShaderModule::new(ctx, "deferred_gbuffer.frag")?;
+        let (bindings, attributes) = vertex_input(variant);
+        let gbuffer_pipeline = Pipeline::graphics(
+            ctx,
+            forward_layout,
+            &GraphicsDesc {
+                name: &format!("deferred geometry {variant}"),
+                vertex: &vs,
+                fragment: &fs,
+                spec: &variant_spec(variant),
+                vertex_bindings: &bindings,
+                vertex_attributes: &attributes,
+                color_formats: &[GBUFFER_FORMAT],
+                depth_format: Some(target.depth),
+                samples: vk::SampleCountFlags::TYPE_1,
+                cull: vk::CullModeFlags::NONE,
+                depth_test: true,
+                depth_write: true,
+                depth_compare: vk::CompareOp::LESS,
+            },
+        )?;
+        Ok(Self {
+            variant,
+            target,
+            gbuffer_pipeline,
+            light_pipelines: BTreeMap::new(),
+            light_layout,
+            light_vertex: ShaderModule::new(ctx, "skybox.vert")?,
+            light_fragment: ShaderModule::new(ctx, "deferred_light.frag")?,
+            set,
+            _pool: pool,
+            _set_layout: set_layout,
+            gbuffer: None,
+            ctx: ctx.clone(),
+        })
+    }
+
+    /// Builds the lighting pipeline writing `output` unless it exists.
+    pub(super) fn prepare(&mut self, output: Output) -> Result<(), VkError> {
+        if self.light_pipelines.contains_key(&output) {
+            return Ok(());
+        }
+        let mut spec = variant_spec(self.variant);
+        spec.extend(output.spec());
+        let pipeline = Pipeline::graphics(
+            &self.ctx,
+            &self.light_layout,
+            &GraphicsDesc {
+                name: &format!("deferred lighting {} {output:?}", self.variant),
+                vertex: &self.light_vertex,
+                fragment: &self.light_fragment,
+                spec: &spec,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                color_formats: &[output.color_format(self.target.color)],
+                depth_format: Some(self.target.depth),
+                samples: vk::SampleCountFlags::TYPE_1,
+                cull: vk::CullModeFlags::NONE,
+                // The full-screen triangle lies at depth 1: it passes only where the geometry
+                // pass drew (the cleared background stays at 1).
+                depth_test: true,
+                depth_write: false,
+                depth_compare: vk::CompareOp::GREATER,
+            },
+        )?;
+        self.light_pipelines.insert(output, pipeline);
+        Ok(())
+    }
+
+    /// (Re)allocates the G-buffer at `extent`. No command buffer that drew with the old one may
+    /// still be pending (the viewer waits for the device before it resizes).
+    pub(super) fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
+        if self.gbuffer.as_ref().is_some_and(|g| g.extent() == extent) {
+            return Ok(());
+        }
+        let mut desc = ImageDesc::color_target(extent.width, extent.height, GBUFFER_FORMAT);
+        desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let image = Image::new(&self.ctx, "deferred G-buffer", desc)?;
+        let info = [vk::DescriptorImageInfo {
+            sampler: vk::Sampler::null(),
+            image_view: image.view,
+            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(BINDING_GBUFFER)
+            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
+            .image_info(&info);
+        // SAFETY: `write` and `info` outlive the call; the binding is a SAMPLED_IMAGE of
+        // `self.set`, and `image.view` a live view with SAMPLED usage, kept in `self.gbuffer` as
+        // long as the set refers to it. No pending command buffer uses the set (the contract
+        // above), and `&mut self` gives this call sole access to it.
+        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+        self.gbuffer = Some(image);
+        Ok(())
+    }
+
+    /// The G-buffer matches `extent` and the lighting pipeline for `output` is built.
+    pub(super) fn ready(&self, output: Output, extent: vk::Extent2D) -> bool {
+        self.gbuffer.as_ref().is_some_and(|g| g.extent() == extent)
+            && self.light_pipelines.contains_key(&output)
+    }
+
+    /// Records both passes. `draw_geometry` records the draws (pipeline bound by this function)
+    /// inside the geometry pass's rendering instance; `frame_set` is the slot's frame set;
+    /// `clear` the output's background.
+    pub(super) fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: &TargetViews,
+        output: Output,
+        frame_set: vk::DescriptorSet,
+        clear: vk::ClearValue,
+        draw_geometry: impl FnOnce(vk::Pipeline),
+    ) {
+        let d = &self.ctx.device;
+        let (Some(gbuffer), Some(light)) = (&self.gbuffer, self.light_pipelines.get(&output))
+        else {
+            return;
+        };
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        // The previous frame's lighting read the G-buffer; its contents are discarded.
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: gbuffer.raw,
+                range: gbuffer.subresource_range(),
+                from: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                    vk::AccessFlags2::NONE,
+                ),
+                to: (
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+            }],
+        );
+        // Background pixels are never read (the lighting pass's depth test skips them): no clear.
+        let colors = [vk::RenderingAttachmentInfo::default()
+            .image_view(gbuffer.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::DONT_CARE)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
+        // SAFETY: `cmd` is recording outside a rendering instance (the caller's contract); the
+        // G-buffer was just transitioned to COLOR_ATTACHMENT_OPTIMAL and the depth image is in
+        // DEPTH_ATTACHMENT_OPTIMAL (`HdrTarget::begin_frame`); `info` and what it points to outlive
+        // the call, which the caller closes after its draws below.
+        unsafe { d.cmd_begin_rendering(cmd, &info) };
+        set_viewport(d, cmd, area);
+        draw_geometry(self.gbuffer_pipeline.raw);
+        // SAFETY: closes the rendering instance begun above, in the same command buffer.
+        unsafe { d.cmd_end_rendering(cmd) };
+
+        // The G-buffer becomes a sampled image; the depth written above is tested below.
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: gbuffer.raw,
+                range: gbuffer.subresource_range(),
+                from: (
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+                to: (
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            }],
+        );
+        let tests = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        memory_barrier(
+            d,
+            cmd,
+            (tests, vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE),
+            (tests, vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ),
+        );
+        let colors = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.color)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(clear)];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE);
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
+        // SAFETY: as above: the output view is in COLOR_ATTACHMENT_OPTIMAL (the caller's
+        // contract, as for the forward path), depth in DEPTH_ATTACHMENT_OPTIMAL after the barrier
+        // above. The lighting pipeline belongs to this pass, its layout's set 0 is the frame set
+        // layout `frame_set` was allocated with and set 1 is `self.set`; it has no vertex input
+        // and no push constants. Viewport, scissor and cull mode (dynamic) are set before the draw.
+        unsafe {
+            d.cmd_begin_rendering(cmd, &info);
+            set_viewport(d, cmd, area);
+            d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, light.raw);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.light_layout.raw,
+                0,
+                &[frame_set, self.set],
+                &[],
+            );
+            d.cmd_draw(cmd, 3, 1, 0, 0);
+            d.cmd_end_rendering(cmd);
+        }
+    }
+}
+
+fn set_viewport(d: &ash::Device, cmd: vk::CommandBuffer, area: vk::Rect2D) {
+    // SAFETY: `cmd` is recording inside a rendering instance (both callers above); the arrays
+    // are locals that outlive the calls.
+    unsafe {
+        d.cmd_set_viewport(
+            cmd,
+            0,
+            &[vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: area.extent.width as f32,
+                height: area.extent.height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            }],
+        );
+        d.cmd_set_scissor(cmd, 0, &[area]);
+    }
+}
