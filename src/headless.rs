@@ -426,20 +426,14 @@ impl Headless {
                     depth: self.target.depth.view,
                     extent: self.target.extent(),
                 };
-                let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-                self.forward.record_slot(cmd, &views, 0, output)?;
-                if let Some(t) = &mut self.timer {
-                    t.end(cmd, slot);
-                }
+                self.forward
+                    .record_slot(cmd, &views, 0, output, self.timer.as_mut())?;
                 ((display.raw, display.subresource_range()), COLOR_ATTACHMENT)
             }
             _ => {
                 let views = self.target.views();
-                let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-                self.forward.record(cmd, &views)?;
-                if let Some(t) = &mut self.timer {
-                    t.end(cmd, slot);
-                }
+                self.forward
+                    .record_slot(cmd, &views, 0, Output::Hdr, self.timer.as_mut())?;
                 let mut last = COLOR_ATTACHMENT;
                 if let Some(s) = &self.saturate {
                     let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));

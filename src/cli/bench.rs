@@ -147,12 +147,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     println!(
-        "scene: {} ({}x{}, {} triangles, {} lights), output {}",
+        "scene: {} ({}x{}, {} triangles, {} lights), {} path, output {}",
         scene.display_name(),
         scene.output.width,
         scene.output.height,
         renderer.triangle_count(),
         scene.lights.len(),
+        renderer.render_path(),
         match output {
             Output::Hdr => "hdr (RGBA32F radiance)".to_string(),
             Output::Display { tonemap, .. } => format!(
@@ -186,16 +187,24 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         if gpu_flat { "flat" } else { "CHANGED" }
     );
     let megapixels = scene.output.width as f64 * scene.output.height as f64 / 1e6;
-    let forward = report
-        .passes
+    // The scene's passes: "forward", or "gbuffer" + "lighting" on the deferred path.
+    let scene_ms: Vec<f64> = frames
         .iter()
-        .find(|(n, _)| *n == "forward")
-        .map(|(_, s)| s.median);
+        .map(|f| {
+            f.gpu_ms
+                .iter()
+                .filter(|(n, _)| matches!(*n, "forward" | "gbuffer" | "lighting"))
+                .map(|(_, ms)| ms)
+                .sum()
+        })
+        .collect();
+    let forward = (!frames.is_empty() && frames.iter().any(|f| !f.gpu_ms.is_empty()))
+        .then(|| luz::stats::median(&scene_ms));
     let per_mp_light = match forward {
         Some(ms) if !scene.lights.is_empty() => {
             let v = ms / (megapixels * scene.lights.len() as f64);
             println!(
-                "GPU forward per megapixel·light: {v:.4} ms (median {ms:.3} ms / ({megapixels:.4} MP × {} lights))",
+                "GPU scene passes per megapixel·light: {v:.4} ms (median {ms:.3} ms / ({megapixels:.4} MP × {} lights))",
                 scene.lights.len()
             );
             Some(v)
@@ -232,6 +241,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "height": scene.output.height,
             "triangles": renderer.triangle_count(),
             "lights": scene.lights.len(),
+            "render_path": renderer.render_path(),
             "output": match output { Output::Hdr => "hdr", Output::Display { .. } => "display" },
             "cpu_ms": report.cpu,
             "gpu_total_ms": report.gpu_total,

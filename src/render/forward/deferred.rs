@@ -22,6 +22,7 @@ use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
 };
 use crate::vk::shaders::ShaderModule;
+use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, Image, VkError};
 
 /// The G-buffer: octahedral normal (2 × f32 bits), view depth (f32 bits), object slot.
@@ -209,7 +210,7 @@ impl Deferred {
             && self.light_pipelines.contains_key(&output)
     }
 
-    /// Records both passes. `draw_geometry` records the draws (pipeline bound by this function)
+    /// Records both passes (timed as "gbuffer" and "lighting" on `timer`). `draw_geometry` records the draws (pipeline bound by this function)
     /// inside the geometry pass's rendering instance; `frame_set` is the slot's frame set;
     /// `clear` the output's background.
     pub(super) fn record(
@@ -219,6 +220,7 @@ impl Deferred {
         output: Output,
         frame_set: vk::DescriptorSet,
         clear: vk::ClearValue,
+        mut timer: Option<&mut GpuTimer>,
         draw_geometry: impl FnOnce(vk::Pipeline),
     ) {
         let d = &self.ctx.device;
@@ -271,6 +273,7 @@ impl Deferred {
             .layer_count(1)
             .color_attachments(&colors)
             .depth_attachment(&depth);
+        let t = timer.as_mut().and_then(|t| t.begin(cmd, "gbuffer"));
         // SAFETY: `cmd` is recording outside a rendering instance (the caller's contract); the
         // G-buffer was just transitioned to COLOR_ATTACHMENT_OPTIMAL and the depth image is in
         // DEPTH_ATTACHMENT_OPTIMAL (`HdrTarget::begin_frame`); `info` and what it points to outlive
@@ -280,6 +283,9 @@ impl Deferred {
         draw_geometry(self.gbuffer_pipeline.raw);
         // SAFETY: closes the rendering instance begun above, in the same command buffer.
         unsafe { d.cmd_end_rendering(cmd) };
+        if let Some(timer) = timer.as_mut() {
+            timer.end(cmd, t);
+        }
 
         // The G-buffer becomes a sampled image; the depth written above is tested below.
         transition(
@@ -308,6 +314,7 @@ impl Deferred {
             (tests, vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE),
             (tests, vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ),
         );
+        let t = timer.as_mut().and_then(|t| t.begin(cmd, "lighting"));
         let colors = [vk::RenderingAttachmentInfo::default()
             .image_view(target.color)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -344,6 +351,9 @@ impl Deferred {
             );
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
+        }
+        if let Some(timer) = timer {
+            timer.end(cmd, t);
         }
     }
 }

@@ -562,17 +562,19 @@ impl ForwardPass {
     /// Clears the target to the scene background and draws every object (slot 0's data, the HDR
     /// output).
     pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) -> Result<(), VkError> {
-        self.record_slot(cmd, target, 0, Output::Hdr)
+        self.record_slot(cmd, target, 0, Output::Hdr, None)
     }
 
     /// As [`ForwardPass::record`], with the per-frame data of `slot`, writing `output` (its
-    /// pipelines [`ForwardPass::prepare`]d; `target.color` of its format).
+    /// pipelines [`ForwardPass::prepare`]d; `target.color` of its format). Timed on `timer` as
+    /// "forward", or "gbuffer" and "lighting" on the deferred path.
     pub fn record_slot(
         &self,
         cmd: vk::CommandBuffer,
         target: &TargetViews,
         slot: usize,
         output: Output,
+        mut timer: Option<&mut crate::vk::timing::GpuTimer>,
     ) -> Result<(), VkError> {
         let d = &self.ctx.device;
         let set = self.slots[slot.min(self.slots.len() - 1)].set;
@@ -589,7 +591,7 @@ impl ForwardPass {
                     float32: output.clear_color(self.background, self.exposure),
                 },
             };
-            def.record(cmd, target, output, set, clear, |pipeline| {
+            def.record(cmd, target, output, set, clear, timer, |pipeline| {
                 self.record_draws(cmd, set, |_| pipeline)
             });
             return Ok(());
@@ -652,6 +654,7 @@ impl ForwardPass {
             .layer_count(1)
             .color_attachments(&colors)
             .depth_attachment(&depth);
+        let timed = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
         // SAFETY: the caller passes a command buffer in the recording state whose target views
         // are in the attachment layouts (`HdrTarget::begin_frame`); `info` and the slices it
         // points to outlive the calls; every pipeline, set and buffer bound below belongs to this
@@ -681,6 +684,9 @@ impl ForwardPass {
                 d.cmd_draw(cmd, 3, 1, 0, 0);
             }
             d.cmd_end_rendering(cmd);
+        }
+        if let Some(t) = timer {
+            t.end(cmd, timed);
         }
         Ok(())
     }

@@ -321,19 +321,13 @@ impl Viewer {
                 depth: t.depth.view,
                 extent: sc,
             };
-            let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-            self.forward.record_slot(cmd, &views, slot, output)?;
-            if let Some(t) = &mut timer {
-                t.end(cmd, s);
-            }
+            self.forward
+                .record_slot(cmd, &views, slot, output, timer.as_mut())?;
             vk::AttachmentLoadOp::LOAD
         } else {
             let views = t.views();
-            let s = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-            self.forward.record_slot(cmd, &views, slot, output)?;
-            if let Some(t) = &mut timer {
-                t.end(cmd, s);
-            }
+            self.forward
+                .record_slot(cmd, &views, slot, output, timer.as_mut())?;
             let mut last = COLOR_ATTACHMENT;
             if let Some(sat) = &self.saturate {
                 let s = timer.as_mut().and_then(|t| t.begin(cmd, sat.name()));
