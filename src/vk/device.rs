@@ -59,6 +59,9 @@ impl DeviceInfo {
         if let Some(m) = self.malloc_tuning {
             s.push_str("; host: ");
             s.push_str(m.describe());
+            if let Ok(n) = std::env::var(super::host::RASTERIZER_THREADS_ENV) {
+                s.push_str(&format!(", {}={n}", super::host::RASTERIZER_THREADS_ENV));
+            }
         }
         s
     }

@@ -7,12 +7,36 @@
 //! (`perf`), 608 `madvise` calls in 43 frames (`strace -c`). Raising the trim threshold keeps the
 //! freed memory in the process; resident memory stays at its peak instead of going up and down
 //! every frame. The measured effect is in docs/performance.md ("Host memory").
+//!
+//! lavapipe also reads its rasterizer thread count from `LP_NUM_THREADS` when it loads (default:
+//! one per core). The `luz` binary asks for [`RASTERIZER_THREADS_PER_CORE`] per core before any
+//! Vulkan call ([`rasterizer_threads`]); a value the user set stands. With more threads than cores
+//! a thread that loses its core (to the window system's copy of the last frame, or to the
+//! submitting thread's binning) holds back a smaller share of the bins, so the end of each pass
+//! waits less for it: on grid49's windowed frame p99/p50 went from 1.33 to 1.22 (median of eight
+//! runs each, same median frame; docs/performance.md, "Rasterizer threads"). The library never
+//! sets it: changing the environment of a running process is not thread-safe.
 
 /// The trim threshold set for a CPU device: 1 GiB.
 pub const TRIM_THRESHOLD: i32 = 1 << 30;
 
 /// Environment variable that turns the setting off (`LUZ_MALLOC_TUNING=0`).
 pub const ENV_DISABLE: &str = "LUZ_MALLOC_TUNING";
+
+/// The variable lavapipe (llvmpipe) reads its rasterizer thread count from.
+pub const RASTERIZER_THREADS_ENV: &str = "LP_NUM_THREADS";
+
+/// Rasterizer threads per core the `luz` binary asks lavapipe for.
+pub const RASTERIZER_THREADS_PER_CORE: usize = 3;
+
+/// The value of `LP_NUM_THREADS` to set, given its current value and the core count: `None`
+/// when the user already set it (any value stands, `0` included).
+pub fn rasterizer_threads(current: Option<&str>, cores: usize) -> Option<usize> {
+    match current {
+        Some(_) => None,
+        None => Some(cores.max(1) * RASTERIZER_THREADS_PER_CORE),
+    }
+}
 
 /// What [`tune_for_cpu_device`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -72,6 +96,14 @@ fn set_trim_threshold() -> MallocTuning {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rasterizer_threads_default_and_user_value() {
+        assert_eq!(rasterizer_threads(None, 2), Some(6));
+        assert_eq!(rasterizer_threads(None, 0), Some(3));
+        assert_eq!(rasterizer_threads(Some("2"), 2), None);
+        assert_eq!(rasterizer_threads(Some(""), 8), None);
+    }
 
     #[test]
     fn the_variable_turns_it_off() {
