@@ -212,14 +212,13 @@ impl Deferred {
 
     /// Records both passes (timed as "gbuffer" and "lighting" on `timer`). `draw_geometry` records the draws (pipeline bound by this function)
     /// inside the geometry pass's rendering instance; `frame_set` is the slot's frame set;
-    /// `clear` the output's background.
+    /// `clear` the background of `output`.
     pub(super) fn record(
         &self,
         cmd: vk::CommandBuffer,
         target: &TargetViews,
-        output: Output,
+        (output, clear): (Output, vk::ClearValue),
         frame_set: vk::DescriptorSet,
-        clear: vk::ClearValue,
         mut timer: Option<&mut GpuTimer>,
         draw_geometry: impl FnOnce(vk::Pipeline),
     ) {

@@ -591,7 +591,7 @@ impl ForwardPass {
                     float32: output.clear_color(self.background, self.exposure),
                 },
             };
-            def.record(cmd, target, output, set, clear, timer, |pipeline| {
+            def.record(cmd, target, (output, clear), set, timer, |pipeline| {
                 self.record_draws(cmd, set, |_| pipeline)
             });
             return Ok(());

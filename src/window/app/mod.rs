@@ -432,10 +432,14 @@ impl Viewer {
             &scene,
             samples,
             ibl.as_ref(),
-            &settings,
             extent,
-            frame::preferred_output(&scene, args.display_path, samples, swapchain.format),
-            args.render_path,
+            pass_options(
+                &settings,
+                (
+                    frame::preferred_output(&scene, args.display_path, samples, swapchain.format),
+                    args.render_path,
+                ),
+            ),
         )?;
         let saturate = SaturatePass::for_scene(&ctx, &scene, &targets.color)?;
         let display = DisplayPass::new(&ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
@@ -594,10 +598,8 @@ fn make_forward(
     scene: &Scene,
     samples: vk::SampleCountFlags,
     ibl: Option<&Ibl>,
-    settings: &ViewSettings,
     extent: vk::Extent2D,
-    output: Output,
-    path: crate::render::forward::RenderPath,
+    options: crate::render::forward::PassOptions,
 ) -> Result<ForwardPass, VkError> {
     ForwardPass::in_flight(
         ctx,
@@ -610,14 +612,23 @@ fn make_forward(
         },
         extent.width as f32 / extent.height.max(1) as f32,
         ibl,
-        crate::render::forward::PassOptions {
-            debug: settings.debug_view,
-            slots: FRAMES_IN_FLIGHT,
-            generic: false,
-            output,
-            path,
-        },
+        options,
     )
+}
+
+/// The viewer's forward-pass options: its debug view, one slot per frame in flight, specialised
+/// pipelines, drawing `output` along `path`.
+fn pass_options(
+    settings: &ViewSettings,
+    (output, path): (Output, crate::render::forward::RenderPath),
+) -> crate::render::forward::PassOptions {
+    crate::render::forward::PassOptions {
+        debug: settings.debug_view,
+        slots: FRAMES_IN_FLIGHT,
+        generic: false,
+        output,
+        path,
+    }
 }
 
 impl Drop for Viewer {

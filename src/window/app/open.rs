@@ -128,15 +128,19 @@ impl Viewer {
                 Some(new) => new.as_ref(),
                 None => self.ibl.as_ref(),
             },
-            &self.settings,
             self.swapchain.extent,
-            frame::preferred_output(
-                &self.scene,
-                self.display_path,
-                samples,
-                self.swapchain.format,
+            pass_options(
+                &self.settings,
+                (
+                    frame::preferred_output(
+                        &self.scene,
+                        self.display_path,
+                        samples,
+                        self.swapchain.format,
+                    ),
+                    self.render_path,
+                ),
             ),
-            self.render_path,
         )?;
         let color = targets.as_ref().unwrap_or(&self.targets);
         let saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &color.color)?;
