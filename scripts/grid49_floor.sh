@@ -2,8 +2,8 @@
 # grid49's windowed frame against its floor, in one run: `luz view --bench` of the scene as written
 # (48x48 spheres, 4 lights), of the same geometry unlit (the `base_color` debug view: the same
 # triangles and pixels into the swapchain with no lighting), and of the scene with automatic
-# tessellation (segments and rings left out), alternating RUNS times under Xvfb. Prints each run,
-# the medians and luz's frame as a multiple of the floor.
+# tessellation (assets/scenes/bench/grid49_auto.json: segments and rings left out), alternating
+# RUNS times under Xvfb. Prints each run, the medians and luz's frame as a multiple of the floor.
 # Usage: scripts/grid49_floor.sh [RUNS=3] [FRAMES=300]. Run on a quiet machine.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -14,14 +14,6 @@ luz=target/release/luz
 export VK_ICD_FILENAMES="${VK_ICD_FILENAMES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-python3 - "$tmp" <<'PY'
-import json, sys
-s = json.load(open("assets/scenes/bench/grid49.json"))
-for o in s["objects"]:
-    o["mesh"].pop("segments", None)
-    o["mesh"].pop("rings", None)
-json.dump(s, open(f"{sys.argv[1]}/grid49_auto.json", "w"))
-PY
 view() {  # name scene [script]
   local extra=()
   [ -n "${3:-}" ] && extra=(--script "$3")
@@ -31,7 +23,7 @@ view() {  # name scene [script]
 for i in $(seq "$runs"); do
   view "lit$i" assets/scenes/bench/grid49.json
   view "floor$i" assets/scenes/bench/grid49.json "0:debug_view=base_color"
-  view "auto$i" "$tmp/grid49_auto.json"
+  view "auto$i" assets/scenes/bench/grid49_auto.json
 done
 python3 - "$tmp" "$runs" <<'PY'
 import json, statistics as st, sys
