@@ -6,15 +6,15 @@
 //! kernel clears each one: on grid49 that was about a fifth of the submitting thread's time
 //! (`perf`), 608 `madvise` calls in 43 frames (`strace -c`). Raising the trim threshold keeps the
 //! freed memory in the process; resident memory stays at its peak instead of going up and down
-//! every frame. The measured effect is in docs/performance.md ("Host memory").
+//! every frame. The measured effect is in docs/performance.md (issue 14's steps, step 2).
 //!
 //! lavapipe also reads its rasterizer thread count from `LP_NUM_THREADS` when it loads (default:
 //! one per core). The `luz` binary asks for [`RASTERIZER_THREADS_PER_CORE`] per core before any
 //! Vulkan call ([`rasterizer_threads`]); a value the user set stands. With more threads than cores
 //! a thread that loses its core (to the window system's copy of the last frame, or to the
 //! submitting thread's binning) holds back a smaller share of the bins, so the end of each pass
-//! waits less for it: on grid49's windowed frame p99/p50 went from 1.33 to 1.22 (median of eight
-//! runs each, same median frame; docs/performance.md, "Rasterizer threads"). The library never
+//! waits less for it: on grid49's windowed frame p99/p50 went from 1.37 to 1.22 (median of eight
+//! runs each, same median frame; docs/performance.md, issue 14's steps, step 5). The library never
 //! sets it: changing the environment of a running process is not thread-safe.
 
 /// The trim threshold set for a CPU device: 1 GiB.
