@@ -725,6 +725,7 @@ impl ForwardPass {
             let mut bound: Option<vk::Pipeline> = None;
             let mut bound_material: Option<usize> = None;
             let mut bound_cull: Option<bool> = None;
+            let mut bound_mesh: Option<usize> = None;
             for (i, draw) in self.draws.iter().enumerate() {
                 let pipeline = pipeline_of(i);
                 if bound_cull != Some(draw.cull) {
@@ -756,11 +757,15 @@ impl ForwardPass {
                     bound = Some(pipeline);
                 }
                 let m = &self.meshes[draw.mesh];
-                d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
-                if let Some(c) = &m.centroids {
-                    d.cmd_bind_vertex_buffers(cmd, 1, &[c.raw], &[0]);
+                // Objects sharing a mesh (grid49's 49 spheres) bind its buffers once.
+                if bound_mesh != Some(draw.mesh) {
+                    d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
+                    if let Some(c) = &m.centroids {
+                        d.cmd_bind_vertex_buffers(cmd, 1, &[c.raw], &[0]);
+                    }
+                    d.cmd_bind_index_buffer(cmd, m.indices.raw, 0, vk::IndexType::UINT32);
+                    bound_mesh = Some(draw.mesh);
                 }
-                d.cmd_bind_index_buffer(cmd, m.indices.raw, 0, vk::IndexType::UINT32);
                 d.cmd_push_constants(
                     cmd,
                     self.layout.raw,
