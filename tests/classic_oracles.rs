@@ -231,6 +231,76 @@ fn phong_point_f_at() {
     );
 }
 
+/// KHR_lights_punctual's range window, W(d) = clamp(1 − (d/range)⁴, 0, 1)², written out here
+/// from the formula (not the library's function) for the oracle.
+fn window(d: f32, range: f32) -> f32 {
+    let x = d / range;
+    (1.0 - x.powi(4)).clamp(0.0, 1.0).powi(2)
+}
+
+/// A point light with `range` (issue 18): inverse square times the window within the range,
+/// nothing beyond it. The range, 1.9 m, cuts through the visible plane: pixels on both sides.
+#[test]
+fn phong_point_inverse_square_with_range() {
+    let lp = Vec3::new(-0.2, 1.0, 0.6);
+    let range = 1.9f32;
+    let json = scene_json(
+        r#"{"type": "point", "position": [-0.2, 1.0, 0.6], "color": [1, 0.9, 0.8], "intensity": 2.5, "range": 1.9}"#,
+        &PHONG.json(),
+        "",
+    );
+    let (mut inside, mut beyond) = (0, 0);
+    for j in 0..H {
+        for i in 0..W {
+            match (lp - hit(i, j)).length() < range {
+                true => inside += 1,
+                false => beyond += 1,
+            }
+        }
+    }
+    assert!(
+        inside > 500 && beyond > 500,
+        "{inside} pixels within range, {beyond} beyond"
+    );
+    check(
+        "phong/point/inverse_square/range",
+        &json,
+        |p| {
+            let d = (lp - p).length();
+            let e = Vec3::new(1.0, 0.9, 0.8) * 2.5 / (d * d) * window(d, range);
+            PHONG.ambient() + PHONG.light(p, (lp - p).normalize(), e)
+        },
+        |_| false,
+    );
+}
+
+/// A spot light with a range and the classic f_at: the window multiplies the falloff and the cone.
+#[test]
+fn spot_with_range_and_f_at() {
+    let lp = Vec3::new(0.5, 1.4, 0.2);
+    let axis = Vec3::new(-0.2, -1.0, 0.1).normalize();
+    let range = 2.2f32;
+    let json = scene_json(
+        &format!(
+            r#"{{"type": "spot", "position": [0.5, 1.4, 0.2], "direction": [{}, {}, {}], "intensity": 3, "falloff": {{"c1": 1, "c2": 0.2, "c3": 0.1}}, "umbra_deg": 60, "inner_deg": 40, "range": 2.2}}"#,
+            axis.x, axis.y, axis.z
+        ),
+        &PHONG.json(),
+        "",
+    );
+    check(
+        "phong/spot/f_at/range",
+        &json,
+        |p| {
+            let d = (lp - p).length();
+            let fat = (1.0 / (1.0 + 0.2 * d + 0.1 * d * d)).min(1.0);
+            let k = spot_factor(p, lp, axis, 60.0, Some(40.0), 0.0) * fat * window(d, range);
+            PHONG.ambient() + PHONG.light(p, (lp - p).normalize(), Vec3::splat(3.0 * k))
+        },
+        |_| false,
+    );
+}
+
 fn spot_factor(p: Vec3, lp: Vec3, axis: Vec3, umbra: f32, inner: Option<f32>, exp: f32) -> f32 {
     let l = (lp - p).normalize();
     let cos_s = axis.dot(-l);

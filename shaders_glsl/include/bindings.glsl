@@ -40,7 +40,7 @@ struct Light {
     vec4 direction_falloff;  // xyz unit travel direction, w = falloff kind
     vec4 radiance;           // rgb = colour * intensity, w unused
     vec4 atten;              // c1, c2, c3, spot exponent
-    vec4 cone;               // cos(umbra), cos(inner), smooth (1) or hard (0) edge, unused
+    vec4 cone;               // cos(umbra), cos(inner), smooth (1) or hard (0) edge, range (0: none)
 };
 
 layout(set = SET_FRAME, binding = BINDING_LIGHTS, std430) readonly buffer Lights {
@@ -141,7 +141,7 @@ layout(constant_id = 10) const int SEL_FRESNEL = -1;
 // Bit MAP_* set when the material may have that map (0: no texture code at all).
 layout(constant_id = 11) const uint MAPS = 0xFFu;
 // The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
-layout(constant_id = 12) const uint LIGHT_KINDS = 63u;
+layout(constant_id = 12) const uint LIGHT_KINDS = 127u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
@@ -151,5 +151,7 @@ layout(constant_id = 13) const int SEL_DIFFUSE = -1;
 #define LK_FALLOFF_NONE 8u
 #define LK_FALLOFF_INVERSE_SQUARE 16u
 #define LK_FALLOFF_CLASSIC 32u
+// Some point or spot light has a range (Light.cone.w > 0): the range window applies.
+#define LK_RANGE 64u
 
 #endif

@@ -6,7 +6,7 @@
 #include "bindings.glsl"
 
 // Distance attenuation: none, inverse square, or the slides' f_at = min(1/(c1 + c2 d + c3 d²), 1).
-float light_falloff(Light L, float d) {
+float light_falloff_only(Light L, float d) {
     uint kind = uint(L.direction_falloff.w);
     if ((LIGHT_KINDS & LK_FALLOFF_INVERSE_SQUARE) != 0u && kind == FALLOFF_INVERSE_SQUARE) {
         return 1.0 / max(d * d, 1e-8);
@@ -16,6 +16,18 @@ float light_falloff(Light L, float d) {
         return q > 1.0 ? 1.0 / q : 1.0;
     }
     return 1.0;
+}
+
+// The falloff times KHR_lights_punctual's range window W(d) = clamp(1 − (d/range)⁴, 0, 1)²
+// (src/scene/mod.rs: range_window); scenes without a ranged light leave the window out.
+float light_falloff(Light L, float d) {
+    float f = light_falloff_only(L, d);
+    if ((LIGHT_KINDS & LK_RANGE) != 0u && L.cone.w > 0.0) {
+        float x = d / L.cone.w;
+        float w = clamp(1.0 - (x * x) * (x * x), 0.0, 1.0);
+        f *= w * w;
+    }
+    return f;
 }
 
 // Direction towards the light and the irradiance it delivers on a surface facing it.

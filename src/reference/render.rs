@@ -514,7 +514,7 @@ fn light_incidence(light: &Light, p: Vec3) -> (Vec3, Vec3) {
             }
         }
         crate::scene::Falloff::None => 1.0,
-    };
+    } * crate::scene::range_window(d, light.range);
     let mut e = radiance * falloff;
     if light.kind == LightKind::Spot {
         let cos_s = light.direction.normalize_or_zero().dot(-l);
@@ -640,6 +640,7 @@ mod tests {
             umbra_deg: 180.0,
             inner_deg: None,
             exponent: 0.0,
+            range: None,
         };
         let (dir, e) = light_incidence(&l, Vec3::ZERO);
         assert_eq!(dir, Vec3::Y);
@@ -652,5 +653,12 @@ mod tests {
         l.inner_deg = Some(10.0);
         let (_, e) = light_incidence(&l, Vec3::new(0.0, 0.0, 0.0));
         assert_eq!(e, Vec3::splat(2.0));
+        // A range: the window W(2) = (1 − (2/3)⁴)² at 2 m, nothing from 3 m on.
+        l.range = Some(3.0);
+        let (_, e) = light_incidence(&l, Vec3::ZERO);
+        let w = (1.0f32 - (2.0f32 / 3.0).powi(4)).powi(2);
+        assert!((e - Vec3::splat(2.0 * w)).abs().max_element() < 1e-6, "{e}");
+        let (_, e) = light_incidence(&l, Vec3::new(0.0, -1.5, 0.0));
+        assert_eq!(e, Vec3::ZERO);
     }
 }

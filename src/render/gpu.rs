@@ -61,6 +61,7 @@ pub const LK_SPOT: u32 = b::LK_SPOT;
 pub const LK_FALLOFF_NONE: u32 = b::LK_FALLOFF_NONE;
 pub const LK_FALLOFF_INVERSE_SQUARE: u32 = b::LK_FALLOFF_INVERSE_SQUARE;
 pub const LK_FALLOFF_CLASSIC: u32 = b::LK_FALLOFF_CLASSIC;
+pub const LK_RANGE: u32 = b::LK_RANGE;
 
 /// The light types and falloffs `lights` use, as `LK_*` bits (the shader leaves out the rest).
 pub fn light_kinds(lights: &[Light]) -> u32 {
@@ -73,7 +74,7 @@ pub fn light_kinds(lights: &[Light]) -> u32 {
             Falloff::None => LK_FALLOFF_NONE,
             Falloff::InverseSquare => LK_FALLOFF_INVERSE_SQUARE,
             Falloff::Classic { .. } => LK_FALLOFF_CLASSIC,
-        }
+        } | if l.range.is_some() { LK_RANGE } else { 0 }
     })
 }
 
@@ -178,7 +179,8 @@ impl GpuLight {
             direction_falloff: l.direction.normalize_or_zero().extend(falloff as f32),
             radiance: (l.color * l.intensity).extend(0.0),
             atten: Vec4::new(c[0], c[1], c[2], l.exponent),
-            cone: Vec4::new(cos_umbra, cos_inner, smooth, 0.0),
+            // 0: no range (the shader skips the window).
+            cone: Vec4::new(cos_umbra, cos_inner, smooth, l.range.unwrap_or(0.0)),
         }
     }
 }

@@ -283,7 +283,7 @@ fn light(v: &Value, path: &str) -> Result<Light> {
             "a directional light",
         ),
         LightKind::Point => (
-            &["type", "position", "color", "intensity", "falloff"],
+            &["type", "position", "color", "intensity", "falloff", "range"],
             "a point light",
         ),
         LightKind::Spot => (
@@ -295,6 +295,7 @@ fn light(v: &Value, path: &str) -> Result<Light> {
                 "color",
                 "intensity",
                 "falloff",
+                "range",
                 "umbra_deg",
                 "inner_deg",
                 "exponent",
@@ -346,6 +347,11 @@ fn light(v: &Value, path: &str) -> Result<Light> {
         (_, None) => Falloff::InverseSquare,
         (_, Some(v)) => falloff(v, &f.path("falloff"))?,
     };
+    // Directional lights do not allow the key (`allow` above names it as unknown for them).
+    let range = match f.get("range") {
+        None => None,
+        Some(v) => Some(number(v, &f.path("range"), Check::Positive)?),
+    };
     let (umbra_deg, inner_deg, exponent) = if kind == LightKind::Spot {
         let umbra = f.num("umbra_deg", 30.0, Check::Positive)?;
         if umbra > 90.0 {
@@ -381,6 +387,7 @@ fn light(v: &Value, path: &str) -> Result<Light> {
         umbra_deg,
         inner_deg,
         exponent,
+        range,
     })
 }
 

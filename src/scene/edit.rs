@@ -35,6 +35,7 @@ pub fn default_light(kind: LightKind, bounds: Option<(Vec3, Vec3)>) -> Light {
         umbra_deg: 180.0,
         inner_deg: None,
         exponent: 0.0,
+        range: None,
     };
     match kind {
         LightKind::Directional => Light {
@@ -60,7 +61,7 @@ pub fn default_light(kind: LightKind, bounds: Option<(Vec3, Vec3)>) -> Light {
 
 /// Changes a light's kind, keeping what carries over and resetting what the new kind fixes
 /// (the decoder's values: point lights point down, non-spots have umbra 180°, no inner cone and
-/// exponent 0, directional lights have no falloff).
+/// exponent 0, directional lights have no falloff and no range).
 pub fn set_light_kind(light: &mut Light, kind: LightKind) {
     if light.kind == kind {
         return;
@@ -70,6 +71,7 @@ pub fn set_light_kind(light: &mut Light, kind: LightKind) {
     match kind {
         LightKind::Directional => {
             light.falloff = Falloff::None;
+            light.range = None;
             light.umbra_deg = 180.0;
             light.inner_deg = None;
             light.exponent = 0.0;

@@ -217,6 +217,42 @@ pub struct Light {
     pub inner_deg: Option<f32>,
     /// Spot exponent s: intensity × (cos θ_s)^s inside the umbra (0 for other kinds).
     pub exponent: f32,
+    /// Range of a point or spot light in metres (`None`: infinite, no cut-off). Within it the
+    /// falloff is multiplied by [`range_window`]; beyond it the light delivers nothing.
+    pub range: Option<f32>,
+}
+
+impl Light {
+    /// The factor E / I at distance `d`: the falloff times the range window.
+    pub fn distance_factor(&self, d: f32) -> f32 {
+        self.falloff.factor(d) * range_window(d, self.range)
+    }
+}
+
+/// glTF KHR_lights_punctual's recommended range window, W(d) = clamp(1 − (d/range)⁴, 0, 1)²: 1 at
+/// the light, 0 from `range` on, smooth in between; 1 everywhere without a range.
+pub fn range_window(d: f32, range: Option<f32>) -> f32 {
+    match range {
+        None => 1.0,
+        Some(r) => {
+            let x = d / r;
+            let w = (1.0 - x * x * x * x).clamp(0.0, 1.0);
+            w * w
+        }
+    }
+}
+
+/// The most irradiance the range window takes away from an inverse-square light, as a multiple
+/// of I / range²: max over d of (I / d²)(1 − W(d)) / (I / range²) = max over x = d / range in
+/// (0, 1] of 2x² − x⁶ (at x⁴ = 2/3), and 1 at and beyond the range.
+pub const RANGE_CUT_ERROR: f32 = 1.088_662_1;
+
+/// The range at which cutting an inverse-square light of radiant intensity `intensity` (times its
+/// brightest colour channel) changes the irradiance anywhere by at most `threshold`:
+/// √(RANGE_CUT_ERROR · I / threshold). `None` unless both are positive and finite.
+pub fn range_for_threshold(intensity: f32, threshold: f32) -> Option<f32> {
+    let ok = |v: f32| v.is_finite() && v > 0.0;
+    (ok(intensity) && ok(threshold)).then(|| (RANGE_CUT_ERROR * intensity / threshold).sqrt())
 }
 
 /// Distance falloff of a point or spot light.

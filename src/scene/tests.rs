@@ -257,6 +257,82 @@ fn falloff_factors() {
     assert_eq!(c.factor(1.0), 1.0 / 3.0);
 }
 
+/// `range`: decoded for point and spot lights, the window of KHR_lights_punctual, and a clear
+/// error for a bad value or on a directional light.
+#[test]
+fn light_range() {
+    let s = parse_str(
+        r#"{"lights": [
+            {"type": "point", "position": [0, 1, 0], "intensity": 4, "range": 2.5},
+            {"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "range": 1e3},
+            {"type": "point", "position": [0, 1, 0]}
+        ]}"#,
+    )
+    .unwrap();
+    assert_eq!(s.lights[0].range, Some(2.5));
+    assert_eq!(s.lights[1].range, Some(1000.0));
+    assert_eq!(s.lights[2].range, None);
+    let l = &s.lights[0];
+    assert_eq!(l.distance_factor(1.0), range_window(1.0, Some(2.5)));
+    assert_eq!(l.distance_factor(2.0), 0.25 * range_window(2.0, Some(2.5)));
+    assert_eq!(l.distance_factor(2.5), 0.0);
+    assert_eq!(l.distance_factor(7.0), 0.0);
+    assert_eq!(s.lights[2].distance_factor(7.0), 1.0 / 49.0);
+    // W(d) = clamp(1 − (d/r)⁴, 0, 1)²
+    assert_eq!(range_window(0.0, Some(2.0)), 1.0);
+    assert!((range_window(1.0, Some(2.0)) - (1.0f32 - 1.0 / 16.0).powi(2)).abs() < 1e-7);
+    assert_eq!(range_window(2.0, Some(2.0)), 0.0);
+    assert_eq!(range_window(1e9, None), 1.0);
+    for (value, expected) in [
+        ("-1", "lights[0].range: must be > 0, got -1"),
+        ("0", "lights[0].range: must be > 0, got 0"),
+        (
+            "\"NaN\"",
+            "lights[0].range: expected a number, got a string",
+        ),
+        ("1e39", "lights[0].range: must be a finite number"),
+    ] {
+        assert_error(
+            &format!(
+                r#"{{"lights": [{{"type": "point", "position": [0, 1, 0], "range": {value}}}]}}"#
+            ),
+            expected,
+        );
+    }
+    assert_error(
+        r#"{"lights": [{"type": "directional", "direction": [0, -1, 0], "range": 3}]}"#,
+        "lights[0].range: unknown field \"range\" for a directional light",
+    );
+}
+
+/// The range for a radiance threshold bounds the error of the cut everywhere, and the bound is
+/// tight: the largest error, found by sampling, is the threshold.
+#[test]
+fn range_for_threshold_bounds_the_cut() {
+    for (intensity, threshold) in [(1.0f32, 1e-2f32), (40.0, 1e-3), (500.0, 1e-5)] {
+        let r = range_for_threshold(intensity, threshold).unwrap();
+        let light = Light {
+            intensity,
+            falloff: Falloff::InverseSquare,
+            range: Some(r),
+            ..crate::scene::edit::default_light(LightKind::Point, None)
+        };
+        let mut worst = 0.0f32;
+        for k in 1..=20_000 {
+            let d = r * 1.5 * k as f32 / 20_000.0;
+            let exact = intensity / (d * d);
+            let cut = intensity * light.distance_factor(d);
+            worst = worst.max(exact - cut);
+        }
+        assert!(
+            (worst - threshold).abs() <= threshold * 2e-3,
+            "I = {intensity}, t = {threshold}: range {r}, worst error {worst}"
+        );
+    }
+    assert_eq!(range_for_threshold(0.0, 1e-3), None);
+    assert_eq!(range_for_threshold(1.0, f32::NAN), None);
+}
+
 #[test]
 fn fog_defaults_and_factor() {
     let s =

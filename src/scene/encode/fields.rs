@@ -87,6 +87,9 @@ pub(super) fn light(l: &Light) -> Node {
                 }
             },
         );
+        if let Some(range) = l.range {
+            n.put("range", range);
+        }
     }
     if l.kind == LightKind::Spot {
         n.put("umbra_deg", l.umbra_deg);

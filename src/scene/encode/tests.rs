@@ -272,6 +272,7 @@ fn edited_scene_round_trips() {
         umbra_deg: 33.0,
         inner_deg: Some(21.5),
         exponent: 1.5,
+        range: Some(4.5),
     });
     scene.materials.push(NamedMaterial {
         name: "new clay".to_string(),

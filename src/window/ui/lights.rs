@@ -85,6 +85,23 @@ pub(super) fn light_ui(ui: &mut Ui, light: &mut Light) -> bool {
         });
         if light.kind != LightKind::Directional {
             c |= row(ui, "Falloff", |ui| falloff_ui(ui, &mut light.falloff));
+            // Off: infinite range. On: KHR_lights_punctual's window, nothing beyond the range
+            // (turning it on or off rebuilds the pipelines: the window is specialised).
+            c |= row(ui, "Range (m)", |ui| {
+                ui.horizontal(|ui| {
+                    let mut on = light.range.is_some();
+                    let mut changed = false;
+                    if checkbox(ui, &mut on, "") {
+                        light.range = on.then_some(10.0);
+                        changed = true;
+                    }
+                    if let Some(range) = &mut light.range {
+                        changed |= drag_speed(ui, range, 0.01..=f32::INFINITY, 0.05);
+                    }
+                    changed
+                })
+                .inner
+            });
         }
         if light.kind == LightKind::Spot {
             c |= row(ui, "Umbra (°)", |ui| {
