@@ -258,6 +258,38 @@ fn ibl_cache_second_start() {
         first.pixels == second.pixels,
         "cached IBL data renders differently"
     );
+    // Flip bytes inside every cache file, header intact (as a damaged disk would): the checksum
+    // catches it, the data is computed again (the same image) and the file replaced.
+    let files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(
+        files
+            .iter()
+            .any(|p| p.extension().is_some_and(|e| e == "ibl"))
+            && files
+                .iter()
+                .any(|p| p.extension().is_some_and(|e| e == "bin")),
+        "environment and LUT cache files: {files:?}"
+    );
+    for f in &files {
+        let mut bytes = std::fs::read(f).unwrap();
+        let n = bytes.len();
+        for at in [n / 3, n / 2, n - 5] {
+            bytes[at] ^= 0x5a;
+        }
+        std::fs::write(f, &bytes).unwrap();
+    }
+    let (third, third_cached) = run();
+    assert!(!third_cached, "a damaged cache file must not be used");
+    assert!(
+        first.pixels == third.pixels,
+        "recomputed IBL data renders differently"
+    );
+    let (fourth, fourth_cached) = run();
+    assert!(fourth_cached, "the damaged file was not replaced");
+    assert!(first.pixels == fourth.pixels);
     assert_no_validation_messages(&ctx);
 }
 

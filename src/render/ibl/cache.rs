@@ -240,38 +240,118 @@ fn upload_regions(
     crate::vk::image::upload(ctx, pool, image, bytes, regions, range, from, to)
 }
 
-const BLOB_MAGIC: &[u8; 8] = b"LUZIBL01";
+/// Cache files: this magic, the CRC-32 of everything after the header (little-endian u32), four
+/// reserved bytes, then each blob as its length (u64, little-endian) and its bytes. Version 02 added
+/// the checksum: a file whose bytes changed inside an intact header (a flipped bit on disk, a
+/// partial copy) used to load as it was and change the image.
+const BLOB_MAGIC: &[u8; 8] = b"LUZIBL02";
+const HEADER: usize = 16;
 
-/// The cached images of one environment, if the file exists and every size matches.
-pub(super) fn read_blob(path: &std::path::Path, images: &[&Image]) -> Option<Vec<Vec<u8>>> {
-    let data = std::fs::read(path).ok()?;
-    let rest = data.strip_prefix(BLOB_MAGIC.as_slice())?;
-    let mut out = Vec::new();
-    let mut pos = 0usize;
-    for image in images {
-        let expected: u64 = image_bytes(image).iter().map(|(_, n)| n).sum();
-        let len = u64::from_le_bytes(rest.get(pos..pos + 8)?.try_into().ok()?);
-        if len != expected {
-            return None;
-        }
-        pos += 8;
-        out.push(rest.get(pos..pos + len as usize)?.to_vec());
-        pos += len as usize;
-    }
-    (pos == rest.len()).then_some(out)
+/// What reading a cache file found.
+#[derive(Debug, PartialEq)]
+pub(super) enum Cached {
+    /// The blobs, checksum verified.
+    Hit(Vec<Vec<u8>>),
+    /// No file, another format version or other sizes (other settings): compute it quietly.
+    Miss,
+    /// The file's contents do not match its checksum: compute it again, with a warning.
+    Corrupt,
 }
 
-pub(super) fn write_blob(path: &std::path::Path, blobs: &[Vec<u8>]) {
-    let mut data = BLOB_MAGIC.to_vec();
-    for b in blobs {
-        data.extend_from_slice(&(b.len() as u64).to_le_bytes());
-        data.extend_from_slice(b);
+impl Cached {
+    /// The blobs on a hit; a corrupt file is logged (one warning naming it) and treated as a miss.
+    pub(super) fn hit(self, path: &std::path::Path) -> Option<Vec<Vec<u8>>> {
+        match self {
+            Cached::Hit(blobs) => Some(blobs),
+            Cached::Miss => None,
+            Cached::Corrupt => {
+                log::warn!(
+                    "{}: cached IBL data does not match its checksum (damaged on disk?); \
+                     computing it again and replacing the file",
+                    path.display()
+                );
+                None
+            }
+        }
     }
-    write_file_atomically(path, &data);
+}
+
+/// Reads a cache file whose blobs must have the sizes `expected` (bytes each).
+pub(super) fn read_blobs(path: &std::path::Path, expected: &[u64]) -> Cached {
+    let Ok(data) = std::fs::read(path) else {
+        return Cached::Miss;
+    };
+    parse_blobs(&data, expected)
+}
+
+fn parse_blobs(data: &[u8], expected: &[u64]) -> Cached {
+    let Some(rest) = data.strip_prefix(BLOB_MAGIC.as_slice()) else {
+        return Cached::Miss;
+    };
+    let (Some(crc), Some(body)) = (rest.get(..4), data.get(HEADER..)) else {
+        return Cached::Miss;
+    };
+    // Sizes first: another size is other settings, not damage (unless the checksum fails too).
+    let mut out = Vec::with_capacity(expected.len());
+    let mut pos = 0usize;
+    let mut sizes_match = true;
+    for &want in expected {
+        let Some(len) = body.get(pos..pos + 8) else {
+            sizes_match = false;
+            break;
+        };
+        let len = u64::from_le_bytes(len.try_into().expect("8 bytes"));
+        match (
+            len == want,
+            body.get(pos + 8..).and_then(|b| b.get(..len as usize)),
+        ) {
+            (true, Some(bytes)) => out.push(bytes.to_vec()),
+            _ => {
+                sizes_match = false;
+                break;
+            }
+        }
+        pos += 8 + len as usize;
+    }
+    let crc_ok = u32::from_le_bytes(crc.try_into().expect("4 bytes")) == crc32fast::hash(body);
+    match (crc_ok, sizes_match && pos == body.len()) {
+        (true, true) => Cached::Hit(out),
+        (true, false) => Cached::Miss,
+        (false, _) => Cached::Corrupt,
+    }
+}
+
+/// The bytes of a cache file holding `blobs`.
+fn blob_file(blobs: &[&[u8]]) -> Vec<u8> {
+    let mut body = Vec::with_capacity(blobs.iter().map(|b| b.len() + 8).sum());
+    for b in blobs {
+        body.extend_from_slice(&(b.len() as u64).to_le_bytes());
+        body.extend_from_slice(b);
+    }
+    let mut data = BLOB_MAGIC.to_vec();
+    data.extend_from_slice(&crc32fast::hash(&body).to_le_bytes());
+    data.extend_from_slice(&[0; 4]);
+    data.extend_from_slice(&body);
+    data
+}
+
+/// The cached images of one environment, if the file exists, its checksum holds and every size
+/// matches.
+pub(super) fn read_blob(path: &std::path::Path, images: &[&Image]) -> Option<Vec<Vec<u8>>> {
+    let expected: Vec<u64> = images
+        .iter()
+        .map(|image| image_bytes(image).iter().map(|(_, n)| n).sum())
+        .collect();
+    read_blobs(path, &expected).hit(path)
+}
+
+/// Writes a cache file holding `blobs` (best effort, atomically).
+pub(super) fn write_blob(path: &std::path::Path, blobs: &[&[u8]]) {
+    write_file_atomically(path, &blob_file(blobs));
 }
 
 /// Best effort: a cache that cannot be written is only slower next time.
-pub(super) fn write_file_atomically(path: &std::path::Path, bytes: &[u8]) {
+fn write_file_atomically(path: &std::path::Path, bytes: &[u8]) {
     if let Some(dir) = path.parent() {
         let _ = std::fs::create_dir_all(dir);
     }
@@ -291,4 +371,45 @@ pub fn default_cache_dir() -> Option<std::path::PathBuf> {
         return Some(std::path::PathBuf::from(d).join("luz"));
     }
     std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".cache/luz"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file round-trips; a byte flipped anywhere after the magic is caught by the checksum
+    /// (header, lengths or contents); other sizes or another version are a quiet miss.
+    #[test]
+    fn checksummed_blobs() {
+        let a: Vec<u8> = (0..1000u32).map(|i| (i * 7 % 251) as u8).collect();
+        let b = vec![3u8; 64];
+        let file = blob_file(&[&a, &b]);
+        assert_eq!(
+            parse_blobs(&file, &[1000, 64]),
+            Cached::Hit(vec![a.clone(), b.clone()])
+        );
+        for at in [8, 11, HEADER, HEADER + 3, HEADER + 500, file.len() - 1] {
+            for bit in [0, 7] {
+                let mut bad = file.clone();
+                bad[at] ^= 1 << bit;
+                let got = parse_blobs(&bad, &[1000, 64]);
+                // The four reserved bytes are not covered.
+                if (12..HEADER).contains(&at) {
+                    continue;
+                }
+                assert_eq!(got, Cached::Corrupt, "byte {at} bit {bit}");
+            }
+        }
+        assert_eq!(parse_blobs(&file, &[1000, 65]), Cached::Miss);
+        assert_eq!(parse_blobs(&file, &[1000]), Cached::Miss);
+        assert_eq!(
+            parse_blobs(&file[..file.len() - 1], &[1000, 64]),
+            Cached::Corrupt
+        );
+        let mut old = file.clone();
+        old[..8].copy_from_slice(b"LUZIBL01");
+        assert_eq!(parse_blobs(&old, &[1000, 64]), Cached::Miss);
+        assert_eq!(parse_blobs(b"LUZIBL02", &[1]), Cached::Miss);
+        assert_eq!(parse_blobs(&[], &[1]), Cached::Miss);
+    }
 }

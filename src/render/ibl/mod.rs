@@ -21,9 +21,7 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, VkError};
 
 use bake::{mip_count, Baker, Equirect};
-use cache::{
-    read_blob, read_image, write_blob, write_file_atomically, write_image, write_lut_layer,
-};
+use cache::{read_blob, read_blobs, read_image, write_blob, write_image, write_lut_layer};
 use set::EnvSet;
 
 pub const CUBE_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -266,7 +264,7 @@ impl Images {
                     .into_iter()
                     .map(|image| read_image(ctx, pool, image))
                     .collect::<Result<Vec<_>, _>>()?;
-                write_blob(f, &blobs);
+                write_blob(f, &blobs.iter().map(Vec::as_slice).collect::<Vec<_>>());
             }
         }
         Ok(())
@@ -297,12 +295,11 @@ impl Images {
         let layer_bytes = (s.lut_size as usize).pow(2) * 16;
         let mut computed = Vec::new();
         for (layer, g) in lut_layers.iter().enumerate() {
-            if let Some(bytes) = lut_file(*g).and_then(|f| std::fs::read(f).ok()) {
-                if bytes.len() == layer_bytes {
-                    write_lut_layer(ctx, pool, lut, layer as u32, &bytes)?;
-                    tick("brdf lut (cached)");
-                    continue;
-                }
+            let cached = lut_file(*g).and_then(|f| read_blobs(&f, &[layer_bytes as u64]).hit(&f));
+            if let Some(bytes) = cached.as_ref().and_then(|blobs| blobs.first()) {
+                write_lut_layer(ctx, pool, lut, layer as u32, bytes)?;
+                tick("brdf lut (cached)");
+                continue;
             }
             computed.push(layer);
             baker.brdf_lut_layer(lut_view, *g, layer as u32)?;
@@ -313,7 +310,7 @@ impl Images {
             for layer in computed {
                 if let Some(f) = lut_file(lut_layers[layer]) {
                     let bytes = &all[layer * layer_bytes..(layer + 1) * layer_bytes];
-                    write_file_atomically(&f, bytes);
+                    write_blob(&f, &[bytes]);
                 }
             }
         }
