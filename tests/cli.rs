@@ -158,3 +158,54 @@ fn a_bad_material_file_is_named() {
         "{err}"
     );
 }
+
+/// A model file given where a scene goes (issue 16): an OBJ renders with the default rig; a
+/// missing or malformed one is an error naming it (exit 1, no panic).
+#[test]
+fn model_files_on_the_command_line() {
+    let tmp = scratch("model-files");
+    let out = tmp.join("model.png");
+    let out_s = out.to_str().unwrap();
+    let suzanne = common::shared_path("models/suzanne.obj");
+    if suzanne.exists() {
+        let (code, stdout, err) = luz(&[
+            "render",
+            suzanne.to_str().unwrap(),
+            "-o",
+            out_s,
+            "--width",
+            "160",
+            "--height",
+            "90",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        assert!(stdout.contains("wrote"), "{stdout}");
+        assert!(out.exists());
+    } else {
+        eprintln!("skipped the rendering half: ../shared/models is absent");
+    }
+    let bad_objs = [
+        "binary.obj",
+        "garbage.obj",
+        "index_zero.obj",
+        "nan_vertex.obj",
+        "no_faces.obj",
+        "out_of_range.obj",
+        "truncated.obj",
+        "bad_mtl.obj",
+    ];
+    for bad in std::iter::once(tmp.join("missing.obj")).chain(
+        bad_objs
+            .iter()
+            .map(|f| root().join("tests/bad_scenes").join(f)),
+    ) {
+        let (code, _, err) = luz(&["render", bad.to_str().unwrap(), "-o", out_s]);
+        let name = bad.file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(code, 1, "{name}: {err}");
+        assert!(
+            err.contains(&name),
+            "{name}: the message names the file: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}

@@ -54,3 +54,71 @@ fn real_models_render() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// A model file is a scene (issue 16): `scene::load` of a bare OBJ gives the model, the default
+/// rig and a camera that frames it. Rendered against the same scene without the model, the model
+/// covers a sensible share of the image, inside it, and is shaded (not one flat colour).
+#[test]
+fn model_files_open_as_scenes() {
+    let Some(models) = shared_dir("models") else {
+        return;
+    };
+    let ctx = gpu();
+    for file in ["stanford-bunny.obj", "spot.obj", "teapot.obj"] {
+        let mut scene = luz::scene::load(&models.join(file)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(scene.objects.len(), 1, "{file}");
+        assert!(
+            scene.environment.is_some() && !scene.lights.is_empty(),
+            "{file}: the rig"
+        );
+        scene.override_size(Some(240), Some(135));
+        let render = |s: &luz::scene::Scene| {
+            let mut r = luz::headless::Headless::with_options(
+                &ctx,
+                s,
+                &luz::headless::RenderOptions {
+                    ibl: luz::render::ibl::IblSettings::fast(),
+                    ..Default::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+            r.render().unwrap();
+            r.image().unwrap()
+        };
+        let with = render(&scene);
+        let mut empty = scene.clone();
+        empty.objects.clear();
+        let without = render(&empty);
+        assert_eq!(nan_count(&with), 0, "{file}: NaN/Inf");
+        let (w, h) = (with.width as usize, with.height as usize);
+        let (mut covered, mut lo, mut hi) = (Vec::new(), (w, h), (0, 0));
+        for (i, (a, b)) in with.pixels.iter().zip(&without.pixels).enumerate() {
+            if (0..3).any(|c| (a[c] - b[c]).abs() > 1e-3) {
+                let (x, y) = (i % w, i / w);
+                covered.push(a[0] + a[1] + a[2]);
+                lo = (lo.0.min(x), lo.1.min(y));
+                hi = (hi.0.max(x), hi.1.max(y));
+            }
+        }
+        let share = covered.len() as f32 / (w * h) as f32;
+        assert!(
+            (0.05..0.8).contains(&share),
+            "{file}: the model covers {share} of the image"
+        );
+        assert!(
+            lo.0 > 0 && lo.1 > 0 && hi.0 < w - 1 && hi.1 < h - 1,
+            "{file}: cut by the frame"
+        );
+        assert!(
+            (hi.1 - lo.1) as f32 > 0.3 * h as f32 || (hi.0 - lo.0) as f32 > 0.3 * w as f32,
+            "{file}: framed too small ({lo:?} to {hi:?})"
+        );
+        covered.sort_by(f32::total_cmp);
+        let (dark, bright) = (covered[covered.len() / 10], covered[covered.len() * 9 / 10]);
+        assert!(
+            bright > 1.5 * dark,
+            "{file}: flat shading? 10th/90th percentiles {dark} / {bright}"
+        );
+    }
+    assert_no_validation_messages(&ctx);
+}

@@ -13,6 +13,7 @@ mod environment;
 mod error;
 pub mod json;
 pub mod mesh;
+pub mod model;
 pub mod obj;
 pub mod tessellation;
 mod textures;
@@ -494,7 +495,15 @@ pub enum Saturation {
 }
 
 /// Reads, parses and validates a scene file, loading its OBJ meshes (paths relative to the file).
+/// A model file ([`model::is_model`]: `.obj`) is a scene too: the model with the default rig and
+/// a camera that frames it ([`model::model_scene`]).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    if model::is_model(path) {
+        return model::model_scene(path);
+    }
+    if let Some(e) = model::unsupported(path) {
+        return Err(e);
+    }
     let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
         file: path.to_path_buf(),
         reason: format!("cannot read the scene file: {e}"),
