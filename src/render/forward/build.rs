@@ -1,0 +1,311 @@
+//! Building the forward pass's data: the frame set layout, the draws and the meshes they upload,
+//! the per-slot buffers and descriptor sets, and the LUT layers the materials need.
+
+use super::*;
+
+/// `count` elements of `T` in one storage buffer bound whole (`field`: the scene's array):
+/// `maxStorageBufferRange` and the buffer limits.
+pub(super) fn storage_fits<T>(
+    limits: &crate::vk::Limits,
+    scene: &str,
+    field: &str,
+    count: usize,
+) -> Result<(), VkError> {
+    let size = std::mem::size_of::<T>();
+    limits.check_storage(
+        &format!("{scene}: {field} ({count} × {size} bytes)"),
+        (count as u64).saturating_mul(size as u64),
+    )
+}
+
+/// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table, the
+/// deferred path's materials (`bindings.glsl`, set 0).
+pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
+    let bindings = [
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_FRAME)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(STAGES),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_LIGHTS)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(STAGES),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_OBJECTS)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(STAGES),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_SRGB_TABLE)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(gpu::BINDING_DEFERRED_MATERIALS)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(1)
+            .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+    ];
+    DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
+}
+
+/// What [`build_draws`] makes: the meshes queued for upload, the objects' data and one draw per
+/// drawn object.
+pub(super) struct Draws {
+    pub(super) meshes: Vec<GpuMesh>,
+    pub(super) objects: Vec<gpu::ObjectData>,
+    pub(super) draws: Vec<Draw>,
+    /// Each scene object's index in `objects` (`None`: nothing to draw).
+    pub(super) object_slots: Vec<Option<u32>>,
+}
+
+/// One GPU copy of each mesh per (mesh, smooth/flat) pair, queued on `uploader`, and a draw with
+/// its pipeline variant and push constants for every object.
+pub(super) fn build_draws(
+    scene: &Scene,
+    ibl: Option<&Ibl>,
+    ibl_key: Option<IblKey>,
+    debug: DebugView,
+    generic: bool,
+    limits: &crate::vk::Limits,
+    uploader: &mut Uploader,
+) -> Result<Draws, VkError> {
+    let scene_name = scene.display_name();
+    // Meshes: one GPU copy per (mesh, smooth/flat) pair.
+    let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
+    let mut meshes = Vec::new();
+    let mut objects = Vec::new();
+    let mut draws = Vec::new();
+    let mut object_slots = vec![None; scene.objects.len()];
+    for (object, obj) in scene.objects.iter().enumerate() {
+        let flat = matches!(obj.shading, Shading::Flat);
+        let key = (Arc::as_ptr(&obj.mesh) as usize, flat);
+        let mesh_index = match mesh_cache.get(&key) {
+            Some(&m) => m,
+            None => {
+                // Beyond 32-bit indices or the device's index and buffer limits: an error
+                // naming the object (no split into several draws).
+                let size = mesh::draw_size(&obj.mesh, flat);
+                limits.check_mesh(
+                    &format!(
+                        "{scene_name}: object \"{}\"{}",
+                        obj.name,
+                        if flat {
+                            " (flat shading: 3 vertices per triangle)"
+                        } else {
+                            ""
+                        }
+                    ),
+                    size.vertices,
+                    std::mem::size_of::<Vertex>(),
+                    size.indices,
+                    size.max_index,
+                )?;
+                let data = if flat {
+                    mesh::flat(&obj.mesh)
+                } else {
+                    mesh::smooth(&obj.mesh)
+                };
+                if data.indices.is_empty() {
+                    continue;
+                }
+                let name = &obj.name;
+                let vertices = uploader.buffer(
+                    &format!("{name} vertices"),
+                    bytemuck::cast_slice(&data.vertices),
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                )?;
+                let centroids = match &data.centroids {
+                    Some(c) => Some(uploader.buffer(
+                        &format!("{name} centroids"),
+                        bytemuck::cast_slice(c),
+                        vk::BufferUsageFlags::VERTEX_BUFFER,
+                    )?),
+                    None => None,
+                };
+                let indices = uploader.buffer(
+                    &format!("{name} indices"),
+                    bytemuck::cast_slice(&data.indices),
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                )?;
+                meshes.push(GpuMesh {
+                    vertices,
+                    centroids,
+                    indices,
+                    // Fits: checked by `check_mesh` above.
+                    index_count: data.indices.len() as u32,
+                });
+                mesh_cache.insert(key, meshes.len() - 1);
+                meshes.len() - 1
+            }
+        };
+        let named = &scene.materials[obj.material];
+        let material = &named.material;
+        let mut push = gpu::material_push(material);
+        let (model, terms) = gpu::material_key(material);
+        push.object_index = objects.len() as u32;
+        object_slots[object] = Some(push.object_index);
+        if let Some(i) = ibl {
+            push.flags = i.lut_layer(lut_geometry(material));
+        }
+        objects.push(gpu::object_data(obj.transform.matrix()));
+        use crate::scene::MeshDesc;
+        let closed = matches!(
+            obj.desc,
+            MeshDesc::Sphere { .. }
+                | MeshDesc::Icosphere { .. }
+                | MeshDesc::Cube { .. }
+                | MeshDesc::Cone { .. }
+                | MeshDesc::Cylinder { .. }
+        );
+        let positive = obj.transform.scale.min_element() > 0.0;
+        draws.push(Draw {
+            mesh: mesh_index,
+            object,
+            material: obj.material,
+            cull: closed && positive,
+            variant: if generic {
+                VariantKey {
+                    shading: ShadingKey::from_shading(obj.shading),
+                    model,
+                    fog: scene.fog.is_some(),
+                    debug,
+                    ibl: ibl_key,
+                    terms: TermsKey::Generic,
+                    maps: GENERIC_MAPS,
+                    light_kinds: GENERIC_LIGHT_KINDS,
+                }
+            } else {
+                VariantKey {
+                    shading: ShadingKey::from_shading(obj.shading),
+                    model,
+                    fog: scene.fog.is_some(),
+                    debug,
+                    ibl: ibl_key,
+                    terms,
+                    maps: crate::render::material::map_bits(&named.textures),
+                    light_kinds: gpu::light_kinds(&scene.lights),
+                }
+            },
+            push,
+        });
+    }
+    Ok(Draws {
+        meshes,
+        objects,
+        draws,
+        object_slots,
+    })
+}
+
+/// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
+pub fn lut_geometry(m: &crate::brdf::Model) -> i32 {
+    use crate::brdf::{Geometry, Model};
+    match m {
+        Model::CookTorrance(p) => p.geometry as i32,
+        Model::MetalRough(p) => p.geometry as i32,
+        // Principled's Gs is the separable Smith GGX (in visibility form).
+        Model::Principled(_) => Geometry::SmithGgx as i32,
+        _ => Geometry::SmithGgxCorrelated as i32,
+    }
+}
+
+/// The LUT layers a scene's materials need.
+pub fn lut_geometries(scene: &Scene) -> Vec<i32> {
+    let mut g: Vec<i32> = scene
+        .materials
+        .iter()
+        .map(|m| lut_geometry(&m.material))
+        .collect();
+    g.sort_unstable();
+    g.dedup();
+    g
+}
+
+impl Slot {
+    pub(super) fn new(
+        ctx: &Arc<Context>,
+        pool: &DescriptorPool,
+        layout: &DescriptorSetLayout,
+        index: usize,
+        (light_count, object_count): (usize, usize),
+        srgb_table: &Buffer,
+    ) -> Result<Self, VkError> {
+        let buffer = |name: &str, size: usize, usage| {
+            Buffer::new(
+                ctx,
+                &format!("{name} (slot {index})"),
+                size as u64,
+                usage,
+                MemoryLocation::CpuToGpu,
+            )
+        };
+        let frame_ubo = buffer(
+            "frame uniforms",
+            std::mem::size_of::<gpu::FrameData>(),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+        )?;
+        let lights = buffer(
+            "lights",
+            light_count * std::mem::size_of::<GpuLight>(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let objects = buffer(
+            "objects",
+            object_count * std::mem::size_of::<gpu::ObjectData>(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let set = pool.allocate(layout)?;
+        let info = |b: &Buffer| {
+            [vk::DescriptorBufferInfo {
+                buffer: b.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }]
+        };
+        let deferred_materials = buffer(
+            "deferred materials",
+            object_count * std::mem::size_of::<gpu::DeferredMaterial>(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let infos = [
+            info(&frame_ubo),
+            info(&lights),
+            info(&objects),
+            info(srgb_table),
+            info(&deferred_materials),
+        ];
+        let writes = [
+            (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
+            (gpu::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
+            (gpu::BINDING_OBJECTS, vk::DescriptorType::STORAGE_BUFFER),
+            (gpu::BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
+            (
+                gpu::BINDING_DEFERRED_MATERIALS,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+        ]
+        .iter()
+        .zip(&infos)
+        .map(|(&(binding, ty), info)| {
+            vk::WriteDescriptorSet::default()
+                .dst_set(set)
+                .dst_binding(binding)
+                .descriptor_type(ty)
+                .buffer_info(info)
+        })
+        .collect::<Vec<_>>();
+        // SAFETY: `set` was just allocated and is not in use by any command buffer; the writes'
+        // buffers are live, of the usages the bindings need, and `infos` outlives the call.
+        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        Ok(Self {
+            frame_ubo,
+            lights,
+            objects,
+            deferred_materials,
+            set,
+        })
+    }
+}
