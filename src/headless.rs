@@ -339,6 +339,11 @@ impl Headless {
         self.forward.triangle_count()
     }
 
+    /// Objects drawn after frustum culling, and all objects with something to draw.
+    pub fn drawn_objects(&self) -> (usize, usize) {
+        self.forward.drawn_objects(0)
+    }
+
     /// "deferred" or "forward": how the scene is drawn ([`crate::render::forward::RenderPath`]).
     pub fn render_path(&self) -> &'static str {
         self.forward.render_path()

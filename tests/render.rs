@@ -70,3 +70,60 @@ fn lambert_plane_oracle() {
     }
     assert!(worst <= 1e-4, "worst relative error {worst} > 1e-4");
 }
+
+/// Frustum culling (issue 17): objects wholly outside the view (behind the camera, beyond the
+/// far plane, off to a side) are not drawn, and the image is exactly the one without them, on
+/// the forward and the deferred path; an object that only pokes into the view is drawn.
+#[test]
+fn frustum_culling_changes_no_pixel() {
+    let objects_in = r#"
+        {"mesh": {"type": "sphere", "segments": 24, "rings": 12}, "material": "m", "position": [0, 0.5, 0]},
+        {"mesh": {"type": "cube", "size": 1}, "material": "m", "position": [1.5, 0.5, -1], "rotation_deg": [0, 30, 0]},
+        {"mesh": {"type": "sphere", "radius": 2, "segments": 24, "rings": 12}, "material": "m", "position": [5.2, 0.5, 0]}"#;
+    let objects_out = r#",
+        {"mesh": {"type": "sphere", "segments": 24, "rings": 12}, "material": "m", "position": [0, 1, 9]},
+        {"mesh": {"type": "cube", "size": 1}, "material": "m", "position": [0, 0, -80]},
+        {"mesh": {"type": "cone", "radius": 0.5, "height": 1}, "material": "m", "position": [30, 0, 0]}"#;
+    let scene = |objects: &str, (model, msaa): (&str, u32)| {
+        parse(&format!(
+            r#"{{
+            "camera": {{"position": [0, 1.5, 5], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 40}},
+            "output": {{"width": 160, "height": 90, "msaa": {msaa}}},
+            "lights": [{{"type": "point", "position": [2, 4, 3], "intensity": 30}}],
+            "materials": {{"m": {model}}},
+            "objects": [{objects}]
+        }}"#
+        ))
+    };
+    let ctx = gpu();
+    // One sample: the deferred path; MSAA 4x: the forward path.
+    for model in [
+        (r#"{"model": "phong", "kd": 0.7}"#, 1),
+        (
+            r#"{"model": "metal_rough", "base_color": [0.8, 0.5, 0.3], "metallic": 0.5, "roughness": 0.4}"#,
+            4,
+        ),
+    ] {
+        let all = scene(&format!("{objects_in}{objects_out}"), model);
+        let visible_only = scene(objects_in, model);
+        let mut r = luz::headless::Headless::new(&ctx, &all).unwrap();
+        r.render().unwrap();
+        let path = if model.1 == 1 { "deferred" } else { "forward" };
+        assert_eq!(r.render_path(), path, "{model:?}");
+        assert_eq!(
+            r.drawn_objects(),
+            (3, 6),
+            "{model:?}: the three outside are culled"
+        );
+        let with = r.image().unwrap();
+        let without = render_on(&ctx, &visible_only);
+        let differ = with
+            .pixels
+            .iter()
+            .zip(&without.pixels)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(differ, 0, "{model:?}: {differ} pixels differ");
+    }
+    assert_no_validation_messages(&ctx);
+}

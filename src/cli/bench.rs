@@ -147,11 +147,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     println!(
-        "scene: {} ({}x{}, {} triangles, {} lights), {} path, output {}",
+        "scene: {} ({}x{}, {} triangles, {} of {} objects in view, {} lights), {} path, output {}",
         scene.display_name(),
         scene.output.width,
         scene.output.height,
         renderer.triangle_count(),
+        renderer.drawn_objects().0,
+        renderer.drawn_objects().1,
         scene.lights.len(),
         renderer.render_path(),
         match output {

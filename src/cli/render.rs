@@ -67,6 +67,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
             println!("  {v}");
         }
         println!("triangles: {}", renderer.triangle_count());
+        let (drawn, all) = renderer.drawn_objects();
+        println!("objects drawn after frustum culling: {drawn} of {all}");
     }
     report_tessellation(&scene, a.verbose);
     if let Some(t) = renderer.ibl_times() {

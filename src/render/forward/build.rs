@@ -131,6 +131,7 @@ pub(super) fn build_draws(
                     vk::BufferUsageFlags::INDEX_BUFFER,
                 )?;
                 meshes.push(GpuMesh {
+                    sphere: frustum::sphere(obj.mesh.bounds()),
                     vertices,
                     centroids,
                     indices,
@@ -306,6 +307,7 @@ impl Slot {
             objects,
             deferred_materials,
             set,
+            visible: Vec::new(),
         })
     }
 }

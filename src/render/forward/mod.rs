@@ -20,6 +20,7 @@ use crate::vk::{Buffer, Context, VkError};
 
 mod build;
 mod deferred;
+mod frustum;
 mod variant;
 
 use build::{build_draws, frame_set_layout, storage_fits, Draws};
@@ -31,6 +32,8 @@ use variant::{create_pipeline, create_skybox, Modules};
 pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 
 struct GpuMesh {
+    /// Object-space bounding sphere (frustum culling, [`frustum`]).
+    sphere: (glam::Vec3, f32),
     vertices: Buffer,
     centroids: Option<Buffer>,
     indices: Buffer,
@@ -184,6 +187,8 @@ struct Slot {
     /// Per object slot: its material ([`gpu::DeferredMaterial`]), read by the deferred path.
     deferred_materials: Buffer,
     set: vk::DescriptorSet,
+    /// Per draw: whether its bounding sphere meets the view volume of the slot's camera.
+    visible: Vec<bool>,
 }
 
 pub struct ForwardPass {
@@ -476,6 +481,8 @@ impl ForwardPass {
         }
         self.background = scene.output.background;
         self.exposure = scene.output.exposure;
+        let visible = self.visibility(scene, aspect);
+        self.slots[slot].visible = visible;
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
@@ -524,7 +531,9 @@ impl ForwardPass {
     /// Rewrites the per-frame uniforms (camera, ambient, fog) of every slot.
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
+        let visible = self.visibility(scene, aspect);
         for s in &mut self.slots {
+            s.visible.clone_from(&visible);
             s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
         }
         Ok(())
@@ -556,6 +565,28 @@ impl ForwardPass {
         v
     }
 
+    /// Per draw: whether its object's bounding sphere meets the view volume of `scene`'s camera
+    /// at `aspect` ([`frustum`]).
+    fn visibility(&self, scene: &Scene, aspect: f32) -> Vec<bool> {
+        let planes = frustum::planes(scene.camera.projection(aspect) * scene.camera.view());
+        self.draws
+            .iter()
+            .map(|d| {
+                let model = scene.objects[d.object].transform.matrix();
+                frustum::visible(&planes, model, self.meshes[d.mesh].sphere)
+            })
+            .collect()
+    }
+
+    /// Objects (draws) recorded for slot `slot`'s camera after frustum culling, and all of them.
+    pub fn drawn_objects(&self, slot: usize) -> (usize, usize) {
+        let s = &self.slots[slot.min(self.slots.len() - 1)];
+        let drawn = (0..self.draws.len())
+            .filter(|&i| s.visible.get(i).copied().unwrap_or(true))
+            .count();
+        (drawn, self.draws.len())
+    }
+
     pub fn triangle_count(&self) -> u64 {
         self.draws
             .iter()
@@ -581,7 +612,9 @@ impl ForwardPass {
         mut timer: Option<&mut crate::vk::timing::GpuTimer>,
     ) -> Result<(), VkError> {
         let d = &self.ctx.device;
-        let set = self.slots[slot.min(self.slots.len() - 1)].set;
+        let slot = &self.slots[slot.min(self.slots.len() - 1)];
+        let set = slot.set;
+        let visible = slot.visible.as_slice();
         if let Some(def) = &self.deferred {
             if !def.ready(output, target.extent) || target.resolve.is_some() {
                 return Err(VkError::Setup(format!(
@@ -596,7 +629,7 @@ impl ForwardPass {
                 },
             };
             def.record(cmd, target, (output, clear), set, timer, |pipeline| {
-                self.record_draws(cmd, set, |_| pipeline)
+                self.record_draws(cmd, (set, visible), |_| pipeline)
             });
             return Ok(());
         }
@@ -679,7 +712,7 @@ impl ForwardPass {
             );
             d.cmd_set_scissor(cmd, 0, &[area]);
         }
-        self.record_draws(cmd, set, |i| pipelines[i]);
+        self.record_draws(cmd, (set, visible), |i| pipelines[i]);
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe {
             if let Some(sky) = skybox {
@@ -694,12 +727,13 @@ impl ForwardPass {
         }
         Ok(())
     }
-    /// Binds the frame (and environment) sets and records every draw with `pipeline_of(draw
-    /// index)`, inside the caller's rendering instance.
+    /// Binds the frame set `set` (and the environment set) and records, inside the caller's
+    /// rendering instance, every draw whose object may be seen (`visible`, by draw; all when
+    /// empty) with `pipeline_of(draw index)`.
     fn record_draws(
         &self,
         cmd: vk::CommandBuffer,
-        set: vk::DescriptorSet,
+        (set, visible): (vk::DescriptorSet, &[bool]),
         pipeline_of: impl Fn(usize) -> vk::Pipeline,
     ) {
         let d = &self.ctx.device;
@@ -731,6 +765,9 @@ impl ForwardPass {
             let mut bound_cull: Option<bool> = None;
             let mut bound_mesh: Option<usize> = None;
             for (i, draw) in self.draws.iter().enumerate() {
+                if !visible.get(i).copied().unwrap_or(true) {
+                    continue;
+                }
                 let pipeline = pipeline_of(i);
                 if bound_cull != Some(draw.cull) {
                     d.cmd_set_cull_mode(
