@@ -4,7 +4,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
-pkgs=(mesa-vulkan-drivers vulkan-validationlayers libvulkan-dev xvfb xauth glslang-dev libshaderc-dev spirv-tools fonts-dejavu-core)
+# chromium: the golden report is tested in a real browser (tests/golden_cmd.rs, headless --dump-dom).
+pkgs=(mesa-vulkan-drivers vulkan-validationlayers libvulkan-dev xvfb xauth glslang-dev libshaderc-dev spirv-tools fonts-dejavu-core chromium)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
