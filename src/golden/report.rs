@@ -277,13 +277,13 @@ fn html(cases: &[Case], shown: &[Images], info: &RunInfo) -> String {
         h.push_str("</div>\n");
         if let (Some(e), Some(a)) = (&img.expected, &img.actual) {
             let id = format!("fade-{i}");
-            let _ = write!(
+            let _ = writeln!(
                 h,
                 "<p>expected <input type=\"range\" id=\"{id}-s\" min=\"0\" max=\"100\" value=\"0\" \
                  oninput=\"fade('{id}',this.value)\"> actual \
                  <button type=\"button\" onclick=\"flip('{id}')\">flip</button></p>\
                  <div class=\"stack\"><img src=\"{}\" alt=\"expected (under)\">\
-                 <img class=\"top\" id=\"{id}\" src=\"{}\" alt=\"actual (over)\" style=\"opacity:0\"></div>\n",
+                 <img class=\"top\" id=\"{id}\" src=\"{}\" alt=\"actual (over)\" style=\"opacity:0\"></div>",
                 escape(e),
                 escape(a)
             );
