@@ -27,6 +27,7 @@ pub mod plot;
 pub mod profiler;
 /// Progress reports of long library work (the binary draws them).
 pub mod progress;
+pub mod provenance;
 pub mod reference;
 pub mod render;
 pub mod scene;

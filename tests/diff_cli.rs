@@ -158,3 +158,69 @@ fn exr_defaults_are_in_linear_units() {
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("FAIL: max abs difference"), "{out}");
 }
+
+/// A render records where it came from; `luz info` prints it; `luz diff` says where two images'
+/// provenance differs.
+#[test]
+fn provenance_in_renders_info_and_diff() {
+    let dir = scratch("provenance");
+    let scene = dir.join("tiny.json");
+    std::fs::write(
+        &scene,
+        r#"{"output": {"width": 48, "height": 32, "msaa": 1, "tonemap": "aces", "exposure": 0.5},
+            "lights": [{"type": "directional", "direction": [0, -1, -1], "color": [1, 1, 1], "intensity": 2}],
+            "materials": {"m": {"model": "lambert", "albedo": [0.5, 0.5, 0.5]}},
+            "objects": [{"mesh": {"type": "sphere", "radius": 1}, "material": "m"}]}"#,
+    )
+    .unwrap();
+    let (png, exr) = (dir.join("a.png"), dir.join("a.exr"));
+    for out in [&png, &exr] {
+        let (code, stdout, err) = luz(&["render", s(&scene), "-o", s(out), "--frames", "3"]);
+        assert_eq!(code, 0, "{stdout}\n{err}");
+        assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+    }
+    let hash = luz::imageio::provenance::content_hash(&std::fs::read(&scene).unwrap());
+    for (img, encoding) in [(&png, "8-bit sRGB"), (&exr, "linear float32")] {
+        let (code, out, err) = luz(&["info", s(img)]);
+        assert_eq!(code, 0, "{err}");
+        for needle in [
+            "luz.version ".to_string(),
+            "luz.commit ".to_string(),
+            "luz.device                        llvmpipe".to_string(),
+            "luz.driver ".to_string(),
+            "luz.vulkan                        1.".to_string(),
+            format!("luz.scene                         {}", scene.display()),
+            format!("luz.scene_hash                    {hash}"),
+            "luz.size                          48x32".to_string(),
+            "luz.tonemap                       aces".to_string(),
+            "luz.exposure_ev                   0.5".to_string(),
+            "luz.frame.frames                  3".to_string(),
+            "luz.frame.cpu_median_ms ".to_string(),
+            format!("luz.encoding                      {encoding}"),
+        ] {
+            assert!(out.contains(&needle), "{needle:?} missing in:\n{out}");
+        }
+    }
+    // Another scene file: diff names the differing provenance (not the frame times).
+    let other = dir.join("other.json");
+    std::fs::copy(&scene, &other).unwrap();
+    let png2 = dir.join("b.png");
+    let (code, _, err) = luz(&["render", s(&other), "-o", s(&png2)]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, _) = luz(&["diff", s(&png), s(&png2)]);
+    assert_eq!(code, 0, "same pixels: {out}");
+    assert!(
+        out.contains(&format!(
+            "provenance differs: luz.scene: expected {} | actual {}",
+            scene.display(),
+            other.display()
+        )),
+        "{out}"
+    );
+    assert!(!out.contains("luz.frame"), "{out}");
+    assert!(!out.contains("luz.scene_hash"), "same contents: {out}");
+    // Bad input: named, exit 1.
+    let (code, _, err) = luz(&["info", s(&dir.join("missing.png"))]);
+    assert_eq!(code, 1);
+    assert!(err.contains("missing.png: no such file"), "{err}");
+}

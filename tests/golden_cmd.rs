@@ -111,6 +111,11 @@ fn bless_check_and_failures_that_do_not_stop_the_run() {
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("FAIL blue"), "{out}");
     assert!(out.contains("exceeds max-flip-mean 0.005"), "{out}");
+    // The scene file changed: its hash says so.
+    assert!(
+        out.contains("provenance differs: luz.scene_hash: golden fnv1a64:"),
+        "{out}"
+    );
     assert!(
         out.contains(&format!(
             "no golden {} (run with --bless",
@@ -298,6 +303,10 @@ fn report_in_a_browser_junit_and_markdown() {
     assert_eq!(junit.matches("<failure ").count(), 1, "{junit}");
     assert!(junit.contains("name=\"changed &lt;&amp;&gt;\""), "{junit}");
     assert!(junit.contains("exceeds max-flip-mean 0.005"), "{junit}");
+    assert!(
+        junit.contains("provenance differs: luz.scene_hash"),
+        "{junit}"
+    );
     // Markdown: a table row per scene.
     let md = std::fs::read_to_string(report.join("summary.md")).unwrap();
     assert!(md.contains("luz golden: 1 of 2 passed"), "{md}");

@@ -80,6 +80,15 @@ pub fn run(a: DiffArgs) -> Result<ExitCode> {
         opts.describe_tolerances(),
         report.units
     );
+    // Where the two images came from, when that differs (another driver explains a few LSB).
+    if let (Ok(pe), Ok(pa)) = (
+        luz::imageio::provenance::read(&a.expected),
+        luz::imageio::provenance::read(&a.actual),
+    ) {
+        for line in pe.difference_lines(&pa) {
+            println!("provenance differs: {line}");
+        }
+    }
     if let Some(h) = &a.output {
         println!("wrote {}", h.display());
     }

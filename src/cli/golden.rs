@@ -71,6 +71,9 @@ pub fn run(a: GoldenArgs) -> Result<ExitCode> {
                 for f in &c.failures {
                     println!("     {:width$}  {f}", "");
                 }
+                for d in c.provenance_differences() {
+                    println!("     {:width$}  provenance differs: {d}", "");
+                }
             }
             Verdict::Blessed(change) => {
                 let what = match change {

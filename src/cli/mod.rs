@@ -8,6 +8,7 @@ mod common;
 mod devices;
 mod diff;
 mod golden;
+mod info;
 mod lab;
 mod reference;
 mod render;
@@ -53,6 +54,9 @@ pub enum Command {
     /// Render scenes and check each against its golden image (exit 1 when any fails), or bless
     /// the goldens; --report writes an HTML page, JUnit XML and a Markdown summary.
     Golden(golden::GoldenArgs),
+    /// Print an image's size, format and provenance (luz version and commit, device, driver,
+    /// scene and its hash, tone map, exposure, frame times).
+    Info(info::InfoArgs),
     /// Evaluate a BRDF of the CPU reference at given directions (or JSON lines on stdin), or plot
     /// its lobe, a θh × θd slice and its directional albedo.
     Brdf(brdf::BrdfArgs),
@@ -92,6 +96,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Bench(a) => bench::run(a),
         Command::Diff(a) => diff::run(a),
         Command::Golden(a) => golden::run(a),
+        Command::Info(a) => info::run(a),
         Command::Brdf(a) => brdf::run(a),
         Command::Devices(a) => devices::run(a),
         Command::Lab(a) => lab::run(a),

@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use crate::diff::{DiffReport, FlipMap, Tolerance};
 use crate::headless::{Headless, RenderOptions};
-use crate::imageio::{self, FileFormat, LoadedImage};
+use crate::imageio::{self, FileFormat, LoadedImage, Provenance};
 use crate::progress::{ProgressSink, Reporting};
 use crate::vk::Context;
 
@@ -236,6 +236,32 @@ pub struct Case {
     pub images: Option<CaseImages>,
     /// Wall-clock milliseconds of load, render and comparison.
     pub millis: f64,
+    /// Where the golden came from, as its file records it (absent without a readable golden).
+    pub expected_provenance: Option<Provenance>,
+    /// Where the actual image came from (this run's device, the scene and its hash).
+    pub actual_provenance: Option<Provenance>,
+}
+
+impl Case {
+    /// The provenance entries that differ between the golden and this run (another driver
+    /// explains a few-LSB difference), as `key: golden … | actual …` lines.
+    pub fn provenance_differences(&self) -> Vec<String> {
+        match (&self.expected_provenance, &self.actual_provenance) {
+            (Some(e), Some(a)) => e
+                .differences(a)
+                .into_iter()
+                .filter(|(k, _, _)| k != "luz.encoding")
+                .map(|(k, e, a)| {
+                    format!(
+                        "{k}: golden {} | actual {}",
+                        e.as_deref().unwrap_or("(none)"),
+                        a.as_deref().unwrap_or("(none)")
+                    )
+                })
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
 }
 
 impl Case {
@@ -261,6 +287,8 @@ impl Case {
             report: None,
             images: None,
             millis: 0.0,
+            expected_provenance: None,
+            actual_provenance: None,
         }
     }
 }
@@ -444,6 +472,8 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         report: None,
         images: None,
         millis: 0.0,
+        expected_provenance: None,
+        actual_provenance: Some(crate::provenance::of_render(&ctx.info, &scene, None)),
     };
 
     if opts.bless {
@@ -471,9 +501,14 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
             }
         };
         if change != BlessChange::Unchanged {
-            if let Err(e) =
-                imageio::save(&golden, &image, scene.output.exposure, scene.output.tonemap)
-            {
+            let meta = case.actual_provenance.clone().unwrap_or_default();
+            if let Err(e) = imageio::save_with(
+                &golden,
+                &image,
+                scene.output.exposure,
+                scene.output.tonemap,
+                &meta,
+            ) {
                 case.verdict = Verdict::Fail;
                 case.failures.push(e.to_string());
                 case.millis = t0.elapsed().as_secs_f64() * 1e3;
@@ -497,7 +532,10 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
     }
     let expected = if golden.is_file() {
         match imageio::load(&golden) {
-            Ok(e) => Some(e),
+            Ok(e) => {
+                case.expected_provenance = imageio::provenance::read(&golden).ok();
+                Some(e)
+            }
             Err(e) => {
                 case.failures.push(e.to_string());
                 None

@@ -254,6 +254,34 @@ fn html(cases: &[Case], shown: &[Images], info: &RunInfo) -> String {
             escape(&tolerance_text(c)),
             escape(&figures(c))
         );
+        let prov = c.provenance_differences();
+        if !prov.is_empty() {
+            h.push_str("<p>provenance differs:</p><ul class=\"provenance\">");
+            for d in &prov {
+                let _ = write!(h, "<li>{}</li>", escape(d));
+            }
+            h.push_str("</ul>\n");
+        }
+        for (side, p) in [
+            ("golden", &c.expected_provenance),
+            ("actual", &c.actual_provenance),
+        ] {
+            if let Some(p) = p {
+                let device = [
+                    p.get("luz.device"),
+                    p.get("luz.driver"),
+                    p.get("luz.vulkan"),
+                ]
+                .iter()
+                .flatten()
+                .copied()
+                .collect::<Vec<_>>()
+                .join(", ");
+                if !device.is_empty() {
+                    let _ = writeln!(h, "<p>{side}: {}</p>", escape(&device));
+                }
+            }
+        }
         if !c.failures.is_empty() {
             h.push_str("<ul class=\"reasons\">");
             for f in &c.failures {
@@ -330,12 +358,16 @@ fn junit(cases: &[Case], info: &RunInfo) -> String {
             );
         } else {
             let message = c.failures.first().cloned().unwrap_or_default();
-            let body = format!(
+            let mut body = format!(
                 "{}\n{}\ntolerances: {}",
                 c.failures.join("\n"),
                 figures(c),
                 tolerance_text(c)
             );
+            for d in c.provenance_differences() {
+                body.push_str("\nprovenance differs: ");
+                body.push_str(&d);
+            }
             let _ = writeln!(
                 x,
                 ">\n      <failure message=\"{}\" type=\"golden mismatch\">{}</failure>\n    </testcase>",
