@@ -83,13 +83,15 @@ pub struct Tolerance {
 }
 
 impl Default for Tolerance {
-    /// Same machine: byte-exact. Other CPUs: lavapipe's approximate rcp/rsqrt move a few LSB.
+    /// The product's golden-image tolerances (`luz diff`'s and `luz golden`'s defaults), so the
+    /// harness and the product cannot drift. Same machine: byte-exact. Other CPUs: lavapipe's
+    /// approximate rcp/rsqrt move a few LSB.
     fn default() -> Self {
         Self {
-            max_flip_mean: 0.005,
-            max_abs: 8.0,
-            max_bad_pixels: 64,
-            bad_threshold: 3.0,
+            max_flip_mean: luz::diff::GOLDEN_MAX_FLIP_MEAN,
+            max_abs: luz::diff::GOLDEN_MAX_ABS_STEPS,
+            max_bad_pixels: luz::diff::GOLDEN_MAX_BAD_PIXELS,
+            bad_threshold: luz::diff::GOLDEN_BAD_THRESHOLD_STEPS,
         }
     }
 }
