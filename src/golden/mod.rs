@@ -525,62 +525,96 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         return case;
     }
 
-    if nan > 0 {
-        case.failures.push(format!(
-            "{nan} pixels of the rendered radiance hold NaN or Inf"
-        ));
-    }
-    let expected = if golden.is_file() {
-        match imageio::load(&golden) {
-            Ok(e) => {
-                case.expected_provenance = imageio::provenance::read(&golden).ok();
-                Some(e)
-            }
-            Err(e) => {
-                case.failures.push(e.to_string());
-                None
-            }
-        }
-    } else {
-        case.failures.push(format!(
-            "no golden {} (run with --bless to create it)",
-            golden.display()
-        ));
-        None
-    };
-    let mut flip = None;
-    if let Some(exp) = &expected {
-        if (exp.width, exp.height) != (actual.width, actual.height) {
-            case.failures.push(format!(
-                "size mismatch: the golden {} is {}×{}, the scene renders {}×{}",
-                golden.display(),
-                exp.width,
-                exp.height,
-                actual.width,
-                actual.height
-            ));
-        } else {
-            let dopts = tolerance.options_for(exp, &actual);
-            match crate::diff::compare_detailed(exp, &actual, &dopts) {
-                Ok((report, map)) => {
-                    case.failures.extend(report.violations(&dopts));
-                    case.report = Some(report);
-                    flip = Some(map);
-                }
-                Err(e) => case.failures.push(e.to_string()),
-            }
-        }
-    }
+    let cmp = compare_with_golden(&golden, nan, actual, tolerance);
+    case.failures = cmp.failures;
+    case.report = cmp.report;
+    case.expected_provenance = cmp.expected_provenance;
     if !case.failures.is_empty() {
         case.verdict = Verdict::Fail;
     }
     case.images = Some(CaseImages {
-        expected,
-        actual,
-        flip,
+        expected: cmp.expected,
+        actual: cmp.actual,
+        flip: cmp.flip,
     });
     case.millis = t0.elapsed().as_secs_f64() * 1e3;
     case
+}
+
+/// One rendered image against its golden file: what [`run_case`] and luz's own golden tests
+/// (`tests/common/vulkan.rs`) both check, so the product and the harness cannot drift.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    /// Each violated tolerance, or why there was nothing to compare (empty: pass).
+    pub failures: Vec<String>,
+    pub report: Option<DiffReport>,
+    pub expected: Option<LoadedImage>,
+    pub actual: LoadedImage,
+    pub flip: Option<FlipMap>,
+    pub expected_provenance: Option<Provenance>,
+}
+
+/// Compares `actual` (a rendered frame as its PNG holds it, e.g.
+/// [`LoadedImage::from_linear`]) with the PNG `golden` under `tolerance`. `nan` is the number of
+/// NaN/Inf pixels of the rendered radiance (the PNG cannot show them; any is a failure). A
+/// missing or unreadable golden and a size mismatch are failures with the reason.
+pub fn compare_with_golden(
+    golden: &Path,
+    nan: u64,
+    actual: LoadedImage,
+    tolerance: Tolerance,
+) -> Comparison {
+    let mut out = Comparison {
+        failures: Vec::new(),
+        report: None,
+        expected: None,
+        actual,
+        flip: None,
+        expected_provenance: None,
+    };
+    if nan > 0 {
+        out.failures.push(format!(
+            "{nan} pixels of the rendered radiance hold NaN or Inf"
+        ));
+    }
+    if !golden.is_file() {
+        out.failures.push(format!(
+            "no golden {} (run with --bless to create it)",
+            golden.display()
+        ));
+        return out;
+    }
+    let exp = match imageio::load(golden) {
+        Ok(e) => e,
+        Err(e) => {
+            out.failures.push(e.to_string());
+            return out;
+        }
+    };
+    out.expected_provenance = imageio::provenance::read(golden).ok();
+    let actual = &out.actual;
+    if (exp.width, exp.height) != (actual.width, actual.height) {
+        out.failures.push(format!(
+            "size mismatch: the golden {} is {}×{}, the scene renders {}×{}",
+            golden.display(),
+            exp.width,
+            exp.height,
+            actual.width,
+            actual.height
+        ));
+    } else {
+        let dopts = tolerance.options_for(&exp, actual);
+        match crate::diff::compare_detailed(&exp, actual, &dopts) {
+            Ok((report, map)) => {
+                out.failures.extend(report.violations(&dopts));
+                out.report = Some(report);
+                out.flip = Some(map);
+            }
+            Err(e) => out.failures.push(e.to_string()),
+        }
+    }
+    out.expected = Some(exp);
+    out
 }
 
 #[cfg(test)]
