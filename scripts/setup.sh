@@ -5,6 +5,9 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 pkgs=(mesa-vulkan-drivers vulkan-validationlayers libvulkan-dev xvfb xauth glslang-dev libshaderc-dev spirv-tools fonts-dejavu-core)
+# chromium: luz's own tests load the golden report in a real browser (tests/golden_cmd.rs). Building
+# and running luz elsewhere (the CI recipe in docs/golden.md) does not need it: LUZ_NO_BROWSER=1.
+[ -n "${LUZ_NO_BROWSER:-}" ] || pkgs+=(chromium)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -61,6 +61,106 @@ impl Default for DiffOptions {
     }
 }
 
+/// The golden-image tolerances, in 8-bit sRGB steps: what luz's own golden tests use and what
+/// `luz diff` and `luz golden` check unless told otherwise. Same machine: byte-exact; another CPU
+/// moves a few LSB (lavapipe's approximate rcp/rsqrt), a real change moves far more.
+pub const GOLDEN_MAX_FLIP_MEAN: f32 = 0.005;
+/// Largest per-channel difference, in 8-bit steps.
+pub const GOLDEN_MAX_ABS_STEPS: f32 = 8.0;
+/// Pixels allowed to differ by more than [`GOLDEN_BAD_THRESHOLD_STEPS`].
+pub const GOLDEN_MAX_BAD_PIXELS: u64 = 64;
+/// A pixel 'differs' beyond this many 8-bit steps.
+pub const GOLDEN_BAD_THRESHOLD_STEPS: f32 = 3.0;
+
+/// Tolerances of one comparison, in 8-bit sRGB steps (`None` turns a check off). [`Tolerance::golden`]
+/// is the default; [`Tolerance::options_for`] turns it into [`DiffOptions`] in the units two
+/// images are compared in.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Tolerance {
+    pub max_flip_mean: Option<f32>,
+    /// In 8-bit steps (scaled to the comparison's units).
+    pub max_abs: Option<f32>,
+    pub max_bad_pixels: Option<u64>,
+    /// In 8-bit steps (scaled to the comparison's units).
+    pub bad_pixel_threshold: f32,
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Self::golden()
+    }
+}
+
+impl Tolerance {
+    /// The golden-image tolerances (`GOLDEN_*`).
+    pub const fn golden() -> Self {
+        Self {
+            max_flip_mean: Some(GOLDEN_MAX_FLIP_MEAN),
+            max_abs: Some(GOLDEN_MAX_ABS_STEPS),
+            max_bad_pixels: Some(GOLDEN_MAX_BAD_PIXELS),
+            bad_pixel_threshold: GOLDEN_BAD_THRESHOLD_STEPS,
+        }
+    }
+
+    /// No check at all (the figures are still measured).
+    pub const fn report_only() -> Self {
+        Self {
+            max_flip_mean: None,
+            max_abs: None,
+            max_bad_pixels: None,
+            bad_pixel_threshold: GOLDEN_BAD_THRESHOLD_STEPS,
+        }
+    }
+
+    /// [`DiffOptions`] for comparing `expected` with `actual`: the 8-bit steps scaled to the units
+    /// [`compare`] will use (×1 for 8-bit PNGs or a mix of 8- and 16-bit PNGs, ×257 for two 16-bit
+    /// PNGs, ÷255 for linear float when an EXR is involved).
+    pub fn options_for(&self, expected: &LoadedImage, actual: &LoadedImage) -> DiffOptions {
+        let scale = step_size(expected, actual);
+        DiffOptions {
+            max_flip_mean: self.max_flip_mean,
+            max_abs: self.max_abs.map(|v| v * scale),
+            max_bad_pixels: self.max_bad_pixels,
+            bad_pixel_threshold: self.bad_pixel_threshold * scale,
+            ..DiffOptions::default()
+        }
+    }
+}
+
+/// One 8-bit sRGB step in the units [`compare`] uses for this pair of images.
+pub fn step_size(expected: &LoadedImage, actual: &LoadedImage) -> f32 {
+    match (expected.format, actual.format) {
+        (FileFormat::Png, FileFormat::Png) => {
+            if expected.encoded_max == actual.encoded_max {
+                expected.encoded_max / 255.0
+            } else {
+                1.0
+            }
+        }
+        _ => 1.0 / 255.0,
+    }
+}
+
+impl DiffOptions {
+    /// One line naming every check and its limit, in `units`: `FLIP mean ≤ 0.005, max abs ≤ 8,
+    /// ≤ 64 pixels beyond 3` (a check that is off reads `off`).
+    pub fn describe_tolerances(&self) -> String {
+        let flip = match self.max_flip_mean {
+            Some(t) => format!("FLIP mean ≤ {t}"),
+            None => "FLIP mean off".into(),
+        };
+        let abs = match self.max_abs {
+            Some(t) => format!("max abs ≤ {t}"),
+            None => "max abs off".into(),
+        };
+        let bad = match self.max_bad_pixels {
+            Some(t) => format!("≤ {t} pixels beyond {}", self.bad_pixel_threshold),
+            None => format!("differing pixels (beyond {}) off", self.bad_pixel_threshold),
+        };
+        format!("{flip}, {abs}, {bad}")
+    }
+}
+
 /// The numbers a comparison produces.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DiffReport {
@@ -157,7 +257,19 @@ pub fn compare_files(
 ) -> Result<DiffReport, DiffError> {
     let e = imageio::load(expected)?;
     let a = imageio::load(actual)?;
-    compare(&e, &a, opts).map_err(|err| match err {
+    compare_named(expected, &e, actual, &a, opts)
+}
+
+/// [`compare`] of two images loaded from `expected_path` and `actual_path` (a size mismatch
+/// names both files).
+pub fn compare_named(
+    expected_path: &Path,
+    expected: &LoadedImage,
+    actual_path: &Path,
+    actual: &LoadedImage,
+    opts: &DiffOptions,
+) -> Result<DiffReport, DiffError> {
+    compare(expected, actual, opts).map_err(|err| match err {
         DiffError::SizeMismatch {
             expected_size,
             actual_size,
@@ -165,8 +277,8 @@ pub fn compare_files(
         } => DiffError::SizeMismatch {
             expected_size,
             actual_size,
-            expected_path: Some(expected.to_path_buf()),
-            actual_path: Some(actual.to_path_buf()),
+            expected_path: Some(expected_path.to_path_buf()),
+            actual_path: Some(actual_path.to_path_buf()),
         },
         other => other,
     })

@@ -278,3 +278,39 @@ impl RenderPathArg {
         }
     }
 }
+
+/// A tolerance given on the command line: a limit, or `none` (the check is off).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Check<T> {
+    Off,
+    At(T),
+}
+
+impl<T> From<Check<T>> for Option<T> {
+    fn from(c: Check<T>) -> Self {
+        match c {
+            Check::Off => None,
+            Check::At(v) => Some(v),
+        }
+    }
+}
+
+/// `none`, or a tolerance as [`finite_non_negative`] reads it.
+pub fn tolerance_or_none(s: &str) -> std::result::Result<Check<f32>, String> {
+    if s.trim().eq_ignore_ascii_case("none") {
+        return Ok(Check::Off);
+    }
+    finite_non_negative(s)
+        .map(Check::At)
+        .map_err(|e| format!("{e} (or `none` to turn the check off)"))
+}
+
+/// `none`, or a pixel count.
+pub fn count_or_none(s: &str) -> std::result::Result<Check<u64>, String> {
+    if s.trim().eq_ignore_ascii_case("none") {
+        return Ok(Check::Off);
+    }
+    s.trim().parse::<u64>().map(Check::At).map_err(|_| {
+        format!("{s:?} is not a pixel count (a whole number ≥ 0, or `none` to turn the check off)")
+    })
+}

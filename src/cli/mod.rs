@@ -7,6 +7,8 @@ mod brdf;
 mod common;
 mod devices;
 mod diff;
+mod golden;
+mod info;
 mod lab;
 mod reference;
 mod render;
@@ -30,6 +32,7 @@ Examples:\n  luz render -o out.png                 render the embedded default s
 luz render scene.json -o out.exr      linear float radiance, no tone mapping\n  \
 luz bench scene.json --frames 100     frame-time statistics\n  \
 luz diff expected.png actual.png      FLIP, max abs difference, NaN count; exit 1 beyond tolerances\n  \
+luz golden scenes/ --goldens goldens/ each scene against its golden; --bless, --report out/\n  \
 luz view scene.json                   interactive viewer (H lists the keys)\n  \
 luz reference scene.json -o ref.exr   the CPU reference answer\n  \
 luz lab scene.json --out lab/         every method variant: GPU ms against error, chart\n  \
@@ -48,6 +51,12 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Compare two PNG or EXR images (FLIP, max absolute difference, NaN/Inf) with tolerances.
     Diff(diff::DiffArgs),
+    /// Render scenes and check each against its golden image (exit 1 when any fails), or bless
+    /// the goldens; --report writes an HTML page, JUnit XML and a Markdown summary.
+    Golden(golden::GoldenArgs),
+    /// Print an image's size, format and provenance (luz version and commit, device, driver,
+    /// scene and its hash, tone map, exposure, frame times).
+    Info(info::InfoArgs),
     /// Evaluate a BRDF of the CPU reference at given directions (or JSON lines on stdin), or plot
     /// its lobe, a θh × θd slice and its directional albedo.
     Brdf(brdf::BrdfArgs),
@@ -86,6 +95,8 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Render(a) => render::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Diff(a) => diff::run(a),
+        Command::Golden(a) => golden::run(a),
+        Command::Info(a) => info::run(a),
         Command::Brdf(a) => brdf::run(a),
         Command::Devices(a) => devices::run(a),
         Command::Lab(a) => lab::run(a),

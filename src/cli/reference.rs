@@ -79,11 +79,15 @@ pub fn run(a: ReferenceArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
     let image = image?;
     let render_s = t_render.elapsed().as_secs_f64();
-    luz::imageio::save(
+    let mut meta = luz::imageio::Provenance::base();
+    luz::provenance::add_scene(&mut meta, &scene);
+    meta.set("luz.device", "CPU reference renderer");
+    luz::imageio::save_with(
         &a.output,
         &image,
         scene.output.exposure,
         scene.output.tonemap,
+        &meta,
     )?;
     let nan = luz::imageio::count_non_finite(&image.pixels);
     println!(

@@ -94,11 +94,13 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         frames.push(renderer.render()?);
     }
     let image = renderer.image()?;
-    luz::imageio::save(
+    let timing = TimingReport::of(&frames);
+    luz::imageio::save_with(
         &a.output,
         &image,
         scene.output.exposure,
         scene.output.tonemap,
+        &luz::provenance::of_render(&ctx.info, &scene, Some(&timing)),
     )?;
     let nan = luz::imageio::count_non_finite(&image.pixels);
     println!(
@@ -109,7 +111,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         scene.output.msaa
     );
     println!("time to first frame: {ttff:.1} ms (process start to first frame on the host)");
-    print_timing(&TimingReport::of(&frames));
+    print_timing(&timing);
     report_written(&a.output, format, nan);
     Ok(validation_exit(&ctx))
 }

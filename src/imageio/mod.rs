@@ -14,11 +14,9 @@
 
 use std::fmt;
 use std::fs::{self, File};
-use std::io::{self, BufRead, BufReader, BufWriter, Cursor, Read, Seek, Write};
+use std::io::{self, BufRead, BufReader, BufWriter, Cursor, Read, Seek};
 use std::path::{Path, PathBuf};
 
-use image::codecs::openexr::OpenExrEncoder;
-use image::codecs::png::{CompressionType, FilterType, PngEncoder};
 use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
 use serde::{Deserialize, Serialize};
 
@@ -337,38 +335,82 @@ fn from_linear_f32(width: u32, height: u32, linear: Vec<[f32; 4]>) -> LoadedImag
 
 /// Saves `img`: PNG as 8-bit sRGB RGB after exposure and tone map; EXR as linear f32 RGBA with
 /// no exposure, tone map or clamp. The format comes from the extension. A file left half
-/// written by a failed encode is removed.
+/// written by a failed encode is removed. The file carries [`Provenance::base`] and what this
+/// call knows (size, encoding, tone map and exposure); [`save_with`] adds more.
 pub fn save(
     path: &Path,
     img: &LinearImage,
     exposure_ev: f32,
     tonemap: Tonemap,
 ) -> Result<(), ImageError> {
+    save_with(path, img, exposure_ev, tonemap, &Provenance::base())
+}
+
+/// [`save`] with provenance `meta` (the device, the scene, frame times: see
+/// [`crate::provenance`]); `luz.version`, `luz.commit`, `luz.size`, `luz.encoding` and, for PNG,
+/// `luz.tonemap` and `luz.exposure_ev` are filled in when `meta` lacks them.
+pub fn save_with(
+    path: &Path,
+    img: &LinearImage,
+    exposure_ev: f32,
+    tonemap: Tonemap,
+    meta: &Provenance,
+) -> Result<(), ImageError> {
     let format = FileFormat::from_path(path)?;
     check_buffer(path, img.width, img.height, img.pixels.len())?;
+    let mut meta = complete(meta, img.width, img.height);
     match format {
         FileFormat::Png => {
+            meta.set_default("luz.encoding", "8-bit sRGB, exposed and tone-mapped");
+            meta.set_default("luz.tonemap", tonemap.name());
+            meta.set_default("luz.exposure_ev", exposure_ev.to_string());
             let rgba = to_display_rgba8(&img.pixels, exposure_ev, tonemap);
             let rgb: Vec<u8> = rgba
                 .chunks_exact(4)
                 .flat_map(|p| [p[0], p[1], p[2]])
                 .collect();
-            save_png_rgb8(path, img.width, img.height, &rgb)
+            write_png_meta(path, img.width, img.height, &rgb, &meta)
         }
         FileFormat::Exr => {
-            let flat: Vec<f32> = img.pixels.iter().flatten().copied().collect();
-            let buffer = image::Rgba32FImage::from_raw(img.width, img.height, flat)
-                .expect("buffer length checked above");
-            write_with(path, |w| {
-                DynamicImage::ImageRgba32F(buffer).write_with_encoder(OpenExrEncoder::new(w))
+            meta.set_default(
+                "luz.encoding",
+                "linear float32 radiance (no exposure, no tone map)",
+            );
+            write_with_meta(path, |w| {
+                provenance::write_exr(w, img.width, img.height, &img.pixels, &meta)
             })
         }
     }
 }
 
+fn complete(meta: &Provenance, width: u32, height: u32) -> Provenance {
+    let mut m = meta.clone();
+    let base = Provenance::base();
+    for (k, v) in base.entries.into_iter().rev() {
+        if m.get(&k).is_none() {
+            m.entries.insert(0, (k, v));
+        }
+    }
+    m.set_default("luz.size", format!("{width}x{height}"));
+    m
+}
+
 /// Writes tightly packed 8-bit RGB bytes as a PNG (used for FLIP heat maps and other
 /// already-display-encoded images). The path must end in `.png`.
 pub fn save_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), ImageError> {
+    let mut meta = Provenance::base();
+    meta.set("luz.encoding", "8-bit sRGB (display image)");
+    save_png_rgb8_with(path, width, height, rgb, &meta)
+}
+
+/// [`save_png_rgb8`] with provenance `meta`.
+pub fn save_png_rgb8_with(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+    meta: &Provenance,
+) -> Result<(), ImageError> {
     if FileFormat::from_path(path)? != FileFormat::Png {
         return Err(ImageError::Encode {
             path: path.to_path_buf(),
@@ -386,15 +428,40 @@ pub fn save_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result
         });
     }
     check_buffer(path, width, height, width as usize * height as usize)?;
-    let buffer =
-        image::RgbImage::from_raw(width, height, rgb.to_vec()).expect("buffer length checked");
-    write_with(path, |w| {
-        DynamicImage::ImageRgb8(buffer).write_with_encoder(PngEncoder::new_with_quality(
-            w,
-            CompressionType::Default,
-            FilterType::Adaptive,
-        ))
-    })
+    let meta = complete(meta, width, height);
+    write_png_meta(path, width, height, rgb, &meta)
+}
+
+fn write_png_meta(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+    meta: &Provenance,
+) -> Result<(), ImageError> {
+    write_with_meta(path, |w| provenance::write_png(w, width, height, rgb, meta))
+}
+
+/// Creates `path` and runs `encode` on it; an I/O failure is a write error, anything else an
+/// encode error; a half-written file is removed.
+fn write_with_meta(
+    path: &Path,
+    encode: impl FnOnce(&mut BufWriter<File>) -> Result<(), String>,
+) -> Result<(), ImageError> {
+    let file = File::create(path).map_err(|source| ImageError::Write {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut writer = BufWriter::new(file);
+    let result = encode(&mut writer).map_err(|reason| ImageError::Encode {
+        path: path.to_path_buf(),
+        reason,
+    });
+    if result.is_err() {
+        drop(writer);
+        let _ = fs::remove_file(path);
+    }
+    result
 }
 
 fn check_buffer(path: &Path, width: u32, height: u32, pixels: usize) -> Result<(), ImageError> {
@@ -412,31 +479,6 @@ fn check_buffer(path: &Path, width: u32, height: u32, pixels: usize) -> Result<(
         path: path.to_path_buf(),
         reason,
     })
-}
-
-fn write_with(
-    path: &Path,
-    encode: impl FnOnce(&mut BufWriter<File>) -> image::ImageResult<()>,
-) -> Result<(), ImageError> {
-    let write_err = |source| ImageError::Write {
-        path: path.to_path_buf(),
-        source,
-    };
-    let file = File::create(path).map_err(write_err)?;
-    let mut writer = BufWriter::new(file);
-    let result = match encode(&mut writer) {
-        Ok(()) => writer.flush().map_err(write_err),
-        Err(image::ImageError::IoError(e)) => Err(write_err(e)),
-        Err(e) => Err(ImageError::Encode {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        }),
-    };
-    if result.is_err() {
-        drop(writer);
-        let _ = fs::remove_file(path);
-    }
-    result
 }
 
 /// Size limits of a decoder: declared size and decoded bytes, checked from the header before any
@@ -702,7 +744,10 @@ pub fn count_non_finite(pixels: &[[f32; 4]]) -> u64 {
 }
 
 mod exr;
+pub mod provenance;
 mod radiance;
+
+pub use provenance::Provenance;
 
 pub use exr::exr_header_exceeds;
 pub use radiance::{load_radiance, load_radiance_bytes, RADIANCE_SUPPORTED};

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use luz::diff::{DiffOptions, DiffReport};
+use luz::diff::DiffReport;
 use luz::headless::Headless;
 use luz::imageio::{FileFormat, LinearImage, LoadedImage};
 use luz::scene::Scene;
@@ -83,19 +83,33 @@ pub struct Tolerance {
 }
 
 impl Default for Tolerance {
-    /// Same machine: byte-exact. Other CPUs: lavapipe's approximate rcp/rsqrt move a few LSB.
+    /// The product's golden-image tolerances (`luz diff`'s and `luz golden`'s defaults), so the
+    /// harness and the product cannot drift. Same machine: byte-exact. Other CPUs: lavapipe's
+    /// approximate rcp/rsqrt move a few LSB.
     fn default() -> Self {
         Self {
-            max_flip_mean: 0.005,
-            max_abs: 8.0,
-            max_bad_pixels: 64,
-            bad_threshold: 3.0,
+            max_flip_mean: luz::diff::GOLDEN_MAX_FLIP_MEAN,
+            max_abs: luz::diff::GOLDEN_MAX_ABS_STEPS,
+            max_bad_pixels: luz::diff::GOLDEN_MAX_BAD_PIXELS,
+            bad_threshold: luz::diff::GOLDEN_BAD_THRESHOLD_STEPS,
         }
     }
 }
 
-/// Compares the PNG encoding of `img` with `tests/golden/<name>.png`. With `LUZ_BLESS=1` the golden
-/// is (re)written instead. On failure actual, expected and diff images go to
+impl From<Tolerance> for luz::diff::Tolerance {
+    fn from(t: Tolerance) -> Self {
+        luz::diff::Tolerance {
+            max_flip_mean: Some(t.max_flip_mean),
+            max_abs: Some(t.max_abs),
+            max_bad_pixels: Some(t.max_bad_pixels),
+            bad_pixel_threshold: t.bad_threshold,
+        }
+    }
+}
+
+/// Compares the PNG encoding of `img` with `tests/golden/<name>.png` through the same library
+/// code as `luz golden` ([`luz::golden::compare_with_golden`]). With `LUZ_BLESS=1` the golden is
+/// (re)written instead. On failure actual, expected and diff images go to
 /// `target/golden-failures/`.
 pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance) -> DiffReport {
     assert_eq!(
@@ -107,15 +121,22 @@ pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance
     let fail_dir = root().join("target/golden-failures");
     std::fs::create_dir_all(&fail_dir).unwrap();
     let actual_path = fail_dir.join(format!("{name}.actual.png"));
-    luz::imageio::save(
-        &actual_path,
-        img,
-        scene.output.exposure,
-        scene.output.tonemap,
-    )
-    .unwrap();
-    if std::env::var_os("LUZ_BLESS").is_some() {
-        std::fs::copy(&actual_path, &golden).unwrap();
+    let diff_path = fail_dir.join(format!("{name}.diff.png"));
+    let unchanged = || {
+        luz::imageio::load(&golden).is_ok_and(|g| {
+            let now = LoadedImage::from_linear(
+                img,
+                FileFormat::Png,
+                scene.output.exposure,
+                scene.output.tonemap,
+            );
+            g.display == now.display && (g.width, g.height) == (now.width, now.height)
+        })
+    };
+    // Blessing leaves a golden with the same pixels alone (`git diff tests/golden/` shows only
+    // real changes).
+    if std::env::var_os("LUZ_BLESS").is_some() && !unchanged() {
+        luz::imageio::save(&golden, img, scene.output.exposure, scene.output.tonemap).unwrap();
         let ctx_driver = driver_string();
         std::fs::write(root().join("tests/golden/DRIVER.txt"), ctx_driver).unwrap();
         eprintln!("blessed {}", golden.display());
@@ -125,27 +146,54 @@ pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance
         "no golden {}; bless it with LUZ_BLESS=1 scripts/test.sh {name}",
         golden.display()
     );
-    let opts = DiffOptions {
-        max_flip_mean: Some(tol.max_flip_mean),
-        max_abs: Some(tol.max_abs),
-        max_bad_pixels: Some(tol.max_bad_pixels),
-        bad_pixel_threshold: tol.bad_threshold,
-        heatmap: Some(fail_dir.join(format!("{name}.diff.png"))),
-        ..Default::default()
-    };
-    let expected = luz::imageio::load(&golden).unwrap();
-    let actual: LoadedImage = luz::imageio::load(&actual_path).unwrap();
+    let actual = LoadedImage::from_linear(
+        img,
+        FileFormat::Png,
+        scene.output.exposure,
+        scene.output.tonemap,
+    );
+    let cmp = luz::golden::compare_with_golden(
+        &golden,
+        luz::imageio::count_non_finite(&img.pixels),
+        actual,
+        tol.into(),
+    );
+    let expected = cmp.expected.as_ref().expect("the golden loads");
     assert_eq!(expected.format, FileFormat::Png);
-    let report = luz::diff::compare(&expected, &actual, &opts).unwrap();
-    let violations = report.violations(&opts);
-    if violations.is_empty() {
+    let report = cmp
+        .report
+        .clone()
+        .unwrap_or_else(|| panic!("{name}: {}", cmp.failures.join("\n")));
+    if cmp.failures.is_empty() {
         let _ = std::fs::remove_file(&actual_path);
-        let _ = std::fs::remove_file(fail_dir.join(format!("{name}.diff.png")));
+        let _ = std::fs::remove_file(&diff_path);
     } else {
+        luz::imageio::save(
+            &actual_path,
+            img,
+            scene.output.exposure,
+            scene.output.tonemap,
+        )
+        .unwrap();
+        if let Some(map) = &cmp.flip {
+            luz::diff::write_heatmap(&diff_path, map).unwrap();
+        }
         std::fs::copy(&golden, fail_dir.join(format!("{name}.expected.png"))).unwrap();
         panic!(
-            "{name}: golden mismatch:\n{report}\n{}\nimages in {}",
-            violations.join("\n"),
+            "{name}: golden mismatch:\n{report}\n{}\n{}\nimages in {}",
+            cmp.failures.join("\n"),
+            // Where the golden came from (goldens blessed before provenance have none).
+            cmp.expected_provenance
+                .map(|p| p
+                    .entries
+                    .iter()
+                    .filter(
+                        |(k, _)| ["luz.device", "luz.driver", "luz.vulkan"].contains(&k.as_str())
+                    )
+                    .map(|(k, v)| format!("golden {k}: {v}"))
+                    .collect::<Vec<_>>()
+                    .join("\n"))
+                .unwrap_or_default(),
             fail_dir.display()
         );
     }
