@@ -28,6 +28,9 @@ use crate::vk::Context;
 pub const SCENE_EXTENSIONS: &[&str] = &["json", "obj"];
 /// Model formats that are scenes too, but not yet for luz.
 pub const LATER_EXTENSIONS: &[&str] = &["gltf", "glb"];
+/// Held while a case uses the GPU ([`run_case`]).
+static GPU_QUEUE: Mutex<()> = Mutex::new(());
+
 /// A sidecar's suffix: `<name>.golden.json` holds that scene's tolerances.
 pub const SIDECAR_SUFFIX: &str = ".golden.json";
 
@@ -447,10 +450,17 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         Ok(s) => s,
         Err(e) => return fail(e.to_string()),
     };
-    let rendered = Headless::with_options(ctx, &scene, &opts.render).and_then(|mut r| {
-        r.render()?;
-        r.image()
-    });
+    let rendered = {
+        // The jobs share one device and its one queue, whose use must be externally
+        // synchronised (one thread's vkDeviceWaitIdle while another submits is undefined
+        // behaviour, and validation says so): the GPU part of a case runs alone, from building
+        // the renderer to dropping it. Loading, comparing and encoding run in parallel.
+        let _queue = GPU_QUEUE.lock().unwrap_or_else(|e| e.into_inner());
+        Headless::with_options(ctx, &scene, &opts.render).and_then(|mut r| {
+            r.render()?;
+            r.image()
+        })
+    };
     let image = match rendered {
         Ok(i) => i,
         Err(e) => return fail(format!("{}: cannot render: {e}", scene_path.display())),
