@@ -37,3 +37,13 @@ pub mod texture;
 pub mod vk;
 #[cfg(feature = "window")]
 pub mod window;
+
+/// `c` where it is safe in a file name on every system (ASCII letters, digits, `-`, `_`), else
+/// `_`: file names made from scene and case names (the IBL cache, `luz golden`'s report).
+pub(crate) fn file_safe_char(c: char) -> char {
+    if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+        c
+    } else {
+        '_'
+    }
+}

@@ -96,17 +96,7 @@ pub fn cache_key(env: &Environment, settings: &str) -> String {
     };
     h.field(&env.intensity.to_bits().to_le_bytes());
     h.field(settings.as_bytes());
-    let safe: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .take(32)
-        .collect();
+    let safe: String = name.chars().map(crate::file_safe_char).take(32).collect();
     format!("{safe}-{:016x}", h.finish())
 }
 

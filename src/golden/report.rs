@@ -79,16 +79,7 @@ struct Images {
 
 /// A file name made of the case's index and the safe characters of its name.
 fn file_stem(i: usize, name: &str) -> String {
-    let safe: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let safe: String = name.chars().map(crate::file_safe_char).collect();
     format!("{i:03}-{safe}")
 }
 

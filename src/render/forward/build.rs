@@ -21,32 +21,24 @@ pub(super) fn storage_fits<T>(
 /// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table, the
 /// deferred path's materials (`bindings.glsl`, set 0).
 pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
+    let binding = |binding, ty, stages| {
+        vk::DescriptorSetLayoutBinding::default()
+            .binding(binding)
+            .descriptor_type(ty)
+            .descriptor_count(1)
+            .stage_flags(stages)
+    };
+    let (uniform, storage) = (
+        vk::DescriptorType::UNIFORM_BUFFER,
+        vk::DescriptorType::STORAGE_BUFFER,
+    );
+    let fragment = vk::ShaderStageFlags::FRAGMENT;
     let bindings = [
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(gpu::BINDING_FRAME)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(STAGES),
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(gpu::BINDING_LIGHTS)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(STAGES),
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(gpu::BINDING_OBJECTS)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(STAGES),
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(gpu::BINDING_SRGB_TABLE)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::FRAGMENT),
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(gpu::BINDING_DEFERRED_MATERIALS)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+        binding(gpu::BINDING_FRAME, uniform, STAGES),
+        binding(gpu::BINDING_LIGHTS, storage, STAGES),
+        binding(gpu::BINDING_OBJECTS, storage, STAGES),
+        binding(gpu::BINDING_SRGB_TABLE, storage, fragment),
+        binding(gpu::BINDING_DEFERRED_MATERIALS, storage, fragment),
     ];
     DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
 }
