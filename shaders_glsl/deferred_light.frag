@@ -20,7 +20,7 @@ struct DeferredMaterial {
     BrdfParams brdf;
     uint object_index;
     uint flags;
-    uint reserved0;
+    uint receive_shadow;
     uint reserved1;
     vec4 emissive;
     vec4 params;
@@ -40,7 +40,7 @@ void main() {
     material.brdf = m.brdf;
     material.object_index = m.object_index;
     material.flags = m.flags;
-    material.reserved0 = 0u;
+    material.receive_shadow = m.receive_shadow;
     material.reserved1 = 0u;
     mat_extra.emissive = m.emissive;
     mat_extra.params = m.params;

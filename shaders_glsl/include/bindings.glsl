@@ -89,7 +89,7 @@ layout(push_constant) uniform MaterialPush {
     BrdfParams brdf;
     uint object_index;
     uint flags;
-    uint reserved0;
+    uint receive_shadow;  // 1: the shadow maps darken this object
     uint reserved1;
 } material;
 #else
@@ -105,7 +105,7 @@ struct MaterialPushData {
     BrdfParams brdf;
     uint object_index;
     uint flags;
-    uint reserved0;
+    uint receive_shadow;
     uint reserved1;
 };
 MaterialExtraData mat_extra;
@@ -141,7 +141,7 @@ layout(constant_id = 10) const int SEL_FRESNEL = -1;
 // Bit MAP_* set when the material may have that map (0: no texture code at all).
 layout(constant_id = 11) const uint MAPS = 0xFFu;
 // The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
-layout(constant_id = 12) const uint LIGHT_KINDS = 127u;
+layout(constant_id = 12) const uint LIGHT_KINDS = 1023u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
@@ -153,5 +153,9 @@ layout(constant_id = 13) const int SEL_DIFFUSE = -1;
 #define LK_FALLOFF_CLASSIC 32u
 // Some point or spot light has a range (Light.cone.w > 0): the range window applies.
 #define LK_RANGE 64u
+// Some light has a shadow filtered this way (include/shadows.glsl); none: no shadow code at all.
+#define LK_SHADOW_HARD 128u
+#define LK_SHADOW_PCF 256u
+#define LK_SHADOW_PCSS 512u
 
 #endif

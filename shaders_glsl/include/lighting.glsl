@@ -4,6 +4,7 @@
 #define LUZ_LIGHTING_GLSL
 
 #include "bindings.glsl"
+#include "shadows.glsl"
 
 // Distance attenuation: none, inverse square, or the slides' f_at = min(1/(c1 + c2 d + c3 d²), 1).
 float light_falloff_only(Light L, float d) {
@@ -215,6 +216,12 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         vec3 l;
         vec3 E;
         light_incidence(lights[i], P, l, E);
+        // Shadows darken direct light only (the environment stays unshadowed); the normal
+        // offset uses the interpolated normal N, not a normal map's.
+        if ((LIGHT_KINDS & SHADOW_KINDS) != 0u && material.receive_shadow != 0u
+            && (E.r > 0.0 || E.g > 0.0 || E.b > 0.0)) {
+            E *= shadow_visibility(i, P, N, l);
+        }
         result += brdf_radiance_unit(p, s.n, l, V, s.x, s.y, E);
     }
 #ifdef IBL

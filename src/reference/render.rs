@@ -641,6 +641,9 @@ mod tests {
             inner_deg: None,
             exponent: 0.0,
             range: None,
+            shadow: None,
+            radius: 0.0,
+            angular_radius_deg: 0.0,
         };
         let (dir, e) = light_incidence(&l, Vec3::ZERO);
         assert_eq!(dir, Vec3::Y);

@@ -62,6 +62,9 @@ pub const LK_FALLOFF_NONE: u32 = b::LK_FALLOFF_NONE;
 pub const LK_FALLOFF_INVERSE_SQUARE: u32 = b::LK_FALLOFF_INVERSE_SQUARE;
 pub const LK_FALLOFF_CLASSIC: u32 = b::LK_FALLOFF_CLASSIC;
 pub const LK_RANGE: u32 = b::LK_RANGE;
+pub const LK_SHADOW_HARD: u32 = b::LK_SHADOW_HARD;
+pub const LK_SHADOW_PCF: u32 = b::LK_SHADOW_PCF;
+pub const LK_SHADOW_PCSS: u32 = b::LK_SHADOW_PCSS;
 
 /// The light types and falloffs `lights` use, as `LK_*` bits (the shader leaves out the rest).
 pub fn light_kinds(lights: &[Light]) -> u32 {
@@ -75,6 +78,12 @@ pub fn light_kinds(lights: &[Light]) -> u32 {
             Falloff::InverseSquare => LK_FALLOFF_INVERSE_SQUARE,
             Falloff::Classic { .. } => LK_FALLOFF_CLASSIC,
         } | if l.range.is_some() { LK_RANGE } else { 0 }
+            | match l.shadow.map(|s| s.method) {
+                None => 0,
+                Some(crate::scene::ShadowMethod::Hard) => LK_SHADOW_HARD,
+                Some(crate::scene::ShadowMethod::Pcf) => LK_SHADOW_PCF,
+                Some(crate::scene::ShadowMethod::Pcss) => LK_SHADOW_PCSS,
+            }
     })
 }
 
@@ -127,7 +136,9 @@ pub struct MaterialPush {
     pub brdf: [u32; 24],
     pub object_index: u32,
     pub flags: u32,
-    pub reserved: [u32; 2],
+    /// 1: shadow maps darken the object (`ObjectShadow::receive`).
+    pub receive_shadow: u32,
+    pub reserved: u32,
 }
 
 /// `DeferredMaterial` (std430) of `deferred_light.frag`: one per object slot, the push constants
@@ -197,7 +208,8 @@ pub fn material_push(m: &Material) -> MaterialPush {
         brdf,
         object_index: 0,
         flags: 0,
-        reserved: [0; 2],
+        receive_shadow: 1,
+        reserved: 0,
     }
 }
 

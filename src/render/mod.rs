@@ -8,5 +8,6 @@ pub mod ibl;
 pub mod material;
 pub mod mesh;
 pub mod saturate;
+pub mod shadow;
 pub mod target;
 pub mod tonemap;

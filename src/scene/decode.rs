@@ -15,8 +15,8 @@ use super::mesh::{
 use super::obj::{load_obj, ObjFile};
 use super::tessellation::{self, Tessellation};
 use super::{
-    Camera, Falloff, Fog, Light, LightKind, Material, MeshDesc, NamedMaterial, Object, Output,
-    Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
+    Camera, Falloff, Fog, Light, LightKind, Material, MeshDesc, NamedMaterial, Object,
+    ObjectShadow, Output, Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
 };
 use crate::brdf::{
     dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Diffuse, Distribution, Fresnel,
@@ -32,6 +32,7 @@ mod fields;
 mod maps;
 mod material;
 mod object;
+mod shadow;
 
 use fields::*;
 pub use material::MATERIAL_MODELS;
@@ -279,11 +280,22 @@ fn light(v: &Value, path: &str) -> Result<Light> {
                 "position",
                 "color",
                 "intensity",
+                "shadow",
+                "angular_radius_deg",
             ],
             "a directional light",
         ),
         LightKind::Point => (
-            &["type", "position", "color", "intensity", "falloff", "range"],
+            &[
+                "type",
+                "position",
+                "color",
+                "intensity",
+                "falloff",
+                "range",
+                "shadow",
+                "radius",
+            ],
             "a point light",
         ),
         LightKind::Spot => (
@@ -299,6 +311,8 @@ fn light(v: &Value, path: &str) -> Result<Light> {
                 "umbra_deg",
                 "inner_deg",
                 "exponent",
+                "shadow",
+                "radius",
             ],
             "a spot light",
         ),
@@ -377,6 +391,18 @@ fn light(v: &Value, path: &str) -> Result<Light> {
     } else {
         (180.0, None, 0.0)
     };
+    // Keys a kind does not take were refused by `allow` above.
+    let radius = f.num("radius", 0.0, Check::NonNegative)?;
+    let angular_radius_deg = f.num("angular_radius_deg", 0.0, Check::In(0.0, 45.0))?;
+    let shadow = match f.get("shadow") {
+        None => None,
+        Some(v) => shadow::shadow(
+            v,
+            &f.path("shadow"),
+            kind,
+            radius > 0.0 || angular_radius_deg > 0.0,
+        )?,
+    };
     Ok(Light {
         kind,
         direction,
@@ -388,6 +414,9 @@ fn light(v: &Value, path: &str) -> Result<Light> {
         inner_deg,
         exponent,
         range,
+        shadow,
+        radius,
+        angular_radius_deg,
     })
 }
 

@@ -36,6 +36,9 @@ pub fn default_light(kind: LightKind, bounds: Option<(Vec3, Vec3)>) -> Light {
         inner_deg: None,
         exponent: 0.0,
         range: None,
+        shadow: None,
+        radius: 0.0,
+        angular_radius_deg: 0.0,
     };
     match kind {
         LightKind::Directional => Light {

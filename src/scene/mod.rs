@@ -15,6 +15,7 @@ pub mod json;
 pub mod mesh;
 pub mod model;
 pub mod obj;
+pub mod shadow;
 pub mod tessellation;
 mod textures;
 
@@ -33,6 +34,7 @@ pub use mesh::{
     Mesh, Vertex, MAX_ICOSPHERE_SUBDIVISIONS, MAX_PLANE_SUBDIVISIONS, MAX_PRIMITIVE_TRIANGLES,
     MAX_RINGS, MAX_SEGMENTS,
 };
+pub use shadow::{CascadeSplit, ObjectShadow, Shadow, ShadowMethod};
 pub use tessellation::{Tessellation, DEFAULT_TESSELLATION_ERROR_PX};
 pub use textures::{
     slots_for_model, Filter, MaterialTextures, SamplerDesc, TextureRef, TextureSlot, Wrap,
@@ -221,6 +223,14 @@ pub struct Light {
     /// Range of a point or spot light in metres (`None`: infinite, no cut-off). Within it the
     /// falloff is multiplied by [`range_window`]; beyond it the light delivers nothing.
     pub range: Option<f32>,
+    /// The light's shadow (`None`: it lights everything it reaches, as without shadows).
+    pub shadow: Option<Shadow>,
+    /// Point and spot lights: the radius in metres of the sphere that emits (0: a point). Only
+    /// shadows see it: PCSS and the reference's soft shadows; shading stays punctual.
+    pub radius: f32,
+    /// Directional lights: the angular radius in degrees of the emitting disc (the sun: 0.27).
+    /// Only shadows see it, as `radius`.
+    pub angular_radius_deg: f32,
 }
 
 impl Light {
@@ -316,6 +326,8 @@ pub struct Object {
     pub shading: Shading,
     /// Whether `desc`'s segments came from the file or from [`tessellation::resolve`].
     pub tessellation: Tessellation,
+    /// Whether it casts and receives shadows.
+    pub shadow: ObjectShadow,
 }
 
 /// Object → world: scale, then rotate about X, then Y, then Z, then translate.

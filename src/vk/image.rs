@@ -308,6 +308,37 @@ impl Image {
     }
 }
 
+impl Image {
+    /// An extra 2D view of one array layer (mip 0), owned by the image: a render target for
+    /// one layer (the shadow maps).
+    pub fn layer_view(&mut self, layer: u32) -> Result<vk::ImageView, VkError> {
+        if layer >= self.desc.layers {
+            return Err(VkError::Setup(format!(
+                "layer {layer} of an image with {} layers",
+                self.desc.layers
+            )));
+        }
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(self.desc.format)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: self.desc.aspect,
+                base_mip_level: 0,
+                level_count: 1,
+                base_array_layer: layer,
+                layer_count: 1,
+            });
+        // SAFETY: `info` is a local that outlives the call; `self.raw` is a live, bound image of
+        // this device; the range is mip 0 of one layer below the layer count (checked above), a
+        // 2D view of a 2D image with the image's own format and aspect.
+        let view = unsafe { self.ctx.device.create_image_view(&info, None) }?;
+        self.ctx.set_name(view, &format!("layer {layer} view"));
+        self.extra_views.push(view);
+        Ok(view)
+    }
+}
+
 /// A sampler, destroyed on drop.
 pub struct Sampler {
     pub raw: vk::Sampler,

@@ -285,6 +285,83 @@ impl Pipeline {
         })
     }
 
+    /// A depth-only graphics pipeline (no fragment stage, no colour attachment) over triangle
+    /// lists of `vertex`: no culling, depth test and write with `compare`, and dynamic viewport,
+    /// scissor and depth bias (the shadow maps).
+    pub fn depth_only(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        name: &str,
+        vertex: &ShaderModule,
+        input: (
+            &[vk::VertexInputBindingDescription],
+            &[vk::VertexInputAttributeDescription],
+        ),
+        (depth_format, compare): (vk::Format, vk::CompareOp),
+    ) -> Result<Self, VkError> {
+        let stages = [vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vertex.raw)
+            .name(MAIN)];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(input.0)
+            .vertex_attribute_descriptions(input.1);
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .depth_bias_enable(true)
+            .line_width(1.0);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(true)
+            .depth_write_enable(true)
+            .depth_compare_op(compare);
+        let blend = vk::PipelineColorBlendStateCreateInfo::default();
+        let dynamic_states = [
+            vk::DynamicState::VIEWPORT,
+            vk::DynamicState::SCISSOR,
+            vk::DynamicState::DEPTH_BIAS,
+        ];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering =
+            vk::PipelineRenderingCreateInfo::default().depth_attachment_format(depth_format);
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.raw)
+            .push_next(&mut rendering);
+        // SAFETY: `info` and everything it points to (`stages`, the state structs,
+        // `dynamic_states`, `rendering`) are locals or borrows that outlive the call; the shader
+        // module and `layout` are live objects of this device. Dynamic rendering is enabled by
+        // `Context::new`, so a null render pass with `rendering` chained is allowed; a pipeline
+        // without a fragment stage and without colour attachments is valid. That the layout
+        // matches the shader's interface is the caller's part.
+        let raw = unsafe {
+            ctx.device
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, e)| e)?[0];
+        ctx.set_name(raw, name);
+        Ok(Self {
+            raw,
+            ctx: ctx.clone(),
+        })
+    }
+
     pub fn compute(
         ctx: &Arc<Context>,
         layout: &PipelineLayout,

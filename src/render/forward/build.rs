@@ -139,6 +139,7 @@ pub(super) fn build_draws(
         let mut push = gpu::material_push(material);
         let (model, terms) = gpu::material_key(material);
         push.object_index = objects.len() as u32;
+        push.receive_shadow = obj.shadow.receive as u32;
         object_slots[object] = Some(push.object_index);
         if let Some(i) = ibl {
             push.flags = i.lut_layer(lut_geometry(material));

@@ -77,6 +77,7 @@ impl Deferred {
         ctx: &Arc<Context>,
         forward_layout: &PipelineLayout,
         frame_set_layout: &DescriptorSetLayout,
+        (empty_layout, shadow_layout): (&DescriptorSetLayout, &DescriptorSetLayout),
         target: TargetFormat,
         variant: VariantKey,
     ) -> Result<Self, VkError> {
@@ -90,10 +91,11 @@ impl Deferred {
                 .stage_flags(vk::ShaderStageFlags::FRAGMENT)],
         )?;
         const _: () = assert!(SET_GBUFFER == 1 && gpu::SET_FRAME == 0);
+        const _: () = assert!(crate::render::shadow::SET_SHADOW == 3);
         let light_layout = PipelineLayout::new(
             ctx,
             "deferred lighting layout",
-            &[frame_set_layout, &set_layout],
+            &[frame_set_layout, &set_layout, empty_layout, shadow_layout],
             &[],
         )?;
         let pool = DescriptorPool::new(
@@ -218,7 +220,7 @@ impl Deferred {
         cmd: vk::CommandBuffer,
         target: &TargetViews,
         (output, clear): (Output, vk::ClearValue),
-        frame_set: vk::DescriptorSet,
+        (frame_set, shadow_set): (vk::DescriptorSet, vk::DescriptorSet),
         mut timer: Option<&mut GpuTimer>,
         draw_geometry: impl FnOnce(vk::Pipeline),
     ) {
@@ -333,7 +335,8 @@ impl Deferred {
         // SAFETY: as above: the output view is in COLOR_ATTACHMENT_OPTIMAL (the caller's
         // contract, as for the forward path), depth in DEPTH_ATTACHMENT_OPTIMAL after the barrier
         // above. The lighting pipeline belongs to this pass, its layout's set 0 is the frame set
-        // layout `frame_set` was allocated with and set 1 is `self.set`; it has no vertex input
+        // layout `frame_set` was allocated with, set 1 is `self.set` and set 3 the shadow set
+        // layout `shadow_set` was allocated with; it has no vertex input
         // and no push constants. Viewport, scissor and cull mode (dynamic) are set before the draw.
         unsafe {
             d.cmd_begin_rendering(cmd, &info);
@@ -346,6 +349,14 @@ impl Deferred {
                 self.light_layout.raw,
                 0,
                 &[frame_set, self.set],
+                &[],
+            );
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.light_layout.raw,
+                crate::render::shadow::SET_SHADOW,
+                &[shadow_set],
                 &[],
             );
             d.cmd_draw(cmd, 3, 1, 0, 0);

@@ -55,6 +55,12 @@ pub fn visible(planes: &[Vec4; 6], model: Mat4, (centre, radius): (Vec3, f32)) -
     planes.iter().all(|p| p.truncate().dot(c) + p.w >= -r)
 }
 
+/// Whether the world-space sphere `(centre, radius)` may meet the volume of `planes` (as
+/// [`visible`], without a model matrix).
+pub fn sphere_visible(planes: &[Vec4; 6], centre: Vec3, radius: f32) -> bool {
+    visible(planes, Mat4::IDENTITY, (centre, radius))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,6 +11,7 @@ use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
+use super::shadow::{self, ShadowMaps};
 use crate::color::Tonemap;
 use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
@@ -20,7 +21,7 @@ use crate::vk::{Buffer, Context, VkError};
 
 mod build;
 mod deferred;
-mod frustum;
+pub(crate) mod frustum;
 mod variant;
 
 use build::{build_draws, frame_set_layout, storage_fits, Draws};
@@ -54,7 +55,7 @@ struct Draw {
 /// Maps and light kinds of a generic ("all features") pipeline (its terms are
 /// [`TermsKey::Generic`]): the shader keeps the code for every map and light kind.
 pub const GENERIC_MAPS: u32 = 0xFF;
-pub const GENERIC_LIGHT_KINDS: u32 = 127;
+pub const GENERIC_LIGHT_KINDS: u32 = 1023;
 
 /// How to build a [`ForwardPass`] beyond the scene and the target.
 #[derive(Debug, Clone, Copy)]
@@ -218,6 +219,8 @@ pub struct ForwardPass {
     deferred: Option<deferred::Deferred>,
     env_set: Option<vk::DescriptorSet>,
     materials: MaterialSets,
+    /// The shadow maps (set 3): a pass before the frame when a light has a shadow.
+    shadows: ShadowMaps,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
@@ -282,14 +285,21 @@ impl ForwardPass {
             size: std::mem::size_of::<MaterialPush>() as u32,
         }];
         let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
+        let shadows = ShadowMaps::new(ctx, pool, scene, slot_count)?;
         // Sets in index order (asserted in gpu.rs): frame, environment (an empty layout without
-        // one, so the materials keep their index), materials.
+        // one, so the materials keep their index), materials, shadows.
         let empty_layout = DescriptorSetLayout::new(ctx, "empty set layout", &[])?;
         let env_layout = ibl.map(|i| &i.set_layout).unwrap_or(&empty_layout);
+        const _: () = assert!(shadow::SET_SHADOW == 3 && SET_MATERIAL == 2);
         let layout = PipelineLayout::new(
             ctx,
             "forward layout",
-            &[&set_layout, env_layout, &materials.set_layout],
+            &[
+                &set_layout,
+                env_layout,
+                &materials.set_layout,
+                shadows.set_layout(),
+            ],
             &push,
         )?;
         let n = slot_count as u32;
@@ -348,6 +358,7 @@ impl ForwardPass {
                 ctx,
                 &layout,
                 &set_layout,
+                (&empty_layout, shadows.set_layout()),
                 target,
                 v,
             )?),
@@ -381,6 +392,7 @@ impl ForwardPass {
             deferred,
             env_set: ibl.map(|i| i.set),
             materials,
+            shadows,
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
@@ -483,6 +495,7 @@ impl ForwardPass {
         self.exposure = scene.output.exposure;
         let visible = self.visibility(scene, aspect);
         self.slots[slot].visible = visible;
+        self.update_shadows(slot, scene, aspect)?;
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
@@ -500,6 +513,7 @@ impl ForwardPass {
                 )));
             }
             push.object_index = draw.push.object_index;
+            push.receive_shadow = obj.shadow.receive as u32;
             if let Some(layers) = &self.lut_layers {
                 let g = lut_geometry(material);
                 push.flags = layers
@@ -536,7 +550,57 @@ impl ForwardPass {
             s.visible.clone_from(&visible);
             s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
         }
+        for slot in 0..self.slots.len() {
+            self.update_shadows(slot, scene, aspect)?;
+        }
         Ok(())
+    }
+
+    /// Refits the shadow maps of slot `slot` to `scene`'s camera and objects.
+    fn update_shadows(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        if !self.shadows.active() {
+            return Ok(());
+        }
+        let world = |d: &Draw| {
+            let model = scene.objects[d.object].transform.matrix();
+            let (c, r) = self.meshes[d.mesh].sphere;
+            let scale = model
+                .x_axis
+                .truncate()
+                .length()
+                .max(model.y_axis.truncate().length())
+                .max(model.z_axis.truncate().length());
+            (
+                model,
+                shadow::Sphere {
+                    center: model.transform_point3(c),
+                    radius: r * scale,
+                },
+            )
+        };
+        let mut casters = Vec::new();
+        let mut receivers = Vec::new();
+        for d in &self.draws {
+            let obj = &scene.objects[d.object];
+            let (model, sphere) = world(d);
+            if obj.shadow.cast {
+                casters.push(shadow::Caster {
+                    mesh: d.mesh,
+                    model,
+                    sphere,
+                });
+            }
+            if obj.shadow.receive {
+                receivers.push(sphere);
+            }
+        }
+        self.shadows
+            .update(slot, scene, aspect, &casters, &receivers)
+    }
+
+    /// The shadow maps (`luz render --verbose`, the viewer's debug view).
+    pub fn shadow_maps(&self) -> &ShadowMaps {
+        &self.shadows
     }
 
     /// The debug view the pipelines were built with.
@@ -612,6 +676,20 @@ impl ForwardPass {
         mut timer: Option<&mut crate::vk::timing::GpuTimer>,
     ) -> Result<(), VkError> {
         let d = &self.ctx.device;
+        if self.shadows.active() {
+            let meshes: Vec<shadow::MeshRef> = self
+                .meshes
+                .iter()
+                .map(|m| shadow::MeshRef {
+                    vertices: m.vertices.raw,
+                    indices: m.indices.raw,
+                    index_count: m.index_count,
+                })
+                .collect();
+            self.shadows
+                .record(cmd, slot, &meshes, timer.as_deref_mut());
+        }
+        let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
         let visible = slot.visible.as_slice();
@@ -628,9 +706,14 @@ impl ForwardPass {
                     float32: output.clear_color(self.background, self.exposure),
                 },
             };
-            def.record(cmd, target, (output, clear), set, timer, |pipeline| {
-                self.record_draws(cmd, (set, visible), |_| pipeline)
-            });
+            def.record(
+                cmd,
+                target,
+                (output, clear),
+                (set, shadow_set),
+                timer,
+                |pipeline| self.record_draws(cmd, (set, shadow_set, visible), |_| pipeline),
+            );
             return Ok(());
         }
         let mut pipelines = Vec::new();
@@ -712,7 +795,7 @@ impl ForwardPass {
             );
             d.cmd_set_scissor(cmd, 0, &[area]);
         }
-        self.record_draws(cmd, (set, visible), |i| pipelines[i]);
+        self.record_draws(cmd, (set, shadow_set, visible), |i| pipelines[i]);
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe {
             if let Some(sky) = skybox {
@@ -733,7 +816,7 @@ impl ForwardPass {
     fn record_draws(
         &self,
         cmd: vk::CommandBuffer,
-        (set, visible): (vk::DescriptorSet, &[bool]),
+        (set, shadow_set, visible): (vk::DescriptorSet, vk::DescriptorSet, &[bool]),
         pipeline_of: impl Fn(usize) -> vk::Pipeline,
     ) {
         let d = &self.ctx.device;
@@ -748,6 +831,14 @@ impl ForwardPass {
                 self.layout.raw,
                 gpu::SET_FRAME,
                 &[set],
+                &[],
+            );
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.raw,
+                shadow::SET_SHADOW,
+                &[shadow_set],
                 &[],
             );
             if let Some(env) = self.env_set {

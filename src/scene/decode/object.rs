@@ -111,6 +111,8 @@ pub(super) fn object(
             "rotation_deg",
             "scale",
             "shading",
+            "cast_shadow",
+            "receive_shadow",
         ],
         "an object",
     )?;
@@ -163,6 +165,10 @@ pub(super) fn object(
         position,
         rotation_deg,
         scale,
+    };
+    let shadow = ObjectShadow {
+        cast: f.boolean("cast_shadow", true)?,
+        receive: f.boolean("receive_shadow", true)?,
     };
 
     if let MeshDesc::Obj { path: obj_path } = &desc {
@@ -221,6 +227,7 @@ pub(super) fn object(
                 transform,
                 shading,
                 tessellation,
+                shadow,
             });
         }
         return Ok(());
@@ -266,6 +273,7 @@ pub(super) fn object(
         transform,
         shading,
         tessellation,
+        shadow,
     });
     Ok(())
 }

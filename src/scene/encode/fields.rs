@@ -5,7 +5,9 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::node::{unit_preimage, Node};
-use crate::scene::{Falloff, Filter, Fog, Light, LightKind, MeshDesc, Tessellation, Wrap};
+use crate::scene::{
+    CascadeSplit, Falloff, Filter, Fog, Light, LightKind, MeshDesc, Shadow, Tessellation, Wrap,
+};
 
 pub(super) fn block_has(block: &Node, key: &str) -> bool {
     matches!(block, Node::Obj(fields) if fields.iter().any(|(k, _)| k == key))
@@ -97,6 +99,43 @@ pub(super) fn light(l: &Light) -> Node {
             n.put("inner_deg", inner);
         }
         n.put("exponent", l.exponent);
+    }
+    if l.radius > 0.0 {
+        n.put("radius", l.radius);
+    }
+    if l.angular_radius_deg > 0.0 {
+        n.put("angular_radius_deg", l.angular_radius_deg);
+    }
+    if let Some(s) = &l.shadow {
+        n.put("shadow", shadow(s, l.kind));
+    }
+    n
+}
+
+/// A light's shadow: `true` when it has the defaults, else every setting.
+fn shadow(s: &Shadow, kind: LightKind) -> Node {
+    if *s == Shadow::default_for(kind) {
+        return Node::from(true);
+    }
+    let mut n = Node::obj();
+    n.put("method", s.method.name())
+        .put("resolution", s.resolution)
+        .put("bias", s.bias)
+        .put("normal_bias", s.normal_bias)
+        .put("slope_bias", s.slope_bias)
+        .put("pcf_kernel", s.pcf_kernel);
+    if kind == LightKind::Directional {
+        n.put("cascades", s.cascades);
+        match s.split {
+            CascadeSplit::Uniform => n.put("split", "uniform"),
+            CascadeSplit::Logarithmic => n.put("split", "logarithmic"),
+            CascadeSplit::Practical { lambda } => {
+                n.put("split", "practical").put("split_lambda", lambda)
+            }
+        };
+        if let Some(d) = s.max_distance {
+            n.put("max_distance", d);
+        }
     }
     n
 }

@@ -502,6 +502,7 @@ impl Encoder<'_> {
                 let looks_edited = name_base(&o.name) == name_base(&first.name)
                     && o.transform == first.transform
                     && o.shading == first.shading
+                    && o.shadow == first.shadow
                     && !objects[start..end].iter().any(|p| p.name == o.name);
                 if !looks_edited {
                     break;
@@ -552,9 +553,12 @@ impl Encoder<'_> {
                     }
                 }
                 for o in &run[1..] {
-                    if o.transform != first.transform || o.shading != first.shading {
+                    if o.transform != first.transform
+                        || o.shading != first.shading
+                        || o.shadow != first.shadow
+                    {
                         self.notes.push(format!(
-                            "object \"{}\": the parts of one OBJ entry share one transform and shading; written with those of \"{}\"",
+                            "object \"{}\": the parts of one OBJ entry share one transform, shading and shadow flags; written with those of \"{}\"",
                             o.name, first.name
                         ));
                     }
@@ -599,6 +603,13 @@ impl Encoder<'_> {
                 Shading::Phong => "phong",
             },
         );
+        // Only what differs from the defaults (true), so scenes without shadows read as before.
+        if !first.shadow.cast {
+            n.put("cast_shadow", false);
+        }
+        if !first.shadow.receive {
+            n.put("receive_shadow", false);
+        }
         Some(n)
     }
 

@@ -273,6 +273,9 @@ fn edited_scene_round_trips() {
         inner_deg: Some(21.5),
         exponent: 1.5,
         range: Some(4.5),
+        shadow: None,
+        radius: 0.0,
+        angular_radius_deg: 0.0,
     });
     scene.materials.push(NamedMaterial {
         name: "new clay".to_string(),

@@ -1,0 +1,176 @@
+// Shadow-map lookups (src/render/shadow): one 2D-array depth image holds every map of the frame,
+// a layer per cascade, cube face or spot; each light uses the top-left resolution² texels of its
+// layers. Depth is reversed (1 at the near plane, 0 where nothing was drawn), so a receiver is lit
+// where its depth ≥ the stored one. Included by lighting.glsl; code only when LIGHT_KINDS has a
+// LK_SHADOW_* bit.
+#ifndef LUZ_SHADOWS_GLSL
+#define LUZ_SHADOWS_GLSL
+
+#define SET_SHADOW 3
+// Comparison with bilinear filtering (PCF taps), comparison at the nearest texel (hard shadows),
+// and the raw depth (PCSS's blocker search): three views of the same image.
+#define BINDING_SHADOW_LINEAR 0
+#define BINDING_SHADOW_NEAREST 1
+#define BINDING_SHADOW_DEPTH 2
+#define BINDING_SHADOW_LIGHTS 3
+#define BINDING_SHADOW_LAYERS 4
+
+#define SHADOW_HARD 0
+#define SHADOW_PCF 1
+#define SHADOW_PCSS 2
+// Layers of a light with a cube map (point lights, wide spots).
+#define SHADOW_CUBE_LAYERS 6
+#define SHADOW_MAX_CASCADES 4
+
+layout(set = SET_SHADOW, binding = BINDING_SHADOW_LINEAR) uniform sampler2DArrayShadow shadow_linear;
+layout(set = SET_SHADOW, binding = BINDING_SHADOW_NEAREST) uniform sampler2DArrayShadow shadow_nearest;
+layout(set = SET_SHADOW, binding = BINDING_SHADOW_DEPTH) uniform sampler2DArray shadow_depth;
+
+// Per light (indexed like lights[]; src/render/shadow: GpuShadowLight).
+struct ShadowLight {
+    ivec4 info;    // x: first layer (−1: no shadow), y: layers, z: SHADOW_* method, w: PCF taps per side
+    vec4 params;   // x: uv scale (resolution / image size), y: 1 / image size, z: bias, w: normal bias (texels)
+    vec4 size;     // x: radius (m) or tan(angular radius), y: PCSS's largest filter radius (texels)
+    vec4 splits;   // far view depth of each cascade
+};
+
+// Per layer (src/render/shadow: GpuShadowLayer).
+struct ShadowLayer {
+    mat4 view_proj;
+    vec4 params;  // x: texel size (m; per metre of distance when perspective), y: 1 perspective, z: near or depth range
+    vec4 origin;  // xyz: the light's eye
+    vec4 axis;    // xyz: unit view direction
+};
+
+layout(set = SET_SHADOW, binding = BINDING_SHADOW_LIGHTS, std430) readonly buffer ShadowLights {
+    ShadowLight shadow_lights[];
+};
+layout(set = SET_SHADOW, binding = BINDING_SHADOW_LAYERS, std430) readonly buffer ShadowLayers {
+    ShadowLayer shadow_layers[];
+};
+
+const uint SHADOW_KINDS = LK_SHADOW_HARD | LK_SHADOW_PCF | LK_SHADOW_PCSS;
+
+// Explicit LOD 0 (textureGrad with zero gradients): valid in the vertex stage too, where flat and
+// Gouraud shading light.
+float shadow_tap(vec2 uv, float layer, float ref) {
+    return textureGrad(shadow_linear, vec4(uv, layer, ref), vec2(0.0), vec2(0.0));
+}
+
+// 16 points of a Poisson disc in the unit disc (PCSS).
+const vec2 SHADOW_DISC[16] = vec2[](
+    vec2(-0.94201624, -0.39906216), vec2(0.94558609, -0.76890725),
+    vec2(-0.09418410, -0.92938870), vec2(0.34495938, 0.29387760),
+    vec2(-0.91588581, 0.45771432), vec2(-0.81544232, -0.87912464),
+    vec2(-0.38277543, 0.27676845), vec2(0.97484398, 0.75648379),
+    vec2(0.44323325, -0.97511554), vec2(0.53742981, -0.47373420),
+    vec2(-0.26496911, -0.41893023), vec2(0.79197514, 0.19090188),
+    vec2(-0.24188840, 0.99706507), vec2(-0.81409955, 0.91437590),
+    vec2(0.19984126, 0.78641367), vec2(0.14383161, -0.14100790));
+
+// Distance from the layer's eye along its axis for a stored (reversed) depth z.
+float shadow_distance(ShadowLayer L, float z) {
+    return L.params.y > 0.5 ? L.params.z / max(z, 1e-30) : (1.0 - z) * L.params.z;
+}
+
+// The fraction of light i that reaches P (unit normal N, unit direction l towards the light).
+float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
+    ShadowLight s = shadow_lights[i];
+    if (s.info.x < 0) {
+        return 1.0;
+    }
+    int layer = s.info.x;
+    if (s.info.y == SHADOW_CUBE_LAYERS) {
+        vec3 d = P - lights[i].position_type.xyz;
+        vec3 a = abs(d);
+        int face = a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1)
+                 : (a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5));
+        layer += face;
+    } else if (uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL) {
+        // Cascades by view depth; beyond the last one's far depth nothing is shadowed.
+        float z = -(frame.view * vec4(P, 1.0)).z;
+        int n = s.info.y;
+        if (z > s.splits[n - 1]) {
+            return 1.0;
+        }
+        int c = 0;
+        for (int k = 0; k < SHADOW_MAX_CASCADES - 1; ++k) {
+            if (k < n - 1 && z > s.splits[k]) {
+                c = k + 1;
+            }
+        }
+        layer += c;
+    }
+    ShadowLayer L = shadow_layers[layer];
+    bool perspective = L.params.y > 0.5;
+    float dist = dot(P - L.origin.xyz, L.axis.xyz);
+    float texel = perspective ? L.params.x * dist : L.params.x;
+    // Normal offset (more at grazing light) and an offset towards the light, in texels.
+    float cos_t = clamp(dot(N, l), 0.0, 1.0);
+    float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    vec3 Po = P + N * (s.params.w * texel * sin_t) + l * (s.params.z * texel);
+    vec4 clip = L.view_proj * vec4(Po, 1.0);
+    if (clip.w <= 0.0) {
+        return 1.0;
+    }
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+        return 1.0;
+    }
+    float scale = s.params.x;
+    float inv_size = s.params.y;
+    // Taps stay inside the light's own texels of the layer.
+    vec2 lo = vec2(0.5 * inv_size);
+    vec2 hi = vec2(scale - 0.5 * inv_size);
+    uv *= scale;
+    float fl = float(layer);
+    float ref = ndc.z;
+    int method = s.info.z;
+    if ((LIGHT_KINDS & LK_SHADOW_HARD) != 0u && method == SHADOW_HARD) {
+        return textureGrad(shadow_nearest, vec4(clamp(uv, lo, hi), fl, ref), vec2(0.0), vec2(0.0));
+    }
+    if ((LIGHT_KINDS & LK_SHADOW_PCSS) != 0u && method == SHADOW_PCSS) {
+        float dr = perspective ? dist : (1.0 - ref) * L.params.z;
+        // Blocker search over the light's footprint seen from P, at most the largest filter.
+        float max_r = s.size.y;
+        float search = perspective ? s.size.x : s.size.x * dr;
+        float search_texels = clamp(search / texel, 1.0, max_r);
+        float blockers = 0.0;
+        float count = 0.0;
+        for (int k = 0; k < 16; ++k) {
+            vec2 p = clamp(uv + SHADOW_DISC[k] * search_texels * inv_size, lo, hi);
+            float z = textureLod(shadow_depth, vec3(p, fl), 0.0).r;
+            if (z > ref) {
+                blockers += shadow_distance(L, z);
+                count += 1.0;
+            }
+        }
+        if (count == 0.0) {
+            return 1.0;
+        }
+        float db = blockers / count;
+        // Penumbra width at P from similar triangles (disc of radius R at the light, or the
+        // angular radius's tangent for a directional light).
+        float w = perspective ? s.size.x * max(dr - db, 0.0) / max(db, 1e-30)
+                              : s.size.x * max(dr - db, 0.0);
+        float r = clamp(w / texel, 0.5, max_r);
+        float sum = 0.0;
+        for (int k = 0; k < 16; ++k) {
+            sum += shadow_tap(clamp(uv + SHADOW_DISC[k] * r * inv_size, lo, hi), fl, ref);
+        }
+        return sum / 16.0;
+    }
+    // PCF: taps² bilinear comparisons one texel apart.
+    int h = s.info.w / 2;
+    float sum = 0.0;
+    for (int y = -h; y <= h; ++y) {
+        for (int x = -h; x <= h; ++x) {
+            sum += shadow_tap(clamp(uv + vec2(x, y) * inv_size, lo, hi), fl, ref);
+        }
+    }
+    float taps = float(2 * h + 1);
+    return sum / (taps * taps);
+}
+
+#endif

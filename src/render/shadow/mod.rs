@@ -1,0 +1,597 @@
+//! Shadow maps: a depth-only pass per map layer before the frame, and the set the forward and
+//! deferred shaders look them up in (`shaders_glsl/include/shadows.glsl`, set 3).
+//!
+//! Every map of a frame is a layer of one 2D-array depth image (D32, reversed depth): directional
+//! lights get one layer per cascade, point lights and spots wider than 60° six cube-face layers,
+//! other spots one. The image is as wide as the largest map; a light with a smaller resolution
+//! draws into the top-left corner of its layers. A scene without a shadowed light gets a 1×1
+//! image that is never drawn or read (its shaders are specialised without shadow code).
+
+use std::sync::Arc;
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
+use gpu_allocator::MemoryLocation;
+
+use crate::render::forward::frustum;
+use crate::render::gpu::{glsl, Vertex};
+use crate::scene::{Scene, Shadow, ShadowMethod};
+use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::image::{Image, ImageDesc, Sampler};
+use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
+use crate::vk::timing::GpuTimer;
+use crate::vk::{Buffer, Context, VkError};
+
+pub mod fit;
+mod pipeline;
+
+pub use fit::{LightFit, Sphere};
+
+use glsl::include_shadows as g;
+pub const SET_SHADOW: u32 = g::SET_SHADOW as u32;
+pub const FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// `ShadowLight` of shadows.glsl (std430, 64 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
+pub struct GpuShadowLight {
+    pub info: [i32; 4],
+    pub params: Vec4,
+    pub size: Vec4,
+    pub splits: Vec4,
+}
+
+/// `ShadowLayer` of shadows.glsl (std430, 112 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
+pub struct GpuShadowLayer {
+    pub view_proj: Mat4,
+    pub params: Vec4,
+    pub origin: Vec4,
+    pub axis: Vec4,
+}
+
+const _: () = assert!(std::mem::size_of::<GpuShadowLight>() == 64);
+const _: () = assert!(std::mem::size_of::<GpuShadowLayer>() == 112);
+
+/// One shadowed light's maps in the image.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightMaps {
+    /// Index into the scene's lights.
+    pub light: usize,
+    pub first_layer: u32,
+    pub layers: u32,
+    pub shadow: Shadow,
+}
+
+/// Something drawn into the maps: a draw's mesh and model matrix, and its world bounds.
+#[derive(Debug, Clone, Copy)]
+pub struct Caster {
+    pub mesh: usize,
+    pub model: Mat4,
+    pub sphere: Sphere,
+}
+
+/// A mesh's buffers, as the pass records them.
+#[derive(Debug, Clone, Copy)]
+pub struct MeshRef {
+    pub vertices: vk::Buffer,
+    pub indices: vk::Buffer,
+    pub index_count: u32,
+}
+
+struct Slot {
+    set: vk::DescriptorSet,
+    lights: Buffer,
+    layers: Buffer,
+    /// Per layer: the casters that may reach it (mesh, clip-from-object matrix).
+    draws: Vec<Vec<(usize, Mat4)>>,
+}
+
+/// What `luz render --verbose` says about one light's maps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapReport {
+    pub light: usize,
+    pub method: ShadowMethod,
+    pub resolution: u32,
+    pub layers: u32,
+    /// Bytes of the image its layers take (at the image's size).
+    pub bytes: u64,
+    /// Per layer: casters drawn (of all casters) in slot 0.
+    pub drawn: Vec<usize>,
+    pub casters: usize,
+}
+
+pub struct ShadowMaps {
+    maps: Vec<LightMaps>,
+    size: u32,
+    layer_views: Vec<vk::ImageView>,
+    image: Image,
+    _samplers: [Sampler; 3],
+    set_layout: DescriptorSetLayout,
+    slots: Vec<Slot>,
+    _pool: DescriptorPool,
+    pipeline: Option<pipeline::DepthPipeline>,
+    casters: usize,
+    light_count: usize,
+    ctx: Arc<Context>,
+}
+
+impl ShadowMaps {
+    /// The maps `scene`'s shadowed lights need, with `slots` copies of the per-frame data.
+    pub fn new(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        scene: &Scene,
+        slots: usize,
+    ) -> Result<Self, VkError> {
+        let limits = ctx.limits();
+        let mut maps = Vec::new();
+        let mut next = 0u32;
+        for (i, l) in scene.lights.iter().enumerate() {
+            let Some(s) = l.shadow else { continue };
+            if s.resolution > limits.max_image_dimension_2d {
+                return Err(VkError::Limit {
+                    what: format!("{}: lights[{i}].shadow.resolution", scene.display_name()),
+                    requested: s.resolution as u64,
+                    limit: limits.max_image_dimension_2d as u64,
+                    limit_name: "maxImageDimension2D",
+                });
+            }
+            let layers = s.layers(l.kind, l.umbra_deg);
+            maps.push(LightMaps {
+                light: i,
+                first_layer: next,
+                layers,
+                shadow: s,
+            });
+            next += layers;
+        }
+        if next > limits.max_image_array_layers {
+            return Err(VkError::Limit {
+                what: format!(
+                    "{}: shadow map layers (cascades and cube faces of every shadowed light)",
+                    scene.display_name()
+                ),
+                requested: next as u64,
+                limit: limits.max_image_array_layers as u64,
+                limit_name: "maxImageArrayLayers",
+            });
+        }
+        let size = maps.iter().map(|m| m.shadow.resolution).max().unwrap_or(1);
+        let layer_count = next.max(1);
+        let mut image = Image::new(
+            ctx,
+            "shadow maps",
+            ImageDesc {
+                width: size,
+                height: size,
+                format: FORMAT,
+                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                samples: vk::SampleCountFlags::TYPE_1,
+                mip_levels: 1,
+                aspect: vk::ImageAspectFlags::DEPTH,
+                layers: layer_count,
+                cube: false,
+                array: true,
+            },
+        )?;
+        let mut layer_views = Vec::new();
+        if !maps.is_empty() {
+            for layer in 0..layer_count {
+                layer_views.push(image.layer_view(layer)?);
+            }
+        }
+        // Every frame starts the maps from UNDEFINED; until the first one (and for ever without
+        // shadows) the image is in the layout its descriptors name.
+        let range = image.subresource_range();
+        let raw = image.raw;
+        pool.one_shot(|cmd| {
+            transition(
+                &ctx.device,
+                cmd,
+                &[Transition {
+                    image: raw,
+                    range,
+                    from: (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::PipelineStageFlags2::NONE,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    to: (
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        vk::PipelineStageFlags2::VERTEX_SHADER
+                            | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ,
+                    ),
+                }],
+            );
+            Ok(())
+        })?;
+        let sampler = |name: &str, filter: vk::Filter, compare: bool| {
+            let info = vk::SamplerCreateInfo::default()
+                .mag_filter(filter)
+                .min_filter(filter)
+                .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+                .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                .compare_enable(compare)
+                .compare_op(vk::CompareOp::GREATER_OR_EQUAL)
+                .min_lod(0.0)
+                .max_lod(0.0);
+            Sampler::new(ctx, name, &info)
+        };
+        let samplers = [
+            sampler("shadow compare linear", vk::Filter::LINEAR, true)?,
+            sampler("shadow compare nearest", vk::Filter::NEAREST, true)?,
+            sampler("shadow depth", vk::Filter::NEAREST, false)?,
+        ];
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let binding = |b: i32, ty| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(b as u32)
+                .descriptor_type(ty)
+                .descriptor_count(1)
+                .stage_flags(stages)
+        };
+        let image_ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let set_layout = DescriptorSetLayout::new(
+            ctx,
+            "shadow set layout",
+            &[
+                binding(g::BINDING_SHADOW_LINEAR, image_ty),
+                binding(g::BINDING_SHADOW_NEAREST, image_ty),
+                binding(g::BINDING_SHADOW_DEPTH, image_ty),
+                binding(g::BINDING_SHADOW_LIGHTS, storage),
+                binding(g::BINDING_SHADOW_LAYERS, storage),
+            ],
+        )?;
+        let n = slots.max(1) as u32;
+        let desc_pool = DescriptorPool::new(
+            ctx,
+            "shadow descriptor pool",
+            n,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: image_ty,
+                    descriptor_count: 3 * n,
+                },
+                vk::DescriptorPoolSize {
+                    ty: storage,
+                    descriptor_count: 2 * n,
+                },
+            ],
+        )?;
+        let light_count = scene.lights.len().max(1);
+        let mut slot_data = Vec::new();
+        for i in 0..n {
+            let buffer = |name: &str, bytes: usize| {
+                Buffer::new(
+                    ctx,
+                    &format!("{name} (slot {i})"),
+                    bytes as u64,
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                    MemoryLocation::CpuToGpu,
+                )
+            };
+            let mut lights = buffer(
+                "shadow lights",
+                light_count * std::mem::size_of::<GpuShadowLight>(),
+            )?;
+            // Until the first update: no light has a shadow.
+            let none = vec![
+                GpuShadowLight {
+                    info: [-1, 0, 0, 0],
+                    ..Zeroable::zeroed()
+                };
+                light_count
+            ];
+            lights.write(0, bytemuck::cast_slice(&none))?;
+            let layers = buffer(
+                "shadow layers",
+                layer_count as usize * std::mem::size_of::<GpuShadowLayer>(),
+            )?;
+            let set = desc_pool.allocate(&set_layout)?;
+            let images = samplers.each_ref().map(|s| {
+                [vk::DescriptorImageInfo {
+                    sampler: s.raw,
+                    image_view: image.view,
+                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                }]
+            });
+            let buffers = [&lights, &layers].map(|b| {
+                [vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }]
+            });
+            let image_bindings = [
+                g::BINDING_SHADOW_LINEAR,
+                g::BINDING_SHADOW_NEAREST,
+                g::BINDING_SHADOW_DEPTH,
+            ];
+            let mut writes: Vec<vk::WriteDescriptorSet> = image_bindings
+                .iter()
+                .zip(&images)
+                .map(|(&b, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(set)
+                        .dst_binding(b as u32)
+                        .descriptor_type(image_ty)
+                        .image_info(info)
+                })
+                .collect();
+            for (b, info) in [g::BINDING_SHADOW_LIGHTS, g::BINDING_SHADOW_LAYERS]
+                .iter()
+                .zip(&buffers)
+            {
+                writes.push(
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(set)
+                        .dst_binding(*b as u32)
+                        .descriptor_type(storage)
+                        .buffer_info(info),
+                );
+            }
+            // SAFETY: `set` was just allocated and no command buffer uses it; the samplers, view
+            // and buffers written are live objects of this device with the usages the bindings
+            // need (sampled depth image in the layout named, storage buffers); `images` and
+            // `buffers` outlive the call.
+            unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+            slot_data.push(Slot {
+                set,
+                lights,
+                layers,
+                draws: vec![Vec::new(); layer_count as usize],
+            });
+        }
+        let pipeline = if maps.is_empty() {
+            None
+        } else {
+            Some(pipeline::DepthPipeline::new(ctx)?)
+        };
+        Ok(Self {
+            maps,
+            size,
+            layer_views,
+            image,
+            _samplers: samplers,
+            set_layout,
+            slots: slot_data,
+            _pool: desc_pool,
+            pipeline,
+            casters: 0,
+            light_count: scene.lights.len(),
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn set_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
+    }
+
+    /// Slot `slot`'s set (the last slot's for larger indices).
+    pub fn set(&self, slot: usize) -> vk::DescriptorSet {
+        self.slots[slot.min(self.slots.len() - 1)].set
+    }
+
+    /// Whether any light has a shadow (otherwise nothing is drawn or updated).
+    pub fn active(&self) -> bool {
+        !self.maps.is_empty()
+    }
+
+    /// The shadowed lights' maps.
+    pub fn maps(&self) -> &[LightMaps] {
+        &self.maps
+    }
+
+    /// The image's side in texels and its layers.
+    pub fn image_size(&self) -> (u32, u32) {
+        (self.size, self.layer_views.len() as u32)
+    }
+
+    /// Refits every map to `scene`'s camera at `aspect` and writes slot `slot`'s data (the slot
+    /// must not be in use by the GPU). `scene` has the lights the maps were made for.
+    pub fn update(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        aspect: f32,
+        casters: &[Caster],
+        receivers: &[Sphere],
+    ) -> Result<(), VkError> {
+        if !self.active() {
+            return Ok(());
+        }
+        if scene.lights.len() != self.light_count
+            || self
+                .maps
+                .iter()
+                .any(|m| scene.lights[m.light].shadow != Some(m.shadow))
+        {
+            return Err(VkError::Setup(format!(
+                "{}: lights or their shadows changed; rebuild the shadow maps",
+                scene.display_name()
+            )));
+        }
+        self.casters = casters.len();
+        let spheres: Vec<Sphere> = casters.iter().map(|c| c.sphere).collect();
+        let view = fit::View {
+            camera: &scene.camera,
+            aspect,
+            casters: &spheres,
+            receivers,
+        };
+        let mut lights = vec![
+            GpuShadowLight {
+                info: [-1, 0, 0, 0],
+                ..Zeroable::zeroed()
+            };
+            self.light_count.max(1)
+        ];
+        let mut layers = vec![GpuShadowLayer::zeroed(); self.layer_views.len().max(1)];
+        let last = self.slots.len() - 1;
+        let s = &mut self.slots[slot.min(last)];
+        for d in &mut s.draws {
+            d.clear();
+        }
+        for m in &self.maps {
+            let light = &scene.lights[m.light];
+            let fit = fit::fit(light, &m.shadow, &view);
+            let sh = &m.shadow;
+            let size_term = match light.kind {
+                crate::scene::LightKind::Directional => light.angular_radius_deg.to_radians().tan(),
+                _ => light.radius,
+            };
+            lights[m.light] = GpuShadowLight {
+                info: [
+                    m.first_layer as i32,
+                    m.layers as i32,
+                    method_code(sh.method),
+                    sh.pcf_kernel as i32,
+                ],
+                params: Vec4::new(
+                    sh.resolution as f32 / self.size as f32,
+                    1.0 / self.size as f32,
+                    sh.bias,
+                    sh.normal_bias,
+                ),
+                size: Vec4::new(size_term, fit::pcss_max_radius(sh), 0.0, 0.0),
+                splits: Vec4::from_array(fit.splits),
+            };
+            for (k, layer) in fit.layers.iter().enumerate() {
+                let index = (m.first_layer as usize) + k;
+                layers[index] = GpuShadowLayer {
+                    view_proj: layer.view_proj,
+                    params: Vec4::new(
+                        layer.texel,
+                        if layer.perspective { 1.0 } else { 0.0 },
+                        layer.depth,
+                        0.0,
+                    ),
+                    origin: layer.origin.extend(1.0),
+                    axis: layer.axis.extend(0.0),
+                };
+                let planes = frustum::planes(layer.view_proj);
+                s.draws[index].extend(casters.iter().filter_map(|c| {
+                    frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)
+                        .then(|| (c.mesh, layer.view_proj * c.model))
+                }));
+            }
+        }
+        s.lights.write(0, bytemuck::cast_slice(&lights))?;
+        s.layers.write(0, bytemuck::cast_slice(&layers))?;
+        Ok(())
+    }
+
+    /// Records slot `slot`'s maps (timed as "shadows"): each layer cleared and its casters drawn,
+    /// then the image made readable by the vertex and fragment stages. Nothing without shadows.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        meshes: &[MeshRef],
+        timer: Option<&mut GpuTimer>,
+    ) {
+        let Some(pipeline) = &self.pipeline else {
+            return;
+        };
+        let d = &self.ctx.device;
+        let s = &self.slots[slot.min(self.slots.len() - 1)];
+        let mut timer = timer;
+        let timed = timer.as_mut().and_then(|t| t.begin(cmd, "shadows"));
+        let range = self.image.subresource_range();
+        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        let read_stages =
+            vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
+        // Earlier frames' reads finish before the maps are drawn again (same queue).
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: self.image.raw,
+                range,
+                from: (
+                    vk::ImageLayout::UNDEFINED,
+                    read_stages,
+                    vk::AccessFlags2::NONE,
+                ),
+                to: (
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    depth_stages,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+            }],
+        );
+        for m in &self.maps {
+            let res = m.shadow.resolution;
+            for k in 0..m.layers {
+                let index = (m.first_layer + k) as usize;
+                pipeline.record_layer(
+                    cmd,
+                    self.layer_views[index],
+                    (res, m.shadow.slope_bias),
+                    &s.draws[index],
+                    meshes,
+                );
+            }
+        }
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: self.image.raw,
+                range,
+                from: (
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    depth_stages,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+                to: (
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    read_stages,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            }],
+        );
+        if let Some(t) = timer {
+            t.end(cmd, timed);
+        }
+    }
+
+    /// Per shadowed light: its maps, their memory and the casters slot 0 draws into each.
+    pub fn report(&self) -> Vec<MapReport> {
+        let texel_bytes = 4u64;
+        self.maps
+            .iter()
+            .map(|m| MapReport {
+                light: m.light,
+                method: m.shadow.method,
+                resolution: m.shadow.resolution,
+                layers: m.layers,
+                bytes: self.size as u64 * self.size as u64 * texel_bytes * m.layers as u64,
+                drawn: (0..m.layers)
+                    .map(|k| self.slots[0].draws[(m.first_layer + k) as usize].len())
+                    .collect(),
+                casters: self.casters,
+            })
+            .collect()
+    }
+}
+
+fn method_code(m: ShadowMethod) -> i32 {
+    match m {
+        ShadowMethod::Hard => g::SHADOW_HARD,
+        ShadowMethod::Pcf => g::SHADOW_PCF,
+        ShadowMethod::Pcss => g::SHADOW_PCSS,
+    }
+}
+
+/// The vertex layout the depth pass reads (positions at the start of each [`Vertex`]).
+pub(crate) const VERTEX_STRIDE: u32 = std::mem::size_of::<Vertex>() as u32;
