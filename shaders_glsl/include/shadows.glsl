@@ -105,10 +105,12 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     bool perspective = L.params.y > 0.5;
     float dist = dot(P - L.origin.xyz, L.axis.xyz);
     float texel = perspective ? L.params.x * dist : L.params.x;
-    // Normal offset (more at grazing light) and an offset towards the light, in texels.
+    // Normal offset (more at grazing light) and an offset towards the light, in texels; wider
+    // PCF kernels reach farther over a tilted receiver, so their offsets grow with them.
     float cos_t = clamp(dot(N, l), 0.0, 1.0);
     float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    vec3 Po = P + N * (s.params.w * texel * sin_t) + l * (s.params.z * texel);
+    float reach = s.info.z == SHADOW_PCF ? max(1.0, float(s.info.w / 2)) : 1.0;
+    vec3 Po = P + (N * (s.params.w * sin_t) + l * s.params.z) * (texel * reach);
     vec4 clip = L.view_proj * vec4(Po, 1.0);
     if (clip.w <= 0.0) {
         return 1.0;

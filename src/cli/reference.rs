@@ -37,6 +37,10 @@ pub struct ReferenceArgs {
     /// Seed of the random numbers (same seed, same image).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Shadow rays per light per primary ray for lights with a size (radius or angular radius:
+    /// soft shadows); point-like lights take one (hard shadows).
+    #[arg(long, default_value_t = luz::reference::DEFAULT_SHADOW_SAMPLES, value_parser = clap::value_parser!(u32).range(1..=luz::reference::MAX_SAMPLES as i64))]
+    pub shadow_samples: u32,
     /// Override the scene's output width.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: Option<u32>,
@@ -66,6 +70,7 @@ pub fn run(a: ReferenceArgs) -> Result<ExitCode> {
         spp: a.spp,
         samples: a.samples,
         seed: a.seed,
+        shadow_samples: a.shadow_samples,
     };
     let bar = Bar::with_length(
         "reference {bar:30} {pos}/{len} rows {elapsed} (eta {eta})",

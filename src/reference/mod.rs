@@ -51,6 +51,10 @@ pub struct ReferenceOptions {
     /// Seed of every random choice; the same seed gives the same image whatever the thread
     /// count. Default 1.
     pub seed: u64,
+    /// Shadow rays per light per primary ray towards a light with a size (`radius`,
+    /// `angular_radius_deg`), ≥ 1: the fraction that reaches the light scales it (soft shadows).
+    /// Point-like lights take one ray (hard shadows). Default 64.
+    pub shadow_samples: u32,
 }
 
 impl Default for ReferenceOptions {
@@ -59,9 +63,13 @@ impl Default for ReferenceOptions {
             spp: 1,
             samples: 1024,
             seed: 1,
+            shadow_samples: DEFAULT_SHADOW_SAMPLES,
         }
     }
 }
+
+/// `shadow_samples` unless asked otherwise.
+pub const DEFAULT_SHADOW_SAMPLES: u32 = 64;
 
 /// Largest `spp` and `samples`.
 pub const MAX_SPP: u32 = 65_536;
@@ -83,6 +91,12 @@ pub fn render_reference(
         bail!(
             "reference: samples must be in 1..={MAX_SAMPLES}, got {}",
             opts.samples
+        );
+    }
+    if opts.shadow_samples == 0 || opts.shadow_samples > MAX_SAMPLES {
+        bail!(
+            "reference: shadow samples must be in 1..={MAX_SAMPLES}, got {}",
+            opts.shadow_samples
         );
     }
     let prepared = render::Prepared::new(scene)?;

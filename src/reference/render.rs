@@ -39,6 +39,9 @@ struct RefObject {
     lo: Vec3,
     hi: Vec3,
     material: usize,
+    /// Blocks shadow rays; is darkened by them.
+    cast_shadow: bool,
+    receive_shadow: bool,
 }
 
 /// The environment: its image in environment space, the rotation, and an importance-sampling
@@ -181,6 +184,8 @@ impl Prepared {
                 lo: wlo - Vec3::splat(pad),
                 hi: whi + Vec3::splat(pad),
                 material: o.material,
+                cast_shadow: o.shadow.cast,
+                receive_shadow: o.shadow.receive,
             });
         }
         let env = match &scene.environment {
@@ -267,7 +272,7 @@ impl Prepared {
                 x as f32 + 0.5,
                 y as f32 + 0.5,
                 [opts.seed, index, 0],
-                opts.samples,
+                (opts.samples, opts.shadow_samples),
             );
         }
         let pattern = hash(&[opts.seed, index, 0x6a09_e667]) as u32;
@@ -279,13 +284,13 @@ impl Prepared {
                 x as f32 + off.x,
                 y as f32 + off.y,
                 [opts.seed, index, u64::from(s) + 1],
-                per,
+                (per, opts.shadow_samples),
             );
         }
         sum / spp as f32
     }
 
-    fn radiance(&self, px: f32, py: f32, key: [u64; 3], samples: u32) -> Vec3 {
+    fn radiance(&self, px: f32, py: f32, key: [u64; 3], samples: (u32, u32)) -> Vec3 {
         let (o, d) = self.primary_ray(px, py);
         let Some((i, t, part, local)) = self.trace(o, d) else {
             return match &self.env {
@@ -331,7 +336,7 @@ impl Prepared {
         part: Part,
         local: &Ray,
         key: [u64; 3],
-        samples: u32,
+        (samples, shadow_samples): (u32, u32),
     ) -> Vec3 {
         let obj = &self.objects[i];
         let ls = obj.shape.surface(local, t, part);
@@ -342,14 +347,103 @@ impl Prepared {
         let s = surface_at(mat, n, x, y, uv);
         let v = (self.cam_pos - p).normalize_or(n);
         let mut c = s.occlusion * ambient_term(&s.model, self.ambient);
-        for light in &self.lights {
-            let (l, e) = light_incidence(light, p);
+        for (k, light) in self.lights.iter().enumerate() {
+            let (l, mut e) = light_incidence(light, p);
+            if obj.receive_shadow && light.shadow.is_some() && e != Vec3::ZERO {
+                let key = [key[0], key[1], key[2] ^ ((k as u64 + 1) << 40)];
+                e *= self.light_visibility(light, (p, n, l), obj, key, shadow_samples);
+            }
             c += crate::brdf::radiance(&s.model, s.n, l, v, s.x, s.y, e);
         }
         if let Some(env) = &self.env {
             c += s.occlusion * env_light(env, &s, v, key, samples);
         }
         c + s.emission
+    }
+
+    /// The fraction of `light` that reaches `p` (normal `n`, unit direction `l` towards the
+    /// light) past the shadow-casting objects: one ray for a point-like light, `samples` rays
+    /// to stratified points of its disc (as seen from `p`) for a light with a radius or angular
+    /// radius. Shading stays punctual: only visibility sees the size.
+    fn light_visibility(
+        &self,
+        light: &Light,
+        (p, n, l): (Vec3, Vec3, Vec3),
+        obj: &RefObject,
+        key: [u64; 3],
+        samples: u32,
+    ) -> f32 {
+        // Leave the surface towards the light's side by a few ulps of the scene around it.
+        let scale = (obj.hi - obj.lo).length().max(p.abs().max_element());
+        let side = if n.dot(l) >= 0.0 { n } else { -n };
+        let o = p + side * (scale * 2e-5);
+        let (a, b) = orthonormal_basis(l);
+        let disc = |s: u32, count: u32, pattern: u32| {
+            let u = cmj(s, count, pattern);
+            concentric_disc(u)
+        };
+        match light.kind {
+            LightKind::Directional => {
+                let tan = light.angular_radius_deg.to_radians().tan();
+                if tan <= 0.0 {
+                    return if self.occluded(o, l, f32::INFINITY) {
+                        0.0
+                    } else {
+                        1.0
+                    };
+                }
+                let pattern = hash(&[key[0], key[1], key[2], 0x5ad0]) as u32;
+                let lit = (0..samples)
+                    .filter(|&s| {
+                        let d = disc(s, samples, pattern);
+                        let dir = l + (a * d.x + b * d.y) * tan;
+                        !self.occluded(o, dir, f32::INFINITY)
+                    })
+                    .count();
+                lit as f32 / samples as f32
+            }
+            _ => {
+                let to = light.position - o;
+                if light.radius <= 0.0 {
+                    return if self.occluded(o, to, 1.0 - 1e-5) {
+                        0.0
+                    } else {
+                        1.0
+                    };
+                }
+                let pattern = hash(&[key[0], key[1], key[2], 0x5ad1]) as u32;
+                let lit = (0..samples)
+                    .filter(|&s| {
+                        let d = disc(s, samples, pattern) * light.radius;
+                        let q = light.position + a * d.x + b * d.y;
+                        !self.occluded(o, q - o, 1.0 - 1e-5)
+                    })
+                    .count();
+                lit as f32 / samples as f32
+            }
+        }
+    }
+
+    /// Whether a shadow-casting object meets the ray `o + t d` for t in (0, `t_max`).
+    fn occluded(&self, o: Vec3, d: Vec3, t_max: f32) -> bool {
+        let inv = Vec3::ONE / d;
+        self.objects.iter().any(|obj| {
+            if !obj.cast_shadow {
+                return false;
+            }
+            let a = (obj.lo - o) * inv;
+            let b = (obj.hi - o) * inv;
+            let enter = a.min(b).max_element().max(0.0);
+            let exit = a.max(b).min_element().min(t_max);
+            if enter > exit || enter.is_nan() || exit.is_nan() {
+                return false;
+            }
+            let local = Ray {
+                o: obj.to_local.transform_point3(o),
+                d: obj.to_local.transform_vector3(d),
+            };
+            obj.shape.intersect(&local, 0.0, t_max).is_some()
+        })
     }
 
     /// Depth cueing, as `apply_fog`: S from the view-space depth z.
@@ -488,6 +582,30 @@ fn ambient_term(model: &Model, ambient: Vec3) -> Vec3 {
 }
 
 /// GLSL `smoothstep`.
+/// Two unit vectors completing `n` (unit) to an orthonormal basis.
+fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let a = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+    let t = (a - n * n.dot(a)).normalize();
+    (t, n.cross(t))
+}
+
+/// Shirley and Chiu's concentric map of the unit square onto the unit disc (area-preserving).
+fn concentric_disc(u: Vec2) -> Vec2 {
+    let a = 2.0 * u - Vec2::ONE;
+    if a == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, phi) = if a.x.abs() > a.y.abs() {
+        (a.x, std::f32::consts::FRAC_PI_4 * (a.y / a.x))
+    } else {
+        (
+            a.y,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (a.x / a.y),
+        )
+    };
+    Vec2::new(r * phi.cos(), r * phi.sin())
+}
+
 fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
     let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)

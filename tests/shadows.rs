@@ -1,0 +1,437 @@
+//! Shadows (issue 15): the CPU reference against an analytic answer, and every GPU method against
+//! the reference on the same scenes, judged away from a band around shadow edges.
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use luz::imageio::LinearImage;
+use luz::reference::{render_reference, ReferenceOptions};
+
+fn luminance(p: [f32; 4]) -> f32 {
+    0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+}
+
+fn reference(json: &str) -> LinearImage {
+    render_reference(&parse(json), &ReferenceOptions::default(), None).expect("reference")
+}
+
+// ---------------------------------------------------------------------------------------------
+// The reference against geometry: a plane point is lit exactly when the segment to the light
+// misses the sphere.
+
+const AW: u32 = 96;
+const AH: u32 = 72;
+const ACAM: Vec3 = Vec3::new(0.0, 6.0, 4.0);
+const AFOV: f32 = 60.0;
+const SPHERE_C: Vec3 = Vec3::new(0.0, 1.5, 0.0);
+const SPHERE_R: f32 = 1.0;
+
+/// The pixel-centre ray of pixel (i, j) of a camera at `cam` looking at the origin, up +y.
+fn ray(cam: Vec3, fov: f32, (w, h): (u32, u32), i: u32, j: u32) -> Vec3 {
+    let f = (Vec3::ZERO - cam).normalize();
+    let r = f.cross(Vec3::Y).normalize();
+    let u = r.cross(f);
+    let t = (fov.to_radians() / 2.0).tan();
+    let aspect = w as f32 / h as f32;
+    let x = (2.0 * (i as f32 + 0.5) / w as f32 - 1.0) * t * aspect;
+    let y = (1.0 - 2.0 * (j as f32 + 0.5) / h as f32) * t;
+    (f + x * r + y * u).normalize()
+}
+
+/// The nearer root of |o + t d − c|² = r² (unit d), if any in t > 0, and the closest approach.
+fn sphere_hit(o: Vec3, d: Vec3, c: Vec3, r: f32) -> (Option<f32>, f32) {
+    let oc = o - c;
+    let b = oc.dot(d);
+    let q = oc.length_squared() - b * b;
+    let closest = q.max(0.0).sqrt();
+    let disc = r * r - q;
+    if disc < 0.0 {
+        return (None, closest);
+    }
+    let s = disc.sqrt();
+    let t = [-b - s, -b + s].into_iter().find(|t| *t > 0.0);
+    (t, closest)
+}
+
+#[test]
+fn reference_shadow_is_the_segment_test() {
+    let dir = Vec3::new(0.35, -1.0, 0.25).normalize();
+    let json = format!(
+        r#"{{
+        "camera": {{"position": [{}, {}, {}], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": {AFOV}, "near": 0.1, "far": 50}},
+        "output": {{"width": {AW}, "height": {AH}, "background": [0, 0, 0], "msaa": 1}},
+        "ambient": [0.1, 0.1, 0.1],
+        "lights": [{{"type": "directional", "direction": [{}, {}, {}], "intensity": 2.0, "shadow": true}}],
+        "materials": {{"m": {{"model": "lambert", "albedo": [0.8, 0.8, 0.8]}}}},
+        "objects": [
+            {{"mesh": {{"type": "plane", "size": [40, 40]}}, "material": "m"}},
+            {{"mesh": {{"type": "sphere", "radius": {SPHERE_R}}}, "material": "m", "position": [{}, {}, {}]}}
+        ]
+    }}"#,
+        ACAM.x, ACAM.y, ACAM.z, dir.x, dir.y, dir.z, SPHERE_C.x, SPHERE_C.y, SPHERE_C.z
+    );
+    let img = reference(&json);
+    let l = -dir;
+    let (mut lit, mut dark, mut worst) = (0, 0, 0.0f32);
+    for j in 0..AH {
+        for i in 0..AW {
+            let d = ray(ACAM, AFOV, (AW, AH), i, j);
+            let t_plane = -ACAM.y / d.y;
+            let (t_sphere, _) = sphere_hit(ACAM, d, SPHERE_C, SPHERE_R);
+            if t_plane <= 0.0 || t_sphere.is_some_and(|t| t < t_plane) {
+                continue; // the sphere or the sky, not the plane
+            }
+            let p = ACAM + d * t_plane;
+            let (blocked, closest) = sphere_hit(p, l, SPHERE_C, SPHERE_R);
+            // A segment grazing the silhouette may round either way: left out.
+            if (closest - SPHERE_R).abs() < 1e-3 {
+                continue;
+            }
+            let albedo = 0.8;
+            let ambient = 0.1 * albedo;
+            let expected = if blocked.is_some() {
+                dark += 1;
+                ambient
+            } else {
+                lit += 1;
+                ambient + albedo / std::f32::consts::PI * 2.0 * l.y
+            };
+            let got = img.pixels[(j * AW + i) as usize][1];
+            let err = (got - expected).abs() / expected;
+            worst = worst.max(err);
+            assert!(
+                err < 1e-4,
+                "pixel ({i}, {j}) at {p}: {} expected {expected}, got {got}",
+                if blocked.is_some() { "shadowed" } else { "lit" }
+            );
+        }
+    }
+    eprintln!("reference segment test: {lit} lit and {dark} shadowed plane pixels, worst relative error {worst:.2e}");
+    assert!(lit > 1000 && dark > 100, "{lit} lit, {dark} shadowed");
+}
+
+// ---------------------------------------------------------------------------------------------
+// GPU methods against the reference.
+
+const W: u32 = 240;
+const H: u32 = 180;
+
+/// A Lambert floor, a sphere resting on it (contact), a cube floating 0.2 m above it.
+fn scene(lights: &str) -> String {
+    format!(
+        r#"{{
+        "camera": {{"position": [0.5, 4.0, 5.0], "target": [0.2, 0.2, 0], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 40}},
+        "output": {{"width": {W}, "height": {H}, "background": [0, 0, 0], "msaa": 1}},
+        "ambient": [0.05, 0.05, 0.05],
+        "lights": [{lights}],
+        "materials": {{"m": {{"model": "lambert", "albedo": [0.8, 0.8, 0.8]}}}},
+        "objects": [
+            {{"mesh": {{"type": "plane", "size": [16, 16]}}, "material": "m"}},
+            {{"mesh": {{"type": "sphere", "radius": 0.7}}, "material": "m", "position": [0, 0.7, 0]}},
+            {{"mesh": {{"type": "cube", "size": 0.8}}, "material": "m", "position": [1.5, 0.6, -0.8], "rotation_deg": [0, 30, 0]}}
+        ]
+    }}"#
+    )
+}
+
+/// A case: its lights, each as JSON without the shadow key (`{SHADOW}` marks where it goes).
+struct Case {
+    name: &'static str,
+    lights: &'static [&'static str],
+}
+
+const DIRECTIONAL: &str =
+    r#"{"type": "directional", "direction": [0.4, -1.0, 0.3], "intensity": 2.0 SHADOW}"#;
+/// 75° from the floor's normal: long shadows.
+const GRAZING: &str =
+    r#"{"type": "directional", "direction": [0.966, -0.259, 0.0], "intensity": 4.0 SHADOW}"#;
+const SPOT: &str = r#"{"type": "spot", "position": [1.5, 3.0, 1.5], "target": [0.3, 0, -0.2], "umbra_deg": 35, "inner_deg": 25, "intensity": 40.0 SHADOW}"#;
+const POINT: &str = r#"{"type": "point", "position": [-1.2, 2.0, 1.0], "intensity": 15.0 SHADOW}"#;
+
+const CASES: [Case; 5] = [
+    Case {
+        name: "directional",
+        lights: &[DIRECTIONAL],
+    },
+    Case {
+        name: "grazing directional (75°)",
+        lights: &[GRAZING],
+    },
+    Case {
+        name: "spot",
+        lights: &[SPOT],
+    },
+    Case {
+        name: "point (cube map)",
+        lights: &[POINT],
+    },
+    Case {
+        name: "two lights",
+        lights: &[DIRECTIONAL, POINT],
+    },
+];
+
+/// The scene's lights (only light `keep` when given) with `shadow` for light `only` (all when
+/// `None`) and none for the others; with a size (0.1 m radius, 1° angular radius) when `sized`.
+fn lights(
+    case: &Case,
+    (shadow, sized): (&str, bool),
+    only: Option<usize>,
+    keep: Option<usize>,
+) -> String {
+    case.lights
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| keep.is_none_or(|k| k == *i))
+        .map(|(i, l)| {
+            let mut s = if only.is_none_or(|k| k == i) {
+                format!(r#", "shadow": {shadow}"#)
+            } else {
+                String::new()
+            };
+            if sized {
+                s += if l.contains("directional") {
+                    r#", "angular_radius_deg": 1.0"#
+                } else {
+                    r#", "radius": 0.1"#
+                };
+            }
+            l.replace(" SHADOW", &s)
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// Per pixel, a class from the reference: for each light, lit (its shadowed and unshadowed
+/// references agree), in umbra (the shadowed one equals the image without it) or in penumbra;
+/// `None` where the light does not reach the pixel's class (background).
+fn classes(case: &Case, shadow: (&str, bool)) -> Vec<u32> {
+    let mut class = vec![0u32; (W * H) as usize];
+    let none = reference(&scene(""));
+    for k in 0..case.lights.len() {
+        let with = reference(&scene(&lights(case, shadow, Some(k), Some(k))));
+        let without = reference(&scene(&lights(case, ("false", shadow.1), Some(k), Some(k))));
+        for (i, c) in class.iter_mut().enumerate() {
+            let (a, s, n) = (
+                luminance(none.pixels[i]),
+                luminance(with.pixels[i]),
+                luminance(without.pixels[i]),
+            );
+            let light = n - a;
+            let v = if light <= 1e-6 * n.max(1e-6) {
+                2
+            } else {
+                let vis = (s - a) / light;
+                if vis > 1.0 - 1e-4 {
+                    2
+                } else if vis < 1e-4 {
+                    0
+                } else {
+                    1
+                }
+            };
+            *c = *c * 3 + v;
+        }
+    }
+    class
+}
+
+/// What the judgement found for one method at one band width.
+#[derive(Debug, Clone, Copy)]
+struct Judged {
+    lit: usize,
+    lit_ok: usize,
+    dark: usize,
+    dark_ok: usize,
+}
+
+impl Judged {
+    fn passes(&self) -> bool {
+        self.lit > 0
+            && self.lit_ok as f64 >= 0.995 * self.lit as f64
+            && self.dark_ok as f64 >= 0.995 * self.dark as f64
+    }
+}
+
+/// Judges the GPU image against the reference outside a band of `band` pixels around every
+/// change of class, on pixels whose unshadowed GPU and reference images agree within 2 % (the
+/// tessellated silhouettes differ from the exact ones; that is not the shadows' error). Pixels
+/// in penumbra (a class with a 1) are not judged: soft shadows are the methods' approximation.
+fn judge(
+    class: &[u32],
+    (gpu, reference): (&LinearImage, &LinearImage),
+    (gpu_plain, ref_plain): (&LinearImage, &LinearImage),
+    band: i32,
+) -> Judged {
+    let mut j = Judged {
+        lit: 0,
+        lit_ok: 0,
+        dark: 0,
+        dark_ok: 0,
+    };
+    let all_lit = class.iter().copied().max().unwrap_or(0);
+    for y in 0..H as i32 {
+        for x in 0..W as i32 {
+            let i = (y as u32 * W + x as u32) as usize;
+            let (gp, rp) = (
+                luminance(gpu_plain.pixels[i]),
+                luminance(ref_plain.pixels[i]),
+            );
+            if rp <= 0.0 || (gp - rp).abs() > 0.02 * rp {
+                continue;
+            }
+            let c = class[i];
+            // Penumbra: any light's digit is 1.
+            let mut digits = c;
+            let mut soft = false;
+            while digits > 0 {
+                soft |= digits % 3 == 1;
+                digits /= 3;
+            }
+            if soft {
+                continue;
+            }
+            let near_edge = (-band..=band).any(|dy| {
+                (-band..=band).any(|dx| {
+                    let (xx, yy) = (x + dx, y + dy);
+                    xx >= 0
+                        && yy >= 0
+                        && xx < W as i32
+                        && yy < H as i32
+                        && class[(yy as u32 * W + xx as u32) as usize] != c
+                })
+            });
+            if near_edge {
+                continue;
+            }
+            let (g, r) = (luminance(gpu.pixels[i]), luminance(reference.pixels[i]));
+            let ok = (g - r).abs() <= 0.02 * r;
+            if c == all_lit {
+                j.lit += 1;
+                j.lit_ok += ok as usize;
+            } else {
+                j.dark += 1;
+                j.dark_ok += ok as usize;
+            }
+        }
+    }
+    j
+}
+
+/// A method judged: its name, shadow settings, whether its lights have a size, and the band
+/// (pixels at 240×180) it must pass within, and within at 75° grazing light (where a texel
+/// stretches over 1/cos 75° ≈ 3.9 times its size along the shadow).
+struct Method {
+    name: &'static str,
+    shadow: &'static str,
+    sized: bool,
+    band: i32,
+    grazing_band: i32,
+}
+
+const METHODS: [Method; 5] = [
+    Method {
+        name: "hard 2048",
+        shadow: r#"{"method": "hard", "resolution": 2048}"#,
+        sized: false,
+        band: 2,
+        grazing_band: 2,
+    },
+    Method {
+        name: "pcf 3x3 (default)",
+        shadow: "true",
+        sized: false,
+        band: 2,
+        grazing_band: 3,
+    },
+    Method {
+        name: "pcf 3x3 at 512",
+        shadow: r#"{"method": "pcf", "resolution": 512}"#,
+        sized: false,
+        band: 4,
+        grazing_band: 12,
+    },
+    Method {
+        name: "pcf 5x5 at 1024",
+        shadow: r#"{"method": "pcf", "pcf_kernel": 5, "resolution": 1024}"#,
+        sized: false,
+        band: 4,
+        grazing_band: 12,
+    },
+    Method {
+        name: "pcss (0.1 m, 1°)",
+        shadow: r#"{"method": "pcss"}"#,
+        sized: true,
+        band: 4,
+        grazing_band: 12,
+    },
+];
+
+#[test]
+fn gpu_shadows_match_the_reference_away_from_edges() {
+    let ctx = gpu();
+    let mut table = Vec::new();
+    let mut failures = Vec::new();
+    for case in &CASES {
+        for m in &METHODS {
+            let plain_json = scene(&lights(case, ("false", m.sized), None, None));
+            let gpu_plain = render_on(&ctx, &parse(&plain_json));
+            let ref_plain = reference(&plain_json);
+            let (method, shadow) = (m.name, m.shadow);
+            let allowed = if case.name.starts_with("grazing") {
+                m.grazing_band
+            } else {
+                m.band
+            };
+            let json = scene(&lights(case, (shadow, m.sized), None, None));
+            let img = render_on(&ctx, &parse(&json));
+            assert_eq!(nan_count(&img), 0, "{}: {method}: NaN", case.name);
+            let reference = reference(&json);
+            let class = classes(case, (shadow, m.sized));
+            // The narrowest band that passes.
+            let found = (0..=12).find_map(|band| {
+                let j = judge(&class, (&img, &reference), (&gpu_plain, &ref_plain), band);
+                j.passes().then_some((band, j))
+            });
+            match found {
+                Some((band, j)) => {
+                    table.push(format!(
+                        "| {} | {method} | {band} px | {:.2} % of {} | {:.2} % of {} |",
+                        case.name,
+                        100.0 * j.lit_ok as f64 / j.lit as f64,
+                        j.lit,
+                        100.0 * j.dark_ok as f64 / j.dark.max(1) as f64,
+                        j.dark
+                    ));
+                    if band > allowed {
+                        failures.push(format!(
+                            "{}: {method}: needs a band of {band} px, more than {allowed}",
+                            case.name
+                        ));
+                    }
+                    if j.dark < 50 {
+                        failures.push(format!(
+                            "{}: {method}: only {} shadowed pixels judged",
+                            case.name, j.dark
+                        ));
+                    }
+                }
+                None => {
+                    let j = judge(&class, (&img, &reference), (&gpu_plain, &ref_plain), 12);
+                    failures.push(format!(
+                        "{}: {method}: fails even 12 px from edges: {j:?}",
+                        case.name
+                    ));
+                }
+            }
+        }
+    }
+    assert_no_validation_messages(&ctx);
+    eprintln!("| scene | method | band | lit within 2 % | shadowed within 2 % |");
+    eprintln!("|---|---|---|---|---|");
+    for row in &table {
+        eprintln!("{row}");
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
