@@ -161,6 +161,20 @@ impl ShadowMaps {
         }
         let size = maps.iter().map(|m| m.shadow.resolution).max().unwrap_or(1);
         let layer_count = next.max(1);
+        // One image holds every map at the largest resolution: name the light that sets it.
+        if let Some(big) = maps.iter().max_by_key(|m| m.shadow.resolution) {
+            let bytes = u64::from(size) * u64::from(size) * 4 * u64::from(layer_count);
+            limits.check_allocation(
+                &format!(
+                    "{}: lights[{}].shadow.resolution {size} ({size}² texels × {layer_count} \
+                     layers: every shadowed light's cascades and cube faces at the largest \
+                     resolution): the shadow map image",
+                    scene.display_name(),
+                    big.light
+                ),
+                bytes,
+            )?;
+        }
         let mut image = Image::new(
             ctx,
             "shadow maps",
