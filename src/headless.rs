@@ -344,6 +344,11 @@ impl Headless {
         self.forward.drawn_objects(0)
     }
 
+    /// Per shadowed light: its maps, their memory and the casters drawn into each layer.
+    pub fn shadow_maps(&self) -> Vec<crate::render::shadow::MapReport> {
+        self.forward.shadow_maps().report()
+    }
+
     /// "deferred" or "forward": how the scene is drawn ([`crate::render::forward::RenderPath`]).
     pub fn render_path(&self) -> &'static str {
         self.forward.render_path()

@@ -69,6 +69,16 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         println!("triangles: {}", renderer.triangle_count());
         let (drawn, all) = renderer.drawn_objects();
         println!("objects drawn after frustum culling: {drawn} of {all}");
+        let maps = renderer.shadow_maps();
+        if maps.is_empty() {
+            println!("shadow maps: none (no light has \"shadow\"; no shadow pass)");
+        } else {
+            println!("shadow maps (their GPU time is the \"shadows\" row below):");
+            for m in &maps {
+                let kernel = scene.lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
+                println!("  {}", m.describe(kernel));
+            }
+        }
     }
     report_tessellation(&scene, a.verbose);
     if let Some(t) = renderer.ibl_times() {

@@ -599,6 +599,28 @@ impl ShadowMaps {
     }
 }
 
+impl MapReport {
+    /// One line for `luz render --verbose`: "light 0: pcf 3x3, 3 layers of 2048², 48.0 MiB,
+    /// casters drawn per layer 5 4 2 of 5".
+    pub fn describe(&self, kernel: u32) -> String {
+        let method = match self.method {
+            ShadowMethod::Pcf => format!("pcf {kernel}x{kernel}"),
+            m => m.name().to_string(),
+        };
+        let drawn: Vec<String> = self.drawn.iter().map(|d| d.to_string()).collect();
+        format!(
+            "light {}: {method}, {} layer{} of {}², {:.1} MiB, casters drawn per layer {} of {}",
+            self.light,
+            self.layers,
+            if self.layers == 1 { "" } else { "s" },
+            self.resolution,
+            self.bytes as f64 / (1024.0 * 1024.0),
+            drawn.join(" "),
+            self.casters
+        )
+    }
+}
+
 fn method_code(m: ShadowMethod) -> i32 {
     match m {
         ShadowMethod::Hard => g::SHADOW_HARD,
