@@ -339,14 +339,14 @@ const METHODS: [Method; 5] = [
         grazing_band: 2,
     },
     Method {
-        name: "pcf 3x3 (default)",
+        name: "pcf 2x2 (default: 1024² directional and spot, 512² faces)",
         shadow: "true",
         sized: false,
         band: 2,
         grazing_band: 3,
     },
     Method {
-        name: "pcf 3x3 at 512",
+        name: "pcf 2x2 at 512",
         shadow: r#"{"method": "pcf", "resolution": 512}"#,
         sized: false,
         band: 4,

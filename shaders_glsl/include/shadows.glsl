@@ -54,7 +54,11 @@ const uint SHADOW_KINDS = LK_SHADOW_HARD | LK_SHADOW_PCF | LK_SHADOW_PCSS;
 // Explicit LOD 0 (textureGrad with zero gradients): valid in the vertex stage too, where flat and
 // Gouraud shading light.
 float shadow_tap(vec2 uv, float layer, float ref) {
+#if defined(LUZ_FRAGMENT) || defined(LUZ_DEFERRED)
+    return texture(shadow_linear, vec4(uv, layer, ref));
+#else
     return textureGrad(shadow_linear, vec4(uv, layer, ref), vec2(0.0), vec2(0.0));
+#endif
 }
 
 // 16 points of a Poisson disc in the unit disc (PCSS).
@@ -74,30 +78,31 @@ float shadow_distance(ShadowLayer L, float z) {
 }
 
 // The fraction of light i that reaches P (unit normal N, unit direction l towards the light).
+// The caller skips lights without a shadow (info.x < 0). Loops of zero or one trip stand where
+// an `if` would: lavapipe runs both sides of an `if` under a lane mask, but skips a loop that no
+// lane enters, so a directional light does not pay for the cube-face code nor a point light for
+// the cascades.
 float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     ShadowLight s = shadow_lights[i];
-    if (s.info.x < 0) {
-        return 1.0;
-    }
     int layer = s.info.x;
-    if (s.info.y == SHADOW_CUBE_LAYERS) {
+    bool beyond = false;
+    bool cube = s.info.y == SHADOW_CUBE_LAYERS;
+    for (int once = 0; once < (cube ? 1 : 0); ++once) {
         vec3 d = P - lights[i].position_type.xyz;
         vec3 a = abs(d);
         int face = a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1)
                  : (a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5));
         layer += face;
-    } else if (uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL) {
+    }
+    bool cascaded = !cube && uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL;
+    for (int once = 0; once < (cascaded ? 1 : 0); ++once) {
         // Cascades by view depth; beyond the last one's far depth nothing is shadowed.
         float z = -(frame.view * vec4(P, 1.0)).z;
         int n = s.info.y;
-        if (z > s.splits[n - 1]) {
-            return 1.0;
-        }
+        beyond = z > s.splits[n - 1];
         int c = 0;
-        for (int k = 0; k < SHADOW_MAX_CASCADES - 1; ++k) {
-            if (k < n - 1 && z > s.splits[k]) {
-                c = k + 1;
-            }
+        for (int k = 0; k < n - 1; ++k) {
+            c += z > s.splits[k] ? 1 : 0;
         }
         layer += c;
     }
@@ -109,7 +114,7 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     // PCF kernels reach farther over a tilted receiver, so their offsets grow with them.
     float cos_t = clamp(dot(N, l), 0.0, 1.0);
     float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    float reach = s.info.z == SHADOW_PCF ? max(1.0, float(s.info.w / 2)) : 1.0;
+    float reach = s.info.z == SHADOW_PCF ? max(1.0, 0.5 * float(s.info.w - 1)) : 1.0;
     vec3 Po = P + (N * (s.params.w * sin_t) + l * s.params.z) * (texel * reach);
     vec4 clip = L.view_proj * vec4(Po, 1.0);
     if (clip.w <= 0.0) {
@@ -117,7 +122,7 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     }
     vec3 ndc = clip.xyz / clip.w;
     vec2 uv = ndc.xy * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
+    if (beyond || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
         return 1.0;
     }
     float scale = s.params.x;
@@ -163,16 +168,17 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
         }
         return sum / 16.0;
     }
-    // PCF: taps² bilinear comparisons one texel apart.
-    int h = s.info.w / 2;
+    // PCF: n² bilinear comparisons one texel apart, centred on the point (n = 2: a 3×3-texel
+    // tent from four taps).
+    int n = s.info.w;
+    float c0 = 0.5 * float(n - 1);
     float sum = 0.0;
-    for (int y = -h; y <= h; ++y) {
-        for (int x = -h; x <= h; ++x) {
-            sum += shadow_tap(clamp(uv + vec2(x, y) * inv_size, lo, hi), fl, ref);
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            sum += shadow_tap(clamp(uv + (vec2(x, y) - c0) * inv_size, lo, hi), fl, ref);
         }
     }
-    float taps = float(2 * h + 1);
-    return sum / (taps * taps);
+    return sum / float(n * n);
 }
 
 #endif

@@ -77,7 +77,7 @@ pub struct Shadow {
     pub normal_bias: f32,
     /// The rasteriser's slope-scaled depth bias of the shadow pass (depth units per unit slope).
     pub slope_bias: f32,
-    /// Taps per side of the PCF kernel (odd, 1–9); PCSS's largest filter is this many texels
+    /// Taps per side of the PCF kernel (1–9, one texel apart, centred); PCSS's largest filter is this many texels
     /// times four.
     pub pcf_kernel: u32,
     /// Directional lights: cascades over the view (1–4); 1 for other lights.
@@ -97,21 +97,21 @@ pub const MAX_CASCADES: u32 = 4;
 pub const MAX_PCF_KERNEL: u32 = 9;
 
 impl Shadow {
-    /// The defaults for a light of `kind` (`"shadow": true`): PCF 3×3 with biases that need no
-    /// tuning on the shipped scenes; three cascades at 2048² for directional lights, 1024² for
-    /// spots and 512² per cube face for point lights.
+    /// The defaults for a light of `kind` (`"shadow": true`): PCF 2×2 (a 3×3-texel tent) with
+    /// biases that need no tuning on the shipped scenes; three cascades at 1024² for directional
+    /// lights, 1024² for spots and 512² per cube face for point lights.
     pub fn default_for(kind: LightKind) -> Self {
         Shadow {
             method: ShadowMethod::Pcf,
             resolution: match kind {
-                LightKind::Directional => 2048,
+                LightKind::Directional => 1024,
                 LightKind::Spot => 1024,
                 LightKind::Point => 512,
             },
             bias: 1.0,
             normal_bias: 1.5,
             slope_bias: 1.5,
-            pcf_kernel: 3,
+            pcf_kernel: 2,
             cascades: if kind == LightKind::Directional { 3 } else { 1 },
             split: CascadeSplit::Practical { lambda: 0.75 },
             max_distance: None,

@@ -52,7 +52,7 @@ pub struct View<'a> {
 pub fn margin_texels(s: &Shadow) -> f32 {
     match s.method {
         ShadowMethod::Hard => 1.0,
-        ShadowMethod::Pcf => (s.pcf_kernel / 2) as f32 + 1.0,
+        ShadowMethod::Pcf => s.pcf_kernel as f32 * 0.5 + 1.0,
         ShadowMethod::Pcss => pcss_max_radius(s) + 1.0,
     }
 }

@@ -491,10 +491,14 @@ impl ShadowMaps {
                     axis: layer.axis.extend(0.0),
                 };
                 let planes = frustum::planes(layer.view_proj);
-                s.draws[index].extend(casters.iter().filter_map(|c| {
-                    frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)
-                        .then(|| (c.mesh, layer.view_proj * c.model))
-                }));
+                s.draws[index].extend(
+                    casters
+                        .iter()
+                        .filter(|c| {
+                            frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)
+                        })
+                        .map(|c| (c.mesh, layer.view_proj * c.model)),
+                );
             }
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;

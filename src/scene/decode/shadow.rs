@@ -71,15 +71,6 @@ pub(super) fn shadow(
     s.normal_bias = f.num("normal_bias", s.normal_bias, Check::NonNegative)?;
     s.slope_bias = f.num("slope_bias", s.slope_bias, Check::NonNegative)?;
     s.pcf_kernel = f.int("pcf_kernel", s.pcf_kernel, 1, MAX_PCF_KERNEL)?;
-    if s.pcf_kernel % 2 == 0 {
-        return Err(f.err(
-            "pcf_kernel",
-            format!(
-                "must be odd (taps per side around the point), got {}",
-                s.pcf_kernel
-            ),
-        ));
-    }
     if kind == LightKind::Directional {
         s.cascades = f.int("cascades", s.cascades, 1, MAX_CASCADES)?;
         let lambda = f.num("split_lambda", 0.75, Check::In(0.0, 1.0))?;
