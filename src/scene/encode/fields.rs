@@ -110,6 +110,7 @@ pub(super) fn mesh_type(desc: &MeshDesc) -> &'static str {
         MeshDesc::Cone { .. } => "cone",
         MeshDesc::Cylinder { .. } => "cylinder",
         MeshDesc::Obj { .. } => "obj",
+        MeshDesc::Gltf { .. } => "gltf",
     }
 }
 
@@ -162,7 +163,7 @@ pub(super) fn primitive(desc: &MeshDesc, tessellation: Tessellation) -> Node {
             height,
             segments: s,
         } => segments(n.with("radius", radius).with("height", height), s),
-        MeshDesc::Obj { .. } => n,
+        MeshDesc::Obj { .. } | MeshDesc::Gltf { .. } => n,
     }
 }
 

@@ -456,7 +456,7 @@ impl Encoder<'_> {
         let mut i = 0;
         while i < objects.len() {
             let end = match &objects[i].desc {
-                MeshDesc::Obj { path } => self.obj_run_end(i, path),
+                MeshDesc::Obj { path } | MeshDesc::Gltf { path, .. } => self.obj_run_end(i, path),
                 _ => i + 1,
             };
             if let Some(node) = self.object_entry(&objects[i..end]) {
@@ -493,7 +493,7 @@ impl Encoder<'_> {
         let mut meshes = vec![Arc::as_ptr(&first.mesh)];
         let mut end = start + 1;
         while let Some(o) = objects.get(end) {
-            let same_file = matches!(&o.desc, MeshDesc::Obj { path: p } if p == path);
+            let same_file = o.desc == first.desc;
             if !same_file || meshes.contains(&Arc::as_ptr(&o.mesh)) {
                 break;
             }
@@ -520,7 +520,7 @@ impl Encoder<'_> {
     fn object_entry(&mut self, run: &[Object]) -> Option<Node> {
         let first = &run[0];
         let (name, mesh, material) = match &first.desc {
-            MeshDesc::Obj { path } => {
+            MeshDesc::Obj { path } | MeshDesc::Gltf { path, .. } => {
                 let file_name = obj_file_name(path);
                 // A run with any MTL material takes its materials from the MTL file.
                 let mtl = run.iter().any(|o| self.uses_mtl(o, &file_name));
@@ -559,9 +559,30 @@ impl Encoder<'_> {
                         ));
                     }
                 }
-                let mesh = Node::obj()
-                    .with("type", "obj")
-                    .with("path", self.path(path));
+                let mesh = match &first.desc {
+                    MeshDesc::Gltf { scene, .. } => {
+                        let mut m = Node::obj()
+                            .with("type", "gltf")
+                            .with("path", self.path(path));
+                        if let Some(s) = scene {
+                            m.put("scene", *s);
+                        }
+                        // Imported lights and cameras are in the scene's own lists, which are
+                        // written; importing them again would double them.
+                        m.with("lights", false).with("cameras", false)
+                    }
+                    _ => Node::obj()
+                        .with("type", "obj")
+                        .with("path", self.path(path)),
+                };
+                let name = match &first.desc {
+                    // Parts are "<entry>/<node>/<mesh>": the entry is the name's first segment.
+                    MeshDesc::Gltf { .. } => first
+                        .name
+                        .split_once('/')
+                        .map_or(first.name.clone(), |(e, _)| e.to_string()),
+                    _ => name,
+                };
                 (name, mesh, material)
             }
             desc => {
