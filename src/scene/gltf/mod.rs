@@ -131,6 +131,28 @@ pub fn load_bytes(bytes: &[u8], path: &Path, scene: Option<usize>) -> Result<Glt
             ));
         }
     }
+    // The crate's validation indexes `accessors` with POSITION's index unchecked: check first.
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, a) in &prim.attributes {
+                if a.value() >= json.accessors.len() {
+                    let name = match semantic {
+                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        gltf::json::validation::Checked::Invalid => "?".into(),
+                    };
+                    return Err(GltfError::at(
+                        path,
+                        format!("meshes[{m}].primitives[{p}].attributes.{name}"),
+                        format!(
+                            "accessor {} does not exist (the file has {})",
+                            a.value(),
+                            json.accessors.len()
+                        ),
+                    ));
+                }
+            }
+        }
+    }
     let mut errors = Vec::new();
     {
         use gltf::json::validation::Validate;

@@ -220,7 +220,7 @@ mod tests {
     fn strips_and_fans_keep_the_winding() {
         assert_eq!(
             triangles(Mode::TriangleStrip, &[0, 1, 2, 3, 4]),
-            vec![0, 1, 2, 2, 1, 3, 2, 3, 4]
+            vec![0, 1, 2, 1, 3, 2, 2, 3, 4]
         );
         assert_eq!(
             triangles(Mode::TriangleFan, &[0, 1, 2, 3]),
