@@ -34,7 +34,7 @@ struct Gltf {
 impl Gltf {
     /// A buffer view of `bytes` (4-byte aligned), with an optional byte stride.
     fn view(&mut self, bytes: &[u8], stride: Option<usize>) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let mut v = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
@@ -119,11 +119,11 @@ impl Gltf {
 /// A binary glTF container: header, JSON chunk, BIN chunk.
 fn glb(doc: &Value, bin: &[u8]) -> Vec<u8> {
     let mut j = serde_json::to_vec(doc).unwrap();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut b = bin.to_vec();
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     let total = 12 + 8 + j.len() + 8 + b.len();

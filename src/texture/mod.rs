@@ -254,7 +254,7 @@ pub fn load_texture(
     on_warning: &mut dyn FnMut(String),
 ) -> Result<TextureData, TextureError> {
     let img = match &r.embedded {
-        Some(bytes) => decode_embedded(bytes, &r.path)?,
+        Some(bytes) => decode_embedded(bytes, &r.path, &crate::imageio::SizeLimits::DEFAULT)?,
         None => decode_file(&r.path)?,
     };
     texture_from_image(
@@ -298,9 +298,13 @@ pub fn decode_bytes(
     decode_from(io::Cursor::new(bytes), name, kind, limits)
 }
 
-/// Decodes an image embedded in a model file (PNG or JPEG, told apart by their signatures);
-/// `name` names it in errors.
-pub fn decode_embedded(bytes: &[u8], name: &Path) -> Result<DynamicImage, TextureError> {
+/// Decodes an image embedded in a model file (PNG or JPEG, told apart by their signatures) with
+/// size limits; `name` names it in errors.
+pub fn decode_embedded(
+    bytes: &[u8],
+    name: &Path,
+    limits: &crate::imageio::SizeLimits,
+) -> Result<DynamicImage, TextureError> {
     let kind = if bytes.starts_with(b"\x89PNG") {
         FileKind::Png
     } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
@@ -312,12 +316,7 @@ pub fn decode_embedded(bytes: &[u8], name: &Path) -> Result<DynamicImage, Textur
             reason: "neither PNG nor JPEG data".into(),
         });
     };
-    decode_from(
-        io::Cursor::new(bytes),
-        name,
-        kind,
-        &crate::imageio::SizeLimits::DEFAULT,
-    )
+    decode_from(io::Cursor::new(bytes), name, kind, limits)
 }
 
 fn file_kind(path: &Path) -> Result<FileKind, TextureError> {

@@ -28,6 +28,11 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
 ];
 
+/// Most triangles one file may expand into (its meshes baked once per node that uses them): a
+/// small file whose thousands of nodes share one big mesh must not make the loader build
+/// gigabytes.
+pub const MAX_TRIANGLES: usize = 1 << 25;
+
 /// Why a glTF file could not be loaded: `<file>: <json path>: <reason>`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{}: {path}: {reason}", file.display())]
@@ -108,6 +113,17 @@ pub fn load(path: &Path, scene: Option<usize>) -> Result<GltfFile, GltfError> {
 
 /// [`load`] on the file's bytes; `path` names it and is the base of relative URIs.
 pub fn load_bytes(bytes: &[u8], path: &Path, scene: Option<usize>) -> Result<GltfFile, GltfError> {
+    load_bytes_with(bytes, path, scene, MAX_TRIANGLES)
+}
+
+/// [`load_bytes`] with another budget of triangles than [`MAX_TRIANGLES`] (the fuzz target's is
+/// smaller).
+pub fn load_bytes_with(
+    bytes: &[u8],
+    path: &Path,
+    scene: Option<usize>,
+    max_triangles: usize,
+) -> Result<GltfFile, GltfError> {
     let root_err = |reason: String| GltfError::at(path, "(root)", reason);
     let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| match e {
         gltf::Error::Binary(b) => {
@@ -168,7 +184,9 @@ pub fn load_bytes(bytes: &[u8], path: &Path, scene: Option<usize>) -> Result<Glt
     }
     let doc = gltf::Document::from_json_without_validation(json);
     let buffers = load_buffers(&doc, path, blob)?;
-    Builder::new(&doc, path, &buffers)?.run(scene)
+    let mut b = Builder::new(&doc, path, &buffers)?;
+    b.max_triangles = max_triangles;
+    b.run(scene)
 }
 
 fn glb_error(e: &gltf::binary::Error) -> String {
@@ -302,6 +320,9 @@ struct Builder<'a> {
     /// glTF material index → index in `out.materials` (the default material at the end).
     default_material: Option<usize>,
     warned: HashMap<&'static str, ()>,
+    /// Triangles of the parts so far, and the budget.
+    triangles: usize,
+    max_triangles: usize,
 }
 
 impl<'a> Builder<'a> {
@@ -324,6 +345,8 @@ impl<'a> Builder<'a> {
             out: GltfFile::default(),
             default_material: None,
             warned: HashMap::new(),
+            triangles: 0,
+            max_triangles: MAX_TRIANGLES,
         })
     }
 
@@ -461,6 +484,22 @@ impl<'a> Builder<'a> {
                 .map(|m| m.uv)
                 .unwrap_or_default();
             let where_ = format!("meshes[{}].primitives[{}]", mesh.index(), p.index());
+            // At most this many triangles (a strip or fan of n indices has n − 2 < n).
+            let estimate = p
+                .indices()
+                .or_else(|| p.get(&gltf::Semantic::Positions))
+                .map_or(0, |a| a.count());
+            self.triangles = self.triangles.saturating_add(estimate / 3 + estimate % 3);
+            if self.triangles > self.max_triangles {
+                return Err(GltfError::at(
+                    self.path,
+                    format!("nodes[{i}]"),
+                    format!(
+                        "the file expands into more than {} triangles (its meshes are baked once per node that uses them)",
+                        self.max_triangles
+                    ),
+                ));
+            }
             let built = primitive::build(&p, self.buffers, world, uv, &where_).map_err(|e| {
                 // `e` starts with its own JSON path.
                 match e.split_once(": ") {
