@@ -251,7 +251,8 @@ fn cesium_man_containers_render_identically() {
     assert_no_validation_messages(&ctx);
 }
 
-/// Every shared file opens as a scene and renders lit, finite, validation clean.
+/// Every shared file opens as a scene and renders lit, finite, validation clean, and like its
+/// golden (`tests/golden/gltf_*.png`; re-bless with `LUZ_BLESS=1`).
 #[test]
 fn every_shared_file_renders() {
     let Some(files) = shared_files() else { return };
@@ -276,6 +277,9 @@ fn every_shared_file_renders() {
             "{}: the model covers only {covered} pixels",
             f.display()
         );
+        // One golden per model (the three CesiumMan containers share theirs).
+        let stem = f.file_stem().unwrap().to_string_lossy().to_lowercase();
+        check_golden(&format!("gltf_{stem}"), &scene, &img, Tolerance::default());
     }
     assert_no_validation_messages(&ctx);
 }
