@@ -370,23 +370,30 @@ fn camera_and_light_nodes() {
             ]}},
             "cameras": [
                 {"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.1, "aspectRatio": 2.0}},
-                {"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.2, "zfar": 50}}
+                {"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.2, "zfar": 50}},
+                {"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}
             ],
             "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.6, 0.7, 1], "metallicFactor": 0, "roughnessFactor": 0.5}}],
-            "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+            "scenes": [{"nodes": [0, 1, 2, 3, 4, 5]}],
             "nodes": [
                 {"mesh": 0},
                 {"name": "cam", "camera": 0, "translation": [0, 0, 5]},
                 // Looking down: −90° about x takes −z to −y.
                 {"name": "top", "camera": 1, "translation": [0, 6, 0], "rotation": [-s, 0, 0, s]},
                 {"name": "sun", "rotation": [-s, 0, 0, s], "extensions": {"KHR_lights_punctual": {"light": 0}}},
-                {"name": "spot", "translation": [0, 4, 0], "rotation": [-s, 0, 0, s], "extensions": {"KHR_lights_punctual": {"light": 1}}}
+                {"name": "spot", "translation": [0, 4, 0], "rotation": [-s, 0, 0, s], "extensions": {"KHR_lights_punctual": {"light": 1}}},
+                {"name": "ortho", "camera": 2}
             ],
             "meshes": [{"primitives": [prim]}]
         }),
     );
     let scene = luz::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(scene.cameras.len(), 2);
+    assert_eq!(scene.cameras.len(), 2, "the orthographic camera is skipped");
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("orthographic")),
+        "{:?}",
+        scene.warnings
+    );
     assert!(close(scene.camera.position, Vec3::new(0.0, 0.0, 5.0)));
     assert!(close(scene.camera.forward(), Vec3::NEG_Z));
     assert!((scene.camera.fov_y_deg - 0.7f32.to_degrees()).abs() < 1e-4);
@@ -415,6 +422,24 @@ fn camera_and_light_nodes() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("camera 2") && e.contains("2 cameras"), "{e}");
+
+    // In a scene file: imported only when asked, through the object's transform.
+    let text = r#"{"objects": [
+        {"mesh": {"type": "gltf", "path": "lit.glb"}, "position": [10, 0, 0]},
+        {"mesh": {"type": "gltf", "path": "lit.glb", "lights": true, "cameras": true}, "position": [0, 0, 10]}
+    ]}"#;
+    let s = luz::scene::parse(text, &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((s.lights.len(), s.cameras.len()), (2, 2));
+    assert!(close(s.lights[1].position, Vec3::new(0.0, 4.0, 10.0)));
+    assert!(close(
+        s.cameras[0].camera.position,
+        Vec3::new(0.0, 0.0, 15.0)
+    ));
+    assert_eq!(s.objects.len(), 2);
+    assert!(close(
+        s.objects[0].transform.position,
+        Vec3::new(10.0, 0.0, 0.0)
+    ));
 
     // Through the command line: renders with --camera 1, refuses --camera 7.
     let out = dir.join("top.png");
@@ -494,6 +519,13 @@ fn accessors_sparse_strided_quantized_strips_and_fans() {
     );
     let f = load(&path);
     assert_eq!(f.parts.len(), 2, "lines are not drawn");
+    // POSITION without min/max (required by the spec, unused by luz) is accepted.
+    let mut doc: Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    let a = doc["accessors"][moved].as_object_mut().unwrap();
+    a.remove("min");
+    a.remove("max");
+    std::fs::write(&path, doc.to_string()).unwrap();
+    assert_eq!(load(&path).parts.len(), 2);
     assert!(
         f.warnings.iter().any(|w| w.contains("LINES")),
         "{:?}",
@@ -547,12 +579,13 @@ fn texture_transform_and_second_uv_set() {
         &dir,
         "tex",
         json!({
-            "extensionsUsed": ["KHR_texture_transform"],
+            "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength"],
             "images": [{"bufferView": img_view, "mimeType": "image/png"}],
             "samplers": [{"magFilter": 9728, "minFilter": 9729, "wrapS": 33071, "wrapT": 33648}],
             "textures": [{"source": 0, "sampler": 0}],
             "materials": [{"name": "t", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1,
-                "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2, 3]}}}}}],
+                "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2, 3]}}}},
+                "emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}],
             "nodes": [{"mesh": 0}],
             "meshes": [{"primitives": [{"attributes": {"POSITION": p, "NORMAL": n, "TEXCOORD_0": uv0, "TEXCOORD_1": uv1}, "material": 0}]}]
         }),
@@ -566,6 +599,10 @@ fn texture_transform_and_second_uv_set() {
             Vec2::new(2.5, 0.25),
             Vec2::new(0.5, 3.25)
         ]
+    );
+    assert_eq!(
+        f.materials[0].textures.emissive_factor,
+        Vec3::new(4.0, 2.0, 0.0)
     );
     let t = f.materials[0].textures.base_color.as_ref().unwrap();
     assert!(t.embedded.is_some());

@@ -18,7 +18,8 @@
 //!   when the parts take theirs from the MTL file (the MTL materials are then recreated by the
 //!   decoder and not written), with it otherwise.
 //!
-//! Not written: `source` and `warnings`. What the format cannot say (a part of an OBJ moved on its
+//! Not written: `source`, `warnings`, `cameras` (a glTF's cameras; the one in use is the
+//! scene's camera) and texture maps embedded in glTF files (a note says so). What the format cannot say (a part of an OBJ moved on its
 //! own, a material given a map its model does not take, an MTL-made material used where the
 //! decoder cannot recreate it, …) is either approximated or dropped, and described in
 //! [`Encoded::notes`].
@@ -318,6 +319,14 @@ impl Encoder<'_> {
         let mut maps = 0;
         for slot in TextureSlot::ALL {
             let Some(tex) = t.get(slot) else { continue };
+            if tex.embedded.is_some() {
+                self.notes.push(format!(
+                    "material \"{name}\": its {} map is an image embedded in a glTF file ({}), which a scene file cannot name; not written",
+                    slot.name(),
+                    tex.path.display()
+                ));
+                continue;
+            }
             if !takes.contains(&slot) {
                 self.notes.push(format!(
                     "material \"{name}\": a {} material takes no \"{}\" map; {} not written",

@@ -173,9 +173,13 @@ pub fn load_bytes_with(
     {
         use gltf::json::validation::Validate;
         json.validate(&json, gltf::json::Path::new, &mut |p, e| {
-            // Required extensions were checked above, against luz's list.
-            if !matches!(e, gltf::json::validation::Error::Unsupported) {
-                errors.push((p().to_string(), e.to_string()));
+            let p = p().to_string();
+            // Required extensions were checked above, against luz's list; POSITION's min and
+            // max are required by the spec but unused here (some exporters leave them out).
+            let unused_bounds = matches!(e, gltf::json::validation::Error::Missing)
+                && (p.ends_with("[\"POSITION\"].min") || p.ends_with("[\"POSITION\"].max"));
+            if !matches!(e, gltf::json::validation::Error::Unsupported) && !unused_bounds {
+                errors.push((p, e.to_string()));
             }
         });
     }
