@@ -879,3 +879,32 @@ fn large_file_loads_in_linear_time() {
         "not linear: {ts} s for 1/16 of {tl} s"
     );
 }
+
+/// The viewer opens a glTF file given on the command line and one dropped on it (a scripted
+/// `open=`), validation clean.
+#[test]
+fn viewer_opens_gltf_files() {
+    let Some(files) = shared_files() else { return };
+    let glb = files[1].to_str().unwrap().to_string();
+    let script = format!("2:open={}", files[0].display());
+    let Some((code, out, err)) = luz_in_window(&[
+        "view",
+        &glb,
+        "--frames",
+        "5",
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--ibl-quality",
+        "fast",
+        "--script",
+        &script,
+    ]) else {
+        return;
+    };
+    assert_eq!(code, 0, "stdout: {out}\nstderr: {err}");
+    assert!(out.contains("opened model"), "{out}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+}
