@@ -246,8 +246,9 @@ pub fn material(
     match m.alpha_mode() {
         gltf::material::AlphaMode::Opaque => {}
         mode => warnings.push(format!(
-            "{file_name}: materials[{i}] (\"{name}\"): alphaMode {mode:?} is drawn opaque (luz \
-             has no alpha cut-out or blending yet)"
+            "{file_name}: materials[{i}] (\"{name}\"): alphaMode {} is drawn opaque (luz has \
+             no alpha cut-out or blending yet)",
+            format!("{mode:?}").to_uppercase()
         )),
     }
     if m.ior().is_some() || m.specular().is_some() {

@@ -169,6 +169,35 @@ pub fn load_bytes_with(
             }
         }
     }
+    // Fields the crate's document API unwraps without its validation having checked them.
+    for (i, img) in json.images.iter().enumerate() {
+        let problem = match (&img.buffer_view, &img.uri, &img.mime_type) {
+            (None, None, _) => Some("an image needs a uri or a bufferView"),
+            (Some(_), _, None) => Some("an image in a bufferView needs a mimeType"),
+            _ => None,
+        };
+        if let Some(p) = problem {
+            return Err(GltfError::at(path, format!("images[{i}]"), p));
+        }
+    }
+    for (i, cam) in json.cameras.iter().enumerate() {
+        use gltf::json::camera::Type;
+        use gltf::json::validation::Checked;
+        let missing = match cam.type_ {
+            Checked::Valid(Type::Perspective) if cam.perspective.is_none() => Some("perspective"),
+            Checked::Valid(Type::Orthographic) if cam.orthographic.is_none() => {
+                Some("orthographic")
+            }
+            _ => None,
+        };
+        if let Some(field) = missing {
+            return Err(GltfError::at(
+                path,
+                format!("cameras[{i}].{field}"),
+                format!("missing, but the camera's type is \"{field}\""),
+            ));
+        }
+    }
     let mut errors = Vec::new();
     {
         use gltf::json::validation::Validate;
