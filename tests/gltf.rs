@@ -585,7 +585,8 @@ fn texture_transform_and_second_uv_set() {
             "textures": [{"source": 0, "sampler": 0}],
             "materials": [{"name": "t", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1,
                 "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2, 3]}}}},
-                "emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}}}],
+                "emissiveFactor": [1, 0.5, 0], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}},
+                "alphaMode": "BLEND", "doubleSided": true}],
             "nodes": [{"mesh": 0}],
             "meshes": [{"primitives": [{"attributes": {"POSITION": p, "NORMAL": n, "TEXCOORD_0": uv0, "TEXCOORD_1": uv1}, "material": 0}]}]
         }),
