@@ -17,7 +17,7 @@ COMMAND="scripts/fuzz.sh $*"
 SECONDS_PER_TARGET=${1:-600}
 shift || true
 TARGETS=("$@")
-[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(scene obj_mtl image diff)
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(scene obj_mtl image diff gltf)
 SHARED=${LUZ_SHARED:-$ROOT/../shared}
 CORPUS=$ROOT/target/fuzz-corpus
 RESULTS=$ROOT/docs/fuzz/results.md
@@ -92,6 +92,12 @@ build_seeds() {
                 seed diff "$(basename "$f")-$(basename "$g")"
         done
     done
+    # gltf: the bad-input corpus's glTF files, the committed seeds and ../shared's glTF files
+    # (the large ones are read truncated to max_len).
+    for f in tests/bad_inputs/*.gltf tests/bad_inputs/*.glb fuzz/seeds/gltf/* "$SHARED"/gltf/*.gltf \
+        "$SHARED"/gltf/*.glb "$SHARED"/gltf/CesiumMan/*/*.gl*; do
+        [ -f "$f" ] && seed gltf "$(basename "$f")" <"$f"
+    done
 }
 
 # --- run ----------------------------------------------------------------------------------------
@@ -103,6 +109,7 @@ max_len() {
         obj_mtl) echo 65536 ;;
         image) echo 32768 ;;
         diff) echo 65536 ;;
+        gltf) echo 65536 ;;
     esac
 }
 dict() {
@@ -110,6 +117,7 @@ dict() {
         scene) echo fuzz/dict/scene.dict ;;
         obj_mtl) echo fuzz/dict/obj.dict ;;
         image | diff) echo fuzz/dict/image.dict ;;
+        gltf) echo fuzz/dict/scene.dict ;;
     esac
 }
 

@@ -18,6 +18,10 @@
 //!   [`crate::texture::texture_from_image`]), the environment loader
 //!   ([`crate::env::load_equirect_bytes`] + SH projection) and the image loader of `luz diff`
 //!   ([`crate::imageio::load_bytes`]).
+//! * [`gltf`]: a glTF file (JSON or binary) through [`crate::scene::gltf::load_bytes_with`] with
+//!   [`GLTF_TRIANGLE_BUDGET`], its embedded images decoded at [`FUZZ_LIMITS`], then (within the
+//!   budget) as a scene's `{"type": "gltf"}` object with its lights and cameras, and the CPU
+//!   side of `luz render`.
 //! * [`diff`]: two images (split at [`SPLIT`]; without it the image is compared with itself)
 //!   through [`crate::imageio::load_bytes`] and [`crate::diff::compare_detailed`] with
 //!   tolerances, then the report's violations and text.
@@ -110,6 +114,49 @@ pub fn obj_mtl(data: &[u8]) {
     }
     let text = r#"{"objects": [{"mesh": {"type": "obj", "path": "m.obj"}}]}"#;
     if let Ok(scene) = crate::scene::parse(text, &dir.join("scene.json")) {
+        render_cpu_work(&scene, false);
+    }
+}
+
+/// Most triangles a fuzzed glTF file may expand into (the loader's own limit is 2^25).
+pub const GLTF_TRIANGLE_BUDGET: usize = 1 << 18;
+
+/// A glTF file, as `fuzz.glb` in a scratch folder of this thread (relative URIs find nothing
+/// there but what earlier inputs left: `fuzz.glb` itself).
+pub fn gltf(data: &[u8]) {
+    let Some(dir) = scratch_dir() else {
+        return;
+    };
+    let path = dir.join("fuzz.glb");
+    let Ok(file) = crate::scene::gltf::load_bytes_with(data, &path, None, GLTF_TRIANGLE_BUDGET)
+    else {
+        return;
+    };
+    for m in &file.materials {
+        for (slot, r) in m.textures.maps() {
+            if let Some(bytes) = &r.embedded {
+                if let Ok(img) = crate::texture::decode_embedded(bytes, &r.path, &FUZZ_LIMITS) {
+                    let _ = crate::texture::texture_from_image(
+                        &img,
+                        &r.path,
+                        ColorSpace::for_slot(slot),
+                        r.channel,
+                        r.sampler.mipmaps,
+                        FUZZ_MAX_DIMENSION,
+                        &mut |_| {},
+                    );
+                }
+            }
+        }
+    }
+    if std::fs::write(&path, data).is_err() {
+        return;
+    }
+    let text = r#"{"objects": [{"mesh": {"type": "gltf", "path": "fuzz.glb", "lights": true, "cameras": true}}]}"#;
+    if let Ok(mut scene) = crate::scene::parse(text, &dir.join("scene.json")) {
+        if !scene.cameras.is_empty() {
+            let _ = crate::scene::model::use_camera(&mut scene, 0);
+        }
         render_cpu_work(&scene, false);
     }
 }

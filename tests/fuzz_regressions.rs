@@ -15,11 +15,12 @@ use common::root;
 /// A fuzz entry point.
 type Target = fn(&[u8]);
 
-const TARGETS: [(&str, Target); 4] = [
+const TARGETS: [(&str, Target); 5] = [
     ("scene", luz::fuzzing::scene),
     ("obj_mtl", luz::fuzzing::obj_mtl),
     ("image", luz::fuzzing::image),
     ("diff", luz::fuzzing::diff),
+    ("gltf", luz::fuzzing::gltf),
 ];
 
 /// The files of `dir` (not recursive, sorted; none when it does not exist).
@@ -157,6 +158,13 @@ fn bad_inputs_through_the_fuzz_entry_points() {
     }
     assert!(run_all("image", luz::fuzzing::image, images) > 0);
     assert!(run_all("diff", luz::fuzzing::diff, diffs) > 0);
+
+    let gltfs: Vec<_> = with_ext("gltf")
+        .into_iter()
+        .chain(with_ext("glb"))
+        .map(|p| read(p))
+        .collect();
+    assert!(run_all("gltf", luz::fuzzing::gltf, gltfs) > 0);
 }
 
 /// The `diff` fuzzer's out-of-memory: a 590-byte EXR whose display window is small but whose

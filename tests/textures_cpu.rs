@@ -328,7 +328,7 @@ fn bad_files_give_errors_naming_the_file() {
             (truncated, "not a valid PNG file"),
             (text, "OpenEXR"),
             (folder, "is a directory"),
-            (dir.join("photo.jpg"), "unsupported texture file extension"),
+            (dir.join("anim.gif"), "unsupported texture file extension"),
         ]
     };
     for (path, what) in cases {

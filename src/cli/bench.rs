@@ -35,6 +35,9 @@ pub struct BenchArgs {
     pub width: Option<u32>,
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
+    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
     /// Recompute image-based lighting data instead of reading it from the cache.
     #[arg(long)]
     pub no_cache: bool,
@@ -107,7 +110,7 @@ fn memory_sample(ctx: &Context, frame: u64) -> MemorySample {
 }
 
 pub fn run(a: BenchArgs) -> Result<ExitCode> {
-    let mut scene = load_scene(a.scene.as_deref())?;
+    let mut scene = load_scene(a.scene.as_deref(), a.camera)?;
     scene.override_size(a.width, a.height);
     for p in [&a.csv, &a.json].into_iter().flatten() {
         std::fs::write(p, b"").with_context(|| format!("cannot write {}", p.display()))?;

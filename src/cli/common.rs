@@ -64,9 +64,14 @@ pub fn debug_view_parser() -> impl clap::builder::TypedValueParser<Value = Debug
     .map(|s| DebugView::from_name(&s).unwrap_or_default())
 }
 
-/// Loads the scene named on the command line, or the embedded default.
-pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
-    Ok(luz::scene::load_or_default(path)?)
+/// Loads the scene named on the command line, or the embedded default; `camera`: `--camera N`
+/// (one of the cameras of the scene's glTF files).
+pub fn load_scene(path: Option<&Path>, camera: Option<usize>) -> Result<Scene> {
+    let mut scene = luz::scene::load_or_default(path)?;
+    if let Some(n) = camera {
+        luz::scene::model::use_camera(&mut scene, n)?;
+    }
+    Ok(scene)
 }
 
 /// `LUZ_SYNC_VALIDATION=1` (with validation on) also enables the layer's synchronization

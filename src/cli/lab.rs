@@ -39,6 +39,9 @@ pub struct LabArgs {
     /// Override the scene's output height.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
+    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
     /// Only these variant groups (comma separated: tessellation, auto, brdf, ibl).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
@@ -51,6 +54,9 @@ pub struct LabArgs {
 
 pub fn run(a: LabArgs) -> Result<ExitCode> {
     let mut scene = luz::scene::load(&a.scene)?;
+    if let Some(n) = a.camera {
+        luz::scene::model::use_camera(&mut scene, n)?;
+    }
     scene.override_size(a.width, a.height);
     report_tessellation(&scene, false);
     std::fs::create_dir_all(a.out.join("heatmaps"))

@@ -47,6 +47,9 @@ pub struct ReferenceArgs {
     /// Override the scene's output height.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
+    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
 }
 
 /// Runs `luz reference`.
@@ -57,6 +60,9 @@ pub fn run(a: ReferenceArgs) -> Result<ExitCode> {
         Some(p) => luz::scene::load(p)?,
         None => luz::scene::default_scene(),
     };
+    if let Some(n) = a.camera {
+        luz::scene::model::use_camera(&mut scene, n)?;
+    }
     if let Some(w) = a.width {
         scene.output.width = w;
     }

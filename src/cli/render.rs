@@ -31,6 +31,9 @@ pub struct RenderArgs {
     /// Override the scene's output height.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
+    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
     /// List the pipeline variants built and more detail.
     #[arg(short, long)]
     pub verbose: bool,
@@ -52,7 +55,7 @@ pub struct RenderArgs {
 pub fn run(a: RenderArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let format = check_output(&a.output)?;
-    let mut scene = load_scene(a.scene.as_deref())?;
+    let mut scene = load_scene(a.scene.as_deref(), a.camera)?;
     scene.override_size(a.width, a.height);
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());

@@ -51,6 +51,9 @@ pub struct ViewArgs {
     /// Window height in pixels (default: the scene's output height).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
+    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
     /// Start with vsync off (V toggles it).
     #[arg(long)]
     pub no_vsync: bool,
@@ -87,6 +90,7 @@ pub enum DisplayPathArg {
 pub fn run(a: ViewArgs) -> Result<ExitCode> {
     let outcome = luz::window::run(ViewOptions {
         scene: a.scene,
+        camera: a.camera,
         validate: a.gpu.validate,
         sync_validation: sync_validation_requested(),
         device: a.gpu.device,

@@ -122,7 +122,7 @@ impl Prepared {
         // Meshes: one BVH per shared mesh.
         let mut tangent_meshes: HashMap<*const crate::scene::Mesh, bool> = HashMap::new();
         for o in &scene.objects {
-            if matches!(o.desc, MeshDesc::Obj { .. }) {
+            if matches!(o.desc, MeshDesc::Obj { .. } | MeshDesc::Gltf { .. }) {
                 *tangent_meshes.entry(Arc::as_ptr(&o.mesh)).or_default() |=
                     needs_tangents(scene, o.material);
             }
@@ -147,7 +147,7 @@ impl Prepared {
                     radius: *radius,
                     half_height: 0.5 * height,
                 },
-                MeshDesc::Obj { .. } => {
+                MeshDesc::Obj { .. } | MeshDesc::Gltf { .. } => {
                     let ptr = Arc::as_ptr(&o.mesh);
                     let accel = accels.entry(ptr).or_insert_with(|| {
                         let tangents = tangent_meshes.get(&ptr).copied().unwrap_or(false);

@@ -29,6 +29,7 @@ type Result<T> = std::result::Result<T, Invalid>;
 
 mod environment;
 mod fields;
+mod gltf_object;
 mod maps;
 mod material;
 mod object;
@@ -135,6 +136,7 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
         saturation,
         environment,
         warnings: Vec::new(),
+        cameras: Vec::new(),
     };
     if let Some(v) = top.get("objects") {
         let mut ctx = Ctx {
@@ -142,6 +144,7 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             primitives: MeshCache::default(),
             primitive_triangles: 0,
             objs: HashMap::new(),
+            gltfs: HashMap::new(),
             mtl_materials: HashMap::new(),
             material_index: HashMap::new(),
         };

@@ -11,6 +11,7 @@ pub mod edit;
 mod encode;
 mod environment;
 mod error;
+pub mod gltf;
 pub mod json;
 pub mod mesh;
 pub mod model;
@@ -70,6 +71,9 @@ pub struct Scene {
     pub warnings: Vec<String>,
     /// Image-based lighting and background; `None`: no environment (black).
     pub environment: Option<Environment>,
+    /// Cameras offered by the glTF files whose objects import them (`"cameras": true`), in
+    /// world space: `--camera N` picks one ([`model::use_camera`]). `camera` is the one in use.
+    pub cameras: Vec<gltf::GltfCamera>,
 }
 
 impl Scene {
@@ -400,6 +404,16 @@ pub enum MeshDesc {
     Obj {
         path: PathBuf,
     },
+    /// A glTF 2.0 file (`.gltf` or `.glb`), resolved against the scene file's folder: the
+    /// node hierarchy of scene `scene` (the file's default scene when `None`), baked into one
+    /// mesh per node and primitive. `lights` and `cameras`: whether the file's
+    /// KHR_lights_punctual lights and its cameras join the scene.
+    Gltf {
+        path: PathBuf,
+        scene: Option<u32>,
+        lights: bool,
+        cameras: bool,
+    },
 }
 
 impl MeshDesc {
@@ -413,7 +427,7 @@ impl MeshDesc {
         }
     }
 
-    /// Triangle count of a built-in primitive (`None` for OBJ), computed without overflow.
+    /// Triangle count of a built-in primitive (`None` for OBJ and glTF), computed without overflow.
     pub fn triangle_count(&self) -> Option<u64> {
         Some(match *self {
             MeshDesc::Sphere {
@@ -424,11 +438,11 @@ impl MeshDesc {
             MeshDesc::Cube { .. } => 12,
             MeshDesc::Cone { segments, .. } => 2 * u64::from(segments),
             MeshDesc::Cylinder { segments, .. } => 4 * u64::from(segments),
-            MeshDesc::Obj { .. } => return None,
+            MeshDesc::Obj { .. } | MeshDesc::Gltf { .. } => return None,
         })
     }
 
-    /// Builds a built-in primitive (`None` for OBJ).
+    /// Builds a built-in primitive (`None` for OBJ and glTF).
     pub fn build(&self) -> Option<Mesh> {
         Some(match *self {
             MeshDesc::Sphere {
@@ -452,8 +466,16 @@ impl MeshDesc {
                 height,
                 segments,
             } => Mesh::cylinder(radius, height, segments),
-            MeshDesc::Obj { .. } => return None,
+            MeshDesc::Obj { .. } | MeshDesc::Gltf { .. } => return None,
         })
+    }
+
+    /// The model file of an OBJ or glTF mesh.
+    pub fn file(&self) -> Option<&Path> {
+        match self {
+            MeshDesc::Obj { path } | MeshDesc::Gltf { path, .. } => Some(path),
+            _ => None,
+        }
     }
 }
 
@@ -507,14 +529,11 @@ pub enum Saturation {
 }
 
 /// Reads, parses and validates a scene file, loading its OBJ meshes (paths relative to the file).
-/// A model file ([`model::is_model`]: `.obj`) is a scene too: the model with the default rig and
+/// A model file ([`model::is_model`]: `.obj`, `.gltf`, `.glb`) is a scene too: the model with the default rig and
 /// a camera that frames it ([`model::model_scene`]).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     if model::is_model(path) {
         return model::model_scene(path);
-    }
-    if let Some(e) = model::unsupported(path) {
-        return Err(e);
     }
     let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
         file: path.to_path_buf(),

@@ -17,22 +17,11 @@ use glam::Vec3;
 use super::{Camera, Scene, SceneError};
 
 /// The file extensions (lower case) that are model files rather than JSON scenes.
-pub const MODEL_EXTENSIONS: &[&str] = &["obj"];
+pub const MODEL_EXTENSIONS: &[&str] = &["obj", "gltf", "glb"];
 
 /// Whether `path` names a model file ([`MODEL_EXTENSIONS`]) by its extension.
 pub fn is_model(path: &Path) -> bool {
     extension(path).is_some_and(|e| MODEL_EXTENSIONS.contains(&e.as_str()))
-}
-
-/// An error for a model format luz does not read yet (glTF), `None` for anything else.
-pub fn unsupported(path: &Path) -> Option<SceneError> {
-    extension(path)
-        .filter(|e| NOT_YET.contains(&e.as_str()))
-        .map(|_| SceneError::Read {
-            file: path.to_path_buf(),
-            reason: "glTF files are not supported yet; luz opens .json scenes and .obj models"
-                .to_string(),
-        })
 }
 
 fn extension(path: &Path) -> Option<String> {
@@ -41,10 +30,9 @@ fn extension(path: &Path) -> Option<String> {
         .map(str::to_ascii_lowercase)
 }
 
-/// Model formats luz recognises but does not read yet: a clear error instead of a JSON one.
-const NOT_YET: &[&str] = &["gltf", "glb"];
-
-/// The scene of a model file: the model, the default rig and a camera that frames it.
+/// The scene of a model file: the model, the default rig and a camera that frames it. A glTF
+/// file's own lights replace the rig's key light (the environment stays), and its first camera
+/// replaces the framing one ([`use_camera`] picks another).
 pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
     let abs = std::fs::canonicalize(path).map_err(|e| SceneError::Read {
         file: path.to_path_buf(),
@@ -55,6 +43,12 @@ pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
         .and_then(|s| s.to_str())
         .filter(|s| !s.is_empty())
         .unwrap_or("model");
+    let gltf = super::gltf::is_gltf(&abs);
+    let mesh = if gltf {
+        serde_json::json!({"type": "gltf", "path": abs, "lights": true, "cameras": true})
+    } else {
+        serde_json::json!({"type": "obj", "path": abs})
+    };
     let text = serde_json::json!({
         "description": format!("{}: the model with luz's default rig (src/scene/model.rs)", path.display()),
         "output": {"width": 1280, "height": 720, "msaa": 4, "tonemap": "aces"},
@@ -65,7 +59,7 @@ pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
             "color": [1.0, 0.96, 0.9],
             "intensity": 1.2
         }],
-        "objects": [{"name": name, "mesh": {"type": "obj", "path": abs}}]
+        "objects": [{"name": name, "mesh": mesh}]
     })
     .to_string();
     // Errors name the model file as the user gave it, not the generated scene's fields.
@@ -75,14 +69,28 @@ pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
             line,
             reason,
             ..
-        } => SceneError::Read {
-            file: path.to_path_buf(),
-            // The model's own line, or the file at fault (its MTL) with its line.
-            reason: match (mesh_file == abs, line) {
-                (true, Some(line)) => format!("line {line}: {reason}"),
-                (true, None) => reason,
-                (false, Some(line)) => format!("{}:{line}: {reason}", mesh_file.display()),
-                (false, None) => format!("{}: {reason}", mesh_file.display()),
+        } => match (mesh_file == abs, line) {
+            // A glTF's own errors read "<json path>: <reason>".
+            (true, None) if gltf => match reason.split_once(": ") {
+                Some((json, why)) => SceneError::Invalid {
+                    file: path.to_path_buf(),
+                    path: json.to_string(),
+                    reason: why.to_string(),
+                },
+                None => SceneError::Read {
+                    file: path.to_path_buf(),
+                    reason,
+                },
+            },
+            (same, line) => SceneError::Read {
+                file: path.to_path_buf(),
+                // The model's own line, or the file at fault (its MTL) with its line.
+                reason: match (same, line) {
+                    (true, Some(line)) => format!("line {line}: {reason}"),
+                    (true, None) => reason,
+                    (false, Some(line)) => format!("{}:{line}: {reason}", mesh_file.display()),
+                    (false, None) => format!("{}: {reason}", mesh_file.display()),
+                },
             },
         },
         SceneError::Invalid { reason, .. } => SceneError::Read {
@@ -91,11 +99,57 @@ pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
         },
         other => other,
     })?;
+    // The file's lights (after the rig's key light) replace the key light.
+    if scene.lights.len() > 1 {
+        scene.lights.remove(0);
+    }
     let aspect = scene.output.width as f32 / scene.output.height as f32;
-    if let Some(bounds) = scene.bounds() {
+    if !scene.cameras.is_empty() {
+        use_camera(&mut scene, 0)?;
+    } else if let Some(bounds) = scene.bounds() {
         scene.camera = framing(bounds, aspect, 40.0);
     }
     Ok(scene)
+}
+
+/// Makes camera `n` of [`Scene::cameras`] (a glTF file's cameras) the scene's camera. A camera
+/// with an aspect ratio sets the output width (height × aspect); the look-at target goes to the
+/// depth of the scene's centre, and a camera without `zfar` gets a far plane behind the scene.
+pub fn use_camera(scene: &mut Scene, n: usize) -> Result<(), SceneError> {
+    let Some(c) = scene.cameras.get(n).cloned() else {
+        return Err(SceneError::Invalid {
+            file: scene.source.clone().unwrap_or_default(),
+            path: "(cameras)".into(),
+            reason: format!(
+                "camera {n} asked for, but the scene's glTF files offer {} camera{}",
+                scene.cameras.len(),
+                if scene.cameras.len() == 1 { "" } else { "s" }
+            ),
+        });
+    };
+    let mut cam = c.camera;
+    if let Some(a) = c.aspect {
+        let w = (scene.output.height as f32 * a).round();
+        scene.output.width = (w.max(1.0) as u32).min(super::MAX_IMAGE_SIZE);
+    }
+    let forward = cam.forward();
+    if let Some((lo, hi)) = scene.bounds() {
+        let centre = (lo + hi) * 0.5;
+        let radius = (hi - lo).length() * 0.5;
+        let depth = (centre - cam.position).dot(forward);
+        if depth > cam.near {
+            cam.target = cam.position + forward * depth;
+        }
+        if cam.far == 0.0 {
+            cam.far = ((centre - cam.position).length() + radius) * 2.0;
+        }
+    }
+    if !(cam.far > cam.near && cam.far.is_finite()) {
+        cam.far = cam.near * 1e4;
+    }
+    scene.camera = cam;
+    super::tessellation::resolve(scene);
+    Ok(())
 }
 
 /// A camera looking at the centre of `bounds` from direction (0.35, 0.3, 1), far enough that the
@@ -158,15 +212,9 @@ mod tests {
     #[test]
     fn model_extensions() {
         assert!(is_model(Path::new("a/bunny.OBJ")));
+        assert!(is_model(Path::new("x/CesiumMan.glb")));
+        assert!(is_model(Path::new("x/CesiumMan.gltf")));
         assert!(!is_model(Path::new("scene.json")));
         assert!(!is_model(Path::new("obj")));
-        let e = unsupported(Path::new("x/CesiumMan.glb"))
-            .unwrap()
-            .to_string();
-        assert!(
-            e.starts_with("x/CesiumMan.glb: ") && e.contains("not supported yet"),
-            "{e}"
-        );
-        assert!(unsupported(Path::new("a.obj")).is_none());
     }
 }

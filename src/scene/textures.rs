@@ -75,13 +75,18 @@ impl SamplerDesc {
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextureRef {
     /// Resolved against the scene file's folder (or, from an MTL file, the MTL's folder). The
-    /// decoder checked that it exists and is a `.png`, `.exr` or `.hdr`.
+    /// decoder checked that it exists and is a `.png`, `.exr` or `.hdr` (a glTF's images may
+    /// also be `.jpg`).
     pub path: PathBuf,
     pub sampler: SamplerDesc,
     /// For single-value maps (metallic, roughness, occlusion): the channel holding the value,
     /// 0 = R, 1 = G, 2 = B, 3 = A. `None` means R (a greyscale file has R = G = B). The loader
     /// (`crate::texture`) copies that channel to R, G and B so a shader always reads `.r`.
     pub channel: Option<u8>,
+    /// The encoded image itself (PNG or JPEG), for an image embedded in a glTF file (a buffer
+    /// view or a data URI); `path` then names it in messages (`model.glb: images[0]`) and is no
+    /// file. `None`: the image is the file at `path`.
+    pub embedded: Option<std::sync::Arc<[u8]>>,
 }
 
 impl TextureRef {
@@ -91,6 +96,7 @@ impl TextureRef {
             path: path.into(),
             sampler: SamplerDesc::default(),
             channel: None,
+            embedded: None,
         }
     }
 }

@@ -168,7 +168,7 @@ pub enum TextureError {
         #[source]
         source: io::Error,
     },
-    #[error("{}: unsupported texture file extension (supported: .png, .exr, .hdr)", .path.display())]
+    #[error("{}: unsupported texture file extension (supported: .png, .jpg, .exr, .hdr)", .path.display())]
     UnsupportedExtension { path: PathBuf },
     #[error("{}: not a valid {format} file: {reason}", .path.display())]
     Corrupt {
@@ -210,6 +210,7 @@ enum FileKind {
     Png,
     Exr,
     Hdr,
+    Jpeg,
 }
 
 impl FileKind {
@@ -219,6 +220,7 @@ impl FileKind {
             "png" => Some(FileKind::Png),
             "exr" => Some(FileKind::Exr),
             "hdr" => Some(FileKind::Hdr),
+            "jpg" | "jpeg" => Some(FileKind::Jpeg),
             _ => None,
         }
     }
@@ -228,6 +230,7 @@ impl FileKind {
             FileKind::Png => "PNG",
             FileKind::Exr => "OpenEXR",
             FileKind::Hdr => "Radiance HDR",
+            FileKind::Jpeg => "JPEG",
         }
     }
 
@@ -236,6 +239,7 @@ impl FileKind {
             FileKind::Png => ImageFormat::Png,
             FileKind::Exr => ImageFormat::OpenExr,
             FileKind::Hdr => ImageFormat::Hdr,
+            FileKind::Jpeg => ImageFormat::Jpeg,
         }
     }
 }
@@ -249,7 +253,10 @@ pub fn load_texture(
     max_dimension: u32,
     on_warning: &mut dyn FnMut(String),
 ) -> Result<TextureData, TextureError> {
-    let img = decode_file(&r.path)?;
+    let img = match &r.embedded {
+        Some(bytes) => decode_embedded(bytes, &r.path, &crate::imageio::SizeLimits::DEFAULT)?,
+        None => decode_file(&r.path)?,
+    };
     texture_from_image(
         &img,
         &r.path,
@@ -291,6 +298,27 @@ pub fn decode_bytes(
     decode_from(io::Cursor::new(bytes), name, kind, limits)
 }
 
+/// Decodes an image embedded in a model file (PNG or JPEG, told apart by their signatures) with
+/// size limits; `name` names it in errors.
+pub fn decode_embedded(
+    bytes: &[u8],
+    name: &Path,
+    limits: &crate::imageio::SizeLimits,
+) -> Result<DynamicImage, TextureError> {
+    let kind = if bytes.starts_with(b"\x89PNG") {
+        FileKind::Png
+    } else if bytes.starts_with(&[0xFF, 0xD8, 0xFF]) {
+        FileKind::Jpeg
+    } else {
+        return Err(TextureError::Unsupported {
+            path: name.to_path_buf(),
+            format: "embedded image",
+            reason: "neither PNG nor JPEG data".into(),
+        });
+    };
+    decode_from(io::Cursor::new(bytes), name, kind, limits)
+}
+
 fn file_kind(path: &Path) -> Result<FileKind, TextureError> {
     FileKind::from_path(path).ok_or_else(|| TextureError::UnsupportedExtension {
         path: path.to_path_buf(),
@@ -307,7 +335,7 @@ fn decode_from<R: io::BufRead + io::Seek>(
     // Scanned first, reported after the decoder has read (and validated) the header.
     let exr_too_large = match kind {
         FileKind::Exr => crate::imageio::exr_header_exceeds(&mut reader, limits),
-        FileKind::Png | FileKind::Hdr => None,
+        FileKind::Png | FileKind::Hdr | FileKind::Jpeg => None,
     };
     let mut reader = ImageReader::with_format(reader, kind.image_format());
     reader.limits(limits.image_limits());

@@ -17,6 +17,8 @@ use anyhow::Result;
 pub struct ViewOptions {
     /// Scene file; the embedded default scene when `None`.
     pub scene: Option<PathBuf>,
+    /// Camera N of the scene's glTF files instead of the scene's camera (`--camera`).
+    pub camera: Option<usize>,
     /// Enable the Khronos validation layer.
     pub validate: bool,
     /// Also enable its synchronization validation.

@@ -167,6 +167,7 @@ fn texture_ref(v: &Value, path: &str, slot: TextureSlot, base: &Path) -> Result<
                 path: texture_file(f.req("path")?, &f.path("path"), base)?,
                 sampler,
                 channel,
+                embedded: None,
             })
         }
         k => Err(Invalid::new(

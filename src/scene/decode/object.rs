@@ -18,6 +18,8 @@ pub(super) struct Ctx<'a> {
     pub(super) primitive_triangles: u64,
     /// Loaded OBJ files by (resolved path, with materials).
     pub(super) objs: HashMap<(PathBuf, bool), Arc<LoadedObj>>,
+    /// Loaded glTF files by (resolved path, scene).
+    pub(super) gltfs: HashMap<(PathBuf, Option<u32>), Arc<super::gltf_object::LoadedGltf>>,
     /// (resolved OBJ path, MTL material index or None for the default) → scene material index.
     pub(super) mtl_materials: HashMap<(PathBuf, Option<usize>), usize>,
     /// Index in `scene.materials` by name (the scene's materials, then the MTL ones as added).
@@ -59,6 +61,7 @@ impl MeshCache {
                 segments,
             } => [5, f(radius), f(height), segments, 0],
             MeshDesc::Obj { .. } => [6, 0, 0, 0, 0],
+            MeshDesc::Gltf { .. } => [7, 0, 0, 0, 0],
         }
     }
 
@@ -92,6 +95,7 @@ pub(super) const MESH_TYPES: &[&str] = &[
     "cone",
     "cylinder",
     "obj",
+    "gltf",
 ];
 
 pub(super) fn object(
@@ -138,10 +142,10 @@ pub(super) fn object(
                 )
             })?)
         }
-        None if matches!(desc, MeshDesc::Obj { .. }) => None,
+        None if matches!(desc, MeshDesc::Obj { .. } | MeshDesc::Gltf { .. }) => None,
         None => return Err(f.err(
             "material",
-            "missing required field (only OBJ meshes may take their materials from an MTL file)",
+            "missing required field (only OBJ and glTF meshes may take their materials from their files)",
         )),
     };
     let position = f.vec3("position", Vec3::ZERO)?;
@@ -171,6 +175,23 @@ pub(super) fn object(
         receive: f.boolean("receive_shadow", true)?,
     };
 
+    if let MeshDesc::Gltf { .. } = &desc {
+        let name = name.unwrap_or_else(|| {
+            desc.file()
+                .and_then(|p| p.file_stem())
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| format!("gltf{i}"))
+        });
+        let part = super::gltf_object::Entry {
+            desc: &desc,
+            name,
+            material,
+            transform,
+            shading,
+            path: f.path("mesh"),
+        };
+        return super::gltf_object::expand(part, ctx, scene);
+    }
     if let MeshDesc::Obj { path: obj_path } = &desc {
         let with_materials = material.is_none();
         let key = (obj_path.clone(), with_materials);
@@ -264,6 +285,7 @@ pub(super) fn object(
         MeshDesc::Cone { .. } => "cone",
         MeshDesc::Cylinder { .. } => "cylinder",
         MeshDesc::Obj { .. } => "obj",
+        MeshDesc::Gltf { .. } => "gltf",
     };
     scene.objects.push(Object {
         name: name.unwrap_or_else(|| format!("{kind}{i}")),
@@ -408,6 +430,29 @@ pub(super) fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<(MeshDesc,
                     segments,
                 }
             }
+        }
+        "gltf" => {
+            f.allow(
+                &["type", "path", "scene", "lights", "cameras"],
+                "a glTF mesh",
+            )?;
+            let p = string(f.req("path")?, &f.path("path"))?;
+            if p.trim().is_empty() {
+                return Err(f.err("path", "must not be empty"));
+            }
+            let scene = match f.get("scene") {
+                None => None,
+                Some(v) => Some(integer(v, &f.path("scene"), 0, u32::MAX)?),
+            };
+            return Ok((
+                MeshDesc::Gltf {
+                    path: base.join(p),
+                    scene,
+                    lights: f.boolean("lights", false)?,
+                    cameras: f.boolean("cameras", false)?,
+                },
+                Tessellation::Given,
+            ));
         }
         _ => {
             f.allow(&["type", "path"], "an OBJ mesh")?;

@@ -149,6 +149,7 @@ pub(super) fn mesh_type(desc: &MeshDesc) -> &'static str {
         MeshDesc::Cone { .. } => "cone",
         MeshDesc::Cylinder { .. } => "cylinder",
         MeshDesc::Obj { .. } => "obj",
+        MeshDesc::Gltf { .. } => "gltf",
     }
 }
 
@@ -201,7 +202,7 @@ pub(super) fn primitive(desc: &MeshDesc, tessellation: Tessellation) -> Node {
             height,
             segments: s,
         } => segments(n.with("radius", radius).with("height", height), s),
-        MeshDesc::Obj { .. } => n,
+        MeshDesc::Obj { .. } | MeshDesc::Gltf { .. } => n,
     }
 }
 

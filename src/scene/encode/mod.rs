@@ -18,7 +18,8 @@
 //!   when the parts take theirs from the MTL file (the MTL materials are then recreated by the
 //!   decoder and not written), with it otherwise.
 //!
-//! Not written: `source` and `warnings`. What the format cannot say (a part of an OBJ moved on its
+//! Not written: `source`, `warnings`, `cameras` (a glTF's cameras; the one in use is the
+//! scene's camera) and texture maps embedded in glTF files (a note says so). What the format cannot say (a part of an OBJ moved on its
 //! own, a material given a map its model does not take, an MTL-made material used where the
 //! decoder cannot recreate it, …) is either approximated or dropped, and described in
 //! [`Encoded::notes`].
@@ -318,6 +319,14 @@ impl Encoder<'_> {
         let mut maps = 0;
         for slot in TextureSlot::ALL {
             let Some(tex) = t.get(slot) else { continue };
+            if tex.embedded.is_some() {
+                self.notes.push(format!(
+                    "material \"{name}\": its {} map is an image embedded in a glTF file ({}), which a scene file cannot name; not written",
+                    slot.name(),
+                    tex.path.display()
+                ));
+                continue;
+            }
             if !takes.contains(&slot) {
                 self.notes.push(format!(
                     "material \"{name}\": a {} material takes no \"{}\" map; {} not written",
@@ -456,7 +465,7 @@ impl Encoder<'_> {
         let mut i = 0;
         while i < objects.len() {
             let end = match &objects[i].desc {
-                MeshDesc::Obj { path } => self.obj_run_end(i, path),
+                MeshDesc::Obj { path } | MeshDesc::Gltf { path, .. } => self.obj_run_end(i, path),
                 _ => i + 1,
             };
             if let Some(node) = self.object_entry(&objects[i..end]) {
@@ -493,7 +502,7 @@ impl Encoder<'_> {
         let mut meshes = vec![Arc::as_ptr(&first.mesh)];
         let mut end = start + 1;
         while let Some(o) = objects.get(end) {
-            let same_file = matches!(&o.desc, MeshDesc::Obj { path: p } if p == path);
+            let same_file = o.desc == first.desc;
             if !same_file || meshes.contains(&Arc::as_ptr(&o.mesh)) {
                 break;
             }
@@ -521,7 +530,7 @@ impl Encoder<'_> {
     fn object_entry(&mut self, run: &[Object]) -> Option<Node> {
         let first = &run[0];
         let (name, mesh, material) = match &first.desc {
-            MeshDesc::Obj { path } => {
+            MeshDesc::Obj { path } | MeshDesc::Gltf { path, .. } => {
                 let file_name = obj_file_name(path);
                 // A run with any MTL material takes its materials from the MTL file.
                 let mtl = run.iter().any(|o| self.uses_mtl(o, &file_name));
@@ -563,9 +572,30 @@ impl Encoder<'_> {
                         ));
                     }
                 }
-                let mesh = Node::obj()
-                    .with("type", "obj")
-                    .with("path", self.path(path));
+                let mesh = match &first.desc {
+                    MeshDesc::Gltf { scene, .. } => {
+                        let mut m = Node::obj()
+                            .with("type", "gltf")
+                            .with("path", self.path(path));
+                        if let Some(s) = scene {
+                            m.put("scene", *s);
+                        }
+                        // Imported lights and cameras are in the scene's own lists, which are
+                        // written; importing them again would double them.
+                        m.with("lights", false).with("cameras", false)
+                    }
+                    _ => Node::obj()
+                        .with("type", "obj")
+                        .with("path", self.path(path)),
+                };
+                let name = match &first.desc {
+                    // Parts are "<entry>/<node>/<mesh>": the entry is the name's first segment.
+                    MeshDesc::Gltf { .. } => first
+                        .name
+                        .split_once('/')
+                        .map_or(first.name.clone(), |(e, _)| e.to_string()),
+                    _ => name,
+                };
                 (name, mesh, material)
             }
             desc => {

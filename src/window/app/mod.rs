@@ -52,7 +52,10 @@ const PROFILER_WINDOW: usize = 300;
 type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
 
 pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
-    let scene = crate::scene::load_or_default(args.scene.as_deref())?;
+    let mut scene = crate::scene::load_or_default(args.scene.as_deref())?;
+    if let Some(n) = args.camera {
+        crate::scene::model::use_camera(&mut scene, n)?;
+    }
     for w in &scene.warnings {
         log::warn!("{w}");
     }

@@ -1,10 +1,11 @@
-//! Opening what is dropped or typed (a scene, an OBJ model, an environment), and rebuilding the
+//! Opening what is dropped or typed (a scene, an OBJ or glTF model, an environment), and rebuilding the
 //! passes or the swapchain when the scene's structure or the window changes.
 
 use super::*;
 
 impl Viewer {
-    /// Opens a dropped or typed path: a scene, an OBJ model or an environment image.
+    /// Opens a dropped or typed path: a scene, an OBJ or glTF model (lit as the current scene is)
+    /// or an environment image.
     pub(super) fn open_path(&mut self, path: &Path) {
         match self.try_open(path) {
             Ok(msg) => {
@@ -31,12 +32,12 @@ impl Viewer {
                 self.replace_scene(scene, true)?;
                 Ok(format!("opened {}", path.display()))
             }
-            "obj" => {
+            "obj" | "gltf" | "glb" => {
                 let abs = std::fs::canonicalize(path)
                     .with_context(|| format!("cannot open {}", path.display()))?;
                 let text = serde_json::json!({
                     "objects": [{ "name": abs.file_stem().and_then(|s| s.to_str()).unwrap_or("model"),
-                                  "mesh": { "type": "obj", "path": abs } }]
+                                  "mesh": { "type": if ext == "obj" { "obj" } else { "gltf" }, "path": abs } }]
                 })
                 .to_string();
                 let mut scene = crate::scene::parse(&text, &abs.with_extension("json"))?;

@@ -1,0 +1,266 @@
+//! glTF materials → luz `metal_rough` materials with texture maps, and glTF images → texture
+//! references (files next to the glTF, or bytes embedded in a buffer view or a data URI).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+
+use super::primitive::UvChoice;
+use super::GltfError;
+use crate::brdf::MetalRoughParams;
+use crate::scene::{Filter, Material, MaterialTextures, SamplerDesc, TextureRef, Wrap};
+
+/// A glTF material as luz understands it.
+#[derive(Debug, Clone)]
+pub struct GltfMaterial {
+    /// The file's name for it (or `material<i>`).
+    pub name: String,
+    pub material: Material,
+    pub textures: MaterialTextures,
+    /// The UV set and texture transform the maps read (baked into the meshes' UVs).
+    pub uv: UvChoice,
+}
+
+/// The glTF default material (no `material` on a primitive): metallic 1, roughness 1, white, as
+/// the specification says.
+pub fn default_material() -> GltfMaterial {
+    GltfMaterial {
+        name: "default".into(),
+        material: Material::MetalRough(MetalRoughParams::default()),
+        textures: MaterialTextures::default(),
+        uv: UvChoice::default(),
+    }
+}
+
+/// The images of a file: resolved once, shared by the textures that use them.
+pub struct Images {
+    /// Per image: a path (an external file) and, for embedded images, their bytes.
+    pub sources: Vec<(PathBuf, Option<Arc<[u8]>>)>,
+}
+
+impl Images {
+    /// Resolves every image: a file next to the glTF (checked to exist), a data URI (decoded) or a
+    /// buffer view (copied out of its buffer).
+    pub fn resolve(
+        doc: &gltf::Document,
+        file: &Path,
+        buffers: &[Vec<u8>],
+    ) -> Result<Images, GltfError> {
+        let base = file.parent().unwrap_or(Path::new(""));
+        let mut sources = Vec::new();
+        for img in doc.images() {
+            let i = img.index();
+            let name = PathBuf::from(format!("{}: images[{i}]", file.display()));
+            let source = match img.source() {
+                gltf::image::Source::View { view, .. } => {
+                    let buffer = buffers.get(view.buffer().index());
+                    let bytes = buffer
+                        .and_then(|b| {
+                            b.get(view.offset()..view.offset().checked_add(view.length())?)
+                        })
+                        .ok_or_else(|| {
+                            GltfError::at(
+                                file,
+                                format!("images[{i}].bufferView"),
+                                format!(
+                                    "bufferViews[{}] lies past the end of its buffer",
+                                    view.index()
+                                ),
+                            )
+                        })?;
+                    (name, Some(Arc::from(bytes)))
+                }
+                gltf::image::Source::Uri { uri, .. } => {
+                    if uri.starts_with("data:") {
+                        let bytes = super::data_uri(uri)
+                            .map_err(|e| GltfError::at(file, format!("images[{i}].uri"), e))?;
+                        (name, Some(Arc::from(bytes)))
+                    } else {
+                        let path = base.join(super::percent_decode(uri));
+                        if !path.is_file() {
+                            return Err(GltfError::at(
+                                file,
+                                format!("images[{i}].uri"),
+                                format!("{}: no such image file", path.display()),
+                            ));
+                        }
+                        (path, None)
+                    }
+                }
+            };
+            sources.push(source);
+        }
+        Ok(Images { sources })
+    }
+}
+
+fn sampler(s: &gltf::texture::Sampler) -> SamplerDesc {
+    let wrap = |w: WrappingMode| match w {
+        WrappingMode::ClampToEdge => Wrap::Clamp,
+        WrappingMode::MirroredRepeat => Wrap::Mirror,
+        WrappingMode::Repeat => Wrap::Repeat,
+    };
+    let mut d = SamplerDesc {
+        wrap_u: wrap(s.wrap_s()),
+        wrap_v: wrap(s.wrap_t()),
+        ..SamplerDesc::default()
+    };
+    if let Some(MagFilter::Nearest) = s.mag_filter() {
+        d.mag = Filter::Nearest;
+    }
+    // luz's mip filter follows the minification filter: NEAREST_MIPMAP_LINEAR and
+    // LINEAR_MIPMAP_NEAREST take their texel filter's mip filter.
+    match s.min_filter() {
+        None => {}
+        Some(MinFilter::Nearest) => {
+            d.min = Filter::Nearest;
+            d.mipmaps = false;
+        }
+        Some(MinFilter::Linear) => d.mipmaps = false,
+        Some(MinFilter::NearestMipmapNearest) | Some(MinFilter::NearestMipmapLinear) => {
+            d.min = Filter::Nearest
+        }
+        Some(MinFilter::LinearMipmapNearest) | Some(MinFilter::LinearMipmapLinear) => {}
+    }
+    d
+}
+
+/// The texture reference of a glTF texture, reading `channel`.
+fn texture_ref(t: &gltf::Texture, images: &Images, channel: Option<u8>) -> Option<TextureRef> {
+    let (path, embedded) = images.sources.get(t.source().index())?.clone();
+    Some(TextureRef {
+        path,
+        sampler: sampler(&t.sampler()),
+        channel,
+        embedded,
+    })
+}
+
+/// How one map reads its UVs: (set, transform).
+fn uv_of(info_set: u32, tt: Option<gltf::texture::TextureTransform>) -> UvChoice {
+    match tt {
+        None => UvChoice {
+            set: info_set,
+            ..UvChoice::default()
+        },
+        Some(t) => UvChoice {
+            set: t.tex_coord().unwrap_or(info_set),
+            offset: Vec2::from_array(t.offset()),
+            rotation: t.rotation(),
+            scale: Vec2::from_array(t.scale()),
+        },
+    }
+}
+
+/// Maps glTF material `m` onto `metal_rough` with maps; sentences about what is not used go to
+/// `warnings`.
+pub fn material(
+    m: &gltf::Material,
+    images: &Images,
+    file_name: &str,
+    warnings: &mut Vec<String>,
+) -> GltfMaterial {
+    let i = m.index().unwrap_or(0);
+    let name = m
+        .name()
+        .filter(|n| !n.trim().is_empty())
+        .map(str::to_string)
+        .unwrap_or_else(|| format!("material{i}"));
+    let pbr = m.pbr_metallic_roughness();
+    let [r, g, b, _alpha] = pbr.base_color_factor();
+    let clamp = |v: f32| {
+        if v.is_finite() {
+            v.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    };
+    let params = MetalRoughParams {
+        base_color: Vec3::new(clamp(r), clamp(g), clamp(b)),
+        metallic: clamp(pbr.metallic_factor()),
+        roughness: clamp(pbr.roughness_factor()),
+        ..MetalRoughParams::default()
+    };
+    let mut t = MaterialTextures::default();
+    // (uv of each map present, in priority order: base colour first).
+    let mut uvs: Vec<(&str, UvChoice)> = Vec::new();
+    if let Some(info) = pbr.base_color_texture() {
+        t.base_color = texture_ref(&info.texture(), images, None);
+        uvs.push((
+            "baseColorTexture",
+            uv_of(info.tex_coord(), info.texture_transform()),
+        ));
+    }
+    let occlusion = m.occlusion_texture();
+    if let Some(info) = pbr.metallic_roughness_texture() {
+        let tex = info.texture();
+        let same_as_occlusion = occlusion
+            .as_ref()
+            .is_some_and(|o| o.texture().index() == tex.index());
+        if same_as_occlusion {
+            // Packed occlusion (R), roughness (G), metallic (B): luz's `orm` map.
+            t.orm = texture_ref(&tex, images, None);
+        } else {
+            t.roughness = texture_ref(&tex, images, Some(1));
+            t.metallic = texture_ref(&tex, images, Some(2));
+        }
+        uvs.push((
+            "metallicRoughnessTexture",
+            uv_of(info.tex_coord(), info.texture_transform()),
+        ));
+    }
+    if let Some(n) = m.normal_texture() {
+        t.normal = texture_ref(&n.texture(), images, None);
+        let s = n.scale();
+        t.normal_scale = if s.is_finite() { s } else { 1.0 };
+        uvs.push(("normalTexture", uv_of(n.tex_coord(), None)));
+    }
+    if let Some(o) = &occlusion {
+        if t.orm.is_none() {
+            t.occlusion = texture_ref(&o.texture(), images, Some(0));
+        }
+        t.occlusion_strength = clamp(o.strength());
+        uvs.push(("occlusionTexture", uv_of(o.tex_coord(), None)));
+    }
+    let strength = m.emissive_strength().filter(|s| s.is_finite() && *s >= 0.0);
+    let [er, eg, eb] = m.emissive_factor();
+    let nonneg = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    t.emissive_factor = Vec3::new(nonneg(er), nonneg(eg), nonneg(eb)) * strength.unwrap_or(1.0);
+    if let Some(info) = m.emissive_texture() {
+        t.emissive = texture_ref(&info.texture(), images, None);
+        uvs.push((
+            "emissiveTexture",
+            uv_of(info.tex_coord(), info.texture_transform()),
+        ));
+    }
+    let uv = uvs.first().map(|(_, u)| *u).unwrap_or_default();
+    if let Some((map, other)) = uvs.iter().find(|(_, u)| *u != uv) {
+        warnings.push(format!(
+            "{file_name}: materials[{i}] (\"{name}\"): {map} reads UV set {} with its own transform; \
+             luz gives all maps of a material the UVs of its {} (set {})",
+            other.set, uvs[0].0, uv.set
+        ));
+    }
+    match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => {}
+        mode => warnings.push(format!(
+            "{file_name}: materials[{i}] (\"{name}\"): alphaMode {} is drawn opaque (luz has \
+             no alpha cut-out or blending yet)",
+            format!("{mode:?}").to_uppercase()
+        )),
+    }
+    if m.ior().is_some() || m.specular().is_some() {
+        warnings.push(format!(
+            "{file_name}: materials[{i}] (\"{name}\"): KHR_materials_ior / KHR_materials_specular \
+             are not used (metal_rough's dielectric F0 is 0.04, i.e. ior 1.5)"
+        ));
+    }
+    GltfMaterial {
+        name,
+        material: Material::MetalRough(params),
+        textures: t,
+        uv,
+    }
+}
