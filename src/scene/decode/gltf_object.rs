@@ -19,6 +19,7 @@ pub(super) struct Entry<'a> {
     pub(super) material: Option<usize>,
     pub(super) transform: Transform,
     pub(super) shading: Shading,
+    pub(super) shadow: crate::scene::ObjectShadow,
     /// JSON path of the entry's `mesh`.
     pub(super) path: String,
 }
@@ -66,6 +67,7 @@ pub(super) fn expand(e: Entry, ctx: &mut Ctx, scene: &mut Scene) -> Result<()> {
             transform: e.transform,
             shading: e.shading,
             tessellation: Tessellation::Given,
+            shadow: e.shadow,
         });
     }
     let m = e.transform.matrix();

@@ -188,6 +188,7 @@ pub(super) fn object(
             material,
             transform,
             shading,
+            shadow,
             path: f.path("mesh"),
         };
         return super::gltf_object::expand(part, ctx, scene);

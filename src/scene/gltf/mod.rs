@@ -746,6 +746,9 @@ impl<'a> Builder<'a> {
             } else {
                 range
             },
+            shadow: None,
+            radius: 0.0,
+            angular_radius_deg: 0.0,
         });
         Ok(())
     }
