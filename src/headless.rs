@@ -40,6 +40,8 @@ pub struct RenderOptions {
     pub progress: Option<crate::progress::ProgressSink>,
     /// Deferred lighting where the scene allows it, or always forward.
     pub render_path: crate::render::forward::RenderPath,
+    /// Plain or clustered light loop (or chosen from the scene's lights).
+    pub light_loop: crate::render::forward::LightLoop,
 }
 
 impl RenderOptions {
@@ -57,6 +59,7 @@ impl RenderOptions {
             generic_pipelines: false,
             progress: None,
             render_path: Default::default(),
+            light_loop: Default::default(),
         }
     }
 
@@ -67,6 +70,7 @@ impl RenderOptions {
             generic: self.generic_pipelines,
             output: crate::render::forward::Output::Hdr,
             path: self.render_path,
+            light_loop: self.light_loop,
         }
     }
 }
@@ -342,6 +346,11 @@ impl Headless {
     /// Objects drawn after frustum culling, and all objects with something to draw.
     pub fn drawn_objects(&self) -> (usize, usize) {
         self.forward.drawn_objects(0)
+    }
+
+    /// Lights per cluster of the clustered light loop (`None`: the plain loop).
+    pub fn cluster_stats(&self) -> Option<crate::render::forward::ClusterStats> {
+        self.forward.cluster_stats()
     }
 
     /// "deferred" or "forward": how the scene is drawn ([`crate::render::forward::RenderPath`]).

@@ -19,12 +19,14 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, Pipelin
 use crate::vk::{Buffer, Context, VkError};
 
 mod build;
+pub mod clusters;
 mod deferred;
 mod frustum;
 mod variant;
 
 use build::{build_draws, frame_set_layout, storage_fits, Draws};
 pub use build::{lut_geometries, lut_geometry};
+pub use clusters::{ClusterStats, LightLoop};
 
 pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};
 
@@ -69,6 +71,8 @@ pub struct PassOptions {
     pub output: Output,
     /// Deferred lighting where the scene allows it, or always forward.
     pub path: RenderPath,
+    /// Plain or clustered light loop in the fragment stage (or chosen from the scene's lights).
+    pub light_loop: LightLoop,
 }
 
 impl Default for PassOptions {
@@ -79,6 +83,7 @@ impl Default for PassOptions {
             generic: false,
             output: Output::Hdr,
             path: RenderPath::Auto,
+            light_loop: LightLoop::Auto,
         }
     }
 }
@@ -186,6 +191,9 @@ struct Slot {
     objects: Buffer,
     /// Per object slot: its material ([`gpu::DeferredMaterial`]), read by the deferred path.
     deferred_materials: Buffer,
+    /// The light clusters of the slot's camera ([`clusters`]; a stub when the loop is plain).
+    clusters: Buffer,
+    cluster_lights: Buffer,
     set: vk::DescriptorSet,
     /// Per draw: whether its bounding sphere meets the view volume of the slot's camera.
     visible: Vec<bool>,
@@ -208,6 +216,9 @@ pub struct ForwardPass {
     background: glam::Vec3,
     exposure: f32,
     light_count: u32,
+    /// The fragment stage culls lights by clusters; the last assignment's figures.
+    clustered: bool,
+    cluster_stats: Option<ClusterStats>,
     variant_debug: DebugView,
     /// The environment is drawn as the background: one pipeline per output.
     has_skybox: bool,
@@ -269,7 +280,9 @@ impl ForwardPass {
             generic,
             output,
             path,
+            light_loop,
         } = options;
+        let clustered = light_loop.clustered(&scene.lights);
         let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
             (Some(_), Some(e)) => Some(IblKey::from_env(e)),
@@ -300,7 +313,7 @@ impl ForwardPass {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 4 * n,
+                descriptor_count: 6 * n,
             },
         ];
         let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
@@ -319,7 +332,15 @@ impl ForwardPass {
             objects,
             draws,
             object_slots,
-        } = build_draws(scene, ibl, ibl_key, debug, generic, &limits, &mut uploader)?;
+        } = build_draws(
+            scene,
+            ibl,
+            ibl_key,
+            debug,
+            (generic, clustered),
+            &limits,
+            &mut uploader,
+        )?;
         uploader.flush(pool)?;
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
@@ -336,7 +357,15 @@ impl ForwardPass {
                 &desc_pool,
                 &set_layout,
                 i,
-                (light_count, object_count),
+                (
+                    light_count,
+                    object_count,
+                    if clustered {
+                        clusters::Grid::of(scene, aspect).cells()
+                    } else {
+                        1
+                    },
+                ),
                 &srgb_table,
             )?);
         }
@@ -374,6 +403,8 @@ impl ForwardPass {
             background: scene.output.background,
             exposure: scene.output.exposure,
             light_count: lights.len() as u32,
+            clustered,
+            cluster_stats: None,
             variant_debug: debug,
             has_skybox,
             skyboxes: BTreeMap::new(),
@@ -483,6 +514,7 @@ impl ForwardPass {
         self.exposure = scene.output.exposure;
         let visible = self.visibility(scene, aspect);
         self.slots[slot].visible = visible;
+        self.write_clusters(slot, scene, aspect)?;
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
@@ -536,7 +568,28 @@ impl ForwardPass {
             s.visible.clone_from(&visible);
             s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
         }
+        for slot in 0..self.slots.len() {
+            self.write_clusters(slot, scene, aspect)?;
+        }
         Ok(())
+    }
+
+    /// Assigns the scene's lights to the clusters of its camera at `aspect` and writes them into
+    /// slot `slot` (nothing when the light loop is plain).
+    fn write_clusters(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        if !self.clustered {
+            return Ok(());
+        }
+        let grid = clusters::Grid::of(scene, aspect);
+        let c = clusters::build(&grid, scene.camera.view(), &scene.lights);
+        self.slots[slot].write_clusters(&self.ctx, slot, &c)?;
+        self.cluster_stats = Some(c.stats);
+        Ok(())
+    }
+
+    /// The light clusters' figures of the last assignment (`None`: the plain loop).
+    pub fn cluster_stats(&self) -> Option<ClusterStats> {
+        self.cluster_stats
     }
 
     /// The debug view the pipelines were built with.

@@ -156,6 +156,8 @@ pub struct VariantKey {
     pub maps: u32,
     /// The scene's light types and falloffs (`gpu::LK_*` bits).
     pub light_kinds: u32,
+    /// The fragment stage loops over its cluster's lights only (`CLUSTERED`).
+    pub clustered: bool,
 }
 
 impl VariantKey {
@@ -315,6 +317,9 @@ impl std::fmt::Display for VariantKey {
                 write!(f, ", energy_compensation")?;
             }
         }
+        if self.clustered {
+            write!(f, ", clustered")?;
+        }
         if self.debug != DebugView::None {
             write!(f, ", debug={:?}", self.debug)?;
         }
@@ -434,6 +439,7 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         (gpu::SPEC_SEL_DIFFUSE, sel[3] as u32),
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
+        (gpu::SPEC_CLUSTERED, v.clustered as u32),
     ];
     if let Some(i) = v.ibl {
         spec.extend([

@@ -628,6 +628,7 @@ fn pass_options(
         generic: false,
         output,
         path,
+        light_loop: Default::default(),
     }
 }
 
