@@ -242,3 +242,70 @@ fn clustered_and_plain_loops_give_the_same_image() {
         );
     }
 }
+
+/// The `clusters` debug view shows, per pixel, the length of the list the fragment loops over:
+/// the CPU's clusters for that pixel's point (up to pixels on a cluster boundary), never fewer
+/// than the lights that reach it; with the plain loop, every light.
+#[test]
+fn clusters_debug_view_shows_lights_per_fragment() {
+    use luz::render::forward::clusters::{build, Grid};
+    use luz::render::forward::DebugView;
+    let ls = lights();
+    let json: Vec<String> = ls.iter().map(light_json).collect();
+    let scene = parse(&scene_json(&json, 1));
+    let heat = |n: f32| {
+        let t = (n / 64.0).clamp(0.0, 1.0);
+        Vec3::new(
+            (2.0 * t - 1.0).clamp(0.0, 1.0),
+            1.0 - (2.0 * t - 1.0).abs(),
+            (1.0 - 2.0 * t).clamp(0.0, 1.0),
+        )
+    };
+    let aspect = W as f32 / H as f32;
+    let view = scene.camera.view();
+    let clusters = build(&Grid::of(&scene, aspect), view, &scene.lights);
+    for light_loop in [LightLoop::Clustered, LightLoop::Plain] {
+        let ctx = gpu();
+        let mut r = Headless::with_options(
+            &ctx,
+            &scene,
+            &RenderOptions {
+                light_loop,
+                debug_view: DebugView::Clusters,
+                ..Default::default()
+            },
+        )
+        .expect("renderer");
+        r.render().expect("frame");
+        let img = r.image().expect("readback");
+        drop(r);
+        assert_no_validation_messages(&ctx);
+        let (mut checked, mut off) = (0, 0);
+        for j in 0..H {
+            for i in 0..W {
+                let Some(p) = hit(i, j) else { continue };
+                if p.x.abs() > HALF - 0.05 || p.z.abs() > HALF - 0.05 {
+                    continue;
+                }
+                checked += 1;
+                let px = img.pixels[(j * W + i) as usize];
+                let got = Vec3::new(px[0], px[1], px[2]);
+                let reach = ls.iter().filter(|l| (l.p - p).length() < l.range).count();
+                let listed = match light_loop {
+                    LightLoop::Plain => ls.len(),
+                    _ => clusters.cells[clusters.grid.cluster_of(view.transform_point3(p))][1]
+                        as usize,
+                };
+                assert!(listed >= reach, "pixel ({i}, {j}): {listed} listed, {reach} reach it");
+                if (got - heat(listed as f32)).abs().max_element() > 1e-4 {
+                    off += 1;
+                }
+            }
+        }
+        assert!(checked > (W * H / 2) as usize);
+        assert!(
+            off * 50 <= checked,
+            "{light_loop:?}: {off} of {checked} pixels show another count"
+        );
+    }
+}

@@ -169,39 +169,6 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 
-// Outgoing value at P (world space) with unit normal N, tangent frame (X, Y) and texture
-// coordinates uv: ambient plus every light, each through the CPU reference's mirror brdf_radiance,
-// plus the environment (IBL) and emission.
-// The quantity a debug view shows (DebugView in src/render/forward.rs).
-vec3 debug_value(Surface s, vec3 P, vec3 V) {
-    BrdfParams p = s.p;
-    if (DEBUG_VIEW == DEBUG_VIEW_BASE_COLOR) return p.color.rgb;
-    if (DEBUG_VIEW == DEBUG_VIEW_NORMAL) return s.n * 0.5 + 0.5;
-    if (DEBUG_VIEW == DEBUG_VIEW_METALLIC) return vec3(p.spec.w);
-    if (DEBUG_VIEW == DEBUG_VIEW_ROUGHNESS) return vec3(p.color.w);
-    if (DEBUG_VIEW == DEBUG_VIEW_AO) return vec3(s.occlusion);
-    if (DEBUG_VIEW >= DEBUG_VIEW_D && DEBUG_VIEW <= DEBUG_VIEW_SPECULAR) {
-        if (frame.counts.x == 0u) return vec3(0.0);
-        vec3 l;
-        vec3 E;
-        light_incidence(lights[0], P, l, E);
-        BrdfTerms t = brdf_eval_terms(p, s.n, l, V, s.x, s.y);
-        if (DEBUG_VIEW == DEBUG_VIEW_D) return vec3(t.d);
-        if (DEBUG_VIEW == DEBUG_VIEW_G) return vec3(t.g);
-        if (DEBUG_VIEW == DEBUG_VIEW_F) return t.f;
-        if (DEBUG_VIEW == DEBUG_VIEW_DIFFUSE) return t.diffuse;
-        return t.specular;
-    }
-#ifdef IBL
-    if (DEBUG_VIEW == DEBUG_VIEW_IRRADIANCE) return env_irradiance(s.n) / M_PI;
-    if (DEBUG_VIEW == DEBUG_VIEW_PREFILTERED) {
-        vec3 r = 2.0 * dot(s.n, V) * s.n - V;
-        return textureLod(prefiltered_cube, r, p.color.w * (env.params.x - 1.0)).rgb;
-    }
-#endif
-    return vec3(0.0);
-}
-
 // The lights that may reach P: (base, count) of its cluster when CLUSTERED (fragment stage), else
 // (0, every light). The loop's k-th light is light_list_index(list, k).
 uvec2 light_list(vec3 P) {
@@ -226,6 +193,44 @@ uint light_list_index(uvec2 list, uint k) {
     }
 #endif
     return k;
+}
+
+// Outgoing value at P (world space) with unit normal N, tangent frame (X, Y) and texture
+// coordinates uv: ambient plus every light, each through the CPU reference's mirror brdf_radiance,
+// plus the environment (IBL) and emission.
+// The quantity a debug view shows (DebugView in src/render/forward.rs).
+vec3 debug_value(Surface s, vec3 P, vec3 V) {
+    BrdfParams p = s.p;
+    if (DEBUG_VIEW == DEBUG_VIEW_BASE_COLOR) return p.color.rgb;
+    if (DEBUG_VIEW == DEBUG_VIEW_NORMAL) return s.n * 0.5 + 0.5;
+    if (DEBUG_VIEW == DEBUG_VIEW_METALLIC) return vec3(p.spec.w);
+    if (DEBUG_VIEW == DEBUG_VIEW_ROUGHNESS) return vec3(p.color.w);
+    if (DEBUG_VIEW == DEBUG_VIEW_AO) return vec3(s.occlusion);
+    if (DEBUG_VIEW >= DEBUG_VIEW_D && DEBUG_VIEW <= DEBUG_VIEW_SPECULAR) {
+        if (frame.counts.x == 0u) return vec3(0.0);
+        vec3 l;
+        vec3 E;
+        light_incidence(lights[0], P, l, E);
+        BrdfTerms t = brdf_eval_terms(p, s.n, l, V, s.x, s.y);
+        if (DEBUG_VIEW == DEBUG_VIEW_D) return vec3(t.d);
+        if (DEBUG_VIEW == DEBUG_VIEW_G) return vec3(t.g);
+        if (DEBUG_VIEW == DEBUG_VIEW_F) return t.f;
+        if (DEBUG_VIEW == DEBUG_VIEW_DIFFUSE) return t.diffuse;
+        return t.specular;
+    }
+    if (DEBUG_VIEW == DEBUG_VIEW_CLUSTERS) {
+        // Blue (no light) through green (32) to red (64 or more).
+        float t = clamp(float(light_list(P).y) / 64.0, 0.0, 1.0);
+        return vec3(clamp(2.0 * t - 1.0, 0.0, 1.0), 1.0 - abs(2.0 * t - 1.0), clamp(1.0 - 2.0 * t, 0.0, 1.0));
+    }
+#ifdef IBL
+    if (DEBUG_VIEW == DEBUG_VIEW_IRRADIANCE) return env_irradiance(s.n) / M_PI;
+    if (DEBUG_VIEW == DEBUG_VIEW_PREFILTERED) {
+        vec3 r = 2.0 * dot(s.n, V) * s.n - V;
+        return textureLod(prefiltered_cube, r, p.color.w * (env.params.x - 1.0)).rgb;
+    }
+#endif
+    return vec3(0.0);
 }
 
 vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {

@@ -55,8 +55,9 @@ pub struct BenchArgs {
     /// otherwise. "forward": always forward (for comparisons).
     #[arg(long, value_enum, default_value_t = RenderPathArg::Auto)]
     pub render_path: RenderPathArg,
-    /// How the fragment stage loops over lights: "auto" (clustered with 16 or more lights with
-    /// a range), "plain" or "clustered" (see `luz render --help`).
+    /// How the fragment stage loops over lights: "auto" (clustered with 4 or more lights with
+    /// a range when the clusters cull them, else plain), "plain" or "clustered" (see
+    /// `luz render --help`).
     #[arg(long, value_enum, default_value_t = LightLoopArg::Auto)]
     pub light_loop: LightLoopArg,
     /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);

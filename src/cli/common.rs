@@ -282,7 +282,8 @@ impl RenderPathArg {
 /// `--light-loop` values (`luz render`, `luz bench`): how the fragment stage loops over lights.
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LightLoopArg {
-    /// Clustered with enough ranged lights (render::forward::clusters::CROSSOVER), else plain.
+    /// Clustered with enough ranged lights that the clusters cull (render::forward::clusters::
+    /// CROSSOVER, MAX_LISTED_FRACTION), else plain.
     Auto,
     /// Every light at every fragment.
     Plain,
@@ -307,8 +308,17 @@ pub fn light_loop_line(stats: Option<luz::render::forward::ClusterStats>) -> Str
         None => "light loop: plain (every light at every fragment)".to_string(),
         Some(s) => format!(
             "light loop: clustered, {}x{} tiles x {} slices, lights per cluster max {} mean {:.2} \
-             ({} in every cluster), {} indices, assigned on the CPU in {:.2} ms",
-            s.tiles_x, s.tiles_y, s.slices, s.max, s.mean, s.always, s.indices, s.build_ms
+             (over clusters with a ranged light {:.2}; {} in every cluster), {} indices, \
+             assigned on the CPU in {:.2} ms",
+            s.tiles_x,
+            s.tiles_y,
+            s.slices,
+            s.max,
+            s.mean,
+            s.mean_occupied,
+            s.always,
+            s.indices,
+            s.build_ms
         ),
     }
 }

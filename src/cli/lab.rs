@@ -39,7 +39,7 @@ pub struct LabArgs {
     /// Override the scene's output height.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, ibl).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.

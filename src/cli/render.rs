@@ -46,8 +46,8 @@ pub struct RenderArgs {
     /// Show one quantity instead of the shaded radiance (BRDF terms are for the first light).
     #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
     pub debug_view: DebugView,
-    /// How the fragment stage loops over lights: "auto" (clustered with 16 or more lights with
-    /// a range), "plain" (every light everywhere) or "clustered" (the fragment's cluster only).
+    /// How the fragment stage loops over lights: "auto" (clustered with 4 or more lights with
+    /// a range when the clusters cull them, else plain), "plain" (every light everywhere) or "clustered" (the fragment's cluster only).
     #[arg(long, value_enum, default_value_t = LightLoopArg::Auto)]
     pub light_loop: LightLoopArg,
     #[command(flatten)]

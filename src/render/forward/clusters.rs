@@ -32,8 +32,18 @@ pub const MAX_TILES_X: u32 = 128;
 pub const SLICES: u32 = 64;
 
 /// The light loop's crossover: with fewer ranged lights than this, [`LightLoop::Auto`] keeps the
-/// plain loop over every light (measured: docs/performance.md, "Many lights").
-pub const CROSSOVER: usize = 16;
+/// plain loop over every light. Measured (docs/performance.md, "Many lights"): lights spread
+/// over a plane, the clustered loop costs 1.09× the plain one with 1 light, 0.82× with 2, 0.71×
+/// with 4, 0.27× with 8; lights that all reach every pixel cost 1.2–1.6× (nothing to cull,
+/// [`MAX_LISTED_FRACTION`] keeps those plain).
+pub const CROSSOVER: usize = 4;
+
+/// [`LightLoop::Auto`] also keeps the plain loop when the clusters of the initial view that hold
+/// ranged lights list more than this fraction of all lights on average: a listed light costs
+/// about twice a plain-loop light on lavapipe (its index and data are gathered per lane instead
+/// of loaded once for all lanes), so weak culling loses (lights256 with ranges for 1e-3: 243 of
+/// 256 lights per cluster, 2.4× the plain loop's frame).
+pub const MAX_LISTED_FRACTION: f64 = 0.3;
 
 /// How the fragment stage loops over lights.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -48,12 +58,18 @@ pub enum LightLoop {
 }
 
 impl LightLoop {
-    /// Whether the pass for `lights` culls by clusters.
-    pub fn clustered(self, lights: &[Light]) -> bool {
+    /// Whether the pass for `scene` (drawn at `aspect`) culls by clusters.
+    pub fn clustered(self, scene: &crate::scene::Scene, aspect: f32) -> bool {
         match self {
             LightLoop::Plain => false,
             LightLoop::Clustered => true,
-            LightLoop::Auto => ranged(lights) >= CROSSOVER,
+            LightLoop::Auto => {
+                let lights = &scene.lights;
+                ranged(lights) >= CROSSOVER && {
+                    let c = build(&Grid::of(scene, aspect), scene.camera.view(), lights);
+                    c.stats.mean_occupied <= MAX_LISTED_FRACTION * lights.len() as f64
+                }
+            }
         }
     }
 
@@ -222,6 +238,8 @@ pub struct ClusterStats {
     pub max: u32,
     /// Mean lights per cluster (with `always`).
     pub mean: f64,
+    /// Mean lights per cluster over the clusters that list a ranged light (with `always`).
+    pub mean_occupied: f64,
     /// Light indices listed in all (the buffer's length).
     pub indices: usize,
     /// CPU time of the assignment, ms.
@@ -370,6 +388,12 @@ pub fn build(camera: &Grid, view: Mat4, lights: &[Light]) -> Clusters {
         .collect();
     let max = cells_data.iter().map(|c| c[1]).max().unwrap_or(0);
     let mean = cells_data.iter().map(|c| c[1] as f64).sum::<f64>() / cells.max(1) as f64;
+    let occupied: Vec<f64> = counts
+        .iter()
+        .filter(|&&n| n > 0)
+        .map(|&n| (n + n_always) as f64)
+        .collect();
+    let mean_occupied = occupied.iter().sum::<f64>() / occupied.len().max(1) as f64;
     Clusters {
         grid,
         header: grid.header(n_always),
@@ -380,6 +404,7 @@ pub fn build(camera: &Grid, view: Mat4, lights: &[Light]) -> Clusters {
             always: n_always,
             max,
             mean,
+            mean_occupied,
             indices: indices.len(),
             build_ms: start.elapsed().as_secs_f64() * 1e3,
         },
@@ -485,18 +510,39 @@ mod tests {
         }
     }
 
+    /// Auto: clustered with at least CROSSOVER ranged lights that the clusters cull; plain with
+    /// fewer, without ranges, or when every light reaches everything.
     #[test]
-    fn auto_needs_enough_ranged_lights() {
-        let few: Vec<Light> = (0..CROSSOVER - 1)
-            .map(|_| point(Vec3::ZERO, Some(1.0)))
+    fn auto_needs_enough_ranged_lights_that_cull() {
+        let mut scene = crate::scene::parse(
+            r#"{"camera": {"position": [0, 7, 11], "target": [0, 0, 0], "fov_y_deg": 50, "near": 0.1, "far": 100}}"#,
+            std::path::Path::new("<test>"),
+        )
+        .unwrap();
+        let at = |k: usize| {
+            Vec3::new(
+                (k % 8) as f32 * 3.0 - 12.0,
+                0.5,
+                (k / 8) as f32 * 3.0 - 12.0,
+            )
+        };
+        let aspect = 16.0 / 9.0;
+        scene.lights = (0..CROSSOVER - 1)
+            .map(|k| point(at(k), Some(1.0)))
             .collect();
-        assert!(!LightLoop::Auto.clustered(&few));
-        assert!(LightLoop::Clustered.clustered(&few));
-        let mut many = few.clone();
-        many.push(point(Vec3::ONE, Some(2.0)));
-        assert!(LightLoop::Auto.clustered(&many));
-        assert!(!LightLoop::Plain.clustered(&many));
-        let unranged: Vec<Light> = (0..100).map(|_| point(Vec3::ZERO, None)).collect();
-        assert!(!LightLoop::Auto.clustered(&unranged));
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        assert!(LightLoop::Clustered.clustered(&scene, aspect));
+        scene.lights.push(point(at(CROSSOVER), Some(1.0)));
+        assert!(LightLoop::Auto.clustered(&scene, aspect));
+        assert!(!LightLoop::Plain.clustered(&scene, aspect));
+        // Ranges that reach the whole view: nothing to cull.
+        for l in &mut scene.lights {
+            l.range = Some(100.0);
+        }
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        for l in &mut scene.lights {
+            l.range = None;
+        }
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
     }
 }

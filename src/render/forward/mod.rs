@@ -282,7 +282,7 @@ impl ForwardPass {
             path,
             light_loop,
         } = options;
-        let clustered = light_loop.clustered(&scene.lights);
+        let clustered = light_loop.clustered(scene, aspect);
         let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
             (Some(_), Some(e)) => Some(IblKey::from_env(e)),
