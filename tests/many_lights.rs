@@ -293,10 +293,15 @@ fn clusters_debug_view_shows_lights_per_fragment() {
                 let reach = ls.iter().filter(|l| (l.p - p).length() < l.range).count();
                 let listed = match light_loop {
                     LightLoop::Plain => ls.len(),
-                    _ => clusters.cells[clusters.grid.cluster_of(view.transform_point3(p))][1]
-                        as usize,
+                    _ => {
+                        clusters.cells[clusters.grid.cluster_of(view.transform_point3(p))][1]
+                            as usize
+                    }
                 };
-                assert!(listed >= reach, "pixel ({i}, {j}): {listed} listed, {reach} reach it");
+                assert!(
+                    listed >= reach,
+                    "pixel ({i}, {j}): {listed} listed, {reach} reach it"
+                );
                 if (got - heat(listed as f32)).abs().max_element() > 1e-4 {
                     off += 1;
                 }

@@ -24,7 +24,7 @@ use crate::scene::{Light, LightKind};
 
 /// Screen tiles in y (x follows the aspect ratio: square-ish tiles). 32 × 64 slices on
 /// plane1024 (docs/performance.md, "Many lights"): lighting 308 ms against 386 ms with 16 × 32
-/// and 272 ms with 48 × 128, whose assignment costs 3.5× the CPU time and 3.7× the indices.
+/// and 272 ms with 48 × 128, whose assignment costs 5.6× the CPU time and 3.7× the indices.
 pub const TILES_Y: u32 = 32;
 /// Most screen tiles in x (an aspect ratio beyond 4:1 gets wider tiles).
 pub const MAX_TILES_X: u32 = 128;
