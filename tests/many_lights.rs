@@ -314,3 +314,20 @@ fn clusters_debug_view_shows_lights_per_fragment() {
         );
     }
 }
+
+/// Flat and Gouraud shading light in the vertex stage over every light: with no Phong-shaded
+/// object the pass builds no clusters, and a forced clustered loop gives the plain loop's image.
+#[test]
+fn vertex_shading_keeps_the_plain_loop() {
+    let json: Vec<String> = lights().iter().take(200).map(light_json).collect();
+    let text = scene_json(&json, 1).replace(
+        r#""material": "m"}"#,
+        r#""material": "m", "shading": "gouraud"}"#,
+    );
+    assert!(text.contains("gouraud"));
+    let scene = parse(&text);
+    let (plain, _) = render_with(&scene, LightLoop::Plain, RenderPath::Auto);
+    let (forced, clustered) = render_with(&scene, LightLoop::Clustered, RenderPath::Auto);
+    assert!(!clustered, "no clusters without a Phong-shaded object");
+    assert_eq!(plain.pixels, forced.pixels);
+}

@@ -172,7 +172,7 @@ pub(super) fn build_draws(
                     terms: TermsKey::Generic,
                     maps: GENERIC_MAPS,
                     light_kinds: GENERIC_LIGHT_KINDS,
-                    clustered,
+                    clustered: clustered && obj.shading == Shading::Phong,
                 }
             } else {
                 VariantKey {
@@ -184,7 +184,8 @@ pub(super) fn build_draws(
                     terms,
                     maps: crate::render::material::map_bits(&named.textures),
                     light_kinds: gpu::light_kinds(&scene.lights),
-                    clustered,
+                    // Flat and Gouraud shade in the vertex stage, over every light.
+                    clustered: clustered && obj.shading == Shading::Phong,
                 }
             },
             push,

@@ -342,6 +342,8 @@ impl ForwardPass {
             &mut uploader,
         )?;
         uploader.flush(pool)?;
+        // Only Phong-shaded draws loop per fragment: without one, no clusters to build.
+        let clustered = draws.iter().any(|d| d.variant.clustered);
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
         let srgb_table = Buffer::with_data(
