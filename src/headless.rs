@@ -40,6 +40,8 @@ pub struct RenderOptions {
     pub progress: Option<crate::progress::ProgressSink>,
     /// Deferred lighting where the scene allows it, or always forward.
     pub render_path: crate::render::forward::RenderPath,
+    /// Plain or clustered light loop (or chosen from the scene's lights).
+    pub light_loop: crate::render::forward::LightLoop,
 }
 
 impl RenderOptions {
@@ -57,6 +59,7 @@ impl RenderOptions {
             generic_pipelines: false,
             progress: None,
             render_path: Default::default(),
+            light_loop: Default::default(),
         }
     }
 
@@ -67,6 +70,7 @@ impl RenderOptions {
             generic: self.generic_pipelines,
             output: crate::render::forward::Output::Hdr,
             path: self.render_path,
+            light_loop: self.light_loop,
         }
     }
 }
@@ -347,6 +351,11 @@ impl Headless {
     /// Per shadowed light: its maps, their memory and the casters drawn into each layer.
     pub fn shadow_maps(&self) -> Vec<crate::render::shadow::MapReport> {
         self.forward.shadow_maps().report()
+    }
+
+    /// Lights per cluster of the clustered light loop (`None`: the plain loop).
+    pub fn cluster_stats(&self) -> Option<crate::render::forward::ClusterStats> {
+        self.forward.cluster_stats()
     }
 
     /// "deferred" or "forward": how the scene is drawn ([`crate::render::forward::RenderPath`]).

@@ -225,6 +225,35 @@ fn with_diffuse(scene: &Scene, diffuse: Diffuse) -> Option<(Scene, String)> {
     Some((s, format!("{terms}/{}", diffuse.name())))
 }
 
+/// Radiance-cut thresholds of the `lights` group: each inverse-square point and spot light gets
+/// the range at which cutting it changes the irradiance anywhere by at most the threshold
+/// ([`crate::scene::range_for_threshold`]; the radiance by at most the BRDF's f·cos θ times that).
+pub const RANGE_THRESHOLDS: [f32; 4] = [1e-2, 1e-3, 1e-4, 1e-5];
+
+/// The scene with every inverse-square point and spot light given the range for `threshold`
+/// (`None`: every range removed); `None` when no light changes.
+fn with_ranges(scene: &Scene, threshold: Option<f32>) -> Option<Scene> {
+    use crate::scene::{Falloff, LightKind};
+    let mut s = scene.clone();
+    let mut changed = false;
+    for l in &mut s.lights {
+        if l.kind == LightKind::Directional {
+            continue;
+        }
+        let range = match threshold {
+            None => None,
+            Some(_) if l.falloff != Falloff::InverseSquare => continue,
+            Some(t) => crate::scene::range_for_threshold(l.intensity * l.color.max_element(), t),
+        };
+        if range.is_none() && threshold.is_some() {
+            continue;
+        }
+        changed |= l.range != range;
+        l.range = range;
+    }
+    changed.then_some(s)
+}
+
 /// Every variant of the lab that applies to `scene` (the scene as written comes first).
 pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
     let want = |g: &str| only.is_empty() || only.iter().any(|o| o == g);
@@ -294,6 +323,26 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
                 out.push(Variant {
                     group: "brdf",
                     label,
+                    scene: s,
+                });
+            }
+        }
+    }
+    // Light ranges: cheaper frames (clustered culling) against the error of the cut-off; the
+    // reference has no cut-off unless the scene sets one.
+    if want("lights") {
+        if let Some(s) = with_ranges(scene, None) {
+            out.push(Variant {
+                group: "lights",
+                label: "no ranges".into(),
+                scene: s,
+            });
+        }
+        for t in RANGE_THRESHOLDS {
+            if let Some(s) = with_ranges(scene, Some(t)) {
+                out.push(Variant {
+                    group: "lights",
+                    label: format!("ranges for {t:.0e}"),
                     scene: s,
                 });
             }
@@ -697,5 +746,35 @@ mod tests {
         assert_eq!(count("ibl"), 4 + IBL_SAMPLES.len());
         let only = variants(&scene, &["ibl".to_string()]);
         assert_eq!(only.len(), 1 + 4 + IBL_SAMPLES.len());
+        // No point lights: no light ranges to choose.
+        assert_eq!(count("lights"), 0);
+    }
+
+    /// lights256: one variant per threshold, ranges growing as the threshold falls, each the
+    /// cut-off bound of its intensity; a scene with ranges also gets them removed.
+    #[test]
+    fn lights_group_sets_ranges_per_threshold() {
+        let scene = crate::scene::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/bench/lights256.json"),
+        )
+        .unwrap();
+        let v = variants(&scene, &["lights".to_string()]);
+        let lights: Vec<&Variant> = v.iter().filter(|x| x.group == "lights").collect();
+        assert_eq!(lights.len(), RANGE_THRESHOLDS.len(), "no ranges to remove");
+        let mut last = 0.0;
+        for (x, t) in lights.iter().zip(RANGE_THRESHOLDS) {
+            let l = &x.scene.lights[0];
+            let r = l.range.expect("a range");
+            assert!(r > last, "{}: {r}", x.label);
+            last = r;
+            let i = l.intensity * l.color.max_element();
+            // The window's largest loss at this range is the threshold.
+            let loss = crate::scene::RANGE_CUT_ERROR * i / (r * r);
+            assert!((loss - t).abs() <= 1e-3 * t, "{}: {loss}", x.label);
+        }
+        let ranged = &lights[0].scene;
+        let back = variants(ranged, &["lights".to_string()]);
+        assert_eq!(back[1].label, "no ranges");
+        assert!(back[1].scene.lights.iter().all(|l| l.range.is_none()));
     }
 }

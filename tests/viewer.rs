@@ -261,3 +261,72 @@ fn a_hundred_resizes_then_a_thousand_frames_leave_nothing_behind() {
     assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
     assert!(out.contains("frames: 1205 shown"), "{out}");
 }
+
+/// Bulk add (issue 18): `add_lights=grid:256` adds 256 ranged point lights, the pass is rebuilt
+/// (clustered: the scene now has many ranged lights) and the window shows what a headless render
+/// of the saved scene shows.
+#[test]
+fn bulk_added_lights_show_in_the_window() {
+    let dir = scratch("bulk_lights");
+    let scene = dir.join("plane.json");
+    std::fs::write(
+        &scene,
+        r#"{
+        "camera": {"position": [0, 8, 10], "target": [0, 0, -1], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 100},
+        "output": {"width": 320, "height": 180, "background": [0, 0, 0], "tonemap": "khronos_neutral"},
+        "ambient": [0.02, 0.02, 0.02],
+        "lights": [{"type": "directional", "direction": [0, -1, 0], "intensity": 0.05}],
+        "materials": {"m": {"model": "lambert", "albedo": [0.8, 0.8, 0.8]}},
+        "objects": [{"mesh": {"type": "plane", "size": [16, 16]}, "material": "m"}]
+    }"#,
+    )
+    .unwrap();
+    let saved = dir.join("saved.json");
+    let shot = dir.join("shot.png");
+    let script = format!(
+        "1:panels=off;2:add_lights=grid:256;6:save={}",
+        saved.display()
+    );
+    let Some((code, out, err)) = luz_in_window(&[
+        "view",
+        scene.to_str().unwrap(),
+        "--frames",
+        "12",
+        "--script",
+        &script,
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]) else {
+        return;
+    };
+    assert_eq!(code, 0, "stdout: {out}\nstderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+    let s = luz::scene::load(&saved).unwrap();
+    assert_eq!(s.lights.len(), 257);
+    assert!(s.lights[1..].iter().all(|l| l.range.is_some()));
+    let reference = dir.join("reference.png");
+    let (code, rout, err) = luz(&[
+        "render",
+        saved.to_str().unwrap(),
+        "--verbose",
+        "-o",
+        reference.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(rout.contains("light loop: clustered"), "{rout}");
+    let shot = rgb(&shot);
+    let reference = rgb(&reference);
+    assert_eq!(shot.dimensions(), reference.dimensions());
+    // The left third above the bottom quarter: clear of the frame-time overlay (top right) and
+    // the "saved" message (bottom left).
+    let (w, h) = shot.dimensions();
+    let same = matching(&shot, &reference, (0, w / 3), h * 3 / 4, 2);
+    assert!(same > 0.97, "window and headless render differ: {same}");
+    // The lights made a difference (the plane under the directional light alone is dark).
+    let lit = shot
+        .pixels()
+        .filter(|p| p.0.iter().any(|&c| c > 60))
+        .count();
+    assert!(lit > (w * h / 4) as usize, "{lit} bright pixels");
+}

@@ -113,6 +113,21 @@ MaterialPushData material;
 #endif
 // Per object slot: its material's push constants and extra block, for the deferred lighting pass.
 #define BINDING_DEFERRED_MATERIALS 4
+// Clustered light culling (src/render/forward/clusters.rs): the grid and each cluster's
+// (base, count), then the light index list (lights without a range first, in every cluster).
+#define BINDING_CLUSTERS 5
+#define BINDING_CLUSTER_LIGHTS 6
+#ifdef LUZ_FRAGMENT
+layout(set = SET_FRAME, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters {
+    uvec4 cluster_dims;   // tiles x, tiles y, depth slices, lights in every cluster
+    vec4 cluster_xy;      // column = floor(x/d · x + y), row = floor(y/d · z + w); view space, d = −z
+    vec4 cluster_depth;   // slice = floor(ln d · x + y)
+    uvec2 clusters[];     // (base, count): light k is cluster_lights[k < always ? k : base + k]
+};
+layout(set = SET_FRAME, binding = BINDING_CLUSTER_LIGHTS, std430) readonly buffer ClusterLights {
+    uint cluster_lights[];
+};
+#endif
 
 // The material model (BRDF_MODEL_*), fixed per pipeline so the driver compiles only that model.
 layout(constant_id = 0) const int MODEL = BRDF_MODEL_BLINN_PHONG;
@@ -133,6 +148,7 @@ layout(constant_id = 7) const uint DEBUG_VIEW = 0u;
 #define DEBUG_VIEW_IRRADIANCE 11u
 #define DEBUG_VIEW_PREFILTERED 12u
 #define DEBUG_VIEW_NAN 13u
+#define DEBUG_VIEW_CLUSTERS 14u
 // The material's distribution, geometry and Fresnel selectors (BrdfParams.sel.yzw) fixed per
 // pipeline, so only the chosen terms are compiled; -1: read them from the push constants.
 layout(constant_id = 8) const int SEL_DISTRIBUTION = -1;
@@ -145,6 +161,9 @@ layout(constant_id = 12) const uint LIGHT_KINDS = 1023u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
+// The fragment stage loops over its cluster's lights only (Clusters above) instead of all of them;
+// the vertex stage (flat, Gouraud) always loops over all.
+layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_DIRECTIONAL 1u
 #define LK_POINT 2u
 #define LK_SPOT 4u

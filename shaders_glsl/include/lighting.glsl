@@ -170,6 +170,32 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 
+// The lights that may reach P: (base, count) of its cluster when CLUSTERED (fragment stage), else
+// (0, every light). The loop's k-th light is light_list_index(list, k).
+uvec2 light_list(vec3 P) {
+#ifdef LUZ_FRAGMENT
+    if (CLUSTERED) {
+        vec3 v = (frame.view * vec4(P, 1.0)).xyz;
+        float d = max(-v.z, 1e-6);
+        ivec3 c = ivec3(floor(vec3(v.x / d * cluster_xy.x + cluster_xy.y,
+                                   v.y / d * cluster_xy.z + cluster_xy.w,
+                                   log(d) * cluster_depth.x + cluster_depth.y)));
+        c = clamp(c, ivec3(0), ivec3(cluster_dims.xyz) - 1);
+        return clusters[(uint(c.z) * cluster_dims.y + uint(c.y)) * cluster_dims.x + uint(c.x)];
+    }
+#endif
+    return uvec2(0u, frame.counts.x);
+}
+
+uint light_list_index(uvec2 list, uint k) {
+#ifdef LUZ_FRAGMENT
+    if (CLUSTERED) {
+        return cluster_lights[k < cluster_dims.w ? k : list.x + k];
+    }
+#endif
+    return k;
+}
+
 // Outgoing value at P (world space) with unit normal N, tangent frame (X, Y) and texture
 // coordinates uv: ambient plus every light, each through the CPU reference's mirror brdf_radiance,
 // plus the environment (IBL) and emission.
@@ -193,6 +219,11 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
         if (DEBUG_VIEW == DEBUG_VIEW_DIFFUSE) return t.diffuse;
         return t.specular;
     }
+    if (DEBUG_VIEW == DEBUG_VIEW_CLUSTERS) {
+        // Blue (no light) through green (32) to red (64 or more).
+        float t = clamp(float(light_list(P).y) / 64.0, 0.0, 1.0);
+        return vec3(clamp(2.0 * t - 1.0, 0.0, 1.0), 1.0 - abs(2.0 * t - 1.0), clamp(1.0 - 2.0 * t, 0.0, 1.0));
+    }
 #ifdef IBL
     if (DEBUG_VIEW == DEBUG_VIEW_IRRADIANCE) return env_irradiance(s.n) / M_PI;
     if (DEBUG_VIEW == DEBUG_VIEW_PREFILTERED) {
@@ -211,8 +242,9 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         return debug_value(s, P, V);
     }
     vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);
-    uint count = frame.counts.x;
-    for (uint i = 0u; i < count; ++i) {
+    uvec2 cluster = light_list(P);
+    for (uint k = 0u; k < cluster.y; ++k) {
+        uint i = light_list_index(cluster, k);
         vec3 l;
         vec3 E;
         light_incidence(lights[i], P, l, E);

@@ -11,8 +11,8 @@ use luz::render::forward::{DebugView, Output};
 use luz::vk::Context;
 
 use super::common::{
-    context, debug_view_parser, load_scene, print_timing, render_options, report_tessellation,
-    validation_exit, Bar, GpuArgs, IblQuality, RenderPathArg,
+    context, debug_view_parser, light_loop_line, load_scene, print_timing, render_options,
+    report_tessellation, validation_exit, Bar, GpuArgs, IblQuality, LightLoopArg, RenderPathArg,
 };
 
 #[derive(Args, Debug)]
@@ -58,6 +58,11 @@ pub struct BenchArgs {
     /// otherwise. "forward": always forward (for comparisons).
     #[arg(long, value_enum, default_value_t = RenderPathArg::Auto)]
     pub render_path: RenderPathArg,
+    /// How the fragment stage loops over lights: "auto" (clustered with 4 or more lights with
+    /// a range when the clusters cull them, else plain), "plain" or "clustered" (see
+    /// `luz render --help`).
+    #[arg(long, value_enum, default_value_t = LightLoopArg::Auto)]
+    pub light_loop: LightLoopArg,
     /// Sample resident memory and GPU allocations every N frames (a soak: they must stay flat);
     /// default: a tenth of --frames.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -123,6 +128,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         &scene,
         &luz::headless::RenderOptions {
             render_path: a.render_path.path(),
+            light_loop: a.light_loop.light_loop(),
             ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
         },
     )?;
@@ -167,6 +173,8 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             ),
         }
     );
+    let clusters = renderer.cluster_stats();
+    println!("{}", light_loop_line(clusters));
     let report = TimingReport::of(&frames);
     print_timing(&report);
     let wall: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
@@ -247,6 +255,10 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "triangles": renderer.triangle_count(),
             "lights": scene.lights.len(),
             "render_path": renderer.render_path(),
+            "light_loop": if clusters.is_some() { "clustered" } else { "plain" },
+            "cluster_build_ms": clusters.map(|c| c.build_ms),
+            "cluster_lights_max": clusters.map(|c| c.max),
+            "cluster_lights_mean": clusters.map(|c| c.mean),
             "output": match output { Output::Hdr => "hdr", Output::Display { .. } => "display" },
             "cpu_ms": report.cpu,
             "gpu_total_ms": report.gpu_total,

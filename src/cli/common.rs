@@ -284,6 +284,50 @@ impl RenderPathArg {
     }
 }
 
+/// `--light-loop` values (`luz render`, `luz bench`): how the fragment stage loops over lights.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightLoopArg {
+    /// Clustered with enough ranged lights that the clusters cull (render::forward::clusters::
+    /// CROSSOVER, MAX_LISTED_FRACTION), else plain.
+    Auto,
+    /// Every light at every fragment.
+    Plain,
+    /// Only the lights of the fragment's cluster (screen tiles x depth slices).
+    Clustered,
+}
+
+impl LightLoopArg {
+    pub fn light_loop(self) -> luz::render::forward::LightLoop {
+        use luz::render::forward::LightLoop;
+        match self {
+            LightLoopArg::Auto => LightLoop::Auto,
+            LightLoopArg::Plain => LightLoop::Plain,
+            LightLoopArg::Clustered => LightLoop::Clustered,
+        }
+    }
+}
+
+/// One line on the light loop: plain, or the clusters' grid and lights per cluster.
+pub fn light_loop_line(stats: Option<luz::render::forward::ClusterStats>) -> String {
+    match stats {
+        None => "light loop: plain (every light at every fragment)".to_string(),
+        Some(s) => format!(
+            "light loop: clustered, {}x{} tiles x {} slices, lights per cluster max {} mean {:.2} \
+             (over clusters with a ranged light {:.2}; {} in every cluster), {} indices, \
+             assigned on the CPU in {:.2} ms",
+            s.tiles_x,
+            s.tiles_y,
+            s.slices,
+            s.max,
+            s.mean,
+            s.mean_occupied,
+            s.always,
+            s.indices,
+            s.build_ms
+        ),
+    }
+}
+
 /// A tolerance given on the command line: a limit, or `none` (the check is off).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Check<T> {

@@ -11,8 +11,9 @@ use luz::headless::{Headless, TimingReport};
 use luz::render::forward::DebugView;
 
 use super::common::{
-    check_output, context, debug_view_parser, load_scene, print_timing, render_options,
-    report_tessellation, report_written, validation_exit, GpuArgs, IblQuality,
+    check_output, context, debug_view_parser, light_loop_line, load_scene, print_timing,
+    render_options, report_tessellation, report_written, validation_exit, GpuArgs, IblQuality,
+    LightLoopArg,
 };
 
 #[derive(Args, Debug)]
@@ -48,6 +49,10 @@ pub struct RenderArgs {
     /// Show one quantity instead of the shaded radiance (BRDF terms are for the first light).
     #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
     pub debug_view: DebugView,
+    /// How the fragment stage loops over lights: "auto" (clustered with 4 or more lights with
+    /// a range when the clusters cull them, else plain), "plain" (every light everywhere) or "clustered" (the fragment's cluster only).
+    #[arg(long, value_enum, default_value_t = LightLoopArg::Auto)]
+    pub light_loop: LightLoopArg,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -62,7 +67,10 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
-        &render_options(a.no_cache, a.ibl_quality, a.debug_view),
+        &luz::headless::RenderOptions {
+            light_loop: a.light_loop.light_loop(),
+            ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
+        },
     )?;
     if a.verbose {
         println!("pipeline variants built:");
@@ -82,6 +90,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                 println!("  {}", m.describe(kernel));
             }
         }
+        println!("{}", light_loop_line(renderer.cluster_stats()));
     }
     report_tessellation(&scene, a.verbose);
     if let Some(t) = renderer.ibl_times() {

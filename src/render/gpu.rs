@@ -16,6 +16,9 @@ pub const BINDING_LIGHTS: u32 = b::BINDING_LIGHTS as u32;
 pub const BINDING_OBJECTS: u32 = b::BINDING_OBJECTS as u32;
 pub const BINDING_SRGB_TABLE: u32 = b::BINDING_SRGB_TABLE as u32;
 pub const BINDING_DEFERRED_MATERIALS: u32 = b::BINDING_DEFERRED_MATERIALS as u32;
+/// Clustered light culling: the grid and clusters, and the light index list.
+pub const BINDING_CLUSTERS: u32 = b::BINDING_CLUSTERS as u32;
+pub const BINDING_CLUSTER_LIGHTS: u32 = b::BINDING_CLUSTER_LIGHTS as u32;
 /// The environment's set (`shaders_glsl/include/ibl.glsl`).
 pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
 /// The material maps' set.
@@ -54,6 +57,8 @@ pub const SPEC_OUTPUT_TONEMAP: u32 = glsl::include_output::SPEC_OUTPUT_TONEMAP;
 pub const SPEC_OUTPUT_CLAMP: u32 = glsl::include_output::SPEC_OUTPUT_CLAMP;
 /// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`material_key`]).
 pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
+/// `CLUSTERED`: the fragment stage loops over its cluster's lights only.
+pub const SPEC_CLUSTERED: u32 = b::SPEC_CLUSTERED;
 /// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
 pub const LK_DIRECTIONAL: u32 = b::LK_DIRECTIONAL;
 pub const LK_POINT: u32 = b::LK_POINT;
@@ -332,6 +337,10 @@ mod tests {
             super::SPEC_MAPS,
             super::SPEC_LIGHT_KINDS,
             super::SPEC_SEL_DIFFUSE,
+            super::SPEC_OUTPUT,
+            super::SPEC_OUTPUT_TONEMAP,
+            super::SPEC_OUTPUT_CLAMP,
+            super::SPEC_CLUSTERED,
         ];
         let mut sorted = ids.to_vec();
         sorted.sort();

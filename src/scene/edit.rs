@@ -62,6 +62,85 @@ pub fn default_light(kind: LightKind, bounds: Option<(Vec3, Vec3)>) -> Light {
     }
 }
 
+/// How [`light_field`] places its lights over the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightField {
+    /// A square grid, row by row.
+    Grid,
+    /// Uniformly at random (a fixed seed: the same field every time).
+    Random,
+}
+
+impl LightField {
+    pub fn name(self) -> &'static str {
+        match self {
+            LightField::Grid => "grid",
+            LightField::Random => "random",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        [LightField::Grid, LightField::Random]
+            .into_iter()
+            .find(|f| f.name().eq_ignore_ascii_case(name))
+    }
+}
+
+/// `n` coloured inverse-square point lights with a range, spread over the horizontal extent of
+/// `bounds` (the objects' box; a 2 m square without) a little above its bottom: the viewer's bulk
+/// add, for many-light scenes. With spacing s between neighbours (grid: the extent over ⌈√n⌉; the
+/// same mean spacing at random), each has intensity s² / 2 (irradiance 0.5 at distance s) and
+/// range 2 s, so a point is lit by about a dozen lights.
+pub fn light_field(field: LightField, n: usize, bounds: Option<(Vec3, Vec3)>) -> Vec<Light> {
+    let (lo, hi) = bounds.unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
+    let (lo, hi) = if lo.is_finite() && hi.is_finite() {
+        (lo, hi)
+    } else {
+        (Vec3::splat(-1.0), Vec3::splat(1.0))
+    };
+    let size = (hi - lo).max(Vec3::splat(1e-3));
+    let side = (n as f64).sqrt().ceil().max(1.0) as usize;
+    let spacing = (size.x.max(size.z) / side as f32).max(1e-3);
+    let y = lo.y + 0.1 * size.y + 0.25 * spacing;
+    let mut seed = 0x1ce_5eedu64;
+    let mut rand = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    };
+    (0..n)
+        .map(|k| {
+            let (u, v) = match field {
+                LightField::Grid => (
+                    ((k % side) as f32 + 0.5) / side as f32,
+                    ((k / side) as f32 + 0.5) / side as f32,
+                ),
+                LightField::Random => (rand(), rand()),
+            };
+            // Hues around the colour wheel (golden-ratio steps), saturated but light.
+            let h = (k as f32 * 0.618_034).fract() * 6.0;
+            let c = |o: f32| (((h + o) % 6.0 - 3.0).abs() - 1.0).clamp(0.0, 1.0);
+            let color = Vec3::new(c(0.0), c(4.0), c(2.0)) * 0.7 + 0.3;
+            Light {
+                kind: LightKind::Point,
+                direction: Vec3::NEG_Y,
+                position: Vec3::new(lo.x + u * size.x, y, lo.z + v * size.z),
+                color,
+                intensity: 0.5 * spacing * spacing,
+                falloff: Falloff::InverseSquare,
+                umbra_deg: 180.0,
+                inner_deg: None,
+                exponent: 0.0,
+                range: Some(2.0 * spacing),
+                shadow: None,
+                radius: 0.0,
+                angular_radius_deg: 0.0,
+            }
+        })
+        .collect()
+}
+
 /// Changes a light's kind, keeping what carries over and resetting what the new kind fixes
 /// (the decoder's values: point lights point down, non-spots have umbra 180°, no inner cone and
 /// exponent 0, directional lights have no falloff and no range).
@@ -161,6 +240,42 @@ pub fn fix_cook_torrance(p: &mut CookTorranceParams) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A field of n lights: n ranged point lights inside the bounds' horizontal extent, above
+    /// the bottom; the grid evenly spaced, the random field the same every call; valid lights.
+    #[test]
+    fn light_fields_cover_the_bounds() {
+        let bounds = Some((Vec3::new(-16.0, 0.0, -10.0), Vec3::new(16.0, 2.0, 10.0)));
+        for field in [LightField::Grid, LightField::Random] {
+            assert_eq!(LightField::from_name(field.name()), Some(field));
+            let l = light_field(field, 256, bounds);
+            assert_eq!(l.len(), 256);
+            assert_eq!(light_field(field, 256, bounds), l, "deterministic");
+            for x in &l {
+                assert_eq!(x.kind, LightKind::Point);
+                let p = x.position;
+                assert!(
+                    (-16.0..=16.0).contains(&p.x) && (-10.0..=10.0).contains(&p.z),
+                    "{p}"
+                );
+                assert!(p.y > 0.0 && p.y < 2.0, "{p}");
+                let r = x.range.unwrap();
+                assert!(
+                    (r - 4.0).abs() < 1e-5,
+                    "spacing 32 / 16 = 2 m, range 4 m: {r}"
+                );
+                assert!(x.intensity > 0.0 && x.color.min_element() >= 0.3);
+            }
+            let distinct: std::collections::BTreeSet<(i32, i32)> = l
+                .iter()
+                .map(|x| ((x.position.x * 100.0) as i32, (x.position.z * 100.0) as i32))
+                .collect();
+            assert_eq!(distinct.len(), 256);
+        }
+        assert!(light_field(LightField::Grid, 0, None).is_empty());
+        assert_eq!(light_field(LightField::Grid, 5, None).len(), 5);
+        assert_eq!(LightField::from_name("spiral"), None);
+    }
     use crate::brdf::{MetalRoughParams, PrincipledParams};
 
     /// The decoder's rules for a light (src/scene/decode.rs `light`).

@@ -28,7 +28,13 @@ pub enum Action {
     Open(PathBuf),
     /// Save the scene (with the current camera) as JSON.
     Save(PathBuf),
+    /// Add N ranged point lights over the scene (`scene::edit::light_field`), as the lights
+    /// panel's "Add many" does.
+    AddLights(crate::scene::edit::LightField, u32),
 }
+
+/// The most lights one `add_lights` (or the panel's "Add many") adds.
+pub const MAX_ADDED_LIGHTS: u32 = 65_536;
 
 /// `FRAME:ACTION;FRAME:ACTION;…` → (frame, action) sorted by frame (stable).
 pub fn parse(text: &str) -> Result<Vec<(u64, Action)>> {
@@ -125,9 +131,25 @@ fn parse_action(a: &str) -> Result<Action> {
         "screenshot" => Action::Screenshot(PathBuf::from(need()?)),
         "open" => Action::Open(PathBuf::from(need()?)),
         "save" => Action::Save(PathBuf::from(need()?)),
+        "add_lights" => {
+            let v = need()?;
+            let parsed = v.split_once(':').and_then(|(f, n)| {
+                Some((
+                    crate::scene::edit::LightField::from_name(f.trim())?,
+                    n.trim()
+                        .parse::<u32>()
+                        .ok()
+                        .filter(|&n| n <= MAX_ADDED_LIGHTS)?,
+                ))
+            });
+            let (field, n) = parsed.ok_or_else(|| {
+                anyhow!("add_lights={v}: expected grid:N or random:N, N at most {MAX_ADDED_LIGHTS}")
+            })?;
+            Action::AddLights(field, n)
+        }
         other => bail!(
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
-             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save)"
+             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights)"
         ),
     })
 }
@@ -140,16 +162,20 @@ mod tests {
     fn parses_every_action() {
         let s = parse(
             "20:exposure=1.5; 10:resize=800x600;30:tonemap=agx;31:panels=off;32:orbit=10,-5;\
-             33:minimize;34:restore;35:debug_view=normal;36:screenshot=a.png;37:vsync=on",
+             33:minimize;34:restore;35:debug_view=normal;36:screenshot=a.png;37:vsync=on;\
+             38:add_lights=grid:256;39:add_lights=random:8",
         )
         .unwrap();
+        use crate::scene::edit::LightField;
+        assert_eq!(s[10], (38, Action::AddLights(LightField::Grid, 256)));
+        assert_eq!(s[11], (39, Action::AddLights(LightField::Random, 8)));
         assert_eq!(s[0], (10, Action::Resize(800, 600)));
         assert_eq!(s[1], (20, Action::Exposure(1.5)));
         assert_eq!(s[2], (30, Action::Tonemap(Tonemap::Agx)));
         assert_eq!(s[3], (31, Action::Panels(false)));
         assert_eq!(s[4], (32, Action::Orbit(10.0, -5.0)));
         assert_eq!(s[7], (35, Action::DebugView(DebugView::Normal)));
-        assert_eq!(s.len(), 10);
+        assert_eq!(s.len(), 12);
     }
 
     #[test]
@@ -163,6 +189,9 @@ mod tests {
             ("1:fly", "unknown action"),
             ("1:panels=maybe", "not on or off"),
             ("1:resize=99999x10", "larger than"),
+            ("1:add_lights=spiral:4", "grid:N or random:N"),
+            ("1:add_lights=grid:-1", "grid:N or random:N"),
+            ("1:add_lights=grid:99999999", "at most 65536"),
         ] {
             let e = parse(bad).unwrap_err().to_string();
             assert!(e.contains(needle), "{bad}: {e}");

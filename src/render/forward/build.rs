@@ -1,6 +1,7 @@
 //! Building the forward pass's data: the frame set layout, the draws and the meshes they upload,
 //! the per-slot buffers and descriptor sets, and the LUT layers the materials need.
 
+use super::clusters::{ClusterHeader, Clusters};
 use super::*;
 
 /// `count` elements of `T` in one storage buffer bound whole (`field`: the scene's array):
@@ -19,7 +20,7 @@ pub(super) fn storage_fits<T>(
 }
 
 /// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table, the
-/// deferred path's materials (`bindings.glsl`, set 0).
+/// deferred path's materials, the light clusters and their index list (`bindings.glsl`, set 0).
 pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
     let binding = |binding, ty, stages| {
         vk::DescriptorSetLayoutBinding::default()
@@ -39,6 +40,8 @@ pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout
         binding(gpu::BINDING_OBJECTS, storage, STAGES),
         binding(gpu::BINDING_SRGB_TABLE, storage, fragment),
         binding(gpu::BINDING_DEFERRED_MATERIALS, storage, fragment),
+        binding(gpu::BINDING_CLUSTERS, storage, fragment),
+        binding(gpu::BINDING_CLUSTER_LIGHTS, storage, fragment),
     ];
     DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
 }
@@ -60,7 +63,7 @@ pub(super) fn build_draws(
     ibl: Option<&Ibl>,
     ibl_key: Option<IblKey>,
     debug: DebugView,
-    generic: bool,
+    (generic, clustered): (bool, bool),
     limits: &crate::vk::Limits,
     uploader: &mut Uploader,
 ) -> Result<Draws, VkError> {
@@ -170,6 +173,7 @@ pub(super) fn build_draws(
                     terms: TermsKey::Generic,
                     maps: GENERIC_MAPS,
                     light_kinds: GENERIC_LIGHT_KINDS,
+                    clustered: clustered && obj.shading == Shading::Phong,
                 }
             } else {
                 VariantKey {
@@ -181,6 +185,8 @@ pub(super) fn build_draws(
                     terms,
                     maps: crate::render::material::map_bits(&named.textures),
                     light_kinds: gpu::light_kinds(&scene.lights),
+                    // Flat and Gouraud shade in the vertex stage, over every light.
+                    clustered: clustered && obj.shading == Shading::Phong,
                 }
             },
             push,
@@ -224,7 +230,7 @@ impl Slot {
         pool: &DescriptorPool,
         layout: &DescriptorSetLayout,
         index: usize,
-        (light_count, object_count): (usize, usize),
+        (light_count, object_count, cells): (usize, usize, usize),
         srgb_table: &Buffer,
     ) -> Result<Self, VkError> {
         let buffer = |name: &str, size: usize, usage| {
@@ -264,12 +270,24 @@ impl Slot {
             object_count * std::mem::size_of::<gpu::DeferredMaterial>(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
+        let clusters = buffer(
+            "light clusters",
+            std::mem::size_of::<ClusterHeader>() + cells.max(1) * 8,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let cluster_lights = buffer(
+            "cluster light indices",
+            4,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         let infos = [
             info(&frame_ubo),
             info(&lights),
             info(&objects),
             info(srgb_table),
             info(&deferred_materials),
+            info(&clusters),
+            info(&cluster_lights),
         ];
         let writes = [
             (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
@@ -278,6 +296,11 @@ impl Slot {
             (gpu::BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
             (
                 gpu::BINDING_DEFERRED_MATERIALS,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            (gpu::BINDING_CLUSTERS, vk::DescriptorType::STORAGE_BUFFER),
+            (
+                gpu::BINDING_CLUSTER_LIGHTS,
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
         ]
@@ -299,8 +322,68 @@ impl Slot {
             lights,
             objects,
             deferred_materials,
+            clusters,
+            cluster_lights,
             set,
             visible: Vec::new(),
         })
+    }
+
+    /// Writes `c` into the slot's cluster buffers, growing the index list (a new buffer, the set
+    /// rewritten) when it does not fit. The slot must not be in use by the GPU.
+    pub(super) fn write_clusters(
+        &mut self,
+        ctx: &Arc<Context>,
+        index: usize,
+        c: &Clusters,
+    ) -> Result<(), VkError> {
+        let header = std::mem::size_of::<ClusterHeader>();
+        let sizes = [
+            (header + c.cells.len() * 8) as u64,
+            (c.indices.len().max(1) * 4) as u64,
+        ];
+        for (which, bytes) in sizes.into_iter().enumerate() {
+            let (buffer, name, binding) = if which == 0 {
+                (&mut self.clusters, "light clusters", gpu::BINDING_CLUSTERS)
+            } else {
+                (
+                    &mut self.cluster_lights,
+                    "cluster light indices",
+                    gpu::BINDING_CLUSTER_LIGHTS,
+                )
+            };
+            if bytes <= buffer.size {
+                continue;
+            }
+            *buffer = Buffer::new(
+                ctx,
+                &format!("{name} (slot {index})"),
+                bytes.next_power_of_two(),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?;
+            let info = [vk::DescriptorBufferInfo {
+                buffer: buffer.raw,
+                offset: 0,
+                range: vk::WHOLE_SIZE,
+            }];
+            let write = vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .buffer_info(&info);
+            // SAFETY: the slot (and so its set) is not in use by any pending command buffer (the
+            // caller's contract); the new buffer is live, a storage buffer, kept in the slot as
+            // long as the set refers to it; `info` outlives the call.
+            unsafe { ctx.device.update_descriptor_sets(&[write], &[]) };
+        }
+        self.clusters.write(0, bytemuck::bytes_of(&c.header))?;
+        self.clusters
+            .write(header as u64, bytemuck::cast_slice(&c.cells))?;
+        if !c.indices.is_empty() {
+            self.cluster_lights
+                .write(0, bytemuck::cast_slice(&c.indices))?;
+        }
+        Ok(())
     }
 }

@@ -20,12 +20,14 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, Pipelin
 use crate::vk::{Buffer, Context, VkError};
 
 mod build;
+pub mod clusters;
 mod deferred;
 pub(crate) mod frustum;
 mod variant;
 
 use build::{build_draws, frame_set_layout, storage_fits, Draws};
 pub use build::{lut_geometries, lut_geometry};
+pub use clusters::{ClusterStats, LightLoop};
 
 pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};
 
@@ -70,6 +72,8 @@ pub struct PassOptions {
     pub output: Output,
     /// Deferred lighting where the scene allows it, or always forward.
     pub path: RenderPath,
+    /// Plain or clustered light loop in the fragment stage (or chosen from the scene's lights).
+    pub light_loop: LightLoop,
 }
 
 impl Default for PassOptions {
@@ -80,6 +84,7 @@ impl Default for PassOptions {
             generic: false,
             output: Output::Hdr,
             path: RenderPath::Auto,
+            light_loop: LightLoop::Auto,
         }
     }
 }
@@ -187,6 +192,9 @@ struct Slot {
     objects: Buffer,
     /// Per object slot: its material ([`gpu::DeferredMaterial`]), read by the deferred path.
     deferred_materials: Buffer,
+    /// The light clusters of the slot's camera ([`clusters`]; a stub when the loop is plain).
+    clusters: Buffer,
+    cluster_lights: Buffer,
     set: vk::DescriptorSet,
     /// Per draw: whether its bounding sphere meets the view volume of the slot's camera.
     visible: Vec<bool>,
@@ -209,6 +217,9 @@ pub struct ForwardPass {
     background: glam::Vec3,
     exposure: f32,
     light_count: u32,
+    /// The fragment stage culls lights by clusters; the last assignment's figures.
+    clustered: bool,
+    cluster_stats: Option<ClusterStats>,
     variant_debug: DebugView,
     /// The environment is drawn as the background: one pipeline per output.
     has_skybox: bool,
@@ -272,7 +283,9 @@ impl ForwardPass {
             generic,
             output,
             path,
+            light_loop,
         } = options;
+        let clustered = light_loop.clustered(scene, aspect);
         let slot_count = slots.max(1);
         let ibl_key = match (ibl, &scene.environment) {
             (Some(_), Some(e)) => Some(IblKey::from_env(e)),
@@ -310,7 +323,7 @@ impl ForwardPass {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 4 * n,
+                descriptor_count: 6 * n,
             },
         ];
         let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
@@ -329,8 +342,18 @@ impl ForwardPass {
             objects,
             draws,
             object_slots,
-        } = build_draws(scene, ibl, ibl_key, debug, generic, &limits, &mut uploader)?;
+        } = build_draws(
+            scene,
+            ibl,
+            ibl_key,
+            debug,
+            (generic, clustered),
+            &limits,
+            &mut uploader,
+        )?;
         uploader.flush(pool)?;
+        // Only Phong-shaded draws loop per fragment: without one, no clusters to build.
+        let clustered = draws.iter().any(|d| d.variant.clustered);
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
         let srgb_table = Buffer::with_data(
@@ -346,7 +369,15 @@ impl ForwardPass {
                 &desc_pool,
                 &set_layout,
                 i,
-                (light_count, object_count),
+                (
+                    light_count,
+                    object_count,
+                    if clustered {
+                        clusters::Grid::of(scene, aspect).cells()
+                    } else {
+                        1
+                    },
+                ),
                 &srgb_table,
             )?);
         }
@@ -385,6 +416,8 @@ impl ForwardPass {
             background: scene.output.background,
             exposure: scene.output.exposure,
             light_count: lights.len() as u32,
+            clustered,
+            cluster_stats: None,
             variant_debug: debug,
             has_skybox,
             skyboxes: BTreeMap::new(),
@@ -496,6 +529,7 @@ impl ForwardPass {
         let visible = self.visibility(scene, aspect);
         self.slots[slot].visible = visible;
         self.update_shadows(slot, scene, aspect)?;
+        self.write_clusters(slot, scene, aspect)?;
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
@@ -552,6 +586,7 @@ impl ForwardPass {
         }
         for slot in 0..self.slots.len() {
             self.update_shadows(slot, scene, aspect)?;
+            self.write_clusters(slot, scene, aspect)?;
         }
         Ok(())
     }
@@ -601,6 +636,24 @@ impl ForwardPass {
     /// The shadow maps (`luz render --verbose`, the viewer's debug view).
     pub fn shadow_maps(&self) -> &ShadowMaps {
         &self.shadows
+    }
+
+    /// Assigns the scene's lights to the clusters of its camera at `aspect` and writes them into
+    /// slot `slot` (nothing when the light loop is plain).
+    fn write_clusters(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        if !self.clustered {
+            return Ok(());
+        }
+        let grid = clusters::Grid::of(scene, aspect);
+        let c = clusters::build(&grid, scene.camera.view(), &scene.lights);
+        self.slots[slot].write_clusters(&self.ctx, slot, &c)?;
+        self.cluster_stats = Some(c.stats);
+        Ok(())
+    }
+
+    /// The light clusters' figures of the last assignment (`None`: the plain loop).
+    pub fn cluster_stats(&self) -> Option<ClusterStats> {
+        self.cluster_stats
     }
 
     /// The debug view the pipelines were built with.

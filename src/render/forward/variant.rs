@@ -49,11 +49,14 @@ pub enum DebugView {
     Prefiltered,
     /// The shaded radiance with NaN and Inf pixels in magenta.
     Nan,
+    /// Lights the fragment loops over (its cluster's, or all with the plain loop) as a heat map:
+    /// blue (none) through green to red (64 or more).
+    Clusters,
 }
 
 impl DebugView {
     /// Every view, in code order.
-    pub const ALL: [DebugView; 14] = [
+    pub const ALL: [DebugView; 15] = [
         DebugView::None,
         DebugView::BaseColor,
         DebugView::Normal,
@@ -68,6 +71,7 @@ impl DebugView {
         DebugView::Irradiance,
         DebugView::Prefiltered,
         DebugView::Nan,
+        DebugView::Clusters,
     ];
 
     /// The name on the command line, in scripts and in the viewer.
@@ -87,6 +91,7 @@ impl DebugView {
             DebugView::Irradiance => "irradiance",
             DebugView::Prefiltered => "prefiltered",
             DebugView::Nan => "nan",
+            DebugView::Clusters => "clusters",
         }
     }
 
@@ -116,6 +121,9 @@ impl DebugView {
                 "the prefiltered environment along the reflection at the material's roughness"
             }
             DebugView::Nan => "the shaded radiance with NaN and Inf pixels in magenta",
+            DebugView::Clusters => {
+                "lights looped over per fragment (its cluster's), blue 0 to red 64 or more"
+            }
         }
     }
 
@@ -137,6 +145,7 @@ impl DebugView {
             DebugView::Irradiance => glsl::DEBUG_VIEW_IRRADIANCE,
             DebugView::Prefiltered => glsl::DEBUG_VIEW_PREFILTERED,
             DebugView::Nan => glsl::DEBUG_VIEW_NAN,
+            DebugView::Clusters => glsl::DEBUG_VIEW_CLUSTERS,
         }
     }
 }
@@ -156,6 +165,8 @@ pub struct VariantKey {
     pub maps: u32,
     /// The scene's light types and falloffs (`gpu::LK_*` bits).
     pub light_kinds: u32,
+    /// The fragment stage loops over its cluster's lights only (`CLUSTERED`).
+    pub clustered: bool,
 }
 
 impl VariantKey {
@@ -315,6 +326,9 @@ impl std::fmt::Display for VariantKey {
                 write!(f, ", energy_compensation")?;
             }
         }
+        if self.clustered {
+            write!(f, ", clustered")?;
+        }
         if self.debug != DebugView::None {
             write!(f, ", debug={:?}", self.debug)?;
         }
@@ -434,6 +448,7 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         (gpu::SPEC_SEL_DIFFUSE, sel[3] as u32),
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
+        (gpu::SPEC_CLUSTERED, v.clustered as u32),
     ];
     if let Some(i) = v.ibl {
         spec.extend([

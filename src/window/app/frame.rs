@@ -34,6 +34,11 @@ impl Viewer {
                 Action::Screenshot(p) => self.pending_screenshot = Some(p),
                 Action::Open(p) => self.open_path(&p),
                 Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
+                Action::AddLights(field, n) => {
+                    let bounds = self.scene.bounds();
+                    let lights = crate::scene::edit::light_field(field, n as usize, bounds);
+                    self.scene.lights.extend(lights);
+                }
             }
         }
         Ok(())

@@ -631,6 +631,7 @@ fn pass_options(
         generic: false,
         output,
         path,
+        light_loop: Default::default(),
     }
 }
 

@@ -13,6 +13,9 @@ pub(super) fn kind_name(k: LightKind) -> &'static str {
     }
 }
 
+/// Lights listed in the panel, one row each.
+const SHOWN_LIGHTS: usize = 64;
+
 pub(super) fn lights_ui(ui: &mut Ui, scene: &mut Scene, expand_all: bool, out: &mut Out) {
     ui.horizontal(|ui| {
         ui.label("Add");
@@ -23,11 +26,42 @@ pub(super) fn lights_ui(ui: &mut Ui, scene: &mut Scene, expand_all: bool, out: &
             }
         }
     });
+    // Many lights at once: a grid or random field of ranged point lights
+    // (scene::edit::light_field), and removing them all.
+    ui.horizontal(|ui| {
+        ui.label("Add many");
+        let id = ui.id().with("luz_add_many");
+        let mut n = ui.data_mut(|d| *d.get_temp_mut_or(id, 256u32));
+        ui.add(
+            egui::DragValue::new(&mut n)
+                .range(1..=crate::window::script::MAX_ADDED_LIGHTS)
+                .speed(4.0),
+        );
+        ui.data_mut(|d| d.insert_temp(id, n));
+        for field in [LightField::Grid, LightField::Random] {
+            if ui.button(field.name()).clicked() {
+                let bounds = scene.bounds();
+                scene.lights.extend(light_field(field, n as usize, bounds));
+                out.edit(true);
+            }
+        }
+        if !scene.lights.is_empty() && ui.button("Remove all").clicked() {
+            scene.lights.clear();
+            out.edit(true);
+        }
+    });
     if scene.lights.is_empty() {
         ui.label("No lights.");
     }
     let mut remove = None;
-    for (i, light) in scene.lights.iter_mut().enumerate() {
+    // A panel row per light for the first SHOWN_LIGHTS (thousands of rows would cost every frame).
+    if scene.lights.len() > SHOWN_LIGHTS {
+        ui.label(format!(
+            "{} lights; the first {SHOWN_LIGHTS} are listed",
+            scene.lights.len()
+        ));
+    }
+    for (i, light) in scene.lights.iter_mut().enumerate().take(SHOWN_LIGHTS) {
         ui.push_id(("luz_light", i), |ui| {
             CollapsingHeader::new(format!("Light {i}: {}", kind_name(light.kind)))
                 .id_salt(("luz_light_header", i))

@@ -33,7 +33,7 @@ use crate::scene::{
 pub use crate::scene::edit::{
     default_light, default_material, fix_cook_torrance, set_light_kind, set_material_model,
 };
-use crate::scene::edit::{fog_gap, unit_vec};
+use crate::scene::edit::{fog_gap, light_field, unit_vec, LightField};
 
 /// Viewer settings that are not part of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
