@@ -149,6 +149,8 @@ layout(constant_id = 7) const uint DEBUG_VIEW = 0u;
 #define DEBUG_VIEW_PREFILTERED 12u
 #define DEBUG_VIEW_NAN 13u
 #define DEBUG_VIEW_CLUSTERS 14u
+#define DEBUG_VIEW_SHADOW 15u
+#define DEBUG_VIEW_SHADOW_LAYERS 16u
 // The material's distribution, geometry and Fresnel selectors (BrdfParams.sel.yzw) fixed per
 // pipeline, so only the chosen terms are compiled; -1: read them from the push constants.
 layout(constant_id = 8) const int SEL_DISTRIBUTION = -1;

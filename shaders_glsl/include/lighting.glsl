@@ -224,6 +224,29 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
         float t = clamp(float(light_list(P).y) / 64.0, 0.0, 1.0);
         return vec3(clamp(2.0 * t - 1.0, 0.0, 1.0), 1.0 - abs(2.0 * t - 1.0), clamp(1.0 - 2.0 * t, 0.0, 1.0));
     }
+    if (DEBUG_VIEW == DEBUG_VIEW_SHADOW || DEBUG_VIEW == DEBUG_VIEW_SHADOW_LAYERS) {
+        // The first light with a shadow: its visibility, or the layer (cascade, cube face) the
+        // point reads, one colour each.
+        for (uint i = 0u; i < frame.counts.x; ++i) {
+            ShadowLight sh = shadow_lights[i];
+            if ((LIGHT_KINDS & SHADOW_KINDS) == 0u || sh.info.x < 0) {
+                continue;
+            }
+            if (DEBUG_VIEW == DEBUG_VIEW_SHADOW_LAYERS) {
+                bool beyond;
+                int k = shadow_layer(i, sh, P, beyond) - sh.info.x;
+                const vec3 tint[6] = vec3[](vec3(1.0, 0.3, 0.3), vec3(0.3, 1.0, 0.3),
+                    vec3(0.3, 0.4, 1.0), vec3(1.0, 1.0, 0.3), vec3(1.0, 0.3, 1.0),
+                    vec3(0.3, 1.0, 1.0));
+                return beyond ? vec3(0.1) : tint[k] * (0.35 + 0.65 * max(dot(s.n, V), 0.0));
+            }
+            vec3 l;
+            vec3 E;
+            light_incidence(lights[i], P, l, E);
+            return vec3(shadow_visibility(i, P, s.n, l));
+        }
+        return vec3(0.0);
+    }
 #ifdef IBL
     if (DEBUG_VIEW == DEBUG_VIEW_IRRADIANCE) return env_irradiance(s.n) / M_PI;
     if (DEBUG_VIEW == DEBUG_VIEW_PREFILTERED) {

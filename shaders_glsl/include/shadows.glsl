@@ -82,10 +82,11 @@ float shadow_distance(ShadowLayer L, float z) {
 // an `if` would: lavapipe runs both sides of an `if` under a lane mask, but skips a loop that no
 // lane enters, so a directional light does not pay for the cube-face code nor a point light for
 // the cascades.
-float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
-    ShadowLight s = shadow_lights[i];
+// The layer light i's shadow at P is looked up in: its cube face or cascade; `beyond`: past the
+// last cascade (nothing shadowed there).
+int shadow_layer(uint i, ShadowLight s, vec3 P, out bool beyond) {
     int layer = s.info.x;
-    bool beyond = false;
+    beyond = false;
     bool cube = s.info.y == SHADOW_CUBE_LAYERS;
     for (int once = 0; once < (cube ? 1 : 0); ++once) {
         vec3 d = P - lights[i].position_type.xyz;
@@ -96,7 +97,7 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     }
     bool cascaded = !cube && uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL;
     for (int once = 0; once < (cascaded ? 1 : 0); ++once) {
-        // Cascades by view depth; beyond the last one's far depth nothing is shadowed.
+        // Cascades by view depth.
         float z = -(frame.view * vec4(P, 1.0)).z;
         int n = s.info.y;
         beyond = z > s.splits[n - 1];
@@ -106,6 +107,13 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
         }
         layer += c;
     }
+    return layer;
+}
+
+float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
+    ShadowLight s = shadow_lights[i];
+    bool beyond;
+    int layer = shadow_layer(i, s, P, beyond);
     ShadowLayer L = shadow_layers[layer];
     bool perspective = L.params.y > 0.5;
     float dist = dot(P - L.origin.xyz, L.axis.xyz);

@@ -52,11 +52,16 @@ pub enum DebugView {
     /// Lights the fragment loops over (its cluster's, or all with the plain loop) as a heat map:
     /// blue (none) through green to red (64 or more).
     Clusters,
+    /// The first shadowed light's visibility (1 lit, 0 in shadow), as grey.
+    Shadow,
+    /// The first shadowed light's map layer each point reads (cascade or cube face), one colour
+    /// each; dark grey beyond the last cascade.
+    ShadowLayers,
 }
 
 impl DebugView {
     /// Every view, in code order.
-    pub const ALL: [DebugView; 15] = [
+    pub const ALL: [DebugView; 17] = [
         DebugView::None,
         DebugView::BaseColor,
         DebugView::Normal,
@@ -72,6 +77,8 @@ impl DebugView {
         DebugView::Prefiltered,
         DebugView::Nan,
         DebugView::Clusters,
+        DebugView::Shadow,
+        DebugView::ShadowLayers,
     ];
 
     /// The name on the command line, in scripts and in the viewer.
@@ -92,6 +99,8 @@ impl DebugView {
             DebugView::Prefiltered => "prefiltered",
             DebugView::Nan => "nan",
             DebugView::Clusters => "clusters",
+            DebugView::Shadow => "shadow",
+            DebugView::ShadowLayers => "shadow_layers",
         }
     }
 
@@ -124,6 +133,10 @@ impl DebugView {
             DebugView::Clusters => {
                 "lights looped over per fragment (its cluster's), blue 0 to red 64 or more"
             }
+            DebugView::Shadow => "the first shadowed light's visibility, 1 lit to 0 in shadow",
+            DebugView::ShadowLayers => {
+                "the first shadowed light's map layer per point (cascade or cube face), a colour each"
+            }
         }
     }
 
@@ -146,6 +159,8 @@ impl DebugView {
             DebugView::Prefiltered => glsl::DEBUG_VIEW_PREFILTERED,
             DebugView::Nan => glsl::DEBUG_VIEW_NAN,
             DebugView::Clusters => glsl::DEBUG_VIEW_CLUSTERS,
+            DebugView::Shadow => glsl::DEBUG_VIEW_SHADOW,
+            DebugView::ShadowLayers => glsl::DEBUG_VIEW_SHADOW_LAYERS,
         }
     }
 }

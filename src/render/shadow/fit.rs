@@ -320,10 +320,11 @@ mod tests {
             // The caster over the floor's centre is nearer the light (larger reversed depth).
             let above = p - l.direction * 5.0;
             assert!(ndc(layer, above).z > n.z, "cascade {i}");
-            assert!(
-                ndc(layer, caster.center).z <= 1.0,
-                "cascade {i}: caster clipped"
-            );
+            // A caster over the cascade's area lies within its depth range (not clipped).
+            let c = ndc(layer, caster.center);
+            if c.x.abs() <= 1.0 && c.y.abs() <= 1.0 {
+                assert!(c.z <= 1.0, "cascade {i}: caster clipped: {c}");
+            }
         }
     }
 

@@ -425,12 +425,18 @@ impl ShadowMaps {
             || self
                 .maps
                 .iter()
-                .any(|m| scene.lights[m.light].shadow != Some(m.shadow))
+                .any(|m| structure_of(&scene.lights[m.light]) != structure_of_map(m))
         {
             return Err(VkError::Setup(format!(
                 "{}: lights or their shadows changed; rebuild the shadow maps",
                 scene.display_name()
             )));
+        }
+        // Biases, kernel and splits may change from frame to frame (the viewer's sliders).
+        for m in &mut self.maps {
+            if let Some(sh) = scene.lights[m.light].shadow {
+                m.shadow = sh;
+            }
         }
         self.casters = casters.len();
         let spheres: Vec<Sphere> = casters.iter().map(|c| c.sphere).collect();
@@ -623,6 +629,17 @@ impl MapReport {
             self.casters
         )
     }
+}
+
+/// What of a light's shadow needs new maps or pipelines when it changes: the method (shader
+/// code), the resolution and the layers. `None` without a shadow.
+pub fn structure_of(l: &crate::scene::Light) -> Option<(ShadowMethod, u32, u32)> {
+    l.shadow
+        .map(|s| (s.method, s.resolution, s.layers(l.kind, l.umbra_deg)))
+}
+
+fn structure_of_map(m: &LightMaps) -> Option<(ShadowMethod, u32, u32)> {
+    Some((m.shadow.method, m.shadow.resolution, m.layers))
 }
 
 fn method_code(m: ShadowMethod) -> i32 {

@@ -229,6 +229,8 @@ struct Structure {
     objects: Vec<ObjectStructure>,
     lights: usize,
     light_kinds: u32,
+    /// Per light: the shadow's method, resolution and layers.
+    shadows: Vec<Option<(crate::scene::ShadowMethod, u32, u32)>>,
     fog: bool,
     saturation: crate::scene::Saturation,
     msaa: u32,
@@ -255,6 +257,11 @@ impl Structure {
                 .collect(),
             lights: scene.lights.len(),
             light_kinds: crate::render::gpu::light_kinds(&scene.lights),
+            shadows: scene
+                .lights
+                .iter()
+                .map(crate::render::shadow::structure_of)
+                .collect(),
             fog: scene.fog.is_some(),
             saturation: scene.saturation,
             msaa: scene.output.msaa,

@@ -167,6 +167,7 @@ pub(super) fn light_ui(ui: &mut Ui, light: &mut Light) -> bool {
                 drag(ui, &mut light.exponent, 0.0..=f32::INFINITY)
             });
         }
+        c |= super::shadow::shadow_rows(ui, light);
         c
     })
 }

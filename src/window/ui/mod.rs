@@ -229,6 +229,7 @@ mod lights;
 mod materials;
 mod profiler;
 mod scene_panel;
+mod shadow;
 mod widgets;
 
 use environment::*;
