@@ -77,18 +77,13 @@ float shadow_distance(ShadowLayer L, float z) {
     return L.params.y > 0.5 ? L.params.z / max(z, 1e-30) : (1.0 - z) * L.params.z;
 }
 
-// The fraction of light i that reaches P (unit normal N, unit direction l towards the light).
-// The caller skips lights without a shadow (info.x < 0). Loops of zero or one trip stand where
-// an `if` would: lavapipe runs both sides of an `if` under a lane mask, but skips a loop that no
-// lane enters, so a directional light does not pay for the cube-face code nor a point light for
-// the cascades.
 // The layer light i's shadow at P is looked up in: its cube face or cascade; `beyond`: past the
 // last cascade (nothing shadowed there).
 int shadow_layer(uint i, ShadowLight s, vec3 P, out bool beyond) {
     int layer = s.info.x;
     beyond = false;
     bool cube = s.info.y == SHADOW_CUBE_LAYERS;
-    for (int once = 0; once < (cube ? 1 : 0); ++once) {
+    if (cube) {
         vec3 d = P - lights[i].position_type.xyz;
         vec3 a = abs(d);
         int face = a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1)
@@ -96,7 +91,7 @@ int shadow_layer(uint i, ShadowLight s, vec3 P, out bool beyond) {
         layer += face;
     }
     bool cascaded = !cube && uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL;
-    for (int once = 0; once < (cascaded ? 1 : 0); ++once) {
+    if (cascaded) {
         // Cascades by view depth.
         float z = -(frame.view * vec4(P, 1.0)).z;
         int n = s.info.y;
@@ -110,6 +105,8 @@ int shadow_layer(uint i, ShadowLight s, vec3 P, out bool beyond) {
     return layer;
 }
 
+// The fraction of light i that reaches P (unit normal N, unit direction l towards the light);
+// the caller skips lights without a shadow (info.x < 0).
 float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     ShadowLight s = shadow_lights[i];
     bool beyond;
