@@ -39,7 +39,7 @@ pub struct LabArgs {
     /// Override the scene's output height.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub height: Option<u32>,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, ibl).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, ibl, shadows).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.
@@ -131,16 +131,17 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         );
     }
     println!(
-        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>6}",
-        "", "group", "variant", "GPU ms", "FLIP", "RMSE", "rel err", "NaN"
+        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6}",
+        "", "group", "variant", "GPU ms", "shadow ms", "FLIP", "RMSE", "rel err", "NaN"
     );
     for (i, r) in results.iter().enumerate() {
         println!(
-            "{:<4} {:<14} {:<34} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
+            "{:<4} {:<14} {:<34} {:>10.3} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
             i,
             r.group,
             r.label,
             r.gpu_ms,
+            r.shadow_ms,
             r.error.flip_mean,
             r.error.rmse,
             r.error.mean_relative,
