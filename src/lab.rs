@@ -4,6 +4,8 @@
 //! `chart.png`/`chart.svg` (error, log, against GPU ms with the Pareto front marked) and one FLIP
 //! heat map per variant.
 
+pub mod shadows;
+
 use std::path::Path;
 
 use anyhow::{bail, Context as _, Result};
@@ -348,6 +350,9 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
             }
         }
     }
+    if want("shadows") {
+        out.extend(shadows::variants(scene));
+    }
     if want("ibl") {
         if let Some(env) = &scene.environment {
             let mut push = |label: String, f: &dyn Fn(&mut crate::scene::Environment)| {
@@ -398,6 +403,8 @@ pub struct LabResult {
     pub gpu_ms: f64,
     /// Each timing round's median GPU ms, in round order.
     pub gpu_ms_rounds: Vec<f64>,
+    /// The shadow pass's part of `gpu_ms` (median of the same frames; 0 without shadows).
+    pub shadow_ms: f64,
     pub triangles: u64,
     pub pipelines: Vec<String>,
     pub error: ErrorMetrics,
@@ -469,7 +476,7 @@ pub fn measure(
     ));
     let total = runs.len() as u64;
     let mut results = Vec::new();
-    let time = |vscene: &Scene, generic: bool| -> Result<(f64, Headless)> {
+    let time = |vscene: &Scene, generic: bool| -> Result<(f64, f64, Headless)> {
         let opts = crate::headless::RenderOptions {
             generic_pipelines: generic,
             ..options.render.clone()
@@ -478,9 +485,16 @@ pub fn measure(
         // Warm-up: the first frames compile the driver's code and fault in memory.
         r.render()?;
         r.render()?;
-        let mut times = Vec::new();
+        let (mut times, mut shadow) = (Vec::new(), Vec::new());
         for _ in 0..options.frames {
             let t = r.render()?;
+            shadow.push(
+                t.gpu_ms
+                    .iter()
+                    .filter(|(n, _)| *n == "shadows")
+                    .map(|(_, ms)| ms)
+                    .sum::<f64>(),
+            );
             let gpu: f64 = t
                 .gpu_ms
                 .iter()
@@ -489,11 +503,15 @@ pub fn measure(
                 .sum();
             times.push(gpu);
         }
-        Ok((crate::stats::median(&times), r))
+        Ok((
+            crate::stats::median(&times),
+            crate::stats::median(&shadow),
+            r,
+        ))
     };
     for (i, (group, label, vscene, generic)) in runs.iter().enumerate() {
         reporting.update(label, i as u64, total);
-        let (ms, r) = time(vscene, *generic)?;
+        let (ms, shadow_ms, r) = time(vscene, *generic)?;
         let image = r.image()?;
         let (error, map) = error_metrics(
             reference,
@@ -507,6 +525,7 @@ pub fn measure(
             label: label.clone(),
             gpu_ms: ms,
             gpu_ms_rounds: vec![ms],
+            shadow_ms,
             triangles: r.triangle_count(),
             pipelines: r.variants(),
             error,
@@ -526,7 +545,10 @@ pub fn measure(
         for (done, i) in order.into_iter().enumerate() {
             reporting.update(&stage, done as u64, total);
             let (_, _, vscene, generic) = &runs[i];
-            let (ms, _) = time(vscene, *generic)?;
+            let (ms, shadow_ms, _) = time(vscene, *generic)?;
+            if ms < results[i].gpu_ms {
+                results[i].shadow_ms = shadow_ms;
+            }
             results[i].gpu_ms = results[i].gpu_ms.min(ms);
             results[i].gpu_ms_rounds.push(ms);
         }
@@ -538,11 +560,11 @@ pub fn measure(
 /// Writes `results.csv`, `results.json` and the chart (`chart.png`, `chart.svg`) into `dir`.
 pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result<()> {
     let mut csv = String::from(
-        "group,variant,gpu_ms,flip_mean,rmse,mean_relative,max_abs,nan_pixels,triangles,pareto\n",
+        "group,variant,gpu_ms,flip_mean,rmse,mean_relative,max_abs,nan_pixels,triangles,pareto,shadow_ms\n",
     );
     for r in results {
         csv.push_str(&format!(
-            "{},\"{}\",{:.4},{:.6},{:.6},{:.6},{:.6},{},{},{}\n",
+            "{},\"{}\",{:.4},{:.6},{:.6},{:.6},{:.6},{},{},{},{:.4}\n",
             r.group,
             r.label,
             r.gpu_ms,
@@ -552,7 +574,8 @@ pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result
             r.error.max_abs,
             r.error.nan_pixels,
             r.triangles,
-            r.pareto
+            r.pareto,
+            r.shadow_ms
         ));
     }
     std::fs::write(dir.join("results.csv"), csv)
@@ -624,6 +647,7 @@ mod tests {
             label: format!("{ms}/{flip}"),
             gpu_ms: ms,
             gpu_ms_rounds: vec![ms],
+            shadow_ms: 0.0,
             triangles: 0,
             pipelines: Vec::new(),
             error: ErrorMetrics {

@@ -42,7 +42,7 @@ pub struct LabArgs {
     /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
     #[arg(long, value_name = "N")]
     pub camera: Option<usize>,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.
@@ -137,16 +137,17 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         );
     }
     println!(
-        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>6}",
-        "", "group", "variant", "GPU ms", "FLIP", "RMSE", "rel err", "NaN"
+        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6}",
+        "", "group", "variant", "GPU ms", "shadow ms", "FLIP", "RMSE", "rel err", "NaN"
     );
     for (i, r) in results.iter().enumerate() {
         println!(
-            "{:<4} {:<14} {:<34} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
+            "{:<4} {:<14} {:<34} {:>10.3} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
             i,
             r.group,
             r.label,
             r.gpu_ms,
+            r.shadow_ms,
             r.error.flip_mean,
             r.error.rmse,
             r.error.mean_relative,

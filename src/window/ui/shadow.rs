@@ -47,7 +47,8 @@ pub(super) fn shadow_rows(ui: &mut Ui, light: &mut Light) -> bool {
     });
     if s.method != ShadowMethod::Hard {
         c |= row(ui, "Kernel", |ui| {
-            ui.add(egui::Slider::new(&mut s.pcf_kernel, 1..=9)).changed()
+            ui.add(egui::Slider::new(&mut s.pcf_kernel, 1..=9))
+                .changed()
         });
     }
     c |= row(ui, "Bias (texels)", |ui| {
