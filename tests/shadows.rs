@@ -435,3 +435,56 @@ fn gpu_shadows_match_the_reference_away_from_edges() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+// ---------------------------------------------------------------------------------------------
+// Debug views.
+
+/// `shadow` shows the first shadowed light's visibility, matching the reference's shadowed and
+/// lit pixels; `shadow_layers` shows more than one cascade (a colour each).
+#[test]
+fn shadow_debug_views() {
+    use luz::headless::{Headless, RenderOptions};
+    use luz::render::forward::DebugView;
+    let json = scene(&lights(&CASES[0], ("true", false), None, None));
+    let sc = parse(&json);
+    let ctx = gpu();
+    let view = |v: DebugView| {
+        let mut r = Headless::with_options(
+            &ctx,
+            &sc,
+            &RenderOptions {
+                debug_view: v,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        r.render().unwrap();
+        r.image().unwrap().pixels
+    };
+    let vis = view(DebugView::Shadow);
+    let class = classes(&CASES[0], ("true", false));
+    let (mut lit, mut dark) = (0, 0);
+    for (p, c) in vis.iter().zip(&class) {
+        assert!(p[0].is_finite() && (0.0..=1.0).contains(&p[0]), "{p:?}");
+        // Away from edges the class decides; sample only clear cases.
+        match (*c, p[0]) {
+            (2, v) if v > 0.99 => lit += 1,
+            (0, v) if v < 0.01 => dark += 1,
+            _ => {}
+        }
+    }
+    assert!(lit > 10_000 && dark > 300, "{lit} lit, {dark} shadowed");
+    let layers = view(DebugView::ShadowLayers);
+    let mut tints: Vec<[u32; 3]> = layers
+        .iter()
+        .filter(|p| p[0] + p[1] + p[2] > 0.5)
+        .map(|p| {
+            let m = p[0].max(p[1]).max(p[2]);
+            [p[0], p[1], p[2]].map(|c| (c / m > 0.9) as u32)
+        })
+        .collect();
+    tints.sort();
+    tints.dedup();
+    assert!(tints.len() >= 2, "one cascade colour only: {tints:?}");
+    assert_no_validation_messages(&ctx);
+}
