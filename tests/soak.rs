@@ -206,7 +206,11 @@ fn shadowed_and_vertex_lit_frames_keep_memory_flat() {
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let memory = report["memory"].as_array().expect("memory series");
-    assert_eq!(memory.len(), 4, "a sample before the run and every 50 frames");
+    assert_eq!(
+        memory.len(),
+        4,
+        "a sample before the run and every 50 frames"
+    );
     let rss: Vec<f64> = memory
         .iter()
         .map(|m| m["rss_mib"].as_f64().unwrap())

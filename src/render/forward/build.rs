@@ -127,6 +127,8 @@ pub(super) fn build_draws(
                 )?;
                 meshes.push(GpuMesh {
                     sphere: frustum::sphere(obj.mesh.bounds()),
+                    bounds: obj.mesh.bounds(),
+                    plane: obj.mesh.flat_plane(),
                     vertices,
                     centroids,
                     indices,

@@ -37,6 +37,10 @@ pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 struct GpuMesh {
     /// Object-space bounding sphere (frustum culling, [`frustum`]).
     sphere: (glam::Vec3, f32),
+    /// Object-space bounds (the shadow passes' receivers).
+    bounds: (glam::Vec3, glam::Vec3),
+    /// Object-space plane of a flat mesh (point, unit normal): `scene::Mesh::flat_plane`.
+    plane: Option<(glam::Vec3, glam::Vec3)>,
     vertices: Buffer,
     centroids: Option<Buffer>,
     indices: Buffer,
@@ -598,35 +602,41 @@ impl ForwardPass {
         }
         let world = |d: &Draw| {
             let model = scene.objects[d.object].transform.matrix();
-            let (c, r) = self.meshes[d.mesh].sphere;
+            let mesh = &self.meshes[d.mesh];
+            let (c, r) = mesh.sphere;
             let scale = model
                 .x_axis
                 .truncate()
                 .length()
                 .max(model.y_axis.truncate().length())
                 .max(model.z_axis.truncate().length());
-            (
-                model,
-                shadow::Sphere {
-                    center: model.transform_point3(c),
-                    radius: r * scale,
-                },
-            )
+            let sphere = shadow::Sphere {
+                center: model.transform_point3(c),
+                radius: r * scale,
+            };
+            (model, sphere)
         };
         let mut casters = Vec::new();
         let mut receivers = Vec::new();
         for d in &self.draws {
             let obj = &scene.objects[d.object];
             let (model, sphere) = world(d);
+            let mesh = &self.meshes[d.mesh];
+            let receiver = obj.shadow.receive.then(|| {
+                receivers.push(shadow::Receiver {
+                    sphere,
+                    corners: shadow::box_corners(model, mesh.bounds),
+                });
+                receivers.len() - 1
+            });
             if obj.shadow.cast {
                 casters.push(shadow::Caster {
                     mesh: d.mesh,
                     model,
                     sphere,
+                    plane: mesh.plane.map(|(p, n)| shadow::world_plane(model, p, n)),
+                    receiver,
                 });
-            }
-            if obj.shadow.receive {
-                receivers.push(sphere);
             }
         }
         self.shadows
