@@ -823,7 +823,7 @@ fn automatic_tessellation() {
     )
     .unwrap();
     assert!(matches!(loose.objects[0].desc, MeshDesc::Sphere { segments, .. } if segments < near));
-    for bad in ["0", "-1", "1000", "\"a\""] {
+    for bad in ["-1", "-0.5", "0.00001", "1000", "1e999", "\"a\""] {
         let e = scene("", &format!(r#", "tessellation_error_px": {bad}"#)).unwrap_err();
         assert!(
             e.to_string().contains("output.tessellation_error_px"),
