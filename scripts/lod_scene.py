@@ -5,6 +5,7 @@ camera (out of view) to far away, so that some are near, most are far and some a
 
     scripts/lod_scene.py                 # bunnies_40m.json: 600 instances, 41.7 M triangles
     scripts/lod_scene.py COUNT OUT.json  # another count (the scaling curve of scripts/lod_scaling.sh)
+    scripts/lod_scene.py --lab           # bunnies_lab.json: 36 bunnies at 320x180 for `luz lab`
 
 Columns are 24 wide (2 units apart); rows go 4 units further each, two rows behind the camera.
 """
@@ -17,13 +18,16 @@ TRIANGLES = 69451
 COLUMNS = 24
 
 
-def scene(count):
+BUDGET_PX = 0.5
+
+
+def scene(count, size=(1280, 720), start=14.0, step=4.0):
     rows = math.ceil(count / COLUMNS)
     objects = []
     for i in range(count):
         row, col = divmod(i, COLUMNS)
         x = (col - (COLUMNS - 1) / 2) * 2.0
-        z = 14.0 - 4.0 * row
+        z = start - step * row
         objects.append({
             "name": f"bunny_{row}_{col}",
             "mesh": {"type": "obj", "path": "../../../../shared/models/stanford-bunny.obj"},
@@ -34,21 +38,22 @@ def scene(count):
         })
     objects.append({
         "name": "floor",
-        "mesh": {"type": "plane", "size": [60, 4.0 * rows + 20]},
+        "mesh": {"type": "plane", "size": [60, step * rows + 20]},
         "material": "floor",
-        "position": [0, 0, 14.0 - 2.0 * rows],
+        "position": [0, 0, start - step * rows / 2],
     })
     return {
         "description": (
             f"Automatic LOD benchmark (issue 17): {count} instances of the shared Stanford bunny "
-            f"({count * TRIANGLES / 1e6:.1f} M triangles as written) in rows from behind the camera "
-            "(out of view) to 100 units away, on a floor; made by scripts/lod_scene.py. Needs "
-            "../shared beside the checkout."
+            f"({count * TRIANGLES / 1e6:.1f} M triangles as written) in rows of {COLUMNS} from "
+            f"z = {start:g} to {start - step * (rows - 1):g} (camera at z = 8, looking down -z), on a "
+            f"floor, LOD budget {BUDGET_PX} px; made by scripts/lod_scene.py. Needs ../shared "
+            "beside the checkout."
         ),
         "camera": {"position": [0, 2.2, 8], "target": [0, 0.6, -10], "up": [0, 1, 0],
                    "fov_y_deg": 50, "near": 0.1, "far": 200},
-        "output": {"width": 1280, "height": 720, "msaa": 1, "tonemap": "aces",
-                   "background": [0.05, 0.06, 0.08]},
+        "output": {"width": size[0], "height": size[1], "msaa": 1, "tonemap": "aces",
+                   "background": [0.05, 0.06, 0.08], "tessellation_error_px": BUDGET_PX},
         "ambient": [0.04, 0.04, 0.05],
         "lights": [
             {"type": "directional", "direction": [-0.4, -1.0, -0.5], "color": [1, 0.96, 0.9],
@@ -67,11 +72,16 @@ def scene(count):
 
 
 if __name__ == "__main__":
-    count = int(sys.argv[1]) if len(sys.argv) > 1 else 600
     here = os.path.dirname(os.path.abspath(__file__))
-    out = sys.argv[2] if len(sys.argv) > 2 else os.path.join(
-        here, "..", "assets", "scenes", "lod", "bunnies_40m.json")
+    lod = os.path.join(here, "..", "assets", "scenes", "lod")
+    if sys.argv[1:] == ["--lab"]:
+        count, out = 36, os.path.join(lod, "bunnies_lab.json")
+        s = scene(count, (320, 180), start=6.0, step=20.0)
+    else:
+        count = int(sys.argv[1]) if len(sys.argv) > 1 else 600
+        out = sys.argv[2] if len(sys.argv) > 2 else os.path.join(lod, "bunnies_40m.json")
+        s = scene(count)
     with open(out, "w") as f:
-        json.dump(scene(count), f, indent=1)
+        json.dump(s, f, indent=1)
         f.write("\n")
     print(f"{out}: {count} bunnies, {count * TRIANGLES} triangles as written")

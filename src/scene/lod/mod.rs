@@ -318,6 +318,20 @@ pub struct LodChoice {
     pub visible: bool,
 }
 
+/// The LOD levels the objects in view draw at, as the viewer shows them: "0-4 (600 objects)",
+/// or "none" without a simplified mesh in view.
+pub fn levels_in_use(choices: &[LodChoice]) -> String {
+    let drawn = choices.iter().filter(|c| c.visible);
+    let (lo, hi, n) = drawn.fold((usize::MAX, 0, 0), |(lo, hi, n), c| {
+        (lo.min(c.level), hi.max(c.level), n + 1)
+    });
+    if n == 0 {
+        "none".into()
+    } else {
+        format!("{lo}-{hi} ({n} objects)")
+    }
+}
+
 /// What `luz render` says of automatic LOD, as [`super::tessellation::summary`] does for
 /// primitives: a summary line and, when `verbose`, one line per object (indented). Nothing
 /// without a simplified mesh.
