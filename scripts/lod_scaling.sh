@@ -3,7 +3,8 @@
 # `luz bench` run per size (frames alternating between the scene's budget and budget 0).
 # Scenes: scripts/lod_scene.py with 15, 144, 576 and 1,440 shared bunnies (1.0, 10.0, 40.0 and
 # 100.0 M triangles as written; rows beyond the far plane at 100 M are culled) at the budget of
-# assets/scenes/lod/bunnies_40m.json.
+# assets/scenes/lod/bunnies_40m.json, the first row 2 units in front of the camera (z = 6: no row
+# behind it, unlike bunnies_40m.json, so that the 1 M scene draws something).
 #
 #   scripts/lod_scaling.sh [FRAMES] [WIDTH HEIGHT]   (default 3 frames at 1280x720; LUZ=path/to/luz)
 set -euo pipefail
@@ -22,7 +23,7 @@ echo "| triangles as written | bunnies | drawn with LOD | GPU ms with LOD | draw
 echo "|---|---|---|---|---|---|---|"
 for count in 15 144 576 1440; do
     # The scene's folder depth must match assets/scenes/lod for the model's relative path.
-    python3 scripts/lod_scene.py "$count" "$tmp/s.json" >/dev/null
+    python3 scripts/lod_scene.py "$count" "$tmp/s.json" 6 >/dev/null
     sed -i 's#"\.\./\.\./\.\./\.\./shared#"../../../../../shared#' "$tmp/s.json"
     "$LUZ" bench "$tmp/s.json" --frames "$FRAMES" --warmup 1 --width "$W" --height "$H" \
         --compare-budget 0 --json "$tmp/b.json" >/dev/null

@@ -4,7 +4,7 @@ shared Stanford bunny (69,451 triangles, ../shared/models) on a floor, in rows f
 camera (out of view) to far away, so that some are near, most are far and some are culled.
 
     scripts/lod_scene.py                 # bunnies_40m.json: 600 instances, 41.7 M triangles
-    scripts/lod_scene.py COUNT OUT.json  # another count (the scaling curve of scripts/lod_scaling.sh)
+    scripts/lod_scene.py COUNT OUT.json [START_Z]  # another count, first row at START_Z (14)
     scripts/lod_scene.py --lab           # bunnies_lab.json: 36 bunnies at 320x180 for `luz lab`
 
 Columns are 24 wide (2 units apart); rows go 4 units further each, two rows behind the camera.
@@ -18,7 +18,7 @@ TRIANGLES = 69451
 COLUMNS = 24
 
 
-BUDGET_PX = 0.5
+BUDGET_PX = 0.2
 
 
 def scene(count, size=(1280, 720), start=14.0, step=4.0):
@@ -80,7 +80,7 @@ if __name__ == "__main__":
     else:
         count = int(sys.argv[1]) if len(sys.argv) > 1 else 600
         out = sys.argv[2] if len(sys.argv) > 2 else os.path.join(lod, "bunnies_40m.json")
-        s = scene(count)
+        s = scene(count, start=float(sys.argv[3]) if len(sys.argv) > 3 else 14.0)
     with open(out, "w") as f:
         json.dump(s, f, indent=1)
         f.write("\n")
