@@ -38,7 +38,8 @@ pub use mesh::{
 pub use shadow::{CascadeSplit, ObjectShadow, Shadow, ShadowMethod};
 pub use tessellation::{Tessellation, DEFAULT_TESSELLATION_ERROR_PX};
 pub use textures::{
-    slots_for_model, Filter, MaterialTextures, SamplerDesc, TextureRef, TextureSlot, Wrap,
+    slots_for_model, AlphaMode, Filter, MaterialTextures, SamplerDesc, Sides, TextureRef,
+    TextureSlot, Wrap,
 };
 
 /// Largest accepted output width or height.

@@ -1,7 +1,7 @@
 //! One glTF mesh primitive → a luz [`Mesh`] in the coordinates of the scene (the node's world
 //! transform baked in).
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
 use super::accessor;
@@ -139,6 +139,55 @@ pub fn build(
                 .collect()
         }
     };
+    // COLOR_0: VEC3 or VEC4 (alpha 1), float or normalised u8/u16; linear, multiplies the
+    // base colour.
+    let colors = match p.get(&Semantic::Colors(0)) {
+        None => Vec::new(),
+        Some(a) => {
+            let f = accessor::floats(&a, buffers).map_err(|e| at("attributes.COLOR_0", e))?;
+            if !(f.components == 3 || f.components == 4) || f.len() != n {
+                return Err(at(
+                    "attributes.COLOR_0",
+                    format!(
+                        "must be VEC3 or VEC4 with one element per position ({n}), has {} of {} components",
+                        f.len(),
+                        f.components
+                    ),
+                ));
+            }
+            (0..n)
+                .map(|i| {
+                    let c = Vec4::from_array(f.get(i, 1.0));
+                    if c.is_finite() {
+                        c.clamp(Vec4::ZERO, Vec4::ONE)
+                    } else {
+                        Vec4::ONE
+                    }
+                })
+                .collect()
+        }
+    };
+    let tangents = match p.get(&Semantic::Tangents) {
+        None => None,
+        Some(a) => {
+            let f = accessor::floats(&a, buffers).map_err(|e| at("attributes.TANGENT", e))?;
+            if f.components != 4 || f.len() != n {
+                return Err(at(
+                    "attributes.TANGENT",
+                    format!(
+                        "must be VEC4 with one element per position ({n}), has {} of {} components",
+                        f.len(),
+                        f.components
+                    ),
+                ));
+            }
+            Some(
+                (0..n)
+                    .map(|i| Vec4::from_array(f.get(i, 1.0)))
+                    .collect::<Vec<_>>(),
+            )
+        }
+    };
     let raw = match p.indices() {
         Some(a) => accessor::indices(&a, buffers, n).map_err(|e| at("indices", e))?,
         None => (0..n as u32).collect(),
@@ -159,6 +208,8 @@ pub fn build(
         normals: Vec::new(),
         uvs,
         indices,
+        colors,
+        tangents: Vec::new(),
     };
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(format!(
@@ -166,6 +217,7 @@ pub fn build(
             mesh.positions[i]
         ));
     }
+    let file_normals = normals.is_some();
     match normals {
         Some(ns) => {
             let nm = linear.inverse().transpose();
@@ -180,10 +232,33 @@ pub fn build(
                 mesh.compute_normals();
             }
         }
-        // glTF: without normals, flat shading.
+        // glTF: without normals, flat shading (and the file's tangents, which go with the
+        // normals, are not used: the spec asks for both or computed ones).
         None => mesh = mesh.to_flat(),
     }
+    if let (Some(ts), true) = (tangents, file_normals) {
+        mesh.tangents = file_tangents(&ts, linear);
+    }
     Ok(Built::Mesh(mesh))
+}
+
+/// The file's tangents through the node transform's linear part `linear` (a direction, so `M t`,
+/// renormalised), with the handedness flipped by a mirroring transform (the bitangent mirrors
+/// with it). Empty when any tangent is zero or not finite (MikkTSpace then computes them all).
+fn file_tangents(ts: &[Vec4], linear: Mat3) -> Vec<Vec4> {
+    let flip = if linear.determinant() < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    ts.iter()
+        .map(|t| {
+            let d = (linear * t.truncate()).try_normalize()?;
+            let w = if t.w < 0.0 { -flip } else { flip };
+            Some(d.extend(w))
+        })
+        .collect::<Option<Vec<_>>>()
+        .unwrap_or_default()
 }
 
 /// Triangle list of a triangles, strip or fan primitive (glTF 2.0 §3.7.2.1: strip triangle i is
