@@ -279,6 +279,11 @@ fn every_shared_file_renders() {
         );
         // One golden per model (the three CesiumMan containers share theirs).
         let stem = f.file_stem().unwrap().to_string_lossy().to_lowercase();
+        let case = golden_case(&format!("gltf_{stem}"));
+        assert_eq!(
+            (case.width, case.height, case.fast_ibl),
+            (Some(128), Some(96), Some(true))
+        );
         check_golden(&format!("gltf_{stem}"), &scene, &img, Tolerance::default());
     }
     assert_no_validation_messages(&ctx);
@@ -1316,6 +1321,26 @@ fn file_tangents_ior_and_specular() {
         f0(2)
     );
     assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+
+    // Wrong types: an error naming the attribute.
+    let mut g = Gltf::default();
+    let t3 = g.floats(&[0.0, 1.0, 0.0].repeat(4), "VEC3");
+    let c2 = g.floats(&[0.5, 0.5].repeat(4), "VEC2");
+    let bad_t = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[("TANGENT", t3)]);
+    let bad_c = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[("COLOR_0", c2)]);
+    for (name, prim, field) in [
+        ("bad_tangent", bad_t, "TANGENT"),
+        ("bad_color", bad_c, "COLOR_0"),
+    ] {
+        let path = g.write_gltf(
+            &dir,
+            name,
+            json!({"materials": [{}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [prim]}]}),
+        );
+        let e = gltf::load(&path, None).unwrap_err().to_string();
+        let want = format!("{name}.gltf: meshes[0].primitives[0].attributes.{field}: must be VEC");
+        assert!(e.contains(&want), "{e}");
+    }
 }
 
 /// Skins, morph targets and animations: the static pose, with one warning for the file.

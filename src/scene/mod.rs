@@ -180,6 +180,9 @@ pub struct Output {
     /// Budget of automatic tessellation: how many pixels a silhouette may be off
     /// ([`tessellation`]).
     pub tessellation_error_px: f32,
+    /// `luz golden`'s tolerances for this scene (`output.golden`; a sidecar overrides them:
+    /// docs/golden.md).
+    pub golden: crate::golden::ToleranceOverrides,
 }
 
 impl Output {
