@@ -113,22 +113,23 @@ pub(super) fn build_draws(
                     bytemuck::cast_slice(&data.vertices),
                     vk::BufferUsageFlags::VERTEX_BUFFER,
                 )?;
-                let centroids = match &data.centroids {
-                    Some(c) => Some(uploader.buffer(
-                        &format!("{name} centroids"),
-                        bytemuck::cast_slice(c),
-                        vk::BufferUsageFlags::VERTEX_BUFFER,
-                    )?),
-                    None => None,
+                // The optional vertex streams: flat shading's centroids, vertex colours.
+                let mut stream = |what: &str, bytes: Option<&[u8]>| {
+                    bytes
+                        .map(|b| {
+                            let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+                            uploader.buffer(&format!("{name} {what}"), b, usage)
+                        })
+                        .transpose()
                 };
-                let colors = match &data.colors {
-                    Some(c) => Some(uploader.buffer(
-                        &format!("{name} vertex colours"),
-                        bytemuck::cast_slice(c),
-                        vk::BufferUsageFlags::VERTEX_BUFFER,
-                    )?),
-                    None => None,
-                };
+                let centroids = stream(
+                    "centroids",
+                    data.centroids.as_deref().map(bytemuck::cast_slice),
+                )?;
+                let colors = stream(
+                    "vertex colours",
+                    data.colors.as_deref().map(bytemuck::cast_slice),
+                )?;
                 let indices = uploader.buffer(
                     &format!("{name} indices"),
                     bytemuck::cast_slice(&data.indices),

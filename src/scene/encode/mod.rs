@@ -729,7 +729,7 @@ fn golden_tolerances(o: &crate::golden::ToleranceOverrides) -> Node {
         n.put("max_abs", opt(v));
     }
     if let Some(v) = o.max_bad_pixels {
-        n.put("max_bad_pixels", v.map_or(Node::Null, |x| Node::Int(x)));
+        n.put("max_bad_pixels", v.map_or(Node::Null, Node::Int));
     }
     if let Some(v) = o.bad_pixel_threshold {
         n.put("bad_pixel_threshold", v);
