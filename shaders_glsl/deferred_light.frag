@@ -21,7 +21,7 @@ struct DeferredMaterial {
     uint object_index;
     uint flags;
     uint receive_shadow;
-    uint reserved1;
+    uint double_sided;
     vec4 emissive;
     vec4 params;
     uvec4 present;
@@ -41,7 +41,7 @@ void main() {
     material.object_index = m.object_index;
     material.flags = m.flags;
     material.receive_shadow = m.receive_shadow;
-    material.reserved1 = 0u;
+    material.double_sided = m.double_sided;
     mat_extra.emissive = m.emissive;
     mat_extra.params = m.params;
     mat_extra.present = m.present;

@@ -7,6 +7,8 @@
 //! variant gouraud_ibl: SHADING_GOURAUD IBL
 //! variant phong_ibl: SHADING_PHONG IBL
 //! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
+//! variant phong_maps_color: SHADING_PHONG PHONG_MAPS VERTEX_COLOR
+//! variant phong_maps_color_ibl: SHADING_PHONG PHONG_MAPS VERTEX_COLOR IBL
 
 #define LUZ_FRAGMENT
 #include "include/lighting.glsl"
@@ -25,10 +27,36 @@ layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in vec2 in_uv;
 #endif
 #endif
+#ifdef VERTEX_COLOR
+layout(location = 5) in vec4 in_vertex_color;
+#endif
 
 layout(location = 0) out vec4 out_color;
 
 void main() {
+#ifdef VERTEX_COLOR
+    g_vertex_color = in_vertex_color;
+#endif
+#ifdef PHONG_MAPS
+    vec2 uv = in_uv;
+#else
+    // Flat and Gouraud shading (and lean Phong) read the alpha factor only, no map.
+    const vec2 uv = vec2(0.0);
+#endif
+    float alpha = 1.0;
+    if (ALPHA_MODE != ALPHA_OPAQUE) {
+#ifdef PHONG_MAPS
+        alpha = base_alpha(uv);
+#else
+        alpha = mat_extra.params.z;
+#endif
+        if (ALPHA_MODE == ALPHA_MASK) {
+            if (alpha < mat_extra.params.w) {
+                discard;
+            }
+            alpha = 1.0;
+        }
+    }
 #if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
     vec3 c = in_color;
 #else
@@ -37,16 +65,24 @@ void main() {
     vec3 y;
 #ifdef PHONG_MAPS
     tangent_frame(n, in_tangent, x, y);
-    vec3 c = shade(in_world, n, x, y, in_uv);
 #else
     // No maps and a model without a tangent frame: any frame around n (unused by the model).
     tangent_frame(n, vec4(0.0, 0.0, 0.0, 1.0), x, y);
-    vec3 c = shade(in_world, n, x, y, vec2(0.0));
 #endif
+    // Double-sided materials: a back face is lit with the flipped normal and tangent frame.
+    if (material.double_sided != 0u && !gl_FrontFacing) {
+        n = -n;
+        x = -x;
+        y = -y;
+    }
+    vec3 c = shade(in_world, n, x, y, uv);
 #endif
     c = apply_fog(c, in_depth);
     if (DEBUG_VIEW == DEBUG_VIEW_NAN && (any(isnan(c)) || any(isinf(c)))) {
         c = vec3(1.0, 0.0, 1.0);
     }
     out_color = forward_output(c);
+    if (ALPHA_MODE == ALPHA_BLEND) {
+        out_color.a = alpha;
+    }
 }

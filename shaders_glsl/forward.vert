@@ -7,13 +7,16 @@
 //! variant gouraud_ibl: SHADING_GOURAUD IBL
 //! variant phong_ibl: SHADING_PHONG IBL
 //! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
+//! variant phong_maps_color: SHADING_PHONG PHONG_MAPS VERTEX_COLOR
+//! variant phong_maps_color_ibl: SHADING_PHONG PHONG_MAPS VERTEX_COLOR IBL
 //! variant gbuffer: SHADING_PHONG GBUFFER
 
 // Phong shading interpolates only what the fragment stage reads: lavapipe sets up every triangle
 // on the CPU, at a cost that grows with the number of outputs. Without PHONG_MAPS (no texture
 // maps, a model without a tangent frame) that is the view depth, world position and normal; with
 // it also the tangent and the texture coordinates. GBUFFER (the deferred path's geometry pass):
-// only the view depth and the normal.
+// only the view depth and the normal. VERTEX_COLOR (Phong with maps only): the vertex colours
+// (binding 2) are interpolated too.
 
 #include "include/lighting.glsl"
 
@@ -25,6 +28,10 @@ layout(location = 3) in vec4 in_tangent;
 #endif
 #ifdef SHADING_FLAT
 layout(location = 4) in vec3 in_centroid;  // triangle centroid, object space (binding 1)
+#endif
+#ifdef VERTEX_COLOR
+layout(location = 5) in vec4 in_color;  // linear RGBA (binding 2)
+layout(location = 5) out vec4 out_vertex_color;
 #endif
 
 layout(location = 0) out float out_depth;  // view-space depth, for depth cueing
@@ -52,6 +59,17 @@ void main() {
     vec3 n = normalize(mat3(obj.normal_matrix) * in_normal);
 #if !defined(SHADING_PHONG) || defined(PHONG_MAPS)
     vec4 t = vec4(mat3(obj.model) * in_tangent.xyz, in_tangent.w);
+#endif
+#ifdef VERTEX_COLOR
+    out_vertex_color = in_color;
+#endif
+#if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
+    // Double-sided materials light a back face with the flipped normal: in the vertex stage, the
+    // side of the (face, for flat shading) normal the camera is on decides.
+    if (material.double_sided != 0u && dot(n, frame.camera_pos.xyz - world.xyz) < 0.0) {
+        n = -n;
+        t = vec4(-t.xyz, t.w);
+    }
 #endif
 #if defined(SHADING_FLAT)
     // Lighting once per polygon, at its centroid, with the face normal.

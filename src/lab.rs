@@ -671,7 +671,11 @@ pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result
         groups,
         legend: crate::plot::Legend::UpperRight,
     };
-    crate::plot::save_png_svg(&chart.into(), &dir.join("chart"), 1100, 700)?;
+    // The chart records the scene it measured (file, hash) and how many variants.
+    let mut meta = crate::imageio::Provenance::base();
+    crate::provenance::add_scene(&mut meta, scene);
+    meta.set("luz.lab.variants", results.len().to_string());
+    crate::plot::save_png_svg_with(&chart.into(), &dir.join("chart"), (1100, 700), &meta)?;
     Ok(())
 }
 

@@ -263,6 +263,24 @@ fn diffuse_selector_lambert_and_burley() {
             );
         }
     }
+    // A dielectric F0 other than 0.04 (KHR_materials_ior / _specular): the GPU reads it from the
+    // packed parameters as the CPU model does.
+    for fresnel in Fresnel::ALL {
+        let m = Material::MetalRough(MetalRoughParams {
+            base_color: Vec3::new(0.8, 0.5, 0.2),
+            metallic: 0.3,
+            roughness: 0.4,
+            fresnel,
+            dielectric_f0: Vec3::new(0.2, 0.1, 0.02),
+            ..Default::default()
+        });
+        compare(
+            &ctx,
+            &format!("metal_rough dielectric_f0 {fresnel:?}"),
+            m,
+            REL,
+        );
+    }
     // Burley at roughness 1 is visibly not Lambert on the GPU image.
     let render = |diffuse| {
         let mut scene = base_scene();

@@ -18,6 +18,8 @@ fn golden(dir: &str, name: &str, size: Option<(u32, u32)>) {
         scene.output.width = w;
         scene.output.height = h;
     }
+    // The case file (what `luz golden tests/golden` renders) makes the same scene.
+    assert_same_scene(&golden_scene(&format!("{dir}_{name}")), &scene);
     let img = render(&scene);
     check_golden(&format!("{dir}_{name}"), &scene, &img, Tolerance::default());
 }

@@ -17,7 +17,9 @@ fn classic_scene(name: &str) -> luz::scene::Scene {
 }
 
 fn golden(name: &str) {
-    let scene = classic_scene(name);
+    // The scene through its case file, as `luz golden tests/golden` renders it.
+    let scene = golden_scene(&format!("classic_{name}"));
+    assert_same_scene(&scene, &classic_scene(name));
     let img = render(&scene);
     check_golden(
         &format!("classic_{name}"),

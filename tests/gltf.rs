@@ -279,6 +279,11 @@ fn every_shared_file_renders() {
         );
         // One golden per model (the three CesiumMan containers share theirs).
         let stem = f.file_stem().unwrap().to_string_lossy().to_lowercase();
+        let case = golden_case(&format!("gltf_{stem}"));
+        assert_eq!(
+            (case.width, case.height, case.fast_ibl),
+            (Some(128), Some(96), Some(true))
+        );
         check_golden(&format!("gltf_{stem}"), &scene, &img, Tolerance::default());
     }
     assert_no_validation_messages(&ctx);
@@ -908,4 +913,452 @@ fn viewer_opens_gltf_files() {
     assert!(out.contains("opened model"), "{out}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Alpha modes, double-sided materials, vertex colours, file tangents, KHR_materials_ior and
+// KHR_materials_specular: hand-made files, each render checked against what it must show.
+
+/// A square of half-size `h` centred at `c` in a plane z = const, facing +z (or −z with
+/// `back`): POSITION, NORMAL, TEXCOORD_0 (u along +x, v down), u32 indices, and COLOR_0 /
+/// TANGENT accessors when given.
+fn zquad(
+    g: &mut Gltf,
+    c: [f32; 3],
+    h: f32,
+    back: bool,
+    material: usize,
+    extra: &[(&str, usize)],
+) -> Value {
+    let [x, y, z] = c;
+    let p = [
+        x - h,
+        y - h,
+        z,
+        x + h,
+        y - h,
+        z,
+        x + h,
+        y + h,
+        z,
+        x - h,
+        y + h,
+        z,
+    ];
+    let nz = if back { -1.0 } else { 1.0 };
+    let n = [0.0, 0.0, nz].repeat(4);
+    let uv = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
+    let pos = g.floats(&p, "VEC3");
+    let nor = g.floats(&n, "VEC3");
+    let tex = g.floats(&uv, "VEC2");
+    let idx = if back {
+        g.indices_u32(&[0, 2, 1, 0, 3, 2])
+    } else {
+        g.indices_u32(&[0, 1, 2, 0, 2, 3])
+    };
+    let mut attributes = json!({"POSITION": pos, "NORMAL": nor, "TEXCOORD_0": tex});
+    for (name, a) in extra {
+        attributes[*name] = json!(a);
+    }
+    json!({"attributes": attributes, "indices": idx, "material": material})
+}
+
+/// Per-vertex values (4 vertices) as a normalized integer accessor of `ty` (U8 or U16).
+fn normalized(g: &mut Gltf, values: &[f32], component: u32, ty: &str) -> usize {
+    let bytes: Vec<u8> = if component == U8 {
+        values.iter().map(|v| (v * 255.0).round() as u8).collect()
+    } else {
+        values
+            .iter()
+            .flat_map(|v| ((v * 65535.0).round() as u16).to_le_bytes())
+            .collect()
+    };
+    let view = g.view(&bytes, None);
+    g.accessor(json!({"bufferView": view, "componentType": component, "normalized": true, "count": 4, "type": ty}))
+}
+
+/// The pixel (column, row) where world point `p` lands in `scene`'s image.
+fn pixel_of(scene: &luz::scene::Scene, p: Vec3) -> usize {
+    let (w, h) = (scene.output.width, scene.output.height);
+    let cam = &scene.camera;
+    let clip = luz::render::gpu::projection(cam.fov_y_deg, w as f32 / h as f32, cam.near, cam.far)
+        * cam.view()
+        * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    let x = ((ndc.x * 0.5 + 0.5) * w as f32) as usize;
+    let y = ((ndc.y * 0.5 + 0.5) * h as f32) as usize;
+    y * w as usize + x
+}
+
+fn rgb(img: &luz::imageio::LinearImage, i: usize) -> Vec3 {
+    Vec3::new(img.pixels[i][0], img.pixels[i][1], img.pixels[i][2])
+}
+
+/// `a` and `b` within `rel` relative to the larger channel plus `abs`.
+fn near(a: Vec3, b: Vec3, rel: f32, abs: f32) -> bool {
+    (a - b).abs().max_element() <= rel * a.abs().max(b.abs()).max_element() + abs
+}
+
+/// A scene file around glTF file `file` (scene `scene` of it): camera at `eye` looking at the
+/// origin, a directional light travelling along `light`, a small ambient term, background
+/// (0.1, 0.2, 0.3), no MSAA.
+fn scene_around(
+    dir: &Path,
+    file: &str,
+    scene: usize,
+    eye: [f32; 3],
+    light: [f32; 3],
+) -> luz::scene::Scene {
+    let text = json!({
+        "camera": {"position": eye, "target": [0, 0, 0], "fov_y_deg": 40},
+        "output": {"width": 120, "height": 80, "msaa": 1, "background": [0.1, 0.2, 0.3]},
+        "ambient": [0.03, 0.03, 0.03],
+        "lights": [{"type": "directional", "direction": light, "intensity": 2}],
+        "objects": [{"name": "g", "mesh": {"type": "gltf", "path": file, "scene": scene}}]
+    });
+    luz::scene::parse(&text.to_string(), &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn reference_of(scene: &luz::scene::Scene) -> luz::imageio::LinearImage {
+    let opts = luz::reference::ReferenceOptions {
+        spp: 1,
+        ..Default::default()
+    };
+    luz::reference::render_reference(scene, &opts, None).unwrap()
+}
+
+/// MASK shows the background where alpha (a texture's, or vertex colours') is below the cutoff
+/// and the opaque surface elsewhere; BLEND composites "over" what is behind it, back to front
+/// whatever the file's order; the CPU reference agrees at every probe.
+#[test]
+fn alpha_modes_cut_out_and_blend() {
+    let dir = scratch("gltf-alpha");
+    // A 2 × 1 texture: red with alpha 0 on the left, red with alpha 1 on the right.
+    image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 0, 255, 0, 0, 255])
+        .unwrap()
+        .save(dir.join("cut.png"))
+        .unwrap();
+    let mut g = Gltf::default();
+    let vc = normalized(
+        &mut g,
+        &[
+            0., 1., 0., 0., 0., 1., 0., 1., 0., 1., 0., 1., 0., 1., 0., 0.,
+        ],
+        U8,
+        "VEC4",
+    );
+    let prims = [
+        zquad(&mut g, [-1.4, 0.7, 0.0], 0.5, false, 0, &[]),
+        zquad(&mut g, [0.0, 0.7, 0.0], 0.5, false, 1, &[("COLOR_0", vc)]),
+        zquad(&mut g, [1.4, 0.7, -0.5], 0.5, false, 3, &[]),
+        zquad(&mut g, [1.4, 0.7, 0.0], 0.3, false, 2, &[]),
+        // Near, then far: the file lists the blended quads front to back.
+        zquad(&mut g, [-0.5, -0.7, 0.3], 0.5, false, 4, &[]),
+        zquad(&mut g, [-0.1, -0.7, -0.3], 0.5, false, 2, &[]),
+    ];
+    let pbr =
+        |c: [f32; 4]| json!({"baseColorFactor": c, "metallicFactor": 0, "roughnessFactor": 0.6});
+    g.write_gltf(
+        &dir,
+        "alpha",
+        json!({
+            "extensionsUsed": ["KHR_materials_ior"],
+            "images": [{"uri": "cut.png"}],
+            "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33071}],
+            "textures": [{"source": 0, "sampler": 0}],
+            "materials": [
+                {"name": "mask_tex", "alphaMode": "MASK", "alphaCutoff": 0.5,
+                 "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 0.6}},
+                {"name": "mask_vc", "alphaMode": "MASK", "pbrMetallicRoughness": pbr([1.0, 1.0, 1.0, 1.0])},
+                {"name": "blend_half", "alphaMode": "BLEND", "pbrMetallicRoughness": pbr([1.0, 1.0, 1.0, 0.5])},
+                {"name": "blue_ior2", "pbrMetallicRoughness": pbr([0.1, 0.2, 0.9, 1.0]),
+                 "extensions": {"KHR_materials_ior": {"ior": 2.0}}},
+                {"name": "blend_orange", "alphaMode": "BLEND", "pbrMetallicRoughness": pbr([1.0, 0.5, 0.0, 0.25])}
+            ],
+            "scenes": [{"nodes": [0, 1, 2, 3, 4, 5]}],
+            "nodes": (0..6).map(|i| json!({"mesh": i})).collect::<Vec<_>>(),
+            "meshes": prims.iter().map(|p| json!({"primitives": [p]})).collect::<Vec<_>>()
+        }),
+    );
+    let scene = scene_around(&dir, "alpha.gltf", 0, [0.0, 0.0, 4.0], [0.3, -0.2, -1.0]);
+    assert_eq!(scene.objects.len(), 6);
+    let ctx = gpu();
+    let full = render_on(&ctx, &scene);
+    assert_eq!(nan_count(&full), 0);
+    // Every material drawn opaque, and without some quads: what each layer shows alone.
+    let opaque = |mut s: luz::scene::Scene, keep: &[usize]| {
+        for m in &mut s.materials {
+            m.textures.alpha_mode = luz::scene::AlphaMode::Opaque;
+        }
+        let objects = std::mem::take(&mut s.objects);
+        s.objects = keep.iter().map(|&i| objects[i].clone()).collect();
+        render_on(&ctx, &s)
+    };
+    let all = opaque(scene.clone(), &[0, 1, 2, 3, 4, 5]);
+    let without_front = opaque(scene.clone(), &[0, 1, 2, 5]);
+    let bg = Vec3::new(0.1, 0.2, 0.3);
+    let at = |x: f32, y: f32, z: f32| pixel_of(&scene, Vec3::new(x, y, z));
+    let checks = [
+        // (where, expected)
+        ("mask_tex, alpha 0", at(-1.65, 0.7, 0.0), bg),
+        (
+            "mask_tex, alpha 1",
+            at(-1.15, 0.7, 0.0),
+            rgb(&all, at(-1.15, 0.7, 0.0)),
+        ),
+        ("mask_vc, alpha 0.2", at(-0.3, 0.7, 0.0), bg),
+        (
+            "mask_vc, alpha 0.8",
+            at(0.3, 0.7, 0.0),
+            rgb(&all, at(0.3, 0.7, 0.0)),
+        ),
+        (
+            "blue, nothing in front",
+            at(1.4, 0.3, -0.5),
+            rgb(&all, at(1.4, 0.3, -0.5)),
+        ),
+        (
+            "half white over blue",
+            at(1.4, 0.7, 0.0),
+            0.5 * rgb(&all, at(1.4, 0.7, 0.0)) + 0.5 * rgb(&without_front, at(1.4, 0.7, 0.0)),
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (what, i, want) in &checks {
+        if !near(rgb(&full, *i), *want, 0.01, 2e-3) {
+            failures.push(format!("{what}: {} instead of {want}", rgb(&full, *i)));
+        }
+    }
+    // The overlap of the orange (near, alpha 0.25) and white (far, alpha 0.5) quads.
+    let i = at(-0.3, -0.7, 0.3);
+    let (orange, white) = (rgb(&all, i), rgb(&without_front, i));
+    let want = 0.25 * orange + 0.75 * (0.5 * white + 0.5 * bg);
+    if !near(rgb(&full, i), want, 0.01, 2e-3) {
+        failures.push(format!(
+            "orange over white over the background: {} instead of {want}",
+            rgb(&full, i)
+        ));
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        rgb(&full, at(-1.15, 0.7, 0.0)).x > 0.05,
+        "the masked texture's opaque half is lit red"
+    );
+    assert_no_validation_messages(&ctx);
+
+    // The CPU reference: the same cut-outs and composites (per ray, in depth order).
+    let reference = reference_of(&scene);
+    let mut probes: Vec<(&str, usize)> = checks.iter().map(|(w, i, _)| (*w, *i)).collect();
+    probes.push(("orange over white", i));
+    for (what, i) in probes {
+        let (g, r) = (rgb(&full, i), rgb(&reference, i));
+        assert!(near(g, r, 0.03, 3e-3), "{what}: GPU {g}, reference {r}");
+    }
+}
+
+/// A single-sided quad seen from behind is culled (the background shows); a double-sided one
+/// is lit with the flipped normal, exactly as the same quad facing the camera; on the GPU and
+/// in the reference.
+#[test]
+fn double_sided_back_faces_are_lit_with_the_flipped_normal() {
+    let dir = scratch("gltf-sides");
+    let mut g = Gltf::default();
+    let single = zquad(&mut g, [-0.6, 0.0, 0.0], 0.5, false, 0, &[]);
+    let double = zquad(&mut g, [0.6, 0.0, 0.0], 0.5, false, 1, &[]);
+    let facing = zquad(&mut g, [0.6, 0.0, 0.0], 0.5, true, 0, &[]);
+    let pbr =
+        json!({"baseColorFactor": [0.8, 0.7, 0.6, 1], "metallicFactor": 0, "roughnessFactor": 0.5});
+    g.write_gltf(
+        &dir,
+        "sides",
+        json!({
+            "materials": [
+                {"name": "single", "pbrMetallicRoughness": pbr},
+                {"name": "double", "doubleSided": true, "pbrMetallicRoughness": pbr}
+            ],
+            "scenes": [{"nodes": [0, 1]}, {"nodes": [2]}],
+            "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2}],
+            "meshes": [{"primitives": [single]}, {"primitives": [double]}, {"primitives": [facing]}]
+        }),
+    );
+    // From behind (−z), lit from the camera's side.
+    let eye = [0.0, 0.0, -4.0];
+    let back = scene_around(&dir, "sides.gltf", 0, eye, [0.2, -0.3, 1.0]);
+    let front = scene_around(&dir, "sides.gltf", 1, eye, [0.2, -0.3, 1.0]);
+    let ctx = gpu();
+    let (ib, jf) = (render_on(&ctx, &back), render_on(&ctx, &front));
+    let culled = pixel_of(&back, Vec3::new(-0.6, 0.1, 0.0));
+    let lit = pixel_of(&back, Vec3::new(0.6, 0.1, 0.0));
+    assert_eq!(
+        rgb(&ib, culled),
+        Vec3::new(0.1, 0.2, 0.3),
+        "the single-sided quad is culled"
+    );
+    let (b, f) = (rgb(&ib, lit), rgb(&jf, lit));
+    assert!(f.x > 0.1, "the quad facing the camera is lit: {f}");
+    assert!(
+        near(b, f, 1e-4, 1e-5),
+        "double-sided back face {b}, front face {f}"
+    );
+    assert_no_validation_messages(&ctx);
+    let rb = reference_of(&back);
+    assert_eq!(
+        rgb(&rb, culled),
+        Vec3::new(0.1, 0.2, 0.3),
+        "reference: culled"
+    );
+    assert!(
+        near(rgb(&rb, lit), b, 0.02, 2e-3),
+        "reference {} against GPU {b}",
+        rgb(&rb, lit)
+    );
+}
+
+/// COLOR_0 multiplies the base colour: float VEC3 and normalized u16 VEC4 colours on a white
+/// material render as the same colour given as baseColorFactor; the reference agrees.
+#[test]
+fn vertex_colours_multiply_the_base_colour() {
+    let dir = scratch("gltf-colors");
+    let mut g = Gltf::default();
+    let c = [0.2, 0.6, 1.0];
+    let f3 = g.floats(&c.repeat(4), "VEC3");
+    let u16s = normalized(&mut g, &[0.2, 0.6, 1.0, 1.0].repeat(4), U16, "VEC4");
+    let prims = [
+        zquad(&mut g, [0.0; 3], 0.8, false, 0, &[("COLOR_0", f3)]),
+        zquad(&mut g, [0.0; 3], 0.8, false, 0, &[("COLOR_0", u16s)]),
+        zquad(&mut g, [0.0; 3], 0.8, false, 1, &[]),
+    ];
+    g.write_gltf(
+        &dir,
+        "colors",
+        json!({
+            "materials": [
+                {"name": "white", "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.5}},
+                {"name": "tinted", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.6, 1.0, 1.0], "metallicFactor": 0, "roughnessFactor": 0.5}}
+            ],
+            "scenes": [{"nodes": [0]}, {"nodes": [1]}, {"nodes": [2]}],
+            "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2}],
+            "meshes": prims.iter().map(|p| json!({"primitives": [p]})).collect::<Vec<_>>()
+        }),
+    );
+    let ctx = gpu();
+    let scenes: Vec<_> = (0..3)
+        .map(|s| scene_around(&dir, "colors.gltf", s, [0.3, 0.4, 3.0], [0.0, -0.3, -1.0]))
+        .collect();
+    let imgs: Vec<_> = scenes.iter().map(|s| render_on(&ctx, s)).collect();
+    let centre = pixel_of(&scenes[0], Vec3::ZERO);
+    let want = rgb(&imgs[2], centre);
+    assert!(want.z > want.x * 2.0, "the tint shows: {want}");
+    for (k, img) in imgs.iter().enumerate().take(2) {
+        let max = img
+            .pixels
+            .iter()
+            .zip(&imgs[2].pixels)
+            .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(
+            max < 1e-4,
+            "scene {k}: vertex colours differ from the factor by {max}"
+        );
+    }
+    assert_no_validation_messages(&ctx);
+    let r = reference_of(&scenes[1]);
+    assert!(
+        near(rgb(&r, centre), want, 0.02, 2e-3),
+        "reference {} against {want}",
+        rgb(&r, centre)
+    );
+}
+
+/// A file's TANGENT is used as it is (through the node transform; a mirroring one flips the
+/// handedness); without it MikkTSpace's; KHR_materials_ior and KHR_materials_specular set the
+/// dielectric F0.
+#[test]
+fn file_tangents_ior_and_specular() {
+    let dir = scratch("gltf-tangents");
+    let mut g = Gltf::default();
+    let t = g.floats(&[0.0, 1.0, 0.0, -1.0].repeat(4), "VEC4");
+    let with = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[("TANGENT", t)]);
+    let without = zquad(&mut g, [0.0; 3], 0.5, false, 1, &[]);
+    let spec = zquad(&mut g, [0.0; 3], 0.5, false, 2, &[]);
+    let path = g.write_gltf(
+        &dir,
+        "tangents",
+        json!({
+            "extensionsUsed": ["KHR_materials_ior", "KHR_materials_specular"],
+            "materials": [
+                {"extensions": {"KHR_materials_ior": {"ior": 2.0}}},
+                {},
+                {"extensions": {"KHR_materials_specular": {"specularFactor": 0.5, "specularColorFactor": [1.0, 0.5, 0.0]}}}
+            ],
+            "nodes": [{"mesh": 0}, {"mesh": 0, "scale": [-1, 1, 1]}, {"mesh": 1}, {"mesh": 2}],
+            "meshes": [{"primitives": [with]}, {"primitives": [without]}, {"primitives": [spec]}]
+        }),
+    );
+    let f = load(&path);
+    let tangents = |i: usize| luz::render::mesh::smooth(&f.parts[i].mesh).vertices[0].tangent;
+    assert_eq!(tangents(0), [0.0, 1.0, 0.0, -1.0]);
+    assert_eq!(
+        tangents(1),
+        [0.0, 1.0, 0.0, 1.0],
+        "mirrored: handedness flips"
+    );
+    assert!(f.parts[2].mesh.tangents.is_empty());
+    assert_eq!(tangents(2), [1.0, 0.0, 0.0, 1.0], "MikkTSpace: along +u");
+    let f0 = |m: usize| match &f.materials[m].material {
+        luz::scene::Material::MetalRough(p) => p.dielectric_f0,
+        other => panic!("{other:?}"),
+    };
+    assert!(
+        (f0(0) - Vec3::splat(1.0 / 9.0)).abs().max_element() < 1e-6,
+        "{}",
+        f0(0)
+    );
+    assert_eq!(f0(1), Vec3::splat(0.04));
+    assert!(
+        (f0(2) - Vec3::new(0.02, 0.01, 0.0)).abs().max_element() < 1e-6,
+        "{}",
+        f0(2)
+    );
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+
+    // Wrong types: an error naming the attribute.
+    let mut g = Gltf::default();
+    let t3 = g.floats(&[0.0, 1.0, 0.0].repeat(4), "VEC3");
+    let c2 = g.floats(&[0.5, 0.5].repeat(4), "VEC2");
+    let bad_t = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[("TANGENT", t3)]);
+    let bad_c = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[("COLOR_0", c2)]);
+    for (name, prim, field) in [
+        ("bad_tangent", bad_t, "TANGENT"),
+        ("bad_color", bad_c, "COLOR_0"),
+    ] {
+        let path = g.write_gltf(
+            &dir,
+            name,
+            json!({"materials": [{}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [prim]}]}),
+        );
+        let e = gltf::load(&path, None).unwrap_err().to_string();
+        let want = format!("{name}.gltf: meshes[0].primitives[0].attributes.{field}: must be VEC");
+        assert!(e.contains(&want), "{e}");
+    }
+}
+
+/// Skins, morph targets and animations: the static pose, with one warning for the file.
+#[test]
+fn skins_and_animations_give_one_warning() {
+    let Some(dir) = shared_dir("gltf") else {
+        return;
+    };
+    let f = load(&dir.join("CesiumMan/glTF-Binary/CesiumMan.glb"));
+    let w: Vec<&String> = f
+        .warnings
+        .iter()
+        .filter(|w| w.contains("static pose"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", f.warnings);
+    assert!(
+        w[0].contains("skins") && w[0].contains("animations"),
+        "{}",
+        w[0]
+    );
 }

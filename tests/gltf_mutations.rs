@@ -46,6 +46,11 @@ const TOKENS: &[&[u8]] = &[
     b"\"VEC4\"",
     b"\"MAT4\"",
     b"65536",
+    b"\"MASK\"",
+    b"\"BLEND\"",
+    b"\"COLOR_0\"",
+    b"\"TANGENT\"",
+    b"2.0",
 ];
 
 fn mutate(rng: &mut Rng, input: &[u8]) -> Vec<u8> {

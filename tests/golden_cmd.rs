@@ -352,3 +352,106 @@ fn report_in_a_browser_junit_and_markdown() {
     assert!(dom.contains("data-images-loaded=\"9/10\""), "{dom}");
     assert!(dom.contains("data-loaded=\"false\""), "{dom}");
 }
+
+/// luz's own goldens run literally with `luz golden tests/golden`: every golden but the one
+/// made from textures its test generates has a case file naming its scene, size and IBL sizes
+/// (the golden tests load their scenes through the same files: `tests/common/vulkan.rs`), and
+/// every case passes.
+#[test]
+fn the_projects_goldens_pass_with_luz_golden() {
+    let dir = common::root().join("tests/golden");
+    let generated = ["textured_sphere_sky"];
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "png") {
+            let stem = p.file_stem().unwrap().to_string_lossy().into_owned();
+            let case = dir.join(format!("{stem}.golden.json"));
+            assert!(
+                case.is_file() || generated.contains(&stem.as_str()),
+                "{stem}.png has no case file {}",
+                case.display()
+            );
+        }
+    }
+    if common::shared_dir("gltf").is_none() {
+        return;
+    }
+    let (code, out, err) = golden(&[s(&dir), "--goldens", s(&dir), "--jobs", "2"]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let cases = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .to_string_lossy()
+                .ends_with(".golden.json")
+        })
+        .count();
+    assert!(
+        out.contains(&format!(
+            "luz golden: {cases} passed, 0 failed, {cases} scenes"
+        )),
+        "{out}"
+    );
+}
+
+/// Tolerances in the scene's `output.golden`, overridden field by field by a sidecar; bad
+/// values name the field. EXR goldens (`--format exr`) compare the linear radiance.
+#[test]
+fn scene_tolerances_and_exr_goldens() {
+    let dir = scratch("golden-output-tol");
+    let scenes = dir.join("scenes");
+    let goldens = dir.join("goldens");
+    std::fs::create_dir_all(&scenes).unwrap();
+    write(&scenes.join("ball.json"), &scene(RED, 48, 32));
+    for fmt in ["png", "exr"] {
+        let (code, out, _) = golden(&[
+            s(&scenes),
+            "--goldens",
+            s(&goldens),
+            "--bless",
+            "--format",
+            fmt,
+        ]);
+        assert_eq!(code, 0, "{out}");
+        assert!(goldens.join(format!("ball.{fmt}")).is_file(), "{out}");
+    }
+    // A visibly different ball fails both formats by default.
+    write(&scenes.join("ball.json"), &scene(BLUE, 48, 32));
+    for fmt in ["png", "exr"] {
+        let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens), "--format", fmt]);
+        assert_eq!(code, 1, "{fmt}: {out}");
+        assert!(out.contains("FAIL ball"), "{out}");
+    }
+    // The scene's own tolerances turn the checks off...
+    let lenient = scene(BLUE, 48, 32).replace(
+        r#""tonemap": "none"}"#,
+        r#""tonemap": "none", "golden": {"max_flip_mean": null, "max_abs": null, "max_bad_pixels": null}}"#,
+    );
+    write(&scenes.join("ball.json"), &lenient);
+    for fmt in ["png", "exr"] {
+        let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens), "--format", fmt]);
+        assert_eq!(code, 0, "{fmt}: {out}");
+    }
+    // ...and a sidecar wins over them, field by field.
+    write(&goldens.join("ball.golden.json"), r#"{"max_abs": 8}"#);
+    let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens)]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("exceeds max-abs 8"), "{out}");
+    assert!(!out.contains("max-flip-mean"), "{out}");
+    std::fs::remove_file(goldens.join("ball.golden.json")).unwrap();
+    // Bad values: the case fails naming the scene file and the field.
+    write(
+        &scenes.join("ball.json"),
+        &lenient.replace(r#""max_abs": null"#, r#""max_abs": -2"#),
+    );
+    let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens)]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("ball.json")
+            && out.contains("output.golden.max_abs")
+            && out.contains("must be a number ≥ 0"),
+        "{out}"
+    );
+}

@@ -404,6 +404,9 @@ fn ibl_golden(name: &str, w: u32, h: u32) {
     .unwrap_or_else(|e| panic!("{e}"));
     scene.output.width = w;
     scene.output.height = h;
+    let case = golden_case(&format!("ibl_{name}"));
+    assert_same_scene(&case.load_scene().unwrap(), &scene);
+    assert_eq!(case.fast_ibl, Some(true), "render_ibl's IBL sizes");
     let ctx = gpu();
     let img = render_ibl(&ctx, &scene);
     assert_no_validation_messages(&ctx);

@@ -11,6 +11,8 @@ fn default_scene_golden() {
     let mut scene = luz::scene::default_scene();
     scene.output.width = 640;
     scene.output.height = 360;
+    // The case file (`luz golden tests/golden`) loads the same scene from its file.
+    assert_same_scene(&golden_scene("default_640x360"), &scene);
     let img = render(&scene);
     // Lit spheres: the image is not black and has no NaN.
     let lum: f64 = img

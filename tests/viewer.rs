@@ -84,6 +84,20 @@ fn scripted_resize_and_ui_change_show_in_the_screenshot() {
         (640, 400),
         "the scripted resize reached the swapchain"
     );
+    // The screenshot's provenance: the device, the scene and its hash, the exposure the script
+    // set, the window's size.
+    let meta = luz::imageio::provenance::read(&shot).unwrap();
+    let get = |k: &str| {
+        meta.get(k)
+            .unwrap_or_else(|| panic!("no {k} in {meta:?}"))
+            .to_string()
+    };
+    assert!(get("luz.device").contains("llvmpipe"), "{meta:?}");
+    assert_eq!(get("luz.scene"), scene.display().to_string());
+    assert!(get("luz.scene_hash").starts_with("fnv1a64:"), "{meta:?}");
+    assert_eq!(get("luz.size"), "640x400");
+    assert_eq!(get("luz.exposure_ev"), "1");
+    assert_eq!(get("luz.capture"), "viewer screenshot");
 
     let reference = dir.join("reference.png");
     let (code, _, err) = luz(&[

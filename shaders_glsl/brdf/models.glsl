@@ -231,7 +231,7 @@ BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
     float roughness = p.color.w;
     float metallic = p.spec.w;
     float a = max(roughness * roughness, BRDF_ALPHA_MIN);
-    vec3 f0 = mix(vec3(0.04), base, metallic);
+    vec3 f0 = mix(p.spec.rgb, base, metallic);  // spec.rgb: the dielectric F0 (0.04)
     vec3 c_diff = base * (1.0 - metallic);
     vec3 spec = brdf_fresnel_spec_from_f0(p.sel.w, f0);
     vec3 h = brdf_safe_normalize(l + v);

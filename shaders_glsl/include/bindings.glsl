@@ -79,7 +79,7 @@ layout(set = SET_MATERIAL, binding = MAP_EMISSIVE) uniform sampler2D map_emissiv
 #ifndef LUZ_DEFERRED
 layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor
-    vec4 params;    // normal_scale, occlusion_strength
+    vec4 params;    // normal_scale, occlusion_strength, alpha factor, alpha cutoff
     uvec4 present;  // x: bit MAP_* set when that map exists
 } mat_extra;
 
@@ -90,7 +90,7 @@ layout(push_constant) uniform MaterialPush {
     uint object_index;
     uint flags;
     uint receive_shadow;  // 1: the shadow maps darken this object
-    uint reserved1;
+    uint double_sided;    // 1: a back face is lit with the flipped normal (glTF doubleSided)
 } material;
 #else
 // The deferred lighting pass (deferred_light.frag) shades every pixel in one draw: the same two
@@ -106,7 +106,7 @@ struct MaterialPushData {
     uint object_index;
     uint flags;
     uint receive_shadow;
-    uint reserved1;
+    uint double_sided;
 };
 MaterialExtraData mat_extra;
 MaterialPushData material;
@@ -163,6 +163,14 @@ layout(constant_id = 12) const uint LIGHT_KINDS = 1023u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
+// glTF's alphaMode (src/scene/textures.rs: AlphaMode): ALPHA_OPAQUE ignores alpha, ALPHA_MASK
+// discards fragments whose alpha is below the cutoff (MaterialExtra.params.w), ALPHA_BLEND writes
+// alpha for the pipeline's "over" blending. Alpha = MaterialExtra.params.z × the base colour map's
+// alpha × the vertex colour's alpha.
+layout(constant_id = 18) const uint ALPHA_MODE = 0u;
+#define ALPHA_OPAQUE 0u
+#define ALPHA_MASK 1u
+#define ALPHA_BLEND 2u
 // The fragment stage loops over its cluster's lights only (Clusters above) instead of all of them;
 // the vertex stage (flat, Gouraud) always loops over all.
 layout(constant_id = 17) const bool CLUSTERED = false;

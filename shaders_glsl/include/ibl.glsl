@@ -77,7 +77,7 @@ SplitSumInputs split_sum_inputs(BrdfParams p) {
     s.weight = 1.0;
     s.roughness = p.color.w;
     if (MODEL == BRDF_MODEL_METAL_ROUGH) {
-        s.f0 = mix(vec3(0.04), p.color.rgb, p.spec.w);
+        s.f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
         if (p.sel.y == BRDF_D_BECKMANN) {
             // Beckmann m = roughness² here; GGX with α = m has a similar width.
             s.roughness = p.color.w;

@@ -72,6 +72,10 @@ BrdfParams material_params() {
     return p;
 }
 
+// The interpolated vertex colour (glTF COLOR_0, linear RGBA) of the point being shaded: set by
+// forward.frag before shade() in the VERTEX_COLOR variants, white otherwise.
+vec4 g_vertex_color = vec4(1.0);
+
 bool has_map(uint slot) {
     return (MAPS & (1u << slot)) != 0u && (mat_extra.present.x & (1u << slot)) != 0u;
 }
@@ -104,6 +108,9 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     s.y = Y;
     s.occlusion = 1.0;
     s.emission = mat_extra.emissive.rgb;
+#ifdef VERTEX_COLOR
+    s.p.color.rgb *= g_vertex_color.rgb;
+#endif
     if (MAPS == 0u || mat_extra.present.x == 0u) {
         return s;
     }
@@ -150,6 +157,18 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
 #endif
     return s;
 }
+
+#ifndef LUZ_DEFERRED
+// The base colour's alpha at uv: the material's factor × the base colour map's alpha × the vertex
+// colour's alpha (glTF).
+float base_alpha(vec2 uv) {
+    float a = mat_extra.params.z * g_vertex_color.a;
+    if (has_map(MAP_BASE_COLOR)) {
+        a *= sample_map(map_base_color, uv).a;
+    }
+    return a;
+}
+#endif
 
 // The ambient term: the slides' I_a k_a O_d for the classic models; for the others the uniform
 // ambient radiance seen by the diffuse term (diffuse albedo × ambient).

@@ -95,7 +95,7 @@ impl GpuBrdfParams {
             }
             Model::MetalRough(p) => {
                 g.color = p.base_color.extend(p.roughness).to_array();
-                g.spec[3] = p.metallic;
+                g.spec = p.dielectric_f0.extend(p.metallic).to_array();
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
                 g.p0[1] = p.diffuse as i32 as f32;
                 g.sel = [

@@ -348,7 +348,7 @@ impl CookTorranceParams {
 }
 
 /// glTF metallic-roughness (MODELS.md §4): `c_diff = base·(1 − metallic)`,
-/// `F0 = mix(0.04, base, metallic)`, `f = c_diff/π · [Fd] · [1 − F] + D F G / (4 (n·l)(n·v))`
+/// `F0 = mix(dielectric_f0 (0.04), base, metallic)`, `f = c_diff/π · [Fd] · [1 − F] + D F G / (4 (n·l)(n·v))`
 /// (`Fd`: Burley's factor when [`Diffuse::Burley`] is selected),
 /// `α = roughness²` (also the Beckmann `m` when Beckmann is selected).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -371,6 +371,10 @@ pub struct MetalRoughParams {
     /// The diffuse lobe: Lambert `c_diff/π` or Burley `c_diff/π · Fd` (with the perceptual
     /// roughness). Default Lambert (glTF).
     pub diffuse: Diffuse,
+    /// F0 of the dielectric part (metallic 0), linear RGB in [0, 1]. Default 0.04 (ior 1.5, as
+    /// glTF's core); KHR_materials_ior and KHR_materials_specular set it
+    /// (`src/scene/gltf/material.rs`).
+    pub dielectric_f0: Vec3,
 }
 
 impl Default for MetalRoughParams {
@@ -384,14 +388,16 @@ impl Default for MetalRoughParams {
             fresnel: Fresnel::Schlick,
             diffuse_fresnel_weight: false,
             diffuse: Diffuse::Lambert,
+            dielectric_f0: Vec3::splat(0.04),
         }
     }
 }
 
 impl MetalRoughParams {
-    /// Colour ≥ 0, metallic and roughness in [0, 1].
+    /// Colour ≥ 0, metallic and roughness in [0, 1], dielectric F0 in [0, 1].
     pub fn sanitized(&self) -> Self {
         Self {
+            dielectric_f0: colour(self.dielectric_f0).min(Vec3::ONE),
             base_color: colour(self.base_color),
             metallic: unit(self.metallic, 1.0),
             roughness: unit(self.roughness, 1.0),
@@ -806,7 +812,7 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
         return Terms::ZERO;
     };
     let a = (p.roughness * p.roughness).max(ALPHA_MIN);
-    let f0 = mix3(Vec3::splat(0.04), p.base_color, p.metallic);
+    let f0 = mix3(p.dielectric_f0, p.base_color, p.metallic);
     let c_diff = p.base_color * (1.0 - p.metallic);
     let (spec, kappa) = p.fresnel.inputs_from_f0(f0);
     let h = safe_normalize(s.l + s.v);

@@ -98,6 +98,7 @@ fn all_models(roughness: f32) -> Vec<Model> {
                                 fresnel: f,
                                 diffuse_fresnel_weight: w,
                                 diffuse,
+                                ..MetalRoughParams::default()
                             }));
                         }
                     }
@@ -1173,6 +1174,7 @@ fn albedo_report() {
                                     fresnel: Fresnel::Schlick,
                                     diffuse_fresnel_weight: w,
                                     diffuse,
+                                    ..MetalRoughParams::default()
                                 }),
                             ));
                         }

@@ -36,8 +36,18 @@ pub struct GoldenArgs {
     /// Recompute image-based lighting data instead of reading it from the cache.
     #[arg(long)]
     pub no_cache: bool,
+    /// The goldens' format: png (<name>.png, the display encoding) or exr (<name>.exr, the
+    /// linear float radiance, compared in linear float; tolerance steps are 1/255 of radiance).
+    #[arg(long, value_enum, default_value_t = GoldenFormat::Png)]
+    pub format: GoldenFormat,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GoldenFormat {
+    Png,
+    Exr,
 }
 
 pub fn run(a: GoldenArgs) -> Result<ExitCode> {
@@ -56,6 +66,10 @@ pub fn run(a: GoldenArgs) -> Result<ExitCode> {
     );
     opts.bless = a.bless;
     opts.jobs = a.jobs as usize;
+    opts.format = match a.format {
+        GoldenFormat::Png => luz::imageio::FileFormat::Png,
+        GoldenFormat::Exr => luz::imageio::FileFormat::Exr,
+    };
     opts.progress = Some(luz::progress::ProgressSink::new(Bar::new(
         "golden {bar:30} {pos}/{len} {msg} {elapsed}",
     )));

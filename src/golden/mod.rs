@@ -1,5 +1,6 @@
 //! Golden-image checks of scenes (`luz golden`, and luz's own golden tests): render each scene
-//! headless, compare its PNG encoding with `<goldens>/<name>.png` under the golden-image
+//! headless, compare its PNG encoding with `<goldens>/<name>.png` (or its linear radiance with
+//! `<name>.exr`) under the golden-image
 //! tolerances (or the scene's own, from a sidecar `<name>.golden.json`), or bless (write) the
 //! goldens.
 //!
@@ -10,7 +11,12 @@
 //! The library returns data: [`Case`]s with their figures and images; [`report`] writes the HTML
 //! page, the JUnit XML and the Markdown summary; the binary prints.
 
+mod case;
 pub mod report;
+mod tolerance;
+
+pub use case::{CaseFile, CASE_FIELDS};
+pub use tolerance::{parse_sidecar, read_sidecar, OverrideError, ToleranceOverrides};
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -23,11 +29,9 @@ use crate::imageio::{self, FileFormat, LoadedImage, Provenance};
 use crate::progress::{ProgressSink, Reporting};
 use crate::vk::Context;
 
-/// The scene file extensions `luz golden` reads now: JSON scenes and OBJ models (a model is a
-/// scene with the default rig, `scene::model`).
-pub const SCENE_EXTENSIONS: &[&str] = &["json", "obj"];
-/// Model formats that are scenes too, but not yet for luz.
-pub const LATER_EXTENSIONS: &[&str] = &["gltf", "glb"];
+/// The scene file extensions `luz golden` reads: JSON scenes, and OBJ and glTF models (a model
+/// is a scene with its own cameras and lights or the default rig, `scene::model`).
+pub const SCENE_EXTENSIONS: &[&str] = &["json", "obj", "gltf", "glb"];
 /// Held while a case uses the GPU ([`run_case`]).
 static GPU_QUEUE: Mutex<()> = Mutex::new(());
 
@@ -49,6 +53,10 @@ pub struct GoldenOptions {
     pub tolerance: Tolerance,
     /// Told after each scene.
     pub progress: Option<ProgressSink>,
+    /// The goldens' format: `<name>.png` (the 8-bit display encoding, exposure and tone map
+    /// applied) or `<name>.exr` (the linear float radiance; the tolerances' 8-bit steps become
+    /// steps of 1/255 in radiance).
+    pub format: FileFormat,
 }
 
 impl GoldenOptions {
@@ -62,6 +70,7 @@ impl GoldenOptions {
             render,
             tolerance: Tolerance::golden(),
             progress: None,
+            format: FileFormat::Png,
         }
     }
 }
@@ -94,8 +103,7 @@ fn scene_kinds() -> String {
 }
 
 /// The scene files named by `inputs`: files as given, folders' scene files (sorted, not
-/// recursive; `*.golden.json` sidecars left out; glTF/OBJ files kept, to be reported as not yet
-/// supported).
+/// recursive; `*.golden.json` sidecars left out).
 pub fn collect_scenes(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, GoldenError> {
     if inputs.is_empty() {
         return Err(GoldenError::NoScenes);
@@ -120,12 +128,19 @@ pub fn collect_scenes(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, GoldenError> {
         let mut found = Vec::new();
         for entry in std::fs::read_dir(input).map_err(folder_err)? {
             let path = entry.map_err(folder_err)?.path();
-            if path.is_dir() || is_sidecar(&path) {
+            if path.is_dir() {
+                continue;
+            }
+            // Sidecars are cases when they name their scene (a folder of goldens runs as it
+            // is); otherwise they only hold tolerances.
+            if is_sidecar(&path) {
+                if case::names_a_scene(&path) {
+                    found.push(path);
+                }
                 continue;
             }
             let ext = extension(&path);
-            if SCENE_EXTENSIONS.contains(&ext.as_str()) || LATER_EXTENSIONS.contains(&ext.as_str())
-            {
+            if SCENE_EXTENSIONS.contains(&ext.as_str()) {
                 found.push(path);
             }
         }
@@ -178,8 +193,12 @@ fn is_sidecar(path: &Path) -> bool {
         .is_some_and(|n| n.to_ascii_lowercase().ends_with(SIDECAR_SUFFIX))
 }
 
-/// A scene's case name: its file name without the extension.
+/// A scene's case name: its file name without the extension (`.golden.json` for a case file).
 pub fn case_name(scene: &Path) -> String {
+    if is_sidecar(scene) {
+        let n = scene.file_name().unwrap_or_default().to_string_lossy();
+        return n[..n.len() - SIDECAR_SUFFIX.len()].to_string();
+    }
     scene
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -217,7 +236,7 @@ pub enum BlessChange {
 pub struct CaseImages {
     /// The golden as loaded (absent when missing or unreadable).
     pub expected: Option<LoadedImage>,
-    /// The rendered frame, exactly as its PNG holds it.
+    /// The rendered frame, exactly as its PNG (or EXR) holds it.
     pub actual: LoadedImage,
     /// The FLIP error map (when both sides have one size).
     pub flip: Option<FlipMap>,
@@ -297,59 +316,6 @@ impl Case {
     }
 }
 
-/// Reads a sidecar: a JSON object with any of `max_flip_mean`, `max_abs` (8-bit steps),
-/// `max_bad_pixels` (each a number ≥ 0, or null to turn the check off) and
-/// `bad_pixel_threshold` (8-bit steps); the others keep `base`'s values.
-pub fn read_sidecar(path: &Path, base: Tolerance) -> Result<Tolerance, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    parse_sidecar(&text, base).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// [`read_sidecar`] on text.
-pub fn parse_sidecar(text: &str, base: Tolerance) -> Result<Tolerance, String> {
-    let value: serde_json::Value =
-        serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
-    let obj = value
-        .as_object()
-        .ok_or("a sidecar is a JSON object of tolerances")?;
-    let mut t = base;
-    let number = |key: &str, v: &serde_json::Value| -> Result<Option<f64>, String> {
-        if v.is_null() {
-            return Ok(None);
-        }
-        match v.as_f64() {
-            Some(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
-            _ => Err(format!(
-                "{key}: must be a number ≥ 0 or null (no check), not {v}"
-            )),
-        }
-    };
-    for (key, v) in obj {
-        match key.as_str() {
-            "max_flip_mean" => t.max_flip_mean = number(key, v)?.map(|x| x as f32),
-            "max_abs" => t.max_abs = number(key, v)?.map(|x| x as f32),
-            "max_bad_pixels" => {
-                t.max_bad_pixels = match number(key, v)? {
-                    Some(x) if x.fract() == 0.0 => Some(x as u64),
-                    Some(_) => return Err(format!("{key}: must be a whole number, not {v}")),
-                    None => None,
-                }
-            }
-            "bad_pixel_threshold" => {
-                t.bad_pixel_threshold =
-                    number(key, v)?.ok_or(format!("{key}: must be a number ≥ 0"))? as f32
-            }
-            other => {
-                return Err(format!(
-                    "unknown field {other:?} (known: max_flip_mean, max_abs, max_bad_pixels, \
-                     bad_pixel_threshold)"
-                ))
-            }
-        }
-    }
-    Ok(t)
-}
-
 /// Renders and checks (or blesses) every scene, `opts.jobs` at a time on `ctx`. Never fails as a
 /// whole: each case carries its own failure. Cases come back in the order of `scenes`.
 pub fn run(ctx: &Arc<Context>, scenes: &[PathBuf], opts: &GoldenOptions) -> Vec<Case> {
@@ -373,7 +339,7 @@ pub fn run(ctx: &Arc<Context>, scenes: &[PathBuf], opts: &GoldenOptions) -> Vec<
                     Some(j) => Case::failed(
                         names[i].clone(),
                         &scenes[i],
-                        opts.goldens.join(format!("{}.png", names[i])),
+                        golden_path(opts, &names[i]),
                         opts.tolerance,
                         format!(
                             "another scene has the name {:?} ({}); each scene's golden is \
@@ -398,10 +364,19 @@ pub fn run(ctx: &Arc<Context>, scenes: &[PathBuf], opts: &GoldenOptions) -> Vec<
         .collect()
 }
 
+/// The golden of case `name`: `<goldens>/<name>.png` or `.exr` (`opts.format`).
+pub fn golden_path(opts: &GoldenOptions, name: &str) -> PathBuf {
+    let ext = match opts.format {
+        FileFormat::Png => "png",
+        FileFormat::Exr => "exr",
+    };
+    opts.goldens.join(format!("{name}.{ext}"))
+}
+
 /// One scene: load, render, compare or bless.
 pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &GoldenOptions) -> Case {
     let t0 = Instant::now();
-    let golden = opts.goldens.join(format!("{name}.png"));
+    let golden = golden_path(opts, name);
     let fail = |reason: String| {
         let mut c = Case::failed(
             name.to_string(),
@@ -414,49 +389,84 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         c
     };
     let ext = extension(scene_path);
-    if !SCENE_EXTENSIONS.contains(&ext.as_str()) {
-        let what = if LATER_EXTENSIONS.contains(&ext.as_str()) {
-            format!(".{ext} models are not yet scenes for luz golden")
-        } else {
-            "not a scene file".to_string()
-        };
+    let case_file = if is_sidecar(scene_path) {
+        match CaseFile::read(scene_path) {
+            Ok(c) if c.scene.is_some() => Some(c),
+            Ok(_) => {
+                return fail(format!(
+                    "{}: scene: missing (a sidecar of tolerances is not a case)",
+                    scene_path.display()
+                ))
+            }
+            Err(e) => return fail(e),
+        }
+    } else {
+        None
+    };
+    if case_file.is_none() && !SCENE_EXTENSIONS.contains(&ext.as_str()) {
         return fail(format!(
-            "{}: {what} (luz golden reads {} scene files)",
+            "{}: not a scene file (luz golden reads {} scene files)",
             scene_path.display(),
             scene_kinds()
         ));
     }
 
-    // Tolerances: <goldens>/<name>.golden.json, else beside the scene, else the defaults.
-    let sidecar_name = format!("{name}{SIDECAR_SUFFIX}");
-    let sidecar = [
-        opts.goldens.join(&sidecar_name),
-        scene_path
-            .parent()
-            .unwrap_or(Path::new(""))
-            .join(&sidecar_name),
-    ]
-    .into_iter()
-    .find(|p| p.is_file());
-    let (tolerance, tolerance_source) = match &sidecar {
-        Some(p) => match read_sidecar(p, opts.tolerance) {
-            Ok(t) => (t, p.display().to_string()),
-            Err(e) => return fail(e),
-        },
-        None => (opts.tolerance, "golden-image defaults".to_string()),
+    let loaded = match &case_file {
+        Some(c) => c.load_scene(),
+        None => crate::scene::load(scene_path).map_err(|e| e.to_string()),
     };
-
-    let scene = match crate::scene::load(scene_path) {
+    let scene = match loaded {
         Ok(s) => s,
-        Err(e) => return fail(e.to_string()),
+        Err(e) => return fail(e),
     };
+    // Tolerances: the defaults, then the scene's `output.golden`, then a sidecar
+    // <goldens>/<name>.golden.json (else beside the scene): each field of a later one wins.
+    let (mut tolerance, mut tolerance_source) = if scene.output.golden.is_empty() {
+        (opts.tolerance, "golden-image defaults".to_string())
+    } else {
+        (
+            scene.output.golden.apply(opts.tolerance),
+            format!("{}: output.golden", scene_path.display()),
+        )
+    };
+    let sidecar_name = format!("{name}{SIDECAR_SUFFIX}");
+    let sidecar = match &case_file {
+        // A case file is its own sidecar.
+        Some(c) => Some(c.path.clone()),
+        None => [
+            opts.goldens.join(&sidecar_name),
+            scene_path
+                .parent()
+                .unwrap_or(Path::new(""))
+                .join(&sidecar_name),
+        ]
+        .into_iter()
+        .find(|p| p.is_file()),
+    };
+    if let Some(p) = &sidecar {
+        match CaseFile::read(p) {
+            Ok(c) => tolerance = c.tolerance.apply(tolerance),
+            Err(e) => return fail(e),
+        }
+        tolerance_source = if scene.output.golden.is_empty() {
+            p.display().to_string()
+        } else {
+            format!("{tolerance_source}, then {}", p.display())
+        };
+    }
     let rendered = {
         // The jobs share one device and its one queue, whose use must be externally
         // synchronised (one thread's vkDeviceWaitIdle while another submits is undefined
         // behaviour, and validation says so): the GPU part of a case runs alone, from building
         // the renderer to dropping it. Loading, comparing and encoding run in parallel.
         let _queue = GPU_QUEUE.lock().unwrap_or_else(|e| e.into_inner());
-        Headless::with_options(ctx, &scene, &opts.render).and_then(|mut r| {
+        let mut render = opts.render.clone();
+        match case_file.as_ref().and_then(|c| c.fast_ibl) {
+            Some(true) => render.ibl = crate::render::ibl::IblSettings::fast(),
+            Some(false) => render.ibl = Default::default(),
+            None => {}
+        }
+        Headless::with_options(ctx, &scene, &render).and_then(|mut r| {
             r.render()?;
             r.image()
         })
@@ -468,7 +478,7 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
     let nan = imageio::count_non_finite(&image.pixels);
     let actual = LoadedImage::from_linear(
         &image,
-        FileFormat::Png,
+        opts.format,
         scene.output.exposure,
         scene.output.tonemap,
     );
@@ -565,9 +575,10 @@ pub struct Comparison {
     pub expected_provenance: Option<Provenance>,
 }
 
-/// Compares `actual` (a rendered frame as its PNG holds it, e.g.
-/// [`LoadedImage::from_linear`]) with the PNG `golden` under `tolerance`. `nan` is the number of
-/// NaN/Inf pixels of the rendered radiance (the PNG cannot show them; any is a failure). A
+/// Compares `actual` (a rendered frame as its PNG or EXR holds it, e.g.
+/// [`LoadedImage::from_linear`]) with the PNG or EXR `golden` under `tolerance` (8-bit steps;
+/// 1/255 of radiance when an EXR is involved). `nan` is the number of NaN/Inf pixels of the
+/// rendered radiance (any is a failure). A
 /// missing or unreadable golden and a size mismatch are failures with the reason.
 pub fn compare_with_golden(
     golden: &Path,
@@ -647,6 +658,10 @@ mod tests {
             (r#"{"max_bad_pixels": 1.5}"#, "whole number"),
             (r#"{"max_flip": 1}"#, "unknown field \"max_flip\""),
             (r#"[1]"#, "JSON object"),
+            (
+                r#"{"max_flip_mean": "a"}"#,
+                "max_flip_mean: must be a number",
+            ),
             (r#"{"#, "not valid JSON"),
             (r#"{"bad_pixel_threshold": null}"#, "bad_pixel_threshold"),
         ] {

@@ -215,6 +215,56 @@ pub fn read(path: &Path) -> Result<Provenance, ImageError> {
     Ok(out)
 }
 
+/// The id of the `<metadata>` element luz writes into its SVG charts.
+const SVG_METADATA_ID: &str = "luz-provenance";
+
+/// `svg` with a `<metadata id="luz-provenance">` element holding `meta` as `key: value` lines
+/// (XML-escaped), right after the root element's start tag.
+pub fn svg_with_metadata(svg: &str, meta: &Provenance) -> String {
+    let escape = |s: &str| {
+        s.replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;")
+            .replace('\n', " ")
+    };
+    let mut block = format!("\n<metadata id=\"{SVG_METADATA_ID}\">\n");
+    for (k, v) in &meta.entries {
+        block.push_str(&format!("{}: {}\n", escape(k), escape(v)));
+    }
+    block.push_str("</metadata>");
+    match svg
+        .find("<svg")
+        .and_then(|i| svg[i..].find('>').map(|j| i + j + 1))
+    {
+        Some(at) => format!("{}{block}{}", &svg[..at], &svg[at..]),
+        None => svg.to_string(),
+    }
+}
+
+/// The provenance [`svg_with_metadata`] wrote into an SVG file (empty when it has none).
+pub fn read_svg(path: &Path) -> Result<Provenance, std::io::Error> {
+    let text = std::fs::read_to_string(path)?;
+    let mut out = Provenance::default();
+    let open = format!("<metadata id=\"{SVG_METADATA_ID}\">");
+    let Some(start) = text.find(&open).map(|i| i + open.len()) else {
+        return Ok(out);
+    };
+    let end = text[start..]
+        .find("</metadata>")
+        .map_or(text.len(), |j| start + j);
+    let unescape = |s: &str| {
+        s.replace("&lt;", "<")
+            .replace("&gt;", ">")
+            .replace("&amp;", "&")
+    };
+    for line in text[start..end].lines() {
+        if let Some((k, v)) = line.split_once(": ") {
+            out.set(&unescape(k), unescape(v));
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -234,6 +234,18 @@ pub enum Chart {
     Polar(PolarChart),
 }
 
+impl Chart {
+    /// The chart's title.
+    pub fn title(&self) -> &str {
+        match self {
+            Chart::Line(c) => &c.title,
+            Chart::Scatter(c) => &c.title,
+            Chart::Heatmap(c) => &c.title,
+            Chart::Polar(c) => &c.title,
+        }
+    }
+}
+
 impl From<LineChart> for Chart {
     fn from(c: LineChart) -> Self {
         Chart::Line(c)
@@ -295,14 +307,36 @@ pub fn render_rgb(chart: &Chart, width: u32, height: u32) -> Result<Vec<u8>> {
     Ok(buf)
 }
 
-/// Writes `chart` to `path`, PNG or SVG by its extension, `width × height` pixels.
+/// Writes `chart` to `path`, PNG or SVG by its extension, `width × height` pixels, with the
+/// base provenance ([`save_with`]).
 pub fn save(chart: &Chart, path: &Path, width: u32, height: u32) -> Result<()> {
+    save_with(
+        chart,
+        path,
+        width,
+        height,
+        &crate::imageio::Provenance::base(),
+    )
+}
+
+/// [`save`] recording `meta` (plus `luz.chart`, the title, `luz.size` and `luz.encoding`): PNG
+/// iTXt chunks as every PNG luz writes, or an SVG `<metadata id="luz-provenance">` element of
+/// `key: value` lines (`luz info` reads both).
+pub fn save_with(
+    chart: &Chart,
+    path: &Path,
+    width: u32,
+    height: u32,
+    meta: &crate::imageio::Provenance,
+) -> Result<()> {
+    let mut meta = meta.clone();
+    meta.set("luz.chart", chart.title());
+    meta.set("luz.size", format!("{width}x{height}"));
     match Format::from_path(path)? {
         Format::Png => {
             let buf = render_rgb(chart, width, height)?;
-            let img = image::RgbImage::from_raw(width, height, buf)
-                .ok_or_else(|| anyhow!("internal: chart buffer size"))?;
-            img.save_with_format(path, image::ImageFormat::Png)
+            meta.set("luz.encoding", "8-bit sRGB chart");
+            crate::imageio::save_png_rgb8_with(path, width, height, &buf, &meta)
                 .with_context(|| format!("writing {}", path.display()))?;
         }
         Format::Svg => {
@@ -314,19 +348,32 @@ pub fn save(chart: &Chart, path: &Path, width: u32, height: u32) -> Result<()> {
                 draw(chart, &root)?;
                 root.present().map_err(de)?;
             }
+            meta.set("luz.encoding", "SVG chart");
+            let svg = crate::imageio::provenance::svg_with_metadata(&svg, &meta);
             std::fs::write(path, svg).with_context(|| format!("writing {}", path.display()))?;
         }
     }
     Ok(())
 }
 
-/// Writes `stem.png` and `stem.svg` (any extension of `stem` is replaced); returns both paths.
-pub fn save_png_svg(chart: &Chart, stem: &Path, width: u32, height: u32) -> Result<[PathBuf; 2]> {
+/// [`save_png_svg`] recording `meta` ([`save_with`]).
+pub fn save_png_svg_with(
+    chart: &Chart,
+    stem: &Path,
+    (width, height): (u32, u32),
+    meta: &crate::imageio::Provenance,
+) -> Result<[PathBuf; 2]> {
     let png = stem.with_extension("png");
     let svg = stem.with_extension("svg");
-    save(chart, &png, width, height)?;
-    save(chart, &svg, width, height)?;
+    save_with(chart, &png, width, height, meta)?;
+    save_with(chart, &svg, width, height, meta)?;
     Ok([png, svg])
+}
+
+/// Writes `stem.png` and `stem.svg` (any extension of `stem` is replaced); returns both paths.
+pub fn save_png_svg(chart: &Chart, stem: &Path, width: u32, height: u32) -> Result<[PathBuf; 2]> {
+    let base = crate::imageio::Provenance::base();
+    save_png_svg_with(chart, stem, (width, height), &base)
 }
 
 fn check_size(width: u32, height: u32) -> Result<()> {

@@ -85,3 +85,36 @@ fn every_chart_kind_renders() {
     assert!(Format::from_path(Path::new("a.jpg")).is_err());
     assert_eq!(Format::from_path(Path::new("a.SVG")).unwrap(), Format::Svg);
 }
+
+/// Charts record their provenance: the caller's entries plus the title, size and encoding, in
+/// the PNG's text chunks and the SVG's metadata element, read back by `luz info`'s readers.
+#[test]
+fn charts_carry_provenance() {
+    let chart: Chart = LineChart {
+        title: "a <title> & more".into(),
+        x: Axis::new("x"),
+        y: Axis::new("y"),
+        series: vec![Series::new("a", vec![(0.0, 1.0), (1.0, 2.0)])],
+        legend: Legend::UpperLeft,
+    }
+    .into();
+    let dir = std::env::temp_dir().join(format!("luz-plot-meta-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut meta = crate::imageio::Provenance::base();
+    meta.set("luz.scene", "scenes/x.json");
+    let [png, svg] = save_png_svg_with(&chart, &dir.join("c"), (320, 200), &meta).unwrap();
+    let from_png = crate::imageio::provenance::read(&png).unwrap();
+    let from_svg = crate::imageio::provenance::read_svg(&svg).unwrap();
+    for p in [&from_png, &from_svg] {
+        assert_eq!(p.get("luz.scene"), Some("scenes/x.json"), "{p:?}");
+        assert_eq!(p.get("luz.chart"), Some("a <title> & more"), "{p:?}");
+        assert_eq!(p.get("luz.size"), Some("320x200"), "{p:?}");
+        assert!(p.get("luz.version").is_some(), "{p:?}");
+    }
+    assert_eq!(from_svg.get("luz.encoding"), Some("SVG chart"));
+    // The SVG stays well-formed: the metadata sits inside the root element.
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let (svg_open, meta_at) = (text.find("<svg").unwrap(), text.find("<metadata").unwrap());
+    assert!(svg_open < meta_at && text.contains("&lt;title&gt; &amp; more"));
+    std::fs::remove_dir_all(dir).unwrap();
+}

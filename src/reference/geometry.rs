@@ -444,8 +444,8 @@ pub struct MeshAccel {
 const LEAF_SIZE: usize = 4;
 
 impl MeshAccel {
-    /// Builds the BVH; `with_tangents` computes per-vertex tangents as the GPU path does
-    /// (`render::mesh::tangents`: MikkTSpace on the UVs).
+    /// Builds the BVH; `with_tangents` takes per-vertex tangents as the GPU path does
+    /// (`render::mesh::mesh_tangents`: the mesh's own, else MikkTSpace on the UVs).
     pub fn new(mesh: std::sync::Arc<Mesh>, with_tangents: bool) -> Self {
         let count = mesh.positions.len();
         let mut tris = Vec::with_capacity(mesh.indices.len() / 3);
@@ -463,9 +463,7 @@ impl MeshAccel {
         for (tri, &k) in tris.iter().zip(&order) {
             dense[k as usize] = *tri;
         }
-        let tangents = with_tangents.then(|| {
-            crate::render::mesh::tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)
-        });
+        let tangents = with_tangents.then(|| crate::render::mesh::mesh_tangents(&mesh));
         let mut accel = MeshAccel {
             mesh,
             tangents,
@@ -652,6 +650,27 @@ impl MeshAccel {
                 [0.0; 4]
             },
         }
+    }
+
+    /// The interpolated vertex colour of triangle `index` at barycentrics (b1, b2): white
+    /// without vertex colours.
+    pub fn vertex_color(&self, index: u32, b1: f32, b2: f32) -> glam::Vec4 {
+        let m = &self.mesh;
+        if m.colors.len() != m.positions.len() {
+            return glam::Vec4::ONE;
+        }
+        let base = index as usize * 3;
+        let w = [1.0 - b1 - b2, b1, b2];
+        (0..3)
+            .map(|k| m.colors[m.indices[base + k] as usize] * w[k])
+            .sum()
+    }
+
+    /// The geometric normal of triangle `index` (e1 × e2, not normalised): its front side, as
+    /// the winding says.
+    pub fn face_normal(&self, index: u32) -> Vec3 {
+        let [_, e1, e2] = self.tris[index as usize];
+        e1.cross(e2)
     }
 
     /// The vertex normals of triangle `index` (for interpolation after the object

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use anyhow::{Context as _, Result};
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4Swizzles};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::geometry::{LocalSurface, MeshAccel, Part, Ray, Shape};
 use super::sampling::{cmj, hash, mix64, unit_float, EnvDistribution};
@@ -15,7 +15,7 @@ use super::texture::{CpuTexture, Texels};
 use super::ReferenceOptions;
 use crate::brdf::{radical_inverse_vdc, sampling_lobes, Lobe, Model};
 use crate::env::{env_rotation, Equirect};
-use crate::scene::{Fog, Light, LightKind, MeshDesc, Scene, TextureSlot};
+use crate::scene::{AlphaMode, Fog, Light, LightKind, MeshDesc, Scene, Sides, TextureSlot};
 
 /// A material as the reference shades it: the sanitised model and its decoded maps.
 struct RefMaterial {
@@ -24,7 +24,17 @@ struct RefMaterial {
     normal_scale: f32,
     occlusion_strength: f32,
     emissive_factor: Vec3,
+    alpha_mode: AlphaMode,
+    alpha: f32,
+    sides: Sides,
 }
+
+/// Most surfaces one primary ray looks through (cut-out, culled or blended ones) before it
+/// stops.
+const MAX_LAYERS: usize = 64;
+
+/// A ray's hit: object, ray parameter, part, the ray in the object's space.
+type Hit = (usize, f32, Part, Ray);
 
 /// An object: its ideal shape and transforms.
 struct RefObject {
@@ -117,6 +127,9 @@ impl Prepared {
                 normal_scale: m.textures.normal_scale,
                 occlusion_strength: m.textures.occlusion_strength,
                 emissive_factor: m.textures.emissive_factor,
+                alpha_mode: m.textures.alpha_mode,
+                alpha: m.textures.alpha,
+                sides: m.textures.sides,
             });
         }
         // Meshes: one BVH per shared mesh.
@@ -237,15 +250,60 @@ impl Prepared {
         (self.cam_pos, self.inv_view.transform_vector3(view_dir))
     }
 
-    /// The closest visible hit with view depth in `[near, far]`: (object, t, part, local ray).
-    fn trace(&self, o: Vec3, d: Vec3) -> Option<(usize, f32, Part, Ray)> {
+    /// The closest hit with view depth in `[t_min, far]` that is seen: not the back face of a
+    /// single-sided material (culled, as on the GPU), not cut out by an alpha mask.
+    fn trace(&self, o: Vec3, d: Vec3, t_min: f32) -> Option<Hit> {
+        let mut t0 = t_min;
+        for _ in 0..MAX_LAYERS {
+            let hit = self.closest(o, d, t0)?;
+            if self.seen(&hit) {
+                return Some(hit);
+            }
+            t0 = next_t(hit.1);
+        }
+        None
+    }
+
+    /// Whether a hit is drawn: a front face or a face of a material that is not single-sided,
+    /// and not below its alpha mask's cutoff.
+    fn seen(&self, (i, t, part, local): &Hit) -> bool {
+        let obj = &self.objects[*i];
+        let Some(mat) = self.materials.get(obj.material) else {
+            return true;
+        };
+        if mat.sides == Sides::Single && back_face(obj, *part, local) {
+            return false;
+        }
+        match mat.alpha_mode {
+            AlphaMode::Mask { cutoff } => self.alpha_at(obj, mat, (*t, *part, local)) >= cutoff,
+            _ => true,
+        }
+    }
+
+    /// Base colour alpha at a hit: factor × map alpha × vertex colour alpha.
+    fn alpha_at(
+        &self,
+        obj: &RefObject,
+        mat: &RefMaterial,
+        (t, part, local): (f32, Part, &Ray),
+    ) -> f32 {
+        let uv = obj.shape.surface(local, t, part).uv;
+        let map = mat
+            .maps
+            .get(&TextureSlot::BaseColor)
+            .map_or(1.0, |m| m.sample(uv).w);
+        mat.alpha * map * vertex_color(obj, part).w
+    }
+
+    /// The closest hit with view depth in `[t_min, far]`: (object, t, part, local ray).
+    fn closest(&self, o: Vec3, d: Vec3, t_min: f32) -> Option<Hit> {
         let inv = Vec3::ONE / d;
         let mut best: Option<(usize, f32, Part, Ray)> = None;
         let mut t_best = self.far;
         for (i, obj) in self.objects.iter().enumerate() {
             let a = (obj.lo - o) * inv;
             let b = (obj.hi - o) * inv;
-            let enter = a.min(b).max_element().max(self.near);
+            let enter = a.min(b).max_element().max(t_min);
             let exit = a.max(b).min_element().min(t_best);
             if enter > exit {
                 continue;
@@ -254,7 +312,7 @@ impl Prepared {
                 o: obj.to_local.transform_point3(o),
                 d: obj.to_local.transform_vector3(d),
             };
-            if let Some((t, part)) = obj.shape.intersect(&local, self.near, t_best) {
+            if let Some((t, part)) = obj.shape.intersect(&local, t_min, t_best) {
                 t_best = t;
                 best = Some((i, t, part, local));
             }
@@ -292,14 +350,39 @@ impl Prepared {
 
     fn radiance(&self, px: f32, py: f32, key: [u64; 3], samples: (u32, u32)) -> Vec3 {
         let (o, d) = self.primary_ray(px, py);
-        let Some((i, t, part, local)) = self.trace(o, d) else {
+        self.radiance_along(o, d, self.near, key, samples, 0)
+    }
+
+    /// The radiance along the ray `o + t d` from `t_min` on: the first seen surface's, and for a
+    /// blended one (alpha a) a · its radiance + (1 − a) · what is behind it, in exact depth
+    /// order per ray (the GPU sorts per draw).
+    fn radiance_along(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        t_min: f32,
+        key: [u64; 3],
+        samples: (u32, u32),
+        layer: usize,
+    ) -> Vec3 {
+        let Some((i, t, part, local)) = self.trace(o, d, t_min) else {
             return match &self.env {
                 Some(e) if e.show_background => e.radiance(d.normalize_or(Vec3::NEG_Z)),
                 _ => self.background,
             };
         };
         let c = self.shade(i, t, part, &local, key, samples);
-        self.apply_fog(c, t)
+        let c = self.apply_fog(c, t);
+        let obj = &self.objects[i];
+        let Some(mat) = self.materials.get(obj.material) else {
+            return c;
+        };
+        if mat.alpha_mode != AlphaMode::Blend || layer >= MAX_LAYERS {
+            return c;
+        }
+        let a = self.alpha_at(obj, mat, (t, part, &local)).clamp(0.0, 1.0);
+        let behind = self.radiance_along(o, d, next_t(t), key, samples, layer + 1);
+        c * a + behind * (1.0 - a)
     }
 
     /// World-space shading frame at a hit: point, normal, tangent frame, uv.
@@ -340,11 +423,16 @@ impl Prepared {
     ) -> Vec3 {
         let obj = &self.objects[i];
         let ls = obj.shape.surface(local, t, part);
-        let (p, n, x, y, uv) = self.world_surface(obj, part, &ls);
+        let (p, mut n, mut x, mut y, uv) = self.world_surface(obj, part, &ls);
         let Some(mat) = self.materials.get(obj.material) else {
             return Vec3::ZERO;
         };
-        let s = surface_at(mat, n, x, y, uv);
+        // Double-sided: a back face is lit with the flipped normal and tangent frame.
+        if mat.sides == Sides::Double && back_face(obj, part, local) {
+            (n, x, y) = (-n, -x, -y);
+        }
+        let mut s = surface_at(mat, n, x, y, uv);
+        tint(&mut s.model, vertex_color(obj, part).xyz());
         let v = (self.cam_pos - p).normalize_or(n);
         let mut c = s.occlusion * ambient_term(&s.model, self.ambient);
         for (k, light) in self.lights.iter().enumerate() {
@@ -506,15 +594,7 @@ fn surface_at(mat: &RefMaterial, n: Vec3, x: Vec3, y: Vec3, uv: Vec2) -> Surface
     }
     let sample = |slot: TextureSlot| mat.maps.get(&slot).map(|t| t.sample(uv));
     if let Some(c) = sample(TextureSlot::BaseColor) {
-        let c = c.xyz();
-        match &mut s.model {
-            Model::Lambert(p) => p.albedo *= c,
-            Model::Phong(p) => p.diffuse_color *= c,
-            Model::CookTorrance(p) => p.color *= c,
-            Model::MetalRough(p) => p.base_color *= c,
-            Model::Principled(p) => p.base_color *= c,
-            Model::OrenNayar(p) => p.albedo *= c,
-        }
+        tint(&mut s.model, c.xyz());
     }
     if let Some(c) = sample(TextureSlot::Specular) {
         if let Model::Phong(p) = &mut s.model {
@@ -566,6 +646,40 @@ fn surface_at(mat: &RefMaterial, n: Vec3, x: Vec3, y: Vec3, uv: Vec2) -> Surface
         }
     }
     s
+}
+
+/// The model's base colour multiplied by `c` (a base colour map, vertex colours).
+fn tint(model: &mut Model, c: Vec3) {
+    match model {
+        Model::Lambert(p) => p.albedo *= c,
+        Model::Phong(p) => p.diffuse_color *= c,
+        Model::CookTorrance(p) => p.color *= c,
+        Model::MetalRough(p) => p.base_color *= c,
+        Model::Principled(p) => p.base_color *= c,
+        Model::OrenNayar(p) => p.albedo *= c,
+    }
+}
+
+/// The ray parameter just past `t`, to look behind a surface hit at `t`.
+fn next_t(t: f32) -> f32 {
+    t + (t.abs() * 1e-5).max(1e-6)
+}
+
+/// Whether the hit is on a triangle's back side (its winding seen clockwise): the ray in the
+/// object's space runs along the face normal. Analytic shapes are seen from outside.
+fn back_face(obj: &RefObject, part: Part, local: &Ray) -> bool {
+    match (&obj.shape, part) {
+        (Shape::Mesh(m), Part::Triangle { index, .. }) => m.face_normal(index).dot(local.d) > 0.0,
+        _ => false,
+    }
+}
+
+/// The interpolated vertex colour at a hit (white without vertex colours).
+fn vertex_color(obj: &RefObject, part: Part) -> Vec4 {
+    match (&obj.shape, part) {
+        (Shape::Mesh(m), Part::Triangle { index, b1, b2 }) => m.vertex_color(index, b1, b2),
+        _ => Vec4::ONE,
+    }
 }
 
 /// `ambient_term`: the slides' I_a k_a O_d for the classic models, the diffuse albedo × the

@@ -175,6 +175,7 @@ impl DisplayPass {
                 depth_test: false,
                 depth_write: false,
                 depth_compare: vk::CompareOp::ALWAYS,
+                blend: false,
             },
         )?;
         self.pipelines.push(((tonemap, format), pipeline));

@@ -41,6 +41,7 @@ pub use crate::brdf::model_code;
 /// Specialization constant ids.
 pub const SPEC_MODEL: u32 = b::SPEC_MODEL;
 pub const SPEC_FOG: u32 = b::SPEC_FOG;
+pub const SPEC_ALPHA_MODE: u32 = b::SPEC_ALPHA_MODE;
 pub const SPEC_SPECULAR_METHOD: u32 = glsl::include_ibl::SPEC_SPECULAR_METHOD;
 pub const SPEC_DIFFUSE_FROM_SH: u32 = glsl::include_ibl::SPEC_DIFFUSE_FROM_SH;
 pub const SPEC_ENERGY_COMPENSATION: u32 = glsl::include_ibl::SPEC_ENERGY_COMPENSATION;
@@ -143,7 +144,8 @@ pub struct MaterialPush {
     pub flags: u32,
     /// 1: shadow maps darken the object (`ObjectShadow::receive`).
     pub receive_shadow: u32,
-    pub reserved: u32,
+    /// 1: a back face is lit with the flipped normal (`Sides::Double`, glTF `doubleSided`).
+    pub double_sided: u32,
 }
 
 /// `DeferredMaterial` (std430) of `deferred_light.frag`: one per object slot, the push constants
@@ -214,7 +216,7 @@ pub fn material_push(m: &Material) -> MaterialPush {
         object_index: 0,
         flags: 0,
         receive_shadow: 1,
-        reserved: 0,
+        double_sided: 0,
     }
 }
 

@@ -37,7 +37,7 @@ pub const BINDING_EXTRA: u32 = super::gpu::glsl::include_bindings::BINDING_MATER
 pub struct MaterialExtra {
     /// Emitted radiance factor (rgb).
     pub emissive: [f32; 4],
-    /// normal_scale, occlusion_strength, 0, 0.
+    /// normal_scale, occlusion_strength, alpha factor, alpha cutoff (MASK; 0 otherwise).
     pub params: [f32; 4],
     /// x: bit i set when map `TextureSlot::ALL[i]` is present.
     pub present: [u32; 4],
@@ -49,9 +49,18 @@ impl MaterialExtra {
     pub fn without_maps(t: &crate::scene::MaterialTextures) -> Self {
         Self {
             emissive: t.emissive_factor.extend(0.0).to_array(),
-            params: [t.normal_scale, t.occlusion_strength, 0.0, 0.0],
+            params: Self::params(t),
             present: [0; 4],
         }
+    }
+
+    /// `params`: normal scale, occlusion strength, alpha factor and alpha cutoff of `t`.
+    pub fn params(t: &crate::scene::MaterialTextures) -> [f32; 4] {
+        let cutoff = match t.alpha_mode {
+            crate::scene::AlphaMode::Mask { cutoff } => cutoff,
+            _ => 0.0,
+        };
+        [t.normal_scale, t.occlusion_strength, t.alpha, cutoff]
     }
 }
 
@@ -269,7 +278,7 @@ impl MaterialSets {
             }
             let data = MaterialExtra {
                 emissive: t.emissive_factor.extend(0.0).to_array(),
-                params: [t.normal_scale, t.occlusion_strength, 0.0, 0.0],
+                params: MaterialExtra::params(t),
                 present: [present, 0, 0, 0],
             };
             extra.write(stride * mi as u64, bytemuck::bytes_of(&data))?;

@@ -5,10 +5,12 @@ use glam::{Vec2, Vec3};
 use super::gpu::Vertex;
 use crate::scene::Mesh;
 
-/// Vertex and index data ready for upload. `centroids` is present for flat shading only.
+/// Vertex and index data ready for upload. `centroids` is present for flat shading only;
+/// `colors` (linear RGBA, vertex buffer binding 2) for smooth meshes with vertex colours.
 pub struct MeshData {
     pub vertices: Vec<Vertex>,
     pub centroids: Option<Vec<[f32; 3]>>,
+    pub colors: Option<Vec<[f32; 4]>>,
     pub indices: Vec<u32>,
 }
 
@@ -230,9 +232,21 @@ fn face_tangent(p: [Vec3; 3], uv: Option<[Vec2; 3]>, normal: Vec3) -> [f32; 4] {
     [t.x, t.y, t.z, 1.0]
 }
 
-/// Smooth (Gouraud and Phong shading): the mesh as it is, with its vertex normals.
+/// The mesh's own tangents (a glTF file's TANGENT) when it has one per position, else
+/// [`tangents`].
+pub fn mesh_tangents(mesh: &Mesh) -> Vec<[f32; 4]> {
+    if !mesh.tangents.is_empty() && mesh.tangents.len() == mesh.positions.len() {
+        return mesh.tangents.iter().map(|t| t.to_array()).collect();
+    }
+    tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)
+}
+
+/// Smooth (Gouraud and Phong shading): the mesh as it is, with its vertex normals (and colours).
 pub fn smooth(mesh: &Mesh) -> MeshData {
-    let tangents = tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices);
+    let tangents = mesh_tangents(mesh);
+    let n = mesh.positions.len();
+    let colors = (n > 0 && mesh.colors.len() == n)
+        .then(|| mesh.colors.iter().map(|c| c.to_array()).collect());
     let vertices = mesh
         .positions
         .iter()
@@ -247,6 +261,7 @@ pub fn smooth(mesh: &Mesh) -> MeshData {
     MeshData {
         vertices,
         centroids: None,
+        colors,
         indices: mesh.indices.clone(),
     }
 }
@@ -340,6 +355,7 @@ pub fn flat(mesh: &Mesh) -> MeshData {
     MeshData {
         vertices,
         centroids: Some(centroids),
+        colors: None,
         indices,
     }
 }

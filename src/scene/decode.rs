@@ -221,6 +221,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
             "tonemap",
             "msaa",
             "tessellation_error_px",
+            "golden",
         ],
         "the output",
     )?;
@@ -254,6 +255,16 @@ fn output(v: &Value, path: &str) -> Result<Output> {
             ),
         ));
     }
+    let golden = match f.get("golden") {
+        None => crate::golden::ToleranceOverrides::default(),
+        Some(v) => crate::golden::ToleranceOverrides::parse(&to_serde(v)).map_err(|e| {
+            let at = f.path("golden");
+            match e.field.as_str() {
+                "" => Invalid::new(&at, e.reason),
+                field => Invalid::new(&format!("{at}.{field}"), e.reason),
+            }
+        })?,
+    };
     Ok(Output {
         width,
         height,
@@ -262,7 +273,27 @@ fn output(v: &Value, path: &str) -> Result<Output> {
         tonemap,
         msaa,
         tessellation_error_px,
+        golden,
     })
+}
+
+/// The scene parser's value as `serde_json`'s (a number `serde_json` cannot hold, such as
+/// `1e999`, becomes its text, which the readers then reject by name).
+fn to_serde(v: &Value) -> serde_json::Value {
+    use super::json::Kind;
+    match &v.kind {
+        Kind::Null => serde_json::Value::Null,
+        Kind::Bool(b) => serde_json::Value::Bool(*b),
+        Kind::Number { value, raw } => serde_json::Number::from_f64(*value).map_or_else(
+            || serde_json::Value::String(raw.clone()),
+            serde_json::Value::Number,
+        ),
+        Kind::String(s) => serde_json::Value::String(s.clone()),
+        Kind::Array(a) => serde_json::Value::Array(a.iter().map(to_serde).collect()),
+        Kind::Object(o) => {
+            serde_json::Value::Object(o.iter().map(|(k, v)| (k.clone(), to_serde(v))).collect())
+        }
+    }
 }
 
 fn tonemap(v: &Value, path: &str) -> Result<Tonemap> {

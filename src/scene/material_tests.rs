@@ -396,6 +396,7 @@ fn metal_rough_every_field() {
             fresnel: Fresnel::SchlickSg,
             diffuse_fresnel_weight: true,
             diffuse: Diffuse::Burley,
+            dielectric_f0: Vec3::splat(0.04),
         }
     );
     // Any Fresnel works (the exact forms take η from F0).

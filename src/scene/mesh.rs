@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 /// Most segments (around) for spheres, cones and cylinders.
 pub const MAX_SEGMENTS: u32 = 4096;
@@ -31,13 +31,18 @@ pub struct Vertex {
 /// Indexed triangle mesh, counter-clockwise front faces seen from outside, right-handed, y up.
 ///
 /// `normals` has one unit normal per position. `uvs` is either empty (the mesh has no texture
-/// coordinates) or has one entry per position. `indices.len()` is a multiple of 3.
+/// coordinates) or has one entry per position. `indices.len()` is a multiple of 3. `colors`
+/// (linear RGBA vertex colours, glTF's COLOR_0) and `tangents` (xyz + handedness w, glTF's
+/// TANGENT) are empty or one per position; without them the colour is white and tangents are
+/// computed (MikkTSpace).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Mesh {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
     pub indices: Vec<u32>,
+    pub colors: Vec<Vec4>,
+    pub tangents: Vec<Vec4>,
 }
 
 impl Mesh {
@@ -170,6 +175,7 @@ impl Mesh {
             uvs: dirs.iter().map(|d| spherical_uv(*d)).collect(),
             normals: dirs,
             indices: faces.into_iter().flatten().collect(),
+            ..Mesh::default()
         }
     }
 
@@ -398,7 +404,10 @@ impl Mesh {
     /// flat shading needs when the renderer takes the normal from a vertex attribute.
     pub fn to_flat(&self) -> Mesh {
         let mut m = Mesh::with_capacity(self.indices.len(), self.indices.len());
-        let has_uvs = self.uvs.len() == self.positions.len() && !self.uvs.is_empty();
+        let n = self.positions.len();
+        let has_uvs = self.uvs.len() == n && !self.uvs.is_empty();
+        let has_colors = self.colors.len() == n && n > 0;
+        let has_tangents = self.tangents.len() == n && n > 0;
         for t in self.indices.chunks_exact(3) {
             if t.iter().any(|&i| i as usize >= self.positions.len()) {
                 continue;
@@ -411,6 +420,12 @@ impl Mesh {
                 m.normals.push(n);
                 if has_uvs {
                     m.uvs.push(self.uvs[t[k] as usize]);
+                }
+                if has_colors {
+                    m.colors.push(self.colors[t[k] as usize]);
+                }
+                if has_tangents {
+                    m.tangents.push(self.tangents[t[k] as usize]);
                 }
             }
         }
@@ -477,6 +492,7 @@ impl Mesh {
             normals: Vec::with_capacity(vertices),
             uvs: Vec::with_capacity(vertices),
             indices: Vec::with_capacity(indices),
+            ..Mesh::default()
         }
     }
 
@@ -564,6 +580,8 @@ mod tests {
             normals: vec![],
             uvs: vec![],
             indices: vec![0, 1, 2],
+            colors: vec![],
+            tangents: vec![],
         };
         assert_eq!(degenerate.flat_plane(), None);
         let broken = Mesh {
@@ -720,6 +738,7 @@ mod tests {
             normals: vec![],
             uvs: vec![],
             indices: vec![0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2],
+            ..Mesh::default()
         };
         // Orient outward first (the test data must be right for the check to mean anything).
         for t in m.indices.chunks_exact_mut(3) {
@@ -745,6 +764,7 @@ mod tests {
             normals: vec![],
             uvs: vec![],
             indices: vec![0, 1, 2, 0, 1, 7],
+            ..Mesh::default()
         };
         m.compute_normals();
         assert_eq!(m.normals, vec![Vec3::Y; 3]);

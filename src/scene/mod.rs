@@ -39,7 +39,8 @@ pub use mesh::{
 pub use shadow::{CascadeSplit, ObjectShadow, Shadow, ShadowMethod};
 pub use tessellation::{Tessellation, DEFAULT_TESSELLATION_ERROR_PX};
 pub use textures::{
-    slots_for_model, Filter, MaterialTextures, SamplerDesc, TextureRef, TextureSlot, Wrap,
+    slots_for_model, AlphaMode, Filter, MaterialTextures, SamplerDesc, Sides, TextureRef,
+    TextureSlot, Wrap,
 };
 
 /// Largest accepted output width or height.
@@ -180,6 +181,9 @@ pub struct Output {
     /// Budget of automatic tessellation: how many pixels a silhouette may be off
     /// ([`tessellation`]).
     pub tessellation_error_px: f32,
+    /// `luz golden`'s tolerances for this scene (`output.golden`; a sidecar overrides them:
+    /// docs/golden.md).
+    pub golden: crate::golden::ToleranceOverrides,
 }
 
 impl Output {

@@ -243,6 +243,7 @@ pub fn load_obj_bytes(
             normals: Vec::new(),
             uvs: Vec::new(),
             indices: m.indices,
+            ..Mesh::default()
         };
         if let Some(i) = mesh.indices.iter().find(|&&i| i as usize >= n) {
             return Err(err(None, format!("vertex index {i} out of range")));

@@ -201,6 +201,41 @@ pub struct MaterialTextures {
     /// Emitted radiance = emissive_factor × emissive map (× 1 without a map). Linear RGB.
     /// Default: [1, 1, 1] with an emissive map, [0, 0, 0] without one.
     pub emissive_factor: Vec3,
+    /// How the base colour's alpha (`alpha` × the base colour map's alpha × the vertex colours'
+    /// alpha) covers: glTF's `alphaMode`. Default opaque.
+    pub alpha_mode: AlphaMode,
+    /// Base colour alpha factor (glTF `baseColorFactor[3]`), in [0, 1]; default 1.
+    pub alpha: f32,
+    /// Which faces are drawn and how back faces are lit (glTF's `doubleSided`).
+    pub sides: Sides,
+}
+
+/// glTF's `alphaMode`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum AlphaMode {
+    /// Alpha is ignored.
+    #[default]
+    Opaque,
+    /// Fully opaque where alpha ≥ `cutoff`, not there at all below it.
+    Mask { cutoff: f32 },
+    /// Composited over what is behind ("over", straight alpha): drawn after the opaque objects,
+    /// back to front by object, without writing depth.
+    Blend,
+}
+
+/// Which faces of a material's meshes are drawn, and how back faces are lit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Sides {
+    /// luz's own rule for scene files: closed primitives (sphere, cube, …) cull back faces; open
+    /// ones (planes, OBJ and glTF meshes) draw both sides and light a back face with its front
+    /// normal.
+    #[default]
+    Auto,
+    /// glTF `doubleSided: false`: back faces are culled.
+    Single,
+    /// glTF `doubleSided: true`: both sides drawn, a back face lit with the flipped normal
+    /// (and tangent frame).
+    Double,
 }
 
 impl Default for MaterialTextures {
@@ -217,6 +252,9 @@ impl Default for MaterialTextures {
             occlusion_strength: 1.0,
             emissive: None,
             emissive_factor: Vec3::ZERO,
+            alpha_mode: AlphaMode::Opaque,
+            alpha: 1.0,
+            sides: Sides::Auto,
         }
     }
 }

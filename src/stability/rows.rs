@@ -244,6 +244,7 @@ fn metal_rough_rows(rows: &mut Vec<Row>, white: Vec3) {
                                         fresnel,
                                         diffuse_fresnel_weight: weight,
                                         diffuse,
+                                        ..MetalRoughParams::default()
                                     }),
                                     // Claimed: metallic 1 (the weight and the diffuse choice only
                                     // change the diffuse, which metallic 1 removes); metallic 0

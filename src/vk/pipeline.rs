@@ -193,6 +193,9 @@ pub struct GraphicsDesc<'a> {
     pub depth_test: bool,
     pub depth_write: bool,
     pub depth_compare: vk::CompareOp,
+    /// "Over" blending with the fragment's alpha (straight, not premultiplied): colour =
+    /// src · a + dst · (1 − a), alpha = a + dst · (1 − a).
+    pub blend: bool,
 }
 
 impl Pipeline {
@@ -240,6 +243,13 @@ impl Pipeline {
             .map(|_| {
                 vk::PipelineColorBlendAttachmentState::default()
                     .color_write_mask(vk::ColorComponentFlags::RGBA)
+                    .blend_enable(desc.blend)
+                    .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+                    .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                    .color_blend_op(vk::BlendOp::ADD)
+                    .src_alpha_blend_factor(vk::BlendFactor::ONE)
+                    .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+                    .alpha_blend_op(vk::BlendOp::ADD)
             })
             .collect();
         let blend =

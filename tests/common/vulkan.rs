@@ -107,6 +107,38 @@ impl From<Tolerance> for luz::diff::Tolerance {
     }
 }
 
+/// The case file `tests/golden/<name>.golden.json` (`luz golden`'s: the scene, its size and IBL
+/// quality, tolerances), read by luz's own code.
+pub fn golden_case(name: &str) -> luz::golden::CaseFile {
+    let path = root()
+        .join("tests/golden")
+        .join(format!("{name}.golden.json"));
+    luz::golden::CaseFile::read(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The scene of golden `name` as `luz golden tests/golden` renders it: through its case file.
+pub fn golden_scene(name: &str) -> Scene {
+    golden_case(name)
+        .load_scene()
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Asserts that `case` and `test` are the same scene (every field, the meshes' vertices
+/// included; where they were loaded from aside).
+pub fn assert_same_scene(case: &Scene, test: &Scene) {
+    let show = |s: &Scene| {
+        let mut s = s.clone();
+        s.source = None;
+        format!("{s:?}")
+    };
+    assert!(
+        show(case) == show(test),
+        "the golden's case file makes another scene than the test ({} against {})",
+        case.display_name(),
+        test.display_name()
+    );
+}
+
 /// Compares the PNG encoding of `img` with `tests/golden/<name>.png` through the same library
 /// code as `luz golden` ([`luz::golden::compare_with_golden`]). With `LUZ_BLESS=1` the golden is
 /// (re)written instead. On failure actual, expected and diff images go to
@@ -117,6 +149,14 @@ pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance
         0,
         "{name}: NaN/Inf pixels in the linear buffer"
     );
+    // The case file's tolerances (over the test's), as `luz golden` reads them.
+    let case = root()
+        .join("tests/golden")
+        .join(format!("{name}.golden.json"));
+    let tol: luz::diff::Tolerance = match case.is_file() {
+        true => golden_case(name).tolerance.apply(tol.into()),
+        false => tol.into(),
+    };
     let golden = root().join("tests/golden").join(format!("{name}.png"));
     let fail_dir = root().join("target/golden-failures");
     std::fs::create_dir_all(&fail_dir).unwrap();
@@ -156,7 +196,7 @@ pub fn check_golden(name: &str, scene: &Scene, img: &LinearImage, tol: Tolerance
         &golden,
         luz::imageio::count_non_finite(&img.pixels),
         actual,
-        tol.into(),
+        tol,
     );
     let expected = cmp.expected.as_ref().expect("the golden loads");
     assert_eq!(expected.format, FileFormat::Png);

@@ -3,6 +3,7 @@
 
 use super::clusters::{ClusterHeader, Clusters};
 use super::*;
+use crate::scene::Sides;
 
 /// `count` elements of `T` in one storage buffer bound whole (`field`: the scene's array):
 /// `maxStorageBufferRange` and the buffer limits.
@@ -129,14 +130,23 @@ pub(super) fn build_draws(
                     bytemuck::cast_slice(&data.vertices),
                     vk::BufferUsageFlags::VERTEX_BUFFER,
                 )?;
-                let centroids = match &data.centroids {
-                    Some(c) => Some(uploader.buffer(
-                        &format!("{name} centroids"),
-                        bytemuck::cast_slice(c),
-                        vk::BufferUsageFlags::VERTEX_BUFFER,
-                    )?),
-                    None => None,
+                // The optional vertex streams: flat shading's centroids, vertex colours.
+                let mut stream = |what: &str, bytes: Option<&[u8]>| {
+                    bytes
+                        .map(|b| {
+                            let usage = vk::BufferUsageFlags::VERTEX_BUFFER;
+                            uploader.buffer(&format!("{name} {what}"), b, usage)
+                        })
+                        .transpose()
                 };
+                let centroids = stream(
+                    "centroids",
+                    data.centroids.as_deref().map(bytemuck::cast_slice),
+                )?;
+                let colors = stream(
+                    "vertex colours",
+                    data.colors.as_deref().map(bytemuck::cast_slice),
+                )?;
                 let indices = uploader.buffer(
                     &format!("{name} indices"),
                     bytemuck::cast_slice(&data.indices),
@@ -149,6 +159,7 @@ pub(super) fn build_draws(
                     levels,
                     vertices,
                     centroids,
+                    colors,
                     indices,
                     // Fits: checked by `check_mesh` above (the full mesh; its coarser levels
                     // are about as many indices again).
@@ -164,6 +175,7 @@ pub(super) fn build_draws(
         let (model, terms) = gpu::material_key(material);
         push.object_index = objects.len() as u32;
         push.receive_shadow = obj.shadow.receive as u32;
+        push.double_sided = (named.textures.sides == Sides::Double) as u32;
         object_slots[object] = Some(push.object_index);
         if let Some(i) = ibl {
             push.flags = i.lut_layer(lut_geometry(material));
@@ -178,11 +190,13 @@ pub(super) fn build_draws(
                 | MeshDesc::Cylinder { .. }
         );
         let positive = obj.transform.scale.min_element() > 0.0;
+        let alpha = AlphaKey::of(named.textures.alpha_mode);
+        let vertex_color = meshes[mesh_index].colors.is_some() && obj.shading == Shading::Phong;
         draws.push(Draw {
             mesh: mesh_index,
             object,
             material: obj.material,
-            cull: closed && positive,
+            cull: culls(named.textures.sides, closed) && positive,
             variant: if generic {
                 VariantKey {
                     shading: ShadingKey::from_shading(obj.shading),
@@ -194,6 +208,8 @@ pub(super) fn build_draws(
                     maps: GENERIC_MAPS,
                     light_kinds: GENERIC_LIGHT_KINDS,
                     clustered: clustered && obj.shading == Shading::Phong,
+                    alpha,
+                    vertex_color,
                 }
             } else {
                 VariantKey {
@@ -207,6 +223,8 @@ pub(super) fn build_draws(
                     light_kinds: gpu::light_kinds(&scene.lights),
                     // Flat and Gouraud shade in the vertex stage, over every light.
                     clustered: clustered && obj.shading == Shading::Phong,
+                    alpha,
+                    vertex_color,
                 }
             },
             push,
@@ -275,6 +293,49 @@ fn lod_data(
         data.indices.extend(part.indices.iter().map(|i| i + base));
     }
     (data, levels)
+}
+
+/// Whether a draw culls back faces: by the material's sides, else ([`Sides::Auto`], scene files)
+/// when its primitive is closed.
+fn culls(sides: Sides, closed: bool) -> bool {
+    match sides {
+        Sides::Auto => closed,
+        Sides::Single => true,
+        Sides::Double => false,
+    }
+}
+
+/// The draws to record, given each draw's visibility: the visible opaque (and masked) draws in
+/// build order, then the visible blended draws back to front by the view depth of their bounding
+/// sphere's centre (farthest first; ties in build order). Sorting is per draw (one glTF
+/// primitive, or one object): overlapping blended surfaces within one draw, or draws that
+/// interpenetrate, blend in an order that can be wrong (docs/gltf.md).
+pub(super) fn draw_order(
+    draws: &[Draw],
+    meshes: &[GpuMesh],
+    scene: &Scene,
+    visible: &[bool],
+) -> Vec<usize> {
+    let shown = |i: &usize| visible.get(*i).copied().unwrap_or(true);
+    let blended = |d: &Draw| d.variant.alpha == AlphaKey::Blend;
+    let mut order: Vec<usize> = (0..draws.len())
+        .filter(shown)
+        .filter(|&i| !blended(&draws[i]))
+        .collect();
+    let view = scene.camera.view();
+    let mut back: Vec<(f32, usize)> = (0..draws.len())
+        .filter(shown)
+        .filter(|&i| blended(&draws[i]))
+        .map(|i| {
+            let d = &draws[i];
+            let model = scene.objects[d.object].transform.matrix();
+            let c = model.transform_point3(meshes[d.mesh].sphere.0);
+            (-view.transform_point3(c).z, i)
+        })
+        .collect();
+    back.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    order.extend(back.into_iter().map(|(_, i)| i));
+    order
 }
 
 /// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
@@ -402,7 +463,7 @@ impl Slot {
             clusters,
             cluster_lights,
             set,
-            visible: Vec::new(),
+            order: Vec::new(),
             levels: Vec::new(),
         })
     }

@@ -51,7 +51,8 @@ pub fn eligible(variants: &[VariantKey], samples: vk::SampleCountFlags) -> Optio
         && !first.phong_maps()
         && first.ibl.is_none()
         && matches!(first.debug, DebugView::None | DebugView::Nan)
-        && first.terms != TermsKey::Generic;
+        && first.terms != TermsKey::Generic
+        && first.alpha == super::AlphaKey::Opaque;
     ok.then_some(first)
 }
 
@@ -128,6 +129,7 @@ impl Deferred {
                 depth_test: true,
                 depth_write: true,
                 depth_compare: vk::CompareOp::LESS,
+                blend: false,
             },
         )?;
         Ok(Self {
@@ -172,6 +174,7 @@ impl Deferred {
                 depth_test: true,
                 depth_write: false,
                 depth_compare: vk::CompareOp::GREATER,
+                blend: false,
             },
         )?;
         self.light_pipelines.insert(output, pipeline);

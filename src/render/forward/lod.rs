@@ -34,6 +34,11 @@ impl ForwardPass {
     /// (`luz render`, the viewer); objects whose mesh has no simplified level are left out.
     pub fn lod_choices(&self, slot: usize, scene: &Scene) -> Vec<crate::scene::lod::LodChoice> {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
+        // Drawn: the slot's draw order (frustum-culled draws are not in it).
+        let mut shown = vec![false; self.draws.len()];
+        for &i in &s.order {
+            shown[i] = true;
+        }
         let f = crate::scene::lod::focal_px(&scene.camera, self.lod_height);
         self.draws
             .iter()
@@ -61,7 +66,7 @@ impl ForwardPass {
                         f,
                         distance,
                     ),
-                    visible: s.visible.get(i).copied().unwrap_or(true),
+                    visible: shown[i],
                 }
             })
             .collect()
@@ -75,10 +80,15 @@ impl ForwardPass {
     /// Triangles recorded for slot `slot`'s camera: the drawn objects at their LOD levels.
     pub fn triangles_drawn(&self, slot: usize) -> u64 {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
+        // Drawn: the slot's draw order (frustum-culled draws are not in it).
+        let mut shown = vec![false; self.draws.len()];
+        for &i in &s.order {
+            shown[i] = true;
+        }
         self.draws
             .iter()
             .enumerate()
-            .filter(|&(i, _)| s.visible.get(i).copied().unwrap_or(true))
+            .filter(|&(i, _)| shown[i])
             .map(|(i, d)| {
                 let level = s.levels.get(i).copied().unwrap_or(0) as usize;
                 self.meshes[d.mesh].levels[level].triangles()

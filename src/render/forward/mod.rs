@@ -27,14 +27,14 @@ mod lod;
 mod per_frame;
 mod variant;
 
-use build::{build_draws, frame_set_layout, storage_fits, Draws};
+use build::{build_draws, draw_order, frame_set_layout, storage_fits, Draws};
 pub use build::{lut_geometries, lut_geometry};
 pub use clusters::{ClusterStats, LightLoop};
 
 pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};
 
 use variant::{create_pipeline, create_skybox, Modules};
-pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
+pub use variant::{AlphaKey, DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 
 struct GpuMesh {
     /// Object-space bounding sphere (frustum culling, [`frustum`]).
@@ -48,6 +48,8 @@ struct GpuMesh {
     levels: Vec<crate::scene::lod::LodLevel>,
     vertices: Buffer,
     centroids: Option<Buffer>,
+    /// Vertex colours (binding 2), for meshes that have them.
+    colors: Option<Buffer>,
     indices: Buffer,
     index_count: u32,
 }
@@ -57,7 +59,8 @@ struct Draw {
     /// Index into the scene's objects (and the objects buffer's slot).
     object: usize,
     material: usize,
-    /// Back faces can be culled: a closed primitive (outward CCW winding) with positive scale.
+    /// Back faces are culled: a closed primitive (outward CCW winding) with positive scale, or a
+    /// single-sided material (`build::culls`).
     cull: bool,
     variant: VariantKey,
     push: MaterialPush,
@@ -209,8 +212,9 @@ struct Slot {
     clusters: Buffer,
     cluster_lights: Buffer,
     set: vk::DescriptorSet,
-    /// Per draw: whether its bounding sphere meets the view volume of the slot's camera.
-    visible: Vec<bool>,
+    /// The draws to record for the slot's camera: those whose bounding sphere meets its view
+    /// volume, opaque ones first, then blended ones back to front ([`draw_order`]).
+    order: Vec<usize>,
     /// Per draw: the LOD level of its mesh for the slot's camera ([`ForwardPass::lod_levels`]).
     levels: Vec<u8>,
 }
@@ -555,7 +559,7 @@ impl ForwardPass {
         self.lod_height = scene.output.height;
         self.lod_budget = scene.output.tessellation_error_px;
         self.slots[slot].levels = self.lod_levels(scene);
-        self.slots[slot].visible = visible;
+        self.slots[slot].order = draw_order(&self.draws, &self.meshes, scene, &visible);
         self.update_shadows(slot, scene, aspect)?;
         self.write_clusters(slot, scene, aspect)?;
         for draw in &mut self.draws {
@@ -576,6 +580,7 @@ impl ForwardPass {
             }
             push.object_index = draw.push.object_index;
             push.receive_shadow = obj.shadow.receive as u32;
+            push.double_sided = draw.push.double_sided;
             if let Some(layers) = &self.lut_layers {
                 let g = lut_geometry(material);
                 push.flags = layers
@@ -611,8 +616,9 @@ impl ForwardPass {
         self.lod_height = scene.output.height;
         self.lod_budget = scene.output.tessellation_error_px;
         let levels = self.lod_levels(scene);
+        let order = draw_order(&self.draws, &self.meshes, scene, &visible);
         for s in &mut self.slots {
-            s.visible.clone_from(&visible);
+            s.order.clone_from(&order);
             s.levels.clone_from(&levels);
             s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
         }
@@ -675,10 +681,7 @@ impl ForwardPass {
     /// Objects (draws) recorded for slot `slot`'s camera after frustum culling, and all of them.
     pub fn drawn_objects(&self, slot: usize) -> (usize, usize) {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
-        let drawn = (0..self.draws.len())
-            .filter(|&i| s.visible.get(i).copied().unwrap_or(true))
-            .count();
-        (drawn, self.draws.len())
+        (s.order.len(), self.draws.len())
     }
 
     pub fn triangle_count(&self) -> u64 {
@@ -722,7 +725,7 @@ impl ForwardPass {
         let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
-        let visible = (slot.visible.as_slice(), slot.levels.as_slice());
+        let order = (slot.order.as_slice(), slot.levels.as_slice());
         if let Some(def) = &self.deferred {
             if !def.ready(output, target.extent) || target.resolve.is_some() {
                 return Err(VkError::Setup(format!(
@@ -742,7 +745,7 @@ impl ForwardPass {
                 (output, clear),
                 (set, shadow_set),
                 timer,
-                |pipeline| self.record_draws(cmd, (set, shadow_set, visible), |_| pipeline),
+                |pipeline| self.record_draws(cmd, (set, shadow_set, order), |_| pipeline),
             );
             return Ok(());
         }
@@ -825,7 +828,15 @@ impl ForwardPass {
             );
             d.cmd_set_scissor(cmd, 0, &[area]);
         }
-        self.record_draws(cmd, (set, shadow_set, visible), |i| pipelines[i]);
+        // Opaque draws, the skybox behind them, then blended draws over both.
+        let (order, levels) = order;
+        let blended = order
+            .iter()
+            .position(|&i| self.draws[i].variant.alpha == AlphaKey::Blend)
+            .unwrap_or(order.len());
+        self.record_draws(cmd, (set, shadow_set, (&order[..blended], levels)), |i| {
+            pipelines[i]
+        });
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe {
             if let Some(sky) = skybox {
@@ -833,23 +844,27 @@ impl ForwardPass {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
                 d.cmd_draw(cmd, 3, 1, 0, 0);
             }
-            d.cmd_end_rendering(cmd);
         }
+        self.record_draws(cmd, (set, shadow_set, (&order[blended..], levels)), |i| {
+            pipelines[i]
+        });
+        // SAFETY: as above; the draws left the rendering instance open.
+        unsafe { d.cmd_end_rendering(cmd) };
         if let Some(t) = timer {
             t.end(cmd, timed);
         }
         Ok(())
     }
     /// Binds the frame set `set` (and the environment set) and records, inside the caller's
-    /// rendering instance, every draw whose object may be seen (`visible`, by draw; all when
-    /// empty) at its LOD level (`levels`, by draw; 0 when empty) with `pipeline_of(draw index)`.
+    /// rendering instance, the draws of `order` (draw indices) at their LOD level (`levels`, by
+    /// draw; 0 when empty) with `pipeline_of(draw index)`.
     fn record_draws(
         &self,
         cmd: vk::CommandBuffer,
-        (set, shadow_set, (visible, levels)): (
+        (set, shadow_set, (order, levels)): (
             vk::DescriptorSet,
             vk::DescriptorSet,
-            (&[bool], &[u8]),
+            (&[usize], &[u8]),
         ),
         pipeline_of: impl Fn(usize) -> vk::Pipeline,
     ) {
@@ -889,10 +904,8 @@ impl ForwardPass {
             let mut bound_material: Option<usize> = None;
             let mut bound_cull: Option<bool> = None;
             let mut bound_mesh: Option<usize> = None;
-            for (i, draw) in self.draws.iter().enumerate() {
-                if !visible.get(i).copied().unwrap_or(true) {
-                    continue;
-                }
+            for &i in order {
+                let draw = &self.draws[i];
                 let pipeline = pipeline_of(i);
                 if bound_cull != Some(draw.cull) {
                     d.cmd_set_cull_mode(
@@ -928,6 +941,9 @@ impl ForwardPass {
                     d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
                     if let Some(c) = &m.centroids {
                         d.cmd_bind_vertex_buffers(cmd, 1, &[c.raw], &[0]);
+                    }
+                    if let Some(c) = &m.colors {
+                        d.cmd_bind_vertex_buffers(cmd, 2, &[c.raw], &[0]);
                     }
                     d.cmd_bind_index_buffer(cmd, m.indices.raw, 0, vk::IndexType::UINT32);
                     bound_mesh = Some(draw.mesh);

@@ -182,6 +182,40 @@ pub struct VariantKey {
     pub light_kinds: u32,
     /// The fragment stage loops over its cluster's lights only (`CLUSTERED`).
     pub clustered: bool,
+    /// The material's alpha mode (`ALPHA_MODE`; blending and no depth writes for `Blend`).
+    pub alpha: AlphaKey,
+    /// The mesh's vertex colours multiply the base colour (Phong shading only: the
+    /// `*_color` modules, vertex buffer binding 2).
+    pub vertex_color: bool,
+}
+
+/// glTF's alpha mode as a pipeline sees it ([`crate::scene::AlphaMode`] without the cutoff,
+/// which is material data).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum AlphaKey {
+    Opaque,
+    Mask,
+    Blend,
+}
+
+impl AlphaKey {
+    pub fn of(m: crate::scene::AlphaMode) -> Self {
+        match m {
+            crate::scene::AlphaMode::Opaque => Self::Opaque,
+            crate::scene::AlphaMode::Mask { .. } => Self::Mask,
+            crate::scene::AlphaMode::Blend => Self::Blend,
+        }
+    }
+
+    /// The value of the `ALPHA_MODE` specialization constant.
+    fn code(self) -> u32 {
+        use crate::render::gpu::glsl::include_bindings as glsl;
+        match self {
+            Self::Opaque => glsl::ALPHA_OPAQUE,
+            Self::Mask => glsl::ALPHA_MASK,
+            Self::Blend => glsl::ALPHA_BLEND,
+        }
+    }
 }
 
 impl VariantKey {
@@ -190,7 +224,7 @@ impl VariantKey {
     /// tangent frame (Principled's anisotropy). The lean variant saves lavapipe's triangle setup
     /// six of thirteen interpolated floats.
     pub fn phong_maps(&self) -> bool {
-        self.maps != 0 || self.model == ModelKind::Principled
+        self.maps != 0 || self.model == ModelKind::Principled || self.vertex_color
     }
 
     /// The `forward.vert` / `forward.frag` variant this key's pipeline is built from.
@@ -198,6 +232,9 @@ impl VariantKey {
         let mut s = self.shading.name().to_string();
         if self.shading == ShadingKey::Phong && self.phong_maps() {
             s.push_str("_maps");
+            if self.vertex_color {
+                s.push_str("_color");
+            }
         }
         if self.ibl.is_some() {
             s.push_str("_ibl");
@@ -344,6 +381,12 @@ impl std::fmt::Display for VariantKey {
         if self.clustered {
             write!(f, ", clustered")?;
         }
+        if self.alpha != AlphaKey::Opaque {
+            write!(f, ", alpha={:?}", self.alpha)?;
+        }
+        if self.vertex_color {
+            write!(f, ", vertex_color")?;
+        }
         if self.debug != DebugView::None {
             write!(f, ", debug={:?}", self.debug)?;
         }
@@ -433,6 +476,19 @@ pub(super) fn vertex_input(
             },
         ]);
     }
+    if v.vertex_color {
+        bindings.push(vk::VertexInputBindingDescription {
+            binding: 2,
+            stride: 16,
+            input_rate: vk::VertexInputRate::VERTEX,
+        });
+        attributes.push(vk::VertexInputAttributeDescription {
+            location: 5,
+            binding: 2,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 0,
+        });
+    }
     if v.shading == ShadingKey::Flat {
         bindings.push(vk::VertexInputBindingDescription {
             binding: 1,
@@ -464,6 +520,7 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         (gpu::SPEC_MAPS, v.maps),
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
         (gpu::SPEC_CLUSTERED, v.clustered as u32),
+        (gpu::SPEC_ALPHA_MODE, v.alpha.code()),
     ];
     if let Some(i) = v.ibl {
         spec.extend([
@@ -508,8 +565,10 @@ pub(super) fn create_pipeline(
             samples: target.samples,
             cull: vk::CullModeFlags::NONE,
             depth_test: true,
-            depth_write: true,
+            // Blended surfaces do not hide what is drawn after them (other blended ones).
+            depth_write: v.alpha != AlphaKey::Blend,
             depth_compare: vk::CompareOp::LESS,
+            blend: v.alpha == AlphaKey::Blend,
         },
     )
 }
@@ -539,6 +598,7 @@ pub(super) fn create_skybox(
             depth_test: true,
             depth_write: false,
             depth_compare: vk::CompareOp::LESS_OR_EQUAL,
+            blend: false,
         },
     )
 }

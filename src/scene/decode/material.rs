@@ -304,6 +304,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         fresnel: f.select("fresnel", FRESNELS, d.fresnel)?,
         diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
         diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,
+        dielectric_f0: d.dielectric_f0,
     }))
 }
 

@@ -182,17 +182,18 @@ impl Encoder<'_> {
         let mut root = Node::obj();
         root.put("description", s.description.as_str());
         root.put("camera", camera(&s.camera));
-        root.put(
-            "output",
-            Node::obj()
-                .with("width", s.output.width)
-                .with("height", s.output.height)
-                .with("background", s.output.background)
-                .with("exposure", s.output.exposure)
-                .with("tonemap", s.output.tonemap.name())
-                .with("msaa", s.output.msaa)
-                .with("tessellation_error_px", s.output.tessellation_error_px),
-        );
+        let mut output = Node::obj()
+            .with("width", s.output.width)
+            .with("height", s.output.height)
+            .with("background", s.output.background)
+            .with("exposure", s.output.exposure)
+            .with("tonemap", s.output.tonemap.name())
+            .with("msaa", s.output.msaa)
+            .with("tessellation_error_px", s.output.tessellation_error_px);
+        if !s.output.golden.is_empty() {
+            output.put("golden", golden_tolerances(&s.output.golden));
+        }
+        root.put("output", output);
         root.put("ambient", s.ambient);
         root.put(
             "saturation",
@@ -716,3 +717,22 @@ impl Encoder<'_> {
 }
 #[cfg(test)]
 mod tests;
+
+/// `output.golden`: the overridden checks, null for one turned off.
+fn golden_tolerances(o: &crate::golden::ToleranceOverrides) -> Node {
+    let opt = |v: Option<f32>| v.map_or(Node::Null, Node::from);
+    let mut n = Node::obj();
+    if let Some(v) = o.max_flip_mean {
+        n.put("max_flip_mean", opt(v));
+    }
+    if let Some(v) = o.max_abs {
+        n.put("max_abs", opt(v));
+    }
+    if let Some(v) = o.max_bad_pixels {
+        n.put("max_bad_pixels", v.map_or(Node::Null, Node::Int));
+    }
+    if let Some(v) = o.bad_pixel_threshold {
+        n.put("bad_pixel_threshold", v);
+    }
+    n
+}

@@ -9,6 +9,7 @@ use serde_json::Value;
 
 #[derive(Debug, Clone, PartialEq)]
 pub(super) enum Node {
+    Null,
     Bool(bool),
     Int(u64),
     Num(f32),
@@ -41,6 +42,7 @@ impl Node {
 
     pub(super) fn to_value(&self) -> Value {
         match self {
+            Node::Null => Value::Null,
             Node::Bool(b) => Value::Bool(*b),
             Node::Int(i) => Value::from(*i),
             Node::Num(x) => num_value(*x)
@@ -59,6 +61,7 @@ impl Node {
 
     pub(super) fn write(&self, indent: usize, out: &mut String) {
         match self {
+            Node::Null => out.push_str("null"),
             Node::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
             Node::Int(i) => out.push_str(&i.to_string()),
             Node::Num(x) => out.push_str(num_text(*x).as_deref().unwrap_or("null")),

@@ -315,6 +315,11 @@ fn edited_scene_round_trips() {
         })
     });
     scene.output.tessellation_error_px = 0.2;
+    scene.output.golden = crate::golden::ToleranceOverrides {
+        max_flip_mean: Some(Some(0.01)),
+        max_bad_pixels: Some(None),
+        ..Default::default()
+    };
     // The spheres stay automatic: the file leaves their segments out, and loading it chooses them
     // for the edited camera and budget, as resolving the edited scene does.
     crate::scene::tessellation::resolve(&mut scene);
@@ -323,6 +328,7 @@ fn edited_scene_round_trips() {
         back.objects[1].tessellation,
         crate::scene::Tessellation::Auto { .. }
     ));
+    assert_eq!(back.output.golden, scene.output.golden);
     assert_eq!(back.lights[0].intensity, 1.375);
     assert_eq!(back.lights.len(), 3);
     assert_eq!(back.objects[1].material, last);

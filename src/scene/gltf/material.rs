@@ -10,7 +10,9 @@ use gltf::texture::{MagFilter, MinFilter, WrappingMode};
 use super::primitive::UvChoice;
 use super::GltfError;
 use crate::brdf::MetalRoughParams;
-use crate::scene::{Filter, Material, MaterialTextures, SamplerDesc, TextureRef, Wrap};
+use crate::scene::{
+    AlphaMode, Filter, Material, MaterialTextures, SamplerDesc, Sides, TextureRef, Wrap,
+};
 
 /// A glTF material as luz understands it.
 #[derive(Debug, Clone)]
@@ -29,7 +31,11 @@ pub fn default_material() -> GltfMaterial {
     GltfMaterial {
         name: "default".into(),
         material: Material::MetalRough(MetalRoughParams::default()),
-        textures: MaterialTextures::default(),
+        // glTF's default material is single-sided.
+        textures: MaterialTextures {
+            sides: Sides::Single,
+            ..MaterialTextures::default()
+        },
         uv: UvChoice::default(),
     }
 }
@@ -154,6 +160,50 @@ fn uv_of(info_set: u32, tt: Option<gltf::texture::TextureTransform>) -> UvChoice
     }
 }
 
+/// The dielectric F0 of material `m` (named `name`) from KHR_materials_ior and
+/// KHR_materials_specular, as the latter's specification computes it:
+/// `min(((ior − 1)/(ior + 1))² · specularColorFactor, 1) · specularFactor` (0.04 with neither).
+/// Their textures are not read (a warning): luz has no map for F0.
+fn dielectric_f0(
+    m: &gltf::Material,
+    name: &str,
+    file_name: &str,
+    warnings: &mut Vec<String>,
+) -> Vec3 {
+    let i = m.index().unwrap_or(0);
+    // Without KHR_materials_ior, exactly luz's default (0.04).
+    // ior 0 is the extension's special value (F0 = 1).
+    let mut f0 = match m
+        .ior()
+        .filter(|v| v.is_finite() && (*v >= 1.0 || *v == 0.0))
+    {
+        Some(ior) => Vec3::splat(((ior - 1.0) / (ior + 1.0)).powi(2)),
+        None => MetalRoughParams::default().dielectric_f0,
+    };
+    if let Some(sp) = m.specular() {
+        let color = Vec3::from_array(sp.specular_color_factor());
+        let color = if color.is_finite() {
+            color.max(Vec3::ZERO)
+        } else {
+            Vec3::ONE
+        };
+        let factor = sp.specular_factor();
+        let factor = if factor.is_finite() {
+            factor.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        f0 = (f0 * color).min(Vec3::ONE) * factor;
+        if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
+            warnings.push(format!(
+                "{file_name}: materials[{i}] (\"{name}\"): KHR_materials_specular's textures are \
+                 not used (luz has no F0 map); its factors are"
+            ));
+        }
+    }
+    f0
+}
+
 /// Maps glTF material `m` onto `metal_rough` with maps; sentences about what is not used go to
 /// `warnings`.
 pub fn material(
@@ -169,7 +219,7 @@ pub fn material(
         .map(str::to_string)
         .unwrap_or_else(|| format!("material{i}"));
     let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, _alpha] = pbr.base_color_factor();
+    let [r, g, b, alpha] = pbr.base_color_factor();
     let clamp = |v: f32| {
         if v.is_finite() {
             v.clamp(0.0, 1.0)
@@ -181,9 +231,29 @@ pub fn material(
         base_color: Vec3::new(clamp(r), clamp(g), clamp(b)),
         metallic: clamp(pbr.metallic_factor()),
         roughness: clamp(pbr.roughness_factor()),
+        dielectric_f0: dielectric_f0(m, &name, file_name, warnings),
         ..MetalRoughParams::default()
     };
-    let mut t = MaterialTextures::default();
+    let mut t = MaterialTextures {
+        alpha: clamp(alpha),
+        alpha_mode: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+                cutoff: m
+                    .alpha_cutoff()
+                    .filter(|c| c.is_finite())
+                    .unwrap_or(0.5)
+                    .max(0.0),
+            },
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        },
+        sides: if m.double_sided() {
+            Sides::Double
+        } else {
+            Sides::Single
+        },
+        ..MaterialTextures::default()
+    };
     // (uv of each map present, in priority order: base colour first).
     let mut uvs: Vec<(&str, UvChoice)> = Vec::new();
     if let Some(info) = pbr.base_color_texture() {
@@ -241,20 +311,6 @@ pub fn material(
             "{file_name}: materials[{i}] (\"{name}\"): {map} reads UV set {} with its own transform; \
              luz gives all maps of a material the UVs of its {} (set {})",
             other.set, uvs[0].0, uv.set
-        ));
-    }
-    match m.alpha_mode() {
-        gltf::material::AlphaMode::Opaque => {}
-        mode => warnings.push(format!(
-            "{file_name}: materials[{i}] (\"{name}\"): alphaMode {} is drawn opaque (luz has \
-             no alpha cut-out or blending yet)",
-            format!("{mode:?}").to_uppercase()
-        )),
-    }
-    if m.ior().is_some() || m.specular().is_some() {
-        warnings.push(format!(
-            "{file_name}: materials[{i}] (\"{name}\"): KHR_materials_ior / KHR_materials_specular \
-             are not used (metal_rough's dielectric F0 is 0.04, i.e. ior 1.5)"
         ));
     }
     GltfMaterial {

@@ -24,6 +24,8 @@ use super::{Camera, Falloff, Light, LightKind, Mesh};
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
 ];
@@ -356,6 +358,9 @@ struct Builder<'a> {
     /// Triangles of the parts so far, and the budget.
     triangles: usize,
     max_triangles: usize,
+    /// A node with a skin, a primitive with morph targets (one warning at the end).
+    skinned: bool,
+    morphed: bool,
 }
 
 impl<'a> Builder<'a> {
@@ -380,6 +385,8 @@ impl<'a> Builder<'a> {
             warned: HashMap::new(),
             triangles: 0,
             max_triangles: MAX_TRIANGLES,
+            skinned: false,
+            morphed: false,
         })
     }
 
@@ -427,14 +434,6 @@ impl<'a> Builder<'a> {
                 }
             },
         };
-        if self.doc.animations().len() > 0 {
-            self.warn_once(
-                "anim",
-                format!(
-                    "{f}: animations are not played; luz renders the static pose (node transforms)"
-                ),
-            );
-        }
         let nodes: Vec<gltf::Node> = self.doc.nodes().collect();
         let mut visited = vec![false; nodes.len()];
         let mut stack: Vec<(usize, Mat4)> =
@@ -463,6 +462,23 @@ impl<'a> Builder<'a> {
                 stack.push((c.index(), world));
             }
         }
+        // Skins, morph targets and animations: one warning for the file, naming what it has.
+        let mut unused = Vec::new();
+        if self.skinned {
+            unused.push("skins (meshes drawn in their bind pose, placed by their node)");
+        }
+        if self.morphed {
+            unused.push("morph targets (meshes keep their base shape)");
+        }
+        if self.doc.animations().len() > 0 {
+            unused.push("animations (the node transforms' static pose)");
+        }
+        if !unused.is_empty() {
+            self.out.warnings.push(format!(
+                "{f}: luz draws the static pose; not applied: {}",
+                unused.join(", ")
+            ));
+        }
         Ok(self.out)
     }
 
@@ -473,12 +489,7 @@ impl<'a> Builder<'a> {
             .name()
             .map(str::to_string)
             .unwrap_or_else(|| format!("#{i}"));
-        if node.skin().is_some() {
-            self.warn_once(
-                "skin",
-                format!("{f}: skins are not applied; skinned meshes are drawn in their bind pose, placed by their node"),
-            );
-        }
+        self.skinned |= node.skin().is_some();
         if let Some(cam) = node.camera() {
             self.camera(&cam, world, &node_name)?;
         }
@@ -494,18 +505,7 @@ impl<'a> Builder<'a> {
             .unwrap_or_else(|| format!("#{}", mesh.index()));
         let count = mesh.primitives().len();
         for p in mesh.primitives() {
-            if p.morph_targets().len() > 0 {
-                self.warn_once(
-                    "morph",
-                    format!("{f}: morph targets are not applied; meshes keep their base shape"),
-                );
-            }
-            if p.get(&gltf::Semantic::Colors(0)).is_some() {
-                self.warn_once(
-                    "color",
-                    format!("{f}: vertex colours (COLOR_0) are not used (luz's vertices have no colour)"),
-                );
-            }
+            self.morphed |= p.morph_targets().len() > 0;
             let material = match p.material().index() {
                 Some(m) => m,
                 None => self.default_material(),

@@ -1,7 +1,7 @@
 //! One glTF mesh primitive → a luz [`Mesh`] in the coordinates of the scene (the node's world
 //! transform baked in).
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
 use super::accessor;
@@ -90,55 +90,54 @@ pub fn build(
             format!("element {i} is not finite: {}", positions[i]),
         ));
     }
-    let normals = match p.get(&Semantic::Normals) {
-        None => None,
-        Some(a) => {
-            let f = accessor::floats(&a, buffers).map_err(|e| at("attributes.NORMAL", e))?;
-            if f.components != 3 || f.len() != n {
-                return Err(at(
-                    "attributes.NORMAL",
-                    format!(
-                        "must be VEC3 with one element per position ({n}), has {} of {} components",
-                        f.len(),
-                        f.components
-                    ),
-                ));
-            }
-            Some(
-                (0..n)
-                    .map(|i| Vec3::from_array(f.get(i, 0.0)))
-                    .collect::<Vec<_>>(),
-            )
-        }
+    let attr = |semantic: Semantic, what: &str, kind: &str, counts: &[usize]| {
+        per_vertex(p, buffers, semantic, n, (kind, counts)).map_err(|e| at(what, e))
     };
-    let uvs = match p.get(&Semantic::TexCoords(uv.set)) {
+    let normals = attr(Semantic::Normals, "attributes.NORMAL", "VEC3", &[3])?.map(|f| {
+        (0..n)
+            .map(|i| Vec3::from_array(f.get(i, 0.0)))
+            .collect::<Vec<_>>()
+    });
+    let what = format!("attributes.TEXCOORD_{}", uv.set);
+    let uvs = match attr(Semantic::TexCoords(uv.set), &what, "VEC2", &[2])? {
         None => Vec::new(),
-        Some(a) => {
-            let what = format!("attributes.TEXCOORD_{}", uv.set);
-            let f = accessor::floats(&a, buffers).map_err(|e| at(&what, e))?;
-            if f.components != 2 || f.len() != n {
-                return Err(at(
-                    &what,
-                    format!(
-                        "must be VEC2 with one element per position ({n}), has {} of {} components",
-                        f.len(),
-                        f.components
-                    ),
-                ));
-            }
-            (0..n)
-                .map(|i| {
-                    let t = Vec2::from_array(f.get(i, 0.0));
-                    let t = if uv.is_identity() { t } else { uv.apply(t) };
-                    if t.is_finite() {
-                        t
-                    } else {
-                        Vec2::ZERO
-                    }
-                })
-                .collect()
-        }
+        Some(f) => (0..n)
+            .map(|i| {
+                let t = Vec2::from_array(f.get(i, 0.0));
+                let t = if uv.is_identity() { t } else { uv.apply(t) };
+                if t.is_finite() {
+                    t
+                } else {
+                    Vec2::ZERO
+                }
+            })
+            .collect(),
     };
+    // COLOR_0: VEC3 or VEC4 (alpha 1), float or normalised u8/u16; linear, multiplies the
+    // base colour.
+    let colors = match attr(
+        Semantic::Colors(0),
+        "attributes.COLOR_0",
+        "VEC3 or VEC4",
+        &[3, 4],
+    )? {
+        None => Vec::new(),
+        Some(f) => (0..n)
+            .map(|i| {
+                let c = Vec4::from_array(f.get(i, 1.0));
+                if c.is_finite() {
+                    c.clamp(Vec4::ZERO, Vec4::ONE)
+                } else {
+                    Vec4::ONE
+                }
+            })
+            .collect(),
+    };
+    let tangents = attr(Semantic::Tangents, "attributes.TANGENT", "VEC4", &[4])?.map(|f| {
+        (0..n)
+            .map(|i| Vec4::from_array(f.get(i, 1.0)))
+            .collect::<Vec<_>>()
+    });
     let raw = match p.indices() {
         Some(a) => accessor::indices(&a, buffers, n).map_err(|e| at("indices", e))?,
         None => (0..n as u32).collect(),
@@ -159,6 +158,8 @@ pub fn build(
         normals: Vec::new(),
         uvs,
         indices,
+        colors,
+        tangents: Vec::new(),
     };
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(format!(
@@ -166,6 +167,7 @@ pub fn build(
             mesh.positions[i]
         ));
     }
+    let file_normals = normals.is_some();
     match normals {
         Some(ns) => {
             let nm = linear.inverse().transpose();
@@ -180,10 +182,56 @@ pub fn build(
                 mesh.compute_normals();
             }
         }
-        // glTF: without normals, flat shading.
+        // glTF: without normals, flat shading (and the file's tangents, which go with the
+        // normals, are not used: the spec asks for both or computed ones).
         None => mesh = mesh.to_flat(),
     }
+    if let (Some(ts), true) = (tangents, file_normals) {
+        mesh.tangents = file_tangents(&ts, linear);
+    }
     Ok(Built::Mesh(mesh))
+}
+
+/// Attribute `semantic` of primitive `p` read as floats, checked to hold one element per position
+/// (`n`) with one of `counts` components (`kind` names them in the message); None when absent.
+fn per_vertex(
+    p: &gltf::Primitive,
+    buffers: &[Vec<u8>],
+    semantic: Semantic,
+    n: usize,
+    (kind, counts): (&str, &[usize]),
+) -> Result<Option<accessor::Floats>, String> {
+    let Some(a) = p.get(&semantic) else {
+        return Ok(None);
+    };
+    let f = accessor::floats(&a, buffers)?;
+    if !counts.contains(&f.components) || f.len() != n {
+        return Err(format!(
+            "must be {kind} with one element per position ({n}), has {} of {} components",
+            f.len(),
+            f.components
+        ));
+    }
+    Ok(Some(f))
+}
+
+/// The file's tangents through the node transform's linear part `linear` (a direction, so `M t`,
+/// renormalised), with the handedness flipped by a mirroring transform (the bitangent mirrors
+/// with it). Empty when any tangent is zero or not finite (MikkTSpace then computes them all).
+fn file_tangents(ts: &[Vec4], linear: Mat3) -> Vec<Vec4> {
+    let flip = if linear.determinant() < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    ts.iter()
+        .map(|t| {
+            let d = (linear * t.truncate()).try_normalize()?;
+            let w = if t.w < 0.0 { -flip } else { flip };
+            Some(d.extend(w))
+        })
+        .collect::<Option<Vec<_>>>()
+        .unwrap_or_default()
 }
 
 /// Triangle list of a triangles, strip or fan primitive (glTF 2.0 §3.7.2.1: strip triangle i is

@@ -537,6 +537,11 @@ impl Viewer {
     pub(super) fn save_screenshot(&mut self, shot: &Shot) -> Result<()> {
         let bytes = shot.buffer.mapped()?;
         let (w, h) = (shot.extent.width, shot.extent.height);
+        // Where it came from: the device, the scene (file, hash, tone map, exposure) as the
+        // viewer shows it, the window's size.
+        let mut meta = crate::provenance::of_render(&self.ctx.info, &self.scene, None);
+        meta.set("luz.size", format!("{w}x{h}"));
+        meta.set("luz.capture", "viewer screenshot");
         let n = w as usize * h as usize;
         if shot.display {
             let bgra = self.swapchain.format == vk::Format::B8G8R8A8_UNORM;
@@ -550,7 +555,8 @@ impl Viewer {
                     }
                 })
                 .collect();
-            crate::imageio::save_png_rgb8(&shot.path, w, h, &rgb)?;
+            meta.set("luz.encoding", "8-bit sRGB (display image)");
+            crate::imageio::save_png_rgb8_with(&shot.path, w, h, &rgb, &meta)?;
         } else {
             let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])
                 .map_err(|e| anyhow!("screenshot buffer: {e}"))?;
@@ -562,7 +568,10 @@ impl Viewer {
                     .map(|c| [c[0], c[1], c[2], c[3]])
                     .collect(),
             };
-            crate::imageio::save(&shot.path, &img, 0.0, crate::color::Tonemap::None)?;
+            // The float image: no tone map or exposure applied.
+            meta.entries
+                .retain(|(k, _)| k != "luz.tonemap" && k != "luz.exposure_ev");
+            crate::imageio::save_with(&shot.path, &img, 0.0, crate::color::Tonemap::None, &meta)?;
         }
         let msg = format!("wrote {} ({w}x{h})", shot.path.display());
         log::info!("{msg}");
