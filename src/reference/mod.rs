@@ -84,21 +84,7 @@ pub fn render_reference(
     opts: &ReferenceOptions,
     progress: Option<&dyn Fn(u64, u64)>,
 ) -> Result<LinearImage> {
-    if opts.spp == 0 || opts.spp > MAX_SPP {
-        bail!("reference: spp must be in 1..={MAX_SPP}, got {}", opts.spp);
-    }
-    if opts.samples == 0 || opts.samples > MAX_SAMPLES {
-        bail!(
-            "reference: samples must be in 1..={MAX_SAMPLES}, got {}",
-            opts.samples
-        );
-    }
-    if opts.shadow_samples == 0 || opts.shadow_samples > MAX_SAMPLES {
-        bail!(
-            "reference: shadow samples must be in 1..={MAX_SAMPLES}, got {}",
-            opts.shadow_samples
-        );
-    }
+    check_options(opts)?;
     let prepared = render::Prepared::new(scene)?;
     let (w, h) = (prepared.width, prepared.height);
     let row = |y: u32| -> Vec<[f32; 4]> {
@@ -144,6 +130,66 @@ pub fn render_reference(
     };
     saturate(&mut image, scene.saturation);
     Ok(image)
+}
+
+fn check_options(opts: &ReferenceOptions) -> Result<()> {
+    if opts.spp == 0 || opts.spp > MAX_SPP {
+        bail!("reference: spp must be in 1..={MAX_SPP}, got {}", opts.spp);
+    }
+    if opts.samples == 0 || opts.samples > MAX_SAMPLES {
+        bail!(
+            "reference: samples must be in 1..={MAX_SAMPLES}, got {}",
+            opts.samples
+        );
+    }
+    if opts.shadow_samples == 0 || opts.shadow_samples > MAX_SAMPLES {
+        bail!(
+            "reference: shadow samples must be in 1..={MAX_SAMPLES}, got {}",
+            opts.shadow_samples
+        );
+    }
+    Ok(())
+}
+
+/// [`render_reference`] for a viewer: rows are counted in `rows_done` as they complete, and
+/// once `cancel` is set the remaining rows are skipped and `Ok(None)` is returned (a camera that
+/// moved makes the image useless). Validation errors as [`render_reference`].
+pub fn render_reference_cancellable(
+    scene: &Scene,
+    opts: &ReferenceOptions,
+    rows_done: &std::sync::atomic::AtomicU64,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<Option<LinearImage>> {
+    use std::sync::atomic::Ordering;
+    check_options(opts)?;
+    let prepared = render::Prepared::new(scene)?;
+    let (w, h) = (prepared.width, prepared.height);
+    let rows: Vec<Vec<[f32; 4]>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            if cancel.load(Ordering::Relaxed) {
+                return Vec::new();
+            }
+            let r = (0..w)
+                .map(|x| {
+                    let c = prepared.pixel(x, y, opts);
+                    [c.x, c.y, c.z, 1.0]
+                })
+                .collect();
+            rows_done.fetch_add(1, Ordering::Relaxed);
+            r
+        })
+        .collect();
+    if cancel.load(Ordering::Relaxed) {
+        return Ok(None);
+    }
+    let mut image = LinearImage {
+        width: w,
+        height: h,
+        pixels: rows.into_iter().flatten().collect(),
+    };
+    saturate(&mut image, scene.saturation);
+    Ok(Some(image))
 }
 
 /// The primary ray through continuous pixel coordinates `(px, py)` of `scene` (pixel `(x, y)`

@@ -135,6 +135,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("H or F1", "this help"),
     ("Tab", "hide/show panels"),
     ("V", "vsync on/off"),
+    ("B", "A/B toggle mode: show the other side"),
     ("Esc", "quit"),
 ];
 
@@ -224,6 +225,7 @@ fn section(ui: &mut Ui, title: &str, open: bool, expand_all: bool, add: impl FnO
         .show(ui, add);
 }
 
+pub mod compare;
 mod environment;
 mod lights;
 mod materials;
