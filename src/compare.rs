@@ -202,7 +202,11 @@ mod tests {
         let r = relative_error_map(&a, &a, 64, 32);
         assert!(r.values.iter().all(|&v| v == 0.0));
         let f = flip_map(&a, &a, (64, 32), 0.0, Tonemap::KhronosNeutral);
-        assert!(f.values.iter().all(|&v| v == 0.0), "{:?}", MapStats::of(&f.values));
+        assert!(
+            f.values.iter().all(|&v| v == 0.0),
+            "{:?}",
+            MapStats::of(&f.values)
+        );
         // A zero map is one colour: the palette's black.
         let rgba = colorize(&d, 0.0);
         assert!(rgba.chunks_exact(4).all(|p| p == [0, 0, 0, 255]));
@@ -232,7 +236,10 @@ mod tests {
         assert!(MapStats::of(&f.values).mean > 0.3);
         assert_eq!(color_of(0.0, 1.0), [0, 0, 0]);
         let top = color_of(1.0, 1.0);
-        assert!(top.iter().map(|&c| u32::from(c)).sum::<u32>() > 500, "{top:?}");
+        assert!(
+            top.iter().map(|&c| u32::from(c)).sum::<u32>() > 500,
+            "{top:?}"
+        );
         assert_eq!(color_of(f32::INFINITY, 1.0), top);
         assert_eq!(color_of(2.0, 1.0), top);
     }

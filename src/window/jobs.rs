@@ -9,9 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::color::Tonemap;
-use crate::compare::{
-    colorize, difference_map, flip_map, relative_error_map, ErrorMap, MapStats,
-};
+use crate::compare::{colorize, difference_map, flip_map, relative_error_map, ErrorMap, MapStats};
 use crate::imageio::LinearImage;
 use crate::reference::{render_reference_cancellable, ReferenceOptions};
 use crate::scene::Scene;
@@ -101,9 +99,13 @@ fn compute(job: MapJob) -> MapImage {
     let map = match job.kind {
         MapKind::Difference => difference_map(&job.a.pixels, &job.b.pixels, size.0, size.1),
         MapKind::Relative => relative_error_map(&job.a.pixels, &job.b.pixels, size.0, size.1),
-        MapKind::Flip | MapKind::FlipReference => {
-            flip_map(&job.a.pixels, &job.b.pixels, size, job.exposure, job.tonemap)
-        }
+        MapKind::Flip | MapKind::FlipReference => flip_map(
+            &job.a.pixels,
+            &job.b.pixels,
+            size,
+            job.exposure,
+            job.tonemap,
+        ),
     };
     map_image(job.kind, map, started)
 }
@@ -201,7 +203,13 @@ impl ReferenceJob {
                                 drop(gpu);
                                 Ok(None)
                             }
-                            Ok(gpu) => Ok(Some(error_result(&gpu, &reference, exposure, tonemap, reference_ms))),
+                            Ok(gpu) => Ok(Some(error_result(
+                                &gpu,
+                                &reference,
+                                exposure,
+                                tonemap,
+                                reference_ms,
+                            ))),
                         }
                     }
                 };

@@ -239,7 +239,10 @@ mod tests {
             ("1:add_lights=spiral:4", "grid:N or random:N"),
             ("1:add_lights=grid:-1", "grid:N or random:N"),
             ("1:add_lights=grid:99999999", "at most 65536"),
-            ("1:compare_mode=overlay", "split, difference, flip or toggle"),
+            (
+                "1:compare_mode=overlay",
+                "split, difference, flip or toggle",
+            ),
             ("1:compare_split=1.5", "from 0 to 1"),
             ("1:error_view=maybe", "not on or off"),
             ("1:error_metric=ssim", "relative or flip"),

@@ -37,9 +37,8 @@ impl Viewer {
                 Action::CompareMode(m) => self.lab.settings.mode = m,
                 Action::CompareSplit(x) => self.lab.settings.split = x,
                 Action::CompareFlip => self.lab.settings.show_b = !self.lab.settings.show_b,
-                Action::CompareDuplicate => {
-                    self.apply_lab_actions(vec![super::super::ui::compare::CompareAction::Duplicate])
-                }
+                Action::CompareDuplicate => self
+                    .apply_lab_actions(vec![super::super::ui::compare::CompareAction::Duplicate]),
                 Action::ErrorView(on) => self.lab.settings.error_view = on,
                 Action::ErrorMetric(m) => self.lab.settings.metric = m,
                 Action::AddLights(field, n) => {
@@ -194,7 +193,8 @@ impl Viewer {
         let aspect = extent.width as f32 / extent.height.max(1) as f32;
         self.forward.update(slot, &self.scene, aspect)?;
         self.sync_b(slot)?;
-        self.lab.error_tick(&self.scene, self.targets.color.extent());
+        self.lab
+            .error_tick(&self.scene, self.targets.color.extent());
         self.lab.pair_tick();
 
         // 5. Record.

@@ -4,9 +4,7 @@
 //! FLIP) and the error view's reference job. The panel and the overlays are `ui::compare`'s.
 
 use super::*;
-use crate::window::jobs::{
-    ErrorResult, MapImage, MapJob, MapKind, MapWorker, ReferenceJob,
-};
+use crate::window::jobs::{ErrorResult, MapImage, MapJob, MapKind, MapWorker, ReferenceJob};
 use crate::window::ui::compare::{
     CompareAction, CompareInfo, CompareMode, CompareSettings, ErrorMetric, ErrorStatus,
 };
@@ -221,16 +219,9 @@ pub(super) struct Lab {
     pub want_a: bool,
 }
 
-fn texture(
-    ctx: &egui::Context,
-    slot: &mut Option<egui::TextureHandle>,
-    name: &str,
-    m: &MapImage,
-) {
-    let image = egui::ColorImage::from_rgba_unmultiplied(
-        [m.width as usize, m.height as usize],
-        &m.rgba,
-    );
+fn texture(ctx: &egui::Context, slot: &mut Option<egui::TextureHandle>, name: &str, m: &MapImage) {
+    let image =
+        egui::ColorImage::from_rgba_unmultiplied([m.width as usize, m.height as usize], &m.rgba);
     match slot {
         Some(t) => t.set(image, egui::TextureOptions::NEAREST),
         None => *slot = Some(ctx.load_texture(name, image, egui::TextureOptions::NEAREST)),
@@ -542,7 +533,24 @@ impl Viewer {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        copy_image_to_buffer(d, cmd, color.raw, vk::ImageLayout::GENERAL, &buffer, extent);
+        // The copy reads TRANSFER_SRC_OPTIMAL (what the validation layer's performance checks
+        // ask for), then the image goes back to the display pass's read state.
+        let state = readable(self.display.source_access());
+        let src: Access = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        );
+        let range = color.subresource_range();
+        let t = |from, to| Transition {
+            image: color.raw,
+            range,
+            from,
+            to,
+        };
+        transition(d, cmd, &[t(state, src)]);
+        copy_image_to_buffer(d, cmd, color.raw, src.0, &buffer, extent);
+        transition(d, cmd, &[t(src, state)]);
         Ok((buffer, extent))
     }
 
@@ -572,8 +580,8 @@ impl Viewer {
         let b = (&b.display, &b.scene);
         match self.lab.settings.mode {
             CompareMode::Split => {
-                let x = ((self.lab.settings.split * area.width as f32).round() as u32)
-                    .min(area.width);
+                let x =
+                    ((self.lab.settings.split * area.width as f32).round() as u32).min(area.width);
                 if x > 0 {
                     draw(a, rect(0, x))?;
                 }
@@ -603,7 +611,9 @@ impl Readbacks {
     /// The copies as images (after the frame's fence).
     pub fn images(&self) -> Result<(Option<LinearImage>, Option<LinearImage>)> {
         let read = |r: &Option<(Buffer, vk::Extent2D)>| -> Result<Option<LinearImage>> {
-            let Some((buffer, e)) = r else { return Ok(None) };
+            let Some((buffer, e)) = r else {
+                return Ok(None);
+            };
             let n = e.width as usize * e.height as usize;
             let bytes = buffer.mapped()?;
             let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])
@@ -611,7 +621,10 @@ impl Readbacks {
             Ok(Some(LinearImage {
                 width: e.width,
                 height: e.height,
-                pixels: floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect(),
+                pixels: floats
+                    .chunks_exact(4)
+                    .map(|c| [c[0], c[1], c[2], c[3]])
+                    .collect(),
             }))
         };
         Ok((read(&self.a)?, read(&self.b)?))

@@ -126,13 +126,14 @@ impl ApplicationHandler for App {
         let Some(scene) = self.scene.take() else {
             return;
         };
-        let made = Viewer::new(el, scene, &self.args, std::mem::take(&mut self.script))
-            .and_then(|mut v| {
+        let made = Viewer::new(el, scene, &self.args, std::mem::take(&mut self.script)).and_then(
+            |mut v| {
                 if let Some(b) = self.compare.take() {
                     v.set_b(b)?;
                 }
                 Ok(v)
-            });
+            },
+        );
         match made {
             Ok(v) => self.viewer = Some(v),
             Err(e) => self.fail(el, e),

@@ -3,7 +3,9 @@
 //! reference (progress, summary figures), and what is painted over the scene: the comparison
 //! or error map, the split divider and the colour bar.
 
-use egui::{Align2, Color32, FontId, Id, Panel, Pos2, Rect, Sense, Stroke, TextureHandle, Ui, Vec2};
+use egui::{
+    Align2, Color32, FontId, Id, Panel, Pos2, Rect, Sense, Stroke, TextureHandle, Ui, Vec2,
+};
 
 use crate::compare::{palette, MapStats};
 use crate::window::jobs::{ErrorResult, MapImage};
@@ -133,6 +135,8 @@ fn colour_bar(ui: &mut Ui, label: &str, scale: f32, percent: bool) {
     }
     let top = if percent {
         format!("≥ {:.0} %", scale * 100.0)
+    } else if scale == 0.0 || (1e-3..1e4).contains(&scale) {
+        format!("≥ {scale:.4}")
     } else {
         format!("≥ {scale:.3e}")
     };
@@ -158,10 +162,7 @@ fn stats_grid(ui: &mut Ui, id: &str, s: &MapStats, percent: bool) {
             ("p95", f(s.p95)),
             ("p99", f(s.p99)),
             ("max", f(s.max)),
-            (
-                "pixels > 0.01",
-                format!("{:.1} %", s.above * 100.0),
-            ),
+            ("pixels > 0.01", format!("{:.1} %", s.above * 100.0)),
         ] {
             ui.label(k);
             ui.monospace(v);
@@ -198,7 +199,9 @@ pub fn compare_panel(
                         });
                     match settings.mode {
                         CompareMode::Split => {
-                            ui.add(egui::Slider::new(&mut settings.split, 0.0..=1.0).text("divider"));
+                            ui.add(
+                                egui::Slider::new(&mut settings.split, 0.0..=1.0).text("divider"),
+                            );
                         }
                         CompareMode::Toggle => {
                             ui.horizontal(|ui| {
@@ -256,7 +259,11 @@ pub fn compare_panel(
                 }
                 if settings.error_view {
                     ui.horizontal(|ui| {
-                        ui.selectable_value(&mut settings.metric, ErrorMetric::Relative, "relative");
+                        ui.selectable_value(
+                            &mut settings.metric,
+                            ErrorMetric::Relative,
+                            "relative",
+                        );
                         ui.selectable_value(&mut settings.metric, ErrorMetric::Flip, "FLIP");
                     });
                 }
@@ -317,7 +324,10 @@ pub fn divider(ui: &Ui, split: &mut f32) {
     );
     let handle = Vec2::new(14.0, 44.0);
     egui::Area::new(Id::new("luz_split_handle"))
-        .fixed_pos(Pos2::new(x - handle.x * 0.5, rect.center().y - handle.y * 0.5))
+        .fixed_pos(Pos2::new(
+            x - handle.x * 0.5,
+            rect.center().y - handle.y * 0.5,
+        ))
         .order(egui::Order::Foreground)
         .show(&ctx, |ui| {
             let (r, painter) = ui.allocate_painter(handle, Sense::drag());
