@@ -8,7 +8,8 @@
 //! * [`relative_error_map`]: `max_c |T_c − R_c| / max(R_c, floor)` against a reference `R`.
 //! * [`flip_map`]: LDR FLIP (the `luz diff` code, [`crate::diff::flip_error_map`]) of both
 //!   images after the scene's exposure and tone map.
-//! * [`colorize`]: `value / scale` clamped to [0, 1] through FLIP's magma palette (black = 0),
+//! * [`colorize`]: `value / scale` clamped to [0, 1] through FLIP's magma palette (near black =
+//!   0),
 //!   the palette [`palette`] returns for colour bars.
 
 use std::sync::OnceLock;
@@ -151,7 +152,7 @@ pub fn flip_map(
     }
 }
 
-/// FLIP's magma palette: 256 colours from black (0) to light yellow (1).
+/// FLIP's magma palette: 256 colours from near black ((0, 0, 4) at 0) to light yellow (1).
 pub fn palette() -> &'static [[u8; 3]; 256] {
     static LUT: OnceLock<[[u8; 3]; 256]> = OnceLock::new();
     LUT.get_or_init(|| {
@@ -207,9 +208,14 @@ mod tests {
             "{:?}",
             MapStats::of(&f.values)
         );
-        // A zero map is one colour: the palette's black.
+        // A zero map is one colour: the palette's first, black but for a little blue.
+        let zero = palette()[0];
+        assert!(
+            zero.iter().map(|&c| u32::from(c)).sum::<u32>() < 10,
+            "{zero:?}"
+        );
         let rgba = colorize(&d, 0.0);
-        assert!(rgba.chunks_exact(4).all(|p| p == [0, 0, 0, 255]));
+        assert!(rgba.chunks_exact(4).all(|p| p[..3] == zero && p[3] == 255));
     }
 
     #[test]
@@ -234,7 +240,7 @@ mod tests {
         let blue = image(48 * 48, |_| [0.05, 0.05, 0.8, 1.0]);
         let f = flip_map(&red, &blue, (48, 48), 0.0, Tonemap::KhronosNeutral);
         assert!(MapStats::of(&f.values).mean > 0.3);
-        assert_eq!(color_of(0.0, 1.0), [0, 0, 0]);
+        assert_eq!(color_of(0.0, 1.0), palette()[0]);
         let top = color_of(1.0, 1.0);
         assert!(
             top.iter().map(|&c| u32::from(c)).sum::<u32>() > 500,

@@ -466,5 +466,6 @@ use heatmap::*;
 use polar::*;
 use xy::*;
 
+pub mod brdf_charts;
 #[cfg(test)]
 mod tests;

@@ -118,6 +118,12 @@ pub struct MapWorker {
     busy: bool,
 }
 
+impl Default for MapWorker {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl MapWorker {
     pub fn new() -> Self {
         let (jobs, job_rx) = channel::<MapJob>();
