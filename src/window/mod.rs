@@ -5,6 +5,7 @@
 mod app;
 pub mod camera;
 pub mod jobs;
+pub mod plots;
 pub mod script;
 mod swapchain;
 pub mod ui;

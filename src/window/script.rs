@@ -44,6 +44,8 @@ pub enum Action {
     ErrorView(bool),
     /// What the error view shows (`error_metric=relative|flip`).
     ErrorMetric(ErrorMetric),
+    /// The lab panel's lobe plots of the selected material (`lobe_plots=on|off`).
+    LobePlots(bool),
 }
 
 /// The most lights one `add_lights` (or the panel's "Add many") adds.
@@ -177,6 +179,7 @@ fn parse_action(a: &str) -> Result<Action> {
         "compare_flip" => Action::CompareFlip,
         "compare_duplicate" => Action::CompareDuplicate,
         "error_view" => Action::ErrorView(on_off(need()?)?),
+        "lobe_plots" => Action::LobePlots(on_off(need()?)?),
         "error_metric" => match need()? {
             "relative" => Action::ErrorMetric(ErrorMetric::Relative),
             "flip" => Action::ErrorMetric(ErrorMetric::Flip),
@@ -185,7 +188,8 @@ fn parse_action(a: &str) -> Result<Action> {
         other => bail!(
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
              orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights, \
-             compare_mode, compare_split, compare_flip, compare_duplicate, error_view, error_metric)"
+             compare_mode, compare_split, compare_flip, compare_duplicate, error_view, error_metric, \
+             lobe_plots)"
         ),
     })
 }
@@ -214,7 +218,7 @@ mod tests {
         assert_eq!(s.len(), 12);
         let c = parse(
             "1:compare_mode=difference;2:compare_split=0.25;3:compare_flip;4:compare_duplicate;\
-             5:error_view=on;6:error_metric=flip",
+             5:error_view=on;6:error_metric=flip;7:lobe_plots=on",
         )
         .unwrap();
         assert_eq!(c[0].1, Action::CompareMode(CompareMode::Difference));
@@ -223,6 +227,7 @@ mod tests {
         assert_eq!(c[3].1, Action::CompareDuplicate);
         assert_eq!(c[4].1, Action::ErrorView(true));
         assert_eq!(c[5].1, Action::ErrorMetric(ErrorMetric::Flip));
+        assert_eq!(c[6].1, Action::LobePlots(true));
     }
 
     #[test]

@@ -41,6 +41,7 @@ impl Viewer {
                     .apply_lab_actions(vec![super::super::ui::compare::CompareAction::Duplicate]),
                 Action::ErrorView(on) => self.lab.settings.error_view = on,
                 Action::ErrorMetric(m) => self.lab.settings.metric = m,
+                Action::LobePlots(on) => self.lab.settings.plots = on,
                 Action::AddLights(field, n) => {
                     let bounds = self.scene.bounds();
                     let lights = crate::scene::edit::light_field(field, n as usize, bounds);
@@ -147,7 +148,16 @@ impl Viewer {
                         ui.label(s.as_str());
                     });
                 }
-                lab_actions = lab.ui(ui, settings.show_panels, profiler);
+                let plot = if lab.settings.plots && settings.show_panels {
+                    let shown = match (&lab.b, lab.settings.edit_b) {
+                        (Some(b), true) => &b.scene,
+                        _ => &*scene,
+                    };
+                    lab::plot_key(shown, state.selected_object)
+                } else {
+                    None
+                };
+                lab_actions = lab.ui(ui, settings.show_panels, profiler, plot);
                 // The scene panels edit B when asked to (and B exists).
                 let edited = match (&mut lab.b, lab.settings.edit_b) {
                     (Some(b), true) => &mut b.scene,

@@ -217,6 +217,7 @@ pub(super) struct Lab {
     pub want_pair: bool,
     /// A's image was read back this frame for the reference job.
     pub want_a: bool,
+    plots: Option<crate::window::plots::PlotWorker>,
 }
 
 fn texture(ctx: &egui::Context, slot: &mut Option<egui::TextureHandle>, name: &str, m: &MapImage) {
@@ -376,8 +377,14 @@ impl Lab {
         ui: &mut egui::Ui,
         panels: bool,
         profiler: &Profiler,
+        plot: Option<crate::window::plots::PlotKey>,
     ) -> Vec<CompareAction> {
         use crate::window::ui::compare as c;
+        if panels && self.settings.plots {
+            self.plots
+                .get_or_insert_with(Default::default)
+                .update(ui.ctx(), plot);
+        }
         let error_shown = self.settings.error_view && self.error.is_some();
         if error_shown {
             if let Some((t, _)) = &self.error_texture {
@@ -420,12 +427,24 @@ impl Lab {
             gpu_ms: (a_ms, b_ms),
             map: self.map.as_ref(),
             error: self.error_status(),
+            plots: self.plots.as_ref(),
         };
         let mut settings = self.settings;
         let actions = c::compare_panel(ui, &mut settings, &info);
         self.settings = settings;
         actions
     }
+}
+
+/// The plot key of the material of `scene`'s object `selected` at its light angle
+/// ([`crate::window::plots::light_angle`]; 45° without a light).
+pub(super) fn plot_key(scene: &Scene, selected: usize) -> Option<crate::window::plots::PlotKey> {
+    let o = scene.objects.get(selected)?;
+    let m = scene.materials.get(o.material)?;
+    Some(crate::window::plots::PlotKey {
+        model: m.material.clone(),
+        theta_l: crate::window::plots::light_angle(scene, selected).unwrap_or(45.0),
+    })
 }
 
 impl Viewer {

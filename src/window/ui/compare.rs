@@ -71,6 +71,8 @@ pub struct CompareSettings {
     pub edit_b: bool,
     pub error_view: bool,
     pub metric: ErrorMetric,
+    /// The selected material's lobe plots.
+    pub plots: bool,
 }
 
 impl Default for CompareSettings {
@@ -82,6 +84,7 @@ impl Default for CompareSettings {
             edit_b: false,
             error_view: false,
             metric: ErrorMetric::Relative,
+            plots: false,
         }
     }
 }
@@ -105,6 +108,8 @@ pub struct CompareInfo<'a> {
     /// The newest A/B map (difference or flip modes).
     pub map: Option<&'a MapImage>,
     pub error: ErrorStatus<'a>,
+    /// The lobe plots, when shown.
+    pub plots: Option<&'a crate::window::plots::PlotWorker>,
 }
 
 /// What the app must do after the panel.
@@ -268,6 +273,12 @@ pub fn compare_panel(
                     });
                 }
                 error_status(ui, settings, &info.error);
+                ui.separator();
+                ui.heading("Lobe plots");
+                ui.checkbox(&mut settings.plots, "selected material (Objects panel)");
+                if let (true, Some(p)) = (settings.plots, info.plots) {
+                    p.show(ui);
+                }
             });
         });
     actions
