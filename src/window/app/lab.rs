@@ -218,6 +218,8 @@ pub(super) struct Lab {
     /// A's image was read back this frame for the reference job.
     pub want_a: bool,
     plots: Option<crate::window::plots::PlotWorker>,
+    /// Worker time of every A/B map received: (kind, width, height, ms).
+    map_times: Vec<(MapKind, u32, u32, f64)>,
 }
 
 fn texture(ctx: &egui::Context, slot: &mut Option<egui::TextureHandle>, name: &str, m: &MapImage) {
@@ -235,10 +237,42 @@ impl Lab {
         self.b.is_some() || self.settings.error_view
     }
 
+    /// One line on the A/B maps computed in the session (count and median worker time per kind
+    /// and size), for the exit log; `None` without maps.
+    pub fn summary(&self) -> Option<String> {
+        let mut parts = Vec::new();
+        let mut keys: Vec<(MapKind, u32, u32)> = Vec::new();
+        for &(k, w, h, _) in &self.map_times {
+            if !keys.contains(&(k, w, h)) {
+                keys.push((k, w, h));
+            }
+        }
+        for (k, w, h) in keys {
+            let ms: Vec<f64> = self
+                .map_times
+                .iter()
+                .filter(|t| (t.0, t.1, t.2) == (k, w, h))
+                .map(|t| t.3)
+                .collect();
+            let name = if k == MapKind::Flip {
+                "flip"
+            } else {
+                "difference"
+            };
+            parts.push(format!(
+                "{} {name} maps at {w}x{h}, median {:.1} ms on the CPU",
+                ms.len(),
+                crate::stats::quantile(&ms, 0.5)
+            ));
+        }
+        (!parts.is_empty()).then(|| format!("A/B maps: {}", parts.join("; ")))
+    }
+
     /// Takes finished work from the threads (never waits).
     pub fn poll(&mut self, ctx: &egui::Context) {
         if let Some(w) = &mut self.worker {
             if let Some(m) = w.poll() {
+                self.map_times.push((m.kind, m.width, m.height, m.ms));
                 texture(ctx, &mut self.map_texture, "luz_ab_map", &m);
                 self.map = Some(m);
             }
