@@ -58,10 +58,10 @@ fn view(args: &[&str]) -> Option<String> {
     Some(format!("{out}\n{err}"))
 }
 
-/// Pixels of rows 75..250 (below the compact profiler, up to three lines; above the status line) in columns
-/// `x0..x1`.
+/// Pixels of rows 90..250 (below the compact profiler, up to three lines, and its shadow; above
+/// the status line) in columns `x0..x1`.
 fn region(img: &image::RgbImage, (x0, x1): (u32, u32)) -> Vec<[u8; 3]> {
-    rows(img, (x0, x1), (75, 250))
+    rows(img, (x0, x1), (90, 250))
 }
 
 /// Pixels of rows 90..185: clear of the compact profiler and the map legend (bottom right, about

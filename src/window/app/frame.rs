@@ -34,14 +34,26 @@ impl Viewer {
                 Action::Screenshot(p) => self.pending_screenshot = Some(p),
                 Action::Open(p) => self.open_path(&p),
                 Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
-                Action::CompareMode(m) => self.lab.settings.mode = m,
-                Action::CompareSplit(x) => self.lab.settings.split = x,
+                Action::CompareMode(m) => {
+                    self.lab.settings.mode = m;
+                    self.lab.settings.open = true;
+                }
+                Action::CompareSplit(x) => {
+                    self.lab.settings.split = x;
+                    self.lab.settings.open = true;
+                }
                 Action::CompareFlip => self.lab.settings.show_b = !self.lab.settings.show_b,
                 Action::CompareDuplicate => self
                     .apply_lab_actions(vec![super::super::ui::compare::CompareAction::Duplicate]),
-                Action::ErrorView(on) => self.lab.settings.error_view = on,
+                Action::ErrorView(on) => {
+                    self.lab.settings.error_view = on;
+                    self.lab.settings.open = true;
+                }
                 Action::ErrorMetric(m) => self.lab.settings.metric = m,
-                Action::LobePlots(on) => self.lab.settings.plots = on,
+                Action::LobePlots(on) => {
+                    self.lab.settings.plots = on;
+                    self.lab.settings.open = true;
+                }
                 Action::AddLights(field, n) => {
                     let bounds = self.scene.bounds();
                     let lights = crate::scene::edit::light_field(field, n as usize, bounds);

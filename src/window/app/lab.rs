@@ -456,6 +456,9 @@ impl Lab {
             }
             return Vec::new();
         }
+        if !self.settings.open {
+            return Vec::new();
+        }
         let info = CompareInfo {
             has_b: self.b.is_some(),
             gpu_ms: (a_ms, b_ms),
@@ -491,6 +494,7 @@ impl Viewer {
         let env = self.side_env();
         let side = Side::new(&env, scene, None)?;
         self.lab.b = Some(side);
+        self.lab.settings.open = true;
         Ok(())
     }
 
@@ -527,16 +531,18 @@ impl Viewer {
 
     /// B's rebuilds and per-frame data, before recording.
     pub(super) fn sync_b(&mut self, slot: usize) -> Result<()> {
-        let env = SideEnv {
-            ctx: &self.ctx,
-            pool: &self.pool,
-            settings: &self.settings,
-            options: &self.render_options,
-            path: self.render_path,
-            extent: self.swapchain.extent,
-        };
         let camera = self.orbit.to_camera();
-        if let Some(m) = Side::sync(&mut self.lab.b, &env, camera, (slot, self.swapchain.format))? {
+        // B is taken out while the environment borrows the viewer, and put back before any error
+        // goes up.
+        let mut b = self.lab.b.take();
+        let synced = Side::sync(
+            &mut b,
+            &self.side_env(),
+            camera,
+            (slot, self.swapchain.format),
+        );
+        self.lab.b = b;
+        if let Some(m) = synced? {
             log::error!("{m}");
             self.status = Some(m);
         }

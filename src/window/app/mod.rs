@@ -566,6 +566,7 @@ impl Viewer {
                 }
                 "p" => self.pending_screenshot = Some(screenshot_name(shift)),
                 "b" => self.lab.settings.show_b = !self.lab.settings.show_b,
+                "l" => self.lab.settings.open = !self.lab.settings.open,
                 _ => {}
             },
             _ => {}
@@ -604,6 +605,7 @@ impl Viewer {
                 }
                 UiAction::ResetCamera => self.orbit = self.initial_camera,
                 UiAction::FrameAll => self.frame_all(),
+                UiAction::ToggleLab => self.lab.settings.open = !self.lab.settings.open,
             }
         }
         Ok(())

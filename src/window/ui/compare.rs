@@ -73,6 +73,8 @@ pub struct CompareSettings {
     pub metric: ErrorMetric,
     /// The selected material's lobe plots.
     pub plots: bool,
+    /// The lab panel is shown (the L key; opened by `--compare` and the lab's script actions).
+    pub open: bool,
 }
 
 impl Default for CompareSettings {
@@ -85,6 +87,7 @@ impl Default for CompareSettings {
             error_view: false,
             metric: ErrorMetric::Relative,
             plots: false,
+            open: false,
         }
     }
 }
