@@ -239,3 +239,41 @@ fn saturate(img: &mut LinearImage, mode: Saturation) {
         }
     }
 }
+
+#[cfg(test)]
+mod cancellable_tests {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+    use super::*;
+
+    #[test]
+    fn cancellable_reference_matches_the_plain_one_and_stops_when_cancelled() {
+        let mut scene = crate::scene::default_scene();
+        scene.environment = None;
+        scene.override_size(Some(48), Some(32));
+        let opts = ReferenceOptions::default();
+        let plain = render_reference(&scene, &opts, None).unwrap();
+        let rows = AtomicU64::new(0);
+        let cancel = AtomicBool::new(false);
+        let image = render_reference_cancellable(&scene, &opts, &rows, &cancel)
+            .unwrap()
+            .expect("not cancelled");
+        assert_eq!(image.pixels, plain.pixels);
+        assert_eq!(rows.load(Ordering::Relaxed), 32);
+        cancel.store(true, Ordering::Relaxed);
+        let rows = AtomicU64::new(0);
+        assert!(render_reference_cancellable(&scene, &opts, &rows, &cancel)
+            .unwrap()
+            .is_none());
+        assert_eq!(
+            rows.load(Ordering::Relaxed),
+            0,
+            "no row rendered once cancelled"
+        );
+        let bad = ReferenceOptions { spp: 0, ..opts };
+        let e = render_reference_cancellable(&scene, &bad, &rows, &AtomicBool::new(false))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("spp must be in"), "{e}");
+    }
+}

@@ -174,3 +174,50 @@ impl Default for PlotWorker {
         Self::new()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene(light_dir: [f32; 3]) -> Scene {
+        let text = format!(
+            r#"{{"camera": {{"position": [0, 0, 5], "target": [0, 0, 0]}},
+               "lights": [{{"type": "directional", "direction": {light_dir:?}}}],
+               "materials": {{"m": {{"model": "lambert"}}}},
+               "objects": [{{"mesh": {{"type": "sphere"}}, "material": "m"}}]}}"#
+        );
+        crate::scene::parse(&text, std::path::Path::new("plots_test.json")).unwrap()
+    }
+
+    #[test]
+    fn light_angle_is_the_incidence_at_the_point_facing_the_camera() {
+        // Light from behind the camera: normal incidence.
+        assert_eq!(light_angle(&scene([0.0, 0.0, -1.0]), 0), Some(0.0));
+        // Light from the side: 90°, clamped to 89° (the lobe chart takes [0, 90)).
+        assert_eq!(light_angle(&scene([-1.0, 0.0, 0.0]), 0), Some(89.0));
+        // 45° between the view axis and the light.
+        let d = std::f32::consts::FRAC_1_SQRT_2;
+        assert_eq!(light_angle(&scene([-d, 0.0, -d]), 0), Some(45.0));
+        // No such object.
+        assert_eq!(light_angle(&scene([0.0, 0.0, -1.0]), 3), None);
+    }
+
+    #[test]
+    fn the_three_charts_render() {
+        if crate::plot::init_font().is_err() {
+            eprintln!("SKIPPED: no chart font");
+            return;
+        }
+        let key = PlotKey {
+            model: scene([0.0, 0.0, -1.0]).materials[0].material,
+            theta_l: 30.0,
+        };
+        let images = render(&key).unwrap();
+        assert_eq!(images.len(), 3);
+        for (title, px) in &images {
+            assert_eq!(px.len(), (PLOT_W * PLOT_H * 3) as usize, "{title}");
+            // Not blank: the chart drew something other than its white background.
+            assert!(px.iter().filter(|&&c| c < 128).count() > 500, "{title}");
+        }
+    }
+}

@@ -479,7 +479,7 @@ pub(super) fn plot_key(scene: &Scene, selected: usize) -> Option<crate::window::
     let o = scene.objects.get(selected)?;
     let m = scene.materials.get(o.material)?;
     Some(crate::window::plots::PlotKey {
-        model: m.material.clone(),
+        model: m.material,
         theta_l: crate::window::plots::light_angle(scene, selected).unwrap_or(45.0),
     })
 }
