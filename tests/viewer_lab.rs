@@ -302,3 +302,41 @@ fn a_missing_compare_file_is_a_clear_error() {
     assert!(err.contains("nothing_here.json"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn lobe_plots_appear_in_the_lab_panel() {
+    let dir = scratch("lab_plots");
+    let plane = plane_scene(&dir, "plane", [0.7, 0.7, 0.7]);
+    let mut white = Vec::new();
+    // The lab panel opened by a lab action, without and with the lobe plots (white charts).
+    for (action, name) in [("error_view=off", "without"), ("lobe_plots=on", "with")] {
+        let shot = dir.join(format!("{name}.png"));
+        let script = format!("2:{action};40:screenshot={}", shot.display());
+        let Some(_) = view(&[
+            "view",
+            plane.to_str().unwrap(),
+            "--width",
+            "900",
+            "--height",
+            "700",
+            "--frames",
+            "42",
+            "--script",
+            &script,
+        ]) else {
+            return;
+        };
+        let img = rgb(&shot);
+        let n = rows(&img, (650, 900), (0, 700))
+            .iter()
+            .filter(|p| p.iter().all(|&c| c >= 245))
+            .count();
+        white.push(n);
+    }
+    eprintln!(
+        "white pixels in the lab panel: without plots {}, with {}",
+        white[0], white[1]
+    );
+    assert!(white[0] < 2_000, "{white:?}");
+    assert!(white[1] > 20_000, "the three charts are drawn: {white:?}");
+}
