@@ -71,6 +71,7 @@ impl RenderOptions {
             output: crate::render::forward::Output::Hdr,
             path: self.render_path,
             light_loop: self.light_loop,
+            lod_cache: self.cache_dir.clone(),
         }
     }
 }
@@ -346,6 +347,21 @@ impl Headless {
     /// Objects drawn after frustum culling, and all objects with something to draw.
     pub fn drawn_objects(&self) -> (usize, usize) {
         self.forward.drawn_objects(0)
+    }
+
+    /// Triangles drawn per frame: the objects in view at their LOD levels.
+    pub fn triangles_drawn(&self) -> u64 {
+        self.forward.triangles_drawn(0)
+    }
+
+    /// The LOD level of each object with a simplified mesh (`scene`: the scene rendered).
+    pub fn lod_choices(&self, scene: &Scene) -> Vec<crate::scene::lod::LodChoice> {
+        self.forward.lod_choices(0, scene)
+    }
+
+    /// LOD chains built, read from the disk cache and failed when the pass was made.
+    pub fn lod_stats(&self) -> crate::scene::lod::ChainStats {
+        self.forward.lod_stats().clone()
     }
 
     /// Per shadowed light: its maps, their memory and the casters drawn into each layer.

@@ -122,6 +122,41 @@ fn with_auto_tessellation(scene: &Scene, budget_px: f32) -> Option<(Scene, u32, 
     Some((s, lo, hi))
 }
 
+/// Budgets (px) of the `lod` group: `output.tessellation_error_px` from full detail (0) up;
+/// automatic LOD of OBJ and glTF meshes ([`crate::scene::lod`]) and the primitives' automatic
+/// tessellation follow it.
+pub const LOD_BUDGETS_PX: [f32; 8] = [0.0, 0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0];
+
+/// The `lod` group: the scene at each of [`LOD_BUDGETS_PX`]; nothing without an OBJ or glTF
+/// mesh (no level to choose).
+fn lod_variants(scene: &Scene) -> Vec<Variant> {
+    use crate::scene::MeshDesc;
+    if !scene
+        .objects
+        .iter()
+        .any(|o| matches!(o.desc, MeshDesc::Obj { .. } | MeshDesc::Gltf { .. }))
+    {
+        return Vec::new();
+    }
+    LOD_BUDGETS_PX
+        .iter()
+        .map(|&b| {
+            let mut s = scene.clone();
+            s.output.tessellation_error_px = b;
+            crate::scene::tessellation::resolve(&mut s);
+            Variant {
+                group: "lod",
+                label: if b == 0.0 {
+                    "lod 0 px (full detail)".into()
+                } else {
+                    format!("lod {b} px")
+                },
+                scene: s,
+            }
+        })
+        .collect()
+}
+
 /// Sample counts of the importance-sampling sweep.
 pub const IBL_SAMPLES: [u32; 6] = [1, 4, 16, 64, 256, 1024];
 
@@ -352,6 +387,9 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
     }
     if want("shadows") {
         out.extend(shadows::variants(scene));
+    }
+    if want("lod") {
+        out.extend(lod_variants(scene));
     }
     if want("ibl") {
         if let Some(env) = &scene.environment {
@@ -698,6 +736,25 @@ mod tests {
         assert!(error_metrics(&a, &small, 0.0, crate::color::Tonemap::None).is_err());
     }
 
+    /// The `lod` group: one variant per budget, in order, on a scene of OBJ meshes.
+    #[test]
+    fn lod_group_sweeps_the_budget_on_mesh_scenes() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        if !root.join("../shared/models/stanford-bunny.obj").exists() {
+            eprintln!("SKIPPED: ../shared/models/stanford-bunny.obj not found");
+            return;
+        }
+        let scene = crate::scene::load(&root.join("assets/scenes/lod/bunnies_lab.json")).unwrap();
+        let v = variants(&scene, &["lod".to_string()]);
+        let budgets: Vec<f32> = v
+            .iter()
+            .filter(|x| x.group == "lod")
+            .map(|x| x.scene.output.tessellation_error_px)
+            .collect();
+        assert_eq!(budgets, LOD_BUDGETS_PX);
+        assert_eq!(v[1].label, "lod 0 px (full detail)");
+    }
+
     #[test]
     fn variants_cover_each_group_that_applies() {
         let scene = crate::scene::load(
@@ -718,6 +775,8 @@ mod tests {
         assert!(tri.windows(2).all(|w| w[0] <= w[1]), "{tri:?}");
         // No punctual lights: the BRDF-term variants would all give the same image.
         assert_eq!(count("brdf"), 0);
+        // Spheres only: no mesh to simplify, no `lod` variant.
+        assert_eq!(count("lod"), 0);
         let grid = crate::scene::load(
             &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/bench/grid49.json"),
         )

@@ -48,3 +48,15 @@ pub(crate) fn file_safe_char(c: char) -> char {
         '_'
     }
 }
+
+/// Writes `bytes` to `path` through a temporary file and a rename, creating its folder (best
+/// effort: the disk caches (IBL data, LOD chains) are only slower next time when it fails).
+pub(crate) fn write_file_atomically(path: &std::path::Path, bytes: &[u8]) {
+    if let Some(dir) = path.parent() {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+}

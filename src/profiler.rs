@@ -86,6 +86,8 @@ pub fn stutter_count_with_window(frame_ms: &[f64], capacity: usize) -> u64 {
 /// A rolling window of the last `capacity` frames plus running totals.
 #[derive(Debug, Clone)]
 pub struct Profiler {
+    /// What the last frame drew: triangles, and the LOD levels in use (the viewer's panel).
+    geometry: Option<(u64, String)>,
     capacity: usize,
     samples: VecDeque<FrameSample>,
     total_frames: u64,
@@ -105,6 +107,7 @@ impl Profiler {
     pub fn new(capacity: usize) -> Self {
         let capacity = capacity.max(1);
         Profiler {
+            geometry: None,
             capacity,
             samples: VecDeque::with_capacity(capacity),
             total_frames: 0,
@@ -130,6 +133,17 @@ impl Profiler {
     }
 
     /// Statistics over the window.
+    /// Records what the frame being drawn holds: `triangles` drawn and the LOD `levels` in use
+    /// ([`crate::scene::lod::levels_in_use`]).
+    pub fn set_geometry(&mut self, triangles: u64, levels: String) {
+        self.geometry = Some((triangles, levels));
+    }
+
+    /// The last [`Profiler::set_geometry`].
+    pub fn geometry(&self) -> Option<&(u64, String)> {
+        self.geometry.as_ref()
+    }
+
     pub fn stats(&self) -> ProfilerStats {
         let frame: Vec<f64> = self.frame_history().collect();
         let cpu: Vec<f64> = self.samples.iter().map(|s| s.cpu_ms).collect();

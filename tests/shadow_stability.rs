@@ -242,8 +242,6 @@ const DIAGNOSTICS: [(&str, Method); 4] = [
 const KNOWN_FAILURES: &[(&str, &str)] = &[
     // 98.03 % of 1374 shadowed pixels within 2 % at 3 px; passes from 12 px.
     ("directional 75° from the normal, scale 1e0", "pcf"),
-    // 77.41 % of 12832 lit pixels within 2 % at 4 px; fails even at 16 px.
-    ("directional 89° from the normal, scale 1e0", "pcss"),
 ];
 
 /// The case's light with `shadow` (or none) and a size (0.1 m radius scaled, 1° angular radius).

@@ -170,6 +170,17 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 
+// The number of lights, for loops over them. It goes through the lights buffer's length on
+// purpose: lavapipe 22.3 "inlines" uniforms that alone decide a loop's trip count or a branch,
+// compiling a shader variant with their values every time the pipeline or the uniforms are
+// bound. That version keeps no cache of the variants; when inlining does not shrink the shader
+// (a loop unrolled over a big body: the shadow lookups, vertex lighting) it compiles and leaks one
+// variant per bind: ~5 MB per shadowed frame, ~200 KB per Gouraud object per frame
+// (tests/soak.rs). A count that also depends on a buffer's size is not inlinable.
+uint light_count() {
+    return min(frame.counts.x, uint(lights.length()));
+}
+
 // The lights that may reach P: (base, count) of its cluster when CLUSTERED (fragment stage), else
 // (0, every light). The loop's k-th light is light_list_index(list, k).
 uvec2 light_list(vec3 P) {
@@ -184,7 +195,7 @@ uvec2 light_list(vec3 P) {
         return clusters[(uint(c.z) * cluster_dims.y + uint(c.y)) * cluster_dims.x + uint(c.x)];
     }
 #endif
-    return uvec2(0u, frame.counts.x);
+    return uvec2(0u, light_count());
 }
 
 uint light_list_index(uvec2 list, uint k) {
@@ -208,7 +219,7 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
     if (DEBUG_VIEW == DEBUG_VIEW_ROUGHNESS) return vec3(p.color.w);
     if (DEBUG_VIEW == DEBUG_VIEW_AO) return vec3(s.occlusion);
     if (DEBUG_VIEW >= DEBUG_VIEW_D && DEBUG_VIEW <= DEBUG_VIEW_SPECULAR) {
-        if (frame.counts.x == 0u) return vec3(0.0);
+        if (light_count() == 0u) return vec3(0.0);
         vec3 l;
         vec3 E;
         light_incidence(lights[0], P, l, E);
@@ -227,7 +238,7 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
     if (DEBUG_VIEW == DEBUG_VIEW_SHADOW || DEBUG_VIEW == DEBUG_VIEW_SHADOW_LAYERS) {
         // The first light with a shadow: its visibility, or the layer (cascade, cube face) the
         // point reads, one colour each.
-        for (uint i = 0u; i < frame.counts.x; ++i) {
+        for (uint i = 0u; i < light_count(); ++i) {
             ShadowLight sh = shadow_lights[i];
             if ((LIGHT_KINDS & SHADOW_KINDS) == 0u || sh.info.x < 0) {
                 continue;

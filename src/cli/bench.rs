@@ -71,6 +71,11 @@ pub struct BenchArgs {
     /// last sample, or the GPU allocation count or bytes change.
     #[arg(long)]
     pub max_memory_growth_mib: Option<f64>,
+    /// Also time the scene at this `output.tessellation_error_px` (0: full detail, every mesh
+    /// whole and primitives at the most segments) in the same run, its frames alternating with
+    /// the scene's own, and print both and their ratio.
+    #[arg(long, value_name = "PX")]
+    pub compare_budget: Option<f32>,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -123,15 +128,25 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
     report_tessellation(&scene, false);
-    let mut renderer = Headless::with_options(
-        &ctx,
-        &scene,
-        &luz::headless::RenderOptions {
-            render_path: a.render_path.path(),
-            light_loop: a.light_loop.light_loop(),
-            ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
-        },
-    )?;
+    let options = luz::headless::RenderOptions {
+        render_path: a.render_path.path(),
+        light_loop: a.light_loop.light_loop(),
+        ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
+    };
+    let mut renderer = Headless::with_options(&ctx, &scene, &options)?;
+    let mut compared = match a.compare_budget {
+        Some(b) if !(b.is_finite() && b >= 0.0) => {
+            anyhow::bail!("--compare-budget: must be a number of pixels >= 0, got {b}")
+        }
+        Some(b) => {
+            let mut other = scene.clone();
+            other.output.tessellation_error_px = b;
+            luz::scene::tessellation::resolve(&mut other);
+            let r = Headless::with_options(&ctx, &other, &options)?;
+            Some((other, r, Vec::with_capacity(a.frames as usize)))
+        }
+        None => None,
+    };
     let output = match a.output {
         BenchOutput::Hdr => Output::Hdr,
         BenchOutput::Display => renderer.display_output(&scene)?,
@@ -142,6 +157,9 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     };
     for _ in 0..a.warmup {
         render(&mut renderer)?;
+        if let Some((_, r, _)) = &mut compared {
+            render(r)?;
+        }
     }
     let bar = Bar::with_length("{bar:40} {pos}/{len} frames {elapsed}", a.frames as u64);
     let mut frames = Vec::with_capacity(a.frames as usize);
@@ -149,6 +167,9 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let mut memory = vec![memory_sample(&ctx, 0)];
     for i in 1..=a.frames as u64 {
         frames.push(render(&mut renderer)?);
+        if let Some((_, r, f)) = &mut compared {
+            f.push(render(r)?);
+        }
         bar.inc(1);
         if i % every == 0 {
             memory.push(memory_sample(&ctx, i));
@@ -156,11 +177,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     println!(
-        "scene: {} ({}x{}, {} triangles, {} of {} objects in view, {} lights), {} path, output {}",
+        "scene: {} ({}x{}, {} triangles, {} drawn, {} of {} objects in view, {} lights), {} path, \
+         output {}",
         scene.display_name(),
         scene.output.width,
         scene.output.height,
         renderer.triangle_count(),
+        renderer.triangles_drawn(),
         renderer.drawn_objects().0,
         renderer.drawn_objects().1,
         scene.lights.len(),
@@ -177,6 +200,12 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     println!("{}", light_loop_line(clusters));
     let report = TimingReport::of(&frames);
     print_timing(&report);
+    if let Some((other, r, f)) = &compared {
+        print_comparison(
+            (&scene, &renderer, &report),
+            (other, r, &TimingReport::of(f)),
+        );
+    }
     let wall: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
     let stutters = luz::profiler::stutter_count(&wall);
     println!("stutters: {stutters} frames slower than 2x the rolling median of the frame time");
@@ -253,6 +282,14 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "width": scene.output.width,
             "height": scene.output.height,
             "triangles": renderer.triangle_count(),
+            "triangles_drawn": renderer.triangles_drawn(),
+            "tessellation_error_px": scene.output.tessellation_error_px,
+            "compared": compared.as_ref().map(|(o, r, f)| serde_json::json!({
+                "tessellation_error_px": o.output.tessellation_error_px,
+                "triangles_drawn": r.triangles_drawn(),
+                "gpu_total_ms": TimingReport::of(f).gpu_total,
+                "cpu_ms": TimingReport::of(f).cpu,
+            })),
             "lights": scene.lights.len(),
             "render_path": renderer.render_path(),
             "light_loop": if clusters.is_some() { "clustered" } else { "plain" },
@@ -283,4 +320,34 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         }
     }
     Ok(validation_exit(&ctx))
+}
+
+/// The two budgets of `--compare-budget` side by side: triangles drawn, GPU total and CPU frame
+/// medians, and the first's cost as a fraction of the second's.
+fn print_comparison(
+    (a, ra, ta): (&luz::scene::Scene, &Headless, &TimingReport),
+    (b, rb, tb): (&luz::scene::Scene, &Headless, &TimingReport),
+) {
+    println!("budgets compared in this run (frames alternating):");
+    println!(
+        "  {:<26} {:>14} {:>16} {:>16}",
+        "tessellation_error_px", "triangles", "GPU total ms", "CPU frame ms"
+    );
+    for (s, r, t) in [(a, ra, ta), (b, rb, tb)] {
+        println!(
+            "  {:<26} {:>14} {:>16.3} {:>16.3}",
+            s.output.tessellation_error_px,
+            r.triangles_drawn(),
+            t.gpu_total.median,
+            t.cpu.median
+        );
+    }
+    println!(
+        "  ratio {} px / {} px: GPU total {:.3}x, CPU frame {:.3}x, triangles {:.4}x",
+        a.output.tessellation_error_px,
+        b.output.tessellation_error_px,
+        ta.gpu_total.median / tb.gpu_total.median,
+        ta.cpu.median / tb.cpu.median,
+        ra.triangles_drawn() as f64 / rb.triangles_drawn().max(1) as f64
+    );
 }

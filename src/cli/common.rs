@@ -167,6 +167,22 @@ pub fn report_tessellation(scene: &Scene, verbose: bool) {
     }
 }
 
+/// Says which LOD levels the meshes draw at (the budget, levels, triangles drawn of all) and
+/// how their chains were made; `verbose` lists each object's level.
+pub fn report_lod(scene: &Scene, renderer: &luz::headless::Headless, verbose: bool) {
+    let choices = renderer.lod_choices(scene);
+    for line in luz::scene::lod::summary(scene, &choices, verbose) {
+        println!("{line}");
+    }
+    let s = renderer.lod_stats();
+    if verbose && s.built + s.loaded + s.failed > 0 {
+        println!(
+            "LOD chains: {} built, {} read from the cache, {} failed (drawn whole)",
+            s.built, s.loaded, s.failed
+        );
+    }
+}
+
 /// A terminal progress bar (hidden when stderr is not a terminal) for the library's
 /// [`luz::progress::Progress`] reports.
 pub struct Bar(indicatif::ProgressBar);

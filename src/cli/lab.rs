@@ -42,7 +42,7 @@ pub struct LabArgs {
     /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
     #[arg(long, value_name = "N")]
     pub camera: Option<usize>,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows, lod).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.

@@ -12,8 +12,8 @@ use luz::render::forward::DebugView;
 
 use super::common::{
     check_output, context, debug_view_parser, light_loop_line, load_scene, print_timing,
-    render_options, report_tessellation, report_written, validation_exit, GpuArgs, IblQuality,
-    LightLoopArg,
+    render_options, report_lod, report_tessellation, report_written, validation_exit, GpuArgs,
+    IblQuality, LightLoopArg,
 };
 
 #[derive(Args, Debug)]
@@ -93,6 +93,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         println!("{}", light_loop_line(renderer.cluster_stats()));
     }
     report_tessellation(&scene, a.verbose);
+    report_lod(&scene, &renderer, a.verbose);
     if let Some(t) = renderer.ibl_times() {
         let stages: Vec<String> = t
             .stages

@@ -239,11 +239,21 @@ fn output(v: &Value, path: &str) -> Result<Output> {
     let tessellation_error_px = f.num(
         "tessellation_error_px",
         tessellation::DEFAULT_TESSELLATION_ERROR_PX,
-        Check::In(
-            tessellation::MIN_TESSELLATION_ERROR_PX,
-            tessellation::MAX_TESSELLATION_ERROR_PX,
-        ),
+        Check::In(0.0, tessellation::MAX_TESSELLATION_ERROR_PX),
     )?;
+    // 0 is full detail (meshes unsimplified, primitives at the most segments); a positive budget
+    // below the smallest is a typo rather than a wish.
+    if tessellation_error_px > 0.0
+        && tessellation_error_px < tessellation::MIN_TESSELLATION_ERROR_PX
+    {
+        return Err(f.err(
+            "tessellation_error_px",
+            format!(
+                "must be 0 (full detail) or at least {}, got {tessellation_error_px}",
+                tessellation::MIN_TESSELLATION_ERROR_PX
+            ),
+        ));
+    }
     Ok(Output {
         width,
         height,

@@ -313,6 +313,37 @@ impl Mesh {
         )
     }
 
+    /// The plane every vertex lies in, as (a point on it, unit normal), or `None` when the mesh is
+    /// not flat (a vertex farther than 1e-5 of the mesh's extent from the plane of its largest
+    /// triangle) or has no triangle of non-zero area. One pass over the triangles and one over
+    /// the vertices. The shadow passes use it: a flat caster cannot shadow a receiver on the same
+    /// side of its plane as the light (`render::shadow`).
+    pub fn flat_plane(&self) -> Option<(Vec3, Vec3)> {
+        let mut best = (0.0f32, Vec3::ZERO, Vec3::ZERO);
+        for t in self.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| self.positions.get(i as usize).copied());
+            let (Some(a), Some(b), Some(c)) = (a, b, c) else {
+                return None;
+            };
+            let n = (b - a).cross(c - a);
+            let area2 = n.length_squared();
+            if area2 > best.0 {
+                best = (area2, a, n);
+            }
+        }
+        let (area2, point, n) = best;
+        if !(area2 > 0.0 && area2.is_finite()) {
+            return None;
+        }
+        let normal = n.normalize();
+        let (lo, hi) = self.bounds();
+        let tolerance = 1e-5 * (hi - lo).length().max(f32::MIN_POSITIVE);
+        self.positions
+            .iter()
+            .all(|p| normal.dot(*p - point).abs() <= tolerance)
+            .then_some((point, normal))
+    }
+
     /// Recomputes `normals` per vertex index: the angle-weighted average of the normals of the
     /// triangles that use the vertex (Thürmer & Wüthrich). Vertices that are split (same position,
     /// different index) keep separate normals, so hard edges stay hard. Vertices used by no
@@ -514,6 +545,33 @@ fn spherical_uv(d: Vec3) -> Vec2 {
 mod tests {
     use super::*;
     use std::collections::HashMap;
+
+    #[test]
+    fn planes_are_found_in_flat_meshes_only() {
+        let plane = Mesh::plane([4.0, 2.0], 3);
+        let (p, n) = plane.flat_plane().expect("a plane mesh is flat");
+        assert!(n.abs().abs_diff_eq(Vec3::Y, 1e-6), "normal {n}");
+        assert!(p.y.abs() < 1e-6);
+        assert_eq!(Mesh::sphere(1.0, 16, 8).flat_plane(), None);
+        assert_eq!(Mesh::cube(1.0).flat_plane(), None);
+        // A quad with one corner lifted by 1e-3 of its size is not flat.
+        let mut bent = plane.clone();
+        bent.positions[0].y += 4e-3;
+        assert_eq!(bent.flat_plane(), None);
+        // No triangle of non-zero area, or an index past the vertices: no plane.
+        let degenerate = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0],
+            normals: vec![],
+            uvs: vec![],
+            indices: vec![0, 1, 2],
+        };
+        assert_eq!(degenerate.flat_plane(), None);
+        let broken = Mesh {
+            indices: vec![0, 1, 7],
+            ..degenerate
+        };
+        assert_eq!(broken.flat_plane(), None);
+    }
 
     /// Every invariant plus: each triangle's geometric normal agrees with its vertex normals,
     /// there are no degenerate triangles, and the surface is closed (every undirected edge,

@@ -13,6 +13,7 @@ mod environment;
 mod error;
 pub mod gltf;
 pub mod json;
+pub mod lod;
 pub mod mesh;
 pub mod model;
 pub mod obj;

@@ -32,7 +32,8 @@ pub const DEFAULT_TESSELLATION_ERROR_PX: f32 = 0.05;
 pub const AUTO_MIN_SEGMENTS: u32 = 8;
 /// The most segments automatic tessellation chooses (a near or huge object).
 pub const AUTO_MAX_SEGMENTS: u32 = 256;
-/// Smallest accepted budget (px): below it N would hit the maximum for any visible object.
+/// Smallest accepted positive budget (px): below it N would hit the maximum for any visible object.
+/// 0 is accepted too: full detail (the most segments; meshes drawn whole, [`super::lod`]).
 pub const MIN_TESSELLATION_ERROR_PX: f32 = 1e-4;
 /// Largest accepted budget (px).
 pub const MAX_TESSELLATION_ERROR_PX: f32 = 100.0;

@@ -54,22 +54,27 @@ pub(super) struct Draws {
     pub(super) draws: Vec<Draw>,
     /// Each scene object's index in `objects` (`None`: nothing to draw).
     pub(super) object_slots: Vec<Option<u32>>,
+    /// What building the LOD chains of the meshes did.
+    pub(super) lod_stats: crate::scene::lod::ChainStats,
 }
 
-/// One GPU copy of each mesh per (mesh, smooth/flat) pair, queued on `uploader`, and a draw with
-/// its pipeline variant and push constants for every object.
+/// One GPU copy of each mesh per (mesh, smooth/flat) pair, queued on `uploader`, with the levels
+/// of its LOD chain for OBJ and glTF meshes (built once per mesh, or read from `lod_cache`), and a
+/// draw with its pipeline variant and push constants for every object.
 pub(super) fn build_draws(
     scene: &Scene,
-    ibl: Option<&Ibl>,
-    ibl_key: Option<IblKey>,
+    (ibl, ibl_key): (Option<&Ibl>, Option<IblKey>),
     debug: DebugView,
     (generic, clustered): (bool, bool),
-    limits: &crate::vk::Limits,
+    (limits, lod_cache): (&crate::vk::Limits, Option<&std::path::Path>),
     uploader: &mut Uploader,
 ) -> Result<Draws, VkError> {
+    use crate::scene::MeshDesc;
     let scene_name = scene.display_name();
-    // Meshes: one GPU copy per (mesh, smooth/flat) pair.
+    // Meshes: one GPU copy per (mesh, smooth/flat) pair, one LOD chain per mesh.
     let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
+    let mut chains: HashMap<usize, Arc<crate::scene::lod::LodChain>> = HashMap::new();
+    let mut lod_stats = crate::scene::lod::ChainStats::default();
     let mut meshes = Vec::new();
     let mut objects = Vec::new();
     let mut draws = Vec::new();
@@ -98,11 +103,23 @@ pub(super) fn build_draws(
                     size.indices,
                     size.max_index,
                 )?;
-                let data = if flat {
-                    mesh::flat(&obj.mesh)
-                } else {
-                    mesh::smooth(&obj.mesh)
-                };
+                let simplified = matches!(obj.desc, MeshDesc::Obj { .. } | MeshDesc::Gltf { .. });
+                let chain = simplified.then(|| {
+                    chains
+                        .entry(key.0)
+                        .or_insert_with(|| {
+                            crate::scene::lod::chain_for(
+                                &obj.mesh,
+                                &format!("{scene_name}: object \"{}\"", obj.name),
+                                lod_cache,
+                                &mut lod_stats,
+                                &mut |w| log::warn!("{w}"),
+                            )
+                        })
+                        .clone()
+                });
+                let (data, levels) = lod_data(&obj.mesh, chain.as_deref(), flat);
+                let levels_full = levels[0].index_count;
                 if data.indices.is_empty() {
                     continue;
                 }
@@ -127,11 +144,15 @@ pub(super) fn build_draws(
                 )?;
                 meshes.push(GpuMesh {
                     sphere: frustum::sphere(obj.mesh.bounds()),
+                    bounds: obj.mesh.bounds(),
+                    plane: obj.mesh.flat_plane(),
+                    levels,
                     vertices,
                     centroids,
                     indices,
-                    // Fits: checked by `check_mesh` above.
-                    index_count: data.indices.len() as u32,
+                    // Fits: checked by `check_mesh` above (the full mesh; its coarser levels
+                    // are about as many indices again).
+                    index_count: levels_full,
                 });
                 mesh_cache.insert(key, meshes.len() - 1);
                 meshes.len() - 1
@@ -148,7 +169,6 @@ pub(super) fn build_draws(
             push.flags = i.lut_layer(lut_geometry(material));
         }
         objects.push(gpu::object_data(obj.transform.matrix()));
-        use crate::scene::MeshDesc;
         let closed = matches!(
             obj.desc,
             MeshDesc::Sphere { .. }
@@ -197,7 +217,64 @@ pub(super) fn build_draws(
         objects,
         draws,
         object_slots,
+        lod_stats,
     })
+}
+
+/// The vertex and index data of `mesh` drawn smooth or `flat`, with every level of `chain` in
+/// one index buffer (smooth: the levels share the mesh's vertices; flat: each level gets its own
+/// three vertices per triangle), and the levels' ranges (level 0 first, the full mesh).
+fn lod_data(
+    mesh: &crate::scene::Mesh,
+    chain: Option<&crate::scene::lod::LodChain>,
+    flat: bool,
+) -> (mesh::MeshData, Vec<crate::scene::lod::LodLevel>) {
+    use crate::scene::lod::LodLevel;
+    let whole = |data: mesh::MeshData| {
+        let level = LodLevel {
+            first_index: 0,
+            index_count: data.indices.len() as u32,
+            error: 0.0,
+        };
+        (data, vec![level])
+    };
+    let Some(chain) = chain.filter(|c| c.levels.len() > 1) else {
+        return whole(if flat {
+            mesh::flat(mesh)
+        } else {
+            mesh::smooth(mesh)
+        });
+    };
+    if !flat {
+        let mut data = mesh::smooth(mesh);
+        data.indices.clone_from(&chain.indices);
+        return (data, chain.levels.clone());
+    }
+    let mut data = mesh::flat(mesh);
+    let mut levels = vec![LodLevel {
+        first_index: 0,
+        index_count: data.indices.len() as u32,
+        error: 0.0,
+    }];
+    for (i, l) in chain.levels.iter().enumerate().skip(1) {
+        let level = crate::scene::Mesh {
+            indices: chain.level_indices(i).to_vec(),
+            ..mesh.clone()
+        };
+        let part = mesh::flat(&level);
+        let base = data.vertices.len() as u32;
+        levels.push(LodLevel {
+            first_index: data.indices.len() as u32,
+            index_count: part.indices.len() as u32,
+            error: l.error,
+        });
+        data.vertices.extend_from_slice(&part.vertices);
+        if let (Some(c), Some(p)) = (&mut data.centroids, &part.centroids) {
+            c.extend_from_slice(p);
+        }
+        data.indices.extend(part.indices.iter().map(|i| i + base));
+    }
+    (data, levels)
 }
 
 /// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
@@ -326,6 +403,7 @@ impl Slot {
             cluster_lights,
             set,
             visible: Vec::new(),
+            levels: Vec::new(),
         })
     }
 

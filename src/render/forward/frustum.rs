@@ -41,18 +41,23 @@ pub fn sphere((lo, hi): (Vec3, Vec3)) -> (Vec3, f32) {
 /// it lies wholly outside one plane. Non-finite data is always seen.
 pub fn visible(planes: &[Vec4; 6], model: Mat4, (centre, radius): (Vec3, f32)) -> bool {
     let c = model.transform_point3(centre);
-    let scale = model
-        .x_axis
-        .truncate()
-        .length()
-        .max(model.y_axis.truncate().length())
-        .max(model.z_axis.truncate().length());
+    let scale = max_scale(model);
     // A little margin for rounding: culling must never drop a covered pixel.
     let r = radius * scale * (1.0 + 1e-4) + 1e-6;
     if !(c.is_finite() && r.is_finite()) {
         return true;
     }
     planes.iter().all(|p| p.truncate().dot(c) + p.w >= -r)
+}
+
+/// The largest length of `model`'s axes: how much it may stretch an object-space distance.
+pub fn max_scale(model: Mat4) -> f32 {
+    model
+        .x_axis
+        .truncate()
+        .length()
+        .max(model.y_axis.truncate().length())
+        .max(model.z_axis.truncate().length())
 }
 
 /// Whether the world-space sphere `(centre, radius)` may meet the volume of `planes` (as

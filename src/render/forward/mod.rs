@@ -23,6 +23,8 @@ mod build;
 pub mod clusters;
 mod deferred;
 pub(crate) mod frustum;
+mod lod;
+mod per_frame;
 mod variant;
 
 use build::{build_draws, frame_set_layout, storage_fits, Draws};
@@ -37,6 +39,13 @@ pub use variant::{DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 struct GpuMesh {
     /// Object-space bounding sphere (frustum culling, [`frustum`]).
     sphere: (glam::Vec3, f32),
+    /// Object-space bounds (the shadow passes' receivers).
+    bounds: (glam::Vec3, glam::Vec3),
+    /// Object-space plane of a flat mesh (point, unit normal): `scene::Mesh::flat_plane`.
+    plane: Option<(glam::Vec3, glam::Vec3)>,
+    /// Ranges of `indices` from full detail (level 0, the first `index_count` indices) to the
+    /// coarsest ([`crate::scene::lod`]); one level for meshes that are not simplified.
+    levels: Vec<crate::scene::lod::LodLevel>,
     vertices: Buffer,
     centroids: Option<Buffer>,
     indices: Buffer,
@@ -60,7 +69,7 @@ pub const GENERIC_MAPS: u32 = 0xFF;
 pub const GENERIC_LIGHT_KINDS: u32 = 1023;
 
 /// How to build a [`ForwardPass`] beyond the scene and the target.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct PassOptions {
     pub debug: DebugView,
     /// Copies of the per-frame data, one per frame in flight (≥ 1).
@@ -74,6 +83,9 @@ pub struct PassOptions {
     pub path: RenderPath,
     /// Plain or clustered light loop in the fragment stage (or chosen from the scene's lights).
     pub light_loop: LightLoop,
+    /// Keep meshes' LOD chains here between runs ([`crate::scene::lod::cache`]; `None`: build
+    /// them every time).
+    pub lod_cache: Option<std::path::PathBuf>,
 }
 
 impl Default for PassOptions {
@@ -85,6 +97,7 @@ impl Default for PassOptions {
             output: Output::Hdr,
             path: RenderPath::Auto,
             light_loop: LightLoop::Auto,
+            lod_cache: None,
         }
     }
 }
@@ -198,6 +211,8 @@ struct Slot {
     set: vk::DescriptorSet,
     /// Per draw: whether its bounding sphere meets the view volume of the slot's camera.
     visible: Vec<bool>,
+    /// Per draw: the LOD level of its mesh for the slot's camera ([`ForwardPass::lod_levels`]).
+    levels: Vec<u8>,
 }
 
 pub struct ForwardPass {
@@ -232,6 +247,12 @@ pub struct ForwardPass {
     materials: MaterialSets,
     /// The shadow maps (set 3): a pass before the frame when a light has a shadow.
     shadows: ShadowMaps,
+    /// What building the meshes' LOD chains did (chains built, read from the cache, failed).
+    lod_stats: crate::scene::lod::ChainStats,
+    /// Image height (px) the LOD choice projects errors onto: the scene's output height.
+    lod_height: u32,
+    /// The budget of the LOD choice (`output.tessellation_error_px`).
+    lod_budget: f32,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
@@ -284,6 +305,7 @@ impl ForwardPass {
             output,
             path,
             light_loop,
+            lod_cache,
         } = options;
         let clustered = light_loop.clustered(scene, aspect);
         let slot_count = slots.max(1);
@@ -342,13 +364,13 @@ impl ForwardPass {
             objects,
             draws,
             object_slots,
+            lod_stats,
         } = build_draws(
             scene,
-            ibl,
-            ibl_key,
+            (ibl, ibl_key),
             debug,
             (generic, clustered),
-            &limits,
+            (&limits, lod_cache.as_deref()),
             &mut uploader,
         )?;
         uploader.flush(pool)?;
@@ -426,6 +448,9 @@ impl ForwardPass {
             env_set: ibl.map(|i| i.set),
             materials,
             shadows,
+            lod_stats,
+            lod_height: scene.output.height,
+            lod_budget: scene.output.tessellation_error_px,
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
@@ -527,6 +552,9 @@ impl ForwardPass {
         self.background = scene.output.background;
         self.exposure = scene.output.exposure;
         let visible = self.visibility(scene, aspect);
+        self.lod_height = scene.output.height;
+        self.lod_budget = scene.output.tessellation_error_px;
+        self.slots[slot].levels = self.lod_levels(scene);
         self.slots[slot].visible = visible;
         self.update_shadows(slot, scene, aspect)?;
         self.write_clusters(slot, scene, aspect)?;
@@ -580,8 +608,12 @@ impl ForwardPass {
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
         let visible = self.visibility(scene, aspect);
+        self.lod_height = scene.output.height;
+        self.lod_budget = scene.output.tessellation_error_px;
+        let levels = self.lod_levels(scene);
         for s in &mut self.slots {
             s.visible.clone_from(&visible);
+            s.levels.clone_from(&levels);
             s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
         }
         for slot in 0..self.slots.len() {
@@ -591,64 +623,9 @@ impl ForwardPass {
         Ok(())
     }
 
-    /// Refits the shadow maps of slot `slot` to `scene`'s camera and objects.
-    fn update_shadows(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
-        if !self.shadows.active() {
-            return Ok(());
-        }
-        let world = |d: &Draw| {
-            let model = scene.objects[d.object].transform.matrix();
-            let (c, r) = self.meshes[d.mesh].sphere;
-            let scale = model
-                .x_axis
-                .truncate()
-                .length()
-                .max(model.y_axis.truncate().length())
-                .max(model.z_axis.truncate().length());
-            (
-                model,
-                shadow::Sphere {
-                    center: model.transform_point3(c),
-                    radius: r * scale,
-                },
-            )
-        };
-        let mut casters = Vec::new();
-        let mut receivers = Vec::new();
-        for d in &self.draws {
-            let obj = &scene.objects[d.object];
-            let (model, sphere) = world(d);
-            if obj.shadow.cast {
-                casters.push(shadow::Caster {
-                    mesh: d.mesh,
-                    model,
-                    sphere,
-                });
-            }
-            if obj.shadow.receive {
-                receivers.push(sphere);
-            }
-        }
-        self.shadows
-            .update(slot, scene, aspect, &casters, &receivers)
-    }
-
     /// The shadow maps (`luz render --verbose`, the viewer's debug view).
     pub fn shadow_maps(&self) -> &ShadowMaps {
         &self.shadows
-    }
-
-    /// Assigns the scene's lights to the clusters of its camera at `aspect` and writes them into
-    /// slot `slot` (nothing when the light loop is plain).
-    fn write_clusters(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
-        if !self.clustered {
-            return Ok(());
-        }
-        let grid = clusters::Grid::of(scene, aspect);
-        let c = clusters::build(&grid, scene.camera.view(), &scene.lights);
-        self.slots[slot].write_clusters(&self.ctx, slot, &c)?;
-        self.cluster_stats = Some(c.stats);
-        Ok(())
     }
 
     /// The light clusters' figures of the last assignment (`None`: the plain loop).
@@ -745,7 +722,7 @@ impl ForwardPass {
         let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
-        let visible = slot.visible.as_slice();
+        let visible = (slot.visible.as_slice(), slot.levels.as_slice());
         if let Some(def) = &self.deferred {
             if !def.ready(output, target.extent) || target.resolve.is_some() {
                 return Err(VkError::Setup(format!(
@@ -865,11 +842,15 @@ impl ForwardPass {
     }
     /// Binds the frame set `set` (and the environment set) and records, inside the caller's
     /// rendering instance, every draw whose object may be seen (`visible`, by draw; all when
-    /// empty) with `pipeline_of(draw index)`.
+    /// empty) at its LOD level (`levels`, by draw; 0 when empty) with `pipeline_of(draw index)`.
     fn record_draws(
         &self,
         cmd: vk::CommandBuffer,
-        (set, shadow_set, visible): (vk::DescriptorSet, vk::DescriptorSet, &[bool]),
+        (set, shadow_set, (visible, levels)): (
+            vk::DescriptorSet,
+            vk::DescriptorSet,
+            (&[bool], &[u8]),
+        ),
         pipeline_of: impl Fn(usize) -> vk::Pipeline,
     ) {
         let d = &self.ctx.device;
@@ -958,7 +939,8 @@ impl ForwardPass {
                     0,
                     bytemuck::bytes_of(&draw.push),
                 );
-                d.cmd_draw_indexed(cmd, m.index_count, 1, 0, 0, 0);
+                let level = m.levels[levels.get(i).copied().unwrap_or(0) as usize];
+                d.cmd_draw_indexed(cmd, level.index_count, 1, level.first_index, 0, 0);
             }
         }
     }

@@ -347,18 +347,7 @@ pub(super) fn read_blob(path: &std::path::Path, images: &[&Image]) -> Option<Vec
 
 /// Writes a cache file holding `blobs` (best effort, atomically).
 pub(super) fn write_blob(path: &std::path::Path, blobs: &[&[u8]]) {
-    write_file_atomically(path, &blob_file(blobs));
-}
-
-/// Best effort: a cache that cannot be written is only slower next time.
-fn write_file_atomically(path: &std::path::Path, bytes: &[u8]) {
-    if let Some(dir) = path.parent() {
-        let _ = std::fs::create_dir_all(dir);
-    }
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
+    crate::write_file_atomically(path, &blob_file(blobs));
 }
 
 /// The directory luz keeps precomputed IBL data in: `$LUZ_CACHE_DIR`, else

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 use gpu_allocator::MemoryLocation;
 
 use crate::render::forward::frustum;
@@ -23,9 +23,11 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Buffer, Context, VkError};
 
+pub mod cull;
 pub mod fit;
 mod pipeline;
 
+pub use cull::{box_corners, world_plane, Receiver};
 pub use fit::{LightFit, Sphere};
 
 use glsl::include_shadows as g;
@@ -71,6 +73,10 @@ pub struct Caster {
     pub mesh: usize,
     pub model: Mat4,
     pub sphere: Sphere,
+    /// World plane (point, unit normal) when the mesh is flat: see [`cull::hides_nothing`].
+    pub plane: Option<(Vec3, Vec3)>,
+    /// Its own index among the receivers, when it receives too.
+    pub receiver: Option<usize>,
 }
 
 /// A mesh's buffers, as the pass records them.
@@ -416,7 +422,7 @@ impl ShadowMaps {
         scene: &Scene,
         aspect: f32,
         casters: &[Caster],
-        receivers: &[Sphere],
+        receivers: &[Receiver],
     ) -> Result<(), VkError> {
         if !self.active() {
             return Ok(());
@@ -440,11 +446,12 @@ impl ShadowMaps {
         }
         self.casters = casters.len();
         let spheres: Vec<Sphere> = casters.iter().map(|c| c.sphere).collect();
+        let receiver_spheres: Vec<Sphere> = receivers.iter().map(|r| r.sphere).collect();
         let view = fit::View {
             camera: &scene.camera,
             aspect,
             casters: &spheres,
-            receivers,
+            receivers: &receiver_spheres,
         };
         let mut lights = vec![
             GpuShadowLight {
@@ -462,6 +469,15 @@ impl ShadowMaps {
         for m in &self.maps {
             let light = &scene.lights[m.light];
             let fit = fit::fit(light, &m.shadow, &view);
+            // Flat casters that can hide no receiver from this light (a floor under the objects).
+            let drawn: Vec<&Caster> = casters
+                .iter()
+                .filter(|c| {
+                    c.plane.is_none_or(|plane| {
+                        !cull::hides_nothing(plane, light, receivers, c.receiver)
+                    })
+                })
+                .collect();
             let sh = &m.shadow;
             let size_term = match light.kind {
                 crate::scene::LightKind::Directional => light.angular_radius_deg.to_radians().tan(),
@@ -498,7 +514,7 @@ impl ShadowMaps {
                 };
                 let planes = frustum::planes(layer.view_proj);
                 s.draws[index].extend(
-                    casters
+                    drawn
                         .iter()
                         .filter(|c| {
                             frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)

@@ -214,6 +214,9 @@ impl Viewer {
         let extent = self.swapchain.extent;
         let aspect = extent.width as f32 / extent.height.max(1) as f32;
         self.forward.update(slot, &self.scene, aspect)?;
+        let levels = crate::scene::lod::levels_in_use(&self.forward.lod_choices(slot, &self.scene));
+        self.profiler
+            .set_geometry(self.forward.triangles_drawn(slot), levels);
         self.sync_b(slot)?;
         self.lab
             .error_tick(&self.scene, self.targets.color.extent());

@@ -670,6 +670,7 @@ fn pass_options(
         output,
         path,
         light_loop: Default::default(),
+        lod_cache: crate::render::ibl::default_cache_dir(),
     }
 }
 

@@ -39,6 +39,14 @@ pub(super) fn profiler_ui(ui: &mut Ui, profiler: &Profiler) {
                         ("CPU p50", ms(s.cpu_p50)),
                         ("GPU p50", ms(s.gpu_p50)),
                         ("stutters", format!("{} / {} frames", s.stutters, s.frames)),
+                        (
+                            "triangles",
+                            profiler.geometry().map_or("–".into(), |g| g.0.to_string()),
+                        ),
+                        (
+                            "LOD levels",
+                            profiler.geometry().map_or("–".into(), |g| g.1.clone()),
+                        ),
                     ];
                     for (k, v) in rows {
                         ui.label(k);

@@ -1,0 +1,88 @@
+//! The per-frame LOD choice of the forward pass ([`crate::scene::lod`]): a level per draw and
+//! slot, what it draws and why.
+
+use super::{frustum, ForwardPass};
+use crate::scene::Scene;
+
+impl ForwardPass {
+    /// Per draw: the coarsest LOD level of its mesh whose error, projected at the object's
+    /// distance from `scene`'s camera onto the output height, stays within the budget
+    /// ([`crate::scene::lod::choose`]).
+    pub(super) fn lod_levels(&self, scene: &Scene) -> Vec<u8> {
+        let f = crate::scene::lod::focal_px(&scene.camera, self.lod_height);
+        self.draws
+            .iter()
+            .map(|d| {
+                let levels = &self.meshes[d.mesh].levels;
+                if levels.len() < 2 {
+                    return 0;
+                }
+                let model = scene.objects[d.object].transform.matrix();
+                let (c, r) = self.meshes[d.mesh].sphere;
+                let scale = frustum::max_scale(model);
+                let distance = crate::scene::lod::sphere_distance(
+                    scene.camera.position,
+                    model.transform_point3(c),
+                    r * scale,
+                );
+                crate::scene::lod::choose(levels, scale, f, distance, self.lod_budget) as u8
+            })
+            .collect()
+    }
+
+    /// The LOD level each simplified mesh's object draws with slot `slot`'s camera, and why
+    /// (`luz render`, the viewer); objects whose mesh has no simplified level are left out.
+    pub fn lod_choices(&self, slot: usize, scene: &Scene) -> Vec<crate::scene::lod::LodChoice> {
+        let s = &self.slots[slot.min(self.slots.len() - 1)];
+        let f = crate::scene::lod::focal_px(&scene.camera, self.lod_height);
+        self.draws
+            .iter()
+            .enumerate()
+            .filter(|(_, d)| self.meshes[d.mesh].levels.len() > 1)
+            .map(|(i, d)| {
+                let m = &self.meshes[d.mesh];
+                let level = s.levels.get(i).copied().unwrap_or(0) as usize;
+                let model = scene.objects[d.object].transform.matrix();
+                let scale = frustum::max_scale(model);
+                let distance = crate::scene::lod::sphere_distance(
+                    scene.camera.position,
+                    model.transform_point3(m.sphere.0),
+                    m.sphere.1 * scale,
+                );
+                crate::scene::lod::LodChoice {
+                    object: d.object,
+                    level,
+                    levels: m.levels.len(),
+                    triangles: m.levels[level].triangles(),
+                    full_triangles: m.levels[0].triangles(),
+                    error_px: crate::scene::lod::projected_error_px(
+                        m.levels[level].error,
+                        scale,
+                        f,
+                        distance,
+                    ),
+                    visible: s.visible.get(i).copied().unwrap_or(true),
+                }
+            })
+            .collect()
+    }
+
+    /// What building the LOD chains did: chains built, read from the disk cache, failed.
+    pub fn lod_stats(&self) -> &crate::scene::lod::ChainStats {
+        &self.lod_stats
+    }
+
+    /// Triangles recorded for slot `slot`'s camera: the drawn objects at their LOD levels.
+    pub fn triangles_drawn(&self, slot: usize) -> u64 {
+        let s = &self.slots[slot.min(self.slots.len() - 1)];
+        self.draws
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| s.visible.get(i).copied().unwrap_or(true))
+            .map(|(i, d)| {
+                let level = s.levels.get(i).copied().unwrap_or(0) as usize;
+                self.meshes[d.mesh].levels[level].triangles()
+            })
+            .sum()
+    }
+}

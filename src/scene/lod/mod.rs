@@ -1,0 +1,382 @@
+//! Automatic level of detail for meshes (OBJ and glTF): a chain of simplified index buffers per
+//! mesh, built once when a scene is prepared for drawing, each level with the geometric error the
+//! simplifier reports, and a per-frame choice of the coarsest level whose error, projected to
+//! pixels at the object's distance, stays within `output.tessellation_error_px`: the budget that
+//! also drives automatic tessellation of spheres, cones and cylinders
+//! ([`super::tessellation`]). A budget of 0 draws every mesh whole.
+//!
+//! **Simplifier.** meshoptimizer (the `meshopt` crate, 0.7), `meshopt_simplifyWithAttributes`:
+//! - attribute-aware: the vertex normals (weight [`NORMAL_WEIGHT`]) and UVs ([`UV_WEIGHT`]) are
+//!   part of the quadric error, so shading and texture layout are kept where they vary; vertices
+//!   split at a normal or UV seam (same position, other attributes) are collapsed only along the
+//!   seam, so seams stay closed (meshoptimizer's default, we do not pass `Permissive`);
+//! - `LockBorder`: vertices on an open border do not move. Parts of one model (an OBJ's groups, a
+//!   glTF's primitives) are separate objects whose levels are chosen independently; a moving
+//!   border would open cracks between them. Closed meshes have no border and lose nothing;
+//! - `ErrorAbsolute`: the reported error is in the mesh's own units (object space), scaled to the
+//!   world by the object's largest scale factor before projection;
+//! - `ErrorClamped` keeps the attribute share of the error at the position error's scale, so the
+//!   figure stays a distance that can be projected to pixels.
+//!
+//! Every level is simplified from the full mesh (not from the previous level), so its error is
+//! measured against what the scene file holds; errors are made non-decreasing along the chain.
+//! The levels share the mesh's vertex buffer: only index buffers are added (about 1× the full
+//! index buffer in total at a ratio of 1/2 per level).
+//!
+//! **Cache.** Chains are kept on disk ([`cache`]) under the IBL cache directory, keyed by a hash
+//! of the mesh's contents and the simplifier settings, with a CRC-32 over the file checked on
+//! load: a damaged file gives one warning and is rebuilt.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use super::{Camera, Mesh};
+
+pub mod cache;
+
+/// Bumped whenever [`build`] would make other levels for the same mesh (settings, algorithm,
+/// the meshopt version), so old cache files stop matching.
+pub const LOD_VERSION: u32 = 1;
+/// Triangles of each level relative to the previous one (its target).
+pub const LEVEL_RATIO: f32 = 0.5;
+/// At most this many levels after the full mesh.
+pub const MAX_LEVELS: usize = 10;
+/// A chain stops once a level has fewer triangles than this.
+pub const MIN_TRIANGLES: usize = 64;
+/// Meshes with fewer triangles than this are not simplified (nothing to gain).
+pub const MIN_SIMPLIFIED_TRIANGLES: usize = 2 * MIN_TRIANGLES;
+/// Weight of each normal component in the simplifier's error (normals are unit vectors).
+pub const NORMAL_WEIGHT: f32 = 0.5;
+/// Weight of each UV component in the simplifier's error.
+pub const UV_WEIGHT: f32 = 0.5;
+
+/// One level of a chain: a range of [`LodChain::indices`] and its error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LodLevel {
+    pub first_index: u32,
+    pub index_count: u32,
+    /// The simplifier's error against the full mesh, in the mesh's units (0 for level 0).
+    pub error: f32,
+}
+
+impl LodLevel {
+    pub fn triangles(&self) -> u64 {
+        u64::from(self.index_count / 3)
+    }
+}
+
+/// A mesh's levels: level 0 is the mesh itself, each next one coarser. `indices` holds every
+/// level's index buffer one after the other (level 0's first: the mesh's own indices), all into
+/// the mesh's vertices.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LodChain {
+    pub indices: Vec<u32>,
+    pub levels: Vec<LodLevel>,
+}
+
+impl LodChain {
+    /// The chain of the mesh alone (no simplified level).
+    pub fn full(mesh: &Mesh) -> Self {
+        LodChain {
+            indices: mesh.indices.clone(),
+            levels: vec![LodLevel {
+                first_index: 0,
+                index_count: mesh.indices.len() as u32,
+                error: 0.0,
+            }],
+        }
+    }
+
+    /// Level `i`'s indices.
+    pub fn level_indices(&self, i: usize) -> &[u32] {
+        let l = self.levels[i];
+        &self.indices[l.first_index as usize..(l.first_index + l.index_count) as usize]
+    }
+
+    /// The levels' errors, from level 0.
+    pub fn errors(&self) -> Vec<f32> {
+        self.levels.iter().map(|l| l.error).collect()
+    }
+}
+
+/// Whether `mesh` can be simplified at all: finite positions and normals, indices in range, whole
+/// triangles; the reason when not.
+fn check(mesh: &Mesh) -> Result<(), String> {
+    if !mesh.indices.len().is_multiple_of(3) {
+        return Err(format!(
+            "{} indices is not a whole number of triangles",
+            mesh.indices.len()
+        ));
+    }
+    let n = mesh.positions.len();
+    if let Some(i) = mesh.indices.iter().find(|&&i| i as usize >= n) {
+        return Err(format!("index {i} is beyond its {n} vertices"));
+    }
+    if mesh.positions.iter().any(|p| !p.is_finite()) {
+        return Err("a vertex position is not finite (NaN or infinite)".into());
+    }
+    if mesh.normals.len() != n || mesh.normals.iter().any(|v| !v.is_finite()) {
+        return Err("normals are missing or not finite".into());
+    }
+    if !mesh.uvs.is_empty() && (mesh.uvs.len() != n || mesh.uvs.iter().any(|v| !v.is_finite())) {
+        return Err("UVs are not one finite pair per vertex".into());
+    }
+    Ok(())
+}
+
+/// Builds the chain of `mesh`. `Err(reason)` when it cannot be simplified (non-finite data,
+/// indices out of range, a simplifier that removes every triangle): draw it whole.
+pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
+    check(mesh)?;
+    let mut chain = LodChain::full(mesh);
+    let triangles = mesh.indices.len() / 3;
+    if triangles < MIN_SIMPLIFIED_TRIANGLES {
+        return Ok(chain);
+    }
+    let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
+    let adapter = meshopt::VertexDataAdapter::new(bytemuck::cast_slice(&positions), 12, 0)
+        .map_err(|e| format!("meshopt: {e}"))?;
+    let uv = mesh.uvs.len() == mesh.positions.len();
+    let stride = if uv { 5 } else { 3 };
+    let mut attributes = Vec::with_capacity(mesh.positions.len() * stride);
+    for i in 0..mesh.positions.len() {
+        attributes.extend_from_slice(&mesh.normals[i].to_array());
+        if uv {
+            attributes.extend_from_slice(&mesh.uvs[i].to_array());
+        }
+    }
+    let weights = [
+        NORMAL_WEIGHT,
+        NORMAL_WEIGHT,
+        NORMAL_WEIGHT,
+        UV_WEIGHT,
+        UV_WEIGHT,
+    ];
+    let locks = vec![meshopt::SimplifyVertex::None; mesh.positions.len()];
+    let options = meshopt::SimplifyOptions::LockBorder
+        | meshopt::SimplifyOptions::ErrorAbsolute
+        | meshopt::SimplifyOptions::ErrorClamped;
+    let mut previous = triangles;
+    let mut error_so_far = 0.0f32;
+    while chain.levels.len() <= MAX_LEVELS && previous >= MIN_TRIANGLES {
+        let target = ((previous as f32 * LEVEL_RATIO) as usize).max(1) * 3;
+        let mut error = 0.0f32;
+        let level = meshopt::simplify_with_attributes_and_locks(
+            &mesh.indices,
+            &adapter,
+            &attributes,
+            &weights[..stride],
+            stride * 4,
+            &locks,
+            target,
+            f32::MAX,
+            options,
+            Some(&mut error),
+        );
+        let count = level.len() / 3;
+        if count == 0 {
+            if chain.levels.len() == 1 {
+                return Err("the simplifier removed every triangle (a degenerate mesh?)".into());
+            }
+            break;
+        }
+        if !error.is_finite() || error < 0.0 {
+            return Err(format!("the simplifier reported the error {error}"));
+        }
+        // Stalled (borders, seams): another level would cost memory and gain nothing.
+        if count as f32 > previous as f32 * 0.9 {
+            if chain.levels.len() == 1 {
+                return Err(format!(
+                    "the simplifier could not reduce it: {count} of {triangles} triangles left \
+                     (degenerate or non-manifold?)"
+                ));
+            }
+            break;
+        }
+        error_so_far = error_so_far.max(error);
+        chain.levels.push(LodLevel {
+            first_index: chain.indices.len() as u32,
+            index_count: level.len() as u32,
+            error: error_so_far,
+        });
+        chain.indices.extend_from_slice(&level);
+        previous = count;
+    }
+    Ok(chain)
+}
+
+/// What building the chains of a scene's meshes did.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ChainStats {
+    /// Chains simplified now.
+    pub built: usize,
+    /// Chains read from the disk cache.
+    pub loaded: usize,
+    /// Meshes drawn whole because their simplification failed (each with one warning).
+    pub failed: usize,
+}
+
+/// The chain of `mesh` (named `name` in warnings): from the cache in `cache_dir` when a file for
+/// its contents is there and intact, else built (and written there). A failed simplification
+/// gives the full mesh's chain and one warning through `warn`.
+pub fn chain_for(
+    mesh: &Mesh,
+    name: &str,
+    cache_dir: Option<&std::path::Path>,
+    stats: &mut ChainStats,
+    warn: &mut dyn FnMut(String),
+) -> Arc<LodChain> {
+    let key = cache::key(mesh);
+    if let Some(dir) = cache_dir {
+        match cache::read(dir, key, mesh) {
+            cache::Read::Hit(chain) => {
+                stats.loaded += 1;
+                return Arc::new(chain);
+            }
+            cache::Read::Miss => {}
+            cache::Read::Corrupt(path) => warn(format!(
+                "{}: cached LOD chain of {name} does not match its checksum (damaged on disk?); \
+                 simplifying it again and replacing the file",
+                path.display()
+            )),
+        }
+    }
+    match build(mesh) {
+        Ok(chain) => {
+            stats.built += 1;
+            if let Some(dir) = cache_dir {
+                cache::write(dir, key, mesh, &chain);
+            }
+            Arc::new(chain)
+        }
+        Err(reason) => {
+            stats.failed += 1;
+            warn(format!(
+                "{name}: mesh simplification failed ({reason}); drawn at full detail"
+            ));
+            Arc::new(LodChain::full(mesh))
+        }
+    }
+}
+
+/// Pixels per world unit at distance 1 on an image `height_px` tall: (height / 2) / tan(fov_y / 2).
+pub fn focal_px(camera: &Camera, height_px: u32) -> f32 {
+    0.5 * height_px as f32 / (0.5 * camera.fov_y_deg.to_radians()).tan()
+}
+
+/// An object-space error `error` of an object whose bounding sphere (world centre `centre`,
+/// radius `radius`) is seen from `eye`, scaled to the world by `scale`, in pixels: the error
+/// seen at the sphere's nearest point, f · error · scale / distance. Infinite when the camera is
+/// inside the sphere.
+pub fn projected_error_px(error: f32, scale: f32, focal_px: f32, distance: f32) -> f32 {
+    if error <= 0.0 {
+        return 0.0;
+    }
+    if distance <= 0.0 || distance.is_nan() {
+        return f32::INFINITY;
+    }
+    focal_px * error * scale / distance
+}
+
+/// The distance from `eye` to the nearest point of the sphere (`centre`, `radius`) (≤ 0 inside).
+pub fn sphere_distance(eye: Vec3, centre: Vec3, radius: f32) -> f32 {
+    (centre - eye).length() - radius
+}
+
+/// The coarsest level of `levels` whose error (object space, × `scale`) projects within
+/// `budget_px` at `distance` ([`projected_error_px`]); 0 when the budget is 0 (or not a
+/// positive finite number) or no coarser level fits.
+pub fn choose(
+    levels: &[LodLevel],
+    scale: f32,
+    focal_px: f32,
+    distance: f32,
+    budget_px: f32,
+) -> usize {
+    if !(budget_px > 0.0 && budget_px.is_finite()) {
+        return 0;
+    }
+    (1..levels.len())
+        .rev()
+        .find(|&i| projected_error_px(levels[i].error, scale, focal_px, distance) <= budget_px)
+        .unwrap_or(0)
+}
+
+/// The level an object drew and why (`luz render --verbose`, the viewer).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LodChoice {
+    /// Index into the scene's objects.
+    pub object: usize,
+    pub level: usize,
+    pub levels: usize,
+    pub triangles: u64,
+    pub full_triangles: u64,
+    /// The chosen level's error in pixels.
+    pub error_px: f32,
+    /// Inside the view volume (drawn).
+    pub visible: bool,
+}
+
+/// The LOD levels the objects in view draw at, as the viewer shows them: "0-4 (600 objects)",
+/// or "none" without a simplified mesh in view.
+pub fn levels_in_use(choices: &[LodChoice]) -> String {
+    let drawn = choices.iter().filter(|c| c.visible);
+    let (lo, hi, n) = drawn.fold((usize::MAX, 0, 0), |(lo, hi, n), c| {
+        (lo.min(c.level), hi.max(c.level), n + 1)
+    });
+    if n == 0 {
+        "none".into()
+    } else {
+        format!("{lo}-{hi} ({n} objects)")
+    }
+}
+
+/// What `luz render` says of automatic LOD, as [`super::tessellation::summary`] does for
+/// primitives: a summary line and, when `verbose`, one line per object (indented). Nothing
+/// without a simplified mesh.
+pub fn summary(scene: &super::Scene, choices: &[LodChoice], verbose: bool) -> Vec<String> {
+    if choices.is_empty() {
+        return Vec::new();
+    }
+    let drawn: Vec<&LodChoice> = choices.iter().filter(|c| c.visible).collect();
+    let (lo, hi) = (
+        drawn.iter().map(|c| c.level).min().unwrap_or(0),
+        drawn.iter().map(|c| c.level).max().unwrap_or(0),
+    );
+    let tri: u64 = drawn.iter().map(|c| c.triangles).sum();
+    let full: u64 = choices.iter().map(|c| c.full_triangles).sum();
+    let mut out = vec![format!(
+        "automatic LOD (budget {} px): {} mesh object(s), {} in view at levels {lo}-{hi}, \
+         {tri} of {full} triangles drawn{}",
+        scene.output.tessellation_error_px,
+        choices.len(),
+        drawn.len(),
+        if verbose {
+            ":"
+        } else {
+            " (--verbose lists them)"
+        }
+    )];
+    if verbose {
+        for c in choices {
+            let name = scene.objects.get(c.object).map_or("?", |o| o.name.as_str());
+            out.push(if c.visible {
+                format!(
+                    "  {name}: level {} of {}, {} of {} triangles (error {:.3} px)",
+                    c.level,
+                    c.levels - 1,
+                    c.triangles,
+                    c.full_triangles,
+                    c.error_px
+                )
+            } else {
+                format!("  {name}: out of view")
+            });
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,230 @@
+use super::*;
+
+/// A finely tessellated sphere: a closed mesh with a UV seam and analytic normals.
+fn sphere() -> Mesh {
+    Mesh::sphere(1.0, 96, 48)
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("luz-lod-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+#[test]
+fn chain_levels_shrink_errors_grow_indices_stay_in_range() {
+    let mesh = sphere();
+    let chain = build(&mesh).unwrap();
+    assert!(chain.levels.len() >= 5, "{:?}", chain.levels);
+    assert_eq!(chain.level_indices(0), mesh.indices.as_slice());
+    assert_eq!(chain.levels[0].error, 0.0);
+    for w in chain.levels.windows(2) {
+        assert!(w[1].index_count < w[0].index_count, "{:?}", chain.levels);
+        assert!(w[1].error >= w[0].error, "{:?}", chain.levels);
+        assert!(w[1].index_count % 3 == 0 && w[1].index_count > 0);
+    }
+    // Each simplified level is about half the previous one (the target ratio), and its error
+    // is a small fraction of the radius at first (the simplifier measures in the mesh's units).
+    let l1 = chain.levels[1];
+    assert!(
+        l1.triangles() <= mesh.triangle_count() as u64 / 2 + 8,
+        "{l1:?}"
+    );
+    assert!(l1.error > 0.0 && l1.error < 0.01, "{l1:?}");
+    let n = mesh.positions.len() as u32;
+    assert!(chain.indices.iter().all(|&i| i < n));
+    // The coarsest level still covers the sphere: its vertices are on the unit sphere and its
+    // bounding box is (almost) the full one.
+    let last = chain.level_indices(chain.levels.len() - 1);
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for &i in last {
+        lo = lo.min(mesh.positions[i as usize]);
+        hi = hi.max(mesh.positions[i as usize]);
+    }
+    let e = chain.levels[chain.levels.len() - 1].error;
+    assert!(
+        (lo + Vec3::ONE).max_element() <= 2.0 * e && (Vec3::ONE - hi).max_element() <= 2.0 * e,
+        "{lo} {hi} error {e}"
+    );
+    // Deterministic: the same mesh gives the same chain (the cache relies on it).
+    assert_eq!(build(&mesh).unwrap(), chain);
+}
+
+#[test]
+fn budget_zero_is_level_zero_and_the_choice_is_monotone() {
+    let chain = build(&sphere()).unwrap();
+    let f = 600.0;
+    for d in [0.5f32, 2.0, 10.0, 100.0, 1e4] {
+        assert_eq!(choose(&chain.levels, 1.0, f, d, 0.0), 0, "distance {d}");
+        assert_eq!(choose(&chain.levels, 1.0, f, d, -1.0), 0);
+        assert_eq!(choose(&chain.levels, 1.0, f, d, f32::NAN), 0);
+    }
+    // Farther, smaller or with a looser budget: never a finer level. The chosen level is within
+    // budget and the next coarser one is not.
+    let mut last = 0;
+    for step in 0..200 {
+        let d = 0.1 * 1.06f32.powi(step);
+        let level = choose(&chain.levels, 1.0, f, d, 0.5);
+        assert!(level >= last, "distance {d}: level {level} after {last}");
+        last = level;
+        let px = |i: usize| projected_error_px(chain.levels[i].error, 1.0, f, d);
+        assert!(px(level) <= 0.5 || level == 0);
+        if level + 1 < chain.levels.len() {
+            assert!(px(level + 1) > 0.5, "distance {d}: {} fits", level + 1);
+        }
+    }
+    assert_eq!(last, chain.levels.len() - 1, "far away: the coarsest level");
+    // Projected error: f · e · s / d, monotone in each.
+    assert_eq!(projected_error_px(0.01, 2.0, 500.0, 10.0), 1.0);
+    assert!(
+        projected_error_px(0.01, 1.0, 500.0, 20.0) < projected_error_px(0.01, 1.0, 500.0, 10.0)
+    );
+    assert_eq!(projected_error_px(0.01, 1.0, 500.0, -1.0), f32::INFINITY);
+    assert_eq!(projected_error_px(0.0, 1.0, 500.0, -1.0), 0.0);
+    // Inside the bounding sphere: full detail.
+    assert_eq!(choose(&chain.levels, 1.0, f, -0.5, 10.0), 0);
+    let a = choose(&chain.levels, 1.0, f, 50.0, 0.25);
+    let b = choose(&chain.levels, 1.0, f, 50.0, 1.0);
+    let c = choose(&chain.levels, 4.0, f, 50.0, 1.0);
+    assert!(a <= b && c <= b, "{a} {b} {c}");
+}
+
+#[test]
+fn failed_simplification_draws_the_full_mesh_with_one_warning() {
+    let mut nan = sphere();
+    nan.positions[7].y = f32::NAN;
+    let mut out_of_range = sphere();
+    out_of_range.indices[5] = 1_000_000;
+    // Every triangle collapsed onto one point: nothing is left to simplify into.
+    let mut degenerate = sphere();
+    for p in &mut degenerate.positions {
+        *p = Vec3::ONE;
+    }
+    for (mesh, why) in [
+        (nan, "not finite"),
+        (out_of_range, "beyond its"),
+        (degenerate, "triangles left"),
+    ] {
+        let mut warnings = Vec::new();
+        let mut stats = ChainStats::default();
+        let chain = chain_for(&mesh, "m", None, &mut stats, &mut |w| warnings.push(w));
+        assert_eq!(*chain, LodChain::full(&mesh), "{why}");
+        assert_eq!(warnings.len(), 1, "{why}: {warnings:?}");
+        assert!(
+            warnings[0].starts_with("m: mesh simplification failed (") && warnings[0].contains(why),
+            "{warnings:?}"
+        );
+        assert!(warnings[0].ends_with("drawn at full detail"));
+        assert_eq!(stats.failed, 1);
+    }
+    // Too small to simplify: the full mesh, quietly.
+    let small = Mesh::sphere(1.0, 8, 4);
+    let mut warnings = Vec::new();
+    let chain = chain_for(&small, "s", None, &mut ChainStats::default(), &mut |w| {
+        warnings.push(w)
+    });
+    assert_eq!((chain.levels.len(), warnings.len()), (1, 0));
+}
+
+#[test]
+fn cache_round_trip_and_a_damaged_file_is_rebuilt_with_one_warning() {
+    let dir = temp_dir("cache");
+    let mesh = sphere();
+    let mut stats = ChainStats::default();
+    let mut warnings = Vec::new();
+    let built = chain_for(&mesh, "m", Some(&dir), &mut stats, &mut |w| {
+        warnings.push(w)
+    });
+    let again = chain_for(&mesh, "m", Some(&dir), &mut stats, &mut |w| {
+        warnings.push(w)
+    });
+    assert_eq!(built, again);
+    assert_eq!(
+        stats,
+        ChainStats {
+            built: 1,
+            loaded: 1,
+            failed: 0
+        }
+    );
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let file = cache::path(&dir, cache::key(&mesh));
+    let good = std::fs::read(&file).unwrap();
+    // A byte flipped in the body (an index, an error, a count) or the checksum: one warning, the
+    // same chain built again, the file replaced.
+    for at in [8, 16 + 22, good.len() / 2, good.len() - 1] {
+        let mut bad = good.clone();
+        bad[at] ^= 0x10;
+        std::fs::write(&file, &bad).unwrap();
+        let mut warnings = Vec::new();
+        let mut stats = ChainStats::default();
+        let chain = chain_for(&mesh, "m", Some(&dir), &mut stats, &mut |w| {
+            warnings.push(w)
+        });
+        assert_eq!(chain, built, "byte {at}");
+        assert_eq!(stats.built, 1, "byte {at}");
+        assert_eq!(warnings.len(), 1, "byte {at}: {warnings:?}");
+        assert!(
+            warnings[0].contains("does not match its checksum") && warnings[0].contains(".lod"),
+            "{warnings:?}"
+        );
+        assert_eq!(
+            std::fs::read(&file).unwrap(),
+            good,
+            "byte {at}: not replaced"
+        );
+    }
+    // Another mesh's contents: another key, another file.
+    let other = Mesh::sphere(1.0, 95, 48);
+    assert_ne!(cache::key(&other), cache::key(&mesh));
+    // A truncated file is corrupt; a file of another format version a quiet miss.
+    std::fs::write(&file, &good[..good.len() - 4]).unwrap();
+    assert!(matches!(
+        cache::read(&dir, cache::key(&mesh), &mesh),
+        cache::Read::Corrupt(_)
+    ));
+    let mut old = good.clone();
+    old[7] = b'0';
+    std::fs::write(&file, &old).unwrap();
+    assert_eq!(
+        cache::read(&dir, cache::key(&mesh), &mesh),
+        cache::Read::Miss
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn summary_names_objects_and_counts_triangles() {
+    let scene = crate::scene::default_scene();
+    assert!(summary(&scene, &[], true).is_empty());
+    let choices = [
+        LodChoice {
+            object: 0,
+            level: 2,
+            levels: 6,
+            triangles: 1000,
+            full_triangles: 4000,
+            error_px: 0.04,
+            visible: true,
+        },
+        LodChoice {
+            object: 1,
+            level: 0,
+            levels: 6,
+            triangles: 4000,
+            full_triangles: 4000,
+            error_px: 0.0,
+            visible: false,
+        },
+    ];
+    let lines = summary(&scene, &choices, false);
+    assert_eq!(lines.len(), 1);
+    assert!(
+        lines[0].contains("2 mesh object(s), 1 in view at levels 2-2, 1000 of 8000 triangles"),
+        "{lines:?}"
+    );
+    let lines = summary(&scene, &choices, true);
+    assert_eq!(lines.len(), 3, "{lines:?}");
+    assert!(lines[1].contains("level 2 of 5, 1000 of 4000 triangles (error 0.040 px)"));
+    assert!(lines[2].ends_with("out of view"));
+}

@@ -1,0 +1,174 @@
+//! Automatic LOD of meshes (issue 17) on lavapipe with validation on: the chain of a real model
+//! built once however many objects use it, the levels chosen by distance and budget, the image
+//! against full detail (FLIP), and budget 0 drawing every mesh whole.
+
+mod common;
+
+use common::*;
+
+use luz::headless::{Headless, RenderOptions};
+use luz::imageio::{FileFormat, LoadedImage};
+use luz::scene::Scene;
+
+/// `count` bunnies (the shared Stanford bunny, 69,451 triangles) in rows from 2 to ~60 units
+/// away, some behind the camera, at `budget` px.
+fn bunnies(count: usize, budget: f32) -> Option<Scene> {
+    shared_dir("models/stanford-bunny.obj")?;
+    let mut objects = Vec::new();
+    for i in 0..count {
+        let (row, col) = (i / 6, i % 6);
+        objects.push(format!(
+            r#"{{"mesh": {{"type": "obj", "path": "../../shared/models/stanford-bunny.obj"}}, "material": "m",
+                "position": [{}, -0.33, {}], "rotation_deg": [0, {}, 0], "scale": [10, 10, 10]}}"#,
+            (col as f32 - 2.5) * 1.8,
+            4.0 - 3.5 * row as f32,
+            (i * 47) % 360
+        ));
+    }
+    let text = format!(
+        r#"{{
+        "camera": {{"position": [0, 1.6, 6], "target": [0, 0.5, -10], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 200}},
+        "output": {{"width": 320, "height": 180, "msaa": 1, "tessellation_error_px": {budget}}},
+        "lights": [{{"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2.5}}],
+        "ambient": [0.05, 0.05, 0.05],
+        "materials": {{"m": {{"model": "lambert", "albedo": [0.7, 0.5, 0.4]}}}},
+        "objects": [{}]
+    }}"#,
+        objects.join(",")
+    );
+    Some(luz::scene::parse(&text, &root().join("tests/lod.json")).expect("scene"))
+}
+
+fn mean_flip(scene: &Scene, a: &luz::imageio::LinearImage, b: &luz::imageio::LinearImage) -> f32 {
+    let load = |img| {
+        LoadedImage::from_linear(
+            img,
+            FileFormat::Png,
+            scene.output.exposure,
+            scene.output.tonemap,
+        )
+    };
+    luz::diff::compare(&load(a), &load(b), &Default::default())
+        .expect("same size")
+        .flip_mean
+}
+
+/// Mean FLIP between the automatic levels and full detail, at the default budget and a loose one.
+const MAX_FLIP_DEFAULT_BUDGET: f32 = 0.01;
+
+#[test]
+fn one_chain_per_mesh_levels_by_distance_and_flip_against_full_detail() {
+    let Some(full_scene) = bunnies(48, 0.0) else {
+        return;
+    };
+    let ctx = gpu();
+    let options = RenderOptions::default();
+    let mut full = Headless::with_options(&ctx, &full_scene, &options).unwrap();
+    // 48 objects, one mesh: one chain (no cache: built here).
+    assert_eq!(
+        full.lod_stats(),
+        luz::scene::lod::ChainStats {
+            built: 1,
+            loaded: 0,
+            failed: 0
+        }
+    );
+    // Budget 0: every object at level 0, every triangle of the objects in view drawn.
+    let choices = full.lod_choices(&full_scene);
+    assert_eq!(choices.len(), 48);
+    assert!(
+        choices.iter().all(|c| c.level == 0 && c.levels >= 5),
+        "{choices:?}"
+    );
+    let in_view = choices.iter().filter(|c| c.visible).count() as u64;
+    assert!((12..48).contains(&in_view), "{in_view} in view");
+    assert_eq!(full.triangles_drawn(), in_view * 69_451);
+    full.render().unwrap();
+    let full_image = full.image().unwrap();
+
+    let auto_scene = bunnies(48, luz::scene::DEFAULT_TESSELLATION_ERROR_PX).unwrap();
+    let mut auto = Headless::with_options(&ctx, &auto_scene, &options).unwrap();
+    let choices = auto.lod_choices(&auto_scene);
+    // Farther rows, coarser levels (never finer); the nearest row is finer than the farthest.
+    let level = |row: usize| choices[row * 6 + 2].level;
+    for row in 2..7 {
+        assert!(level(row + 1) >= level(row), "{choices:?}");
+    }
+    assert!(level(7) > level(2), "{choices:?}");
+    for c in &choices {
+        assert!(
+            c.error_px <= luz::scene::DEFAULT_TESSELLATION_ERROR_PX,
+            "{c:?}"
+        );
+    }
+    let drawn = auto.triangles_drawn();
+    assert!(drawn < full.triangles_drawn() / 2, "{drawn} triangles");
+    auto.render().unwrap();
+    let flip = mean_flip(&auto_scene, &full_image, &auto.image().unwrap());
+    eprintln!(
+        "default budget: {drawn} of {} triangles, mean FLIP {flip:.5} against full detail",
+        full.triangles_drawn()
+    );
+    assert!(flip <= MAX_FLIP_DEFAULT_BUDGET, "mean FLIP {flip}");
+    // The 40 M scene's budget (0.2 px): far fewer triangles, a larger error (measured 0.0113 here
+    // at 320x180; 0.0092 on the 40 M scene at 1280x720, docs/performance.md).
+    let loose_scene = bunnies(48, 0.2).unwrap();
+    let mut loose = Headless::with_options(&ctx, &loose_scene, &options).unwrap();
+    let loose_drawn = loose.triangles_drawn();
+    assert!(loose_drawn < drawn, "{loose_drawn} against {drawn}");
+    loose.render().unwrap();
+    let flip = mean_flip(&loose_scene, &full_image, &loose.image().unwrap());
+    eprintln!("0.2 px: {loose_drawn} triangles, mean FLIP {flip:.5} against full detail");
+    assert!(flip <= MAX_FLIP_LOOSE_BUDGET, "mean FLIP {flip}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// Mean FLIP allowed at 0.2 px on this small scene (the issue's goal for the 40 M scene at
+/// 1280x720 is 0.01).
+const MAX_FLIP_LOOSE_BUDGET: f32 = 0.015;
+
+/// `luz render` reports the LOD choice (summary; `--verbose`: per object and how the chain was
+/// made); `luz bench --compare-budget` refuses a negative budget, naming the option.
+#[test]
+fn render_reports_the_levels_and_bench_checks_its_budget() {
+    let Some(_) = shared_dir("models/stanford-bunny.obj") else {
+        return;
+    };
+    let scene = root().join("assets/scenes/lod/bunnies_lab.json");
+    let dir = scratch("lod-render");
+    let out = dir.join("lab.png");
+    let (code, stdout, stderr) = luz(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--verbose",
+        "--no-cache",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("automatic LOD (budget 0.2 px): 36 mesh object(s), 14 in view at levels"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("  bunny_0_0: out of view"), "{stdout}");
+    assert!(
+        stdout.contains("  bunny_1_2: level 5 of 8, 2169 of 69451 triangles"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("LOD chains: 1 built, 0 read from the cache, 0 failed"),
+        "{stdout}"
+    );
+    let (code, _, stderr) = luz(&[
+        "bench",
+        scene.to_str().unwrap(),
+        "--frames",
+        "1",
+        "--compare-budget=-1",
+    ]);
+    assert_ne!(code, 0);
+    assert!(
+        stderr.contains("--compare-budget: must be a number of pixels >= 0, got -1"),
+        "{stderr}"
+    );
+}
