@@ -46,9 +46,24 @@ fn plane_scene(dir: &Path, name: &str, albedo: [f32; 3]) -> PathBuf {
     path
 }
 
-/// Runs `luz view` in a window with the panels off and `extra` arguments; returns stderr+stdout.
-fn view(args: &[&str]) -> Option<String> {
-    let (code, out, err) = luz_in_window(args)?;
+/// Runs `luz view SCENE [--compare B]` in a `w × h` window for `frames` frames with `script`,
+/// checks it succeeded with validation silent; returns stdout and stderr.
+fn view(
+    scene: &Path,
+    compare: Option<&Path>,
+    (w, h): (u32, u32),
+    frames: u32,
+    script: &str,
+) -> Option<String> {
+    let (w, h, frames) = (w.to_string(), h.to_string(), frames.to_string());
+    let mut args = vec!["view", scene.to_str().unwrap()];
+    if let Some(b) = compare {
+        args.extend(["--compare", b.to_str().unwrap()]);
+    }
+    args.extend([
+        "--width", &w, "--height", &h, "--frames", &frames, "--script", script,
+    ]);
+    let (code, out, err) = luz_in_window(&args)?;
     assert_eq!(code, 0, "luz view failed\nstdout: {out}\nstderr: {err}");
     assert!(!err.contains("panicked"), "{err}");
     assert!(
@@ -123,21 +138,7 @@ fn split_shows_a_left_and_b_right_and_toggle_shows_one_side() {
         shot("toggle_a").display(),
         shot("toggle_b").display(),
     );
-    let (w, h) = (W.to_string(), H.to_string());
-    let Some(_) = view(&[
-        "view",
-        a.to_str().unwrap(),
-        "--compare",
-        b.to_str().unwrap(),
-        "--width",
-        &w,
-        "--height",
-        &h,
-        "--frames",
-        "20",
-        "--script",
-        &script,
-    ]) else {
+    let Some(_) = view(&a, Some(&b), (W, H), 20, &script) else {
         return;
     };
     // Divider at the middle (x = 240): red left, blue right (the line and its handle excluded).
@@ -168,7 +169,6 @@ fn difference_of_identical_inputs_is_uniform() {
     let dir = scratch("lab_difference");
     let a = plane_scene(&dir, "red", [0.8, 0.05, 0.05]);
     let b = plane_scene(&dir, "blue", [0.05, 0.05, 0.8]);
-    let (w, h) = (W.to_string(), H.to_string());
     let mut images = Vec::new();
     for (other, name) in [(&a, "same"), (&b, "different")] {
         let shot = dir.join(format!("{name}.png"));
@@ -176,20 +176,7 @@ fn difference_of_identical_inputs_is_uniform() {
             "1:panels=off;2:compare_mode=difference;40:screenshot={}",
             shot.display()
         );
-        let Some(_) = view(&[
-            "view",
-            a.to_str().unwrap(),
-            "--compare",
-            other.to_str().unwrap(),
-            "--width",
-            &w,
-            "--height",
-            &h,
-            "--frames",
-            "42",
-            "--script",
-            &script,
-        ]) else {
+        let Some(_) = view(&a, Some(other), (W, H), 42, &script) else {
             return;
         };
         images.push(rgb(&shot));
@@ -231,7 +218,6 @@ fn error_view_is_uniform_for_a_lambert_plane_and_not_for_a_coarse_sphere() {
         ),
     )
     .unwrap();
-    let (w, h) = (W.to_string(), H.to_string());
     let mut results = Vec::new();
     for scene in [&plane, &sphere] {
         let shot = scene.with_extension("png");
@@ -239,18 +225,7 @@ fn error_view_is_uniform_for_a_lambert_plane_and_not_for_a_coarse_sphere() {
             "1:panels=off;2:error_view=on;118:screenshot={}",
             shot.display()
         );
-        let Some(log) = view(&[
-            "view",
-            scene.to_str().unwrap(),
-            "--width",
-            &w,
-            "--height",
-            &h,
-            "--frames",
-            "120",
-            "--script",
-            &script,
-        ]) else {
+        let Some(log) = view(scene, None, (W, H), 120, &script) else {
             return;
         };
         let line = log
@@ -312,18 +287,7 @@ fn lobe_plots_appear_in_the_lab_panel() {
     for (action, name) in [("error_view=off", "without"), ("lobe_plots=on", "with")] {
         let shot = dir.join(format!("{name}.png"));
         let script = format!("2:{action};40:screenshot={}", shot.display());
-        let Some(_) = view(&[
-            "view",
-            plane.to_str().unwrap(),
-            "--width",
-            "900",
-            "--height",
-            "700",
-            "--frames",
-            "42",
-            "--script",
-            &script,
-        ]) else {
+        let Some(_) = view(&plane, None, (900, 700), 42, &script) else {
             return;
         };
         let img = rgb(&shot);
