@@ -304,3 +304,27 @@ fn lobe_plots_appear_in_the_lab_panel() {
     assert!(white[0] < 2_000, "{white:?}");
     assert!(white[1] > 20_000, "the three charts are drawn: {white:?}");
 }
+
+#[test]
+fn a_parameter_changed_on_b_shows_right_of_the_divider_only() {
+    let dir = scratch("lab_edit_b");
+    let a = plane_scene(&dir, "red", [0.8, 0.05, 0.05]);
+    let shot = dir.join("shot.png");
+    // B = a copy of A, then B's exposure 3 EV down (the scene panels edit B).
+    let script = format!(
+        "1:panels=off;2:compare_duplicate;3:compare_edit=b;4:exposure=-3;8:screenshot={}",
+        shot.display()
+    );
+    let Some(_) = view(&a, None, (W, H), 10, &script) else {
+        return;
+    };
+    let img = rgb(&shot);
+    let mean_red = |x0, x1| {
+        let px = region(&img, (x0, x1));
+        px.iter().map(|p| f64::from(p[0])).sum::<f64>() / px.len() as f64
+    };
+    let (left, right) = (mean_red(0, 230), mean_red(250, W));
+    eprintln!("red level: A {left:.1}, B {right:.1}");
+    assert!(left > 100.0, "A keeps its exposure: {left}");
+    assert!(right < 0.6 * left, "B is 3 EV darker: {right} vs {left}");
+}

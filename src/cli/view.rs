@@ -36,7 +36,8 @@ pub struct ViewArgs {
     /// .obj model or an .hdr/.exr environment, as when dropped on the window), save=PATH,
     /// compare_mode=split|difference|flip|toggle, compare_split=0..1, compare_flip (toggle: the
     /// other side), compare_duplicate (B = a copy of A), error_view=on|off,
-    /// error_metric=relative|flip, lobe_plots=on|off.
+    /// error_metric=relative|flip, lobe_plots=on|off, compare_edit=a|b (the side the panels,
+    /// exposure and tonemap change).
     /// Example: "10:resize=800x600;20:exposure=1".
     #[arg(long)]
     pub script: Option<String>,

@@ -46,6 +46,9 @@ pub enum Action {
     ErrorMetric(ErrorMetric),
     /// The lab panel's lobe plots of the selected material (`lobe_plots=on|off`).
     LobePlots(bool),
+    /// Which side the panels and the scene-editing actions (exposure, tonemap) change
+    /// (`compare_edit=a|b`).
+    CompareEdit(bool),
 }
 
 /// The most lights one `add_lights` (or the panel's "Add many") adds.
@@ -180,6 +183,11 @@ fn parse_action(a: &str) -> Result<Action> {
         "compare_duplicate" => Action::CompareDuplicate,
         "error_view" => Action::ErrorView(on_off(need()?)?),
         "lobe_plots" => Action::LobePlots(on_off(need()?)?),
+        "compare_edit" => match need()? {
+            "a" => Action::CompareEdit(false),
+            "b" => Action::CompareEdit(true),
+            v => bail!("compare_edit={v}: expected a or b"),
+        },
         "error_metric" => match need()? {
             "relative" => Action::ErrorMetric(ErrorMetric::Relative),
             "flip" => Action::ErrorMetric(ErrorMetric::Flip),
@@ -189,7 +197,7 @@ fn parse_action(a: &str) -> Result<Action> {
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
              orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights, \
              compare_mode, compare_split, compare_flip, compare_duplicate, error_view, error_metric, \
-             lobe_plots)"
+             lobe_plots, compare_edit)"
         ),
     })
 }
@@ -218,7 +226,7 @@ mod tests {
         assert_eq!(s.len(), 12);
         let c = parse(
             "1:compare_mode=difference;2:compare_split=0.25;3:compare_flip;4:compare_duplicate;\
-             5:error_view=on;6:error_metric=flip;7:lobe_plots=on",
+             5:error_view=on;6:error_metric=flip;7:lobe_plots=on;8:compare_edit=b",
         )
         .unwrap();
         assert_eq!(c[0].1, Action::CompareMode(CompareMode::Difference));
@@ -228,6 +236,7 @@ mod tests {
         assert_eq!(c[4].1, Action::ErrorView(true));
         assert_eq!(c[5].1, Action::ErrorMetric(ErrorMetric::Flip));
         assert_eq!(c[6].1, Action::LobePlots(true));
+        assert_eq!(c[7].1, Action::CompareEdit(true));
     }
 
     #[test]
@@ -251,6 +260,7 @@ mod tests {
             ("1:compare_split=1.5", "from 0 to 1"),
             ("1:error_view=maybe", "not on or off"),
             ("1:error_metric=ssim", "relative or flip"),
+            ("1:compare_edit=c", "a or b"),
         ] {
             let e = parse(bad).unwrap_err().to_string();
             assert!(e.contains(needle), "{bad}: {e}");

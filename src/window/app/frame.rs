@@ -18,8 +18,9 @@ impl Viewer {
                 }
                 Action::Minimize => self.window.set_minimized(true),
                 Action::Restore => self.window.set_minimized(false),
-                Action::Exposure(e) => self.scene.output.exposure = e,
-                Action::Tonemap(t) => self.scene.output.tonemap = t,
+                Action::Exposure(e) => self.edited_scene().output.exposure = e,
+                Action::Tonemap(t) => self.edited_scene().output.tonemap = t,
+                Action::CompareEdit(b) => self.lab.settings.edit_b = b,
                 Action::Panels(on) => self.settings.show_panels = on,
                 Action::Help(on) => self.settings.show_help = on,
                 Action::Orbit(dx, dy) => self.orbit.orbit(dx, dy),
@@ -62,6 +63,14 @@ impl Viewer {
             }
         }
         Ok(())
+    }
+
+    /// The scene the panels edit: B's when "panels edit B" is on and B exists, else A's.
+    fn edited_scene(&mut self) -> &mut Scene {
+        match (&mut self.lab.b, self.lab.settings.edit_b) {
+            (Some(b), true) => &mut b.scene,
+            _ => &mut self.scene,
+        }
     }
 
     /// Draws one frame; false when `--frames` are done.
