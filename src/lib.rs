@@ -9,6 +9,7 @@
 
 pub mod brdf;
 pub mod color;
+pub mod compare;
 pub mod diff;
 pub mod env;
 /// Entry points shared by the fuzz targets (`fuzz/`) and `tests/fuzz_regressions.rs`.

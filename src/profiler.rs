@@ -174,6 +174,11 @@ impl Profiler {
         self.samples.iter().map(|s| s.frame_ms)
     }
 
+    /// The window's frames, oldest to newest.
+    pub fn samples(&self) -> impl Iterator<Item = &FrameSample> + '_ {
+        self.samples.iter()
+    }
+
     /// The median GPU time of every pass over the window, in the order the passes first appear
     /// (frames without that pass do not count towards its median).
     pub fn pass_history(&self) -> Vec<(&'static str, f64)> {

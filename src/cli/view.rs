@@ -15,8 +15,13 @@ use super::common::{
 /// `luz view`: the interactive viewer.
 #[derive(Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// Scene file (JSON); the embedded default scene when omitted.
+    /// Scene file (JSON) or model file (.obj, .gltf, .glb); the embedded default scene when
+    /// omitted.
     pub scene: Option<PathBuf>,
+    /// A/B comparison: show this scene or model file as side B beside the first (split,
+    /// difference, FLIP or toggle; the lab panel and the compare_* script actions choose).
+    #[arg(long, value_name = "B")]
+    pub compare: Option<PathBuf>,
     #[command(flatten)]
     pub gpu: GpuArgs,
     /// Quit after this many frames (scripts, tests and --bench).
@@ -28,7 +33,11 @@ pub struct ViewArgs {
     /// Scripted actions, `FRAME:ACTION` separated by `;`. Actions: resize=WxH, minimize, restore,
     /// exposure=EV, tonemap=NAME, panels=on|off, help=on|off, orbit=DX,DY (degrees), zoom=STEPS,
     /// frame_all, reset, vsync=on|off, debug_view=NAME, screenshot=PATH, open=PATH (a scene, an
-    /// .obj model or an .hdr/.exr environment, as when dropped on the window), save=PATH.
+    /// .obj model or an .hdr/.exr environment, as when dropped on the window), save=PATH,
+    /// compare_mode=split|difference|flip|toggle, compare_split=0..1, compare_flip (toggle: the
+    /// other side), compare_duplicate (B = a copy of A), error_view=on|off,
+    /// error_metric=relative|flip, lobe_plots=on|off, compare_edit=a|b (the side the panels,
+    /// exposure and tonemap change).
     /// Example: "10:resize=800x600;20:exposure=1".
     #[arg(long)]
     pub script: Option<String>,
@@ -90,6 +99,7 @@ pub enum DisplayPathArg {
 pub fn run(a: ViewArgs) -> Result<ExitCode> {
     let outcome = luz::window::run(ViewOptions {
         scene: a.scene,
+        compare: a.compare,
         camera: a.camera,
         validate: a.gpu.validate,
         sync_validation: sync_validation_requested(),

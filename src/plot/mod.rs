@@ -513,5 +513,6 @@ use heatmap::*;
 use polar::*;
 use xy::*;
 
+pub mod brdf_charts;
 #[cfg(test)]
 mod tests;

@@ -84,21 +84,7 @@ pub fn render_reference(
     opts: &ReferenceOptions,
     progress: Option<&dyn Fn(u64, u64)>,
 ) -> Result<LinearImage> {
-    if opts.spp == 0 || opts.spp > MAX_SPP {
-        bail!("reference: spp must be in 1..={MAX_SPP}, got {}", opts.spp);
-    }
-    if opts.samples == 0 || opts.samples > MAX_SAMPLES {
-        bail!(
-            "reference: samples must be in 1..={MAX_SAMPLES}, got {}",
-            opts.samples
-        );
-    }
-    if opts.shadow_samples == 0 || opts.shadow_samples > MAX_SAMPLES {
-        bail!(
-            "reference: shadow samples must be in 1..={MAX_SAMPLES}, got {}",
-            opts.shadow_samples
-        );
-    }
+    check_options(opts)?;
     let prepared = render::Prepared::new(scene)?;
     let (w, h) = (prepared.width, prepared.height);
     let row = |y: u32| -> Vec<[f32; 4]> {
@@ -146,6 +132,66 @@ pub fn render_reference(
     Ok(image)
 }
 
+fn check_options(opts: &ReferenceOptions) -> Result<()> {
+    if opts.spp == 0 || opts.spp > MAX_SPP {
+        bail!("reference: spp must be in 1..={MAX_SPP}, got {}", opts.spp);
+    }
+    if opts.samples == 0 || opts.samples > MAX_SAMPLES {
+        bail!(
+            "reference: samples must be in 1..={MAX_SAMPLES}, got {}",
+            opts.samples
+        );
+    }
+    if opts.shadow_samples == 0 || opts.shadow_samples > MAX_SAMPLES {
+        bail!(
+            "reference: shadow samples must be in 1..={MAX_SAMPLES}, got {}",
+            opts.shadow_samples
+        );
+    }
+    Ok(())
+}
+
+/// [`render_reference`] for a viewer: rows are counted in `rows_done` as they complete, and
+/// once `cancel` is set the remaining rows are skipped and `Ok(None)` is returned (a camera that
+/// moved makes the image useless). Validation errors as [`render_reference`].
+pub fn render_reference_cancellable(
+    scene: &Scene,
+    opts: &ReferenceOptions,
+    rows_done: &std::sync::atomic::AtomicU64,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<Option<LinearImage>> {
+    use std::sync::atomic::Ordering;
+    check_options(opts)?;
+    let prepared = render::Prepared::new(scene)?;
+    let (w, h) = (prepared.width, prepared.height);
+    let rows: Vec<Vec<[f32; 4]>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            if cancel.load(Ordering::Relaxed) {
+                return Vec::new();
+            }
+            let r = (0..w)
+                .map(|x| {
+                    let c = prepared.pixel(x, y, opts);
+                    [c.x, c.y, c.z, 1.0]
+                })
+                .collect();
+            rows_done.fetch_add(1, Ordering::Relaxed);
+            r
+        })
+        .collect();
+    if cancel.load(Ordering::Relaxed) {
+        return Ok(None);
+    }
+    let mut image = LinearImage {
+        width: w,
+        height: h,
+        pixels: rows.into_iter().flatten().collect(),
+    };
+    saturate(&mut image, scene.saturation);
+    Ok(Some(image))
+}
+
 /// The primary ray through continuous pixel coordinates `(px, py)` of `scene` (pixel `(x, y)`
 /// covers `[x, x + 1] × [y, y + 1]`, y = 0 at the top; its centre is `(x + 0.5, y + 0.5)`):
 /// `(origin, direction)` in world space, the direction scaled so that its view-space z is −1
@@ -191,5 +237,43 @@ fn saturate(img: &mut LinearImage, mode: Saturation) {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod cancellable_tests {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+    use super::*;
+
+    #[test]
+    fn cancellable_reference_matches_the_plain_one_and_stops_when_cancelled() {
+        let mut scene = crate::scene::default_scene();
+        scene.environment = None;
+        scene.override_size(Some(48), Some(32));
+        let opts = ReferenceOptions::default();
+        let plain = render_reference(&scene, &opts, None).unwrap();
+        let rows = AtomicU64::new(0);
+        let cancel = AtomicBool::new(false);
+        let image = render_reference_cancellable(&scene, &opts, &rows, &cancel)
+            .unwrap()
+            .expect("not cancelled");
+        assert_eq!(image.pixels, plain.pixels);
+        assert_eq!(rows.load(Ordering::Relaxed), 32);
+        cancel.store(true, Ordering::Relaxed);
+        let rows = AtomicU64::new(0);
+        assert!(render_reference_cancellable(&scene, &opts, &rows, &cancel)
+            .unwrap()
+            .is_none());
+        assert_eq!(
+            rows.load(Ordering::Relaxed),
+            0,
+            "no row rendered once cancelled"
+        );
+        let bad = ReferenceOptions { spp: 0, ..opts };
+        let e = render_reference_cancellable(&scene, &bad, &rows, &AtomicBool::new(false))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("spp must be in"), "{e}");
     }
 }

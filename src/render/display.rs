@@ -192,6 +192,23 @@ impl DisplayPass {
         exposure_ev: f32,
         extent: vk::Extent2D,
     ) -> Result<(), VkError> {
+        let all = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        self.record_clipped(cmd, (tonemap, format), exposure_ev, extent, all)
+    }
+
+    /// [`DisplayPass::record`] drawing only the pixels inside `clip` (the viewer's A/B split:
+    /// one side's image left of the divider, the other's right of it).
+    pub fn record_clipped(
+        &self,
+        cmd: vk::CommandBuffer,
+        (tonemap, format): (Tonemap, vk::Format),
+        exposure_ev: f32,
+        extent: vk::Extent2D,
+        clip: vk::Rect2D,
+    ) -> Result<(), VkError> {
         let pipeline = self
             .pipelines
             .iter()
@@ -207,10 +224,7 @@ impl DisplayPass {
         let push = DisplayPush {
             exposure_scale: exposure_scale(exposure_ev),
         };
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
+        let area = clip;
         // SAFETY: `pipeline` is this pass's prepared pipeline for (`tonemap`, `format`) (looked up
         // above); it declares viewport, scissor and cull mode dynamic, and all three are set here
         // before the draw. `self.set` matches set 0 of `self.layout`, and the push-constant bytes

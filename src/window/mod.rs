@@ -4,6 +4,8 @@
 
 mod app;
 pub mod camera;
+pub mod jobs;
+pub mod plots;
 pub mod script;
 mod swapchain;
 pub mod ui;
@@ -17,6 +19,8 @@ use anyhow::Result;
 pub struct ViewOptions {
     /// Scene file; the embedded default scene when `None`.
     pub scene: Option<PathBuf>,
+    /// Side B of an A/B comparison (a scene or model file, `--compare`).
+    pub compare: Option<PathBuf>,
     /// Camera N of the scene's glTF files instead of the scene's camera (`--camera`).
     pub camera: Option<usize>,
     /// Enable the Khronos validation layer.

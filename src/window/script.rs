@@ -7,6 +7,7 @@ use anyhow::{anyhow, bail, Result};
 
 use crate::color::Tonemap;
 use crate::render::forward::DebugView;
+use crate::window::ui::compare::{CompareMode, ErrorMetric};
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Action {
@@ -31,6 +32,23 @@ pub enum Action {
     /// Add N ranged point lights over the scene (`scene::edit::light_field`), as the lights
     /// panel's "Add many" does.
     AddLights(crate::scene::edit::LightField, u32),
+    /// How A and B are shown (`compare_mode=split|difference|flip|toggle`).
+    CompareMode(CompareMode),
+    /// The split divider, 0..1 of the width (`compare_split=X`).
+    CompareSplit(f32),
+    /// Toggle mode: show the other side (the B key).
+    CompareFlip,
+    /// Make B a copy of A (the lab panel's "Duplicate the scene into B").
+    CompareDuplicate,
+    /// The error view against the CPU reference (`error_view=on|off`).
+    ErrorView(bool),
+    /// What the error view shows (`error_metric=relative|flip`).
+    ErrorMetric(ErrorMetric),
+    /// The lab panel's lobe plots of the selected material (`lobe_plots=on|off`).
+    LobePlots(bool),
+    /// Which side the panels and the scene-editing actions (exposure, tonemap) change
+    /// (`compare_edit=a|b`).
+    CompareEdit(bool),
 }
 
 /// The most lights one `add_lights` (or the panel's "Add many") adds.
@@ -147,9 +165,39 @@ fn parse_action(a: &str) -> Result<Action> {
             })?;
             Action::AddLights(field, n)
         }
+        "compare_mode" => {
+            let v = need()?;
+            Action::CompareMode(CompareMode::from_name(v).ok_or_else(|| {
+                anyhow!("compare_mode={v}: expected split, difference, flip or toggle")
+            })?)
+        }
+        "compare_split" => {
+            let v = need()?;
+            let x = finite(v)?;
+            if !(0.0..=1.0).contains(&x) {
+                bail!("compare_split={v}: expected a number from 0 to 1");
+            }
+            Action::CompareSplit(x)
+        }
+        "compare_flip" => Action::CompareFlip,
+        "compare_duplicate" => Action::CompareDuplicate,
+        "error_view" => Action::ErrorView(on_off(need()?)?),
+        "lobe_plots" => Action::LobePlots(on_off(need()?)?),
+        "compare_edit" => match need()? {
+            "a" => Action::CompareEdit(false),
+            "b" => Action::CompareEdit(true),
+            v => bail!("compare_edit={v}: expected a or b"),
+        },
+        "error_metric" => match need()? {
+            "relative" => Action::ErrorMetric(ErrorMetric::Relative),
+            "flip" => Action::ErrorMetric(ErrorMetric::Flip),
+            v => bail!("error_metric={v}: expected relative or flip"),
+        },
         other => bail!(
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
-             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights)"
+             orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights, \
+             compare_mode, compare_split, compare_flip, compare_duplicate, error_view, error_metric, \
+             lobe_plots, compare_edit)"
         ),
     })
 }
@@ -176,6 +224,19 @@ mod tests {
         assert_eq!(s[4], (32, Action::Orbit(10.0, -5.0)));
         assert_eq!(s[7], (35, Action::DebugView(DebugView::Normal)));
         assert_eq!(s.len(), 12);
+        let c = parse(
+            "1:compare_mode=difference;2:compare_split=0.25;3:compare_flip;4:compare_duplicate;\
+             5:error_view=on;6:error_metric=flip;7:lobe_plots=on;8:compare_edit=b",
+        )
+        .unwrap();
+        assert_eq!(c[0].1, Action::CompareMode(CompareMode::Difference));
+        assert_eq!(c[1].1, Action::CompareSplit(0.25));
+        assert_eq!(c[2].1, Action::CompareFlip);
+        assert_eq!(c[3].1, Action::CompareDuplicate);
+        assert_eq!(c[4].1, Action::ErrorView(true));
+        assert_eq!(c[5].1, Action::ErrorMetric(ErrorMetric::Flip));
+        assert_eq!(c[6].1, Action::LobePlots(true));
+        assert_eq!(c[7].1, Action::CompareEdit(true));
     }
 
     #[test]
@@ -192,6 +253,14 @@ mod tests {
             ("1:add_lights=spiral:4", "grid:N or random:N"),
             ("1:add_lights=grid:-1", "grid:N or random:N"),
             ("1:add_lights=grid:99999999", "at most 65536"),
+            (
+                "1:compare_mode=overlay",
+                "split, difference, flip or toggle",
+            ),
+            ("1:compare_split=1.5", "from 0 to 1"),
+            ("1:error_view=maybe", "not on or off"),
+            ("1:error_metric=ssim", "relative or flip"),
+            ("1:compare_edit=c", "a or b"),
         ] {
             let e = parse(bad).unwrap_err().to_string();
             assert!(e.contains(needle), "{bad}: {e}");

@@ -25,6 +25,9 @@ impl Viewer {
             "frames: {} shown, frame time p50 {:.2} ms, p95 {:.2} ms, p99 {:.2} ms, {} stutters (> 2x median)",
             self.frame_index, stats.p50, stats.p95, stats.p99, stats.stutters
         );
+        if let Some(line) = self.lab.summary() {
+            log::info!("{line}");
+        }
         let ctx = self.ctx.clone();
         drop(self);
         let log = ctx.validation_log();

@@ -18,8 +18,9 @@ impl Viewer {
                 }
                 Action::Minimize => self.window.set_minimized(true),
                 Action::Restore => self.window.set_minimized(false),
-                Action::Exposure(e) => self.scene.output.exposure = e,
-                Action::Tonemap(t) => self.scene.output.tonemap = t,
+                Action::Exposure(e) => self.edited_scene().output.exposure = e,
+                Action::Tonemap(t) => self.edited_scene().output.tonemap = t,
+                Action::CompareEdit(b) => self.lab.settings.edit_b = b,
                 Action::Panels(on) => self.settings.show_panels = on,
                 Action::Help(on) => self.settings.show_help = on,
                 Action::Orbit(dx, dy) => self.orbit.orbit(dx, dy),
@@ -34,6 +35,26 @@ impl Viewer {
                 Action::Screenshot(p) => self.pending_screenshot = Some(p),
                 Action::Open(p) => self.open_path(&p),
                 Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
+                Action::CompareMode(m) => {
+                    self.lab.settings.mode = m;
+                    self.lab.settings.open = true;
+                }
+                Action::CompareSplit(x) => {
+                    self.lab.settings.split = x;
+                    self.lab.settings.open = true;
+                }
+                Action::CompareFlip => self.lab.settings.show_b = !self.lab.settings.show_b,
+                Action::CompareDuplicate => self
+                    .apply_lab_actions(vec![super::super::ui::compare::CompareAction::Duplicate]),
+                Action::ErrorView(on) => {
+                    self.lab.settings.error_view = on;
+                    self.lab.settings.open = true;
+                }
+                Action::ErrorMetric(m) => self.lab.settings.metric = m,
+                Action::LobePlots(on) => {
+                    self.lab.settings.plots = on;
+                    self.lab.settings.open = true;
+                }
                 Action::AddLights(field, n) => {
                     let bounds = self.scene.bounds();
                     let lights = crate::scene::edit::light_field(field, n as usize, bounds);
@@ -42,6 +63,14 @@ impl Viewer {
             }
         }
         Ok(())
+    }
+
+    /// The scene the panels edit: B's when "panels edit B" is on and B exists, else A's.
+    fn edited_scene(&mut self) -> &mut Scene {
+        match (&mut self.lab.b, self.lab.settings.edit_b) {
+            (Some(b), true) => &mut b.scene,
+            _ => &mut self.scene,
+        }
     }
 
     /// Draws one frame; false when `--frames` are done.
@@ -123,12 +152,15 @@ impl Viewer {
         // 3. UI.
         let raw = self.egui_state.take_egui_input(&self.window);
         let mut actions = Vec::new();
+        let mut lab_actions = Vec::new();
+        self.lab.poll(&self.egui_ctx);
         let output = {
-            let (scene, settings, profiler, state) = (
+            let (scene, settings, profiler, state, lab) = (
                 &mut self.scene,
                 &mut self.settings,
                 &self.profiler,
                 &mut self.ui_state,
+                &mut self.lab,
             );
             let status = &self.status;
             self.egui_ctx.run_ui(raw, |ui| {
@@ -137,7 +169,22 @@ impl Viewer {
                         ui.label(s.as_str());
                     });
                 }
-                actions = ui::draw(ui, scene, settings, profiler, state);
+                let plot = if lab.settings.plots && settings.show_panels {
+                    let shown = match (&lab.b, lab.settings.edit_b) {
+                        (Some(b), true) => &b.scene,
+                        _ => &*scene,
+                    };
+                    lab::plot_key(shown, state.selected_object)
+                } else {
+                    None
+                };
+                lab_actions = lab.ui(ui, settings.show_panels, profiler, plot);
+                // The scene panels edit B when asked to (and B exists).
+                let edited = match (&mut lab.b, lab.settings.edit_b) {
+                    (Some(b), true) => &mut b.scene,
+                    _ => scene,
+                };
+                actions = ui::draw(ui, edited, settings, profiler, state);
             })
         };
         self.egui_state
@@ -146,6 +193,7 @@ impl Viewer {
             .egui_ctx
             .tessellate(output.shapes, output.pixels_per_point);
         self.apply_actions(actions)?;
+        self.apply_lab_actions(lab_actions);
         if Structure::of(&self.scene, &self.settings) != self.structure {
             let env = self.structure.environment != self.scene.environment;
             if let Err(e) = self.rebuild(env) {
@@ -178,6 +226,10 @@ impl Viewer {
         let levels = crate::scene::lod::levels_in_use(&self.forward.lod_choices(slot, &self.scene));
         self.profiler
             .set_geometry(self.forward.triangles_drawn(slot), levels);
+        self.sync_b(slot)?;
+        self.lab
+            .error_tick(&self.scene, self.targets.color.extent());
+        self.lab.pair_tick();
 
         // 5. Record.
         let cmd = self.frames[slot].cmd;
@@ -241,11 +293,18 @@ impl Viewer {
             Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.swapchain_dirty = true,
             Err(e) => return Err(e.into()),
         }
-        if let Some(shot) = readback {
+        let copies = std::mem::take(&mut self.lab_copies);
+        if readback.is_some() || copies.any() {
             let f = &self.frames[slot];
             // SAFETY: the fence was submitted with this frame just above; waiting makes its copy visible.
             unsafe { d.wait_for_fences(&[f.fence], true, u64::MAX)? };
+        }
+        if let Some(shot) = readback {
             self.save_screenshot(&shot)?;
+        }
+        if copies.any() {
+            let (a, b) = copies.images()?;
+            self.lab.deliver(a, b, &self.scene);
         }
         self.frames[slot].cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         self.slot = (slot + 1) % FRAMES_IN_FLIGHT;
@@ -262,7 +321,7 @@ impl Viewer {
     /// the window, else the HDR radiance.
     pub(super) fn frame_output(&self, screenshot: Option<&Path>) -> Output {
         let exr = screenshot.is_some_and(is_exr);
-        if exr || self.targets.extent() != self.swapchain.extent {
+        if exr || self.lab.forces_hdr() || self.targets.extent() != self.swapchain.extent {
             return Output::Hdr;
         }
         preferred_output(
@@ -346,9 +405,8 @@ impl Viewer {
             }
             let exr = screenshot.filter(|p| is_exr(p));
             let mut read = self.display.source_access();
-            if exr.is_some() {
-                read.1 |= vk::PipelineStageFlags2::COPY;
-                read.2 |= vk::AccessFlags2::TRANSFER_READ;
+            if exr.is_some() || self.lab.forces_hdr() {
+                read = lab::readable(read);
             }
             transition(
                 &d,
@@ -366,6 +424,7 @@ impl Viewer {
             if let Some(path) = exr {
                 shot = Some(self.copy_hdr(&d, cmd, path)?);
             }
+            self.lab_copies = self.record_lab(&d, cmd, slot, &mut timer)?;
             vk::AttachmentLoadOp::DONT_CARE
         };
         let hdr_extent = self.targets.color.extent();
@@ -393,13 +452,7 @@ impl Viewer {
                     width: hdr_extent.width.min(sc.width),
                     height: hdr_extent.height.min(sc.height),
                 };
-                self.display.record(
-                    cmd,
-                    self.scene.output.tonemap,
-                    self.swapchain.format,
-                    self.scene.output.exposure,
-                    area,
-                )?;
+                self.record_display(cmd, area)?;
                 if let Some(t) = &mut timer {
                     t.end(cmd, s);
                 }
@@ -436,7 +489,7 @@ impl Viewer {
                 ),
             }],
         );
-        if shot.is_some() {
+        if shot.is_some() || self.lab_copies.any() {
             crate::vk::cmd::memory_barrier(
                 &d,
                 cmd,

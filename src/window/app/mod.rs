@@ -43,6 +43,7 @@ use crate::vk::{Buffer, Context, ContextDesc, InstanceDesc, VkError};
 /// Frames the CPU may record ahead of the GPU.
 mod bench;
 mod frame;
+mod lab;
 mod open;
 
 const FRAMES_IN_FLIGHT: usize = 2;
@@ -59,6 +60,16 @@ pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
     for w in &scene.warnings {
         log::warn!("{w}");
     }
+    let compare = match &args.compare {
+        Some(p) => {
+            let b = crate::scene::load(p)?;
+            for w in &b.warnings {
+                log::warn!("B: {w}");
+            }
+            Some(b)
+        }
+        None => None,
+    };
     let script = match &args.script {
         Some(s) => script::parse(s)?,
         None => Vec::new(),
@@ -71,6 +82,7 @@ pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
     let mut app = App {
         args,
         scene: Some(scene),
+        compare,
         script,
         viewer: None,
         result: None,
@@ -82,6 +94,8 @@ pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
 struct App {
     args: ViewOptions,
     scene: Option<Scene>,
+    /// Side B (`--compare`), until the viewer exists.
+    compare: Option<Scene>,
     script: Vec<(u64, Action)>,
     viewer: Option<Viewer>,
     result: Option<Result<ViewOutcome>>,
@@ -112,7 +126,15 @@ impl ApplicationHandler for App {
         let Some(scene) = self.scene.take() else {
             return;
         };
-        match Viewer::new(el, scene, &self.args, std::mem::take(&mut self.script)) {
+        let made = Viewer::new(el, scene, &self.args, std::mem::take(&mut self.script)).and_then(
+            |mut v| {
+                if let Some(b) = self.compare.take() {
+                    v.set_b(b)?;
+                }
+                Ok(v)
+            },
+        );
+        match made {
             Ok(v) => self.viewer = Some(v),
             Err(e) => self.fail(el, e),
         }
@@ -279,6 +301,10 @@ struct Viewer {
     egui_ctx: egui::Context,
     ui_state: UiState,
     settings: ViewSettings,
+    /// A/B comparison and the error view.
+    lab: lab::Lab,
+    /// This frame's read-backs for the lab (read after its fence).
+    lab_copies: lab::Readbacks,
     profiler: Profiler,
     bench_frames: Vec<FrameSample>,
     display: DisplayPass,
@@ -410,7 +436,7 @@ impl Viewer {
                 cmd,
                 fence,
                 acquired,
-                timer: GpuTimer::new(&ctx, 8)?,
+                timer: GpuTimer::new(&ctx, 16)?,
                 submitted: false,
                 free_textures: Vec::new(),
                 cpu_ms: 0.0,
@@ -486,6 +512,8 @@ impl Viewer {
             egui_ctx,
             ui_state: UiState::default(),
             settings,
+            lab: lab::Lab::default(),
+            lab_copies: lab::Readbacks::default(),
             profiler: Profiler::new(PROFILER_WINDOW),
             bench_frames: Vec::new(),
             display,
@@ -537,6 +565,8 @@ impl Viewer {
                     self.swapchain_dirty = true;
                 }
                 "p" => self.pending_screenshot = Some(screenshot_name(shift)),
+                "b" => self.lab.settings.show_b = !self.lab.settings.show_b,
+                "l" => self.lab.settings.open = !self.lab.settings.open,
                 _ => {}
             },
             _ => {}
@@ -575,6 +605,7 @@ impl Viewer {
                 }
                 UiAction::ResetCamera => self.orbit = self.initial_camera,
                 UiAction::FrameAll => self.frame_all(),
+                UiAction::ToggleLab => self.lab.settings.open = !self.lab.settings.open,
             }
         }
         Ok(())

@@ -81,6 +81,8 @@ pub enum UiAction {
     VsyncChanged,
     /// `ViewSettings::debug_view` changed.
     DebugViewChanged,
+    /// Show or hide the lab panel (A/B comparison, error view, lobe plots).
+    ToggleLab,
 }
 
 /// UI state kept between frames.
@@ -135,6 +137,8 @@ pub const KEYS: &[(&str, &str)] = &[
     ("H or F1", "this help"),
     ("Tab", "hide/show panels"),
     ("V", "vsync on/off"),
+    ("L", "lab panel: A/B comparison, error view, lobe plots"),
+    ("B", "A/B toggle mode: show the other side"),
     ("Esc", "quit"),
 ];
 
@@ -172,6 +176,9 @@ pub fn draw(
             .default_size(330.0)
             .show(ui, |ui| {
                 ScrollArea::vertical().show(ui, |ui| {
+                    if ui.button("Lab: A/B, error view, lobe plots (L)").clicked() {
+                        out.actions.push(UiAction::ToggleLab);
+                    }
                     let all = state.expand_all;
                     section(ui, "File", true, all, |ui| file_ui(ui, state, &mut out));
                     section(ui, "Scene", true, all, |ui| {
@@ -224,6 +231,7 @@ fn section(ui: &mut Ui, title: &str, open: bool, expand_all: bool, add: impl FnO
         .show(ui, add);
 }
 
+pub mod compare;
 mod environment;
 mod lights;
 mod materials;

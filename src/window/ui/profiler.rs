@@ -125,6 +125,7 @@ pub(super) fn frame_graph(ui: &mut Ui, profiler: &Profiler, median: f64) {
             )
         })
         .collect();
+    pass_bars(&painter, rect, profiler, (x0, dx), &y);
     let font = FontId::monospace(10.0);
     for (level, label, colour) in [
         (median, "median", Color32::from_rgb(90, 170, 90)),
@@ -150,6 +151,63 @@ pub(super) fn frame_graph(ui: &mut Ui, profiler: &Profiler, median: f64) {
         font,
         visuals.weak_text_color(),
     );
+}
+
+/// The colour of pass `i` (in the order passes first appear in the window).
+fn pass_colour(i: usize) -> Color32 {
+    const COLOURS: [(u8, u8, u8); 8] = [
+        (70, 130, 200),
+        (220, 140, 50),
+        (90, 170, 90),
+        (180, 90, 180),
+        (200, 200, 80),
+        (80, 190, 190),
+        (200, 90, 90),
+        (150, 150, 150),
+    ];
+    let (r, g, b) = COLOURS[i % COLOURS.len()];
+    Color32::from_rgba_unmultiplied(r, g, b, 170)
+}
+
+/// Per frame, a bar of its GPU passes stacked from the bottom (the frame line is drawn over
+/// them), with the passes' names in their colours along the top.
+fn pass_bars(
+    painter: &egui::Painter,
+    rect: egui::Rect,
+    profiler: &Profiler,
+    (x0, dx): (f32, f32),
+    y: &dyn Fn(f64) -> f32,
+) {
+    let names: Vec<&'static str> = profiler.pass_history().iter().map(|(n, _)| *n).collect();
+    let half = (dx * 0.4).max(0.5);
+    for (i, s) in profiler.samples().enumerate() {
+        let x = x0 + dx * i as f32;
+        let mut total = 0.0;
+        for (name, ms) in &s.gpu_ms {
+            if !ms.is_finite() || *ms <= 0.0 {
+                continue;
+            }
+            let k = names.iter().position(|n| n == name).unwrap_or(0);
+            let (bottom, top) = (y(total), y(total + ms));
+            total += ms;
+            painter.rect_filled(
+                egui::Rect::from_min_max(Pos2::new(x - half, top), Pos2::new(x + half, bottom)),
+                0.0,
+                pass_colour(k),
+            );
+        }
+    }
+    let mut at = Pos2::new(rect.left() + 4.0, rect.top() + 2.0);
+    for (k, name) in names.iter().enumerate() {
+        let r = painter.text(
+            at,
+            Align2::LEFT_TOP,
+            *name,
+            FontId::monospace(10.0),
+            pass_colour(k).to_opaque(),
+        );
+        at.x = r.right() + 8.0;
+    }
 }
 
 /// One line in the top-right corner: FPS and frame-time median (when the panels are hidden).

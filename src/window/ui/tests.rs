@@ -104,5 +104,7 @@ fn every_material_model_draws() {
 #[test]
 fn keys_are_listed() {
     assert!(KEYS.iter().any(|(k, _)| *k == "Esc"));
-    assert_eq!(KEYS.len(), 11);
+    // The lab's keys (issue 20): L opens the lab panel, B switches sides in toggle mode.
+    assert!(KEYS.iter().any(|(k, _)| *k == "L") && KEYS.iter().any(|(k, _)| *k == "B"));
+    assert_eq!(KEYS.len(), 13);
 }

@@ -1,0 +1,691 @@
+//! The lab in the window, app side: side B of an A/B comparison (a second scene with its own
+//! forward, saturate and display passes and HDR target, from the headless core, drawn every frame
+//! with the shared camera), the read-backs of both HDR images for the CPU maps (difference,
+//! FLIP) and the error view's reference job. The panel and the overlays are `ui::compare`'s.
+
+use super::*;
+use crate::window::jobs::{ErrorResult, MapImage, MapJob, MapKind, MapWorker, ReferenceJob};
+use crate::window::ui::compare::{
+    CompareAction, CompareInfo, CompareMode, CompareSettings, ErrorMetric, ErrorStatus,
+};
+
+/// Environment samples per pixel of the error view's reference (`luz reference` takes 1024:
+/// the viewer trades noise in environment-lit scenes for a reference in seconds).
+pub(super) const ERROR_VIEW_ENV_SAMPLES: u32 = 64;
+
+/// The name of B's GPU timer scope (its forward and saturate passes together).
+pub(super) const B_SCOPE: &str = "B: scene";
+
+/// Side B: a scene and the passes that draw it, like A's in [`Viewer`].
+pub(super) struct Side {
+    pub scene: Scene,
+    /// The scene the passes were built for.
+    built_scene: Scene,
+    structure: Structure,
+    forward: ForwardPass,
+    ibl: Option<Ibl>,
+    targets: HdrTarget,
+    saturate: Option<SaturatePass>,
+    display: DisplayPass,
+}
+
+/// What B's passes are built with.
+pub(super) struct SideEnv<'a> {
+    pub ctx: &'a Arc<Context>,
+    pub pool: &'a CommandPool,
+    pub settings: &'a ViewSettings,
+    pub options: &'a RenderOptions,
+    pub path: crate::render::forward::RenderPath,
+    pub extent: vk::Extent2D,
+}
+
+impl Side {
+    /// Builds B's passes for `scene`, reusing `ibl` when given (same environment).
+    fn new(env: &SideEnv, scene: Scene, ibl: Option<Option<Ibl>>) -> Result<Self> {
+        let samples = sample_flags(scene.output.msaa);
+        let targets = HdrTarget::new(env.ctx, "viewer B", nonzero(env.extent), samples)?;
+        let ibl = match ibl {
+            Some(i) => i,
+            None => match &scene.environment {
+                Some(e) => Some(build_ibl(
+                    env.ctx,
+                    env.pool,
+                    &scene,
+                    e,
+                    &env.options.ibl,
+                    env.options.cache_dir.as_deref(),
+                    env.options.progress.as_deref(),
+                )?),
+                None => None,
+            },
+        };
+        let forward = make_forward(
+            env.ctx,
+            env.pool,
+            &scene,
+            samples,
+            ibl.as_ref(),
+            env.extent,
+            pass_options(env.settings, (Output::Hdr, env.path)),
+        )?;
+        let saturate = SaturatePass::for_scene(env.ctx, &scene, &targets.color)?;
+        let display = DisplayPass::new(env.ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
+        Ok(Self {
+            structure: Structure::of(&scene, env.settings),
+            built_scene: scene.clone(),
+            scene,
+            forward,
+            ibl,
+            targets,
+            saturate,
+            display,
+        })
+    }
+
+    /// Rebuilds what B's scene or the window size now needs; then this frame's per-frame data.
+    /// A failed rebuild undoes the edit (B's passes fit the last scene that built).
+    fn sync(
+        side: &mut Option<Side>,
+        env: &SideEnv,
+        camera: crate::scene::Camera,
+        (slot, format): (usize, vk::Format),
+    ) -> Result<Option<String>> {
+        let Some(b) = side else { return Ok(None) };
+        let mut message = None;
+        let changed = Structure::of(&b.scene, env.settings) != b.structure;
+        if changed || nonzero(env.extent) != b.targets.color.extent() {
+            // SAFETY: the device is live and only this thread submits; afterwards nothing B's
+            // old passes recorded is pending.
+            unsafe { env.ctx.device.device_wait_idle()? };
+            let same_env = b.structure.environment == b.scene.environment;
+            let ibl = same_env.then(|| b.ibl.take());
+            match Side::new(env, b.scene.clone(), ibl) {
+                Ok(new) => *b = new,
+                Err(e) => {
+                    message = Some(format!("B: {e:#} (the edit was undone)"));
+                    *b = Side::new(env, b.built_scene.clone(), None)?;
+                }
+            }
+        }
+        b.scene.camera = camera;
+        let aspect = env.extent.width as f32 / env.extent.height.max(1) as f32;
+        b.forward.update(slot, &b.scene, aspect)?;
+        b.forward.prepare(Output::Hdr)?;
+        b.forward.prepare_extent(env.extent)?;
+        b.display.prepare(b.scene.output.tonemap, format)?;
+        Ok(message)
+    }
+
+    /// Records B's scene passes into its HDR target, leaving the colour image readable by the
+    /// display pass and by a copy.
+    fn record(&mut self, d: &ash::Device, cmd: vk::CommandBuffer, slot: usize) -> Result<()> {
+        self.targets.begin_frame(
+            d,
+            cmd,
+            FrameStart::AfterPrevious {
+                color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags2::COPY,
+            },
+        );
+        let views = self.targets.views();
+        self.forward
+            .record_slot(cmd, &views, slot, Output::Hdr, None)?;
+        let mut last = COLOR_ATTACHMENT;
+        if let Some(sat) = &self.saturate {
+            last = sat.record(cmd, last);
+        }
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: self.targets.color.raw,
+                range: self.targets.color.subresource_range(),
+                from: last,
+                to: readable(self.display.source_access()),
+            }],
+        );
+        Ok(())
+    }
+}
+
+/// `access` (the display pass's read of an HDR image) plus a copy's read of it.
+pub(super) fn readable(mut access: Access) -> Access {
+    access.1 |= vk::PipelineStageFlags2::COPY;
+    access.2 |= vk::AccessFlags2::TRANSFER_READ;
+    access
+}
+
+/// What the error view's reference depends on: when it changes (the camera moved, the window
+/// was resized, the scene was edited), a running reference is cancelled and a shown one dropped.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct ViewKey {
+    camera: crate::scene::Camera,
+    extent: (u32, u32),
+    output: crate::scene::Output,
+    ambient: glam::Vec3,
+    lights: Vec<crate::scene::Light>,
+    materials: Vec<crate::scene::NamedMaterial>,
+    objects: Vec<(crate::scene::Transform, usize, crate::scene::Shading, usize)>,
+    fog: Option<crate::scene::Fog>,
+    saturation: crate::scene::Saturation,
+    environment: Option<crate::scene::Environment>,
+}
+
+impl ViewKey {
+    fn of(scene: &Scene, extent: vk::Extent2D) -> Self {
+        Self {
+            camera: scene.camera,
+            extent: (extent.width, extent.height),
+            output: scene.output,
+            ambient: scene.ambient,
+            lights: scene.lights.clone(),
+            materials: scene.materials.clone(),
+            objects: scene
+                .objects
+                .iter()
+                .map(|o| {
+                    (
+                        o.transform,
+                        o.material,
+                        o.shading,
+                        Arc::as_ptr(&o.mesh) as usize,
+                    )
+                })
+                .collect(),
+            fog: scene.fog,
+            saturation: scene.saturation,
+            environment: scene.environment.clone(),
+        }
+    }
+}
+
+/// The lab's state in the viewer.
+#[derive(Default)]
+pub(super) struct Lab {
+    pub settings: CompareSettings,
+    pub b: Option<Side>,
+    worker: Option<MapWorker>,
+    map: Option<MapImage>,
+    map_texture: Option<egui::TextureHandle>,
+    job: Option<(ReferenceJob, ViewKey)>,
+    error: Option<(ErrorResult, ViewKey)>,
+    error_failed: Option<String>,
+    error_texture: Option<(egui::TextureHandle, ErrorMetric)>,
+    /// The view of the previous frame: a reference starts once the view held still a frame.
+    last_key: Option<ViewKey>,
+    /// The pair of images was read back this frame for the map worker.
+    pub want_pair: bool,
+    /// A's image was read back this frame for the reference job.
+    pub want_a: bool,
+    plots: Option<crate::window::plots::PlotWorker>,
+    /// Worker time of every A/B map received: (kind, width, height, ms).
+    map_times: Vec<(MapKind, u32, u32, f64)>,
+}
+
+fn texture(ctx: &egui::Context, slot: &mut Option<egui::TextureHandle>, name: &str, m: &MapImage) {
+    let image =
+        egui::ColorImage::from_rgba_unmultiplied([m.width as usize, m.height as usize], &m.rgba);
+    match slot {
+        Some(t) => t.set(image, egui::TextureOptions::NEAREST),
+        None => *slot = Some(ctx.load_texture(name, image, egui::TextureOptions::NEAREST)),
+    }
+}
+
+impl Lab {
+    /// A's forward pass must draw the float image (B is composed with it, or it is read back).
+    pub fn forces_hdr(&self) -> bool {
+        self.b.is_some() || self.settings.error_view
+    }
+
+    /// One line on the A/B maps computed in the session (count and median worker time per kind
+    /// and size), for the exit log; `None` without maps.
+    pub fn summary(&self) -> Option<String> {
+        let mut parts = Vec::new();
+        let mut keys: Vec<(MapKind, u32, u32)> = Vec::new();
+        for &(k, w, h, _) in &self.map_times {
+            if !keys.contains(&(k, w, h)) {
+                keys.push((k, w, h));
+            }
+        }
+        for (k, w, h) in keys {
+            let ms: Vec<f64> = self
+                .map_times
+                .iter()
+                .filter(|t| (t.0, t.1, t.2) == (k, w, h))
+                .map(|t| t.3)
+                .collect();
+            let name = if k == MapKind::Flip {
+                "flip"
+            } else {
+                "difference"
+            };
+            parts.push(format!(
+                "{} {name} maps at {w}x{h}, median {:.1} ms on the CPU",
+                ms.len(),
+                crate::stats::quantile(&ms, 0.5)
+            ));
+        }
+        (!parts.is_empty()).then(|| format!("A/B maps: {}", parts.join("; ")))
+    }
+
+    /// Takes finished work from the threads (never waits).
+    pub fn poll(&mut self, ctx: &egui::Context) {
+        if let Some(w) = &mut self.worker {
+            if let Some(m) = w.poll() {
+                self.map_times.push((m.kind, m.width, m.height, m.ms));
+                texture(ctx, &mut self.map_texture, "luz_ab_map", &m);
+                self.map = Some(m);
+            }
+        }
+        let finished = self.job.as_mut().and_then(|(j, _)| j.poll());
+        if let Some(r) = finished {
+            let (_, key) = self.job.take().expect("polled above");
+            match r {
+                Ok(Some(result)) => {
+                    log::info!(
+                        "error view: reference {}x{} in {:.0} ms; relative error mean {:.3e} \
+                         p99 {:.3e} max {:.3e}; FLIP mean {:.4}",
+                        result.width,
+                        result.height,
+                        result.reference_ms,
+                        result.relative.stats.mean,
+                        result.relative.stats.p99,
+                        result.relative.stats.max,
+                        result.flip.stats.mean
+                    );
+                    self.error = Some((result, key));
+                    self.error_texture = None;
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    log::error!("error view: {e}");
+                    self.error_failed = Some(e);
+                }
+            }
+        }
+        let metric = self.settings.metric;
+        if let Some((r, _)) = &self.error {
+            if self.error_texture.as_ref().map(|(_, m)| *m) != Some(metric) {
+                let map = match metric {
+                    ErrorMetric::Relative => &r.relative,
+                    ErrorMetric::Flip => &r.flip,
+                };
+                let mut slot = self.error_texture.take().map(|(t, _)| t);
+                texture(ctx, &mut slot, "luz_error_map", map);
+                self.error_texture = slot.map(|t| (t, metric));
+            }
+        }
+    }
+
+    /// The error view's state machine for this frame, with A's scene (camera set) at `extent`:
+    /// cancels what the view no longer matches, starts a reference once the view held still.
+    /// Sets `want_a` when this frame's A image must go to a new job.
+    pub fn error_tick(&mut self, scene: &Scene, extent: vk::Extent2D) {
+        self.want_a = false;
+        if !self.settings.error_view {
+            self.job = None;
+            self.error = None;
+            self.error_texture = None;
+            self.error_failed = None;
+            self.last_key = None;
+            return;
+        }
+        let key = ViewKey::of(scene, extent);
+        if self.job.as_ref().is_some_and(|(_, k)| *k != key) {
+            self.job = None; // dropping cancels
+        }
+        if self.error.as_ref().is_some_and(|(_, k)| *k != key) {
+            self.error = None;
+            self.error_texture = None;
+            self.error_failed = None;
+        }
+        let still = self.last_key.as_ref() == Some(&key);
+        if self.job.is_none() && self.error.is_none() && self.error_failed.is_none() && still {
+            let mut s = scene.clone();
+            s.output.width = extent.width;
+            s.output.height = extent.height;
+            let opts = crate::reference::ReferenceOptions {
+                samples: ERROR_VIEW_ENV_SAMPLES,
+                ..Default::default()
+            };
+            let job = ReferenceJob::start(s, opts, scene.output.exposure, scene.output.tonemap);
+            self.job = Some((job, key.clone()));
+            self.want_a = true;
+        }
+        self.last_key = Some(key);
+    }
+
+    /// Whether this frame reads back A and B for a new map.
+    pub fn pair_tick(&mut self) {
+        self.want_pair = self.b.is_some()
+            && self.settings.mode.needs_map()
+            && self.worker.as_ref().is_none_or(|w| w.idle());
+        if !self.settings.mode.needs_map() || self.b.is_none() {
+            self.map = None;
+            self.map_texture = None;
+        }
+    }
+
+    /// Hands this frame's read-back images to the worker and the job.
+    pub fn deliver(&mut self, a: Option<LinearImage>, b: Option<LinearImage>, scene: &Scene) {
+        if let (Some(a), Some(b)) = (a.clone(), b) {
+            let kind = match self.settings.mode {
+                CompareMode::Flip => MapKind::Flip,
+                _ => MapKind::Difference,
+            };
+            self.worker.get_or_insert_with(MapWorker::new).send(MapJob {
+                kind,
+                a,
+                b,
+                exposure: scene.output.exposure,
+                tonemap: scene.output.tonemap,
+            });
+        }
+        if let (Some(a), Some((job, _))) = (a, &mut self.job) {
+            if job.wants_gpu_image() {
+                job.give_gpu_image(a);
+            }
+        }
+    }
+
+    fn error_status(&self) -> ErrorStatus<'_> {
+        if !self.settings.error_view {
+            return ErrorStatus::Off;
+        }
+        if let Some(e) = &self.error_failed {
+            return ErrorStatus::Failed(e);
+        }
+        if let Some((r, _)) = &self.error {
+            return ErrorStatus::Done(r);
+        }
+        match &self.job {
+            Some((j, _)) => ErrorStatus::Running(j.rows_done(), j.total_rows),
+            None => ErrorStatus::Running(0, 0),
+        }
+    }
+
+    /// Paints the overlays (under the panels) and, with `panels`, the lab panel; returns the
+    /// panel's actions.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        panels: bool,
+        profiler: &Profiler,
+        plot: Option<crate::window::plots::PlotKey>,
+    ) -> Vec<CompareAction> {
+        use crate::window::ui::compare as c;
+        if panels && self.settings.plots {
+            self.plots
+                .get_or_insert_with(Default::default)
+                .update(ui.ctx(), plot);
+        }
+        let error_shown = self.settings.error_view && self.error.is_some();
+        if error_shown {
+            if let Some((t, _)) = &self.error_texture {
+                c::paint_map(ui, t);
+            }
+        } else if self.b.is_some() && self.settings.mode.needs_map() {
+            if let Some(t) = &self.map_texture {
+                c::paint_map(ui, t);
+            }
+        } else if self.b.is_some() && self.settings.mode == CompareMode::Split {
+            c::divider(ui, &mut self.settings.split);
+        }
+        let passes = profiler.pass_history();
+        let b_ms = passes
+            .iter()
+            .filter(|(n, _)| *n == B_SCOPE)
+            .map(|(_, t)| t)
+            .sum::<f64>();
+        let a_ms = passes
+            .iter()
+            .filter(|(n, _)| !matches!(*n, B_SCOPE | "display" | "ui"))
+            .map(|(_, t)| t)
+            .sum::<f64>();
+        if !panels {
+            let legend = match (&self.error, self.settings.metric) {
+                (Some((r, _)), ErrorMetric::Relative) if error_shown => Some((&r.relative, true)),
+                (Some((r, _)), ErrorMetric::Flip) if error_shown => Some((&r.flip, false)),
+                _ if self.b.is_some() && self.settings.mode.needs_map() => {
+                    self.map.as_ref().map(|m| (m, false))
+                }
+                _ => None,
+            };
+            if let Some((m, percent)) = legend {
+                c::corner_legend(ui.ctx(), m, percent);
+            }
+            return Vec::new();
+        }
+        if !self.settings.open {
+            return Vec::new();
+        }
+        let info = CompareInfo {
+            has_b: self.b.is_some(),
+            gpu_ms: (a_ms, b_ms),
+            map: self.map.as_ref(),
+            error: self.error_status(),
+            plots: self.plots.as_ref(),
+        };
+        let mut settings = self.settings;
+        let actions = c::compare_panel(ui, &mut settings, &info);
+        self.settings = settings;
+        actions
+    }
+}
+
+/// The plot key of the material of `scene`'s object `selected` at its light angle
+/// ([`crate::window::plots::light_angle`]; 45° without a light).
+pub(super) fn plot_key(scene: &Scene, selected: usize) -> Option<crate::window::plots::PlotKey> {
+    let o = scene.objects.get(selected)?;
+    let m = scene.materials.get(o.material)?;
+    Some(crate::window::plots::PlotKey {
+        model: m.material,
+        theta_l: crate::window::plots::light_angle(scene, selected).unwrap_or(45.0),
+    })
+}
+
+impl Viewer {
+    /// Starts comparing: B becomes `scene` (a copy of A or the `--compare` file).
+    pub(super) fn set_b(&mut self, scene: Scene) -> Result<()> {
+        // SAFETY: the device is live and only this thread submits; B's old passes (if any) are
+        // dropped below, after nothing uses them.
+        unsafe { self.ctx.device.device_wait_idle()? };
+        self.lab.b = None;
+        let env = self.side_env();
+        let side = Side::new(&env, scene, None)?;
+        self.lab.b = Some(side);
+        self.lab.settings.open = true;
+        Ok(())
+    }
+
+    fn side_env(&self) -> SideEnv<'_> {
+        SideEnv {
+            ctx: &self.ctx,
+            pool: &self.pool,
+            settings: &self.settings,
+            options: &self.render_options,
+            path: self.render_path,
+            extent: self.swapchain.extent,
+        }
+    }
+
+    pub(super) fn apply_lab_actions(&mut self, actions: Vec<CompareAction>) {
+        for a in actions {
+            let r = match a {
+                CompareAction::Duplicate => self.set_b(self.scene.clone()),
+                CompareAction::DropB => {
+                    // SAFETY: as in `set_b`.
+                    let idle = unsafe { self.ctx.device.device_wait_idle() };
+                    self.lab.b = None;
+                    self.lab.settings.edit_b = false;
+                    idle.map_err(Into::into)
+                }
+            };
+            if let Err(e) = r {
+                let msg = format!("B: {e:#}");
+                log::error!("{msg}");
+                self.status = Some(msg);
+            }
+        }
+    }
+
+    /// B's rebuilds and per-frame data, before recording.
+    pub(super) fn sync_b(&mut self, slot: usize) -> Result<()> {
+        let camera = self.orbit.to_camera();
+        // B is taken out while the environment borrows the viewer, and put back before any error
+        // goes up.
+        let mut b = self.lab.b.take();
+        let synced = Side::sync(
+            &mut b,
+            &self.side_env(),
+            camera,
+            (slot, self.swapchain.format),
+        );
+        self.lab.b = b;
+        if let Some(m) = synced? {
+            log::error!("{m}");
+            self.status = Some(m);
+        }
+        Ok(())
+    }
+
+    /// Records B's passes (timed as one scope) and the copies this frame reads back; A's HDR
+    /// image is already in its display-read state (with copy access when `copy_a`).
+    pub(super) fn record_lab(
+        &mut self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        timer: &mut Option<GpuTimer>,
+    ) -> Result<Readbacks> {
+        let mut out = Readbacks::default();
+        if let Some(b) = &mut self.lab.b {
+            let s = timer.as_mut().and_then(|t| t.begin(cmd, B_SCOPE));
+            b.record(d, cmd, slot)?;
+            if let Some(t) = timer {
+                t.end(cmd, s);
+            }
+        }
+        if self.lab.want_a || self.lab.want_pair {
+            out.a = Some(self.copy_color(d, cmd, &self.targets.color, "read-back A")?);
+        }
+        if self.lab.want_pair {
+            if let Some(b) = &self.lab.b {
+                out.b = Some(self.copy_color(d, cmd, &b.targets.color, "read-back B")?);
+            }
+        }
+        Ok(out)
+    }
+
+    fn copy_color(
+        &self,
+        d: &ash::Device,
+        cmd: vk::CommandBuffer,
+        color: &crate::vk::Image,
+        name: &str,
+    ) -> Result<(Buffer, vk::Extent2D)> {
+        let extent = color.extent();
+        let buffer = Buffer::new(
+            &self.ctx,
+            name,
+            extent.width as u64 * extent.height as u64 * 16,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        // The copy reads TRANSFER_SRC_OPTIMAL (what the validation layer's performance checks
+        // ask for), then the image goes back to the display pass's read state.
+        let state = readable(self.display.source_access());
+        let src: Access = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        );
+        let range = color.subresource_range();
+        let t = |from, to| Transition {
+            image: color.raw,
+            range,
+            from,
+            to,
+        };
+        transition(d, cmd, &[t(state, src)]);
+        copy_image_to_buffer(d, cmd, color.raw, src.0, &buffer, extent);
+        transition(d, cmd, &[t(src, state)]);
+        Ok((buffer, extent))
+    }
+
+    /// Draws the window's scene image: A, or A and B as the comparison mode shows them.
+    pub(super) fn record_display(&self, cmd: vk::CommandBuffer, area: vk::Extent2D) -> Result<()> {
+        let format = self.swapchain.format;
+        let a = (&self.display, &self.scene);
+        let rect = |x0: u32, x1: u32| vk::Rect2D {
+            offset: vk::Offset2D { x: x0 as i32, y: 0 },
+            extent: vk::Extent2D {
+                width: x1.saturating_sub(x0),
+                height: area.height,
+            },
+        };
+        let draw = |(pass, scene): (&DisplayPass, &Scene), clip: vk::Rect2D| {
+            pass.record_clipped(
+                cmd,
+                (scene.output.tonemap, format),
+                scene.output.exposure,
+                area,
+                clip,
+            )
+        };
+        let Some(b) = &self.lab.b else {
+            return Ok(draw(a, rect(0, area.width))?);
+        };
+        let b = (&b.display, &b.scene);
+        match self.lab.settings.mode {
+            CompareMode::Split => {
+                let x =
+                    ((self.lab.settings.split * area.width as f32).round() as u32).min(area.width);
+                if x > 0 {
+                    draw(a, rect(0, x))?;
+                }
+                if x < area.width {
+                    draw(b, rect(x, area.width))?;
+                }
+            }
+            CompareMode::Toggle if self.lab.settings.show_b => draw(b, rect(0, area.width))?,
+            _ => draw(a, rect(0, area.width))?,
+        }
+        Ok(())
+    }
+}
+
+/// Host copies recorded this frame: (buffer, extent) of A and B.
+#[derive(Default)]
+pub(super) struct Readbacks {
+    pub a: Option<(Buffer, vk::Extent2D)>,
+    pub b: Option<(Buffer, vk::Extent2D)>,
+}
+
+impl Readbacks {
+    pub fn any(&self) -> bool {
+        self.a.is_some() || self.b.is_some()
+    }
+
+    /// The copies as images (after the frame's fence).
+    pub fn images(&self) -> Result<(Option<LinearImage>, Option<LinearImage>)> {
+        let read = |r: &Option<(Buffer, vk::Extent2D)>| -> Result<Option<LinearImage>> {
+            let Some((buffer, e)) = r else {
+                return Ok(None);
+            };
+            let n = e.width as usize * e.height as usize;
+            let bytes = buffer.mapped()?;
+            let floats: &[f32] = bytemuck::try_cast_slice(&bytes[..n * 16])
+                .map_err(|e| anyhow!("read-back buffer: {e}"))?;
+            Ok(Some(LinearImage {
+                width: e.width,
+                height: e.height,
+                pixels: floats
+                    .chunks_exact(4)
+                    .map(|c| [c[0], c[1], c[2], c[3]])
+                    .collect(),
+            }))
+        };
+        Ok((read(&self.a)?, read(&self.b)?))
+    }
+}
