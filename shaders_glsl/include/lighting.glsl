@@ -189,15 +189,15 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 
-// The number of lights, for loops over them. It goes through the lights buffer's length on
-// purpose: lavapipe 22.3 "inlines" uniforms that alone decide a loop's trip count or a branch,
-// compiling a shader variant with their values every time the pipeline or the uniforms are
-// bound. That version keeps no cache of the variants; when inlining does not shrink the shader
-// (a loop unrolled over a big body: the shadow lookups, vertex lighting) it compiles and leaks one
-// variant per bind: ~5 MB per shadowed frame, ~200 KB per Gouraud object per frame
-// (tests/soak.rs). A count that also depends on a buffer's size is not inlinable.
+// The number of lights, for loops over them. Known defect (docs/shadows.md): lavapipe 22.3
+// inlines uniforms that alone decide a loop's trip count or a branch, or that are stored in a
+// variable used five times or more, compiling (and leaking) a shader variant per bind when that
+// does not shrink the shader. This count, from the frame's uniform buffer, triggers it in
+// shadowed and vertex-lit scenes (~5 MB per frame); making it non-inlinable (min with
+// lights.length()) fixes those but makes other uniforms trigger it in the soak scene. A real fix
+// keeps every per-draw and per-frame value the shaders branch on in storage buffers.
 uint light_count() {
-    return min(frame.counts.x, uint(lights.length()));
+    return frame.counts.x;
 }
 
 // The lights that may reach P: (base, count) of its cluster when CLUSTERED (fragment stage), else
