@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Shadow cost (issue 15): the built-in scene with its two lights shadowed at the default settings
-# (assets/scenes/shadows/default_shadowed.json: a sun with three 1024² cascades, a point light with
+# (assets/scenes/default.json: a sun with three 1024² cascades, a point light with
 # six 512² faces, PCF 2×2) against the same scene without "shadow" (default_unshadowed.json),
 # alternating, ROUNDS rounds, at the scenes' own size (1280×720, MSAA 4×). Frame cost = median
 # GPU total of `luz bench` (every pass, the shadow passes included, and the readback).
@@ -32,7 +32,7 @@ echo "# command: scripts/shadow_cost.sh $ROUNDS $FRAMES ($(git rev-parse --short
 with=() without=()
 for r in $(seq 1 "$ROUNDS"); do
     read -r u _ < <(bench assets/scenes/shadows/default_unshadowed.json)
-    read -r s p < <(bench assets/scenes/shadows/default_shadowed.json)
+    read -r s p < <(bench assets/scenes/default.json)
     without+=("$u")
     with+=("$s")
     echo "round $r: without shadows ${u} ms, with shadows ${s} ms (shadow passes ${p} ms), ratio $(python3 -c "print(f'{$s/$u:.3f}')")"

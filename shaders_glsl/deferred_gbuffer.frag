@@ -14,7 +14,7 @@ layout(location = 0) out uvec4 out_gbuffer;
 void main() {
     vec3 n = normalize(in_normal);
     // Double-sided materials: a back face is lit with the flipped normal.
-    n = (material.double_sided != 0u && !gl_FrontFacing) ? -n : n;
+    n = (!gl_FrontFacing && opaque(material.double_sided) != 0u) ? -n : n;
     vec2 e = oct_encode(n);
     out_gbuffer = uvec4(floatBitsToUint(e.x), floatBitsToUint(e.y), floatBitsToUint(in_depth),
                         material.object_index);

@@ -51,7 +51,7 @@ void main() {
         alpha = mat_extra.params.z;
 #endif
         if (ALPHA_MODE == ALPHA_MASK) {
-            if (alpha < mat_extra.params.w) {
+            if (alpha < uintBitsToFloat(opaque(floatBitsToUint(mat_extra.params.w)))) {
                 discard;
             }
             alpha = 1.0;
@@ -70,7 +70,7 @@ void main() {
     tangent_frame(n, vec4(0.0, 0.0, 0.0, 1.0), x, y);
 #endif
     // Double-sided materials: a back face is lit with the flipped normal and tangent frame.
-    if (material.double_sided != 0u && !gl_FrontFacing) {
+    if (!gl_FrontFacing && opaque(material.double_sided) != 0u) {
         n = -n;
         x = -x;
         y = -y;

@@ -2,12 +2,10 @@
 //! resident memory and the GPU allocator's live allocations, sampled every 1 000 frames, must stay
 //! flat.
 //!
-//! Except flat and Gouraud shading: on this machine's lavapipe (Mesa 22.3.6) every frame that draws
-//! an object lit in the vertex shader grows resident memory by about 200 KB per such object, with
-//! or without validation, while luz's heap (valgrind massif) and its GPU allocations stay flat —
-//! the growth is in pages the driver maps, not in luz. `luz bench` on a scene with one Gouraud
-//! sphere shows it (see the README's Reliability section); this soak keeps those two shadings
-//! out so that it tests everything else.
+//! Flat and Gouraud shading and shadows are in: on this machine's lavapipe (Mesa 22.3.6) they once
+//! grew resident memory every frame (a shader variant compiled and leaked per bind, from uniform
+//! inlining; `opaque()` in include/bindings.glsl), and `shadowed_and_vertex_lit_frames_keep_memory_flat`
+//! below guards that in seconds.
 
 mod common;
 
@@ -19,8 +17,9 @@ use common::{luz_command, run, scratch};
 /// all seven material models (principled with anisotropy, clearcoat, sheen and subsurface), every
 /// texture map (base colour, normal, roughness, metallic, occlusion, emissive, and an `orm`
 /// pack), directional, point (both falloffs) and spot lights, every primitive and an OBJ with an
-/// MTL, Phong shading (flat and Gouraud: see the module docs), automatic tessellation, fog, normalize saturation,
-/// MSAA 4x, a tone map, and a procedural sky environment with split-sum specular.
+/// MTL, the three shading frequencies, automatic tessellation, fog, normalize saturation, a
+/// shadowed sun (PCF cascades), MSAA 4x, a tone map, and a procedural sky environment with
+/// split-sum specular.
 fn every_feature_scene(dir: &Path) -> std::path::PathBuf {
     luz::texture::checker(32, 4, [230, 200, 40, 255], [30, 60, 200, 255])
         .save(dir.join("checker.png"))
@@ -49,7 +48,7 @@ fn every_feature_scene(dir: &Path) -> std::path::PathBuf {
   "output": {"width": 64, "height": 36, "msaa": 4, "tonemap": "aces", "exposure": 0.5},
   "ambient": [0.05, 0.05, 0.05],
   "lights": [
-    {"type": "directional", "direction": [-0.3, -1, -0.4], "intensity": 2, "color": [1, 0.95, 0.9]},
+    {"type": "directional", "direction": [-0.3, -1, -0.4], "intensity": 2, "color": [1, 0.95, 0.9], "shadow": {"resolution": 256, "cascades": 2}},
     {"type": "point", "position": [2, 3, 2], "intensity": 8, "falloff": "inverse_square"},
     {"type": "point", "position": [-3, 2, 1], "intensity": 2, "falloff": {"c1": 1, "c2": 0.1, "c3": 0.01}},
     {"type": "spot", "position": [0, 5, 3], "target": [0, 0, 0], "intensity": 20, "umbra_deg": 30, "inner_deg": 20, "exponent": 1}
@@ -76,8 +75,8 @@ fn every_feature_scene(dir: &Path) -> std::path::PathBuf {
     {"mesh": {"type": "sphere", "radius": 0.6}, "material": "gold", "position": [-2.5, 0.6, 0]},
     {"mesh": {"type": "icosphere", "radius": 0.6, "subdivisions": 2}, "material": "disney", "position": [-1, 0.6, 0]},
     {"mesh": {"type": "cube", "size": 1}, "material": "phong", "position": [0.5, 0.5, 0], "rotation_deg": [0, 30, 0]},
-    {"mesh": {"type": "cone", "radius": 0.5, "height": 1}, "material": "blinn", "position": [2, 0.5, 0]},
-    {"mesh": {"type": "cylinder", "radius": 0.4, "height": 1, "segments": 24}, "material": "oren", "position": [3.2, 0.5, 0]},
+    {"mesh": {"type": "cone", "radius": 0.5, "height": 1}, "material": "blinn", "position": [2, 0.5, 0], "shading": "gouraud"},
+    {"mesh": {"type": "cylinder", "radius": 0.4, "height": 1, "segments": 24}, "material": "oren", "position": [3.2, 0.5, 0], "shading": "flat"},
     {"mesh": {"type": "sphere", "radius": 0.5, "segments": 32, "rings": 16}, "material": "ct", "position": [0, 0.5, 2]},
     {"mesh": {"type": "sphere", "radius": 0.4}, "material": "packed", "position": [1.5, 0.4, 2]},
     {"mesh": {"type": "obj", "path": "quad.obj"}, "position": [-1.5, 0.01, 2], "scale": 0.8}
@@ -146,4 +145,79 @@ fn ten_thousand_frames_keep_memory_flat() {
     let growth = rss.last().unwrap() - rss[0];
     assert!(growth < 4.0, "resident memory grows: {rss:?}");
     assert_eq!(report["frames"], 10000);
+}
+
+/// Shadows and vertex lighting, the two features that made lavapipe 22.3 compile and leak a
+/// shader variant per bind (uniform inlining of the light loop's count; include/lighting.glsl's
+/// `opaque()` in include/bindings.glsl): ~5 MB per shadowed frame and ~200 KB per Gouraud object per frame before the
+/// fix. 150 frames of a small scene with both must keep resident memory flat (≤ 2 MiB from
+/// frame 50 to 150, where the old growth was ~500 MiB).
+#[test]
+fn shadowed_and_vertex_lit_frames_keep_memory_flat() {
+    let dir = scratch("soak_shadows");
+    let scene = dir.join("shadowed_gouraud.json");
+    std::fs::write(
+        &scene,
+        r#"{
+  "description": "shadows and vertex lighting (tests/soak.rs)",
+  "camera": {"position": [0, 2.5, 6], "target": [0, 0.5, 0], "fov_y_deg": 50},
+  "output": {"width": 64, "height": 36, "msaa": 1},
+  "lights": [
+    {"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2, "shadow": {"resolution": 256, "cascades": 2}},
+    {"type": "point", "position": [1.5, 2.5, 1], "intensity": 6, "falloff": "inverse_square", "shadow": {"resolution": 128}}
+  ],
+  "materials": {
+    "floor": {"model": "lambert", "albedo": [0.7, 0.7, 0.7]},
+    "red": {"model": "blinn_phong", "diffuse_color": [0.8, 0.2, 0.2], "shininess": 40}
+  },
+  "objects": [
+    {"mesh": {"type": "plane", "size": [10, 10], "subdivisions": 4}, "material": "floor"},
+    {"mesh": {"type": "sphere", "radius": 0.6}, "material": "red", "position": [-1.2, 0.6, 0], "shading": "gouraud"},
+    {"mesh": {"type": "sphere", "radius": 0.6}, "material": "red", "position": [0, 0.6, 0], "shading": "flat"},
+    {"mesh": {"type": "sphere", "radius": 0.6}, "material": "red", "position": [1.2, 0.6, 0]}
+  ]
+}"#,
+    )
+    .unwrap();
+    let json = dir.join("soak_shadows.json");
+    let out = run(&mut luz_command([
+        "bench",
+        scene.to_str().unwrap(),
+        "--frames",
+        "150",
+        "--warmup",
+        "5",
+        "--memory-every",
+        "50",
+        "--json",
+        json.to_str().unwrap(),
+    ]));
+    let (stdout, stderr) = (&out.stdout, &out.stderr);
+    eprintln!("{stdout}");
+    assert!(
+        out.status.success(),
+        "luz bench failed ({:?}):\n{stdout}\n{stderr}",
+        out.status.code()
+    );
+    assert!(
+        stderr.contains("validation: 0 errors, 0 warnings"),
+        "validation must be silent: {stderr}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let memory = report["memory"].as_array().expect("memory series");
+    assert_eq!(
+        memory.len(),
+        4,
+        "a sample before the run and every 50 frames"
+    );
+    let rss: Vec<f64> = memory
+        .iter()
+        .map(|m| m["rss_mib"].as_f64().unwrap())
+        .collect();
+    let growth = rss[3] - rss[1];
+    assert!(
+        growth <= 2.0,
+        "resident memory grows {growth:.1} MiB from frame 50 to 150: {rss:?}"
+    );
 }

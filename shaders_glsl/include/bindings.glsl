@@ -47,6 +47,16 @@ layout(set = SET_FRAME, binding = BINDING_LIGHTS, std430) readonly buffer Lights
     Light lights[];
 };
 
+// lavapipe 22.3 inlines a uniform (UBO or push-constant value) that alone decides a branch or a
+// loop's trip count and then compiles, and leaks, a shader variant at every bind whenever that
+// does not shrink the shader by half (docs/shadows.md: ~5 MB per shadowed frame). Such values go
+// through opaque(): the identity for every u < 0xFFFF0000, bound to the lights buffer's length,
+// which is not a uniform. Conditions that also test a per-pixel value need nothing (as long as
+// they are not split by `&&`: use all()).
+uint opaque(uint u) {
+    return min(u, uint(lights.length()) | 0xFFFF0000u);
+}
+
 struct ObjectData {
     mat4 model;
     mat4 normal_matrix;  // inverse-transpose of the model matrix's upper 3x3, in a mat4

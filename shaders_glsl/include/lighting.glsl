@@ -77,7 +77,7 @@ BrdfParams material_params() {
 vec4 g_vertex_color = vec4(1.0);
 
 bool has_map(uint slot) {
-    return (MAPS & (1u << slot)) != 0u && (mat_extra.present.x & (1u << slot)) != 0u;
+    return (MAPS & (1u << slot)) != 0u && (opaque(mat_extra.present.x) & (1u << slot)) != 0u;
 }
 
 #ifndef LUZ_DEFERRED
@@ -111,7 +111,7 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
 #ifdef VERTEX_COLOR
     s.p.color.rgb *= g_vertex_color.rgb;
 #endif
-    if (MAPS == 0u || mat_extra.present.x == 0u) {
+    if (MAPS == 0u || opaque(mat_extra.present.x) == 0u) {
         return s;
     }
 #ifndef LUZ_DEFERRED
@@ -189,15 +189,9 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 
-// The number of lights, for loops over them. Known defect (docs/shadows.md): lavapipe 22.3
-// inlines uniforms that alone decide a loop's trip count or a branch, or that are stored in a
-// variable used five times or more, compiling (and leaking) a shader variant per bind when that
-// does not shrink the shader. This count, from the frame's uniform buffer, triggers it in
-// shadowed and vertex-lit scenes (~5 MB per frame); making it non-inlinable (min with
-// lights.length()) fixes those but makes other uniforms trigger it in the soak scene. A real fix
-// keeps every per-draw and per-frame value the shaders branch on in storage buffers.
+// The number of lights, for loops over them (through opaque(): see bindings.glsl).
 uint light_count() {
-    return frame.counts.x;
+    return opaque(frame.counts.x);
 }
 
 // The lights that may reach P: (base, count) of its cluster when CLUSTERED (fragment stage), else
@@ -307,7 +301,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         // trip instead of this `if` made lavapipe 22.3 skip the code for lights without a
         // shadow, 2.1× → 1.6× on the default scene, but grow its memory ~5 MB per frame even
         // in scenes without shadows: docs/shadows.md.)
-        bool shadowed = (LIGHT_KINDS & SHADOW_KINDS) != 0u && material.receive_shadow != 0u
+        bool shadowed = (LIGHT_KINDS & SHADOW_KINDS) != 0u && opaque(material.receive_shadow) != 0u
             && shadow_lights[i].info.x >= 0 && (E.r > 0.0 || E.g > 0.0 || E.b > 0.0)
             && dot(s.n, l) > 0.0;
         if (shadowed) {
