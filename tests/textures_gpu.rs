@@ -95,36 +95,38 @@ fn mips_are_gamma_correct_on_the_gpu() {
 }
 
 /// A sphere with a checker base colour, a noise normal map and an ORM map, under the procedural
-/// sky (IBL, split sum), against its golden.
+/// sky (IBL, split sum), against its golden. The scene is the golden's case file
+/// (`tests/golden/textured_sphere_sky/`, as `luz golden tests/golden` renders it); its textures
+/// must be what `luz::texture` writes today (`LUZ_BLESS=1` rewrites them).
 #[test]
 fn textured_sphere_golden() {
-    let dir = scratch("golden");
-    let base = dir.join("base.png");
-    let normal = dir.join("normal.png");
-    let orm = dir.join("orm.png");
-    luz::texture::checker(256, 8, [230, 180, 90, 255], [60, 90, 160, 255])
-        .save(&base)
-        .unwrap();
-    luz::texture::noise_normal_map(256, 7, 1.0)
-        .save(&normal)
-        .unwrap();
-    luz::texture::checker(256, 4, [255, 60, 255, 255], [200, 220, 0, 255])
-        .save(&orm)
-        .unwrap();
-    let scene = parse(&format!(
-        r#"{{
-        "camera": {{"position": [0, 0.3, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 40, "near": 0.1, "far": 10}},
-        "output": {{"width": 256, "height": 192, "msaa": 1, "tonemap": "khronos_neutral"}},
-        "lights": [{{"type": "directional", "direction": [-0.5, -0.6, -0.6], "color": [1, 1, 1], "intensity": 2}}],
-        "materials": {{"m": {{"model": "metal_rough", "base_color": [1, 1, 1], "metallic": 1, "roughness": 1,
-            "textures": {{"base_color": "{}", "normal": "{}", "orm": "{}"}}}}}},
-        "objects": [{{"mesh": {{"type": "sphere", "radius": 1, "segments": 64, "rings": 32}}, "material": "m"}}],
-        "environment": {{"procedural": "sky"}}
-    }}"#,
-        base.display(),
-        normal.display(),
-        orm.display()
-    ));
+    let dir = root().join("tests/golden/textured_sphere_sky");
+    let maps = [
+        (
+            "base.png",
+            luz::texture::checker(256, 8, [230, 180, 90, 255], [60, 90, 160, 255]),
+        ),
+        ("normal.png", luz::texture::noise_normal_map(256, 7, 1.0)),
+        (
+            "orm.png",
+            luz::texture::checker(256, 4, [255, 60, 255, 255], [200, 220, 0, 255]),
+        ),
+    ];
+    for (name, img) in &maps {
+        let path = dir.join(name);
+        if std::env::var_os("LUZ_BLESS").is_some() {
+            img.save(&path).unwrap();
+        }
+        let committed = image::open(&path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .to_rgba8();
+        assert!(
+            committed.as_raw() == img.as_raw(),
+            "{} differs from what luz::texture writes",
+            path.display()
+        );
+    }
+    let scene = golden_scene("textured_sphere_sky");
     let img = render_fast_ibl(&scene);
     check_golden("textured_sphere_sky", &scene, &img, Tolerance::default());
 }
