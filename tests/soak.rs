@@ -91,38 +91,46 @@ fn every_feature_scene(dir: &Path) -> std::path::PathBuf {
     path
 }
 
-#[test]
-fn ten_thousand_frames_keep_memory_flat() {
-    let dir = scratch("soak");
-    let scene = every_feature_scene(&dir);
-    let json = dir.join("soak.json");
-    let out = run(&mut luz_command([
-        "bench",
-        scene.to_str().unwrap(),
-        "--frames",
-        "10000",
-        "--warmup",
-        "20",
-        "--memory-every",
-        "1000",
-        "--max-memory-growth-mib",
-        "4",
-        "--json",
-        json.to_str().unwrap(),
-    ]));
+/// `luz bench SCENE ARGS… --json`: asserts it succeeded with the validation layer silent, and
+/// returns its JSON report.
+fn bench_report(scene: &Path, json: &Path, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["bench", scene.to_str().unwrap()];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--json", json.to_str().unwrap()]);
+    let out = run(&mut luz_command(all));
     let (stdout, stderr) = (&out.stdout, &out.stderr);
     eprintln!("{stdout}");
     assert!(
         out.status.success(),
-        "luz bench soak failed ({:?}):\n{stdout}\n{stderr}",
+        "luz bench failed ({:?}):\n{stdout}\n{stderr}",
         out.status.code()
     );
     assert!(
         stderr.contains("validation: 0 errors, 0 warnings"),
         "validation must be silent: {stderr}"
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap()
+}
+
+#[test]
+fn ten_thousand_frames_keep_memory_flat() {
+    let dir = scratch("soak");
+    let scene = every_feature_scene(&dir);
+    let json = dir.join("soak.json");
+    let report = bench_report(
+        &scene,
+        &json,
+        &[
+            "--frames",
+            "10000",
+            "--warmup",
+            "20",
+            "--memory-every",
+            "1000",
+            "--max-memory-growth-mib",
+            "4",
+        ],
+    );
     let memory = report["memory"].as_array().expect("memory series");
     assert_eq!(
         memory.len(),
@@ -180,31 +188,11 @@ fn shadowed_and_vertex_lit_frames_keep_memory_flat() {
     )
     .unwrap();
     let json = dir.join("soak_shadows.json");
-    let out = run(&mut luz_command([
-        "bench",
-        scene.to_str().unwrap(),
-        "--frames",
-        "150",
-        "--warmup",
-        "5",
-        "--memory-every",
-        "50",
-        "--json",
-        json.to_str().unwrap(),
-    ]));
-    let (stdout, stderr) = (&out.stdout, &out.stderr);
-    eprintln!("{stdout}");
-    assert!(
-        out.status.success(),
-        "luz bench failed ({:?}):\n{stdout}\n{stderr}",
-        out.status.code()
+    let report = bench_report(
+        &scene,
+        &json,
+        &["--frames", "150", "--warmup", "5", "--memory-every", "50"],
     );
-    assert!(
-        stderr.contains("validation: 0 errors, 0 warnings"),
-        "validation must be silent: {stderr}"
-    );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let memory = report["memory"].as_array().expect("memory series");
     assert_eq!(
         memory.len(),

@@ -64,24 +64,9 @@ pub fn hides_nothing(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Falloff, Shadow};
 
     fn light(kind: LightKind, position: Vec3, direction: Vec3) -> Light {
-        Light {
-            kind,
-            direction,
-            position,
-            color: Vec3::ONE,
-            intensity: 1.0,
-            falloff: Falloff::InverseSquare,
-            umbra_deg: 30.0,
-            inner_deg: None,
-            exponent: 0.0,
-            range: None,
-            shadow: Some(Shadow::default_for(kind)),
-            radius: 0.0,
-            angular_radius_deg: 0.0,
-        }
+        super::super::fit::tests::light(kind, position, direction, 30.0)
     }
 
     fn ball(center: Vec3, radius: f32) -> Receiver {

@@ -239,7 +239,7 @@ fn directional(direction: Vec3, s: &Shadow, view: &View<'_>, widen: f32) -> Ligh
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::scene::Falloff;
 
@@ -254,7 +254,13 @@ mod tests {
         }
     }
 
-    fn light(kind: LightKind, position: Vec3, direction: Vec3, umbra: f32) -> Light {
+    /// A light of `kind` with a default shadow (also the cull tests').
+    pub(in crate::render::shadow) fn light(
+        kind: LightKind,
+        position: Vec3,
+        direction: Vec3,
+        umbra: f32,
+    ) -> Light {
         Light {
             kind,
             direction,
