@@ -369,6 +369,12 @@ impl Headless {
         self.forward.shadow_maps().report()
     }
 
+    /// Every shadow-map layer as the last frame drew it (distances from each layer's eye):
+    /// [`crate::render::shadow::view`].
+    pub fn shadow_map_layers(&self) -> Result<Vec<crate::render::shadow::MapLayer>, VkError> {
+        self.forward.shadow_maps().read_layers(&self.pool)
+    }
+
     /// Lights per cluster of the clustered light loop (`None`: the plain loop).
     pub fn cluster_stats(&self) -> Option<crate::render::forward::ClusterStats> {
         self.forward.cluster_stats()

@@ -53,6 +53,11 @@ pub struct RenderArgs {
     /// a range when the clusters cull them, else plain), "plain" (every light everywhere) or "clustered" (the fragment's cluster only).
     #[arg(long, value_enum, default_value_t = LightLoopArg::Auto)]
     pub light_loop: LightLoopArg,
+    /// Also write each shadowed light's maps as DIR/light<N>.png after the last frame: its
+    /// layers (cascades, cube faces +x −x +y −y +z −z) side by side, the distance from the light
+    /// from white (nearest drawn texel) to black (farthest), dark blue where nothing was drawn.
+    #[arg(long, value_name = "DIR")]
+    pub shadow_maps: Option<PathBuf>,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -136,5 +141,46 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     println!("time to first frame: {ttff:.1} ms (process start to first frame on the host)");
     print_timing(&timing);
     report_written(&a.output, format, nan);
+    if let Some(dir) = &a.shadow_maps {
+        write_shadow_maps(&renderer, dir)?;
+    }
     Ok(validation_exit(&ctx))
+}
+
+/// `--shadow-maps DIR`: one picture per shadowed light ([`luz::render::shadow::picture`]).
+fn write_shadow_maps(renderer: &Headless, dir: &std::path::Path) -> Result<()> {
+    let layers = renderer.shadow_map_layers()?;
+    if layers.is_empty() {
+        println!("shadow maps: none to write (no light has \"shadow\")");
+        return Ok(());
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow::anyhow!("--shadow-maps {}: {e}", dir.display()))?;
+    let mut lights: Vec<usize> = layers.iter().map(|l| l.light).collect();
+    lights.dedup();
+    for light in lights {
+        let own: Vec<_> = layers.iter().filter(|l| l.light == light).collect();
+        let Some((w, h, pixels)) = luz::render::shadow::picture(&own) else {
+            continue;
+        };
+        let path = dir.join(format!("light{light}.png"));
+        image::save_buffer(&path, &pixels, w, h, image::ExtendedColorType::Rgba8)
+            .map_err(|e| anyhow::anyhow!("--shadow-maps {}: {e}", path.display()))?;
+        let drawn = own.iter().flat_map(|l| l.distance.iter().flatten());
+        let (near, far) = drawn.fold((f32::INFINITY, f32::NEG_INFINITY), |(n, f), d| {
+            (n.min(*d), f.max(*d))
+        });
+        let range = if near <= far {
+            format!("distances {near:.3}–{far:.3} m")
+        } else {
+            "nothing drawn".to_string()
+        };
+        println!(
+            "shadow maps of light {light}: {} ({} layer(s) of {}², {range})",
+            path.display(),
+            own.len(),
+            own[0].resolution
+        );
+    }
+    Ok(())
 }

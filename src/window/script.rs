@@ -49,6 +49,10 @@ pub enum Action {
     /// Which side the panels and the scene-editing actions (exposure, tonemap) change
     /// (`compare_edit=a|b`).
     CompareEdit(bool),
+    /// The shadow-map window showing light N, or closed (`shadow_map=N|off`).
+    ShadowMap(Option<usize>),
+    /// Read the maps back and write the shown light's picture (`shadow_map_save=PATH`).
+    ShadowMapSave(PathBuf),
 }
 
 /// The most lights one `add_lights` (or the panel's "Add many") adds.
@@ -147,6 +151,13 @@ fn parse_action(a: &str) -> Result<Action> {
             )
         }
         "screenshot" => Action::Screenshot(PathBuf::from(need()?)),
+        "shadow_map" => match need()? {
+            "off" => Action::ShadowMap(None),
+            v => Action::ShadowMap(Some(v.parse().map_err(|_| {
+                anyhow!("shadow_map={v}: expected a light index or off")
+            })?)),
+        },
+        "shadow_map_save" => Action::ShadowMapSave(PathBuf::from(need()?)),
         "open" => Action::Open(PathBuf::from(need()?)),
         "save" => Action::Save(PathBuf::from(need()?)),
         "add_lights" => {
@@ -197,7 +208,7 @@ fn parse_action(a: &str) -> Result<Action> {
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
              orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights, \
              compare_mode, compare_split, compare_flip, compare_duplicate, error_view, error_metric, \
-             lobe_plots, compare_edit)"
+             lobe_plots, compare_edit, shadow_map, shadow_map_save)"
         ),
     })
 }

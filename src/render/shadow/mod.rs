@@ -26,9 +26,11 @@ use crate::vk::{Buffer, Context, VkError};
 pub mod cull;
 pub mod fit;
 mod pipeline;
+pub mod view;
 
 pub use cull::{box_corners, world_plane, Receiver};
 pub use fit::{LightFit, Sphere};
+pub use view::{picture, MapLayer};
 
 use glsl::include_shadows as g;
 pub const SET_SHADOW: u32 = g::SET_SHADOW as u32;
@@ -121,6 +123,8 @@ pub struct ShadowMaps {
     pipeline: Option<pipeline::DepthPipeline>,
     casters: usize,
     light_count: usize,
+    /// The layer records of the last update (what the last recorded frame drew with).
+    last_layers: Vec<GpuShadowLayer>,
     ctx: Arc<Context>,
 }
 
@@ -188,7 +192,10 @@ impl ShadowMaps {
                 width: size,
                 height: size,
                 format: FORMAT,
-                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                // TRANSFER_SRC: read back for a look at the maps (view.rs).
+                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
                 samples: vk::SampleCountFlags::TYPE_1,
                 mip_levels: 1,
                 aspect: vk::ImageAspectFlags::DEPTH,
@@ -386,6 +393,7 @@ impl ShadowMaps {
             pipeline,
             casters: 0,
             light_count: scene.lights.len(),
+            last_layers: Vec::new(),
             ctx: ctx.clone(),
         })
     }
@@ -525,6 +533,7 @@ impl ShadowMaps {
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;
         s.layers.write(0, bytemuck::cast_slice(&layers))?;
+        self.last_layers = layers;
         Ok(())
     }
 

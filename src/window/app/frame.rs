@@ -33,6 +33,14 @@ impl Viewer {
                 }
                 Action::DebugView(d) => self.settings.debug_view = d,
                 Action::Screenshot(p) => self.pending_screenshot = Some(p),
+                Action::ShadowMap(light) => {
+                    self.settings.shadow_maps = light.is_some();
+                    if let Some(i) = light {
+                        self.shadow_view.light = i;
+                        self.shadow_view.due = true;
+                    }
+                }
+                Action::ShadowMapSave(p) => self.shadow_view.save = Some(p),
                 Action::Open(p) => self.open_path(&p),
                 Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
                 Action::CompareMode(m) => {
@@ -125,6 +133,7 @@ impl Viewer {
                 }
             }
         }
+        self.refresh_shadow_view()?;
         // 2. Acquire.
         let acquired = self.frames[slot].acquired;
         // SAFETY: `acquired` is this slot's semaphore, unsignalled: its last wait was by the submission
@@ -154,13 +163,15 @@ impl Viewer {
         let mut actions = Vec::new();
         let mut lab_actions = Vec::new();
         self.lab.poll(&self.egui_ctx);
+        let shadow_lights = self.shadowed_lights();
         let output = {
-            let (scene, settings, profiler, state, lab) = (
+            let (scene, settings, profiler, state, lab, shadow_view) = (
                 &mut self.scene,
                 &mut self.settings,
                 &self.profiler,
                 &mut self.ui_state,
                 &mut self.lab,
+                &mut self.shadow_view,
             );
             let status = &self.status;
             self.egui_ctx.run_ui(raw, |ui| {
@@ -185,6 +196,7 @@ impl Viewer {
                     _ => scene,
                 };
                 actions = ui::draw(ui, edited, settings, profiler, state);
+                shadow_view.ui(ui, &mut settings.shadow_maps, &shadow_lights);
             })
         };
         self.egui_state

@@ -45,6 +45,7 @@ mod bench;
 mod frame;
 mod lab;
 mod open;
+mod shadow_view;
 
 const FRAMES_IN_FLIGHT: usize = 2;
 /// Frames kept by the profiler's rolling window.
@@ -305,6 +306,8 @@ struct Viewer {
     lab: lab::Lab,
     /// This frame's read-backs for the lab (read after its fence).
     lab_copies: lab::Readbacks,
+    /// The shadow-map window.
+    shadow_view: shadow_view::ShadowView,
     profiler: Profiler,
     bench_frames: Vec<FrameSample>,
     display: DisplayPass,
@@ -405,6 +408,7 @@ impl Viewer {
             vsync: !(args.no_vsync || args.bench),
             show_help: false,
             show_panels: !(args.no_panels || args.bench),
+            shadow_maps: false,
         };
         let size = window.inner_size();
         let swapchain = Swapchain::new(
@@ -514,6 +518,7 @@ impl Viewer {
             settings,
             lab: lab::Lab::default(),
             lab_copies: lab::Readbacks::default(),
+            shadow_view: Default::default(),
             profiler: Profiler::new(PROFILER_WINDOW),
             bench_frames: Vec::new(),
             display,

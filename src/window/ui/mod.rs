@@ -44,6 +44,8 @@ pub struct ViewSettings {
     pub show_help: bool,
     /// The side and profiler panels (Tab).
     pub show_panels: bool,
+    /// The shadow-map window.
+    pub shadow_maps: bool,
 }
 
 impl Default for ViewSettings {
@@ -53,6 +55,7 @@ impl Default for ViewSettings {
             vsync: true,
             show_help: false,
             show_panels: true,
+            shadow_maps: false,
         }
     }
 }

@@ -129,6 +129,9 @@ pub(super) fn scene_ui(ui: &mut Ui, scene: &mut Scene, settings: &mut ViewSettin
             }
             false
         });
+        row(ui, "Shadow maps", |ui| {
+            checkbox(ui, &mut settings.shadow_maps, "show the window")
+        });
         row(ui, "Vsync", |ui| {
             if checkbox(ui, &mut settings.vsync, "") {
                 out.actions.push(UiAction::VsyncChanged);
