@@ -66,7 +66,7 @@ void main() {
 #if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
     // Double-sided materials light a back face with the flipped normal: in the vertex stage, the
     // side of the (face, for flat shading) normal the camera is on decides.
-    if (dot(n, frame.camera_pos.xyz - world.xyz) < 0.0 && opaque(material.double_sided) != 0u) {
+    if (dot(n, frame.camera_pos.xyz - world.xyz * frame.camera_pos.w) < 0.0 && opaque(material.double_sided) != 0u) {
         n = -n;
         t = vec4(-t.xyz, t.w);
     }
