@@ -1227,6 +1227,45 @@ fn alpha_modes_cut_out_and_blend() {
         rgb(&full, at(-1.15, 0.7, 0.0)).x > 0.05,
         "the masked texture's opaque half is lit red"
     );
+    // Flat and Gouraud shading light per polygon or vertex but cut out and blend per pixel: the
+    // same cut-outs (the map's alpha) and composites, against their own opaque images. (They
+    // have no vertex colours, so mask_vc is not judged.)
+    for shading in [luz::scene::Shading::Flat, luz::scene::Shading::Gouraud] {
+        let mut s = scene.clone();
+        for o in &mut s.objects {
+            o.shading = shading;
+        }
+        let full = render_on(&ctx, &s);
+        let all = opaque(s.clone(), &[0, 1, 2, 3, 4, 5]);
+        let without_front = opaque(s.clone(), &[0, 1, 2, 5]);
+        let (cut, kept, over) = (at(-1.65, 0.7, 0.0), at(-1.15, 0.7, 0.0), at(1.4, 0.7, 0.0));
+        let i = at(-0.3, -0.7, 0.3);
+        let probes = [
+            ("mask_tex, alpha 0", cut, bg),
+            ("mask_tex, alpha 1", kept, rgb(&all, kept)),
+            (
+                "half white over blue",
+                over,
+                0.5 * rgb(&all, over) + 0.5 * rgb(&without_front, over),
+            ),
+            (
+                "orange over white over the background",
+                i,
+                0.25 * rgb(&all, i) + 0.75 * (0.5 * rgb(&without_front, i) + 0.5 * bg),
+            ),
+        ];
+        for (what, i, want) in probes {
+            let got = rgb(&full, i);
+            assert!(
+                near(got, want, 0.01, 2e-3),
+                "{shading:?}: {what}: {got} instead of {want}"
+            );
+        }
+        assert!(
+            rgb(&full, kept).x > 0.05,
+            "{shading:?}: the kept half is lit"
+        );
+    }
     assert_no_validation_messages(&ctx);
 
     // The CPU reference: the same cut-outs and composites (per ray, in depth order).
