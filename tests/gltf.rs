@@ -154,6 +154,15 @@ fn quad(g: &mut Gltf) -> Value {
     json!({"attributes": {"POSITION": pos, "NORMAL": nor, "TEXCOORD_0": uv}, "indices": idx, "material": 0})
 }
 
+/// A 2 × 2 PNG of one RGBA colour (for an image in a buffer view).
+fn png_2x2(rgba: [u8; 4]) -> Vec<u8> {
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba(rgba))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    png
+}
+
 fn load(path: &Path) -> gltf::GltfFile {
     gltf::load(path, None).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -583,11 +592,7 @@ fn texture_transform_and_second_uv_set() {
     let n = g.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC3");
     let uv0 = g.floats(&[0.0; 6], "VEC2");
     let uv1 = g.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2");
-    let mut png = Vec::new();
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 255]))
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-        .unwrap();
-    let img_view = g.view(&png, None);
+    let img_view = g.view(&png_2x2([200, 100, 50, 255]), None);
     let path = g.write_glb(
         &dir,
         "tex",
@@ -878,6 +883,32 @@ fn bad_files_fail_clearly() {
     let p = dir.join("negative_fov.gltf");
     std::fs::write(&p, doc.to_string()).unwrap();
     cases.push((p, "cameras[0].perspective.yfov"));
+    // Orthographic cameras: a zero magnification, a far plane before the near one, a negative
+    // near plane.
+    for (name, ortho, field) in [
+        (
+            "zero_ymag",
+            json!({"xmag": 1, "ymag": 0, "znear": 0.1, "zfar": 10}),
+            "cameras[0].orthographic.ymag: must be positive, got 0",
+        ),
+        (
+            "ortho_far_before_near",
+            json!({"xmag": 1, "ymag": 1, "znear": 5, "zfar": 2}),
+            "cameras[0].orthographic.zfar: must be greater than znear (5), got 2",
+        ),
+        (
+            "ortho_negative_near",
+            json!({"xmag": 1, "ymag": 1, "znear": -1, "zfar": 2}),
+            "cameras[0].orthographic.znear: must be ≥ 0, got -1",
+        ),
+    ] {
+        let mut doc = g.document(good.clone(), Some("good.bin"));
+        doc["cameras"] = json!([{"type": "orthographic", "orthographic": ortho}]);
+        doc["nodes"][0]["camera"] = json!(0);
+        let p = dir.join(format!("{name}.gltf"));
+        std::fs::write(&p, doc.to_string()).unwrap();
+        cases.push((p, field));
+    }
     // Float indices.
     let mut doc = g.document(good.clone(), Some("good.bin"));
     doc["accessors"][3]["componentType"] = json!(F32);
@@ -1449,11 +1480,7 @@ fn file_tangents_ior_and_specular() {
     let mut g = Gltf::default();
     let a = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
     let b = zquad(&mut g, [1.0, 0.0, 0.0], 0.5, false, 1, &[]);
-    let mut png = Vec::new();
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 128]))
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-        .unwrap();
-    let img_view = g.view(&png, None);
+    let img_view = g.view(&png_2x2([200, 100, 50, 128]), None);
     let path = g.write_gltf(
         &dir,
         "spectex",

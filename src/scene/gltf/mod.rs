@@ -622,6 +622,12 @@ impl<'a> Builder<'a> {
         Ok(())
     }
 
+    /// An error at `cameras[c].<kind>.<field>`.
+    fn camera_error(&self, c: usize, kind: &str) -> impl Fn(&str, String) -> GltfError + '_ {
+        let at = format!("cameras[{c}].{kind}");
+        move |field, reason| GltfError::at(self.path, format!("{at}.{field}"), reason)
+    }
+
     /// A perspective camera's projection, vertical field of view (degrees), near, far (0: none)
     /// and aspect ratio, checked.
     fn perspective(
@@ -629,13 +635,7 @@ impl<'a> Builder<'a> {
         c: usize,
         p: &gltf::camera::Perspective,
     ) -> Result<(Projection, f32, f32, f32, Option<f32>), GltfError> {
-        let err = |field: &str, reason: String| {
-            GltfError::at(
-                self.path,
-                format!("cameras[{c}].perspective.{field}"),
-                reason,
-            )
-        };
+        let err = self.camera_error(c, "perspective");
         let yfov = p.yfov();
         if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
             return Err(err(
@@ -678,13 +678,7 @@ impl<'a> Builder<'a> {
         c: usize,
         o: &gltf::camera::Orthographic,
     ) -> Result<(Projection, f32, f32, f32, Option<f32>), GltfError> {
-        let err = |field: &str, reason: String| {
-            GltfError::at(
-                self.path,
-                format!("cameras[{c}].orthographic.{field}"),
-                reason,
-            )
-        };
+        let err = self.camera_error(c, "orthographic");
         let (xmag, ymag) = (o.xmag(), o.ymag());
         for (field, v) in [("xmag", xmag), ("ymag", ymag)] {
             if !(v > 0.0 && v.is_finite()) {
