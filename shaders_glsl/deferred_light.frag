@@ -53,6 +53,12 @@ void main() {
     vec3 ray = far.xyz / far.w - frame.camera_pos.xyz;
     vec3 forward = -vec3(frame.view[0][2], frame.view[1][2], frame.view[2][2]);
     vec3 P = frame.camera_pos.xyz + ray * (depth / dot(ray, forward));
+    // An orthographic camera (camera_pos.w = 0): the pixel's parallel ray, moved from the far
+    // plane point to the stored depth along the view direction.
+    if (opaque(floatBitsToUint(frame.camera_pos.w)) == 0u) {
+        vec3 q = far.xyz / far.w;
+        P = q + forward * (depth + (frame.view * vec4(q, 1.0)).z);
+    }
 
     vec3 x;
     vec3 y;

@@ -17,8 +17,10 @@
 layout(location = 0) in float in_depth;
 #if defined(SHADING_FLAT)
 layout(location = 1) flat in vec3 in_color;
+layout(location = 4) in vec2 in_alpha_uv;
 #elif defined(SHADING_GOURAUD)
 layout(location = 1) in vec3 in_color;
+layout(location = 4) in vec2 in_alpha_uv;
 #else
 layout(location = 1) in vec3 in_world;
 layout(location = 2) in vec3 in_normal;
@@ -39,13 +41,17 @@ void main() {
 #endif
 #ifdef PHONG_MAPS
     vec2 uv = in_uv;
+#elif defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
+    // Flat and Gouraud shading light per polygon or vertex but cut out and blend per pixel:
+    // the factor × the base colour map's alpha (they have no vertex colours).
+    vec2 uv = in_alpha_uv;
 #else
-    // Flat and Gouraud shading (and lean Phong) read the alpha factor only, no map.
+    // Lean Phong (no maps) reads the alpha factor only.
     const vec2 uv = vec2(0.0);
 #endif
     float alpha = 1.0;
     if (ALPHA_MODE != ALPHA_OPAQUE) {
-#ifdef PHONG_MAPS
+#if defined(PHONG_MAPS) || defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
         alpha = base_alpha(uv);
 #else
         alpha = mat_extra.params.z;

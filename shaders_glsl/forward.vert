@@ -35,6 +35,11 @@ layout(location = 5) out vec4 out_vertex_color;
 #endif
 
 layout(location = 0) out float out_depth;  // view-space depth, for depth cueing
+#if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
+// Texture coordinates for the fragment stage's alpha (the base colour map's cut-outs and blending
+// are per pixel whatever the shading frequency); unused, and dropped, with ALPHA_OPAQUE.
+layout(location = 4) out vec2 out_alpha_uv;
+#endif
 #if defined(SHADING_FLAT)
 layout(location = 1) flat out vec3 out_color;
 #elif defined(SHADING_GOURAUD)
@@ -64,9 +69,10 @@ void main() {
     out_vertex_color = in_color;
 #endif
 #if defined(SHADING_FLAT) || defined(SHADING_GOURAUD)
+    out_alpha_uv = in_uv;
     // Double-sided materials light a back face with the flipped normal: in the vertex stage, the
     // side of the (face, for flat shading) normal the camera is on decides.
-    if (dot(n, frame.camera_pos.xyz - world.xyz) < 0.0 && opaque(material.double_sided) != 0u) {
+    if (dot(n, frame.camera_pos.xyz - world.xyz * frame.camera_pos.w) < 0.0 && opaque(material.double_sided) != 0u) {
         n = -n;
         t = vec4(-t.xyz, t.w);
     }

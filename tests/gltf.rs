@@ -154,6 +154,15 @@ fn quad(g: &mut Gltf) -> Value {
     json!({"attributes": {"POSITION": pos, "NORMAL": nor, "TEXCOORD_0": uv}, "indices": idx, "material": 0})
 }
 
+/// A 2 × 2 PNG of one RGBA colour (for an image in a buffer view).
+fn png_2x2(rgba: [u8; 4]) -> Vec<u8> {
+    let mut png = Vec::new();
+    image::RgbaImage::from_pixel(2, 2, image::Rgba(rgba))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    png
+}
+
 fn load(path: &Path) -> gltf::GltfFile {
     gltf::load(path, None).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -357,7 +366,8 @@ fn node_hierarchy_trs_and_matrix() {
 
 /// A camera node and KHR_lights_punctual nodes: the model scene uses the file's first camera
 /// (aspect ratio → output width) and its lights instead of the rig's key light; `--camera 1`
-/// picks the second camera; a third that does not exist is a clear error.
+/// picks the second camera, `--camera 2` the orthographic third (half height ymag); a fourth that
+/// does not exist is a clear error.
 #[test]
 fn camera_and_light_nodes() {
     let dir = scratch("gltf-camera");
@@ -393,12 +403,12 @@ fn camera_and_light_nodes() {
         }),
     );
     let scene = luz::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(scene.cameras.len(), 2, "the orthographic camera is skipped");
-    assert!(
-        scene.warnings.iter().any(|w| w.contains("orthographic")),
-        "{:?}",
-        scene.warnings
+    assert_eq!(
+        scene.cameras.len(),
+        3,
+        "the orthographic camera is imported too"
     );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert!(close(scene.camera.position, Vec3::new(0.0, 0.0, 5.0)));
     assert!(close(scene.camera.forward(), Vec3::NEG_Z));
     assert!((scene.camera.fov_y_deg - 0.7f32.to_degrees()).abs() < 1e-4);
@@ -423,10 +433,17 @@ fn camera_and_light_nodes() {
     luz::scene::model::use_camera(&mut top, 1).unwrap();
     assert!(close(top.camera.forward(), Vec3::NEG_Y));
     assert_eq!((top.camera.near, top.camera.far), (0.2, 50.0));
-    let e = luz::scene::model::use_camera(&mut top, 2)
+    assert_eq!(top.camera.projection, luz::scene::Projection::Perspective);
+    luz::scene::model::use_camera(&mut top, 2).unwrap();
+    assert_eq!(
+        top.camera.projection,
+        luz::scene::Projection::Orthographic { half_height: 1.0 }
+    );
+    assert_eq!((top.camera.near, top.camera.far), (0.1, 10.0));
+    let e = luz::scene::model::use_camera(&mut top, 3)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("camera 2") && e.contains("2 cameras"), "{e}");
+    assert!(e.contains("camera 3") && e.contains("3 cameras"), "{e}");
 
     // In a scene file: imported only when asked, through the object's transform.
     let text = r#"{"objects": [
@@ -434,7 +451,7 @@ fn camera_and_light_nodes() {
         {"mesh": {"type": "gltf", "path": "lit.glb", "lights": true, "cameras": true}, "position": [0, 0, 10]}
     ]}"#;
     let s = luz::scene::parse(text, &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((s.lights.len(), s.cameras.len()), (2, 2));
+    assert_eq!((s.lights.len(), s.cameras.len()), (2, 3));
     assert!(close(s.lights[1].position, Vec3::new(0.0, 4.0, 10.0)));
     assert!(close(
         s.cameras[0].camera.position,
@@ -575,11 +592,7 @@ fn texture_transform_and_second_uv_set() {
     let n = g.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC3");
     let uv0 = g.floats(&[0.0; 6], "VEC2");
     let uv1 = g.floats(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0], "VEC2");
-    let mut png = Vec::new();
-    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 255]))
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
-        .unwrap();
-    let img_view = g.view(&png, None);
+    let img_view = g.view(&png_2x2([200, 100, 50, 255]), None);
     let path = g.write_glb(
         &dir,
         "tex",
@@ -721,6 +734,83 @@ fn hand_made_file_equals_the_json_scene() {
     );
 }
 
+/// A hand-made file with an orthographic camera (xmag 1.5, ymag 1.2 → half height 1.2, output
+/// 1.25 times as wide as tall; a node rotated −60° about x, looking down at the quad) renders as
+/// the luz scene with the same camera written in JSON (`"projection": "orthographic"`).
+#[test]
+fn orthographic_camera_file_equals_the_json_scene() {
+    let dir = scratch("gltf-ortho");
+    let mut g = Gltf::default();
+    let prim = quad(&mut g);
+    // −60° about x: forward (0, −sin 60°, −cos 60°); the camera 4 units back from the origin.
+    let (s60, c60) = (60f32.to_radians().sin(), 60f32.to_radians().cos());
+    let eye = [0.0, 4.0 * s60, 4.0 * c60];
+    g.write_gltf(
+        &dir,
+        "ortho",
+        json!({
+            "cameras": [{"type": "orthographic", "orthographic": {"xmag": 1.5, "ymag": 1.2, "znear": 0.5, "zfar": 20}}],
+            "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.3, 0.2, 1], "metallicFactor": 0.25, "roughnessFactor": 0.4}}],
+            "scenes": [{"nodes": [0, 1]}],
+            "nodes": [
+                {"name": "q", "mesh": 0, "rotation": [0, (10f32.to_radians()).sin(), 0, (10f32.to_radians()).cos()]},
+                {"name": "cam", "camera": 0, "translation": eye, "rotation": [-(30f32.to_radians()).sin(), 0, 0, (30f32.to_radians()).cos()]}
+            ],
+            "meshes": [{"name": "quad", "primitives": [prim]}]
+        }),
+    );
+    let lights = r#""output": {"width": 60, "height": 48, "msaa": 1},
+        "ambient": [0.05, 0.05, 0.05],
+        "lights": [{"type": "point", "position": [1, 2, 1], "intensity": 6}],"#;
+    let with_gltf = format!(
+        r#"{{ {lights} "objects": [{{"mesh": {{"type": "gltf", "path": "ortho.gltf", "cameras": true}}}}]}}"#
+    );
+    let mut a =
+        luz::scene::parse(&with_gltf, &dir.join("gltf.json")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(a.warnings.is_empty(), "{:?}", a.warnings);
+    assert_eq!(a.cameras.len(), 1);
+    luz::scene::model::use_camera(&mut a, 0).unwrap();
+    assert_eq!(
+        (a.output.width, a.output.height),
+        (60, 48),
+        "aspect xmag / ymag"
+    );
+    assert_eq!(
+        a.camera.projection,
+        luz::scene::Projection::Orthographic { half_height: 1.2 }
+    );
+    let json_scene = format!(
+        r#"{{ {lights}
+        "camera": {{"position": [{}, {}, {}], "target": [0, 0, 0], "projection": "orthographic", "ortho_half_height": 1.2, "near": 0.5, "far": 20}},
+        "materials": {{"paint": {{"model": "metal_rough", "base_color": [0.7, 0.3, 0.2], "metallic": 0.25, "roughness": 0.4}}}},
+        "objects": [{{"mesh": {{"type": "plane", "size": [2, 2]}}, "material": "paint", "rotation_deg": [0, 20, 0]}}]}}"#,
+        eye[0], eye[1], eye[2]
+    );
+    let b =
+        luz::scene::parse(&json_scene, &dir.join("plane.json")).unwrap_or_else(|e| panic!("{e}"));
+    assert!((a.camera.forward() - b.camera.forward()).length() < 1e-6);
+    let ctx = gpu();
+    let ia = render_on(&ctx, &a);
+    let ib = render_on(&ctx, &b);
+    let mut differ = 0;
+    let mut max_inside = 0.0f32;
+    for (x, y) in ia.pixels.iter().zip(&ib.pixels) {
+        let d = (0..3).map(|c| (x[c] - y[c]).abs()).fold(0.0f32, f32::max);
+        if d > 1e-3 {
+            differ += 1;
+        } else {
+            max_inside = max_inside.max(d);
+        }
+    }
+    let lit = ia.pixels.iter().filter(|p| p[0] > 0.01).count();
+    eprintln!("orthographic glTF vs JSON: {differ} pixels differ by more than 1e-3, the others by {max_inside:.1e}; {lit} lit");
+    assert!(lit > 500, "the quad is hardly visible ({lit} pixels)");
+    // The cameras agree to rounding (a quaternion against a look-at): at most an edge pixel or two.
+    assert!(differ <= 2, "{differ} pixels differ");
+    assert!(max_inside < 1e-4, "{max_inside}");
+    assert_no_validation_messages(&ctx);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Bad input: one clear message naming the file and the JSON path, exit code 1, no panic.
 
@@ -793,6 +883,32 @@ fn bad_files_fail_clearly() {
     let p = dir.join("negative_fov.gltf");
     std::fs::write(&p, doc.to_string()).unwrap();
     cases.push((p, "cameras[0].perspective.yfov"));
+    // Orthographic cameras: a zero magnification, a far plane before the near one, a negative
+    // near plane.
+    for (name, ortho, field) in [
+        (
+            "zero_ymag",
+            json!({"xmag": 1, "ymag": 0, "znear": 0.1, "zfar": 10}),
+            "cameras[0].orthographic.ymag: must be positive, got 0",
+        ),
+        (
+            "ortho_far_before_near",
+            json!({"xmag": 1, "ymag": 1, "znear": 5, "zfar": 2}),
+            "cameras[0].orthographic.zfar: must be greater than znear (5), got 2",
+        ),
+        (
+            "ortho_negative_near",
+            json!({"xmag": 1, "ymag": 1, "znear": -1, "zfar": 2}),
+            "cameras[0].orthographic.znear: must be ≥ 0, got -1",
+        ),
+    ] {
+        let mut doc = g.document(good.clone(), Some("good.bin"));
+        doc["cameras"] = json!([{"type": "orthographic", "orthographic": ortho}]);
+        doc["nodes"][0]["camera"] = json!(0);
+        let p = dir.join(format!("{name}.gltf"));
+        std::fs::write(&p, doc.to_string()).unwrap();
+        cases.push((p, field));
+    }
     // Float indices.
     let mut doc = g.document(good.clone(), Some("good.bin"));
     doc["accessors"][3]["componentType"] = json!(F32);
@@ -981,9 +1097,7 @@ fn normalized(g: &mut Gltf, values: &[f32], component: u32, ty: &str) -> usize {
 fn pixel_of(scene: &luz::scene::Scene, p: Vec3) -> usize {
     let (w, h) = (scene.output.width, scene.output.height);
     let cam = &scene.camera;
-    let clip = luz::render::gpu::projection(cam.fov_y_deg, w as f32 / h as f32, cam.near, cam.far)
-        * cam.view()
-        * p.extend(1.0);
+    let clip = luz::render::gpu::projection(cam, w as f32 / h as f32) * cam.view() * p.extend(1.0);
     let ndc = clip.truncate() / clip.w;
     let x = ((ndc.x * 0.5 + 0.5) * w as f32) as usize;
     let y = ((ndc.y * 0.5 + 0.5) * h as f32) as usize;
@@ -1144,6 +1258,45 @@ fn alpha_modes_cut_out_and_blend() {
         rgb(&full, at(-1.15, 0.7, 0.0)).x > 0.05,
         "the masked texture's opaque half is lit red"
     );
+    // Flat and Gouraud shading light per polygon or vertex but cut out and blend per pixel: the
+    // same cut-outs (the map's alpha) and composites, against their own opaque images. (They
+    // have no vertex colours, so mask_vc is not judged.)
+    for shading in [luz::scene::Shading::Flat, luz::scene::Shading::Gouraud] {
+        let mut s = scene.clone();
+        for o in &mut s.objects {
+            o.shading = shading;
+        }
+        let full = render_on(&ctx, &s);
+        let all = opaque(s.clone(), &[0, 1, 2, 3, 4, 5]);
+        let without_front = opaque(s.clone(), &[0, 1, 2, 5]);
+        let (cut, kept, over) = (at(-1.65, 0.7, 0.0), at(-1.15, 0.7, 0.0), at(1.4, 0.7, 0.0));
+        let i = at(-0.3, -0.7, 0.3);
+        let probes = [
+            ("mask_tex, alpha 0", cut, bg),
+            ("mask_tex, alpha 1", kept, rgb(&all, kept)),
+            (
+                "half white over blue",
+                over,
+                0.5 * rgb(&all, over) + 0.5 * rgb(&without_front, over),
+            ),
+            (
+                "orange over white over the background",
+                i,
+                0.25 * rgb(&all, i) + 0.75 * (0.5 * rgb(&without_front, i) + 0.5 * bg),
+            ),
+        ];
+        for (what, i, want) in probes {
+            let got = rgb(&full, i);
+            assert!(
+                near(got, want, 0.01, 2e-3),
+                "{shading:?}: {what}: {got} instead of {want}"
+            );
+        }
+        assert!(
+            rgb(&full, kept).x > 0.05,
+            "{shading:?}: the kept half is lit"
+        );
+    }
     assert_no_validation_messages(&ctx);
 
     // The CPU reference: the same cut-outs and composites (per ray, in depth order).
@@ -1321,6 +1474,40 @@ fn file_tangents_ior_and_specular() {
         f0(2)
     );
     assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+
+    // KHR_materials_specular's textures: the factors still apply, the textures are named in one
+    // warning for the file (two materials use them).
+    let mut g = Gltf::default();
+    let a = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+    let b = zquad(&mut g, [1.0, 0.0, 0.0], 0.5, false, 1, &[]);
+    let img_view = g.view(&png_2x2([200, 100, 50, 128]), None);
+    let path = g.write_gltf(
+        &dir,
+        "spectex",
+        json!({
+            "extensionsUsed": ["KHR_materials_specular"],
+            "images": [{"bufferView": img_view, "mimeType": "image/png"}],
+            "textures": [{"source": 0}],
+            "materials": [
+                {"name": "a", "extensions": {"KHR_materials_specular": {"specularFactor": 0.5, "specularTexture": {"index": 0}}}},
+                {"name": "b", "extensions": {"KHR_materials_specular": {"specularColorTexture": {"index": 0}}}}
+            ],
+            "nodes": [{"mesh": 0}, {"mesh": 1}],
+            "meshes": [{"primitives": [a]}, {"primitives": [b]}]
+        }),
+    );
+    let f = load(&path);
+    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0].starts_with("spectex.gltf: KHR_materials_specular's specularTexture and specularColorTexture are not used")
+            && f.warnings[0].ends_with(r#"materials[0] ("a"), materials[1] ("b")"#),
+        "{}",
+        f.warnings[0]
+    );
+    match &f.materials[0].material {
+        luz::scene::Material::MetalRough(p) => assert_eq!(p.dielectric_f0, Vec3::splat(0.02)),
+        other => panic!("{other:?}"),
+    }
 
     // Wrong types: an error naming the attribute.
     let mut g = Gltf::default();

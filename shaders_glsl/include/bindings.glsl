@@ -26,7 +26,7 @@ layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {
     mat4 view;
     mat4 proj;
     mat4 view_proj;
-    vec4 camera_pos;  // xyz
+    vec4 camera_pos;  // (eye, 1); orthographic: (−forward, 0) (Camera::eye_homogeneous)
     vec4 ambient;     // rgb: I_a (classic) or uniform ambient radiance (physically based)
     vec4 fog_color;   // rgb: I_F
     vec4 fog;         // z_a, z_b, s_a, s_b
@@ -131,7 +131,7 @@ MaterialPushData material;
 layout(set = SET_FRAME, binding = BINDING_CLUSTERS, std430) readonly buffer Clusters {
     uvec4 cluster_dims;   // tiles x, tiles y, depth slices, lights in every cluster
     vec4 cluster_xy;      // column = floor(x/d · x + y), row = floor(y/d · z + w); view space, d = −z
-    vec4 cluster_depth;   // slice = floor(ln d · x + y)
+    vec4 cluster_depth;   // slice = floor(ln d · x + y); z = 1: orthographic (x, y for x/d, y/d)
     uvec2 clusters[];     // (base, count): light k is cluster_lights[k < always ? k : base + k]
 };
 layout(set = SET_FRAME, binding = BINDING_CLUSTER_LIGHTS, std430) readonly buffer ClusterLights {

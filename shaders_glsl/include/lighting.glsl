@@ -201,8 +201,10 @@ uvec2 light_list(vec3 P) {
     if (CLUSTERED) {
         vec3 v = (frame.view * vec4(P, 1.0)).xyz;
         float d = max(-v.z, 1e-6);
-        ivec3 c = ivec3(floor(vec3(v.x / d * cluster_xy.x + cluster_xy.y,
-                                   v.y / d * cluster_xy.z + cluster_xy.w,
+        // Tiles cut slopes x/d, y/d; an orthographic grid's (cluster_depth.z = 1) cut x, y.
+        float dxy = max(d * (1.0 - cluster_depth.z), cluster_depth.z);
+        ivec3 c = ivec3(floor(vec3(v.x / dxy * cluster_xy.x + cluster_xy.y,
+                                   v.y / dxy * cluster_xy.z + cluster_xy.w,
                                    log(d) * cluster_depth.x + cluster_depth.y)));
         c = clamp(c, ivec3(0), ivec3(cluster_dims.xyz) - 1);
         return clusters[(uint(c.z) * cluster_dims.y + uint(c.y)) * cluster_dims.x + uint(c.x)];
@@ -284,7 +286,8 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
 vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     Surface s = surface_at(N, X, Y, uv);
     BrdfParams p = s.p;
-    vec3 V = normalize(frame.camera_pos.xyz - P);
+    // camera_pos is (eye, 1), or (−forward, 0) for an orthographic camera: V is constant then.
+    vec3 V = normalize(frame.camera_pos.xyz - P * frame.camera_pos.w);
     if (DEBUG_VIEW != DEBUG_VIEW_NONE && DEBUG_VIEW != DEBUG_VIEW_NAN) {
         return debug_value(s, P, V);
     }

@@ -195,19 +195,14 @@ pub fn render_reference_cancellable(
 /// The primary ray through continuous pixel coordinates `(px, py)` of `scene` (pixel `(x, y)`
 /// covers `[x, x + 1] × [y, y + 1]`, y = 0 at the top; its centre is `(x + 0.5, y + 0.5)`):
 /// `(origin, direction)` in world space, the direction scaled so that its view-space z is −1
-/// (the ray parameter is the view-space depth). The same mapping as the GPU path's Vulkan
-/// projection (`render::gpu::projection`).
+/// (the ray parameter is the view-space depth); an orthographic camera's rays are parallel
+/// ([`crate::scene::Camera::ray`]). The same mapping as the GPU path's Vulkan projection
+/// (`render::gpu::projection`).
 pub fn primary_ray(scene: &Scene, px: f32, py: f32) -> (glam::Vec3, glam::Vec3) {
-    let cam = &scene.camera;
     let (w, h) = (scene.output.width as f32, scene.output.height as f32);
-    let tan_half = (0.5 * cam.fov_y_deg.to_radians()).tan();
     let ndc_x = 2.0 * px / w - 1.0;
     let ndc_y = 2.0 * py / h - 1.0;
-    let view_dir = glam::Vec3::new(ndc_x * tan_half * (w / h), -ndc_y * tan_half, -1.0);
-    (
-        cam.position,
-        cam.view().inverse().transform_vector3(view_dir),
-    )
+    scene.camera.ray(ndc_x, ndc_y, w / h)
 }
 
 /// The scene's saturation, as the GPU's saturate pass: clamp each channel to 1, or divide the

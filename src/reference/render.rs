@@ -75,9 +75,9 @@ impl RefEnv {
 pub struct Prepared {
     pub width: u32,
     pub height: u32,
-    cam_pos: Vec3,
-    inv_view: Mat4,
-    tan_half: f32,
+    camera: crate::scene::Camera,
+    /// [`crate::scene::Camera::eye_homogeneous`]: V = eye.xyz − p · eye.w, as the shaders.
+    eye: glam::Vec4,
     aspect: f32,
     near: f32,
     far: f32,
@@ -219,9 +219,8 @@ impl Prepared {
         Ok(Prepared {
             width: scene.output.width,
             height: scene.output.height,
-            cam_pos: cam.position,
-            inv_view: cam.view().inverse(),
-            tan_half: (0.5 * cam.fov_y_deg.to_radians()).tan(),
+            camera: *cam,
+            eye: cam.eye_homogeneous(),
             aspect: scene.output.aspect(),
             near: cam.near,
             far: cam.far,
@@ -242,12 +241,7 @@ impl Prepared {
     pub fn primary_ray(&self, px: f32, py: f32) -> (Vec3, Vec3) {
         let ndc_x = 2.0 * px / self.width as f32 - 1.0;
         let ndc_y = 2.0 * py / self.height as f32 - 1.0;
-        let view_dir = Vec3::new(
-            ndc_x * self.tan_half * self.aspect,
-            -ndc_y * self.tan_half,
-            -1.0,
-        );
-        (self.cam_pos, self.inv_view.transform_vector3(view_dir))
+        self.camera.ray(ndc_x, ndc_y, self.aspect)
     }
 
     /// The closest hit with view depth in `[t_min, far]` that is seen: not the back face of a
@@ -433,7 +427,7 @@ impl Prepared {
         }
         let mut s = surface_at(mat, n, x, y, uv);
         tint(&mut s.model, vertex_color(obj, part).xyz());
-        let v = (self.cam_pos - p).normalize_or(n);
+        let v = (self.eye.truncate() - p * self.eye.w).normalize_or(n);
         let mut c = s.occlusion * ambient_term(&s.model, self.ambient);
         for (k, light) in self.lights.iter().enumerate() {
             let (l, mut e) = light_incidence(light, p);

@@ -220,21 +220,17 @@ pub fn material_push(m: &Material) -> MaterialPush {
     }
 }
 
-/// Vulkan clip space from a right-handed view: y down, depth in [0, 1].
-pub fn projection(fov_y_deg: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
-    let mut p = Mat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far);
+/// Vulkan clip space from a right-handed view: y down, depth in [0, 1] (near 0, far 1; the
+/// camera's perspective or orthographic projection, [`crate::scene::Camera::projection`]).
+pub fn projection(camera: &crate::scene::Camera, aspect: f32) -> Mat4 {
+    let mut p = camera.projection(aspect);
     p.y_axis.y = -p.y_axis.y;
     p
 }
 
 pub fn frame_data(scene: &Scene, aspect: f32, light_count: u32) -> FrameData {
     let view = scene.camera.view();
-    let proj = projection(
-        scene.camera.fov_y_deg,
-        aspect,
-        scene.camera.near,
-        scene.camera.far,
-    );
+    let proj = projection(&scene.camera, aspect);
     let (fog_color, fog) = match &scene.fog {
         Some(f) => (f.color.extend(0.0), Vec4::new(f.z_a, f.z_b, f.s_a, f.s_b)),
         None => (Vec4::ZERO, Vec4::ZERO),
@@ -243,7 +239,7 @@ pub fn frame_data(scene: &Scene, aspect: f32, light_count: u32) -> FrameData {
         view,
         proj,
         view_proj: proj * view,
-        camera_pos: scene.camera.position.extend(1.0),
+        camera_pos: scene.camera.eye_homogeneous(),
         ambient: scene.ambient.extend(0.0),
         fog_color,
         fog,

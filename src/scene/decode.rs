@@ -16,7 +16,7 @@ use super::obj::{load_obj, ObjFile};
 use super::tessellation::{self, Tessellation};
 use super::{
     Camera, Falloff, Fog, Light, LightKind, Material, MeshDesc, NamedMaterial, Object,
-    ObjectShadow, Output, Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
+    ObjectShadow, Output, Projection, Saturation, Scene, Shading, Transform, MAX_IMAGE_SIZE,
 };
 use crate::brdf::{
     dielectric_ior, metal_preset, ComplexIor, CookTorranceParams, Diffuse, Distribution, Fresnel,
@@ -173,9 +173,45 @@ fn empty_object() -> Value {
 fn camera(v: &Value, path: &str) -> Result<Camera> {
     let f = Fields::new(v, path)?;
     f.allow(
-        &["position", "target", "up", "fov_y_deg", "near", "far"],
+        &[
+            "position",
+            "target",
+            "up",
+            "fov_y_deg",
+            "near",
+            "far",
+            "projection",
+            "ortho_half_height",
+        ],
         "the camera",
     )?;
+    let projection = match f.choice("projection", &["perspective", "orthographic"])? {
+        Some("orthographic") => {
+            if f.has("fov_y_deg") {
+                return Err(f.err(
+                    "fov_y_deg",
+                    "is for perspective cameras; an orthographic camera takes ortho_half_height",
+                ));
+            }
+            let Some(v) = f.get("ortho_half_height") else {
+                return Err(f.err(
+                    "ortho_half_height",
+                    "missing required field (an orthographic camera's half view height)",
+                ));
+            };
+            let half_height = number(v, &f.path("ortho_half_height"), Check::Positive)?;
+            Projection::Orthographic { half_height }
+        }
+        _ => {
+            if f.has("ortho_half_height") {
+                return Err(f.err(
+                    "ortho_half_height",
+                    "is for orthographic cameras; add \"projection\": \"orthographic\"",
+                ));
+            }
+            Projection::Perspective
+        }
+    };
     let position = f.vec3("position", Vec3::new(0.0, 0.0, 5.0))?;
     let target = f.vec3("target", Vec3::ZERO)?;
     let up = f.vec3("up", Vec3::Y)?;
@@ -207,6 +243,7 @@ fn camera(v: &Value, path: &str) -> Result<Camera> {
         fov_y_deg,
         near,
         far,
+        projection,
     })
 }
 

@@ -24,7 +24,7 @@ mod textures;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 
 pub use encode::{encode, save, to_json, Encoded};
 pub use environment::{
@@ -132,18 +132,31 @@ impl Scene {
     }
 }
 
-/// A perspective camera looking from `position` at `target`.
+/// How a camera projects: perspective (rays from the eye point, `fov_y_deg`) or orthographic
+/// (parallel rays along the view direction through a view rectangle `2 · half_height` tall; the
+/// width follows the image's aspect).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Projection {
+    #[default]
+    Perspective,
+    /// Half the height of the view rectangle in world units, > 0.
+    Orthographic { half_height: f32 },
+}
+
+/// A camera looking from `position` at `target`, perspective or orthographic ([`Projection`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     pub position: Vec3,
     pub target: Vec3,
     /// Unit length; never parallel to the view direction.
     pub up: Vec3,
-    /// Vertical field of view in degrees, in (0, 180).
+    /// Vertical field of view in degrees, in (0, 180) (perspective only; kept but unused by an
+    /// orthographic camera).
     pub fov_y_deg: f32,
     /// Distances to the clip planes, 0 < near < far.
     pub near: f32,
     pub far: f32,
+    pub projection: Projection,
 }
 
 impl Camera {
@@ -153,15 +166,75 @@ impl Camera {
         Mat4::look_at_rh(self.position, self.target, self.up)
     }
 
-    /// View → clip matrix, `glam::Mat4::perspective_rh`: depth in [0, 1] as Vulkan wants, but y
-    /// up in clip space (a Vulkan renderer flips y, e.g. with a negative viewport height).
+    /// View → clip matrix, `glam::Mat4::perspective_rh` or `orthographic_rh`: depth in [0, 1] as
+    /// Vulkan wants, but y up in clip space (a Vulkan renderer flips y, e.g. with a negative
+    /// viewport height).
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        Mat4::perspective_rh(self.fov_y_deg.to_radians(), aspect, self.near, self.far)
+        match self.projection {
+            Projection::Perspective => {
+                Mat4::perspective_rh(self.fov_y_deg.to_radians(), aspect, self.near, self.far)
+            }
+            Projection::Orthographic { half_height: h } => {
+                let w = h * aspect;
+                Mat4::orthographic_rh(-w, w, -h, h, self.near, self.far)
+            }
+        }
     }
 
     /// Unit vector from the camera towards the target.
     pub fn forward(&self) -> Vec3 {
         (self.target - self.position).normalize()
+    }
+
+    /// The half-height of an orthographic camera's view rectangle; `None` for perspective.
+    pub fn ortho_half_height(&self) -> Option<f32> {
+        match self.projection {
+            Projection::Perspective => None,
+            Projection::Orthographic { half_height } => Some(half_height),
+        }
+    }
+
+    /// Half the width and height of the view volume's cross-section at view depth `depth` on an
+    /// image of aspect `aspect`: `depth · tan(fov/2)` (× aspect) in perspective, the constant
+    /// view rectangle in orthographic.
+    pub fn half_extent(&self, depth: f32, aspect: f32) -> (f32, f32) {
+        match self.projection {
+            Projection::Perspective => {
+                let t = (self.fov_y_deg.to_radians() * 0.5).tan();
+                (depth * (t * aspect), depth * t)
+            }
+            Projection::Orthographic { half_height: h } => (h * aspect, h),
+        }
+    }
+
+    /// The ray through normalised device coordinates (`ndc_x`, `ndc_y` in [−1, 1], y down as in
+    /// Vulkan) at `aspect`: `(origin, direction)` in world space, the direction scaled so its
+    /// view-space z is −1 (the ray parameter is the view-space depth). Perspective rays start at
+    /// the eye; orthographic ones are parallel (the view direction), starting in the plane
+    /// through the eye square to it.
+    pub fn ray(&self, ndc_x: f32, ndc_y: f32, aspect: f32) -> (Vec3, Vec3) {
+        let inv = self.view().inverse();
+        match self.projection {
+            Projection::Perspective => {
+                let t = (0.5 * self.fov_y_deg.to_radians()).tan();
+                let d = Vec3::new(ndc_x * t * aspect, -ndc_y * t, -1.0);
+                (self.position, inv.transform_vector3(d))
+            }
+            Projection::Orthographic { half_height: h } => {
+                let o = Vec3::new(ndc_x * h * aspect, -ndc_y * h, 0.0);
+                (inv.transform_point3(o), inv.transform_vector3(Vec3::NEG_Z))
+            }
+        }
+    }
+
+    /// The eye as the shaders take it (`FrameData.camera_pos`): the point (position, 1) in
+    /// perspective, the direction towards the viewer (−forward, 0) in orthographic, so that
+    /// `V = normalize(camera_pos.xyz − P · camera_pos.w)` is the view vector in both.
+    pub fn eye_homogeneous(&self) -> Vec4 {
+        match self.projection {
+            Projection::Perspective => self.position.extend(1.0),
+            Projection::Orthographic { .. } => (-self.forward()).extend(0.0),
+        }
     }
 }
 

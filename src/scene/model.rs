@@ -169,6 +169,7 @@ pub fn framing((lo, hi): (Vec3, Vec3), aspect: f32, fov_y_deg: f32) -> Camera {
         fov_y_deg,
         near: ((distance - radius) * 0.5).max(distance * 1e-4),
         far: distance + radius * 2.0,
+        projection: super::Projection::Perspective,
     }
 }
 

@@ -7,7 +7,8 @@
 //! [[`AUTO_MIN_SEGMENTS`], [`AUTO_MAX_SEGMENTS`]]; a sphere's rings follow at N/2 unless the scene
 //! gives them. The projected radius is that of the bounding circle seen straight on from the
 //! scene's camera, f · r / √(d² − r²) with f = (height / 2) / tan(fov_y / 2); an object around the
-//! camera gets the maximum.
+//! camera gets the maximum. An orthographic camera sees r · height / (2 · half_height) px at any
+//! distance.
 //!
 //! The budget is `output.tessellation_error_px` (default [`DEFAULT_TESSELLATION_ERROR_PX`]). It is
 //! not a visual guess: `luz lab` renders the scene with automatic tessellation at several budgets
@@ -72,8 +73,12 @@ pub fn segments_for(radius_px: f32, budget_px: f32) -> u32 {
 }
 
 /// The radius in pixels of a sphere of `radius` at `center` seen from `camera` on an image
-/// `height_px` tall (straight on; infinite when the camera is inside it).
+/// `height_px` tall (straight on; infinite when the camera is inside it; orthographic:
+/// r · height / (2 · half_height), whatever the distance).
 pub fn projected_radius_px(camera: &Camera, height_px: u32, center: Vec3, radius: f32) -> f32 {
+    if let Some(h) = camera.ortho_half_height() {
+        return radius * 0.5 * height_px as f32 / h;
+    }
     let d2 = f64::from((center - camera.position).length_squared());
     let r = f64::from(radius);
     if d2 <= r * r {
@@ -277,10 +282,20 @@ mod tests {
             fov_y_deg: 90.0,
             near: 0.1,
             far: 100.0,
+            projection: crate::scene::Projection::Perspective,
         };
         // f = 360 px; a unit sphere 10 away subtends r / √(d² − r²) = 1/√99.
         let r = projected_radius_px(&camera, 720, Vec3::ZERO, 1.0);
         assert!((r - 360.0 / 99f32.sqrt()).abs() < 1e-3, "{r}");
+        // Orthographic, half height 4: 1 · 720 / 8 = 90 px near or far.
+        let ortho = Camera {
+            projection: crate::scene::Projection::Orthographic { half_height: 4.0 },
+            ..camera
+        };
+        for z in [-50.0, 0.0, 8.0] {
+            let r = projected_radius_px(&ortho, 720, Vec3::new(0.0, 0.0, z), 1.0);
+            assert_eq!(r, 90.0);
+        }
         assert_eq!(
             projected_radius_px(&camera, 720, Vec3::new(0.0, 0.0, 9.5), 1.0),
             f32::INFINITY

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use crate::scene::Camera;
+use crate::scene::{Camera, Projection};
 
 /// Pitch stays this far (degrees) from the poles, where yaw is undefined.
 const MAX_PITCH_DEG: f32 = 89.0;
@@ -20,6 +20,9 @@ pub struct OrbitCamera {
     pub fov_y_deg: f32,
     pub near: f32,
     pub far: f32,
+    /// Perspective, or orthographic with its half view height (which zoom and framing change,
+    /// as the distance in perspective).
+    pub projection: Projection,
 }
 
 impl OrbitCamera {
@@ -41,6 +44,7 @@ impl OrbitCamera {
             fov_y_deg: camera.fov_y_deg,
             near: camera.near,
             far: camera.far,
+            projection: camera.projection,
         }
     }
 
@@ -67,6 +71,7 @@ impl OrbitCamera {
             fov_y_deg: self.fov_y_deg,
             near: self.near,
             far: self.far,
+            projection: self.projection,
         }
     }
 
@@ -82,18 +87,24 @@ impl OrbitCamera {
         let forward = (self.target - self.position()).normalize();
         let right = forward.cross(self.up).normalize();
         let up = right.cross(forward);
-        let view_height = 2.0 * self.distance * (self.fov_y_deg.to_radians() * 0.5).tan();
+        let view_height = 2.0 * self.to_camera().half_extent(self.distance, 1.0).1;
         self.target += (-dx * right + dy * up) * view_height;
     }
 
-    /// Multiplies the distance by 0.9^steps (positive steps zoom in).
+    /// Multiplies the distance (orthographic: the half view height) by 0.9^steps (positive steps
+    /// zoom in).
     pub fn zoom(&mut self, steps: f32) {
+        if let Projection::Orthographic { half_height } = &mut self.projection {
+            *half_height = (*half_height * 0.9f32.powf(steps)).clamp(1e-6, 1e9);
+            return;
+        }
         self.distance = (self.distance * 0.9f32.powf(steps)).clamp(1e-3, 1e6);
         self.far = self.far.max(self.distance * 4.0);
     }
 
     /// Looks at the centre of `bounds` from the current direction, at the distance where the
-    /// bounding sphere fills the vertical field of view (with a 10 % margin).
+    /// bounding sphere fills the vertical field of view (with a 10 % margin; orthographic: the
+    /// half view height is the radius plus 10 %, the distance as in perspective).
     pub fn frame(&mut self, bounds: (Vec3, Vec3)) {
         let (lo, hi) = bounds;
         let centre = (lo + hi) * 0.5;
@@ -101,6 +112,9 @@ impl OrbitCamera {
         let half = (self.fov_y_deg.to_radians() * 0.5).max(1e-3);
         self.target = centre;
         self.distance = 1.1 * radius / half.sin();
+        if let Projection::Orthographic { half_height } = &mut self.projection {
+            *half_height = 1.1 * radius;
+        }
         self.far = self.far.max(self.distance + 2.0 * radius);
         self.near = self
             .near
@@ -120,6 +134,7 @@ mod tests {
             fov_y_deg: 45.0,
             near: 0.1,
             far: 100.0,
+            projection: Projection::Perspective,
         }
     }
 
@@ -181,5 +196,29 @@ mod tests {
         assert!(o.distance * half >= r, "sphere inside the view cone");
         assert!(o.far >= o.distance + r);
         assert_eq!(o.target, Vec3::ZERO);
+    }
+
+    /// An orthographic orbit: zoom scales the half view height (not the distance), framing fits
+    /// the bounding sphere into it, panning by a whole view height moves the target by 2 · half
+    /// height, and the camera converts back orthographic.
+    #[test]
+    fn orthographic_zoom_frame_and_pan() {
+        let c = Camera {
+            projection: Projection::Orthographic { half_height: 2.0 },
+            ..camera()
+        };
+        let mut o = OrbitCamera::from_camera(&c);
+        let d = o.distance;
+        o.zoom(2.0);
+        assert_eq!(o.distance, d);
+        let h = o.to_camera().ortho_half_height().unwrap();
+        assert!((h - 2.0 * 0.81).abs() < 1e-5, "{h}");
+        o.frame((Vec3::splat(-1.0), Vec3::splat(1.0)));
+        let r = 3f32.sqrt();
+        assert!((o.to_camera().ortho_half_height().unwrap() - 1.1 * r).abs() < 1e-5);
+        let before = o.target;
+        o.pan(0.0, 1.0);
+        let moved = (o.target - before).length();
+        assert!((moved - 2.2 * r).abs() < 1e-4, "{moved}");
     }
 }

@@ -1,7 +1,8 @@
 //! Clustered light culling (Olsson et al.'s clustered shading), assigned on the CPU.
 //!
 //! The view volume is cut into clusters: `tiles_x` × `tiles_y` screen tiles (in view-space
-//! slopes x/d and y/d, d the view depth, so the grid does not depend on the pixel size) times
+//! slopes x/d and y/d, d the view depth, so the grid does not depend on the pixel size; for an
+//! orthographic camera in view-space x and y themselves, the rays being parallel) times
 //! `slices` depth slices, exponential between the camera's near and far planes. Each light with a
 //! range is listed in every cluster its bounding sphere (position, range) may reach; lights
 //! without a range (directional lights, unranged point and spot lights) are listed once, ahead of
@@ -99,7 +100,8 @@ pub struct Grid {
     pub tiles_x: u32,
     pub tiles_y: u32,
     pub slices: u32,
-    /// column = floor(x/d · sx + ox), row = floor(y/d · sy + oy).
+    /// column = floor(x/d · sx + ox), row = floor(y/d · sy + oy) (orthographic: x and y for x/d
+    /// and y/d).
     sx: f32,
     ox: f32,
     sy: f32,
@@ -112,6 +114,8 @@ pub struct Grid {
     /// The camera's near and far planes.
     near: f32,
     far: f32,
+    /// An orthographic camera's grid: tiles in x and y, not in slopes.
+    ortho: bool,
 }
 
 /// `ClusterHeader` (std430, 48 bytes) at the start of the clusters buffer, before the
@@ -123,7 +127,7 @@ pub struct ClusterHeader {
     pub dims: [u32; 4],
     /// sx, ox, sy, oy.
     pub xy: Vec4,
-    /// ls, lo, unused.
+    /// ls, lo, 1 for an orthographic grid (tiles in x and y, not slopes) else 0, unused.
     pub depth: Vec4,
 }
 
@@ -133,6 +137,16 @@ impl Grid {
     /// The grid of a perspective camera (vertical field of view, aspect, near and far planes).
     pub fn new(fov_y_deg: f32, aspect: f32, near: f32, far: f32) -> Self {
         let tan_y = (fov_y_deg.to_radians() * 0.5).tan().max(1e-6);
+        Self::with_extent(tan_y, aspect, near, far, false)
+    }
+
+    /// The grid of an orthographic camera (half view height, aspect, near and far planes).
+    pub fn orthographic(half_height: f32, aspect: f32, near: f32, far: f32) -> Self {
+        Self::with_extent(half_height.max(1e-6), aspect, near, far, true)
+    }
+
+    /// `tan_y`: the half view height at depth 1 (perspective) or everywhere (orthographic).
+    fn with_extent(tan_y: f32, aspect: f32, near: f32, far: f32, ortho: bool) -> Self {
         let aspect = if aspect.is_finite() && aspect > 0.0 {
             aspect
         } else {
@@ -155,6 +169,7 @@ impl Grid {
             lo: 0.0,
             near,
             far,
+            ortho,
         };
         g.slice_between(near, far);
         g
@@ -186,7 +201,10 @@ impl Grid {
     /// The grid of `scene`'s camera at `aspect`.
     pub fn of(scene: &crate::scene::Scene, aspect: f32) -> Self {
         let c = &scene.camera;
-        Self::new(c.fov_y_deg, aspect, c.near, c.far)
+        match c.ortho_half_height() {
+            None => Self::new(c.fov_y_deg, aspect, c.near, c.far),
+            Some(h) => Self::orthographic(h, aspect, c.near, c.far),
+        }
     }
 
     pub fn cells(&self) -> usize {
@@ -197,7 +215,16 @@ impl Grid {
         ClusterHeader {
             dims: [self.tiles_x, self.tiles_y, self.slices, always],
             xy: Vec4::new(self.sx, self.ox, self.sy, self.oy),
-            depth: Vec4::new(self.ls, self.lo, 0.0, 0.0),
+            depth: Vec4::new(self.ls, self.lo, if self.ortho { 1.0 } else { 0.0 }, 0.0),
+        }
+    }
+
+    /// What the tiles cut at view depth `d`: the slope x/d, or x itself (orthographic).
+    fn slope(&self, x: f32, d: f32) -> f32 {
+        if self.ortho {
+            x
+        } else {
+            x / d
         }
     }
 
@@ -221,7 +248,11 @@ impl Grid {
     /// The cluster of the view-space point `v` (x, y, z with depth d = −z), as the shader finds it.
     pub fn cluster_of(&self, v: glam::Vec3) -> usize {
         let d = (-v.z).max(1e-6);
-        let (c, r, k) = (self.column(v.x / d), self.row(v.y / d), self.slice(d));
+        let (c, r, k) = (
+            self.column(self.slope(v.x, d)),
+            self.row(self.slope(v.y, d)),
+            self.slice(d),
+        );
         ((k * self.tiles_y + r) * self.tiles_x + c) as usize
     }
 }
@@ -333,8 +364,8 @@ pub fn build(camera: &Grid, view: Mat4, lights: &[Light]) -> Clusters {
             // Slopes x/d of the box [c.x ± rho] × [za, zb]: extremes at the box's corners.
             let span = |x: f32| {
                 let (x0, x1) = (x - rho, x + rho);
-                let t0 = (x0 / za).min(x0 / zb);
-                let t1 = (x1 / za).max(x1 / zb);
+                let t0 = grid.slope(x0, za).min(grid.slope(x0, zb));
+                let t1 = grid.slope(x1, za).max(grid.slope(x1, zb));
                 (
                     t0 - MARGIN * (1.0 + t0.abs()),
                     t1 + MARGIN * (1.0 + t1.abs()),
@@ -441,9 +472,36 @@ mod tests {
     /// are in every cluster; the culling also drops most lights.
     #[test]
     fn no_light_that_reaches_a_point_is_missing_from_its_cluster() {
-        let mut seed = 7u64;
         let (fov, aspect, near, far) = (50.0f32, 16.0 / 9.0, 0.1, 100.0);
-        let grid = Grid::new(fov, aspect, near, far);
+        let tan_y = (fov.to_radians() * 0.5).tan();
+        // A point in the view volume: a slope pair and a depth (log-uniform, some at the
+        // extremes of the frustum).
+        check_clusters(Grid::new(fov, aspect, near, far), &|seed| {
+            let tx = (rand(seed) * 2.0 - 1.0) * tan_y * aspect;
+            let ty = (rand(seed) * 2.0 - 1.0) * tan_y;
+            let d = near * (far / near).powf(rand(seed));
+            Vec3::new(tx * d, ty * d, -d)
+        });
+    }
+
+    /// The same for an orthographic camera's grid (tiles in x and y): points anywhere in its box.
+    #[test]
+    fn orthographic_clusters_miss_no_light_either() {
+        let (h, aspect, near, far) = (6.0f32, 16.0 / 9.0, 0.1, 100.0);
+        let grid = Grid::orthographic(h, aspect, near, far);
+        assert_eq!(grid.header(0).depth.z, 1.0);
+        check_clusters(grid, &|seed| {
+            let x = (rand(seed) * 2.0 - 1.0) * h * aspect;
+            let y = (rand(seed) * 2.0 - 1.0) * h;
+            let d = near * (far / near).powf(rand(seed));
+            Vec3::new(x, y, -d)
+        });
+    }
+
+    /// Random lights around a camera looking down at a plane; `point` draws a view-space point
+    /// inside `grid`'s view volume.
+    fn check_clusters(grid: Grid, point_in_view: &dyn Fn(&mut u64) -> Vec3) {
+        let mut seed = 7u64;
         let eye = Vec3::new(0.0, 7.0, 11.0);
         let view = Mat4::look_at_rh(eye, Vec3::ZERO, Vec3::Y);
         let mut lights: Vec<Light> = (0..600)
@@ -467,16 +525,10 @@ mod tests {
         let c = build(&grid, view, &lights);
         assert_eq!(c.header.dims[3], 2, "two lights without a range");
         assert_eq!(c.cells.len(), grid.cells());
-        let tan_y = (fov.to_radians() * 0.5).tan();
         let mut checked = 0;
         let mut listed = 0usize;
         for _ in 0..40_000 {
-            // A point in the view volume: a slope pair and a depth (log-uniform, some at the
-            // extremes of the frustum).
-            let tx = (rand(&mut seed) * 2.0 - 1.0) * tan_y * aspect;
-            let ty = (rand(&mut seed) * 2.0 - 1.0) * tan_y;
-            let d = near * (far / near).powf(rand(&mut seed));
-            let v = Vec3::new(tx * d, ty * d, -d);
+            let v = point_in_view(&mut seed);
             let p = view.inverse().transform_point3(v);
             let cell = c.grid.cluster_of(view.transform_point3(p));
             let list: Vec<u32> = c.lights_of(cell).collect();

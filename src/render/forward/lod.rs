@@ -20,8 +20,8 @@ impl ForwardPass {
                 let model = scene.objects[d.object].transform.matrix();
                 let (c, r) = self.meshes[d.mesh].sphere;
                 let scale = frustum::max_scale(model);
-                let distance = crate::scene::lod::sphere_distance(
-                    scene.camera.position,
+                let distance = crate::scene::lod::camera_distance(
+                    &scene.camera,
                     model.transform_point3(c),
                     r * scale,
                 );
@@ -49,8 +49,8 @@ impl ForwardPass {
                 let level = s.levels.get(i).copied().unwrap_or(0) as usize;
                 let model = scene.objects[d.object].transform.matrix();
                 let scale = frustum::max_scale(model);
-                let distance = crate::scene::lod::sphere_distance(
-                    scene.camera.position,
+                let distance = crate::scene::lod::camera_distance(
+                    &scene.camera,
                     model.transform_point3(m.sphere.0),
                     m.sphere.1 * scale,
                 );

@@ -170,8 +170,6 @@ fn directional(direction: Vec3, s: &Shadow, view: &View<'_>, widen: f32) -> Ligh
         inv.y_axis.truncate(),
         -inv.z_axis.truncate(),
     );
-    let tan_y = (cam.fov_y_deg.to_radians() * 0.5).tan();
-    let tan_x = tan_y * view.aspect;
     let light_view = Mat4::look_to_rh(Vec3::ZERO, axis, up);
     let res = s.resolution as f32;
     let mut z0 = cam.near;
@@ -183,7 +181,9 @@ fn directional(direction: Vec3, s: &Shadow, view: &View<'_>, widen: f32) -> Ligh
                 let z = if i < 4 { z0 } else { z1 };
                 let sx = if i & 1 == 0 { -1.0 } else { 1.0 };
                 let sy = if i & 2 == 0 { -1.0 } else { 1.0 };
-                *c = cam.position + fwd * z + right * (sx * z * tan_x) + cam_up * (sy * z * tan_y);
+                // The slice of the view volume: a frustum's, or an orthographic camera's box.
+                let (hx, hy) = cam.half_extent(z, view.aspect);
+                *c = cam.position + fwd * z + right * (sx * hx) + cam_up * (sy * hy);
             }
             z0 = z1;
             let center = corners.iter().copied().sum::<Vec3>() / 8.0;
@@ -251,6 +251,7 @@ pub(super) mod tests {
             fov_y_deg: 50.0,
             near: 0.1,
             far: 100.0,
+            projection: crate::scene::Projection::Perspective,
         }
     }
 

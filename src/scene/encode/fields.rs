@@ -48,13 +48,18 @@ pub(super) fn filter(f: Filter) -> &'static str {
 }
 
 pub(super) fn camera(c: &crate::scene::Camera) -> Node {
-    Node::obj()
+    let n = Node::obj()
         .with("position", c.position)
         .with("target", c.target)
-        .with("up", unit_preimage(c.up))
-        .with("fov_y_deg", c.fov_y_deg)
-        .with("near", c.near)
-        .with("far", c.far)
+        .with("up", unit_preimage(c.up));
+    // A perspective camera is written as before the field existed (no "projection").
+    let n = match c.ortho_half_height() {
+        None => n.with("fov_y_deg", c.fov_y_deg),
+        Some(h) => n
+            .with("projection", "orthographic")
+            .with("ortho_half_height", h),
+    };
+    n.with("near", c.near).with("far", c.far)
 }
 
 pub(super) fn light(l: &Light) -> Node {

@@ -163,7 +163,7 @@ fn uv_of(info_set: u32, tt: Option<gltf::texture::TextureTransform>) -> UvChoice
 /// The dielectric F0 of material `m` (named `name`) from KHR_materials_ior and
 /// KHR_materials_specular, as the latter's specification computes it:
 /// `min(((ior − 1)/(ior + 1))² · specularColorFactor, 1) · specularFactor` (0.04 with neither).
-/// Their textures are not read (a warning): luz has no map for F0.
+/// Their textures are not read (one warning per file): luz has no map for F0.
 fn dielectric_f0(
     m: &gltf::Material,
     name: &str,
@@ -195,10 +195,19 @@ fn dielectric_f0(
         };
         f0 = (f0 * color).min(Vec3::ONE) * factor;
         if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
-            warnings.push(format!(
-                "{file_name}: materials[{i}] (\"{name}\"): KHR_materials_specular's textures are \
-                 not used (luz has no F0 map); its factors are"
-            ));
+            // One warning per file, naming every material with such textures.
+            let marker = format!(
+                "{file_name}: KHR_materials_specular's specularTexture and specularColorTexture \
+                 are not used (luz has no F0 map; their factors are):"
+            );
+            let entry = format!(" materials[{i}] (\"{name}\")");
+            match warnings.iter_mut().find(|w| w.starts_with(&marker)) {
+                Some(w) => {
+                    w.push(',');
+                    w.push_str(&entry);
+                }
+                None => warnings.push(marker + &entry),
+            }
         }
     }
     f0

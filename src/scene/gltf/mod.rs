@@ -18,7 +18,7 @@ use glam::{Mat4, Vec3};
 pub use material::GltfMaterial;
 pub use primitive::UvChoice;
 
-use super::{Camera, Falloff, Light, LightKind, Mesh};
+use super::{Camera, Falloff, Light, LightKind, Mesh, Projection};
 
 /// Extensions luz reads; a file that requires any other one is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
@@ -66,7 +66,7 @@ pub struct Part {
     pub material: usize,
 }
 
-/// A perspective camera of the file, placed by its node.
+/// A camera of the file (perspective or orthographic), placed by its node.
 #[derive(Debug, Clone)]
 pub struct GltfCamera {
     pub name: String,
@@ -585,24 +585,57 @@ impl<'a> Builder<'a> {
         node_name: &str,
     ) -> Result<(), GltfError> {
         let c = cam.index();
-        let p = match cam.projection() {
-            gltf::camera::Projection::Perspective(p) => p,
-            gltf::camera::Projection::Orthographic(_) => {
-                let f = self.file_name.clone();
-                self.warn_once(
-                    "ortho",
-                    format!("{f}: cameras[{c}]: orthographic cameras are not supported (luz's camera is perspective); skipped"),
-                );
-                return Ok(());
-            }
+        let (projection, fov_y_deg, near, far, aspect) = match cam.projection() {
+            gltf::camera::Projection::Perspective(p) => self.perspective(c, &p)?,
+            gltf::camera::Projection::Orthographic(o) => self.orthographic(c, &o)?,
         };
-        let err = |field: &str, reason: String| {
-            GltfError::at(
+        let position = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z).try_normalize();
+        let up = world.transform_vector3(Vec3::Y).try_normalize();
+        let (Some(forward), Some(up)) = (forward, up) else {
+            return Err(GltfError::at(
                 self.path,
-                format!("cameras[{c}].perspective.{field}"),
-                reason,
-            )
+                "nodes",
+                format!("the node of cameras[{c}] (\"{node_name}\") has a degenerate transform"),
+            ));
         };
+        // Orthogonalise up against the view direction (a sheared node transform).
+        let up = (up - forward * up.dot(forward))
+            .try_normalize()
+            .unwrap_or(Vec3::Y);
+        self.out.cameras.push(GltfCamera {
+            name: cam
+                .name()
+                .map(str::to_string)
+                .unwrap_or_else(|| node_name.to_string()),
+            camera: Camera {
+                position,
+                target: position + forward,
+                up,
+                fov_y_deg,
+                near,
+                far,
+                projection,
+            },
+            aspect,
+        });
+        Ok(())
+    }
+
+    /// An error at `cameras[c].<kind>.<field>`.
+    fn camera_error(&self, c: usize, kind: &str) -> impl Fn(&str, String) -> GltfError + '_ {
+        let at = format!("cameras[{c}].{kind}");
+        move |field, reason| GltfError::at(self.path, format!("{at}.{field}"), reason)
+    }
+
+    /// A perspective camera's projection, vertical field of view (degrees), near, far (0: none)
+    /// and aspect ratio, checked.
+    fn perspective(
+        &self,
+        c: usize,
+        p: &gltf::camera::Perspective,
+    ) -> Result<(Projection, f32, f32, f32, Option<f32>), GltfError> {
+        let err = self.camera_error(c, "perspective");
         let yfov = p.yfov();
         if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
             return Err(err(
@@ -629,36 +662,43 @@ impl<'a> Builder<'a> {
             Some(a) if a > 0.0 && a.is_finite() => Some(a),
             Some(a) => return Err(err("aspectRatio", format!("must be positive, got {a}"))),
         };
-        let position = world.transform_point3(Vec3::ZERO);
-        let forward = world.transform_vector3(Vec3::NEG_Z).try_normalize();
-        let up = world.transform_vector3(Vec3::Y).try_normalize();
-        let (Some(forward), Some(up)) = (forward, up) else {
-            return Err(GltfError::at(
-                self.path,
-                "nodes",
-                format!("the node of cameras[{c}] (\"{node_name}\") has a degenerate transform"),
-            ));
-        };
-        // Orthogonalise up against the view direction (a sheared node transform).
-        let up = (up - forward * up.dot(forward))
-            .try_normalize()
-            .unwrap_or(Vec3::Y);
-        self.out.cameras.push(GltfCamera {
-            name: cam
-                .name()
-                .map(str::to_string)
-                .unwrap_or_else(|| node_name.to_string()),
-            camera: Camera {
-                position,
-                target: position + forward,
-                up,
-                fov_y_deg: yfov.to_degrees(),
-                near,
-                far,
-            },
+        Ok((
+            Projection::Perspective,
+            yfov.to_degrees(),
+            near,
+            far,
             aspect,
-        });
-        Ok(())
+        ))
+    }
+
+    /// An orthographic camera: half height `ymag`, aspect `xmag / ymag`, near `znear` (0 becomes
+    /// zfar · 1e-6: luz's near plane is positive), far `zfar`.
+    fn orthographic(
+        &self,
+        c: usize,
+        o: &gltf::camera::Orthographic,
+    ) -> Result<(Projection, f32, f32, f32, Option<f32>), GltfError> {
+        let err = self.camera_error(c, "orthographic");
+        let (xmag, ymag) = (o.xmag(), o.ymag());
+        for (field, v) in [("xmag", xmag), ("ymag", ymag)] {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(err(field, format!("must be positive, got {v}")));
+            }
+        }
+        let near = o.znear();
+        if !(near >= 0.0 && near.is_finite()) {
+            return Err(err("znear", format!("must be ≥ 0, got {near}")));
+        }
+        let far = o.zfar();
+        if !(far > near && far.is_finite()) {
+            return Err(err(
+                "zfar",
+                format!("must be greater than znear ({near}), got {far}"),
+            ));
+        }
+        let near = if near > 0.0 { near } else { far * 1e-6 };
+        let projection = Projection::Orthographic { half_height: ymag };
+        Ok((projection, 45.0, near, far, Some(xmag / ymag)))
     }
 
     fn light(

@@ -260,9 +260,24 @@ pub fn chain_for(
     }
 }
 
-/// Pixels per world unit at distance 1 on an image `height_px` tall: (height / 2) / tan(fov_y / 2).
+/// Pixels per world unit at distance 1 on an image `height_px` tall: (height / 2) / tan(fov_y / 2);
+/// for an orthographic camera at every distance, height / (2 · half_height) (its distance is 1:
+/// [`camera_distance`]).
 pub fn focal_px(camera: &Camera, height_px: u32) -> f32 {
-    0.5 * height_px as f32 / (0.5 * camera.fov_y_deg.to_radians()).tan()
+    match camera.ortho_half_height() {
+        None => 0.5 * height_px as f32 / (0.5 * camera.fov_y_deg.to_radians()).tan(),
+        Some(h) => 0.5 * height_px as f32 / h,
+    }
+}
+
+/// The distance [`projected_error_px`] divides by for the sphere (`centre`, `radius`) seen by
+/// `camera`: [`sphere_distance`] from the eye, or 1 for an orthographic camera (its projection
+/// does not shrink with distance; [`focal_px`] holds the whole scale).
+pub fn camera_distance(camera: &Camera, centre: Vec3, radius: f32) -> f32 {
+    match camera.ortho_half_height() {
+        None => sphere_distance(camera.position, centre, radius),
+        Some(_) => 1.0,
+    }
 }
 
 /// An object-space error `error` of an object whose bounding sphere (world centre `centre`,

@@ -228,3 +228,33 @@ fn summary_names_objects_and_counts_triangles() {
     assert!(lines[1].contains("level 2 of 5, 1000 of 4000 triangles (error 0.040 px)"));
     assert!(lines[2].ends_with("out of view"));
 }
+
+/// Orthographic: an error projects to error · scale · height / (2 · half height) px at any
+/// distance (pixels do not shrink with depth); perspective shrinks it with the distance.
+#[test]
+fn orthographic_projected_error_does_not_depend_on_distance() {
+    let persp = crate::scene::Camera {
+        position: glam::Vec3::new(0.0, 0.0, 10.0),
+        target: glam::Vec3::ZERO,
+        up: glam::Vec3::Y,
+        fov_y_deg: 90.0,
+        near: 0.1,
+        far: 100.0,
+        projection: crate::scene::Projection::Perspective,
+    };
+    let ortho = crate::scene::Camera {
+        projection: crate::scene::Projection::Orthographic { half_height: 2.0 },
+        ..persp
+    };
+    let px = |cam: &crate::scene::Camera, z: f32| {
+        let d = camera_distance(cam, glam::Vec3::new(0.0, 0.0, z), 0.5);
+        projected_error_px(0.01, 2.0, focal_px(cam, 400), d)
+    };
+    for z in [5.0, 0.0, -40.0] {
+        // 0.01 · 2 · 400 / 4 = 2 px.
+        assert!((px(&ortho, z) - 2.0).abs() < 1e-5, "{}", px(&ortho, z));
+    }
+    // Perspective: f = 200 px, 0.02 · 200 / (10 − 0.5) px at z = 0.
+    assert!((px(&persp, 0.0) - 4.0 / 9.5).abs() < 1e-5);
+    assert!(px(&persp, -40.0) < px(&persp, 0.0));
+}
