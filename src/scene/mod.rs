@@ -485,12 +485,14 @@ pub enum MeshDesc {
     /// A glTF 2.0 file (`.gltf` or `.glb`), resolved against the scene file's folder: the
     /// node hierarchy of scene `scene` (the file's default scene when `None`), baked into one
     /// mesh per node and primitive. `lights` and `cameras`: whether the file's
-    /// KHR_lights_punctual lights and its cameras join the scene.
+    /// KHR_lights_punctual lights and its cameras join the scene; `light_shadow`: the imported
+    /// lights cast shadows (each with its kind's default settings).
     Gltf {
         path: PathBuf,
         scene: Option<u32>,
         lights: bool,
         cameras: bool,
+        light_shadow: bool,
     },
 }
 

@@ -30,6 +30,7 @@ pub(super) fn expand(e: Entry, ctx: &mut Ctx, scene: &mut Scene) -> Result<()> {
         scene: which,
         lights,
         cameras,
+        light_shadow,
     } = e.desc
     else {
         return Ok(());
@@ -80,6 +81,9 @@ pub(super) fn expand(e: Entry, ctx: &mut Ctx, scene: &mut Scene) -> Result<()> {
                     .transform_vector3(l.direction)
                     .try_normalize()
                     .unwrap_or(l.direction);
+            }
+            if *light_shadow {
+                l.shadow = Some(crate::scene::Shadow::default_for(l.kind));
             }
             scene.lights.push(l);
         }

@@ -434,7 +434,7 @@ pub(super) fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<(MeshDesc,
         }
         "gltf" => {
             f.allow(
-                &["type", "path", "scene", "lights", "cameras"],
+                &["type", "path", "scene", "lights", "cameras", "light_shadow"],
                 "a glTF mesh",
             )?;
             let p = string(f.req("path")?, &f.path("path"))?;
@@ -445,12 +445,21 @@ pub(super) fn mesh_desc(v: &Value, path: &str, base: &Path) -> Result<(MeshDesc,
                 None => None,
                 Some(v) => Some(integer(v, &f.path("scene"), 0, u32::MAX)?),
             };
+            let lights = f.boolean("lights", false)?;
+            let light_shadow = f.boolean("light_shadow", false)?;
+            if light_shadow && !lights {
+                return Err(f.err(
+                    "light_shadow",
+                    "the file's lights cast shadows only when they are imported: add \"lights\": true",
+                ));
+            }
             return Ok((
                 MeshDesc::Gltf {
                     path: base.join(p),
                     scene,
-                    lights: f.boolean("lights", false)?,
+                    lights,
                     cameras: f.boolean("cameras", false)?,
+                    light_shadow,
                 },
                 Tessellation::Given,
             ));
