@@ -80,6 +80,8 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         println!("triangles: {}", renderer.triangle_count());
         let (drawn, all) = renderer.drawn_objects();
         println!("objects drawn after frustum culling: {drawn} of {all}");
+        let (calls, objects) = renderer.draw_calls();
+        println!("draw calls: {calls} for {objects} objects (instancing)");
         let maps = renderer.shadow_maps();
         if maps.is_empty() {
             println!("shadow maps: none (no light has \"shadow\"; no shadow pass)");
