@@ -285,6 +285,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "triangles": renderer.triangle_count(),
             "triangles_drawn": renderer.triangles_drawn(),
             "draw_calls": renderer.draw_calls().0,
+            "shadow_triangles_drawn": renderer.shadow_triangles_drawn(),
             "objects_drawn": renderer.drawn_objects().0,
             "tessellation_error_px": scene.output.tessellation_error_px,
             "compared": compared.as_ref().map(|(o, r, f)| serde_json::json!({

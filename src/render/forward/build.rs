@@ -162,7 +162,7 @@ pub(super) fn build_draws(
                     sphere: frustum::sphere(obj.mesh.bounds()),
                     bounds: obj.mesh.bounds(),
                     plane: obj.mesh.flat_plane(),
-                    levels,
+                    levels: levels.into(),
                     vertices,
                     centroids,
                     colors,

@@ -46,7 +46,7 @@ struct GpuMesh {
     plane: Option<(glam::Vec3, glam::Vec3)>,
     /// Ranges of `indices` from full detail (level 0, the first `index_count` indices) to the
     /// coarsest ([`crate::scene::lod`]); one level for meshes that are not simplified.
-    levels: Vec<crate::scene::lod::LodLevel>,
+    levels: Arc<[crate::scene::lod::LodLevel]>,
     vertices: Buffer,
     centroids: Option<Buffer>,
     /// Vertex colours (binding 2), for meshes that have them.
