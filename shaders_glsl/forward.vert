@@ -56,7 +56,7 @@ layout(location = 4) out vec2 out_uv;
 #endif
 
 void main() {
-    ObjectData obj = objects[material.object_index];
+    ObjectData obj = objects[instances[gl_InstanceIndex]];
     vec4 world = obj.model * vec4(in_position, 1.0);
     vec4 view_pos = frame.view * world;
     out_depth = -view_pos.z;

@@ -349,6 +349,16 @@ impl Headless {
         self.forward.drawn_objects(0)
     }
 
+    /// Triangles drawn into the shadow maps per frame (every layer; casters at their LOD levels).
+    pub fn shadow_triangles_drawn(&self) -> u64 {
+        self.forward.shadow_triangles_drawn(0)
+    }
+
+    /// Draw calls per frame (an instanced draw counts once) and the objects they draw.
+    pub fn draw_calls(&self) -> (usize, usize) {
+        self.forward.draw_calls(0)
+    }
+
     /// Triangles drawn per frame: the objects in view at their LOD levels.
     pub fn triangles_drawn(&self) -> u64 {
         self.forward.triangles_drawn(0)

@@ -13,6 +13,11 @@ use luz::scene::Scene;
 /// `count` bunnies (the shared Stanford bunny, 69,451 triangles) in rows from 2 to ~60 units
 /// away, some behind the camera, at `budget` px.
 fn bunnies(count: usize, budget: f32) -> Option<Scene> {
+    bunnies_lit(count, budget, false)
+}
+
+/// [`bunnies`], the sun casting shadows when `shadow`.
+fn bunnies_lit(count: usize, budget: f32, shadow: bool) -> Option<Scene> {
     shared_dir("models/stanford-bunny.obj")?;
     let mut objects = Vec::new();
     for i in 0..count {
@@ -29,7 +34,7 @@ fn bunnies(count: usize, budget: f32) -> Option<Scene> {
         r#"{{
         "camera": {{"position": [0, 1.6, 6], "target": [0, 0.5, -10], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 200}},
         "output": {{"width": 320, "height": 180, "msaa": 1, "tessellation_error_px": {budget}}},
-        "lights": [{{"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2.5}}],
+        "lights": [{{"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2.5, "shadow": {shadow}}}],
         "ambient": [0.05, 0.05, 0.05],
         "materials": {{"m": {{"model": "lambert", "albedo": [0.7, 0.5, 0.4]}}}},
         "objects": [{}]
@@ -171,4 +176,37 @@ fn render_reports_the_levels_and_bench_checks_its_budget() {
         stderr.contains("--compare-budget: must be a number of pixels >= 0, got -1"),
         "{stderr}"
     );
+}
+
+/// Shadow casters draw at levels picked from the light's projection: at budget 0 every layer
+/// draws whole bunnies; at 0.2 px (texels) under half the triangles go into the maps (a third
+/// measured), and the image stays within the loose budget's FLIP of full detail.
+#[test]
+fn shadow_casters_pick_levels_from_the_light_projection() {
+    let Some(full_scene) = bunnies_lit(24, 0.0, true) else {
+        return;
+    };
+    let ctx = gpu();
+    let options = RenderOptions::default();
+    let mut full = Headless::with_options(&ctx, &full_scene, &options).unwrap();
+    let full_shadow = full.shadow_triangles_drawn();
+    assert!(
+        full_shadow >= 24 * 69_451 && full_shadow.is_multiple_of(69_451),
+        "{full_shadow} triangles in the maps"
+    );
+    full.render().unwrap();
+    let auto_scene = bunnies_lit(24, 0.2, true).unwrap();
+    let mut auto = Headless::with_options(&ctx, &auto_scene, &options).unwrap();
+    let auto_shadow = auto.shadow_triangles_drawn();
+    eprintln!("shadow maps: {auto_shadow} triangles at 0.2 px, {full_shadow} at 0");
+    assert!(
+        auto_shadow * 2 < full_shadow,
+        "{auto_shadow} of {full_shadow}"
+    );
+    assert!(auto_shadow > 0);
+    auto.render().unwrap();
+    let flip = mean_flip(&auto_scene, &full.image().unwrap(), &auto.image().unwrap());
+    eprintln!("0.2 px with shadows: mean FLIP {flip:.5} against full detail");
+    assert!(flip <= MAX_FLIP_LOOSE_BUDGET, "mean FLIP {flip}");
+    assert_no_validation_messages(&ctx);
 }

@@ -66,6 +66,15 @@ layout(set = SET_FRAME, binding = BINDING_OBJECTS, std430) readonly buffer Objec
     ObjectData objects[];
 };
 
+// Per slot, in the slot's draw order: the object (index into objects[]) of each instance. A draw
+// of N objects sharing mesh, LOD level, pipeline and material is one instanced draw whose
+// firstInstance is its first entry here (src/render/forward/instances.rs), so the vertex stage
+// reads objects[instances[gl_InstanceIndex]].
+#define BINDING_INSTANCES 7
+layout(set = SET_FRAME, binding = BINDING_INSTANCES, std430) readonly buffer Instances {
+    uint instances[];
+};
+
 // Per-material maps (set 2; src/render/material.rs): one sampler per TextureSlot, in
 // TextureSlot::ALL order, neutral 1×1 textures where a material has no map.
 #define SET_MATERIAL 2
@@ -94,7 +103,9 @@ layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform Mat
 } mat_extra;
 
 // Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush): the packed BRDF
-// parameters of src/brdf/gpu.rs (slot table in docs/brdf.md), then the object's index.
+// parameters of src/brdf/gpu.rs (slot table in docs/brdf.md), then the object slot of the draw's
+// deferred material (the first instance's: every instance of a draw has the same material data;
+// the vertex stage finds each instance's object through instances[] above).
 layout(push_constant) uniform MaterialPush {
     BrdfParams brdf;
     uint object_index;

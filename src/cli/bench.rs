@@ -177,8 +177,8 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     println!(
-        "scene: {} ({}x{}, {} triangles, {} drawn, {} of {} objects in view, {} lights), {} path, \
-         output {}",
+        "scene: {} ({}x{}, {} triangles, {} drawn, {} of {} objects in view in {} draw calls, \
+         {} lights), {} path, output {}",
         scene.display_name(),
         scene.output.width,
         scene.output.height,
@@ -186,6 +186,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         renderer.triangles_drawn(),
         renderer.drawn_objects().0,
         renderer.drawn_objects().1,
+        renderer.draw_calls().0,
         scene.lights.len(),
         renderer.render_path(),
         match output {
@@ -283,10 +284,14 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "height": scene.output.height,
             "triangles": renderer.triangle_count(),
             "triangles_drawn": renderer.triangles_drawn(),
+            "draw_calls": renderer.draw_calls().0,
+            "shadow_triangles_drawn": renderer.shadow_triangles_drawn(),
+            "objects_drawn": renderer.drawn_objects().0,
             "tessellation_error_px": scene.output.tessellation_error_px,
             "compared": compared.as_ref().map(|(o, r, f)| serde_json::json!({
                 "tessellation_error_px": o.output.tessellation_error_px,
                 "triangles_drawn": r.triangles_drawn(),
+                "draw_calls": r.draw_calls().0,
                 "gpu_total_ms": TimingReport::of(f).gpu_total,
                 "cpu_ms": TimingReport::of(f).cpu,
             })),

@@ -85,11 +85,17 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         println!("triangles: {}", renderer.triangle_count());
         let (drawn, all) = renderer.drawn_objects();
         println!("objects drawn after frustum culling: {drawn} of {all}");
+        let (calls, objects) = renderer.draw_calls();
+        println!("draw calls: {calls} for {objects} objects (instancing)");
         let maps = renderer.shadow_maps();
         if maps.is_empty() {
             println!("shadow maps: none (no light has \"shadow\"; no shadow pass)");
         } else {
-            println!("shadow maps (their GPU time is the \"shadows\" row below):");
+            println!(
+                "shadow maps (their GPU time is the \"shadows\" row below; {} triangles drawn \
+                 into them, casters at their LOD levels):",
+                renderer.shadow_triangles_drawn()
+            );
             for m in &maps {
                 let kernel = scene.lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
                 println!("  {}", m.describe(kernel));

@@ -19,6 +19,7 @@ pub const BINDING_DEFERRED_MATERIALS: u32 = b::BINDING_DEFERRED_MATERIALS as u32
 /// Clustered light culling: the grid and clusters, and the light index list.
 pub const BINDING_CLUSTERS: u32 = b::BINDING_CLUSTERS as u32;
 pub const BINDING_CLUSTER_LIGHTS: u32 = b::BINDING_CLUSTER_LIGHTS as u32;
+pub const BINDING_INSTANCES: u32 = b::BINDING_INSTANCES as u32;
 /// The environment's set (`shaders_glsl/include/ibl.glsl`).
 pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
 /// The material maps' set.

@@ -21,7 +21,8 @@ pub(super) fn storage_fits<T>(
 }
 
 /// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table, the
-/// deferred path's materials, the light clusters and their index list (`bindings.glsl`, set 0).
+/// deferred path's materials, the light clusters and their index list, the instances' objects
+/// (`bindings.glsl`, set 0).
 pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
     let binding = |binding, ty, stages| {
         vk::DescriptorSetLayoutBinding::default()
@@ -43,6 +44,11 @@ pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout
         binding(gpu::BINDING_DEFERRED_MATERIALS, storage, fragment),
         binding(gpu::BINDING_CLUSTERS, storage, fragment),
         binding(gpu::BINDING_CLUSTER_LIGHTS, storage, fragment),
+        binding(
+            gpu::BINDING_INSTANCES,
+            storage,
+            vk::ShaderStageFlags::VERTEX,
+        ),
     ];
     DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
 }
@@ -156,7 +162,7 @@ pub(super) fn build_draws(
                     sphere: frustum::sphere(obj.mesh.bounds()),
                     bounds: obj.mesh.bounds(),
                     plane: obj.mesh.flat_plane(),
-                    levels,
+                    levels: levels.into(),
                     vertices,
                     centroids,
                     colors,
@@ -305,8 +311,10 @@ fn culls(sides: Sides, closed: bool) -> bool {
     }
 }
 
-/// The draws to record, given each draw's visibility: the visible opaque (and masked) draws in
-/// build order, then the visible blended draws back to front by the view depth of their bounding
+/// The draws to record, given each draw's visibility and LOD level (`levels`, by draw): the
+/// visible opaque (and masked) draws sorted by pipeline variant, material, culling, mesh and level
+/// (ties in build order), so that draws one instanced draw can record are adjacent
+/// ([`super::instances`]; the depth test makes their order immaterial), then the visible blended draws back to front by the view depth of their bounding
 /// sphere's centre (farthest first; ties in build order). Sorting is per draw (one glTF
 /// primitive, or one object): overlapping blended surfaces within one draw, or draws that
 /// interpenetrate, blend in an order that can be wrong (docs/gltf.md).
@@ -314,7 +322,7 @@ pub(super) fn draw_order(
     draws: &[Draw],
     meshes: &[GpuMesh],
     scene: &Scene,
-    visible: &[bool],
+    (visible, levels): (&[bool], &[u8]),
 ) -> Vec<usize> {
     let shown = |i: &usize| visible.get(*i).copied().unwrap_or(true);
     let blended = |d: &Draw| d.variant.alpha == AlphaKey::Blend;
@@ -322,6 +330,11 @@ pub(super) fn draw_order(
         .filter(shown)
         .filter(|&i| !blended(&draws[i]))
         .collect();
+    let level = |i: usize| levels.get(i).copied().unwrap_or(0);
+    order.sort_by_key(|&i| {
+        let d = &draws[i];
+        (d.variant, d.material, d.cull, d.mesh, level(i), i)
+    });
     let view = scene.camera.view();
     let mut back: Vec<(f32, usize)> = (0..draws.len())
         .filter(shown)
@@ -368,7 +381,7 @@ impl Slot {
         pool: &DescriptorPool,
         layout: &DescriptorSetLayout,
         index: usize,
-        (light_count, object_count, cells): (usize, usize, usize),
+        (light_count, object_count, cells, draw_count): (usize, usize, usize, usize),
         srgb_table: &Buffer,
     ) -> Result<Self, VkError> {
         let buffer = |name: &str, size: usize, usage| {
@@ -418,6 +431,11 @@ impl Slot {
             4,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
+        let instances = buffer(
+            "instance objects",
+            draw_count.max(1) * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
         let infos = [
             info(&frame_ubo),
             info(&lights),
@@ -426,6 +444,7 @@ impl Slot {
             info(&deferred_materials),
             info(&clusters),
             info(&cluster_lights),
+            info(&instances),
         ];
         let writes = [
             (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
@@ -441,6 +460,7 @@ impl Slot {
                 gpu::BINDING_CLUSTER_LIGHTS,
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
+            (gpu::BINDING_INSTANCES, vk::DescriptorType::STORAGE_BUFFER),
         ]
         .iter()
         .zip(&infos)
@@ -462,6 +482,7 @@ impl Slot {
             deferred_materials,
             clusters,
             cluster_lights,
+            instances,
             set,
             order: Vec::new(),
             levels: Vec::new(),

@@ -77,6 +77,12 @@ impl ForwardPass {
         &self.lod_stats
     }
 
+    /// Triangles drawn into slot `slot`'s shadow maps, every layer: casters at the levels the
+    /// layers' projections pick.
+    pub fn shadow_triangles_drawn(&self, slot: usize) -> u64 {
+        self.shadows.triangles_drawn(slot)
+    }
+
     /// Triangles recorded for slot `slot`'s camera: the drawn objects at their LOD levels.
     pub fn triangles_drawn(&self, slot: usize) -> u64 {
         let s = &self.slots[slot.min(self.slots.len() - 1)];

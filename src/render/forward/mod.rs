@@ -23,6 +23,7 @@ mod build;
 pub mod clusters;
 mod deferred;
 pub(crate) mod frustum;
+mod instances;
 mod lod;
 mod per_frame;
 mod variant;
@@ -45,7 +46,7 @@ struct GpuMesh {
     plane: Option<(glam::Vec3, glam::Vec3)>,
     /// Ranges of `indices` from full detail (level 0, the first `index_count` indices) to the
     /// coarsest ([`crate::scene::lod`]); one level for meshes that are not simplified.
-    levels: Vec<crate::scene::lod::LodLevel>,
+    levels: Arc<[crate::scene::lod::LodLevel]>,
     vertices: Buffer,
     centroids: Option<Buffer>,
     /// Vertex colours (binding 2), for meshes that have them.
@@ -211,6 +212,9 @@ struct Slot {
     /// The light clusters of the slot's camera ([`clusters`]; a stub when the loop is plain).
     clusters: Buffer,
     cluster_lights: Buffer,
+    /// The object of each entry of `order` (`BINDING_INSTANCES`): instanced draws read theirs
+    /// from here ([`instances`]).
+    instances: Buffer,
     set: vk::DescriptorSet,
     /// The draws to record for the slot's camera: those whose bounding sphere meets its view
     /// volume, opaque ones first, then blended ones back to front ([`draw_order`]).
@@ -257,6 +261,9 @@ pub struct ForwardPass {
     lod_height: u32,
     /// The budget of the LOD choice (`output.tessellation_error_px`).
     lod_budget: f32,
+    /// Draws that share mesh, level, pipeline and material are one instanced draw; off
+    /// (`LUZ_INSTANCING=0`, for the test that compares both) records one draw per object.
+    instancing: bool,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
@@ -349,7 +356,7 @@ impl ForwardPass {
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 6 * n,
+                descriptor_count: 7 * n,
             },
         ];
         let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
@@ -403,6 +410,7 @@ impl ForwardPass {
                     } else {
                         1
                     },
+                    draws.len(),
                 ),
                 &srgb_table,
             )?);
@@ -455,6 +463,7 @@ impl ForwardPass {
             lod_stats,
             lod_height: scene.output.height,
             lod_budget: scene.output.tessellation_error_px,
+            instancing: instances::enabled(),
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
@@ -558,8 +567,9 @@ impl ForwardPass {
         let visible = self.visibility(scene, aspect);
         self.lod_height = scene.output.height;
         self.lod_budget = scene.output.tessellation_error_px;
-        self.slots[slot].levels = self.lod_levels(scene);
-        self.slots[slot].order = draw_order(&self.draws, &self.meshes, scene, &visible);
+        let levels = self.lod_levels(scene);
+        let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
+        self.set_order(slot, order, levels)?;
         self.update_shadows(slot, scene, aspect)?;
         self.write_clusters(slot, scene, aspect)?;
         for draw in &mut self.draws {
@@ -616,11 +626,12 @@ impl ForwardPass {
         self.lod_height = scene.output.height;
         self.lod_budget = scene.output.tessellation_error_px;
         let levels = self.lod_levels(scene);
-        let order = draw_order(&self.draws, &self.meshes, scene, &visible);
-        for s in &mut self.slots {
-            s.order.clone_from(&order);
-            s.levels.clone_from(&levels);
-            s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
+        let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
+        for slot in 0..self.slots.len() {
+            self.set_order(slot, order.clone(), levels.clone())?;
+            self.slots[slot]
+                .frame_ubo
+                .write(0, bytemuck::bytes_of(&data))?;
         }
         for slot in 0..self.slots.len() {
             self.update_shadows(slot, scene, aspect)?;
@@ -725,7 +736,7 @@ impl ForwardPass {
         let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
-        let order = (slot.order.as_slice(), slot.levels.as_slice());
+        let order = (slot.order.as_slice(), slot.levels.as_slice(), 0);
         if let Some(def) = &self.deferred {
             if !def.ready(output, target.extent) || target.resolve.is_some() {
                 return Err(VkError::Setup(format!(
@@ -829,14 +840,16 @@ impl ForwardPass {
             d.cmd_set_scissor(cmd, 0, &[area]);
         }
         // Opaque draws, the skybox behind them, then blended draws over both.
-        let (order, levels) = order;
+        let (order, levels, _) = order;
         let blended = order
             .iter()
             .position(|&i| self.draws[i].variant.alpha == AlphaKey::Blend)
             .unwrap_or(order.len());
-        self.record_draws(cmd, (set, shadow_set, (&order[..blended], levels)), |i| {
-            pipelines[i]
-        });
+        self.record_draws(
+            cmd,
+            (set, shadow_set, (&order[..blended], levels, 0)),
+            |i| pipelines[i],
+        );
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe {
             if let Some(sky) = skybox {
@@ -845,9 +858,8 @@ impl ForwardPass {
                 d.cmd_draw(cmd, 3, 1, 0, 0);
             }
         }
-        self.record_draws(cmd, (set, shadow_set, (&order[blended..], levels)), |i| {
-            pipelines[i]
-        });
+        let rest = (&order[blended..], levels, blended);
+        self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i]);
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe { d.cmd_end_rendering(cmd) };
         if let Some(t) = timer {
@@ -856,15 +868,17 @@ impl ForwardPass {
         Ok(())
     }
     /// Binds the frame set `set` (and the environment set) and records, inside the caller's
-    /// rendering instance, the draws of `order` (draw indices) at their LOD level (`levels`, by
-    /// draw; 0 when empty) with `pipeline_of(draw index)`.
+    /// rendering instance, the draws of `order` (draw indices; entries from `first` on of the
+    /// slot's order, whose instance buffer names their objects) at their LOD level (`levels`, by
+    /// draw; 0 when empty) with `pipeline_of(draw index)`: one instanced draw per run of draws
+    /// that share mesh, level, pipeline and material ([`instances::runs`]).
     fn record_draws(
         &self,
         cmd: vk::CommandBuffer,
-        (set, shadow_set, (order, levels)): (
+        (set, shadow_set, (order, levels, first)): (
             vk::DescriptorSet,
             vk::DescriptorSet,
-            (&[usize], &[u8]),
+            (&[usize], &[u8], usize),
         ),
         pipeline_of: impl Fn(usize) -> vk::Pipeline,
     ) {
@@ -904,7 +918,8 @@ impl ForwardPass {
             let mut bound_material: Option<usize> = None;
             let mut bound_cull: Option<bool> = None;
             let mut bound_mesh: Option<usize> = None;
-            for &i in order {
+            for (start, count) in instances::runs(&self.draws, (order, levels), self.instancing) {
+                let i = order[start];
                 let draw = &self.draws[i];
                 let pipeline = pipeline_of(i);
                 if bound_cull != Some(draw.cull) {
@@ -956,7 +971,14 @@ impl ForwardPass {
                     bytemuck::bytes_of(&draw.push),
                 );
                 let level = m.levels[levels.get(i).copied().unwrap_or(0) as usize];
-                d.cmd_draw_indexed(cmd, level.index_count, 1, level.first_index, 0, 0);
+                d.cmd_draw_indexed(
+                    cmd,
+                    level.index_count,
+                    count as u32,
+                    level.first_index,
+                    0,
+                    (first + start) as u32,
+                );
             }
         }
     }

@@ -42,6 +42,8 @@ impl ForwardPass {
             if obj.shadow.cast {
                 casters.push(shadow::Caster {
                     mesh: d.mesh,
+                    levels: mesh.levels.clone(),
+                    scale: frustum::max_scale(model),
                     model,
                     sphere,
                     plane: mesh.plane.map(|(p, n)| shadow::world_plane(model, p, n)),

@@ -70,15 +70,56 @@ pub struct LightMaps {
 }
 
 /// Something drawn into the maps: a draw's mesh and model matrix, and its world bounds.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Caster {
     pub mesh: usize,
+    /// The mesh's LOD levels (level 0 the full mesh; [`crate::scene::lod`]): each layer draws
+    /// the coarsest whose error, projected onto the layer's texels, stays within the scene's
+    /// budget (`output.tessellation_error_px`, in shadow map texels).
+    pub levels: std::sync::Arc<[crate::scene::lod::LodLevel]>,
+    /// The model matrix's largest scale factor (object-space errors to the world).
+    pub scale: f32,
     pub model: Mat4,
     pub sphere: Sphere,
     /// World plane (point, unit normal) when the mesh is flat: see [`cull::hides_nothing`].
     pub plane: Option<(Vec3, Vec3)>,
     /// Its own index among the receivers, when it receives too.
     pub receiver: Option<usize>,
+}
+
+/// One caster drawn into one layer: its mesh, the level's index range (first, count) and its
+/// clip-from-object matrix.
+pub(super) type LayerDraw = (usize, (u32, u32), Mat4);
+
+/// The level of `levels` (object-space errors, × `scale`) a caster whose bounding sphere is
+/// `sphere` draws into `layer` at `budget` texels ([`crate::scene::lod::choose`]): the error over
+/// the layer's texel size, absolute (orthographic) or at the sphere's nearest distance from the
+/// light (perspective).
+pub fn caster_level(
+    levels: &[crate::scene::lod::LodLevel],
+    scale: f32,
+    sphere: Sphere,
+    layer: &fit::Layer,
+    budget: f32,
+) -> usize {
+    let distance = if layer.perspective {
+        crate::scene::lod::sphere_distance(layer.origin, sphere.center, sphere.radius)
+    } else {
+        1.0
+    };
+    crate::scene::lod::choose(levels, scale, 1.0 / layer.texel, distance, budget)
+}
+
+impl ShadowMaps {
+    /// Triangles drawn into the layers of slot `slot`: shadow casters at their LOD levels.
+    pub fn triangles_drawn(&self, slot: usize) -> u64 {
+        let s = &self.slots[slot.min(self.slots.len() - 1)];
+        s.draws
+            .iter()
+            .flatten()
+            .map(|(_, (_, count), _)| u64::from(count / 3))
+            .sum()
+    }
 }
 
 /// A mesh's buffers, as the pass records them.
@@ -93,8 +134,8 @@ struct Slot {
     set: vk::DescriptorSet,
     lights: Buffer,
     layers: Buffer,
-    /// Per layer: the casters that may reach it (mesh, clip-from-object matrix).
-    draws: Vec<Vec<(usize, Mat4)>>,
+    /// Per layer: the casters that may reach it (mesh, its LOD level, clip-from-object matrix).
+    draws: Vec<Vec<LayerDraw>>,
 }
 
 /// What `luz render --verbose` says about one light's maps.
@@ -521,13 +562,19 @@ impl ShadowMaps {
                     axis: layer.axis.extend(0.0),
                 };
                 let planes = frustum::planes(layer.view_proj);
+                let budget = scene.output.tessellation_error_px;
                 s.draws[index].extend(
                     drawn
                         .iter()
                         .filter(|c| {
                             frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)
                         })
-                        .map(|c| (c.mesh, layer.view_proj * c.model)),
+                        .map(|c| {
+                            let l =
+                                c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
+                            let range = (l.first_index, l.index_count);
+                            (c.mesh, range, layer.view_proj * c.model)
+                        }),
                 );
             }
         }

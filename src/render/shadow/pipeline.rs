@@ -55,14 +55,14 @@ impl DepthPipeline {
         })
     }
 
-    /// Clears `view` (one layer) and draws `draws` (mesh, clip-from-object) into its top-left
+    /// Clears `view` (one layer) and draws `draws` (mesh, index range, clip-from-object) into its top-left
     /// `resolution`² texels, pushed away from the light by `slope_bias` per unit of depth slope.
     pub(super) fn record_layer(
         &self,
         cmd: vk::CommandBuffer,
         view: vk::ImageView,
         (resolution, slope_bias): (u32, f32),
-        draws: &[(usize, Mat4)],
+        draws: &[super::LayerDraw],
         meshes: &[MeshRef],
     ) {
         let d = &self.ctx.device;
@@ -113,11 +113,11 @@ impl DepthPipeline {
             // Reversed depth: away from the light is towards 0.
             d.cmd_set_depth_bias(cmd, 0.0, 0.0, -slope_bias);
             let mut bound = None;
-            for (mesh, m) in draws {
+            for (mesh, (first, count), m) in draws {
                 let Some(mr) = meshes.get(*mesh) else {
                     continue;
                 };
-                if mr.index_count == 0 {
+                if *count == 0 {
                     continue;
                 }
                 if bound != Some(*mesh) {
@@ -132,7 +132,7 @@ impl DepthPipeline {
                     0,
                     bytemuck::bytes_of(m),
                 );
-                d.cmd_draw_indexed(cmd, mr.index_count, 1, 0, 0, 0);
+                d.cmd_draw_indexed(cmd, *count, 1, *first, 0, 0);
             }
             d.cmd_end_rendering(cmd);
         }

@@ -106,7 +106,9 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
     if count > super::MAX_LEVELS || body.len() < 20 + count * 8 {
         return Parsed::Corrupt;
     }
+    // The file holds the simplified levels; level 0 is the mesh's triangles in cache order.
     let mut chain = LodChain::full(mesh);
+    chain.cache_order(0, mesh.positions.len());
     let mut total = 0usize;
     let mut sizes = Vec::with_capacity(count);
     for _ in 0..count {
