@@ -328,3 +328,84 @@ fn a_parameter_changed_on_b_shows_right_of_the_divider_only() {
     assert!(left > 100.0, "A keeps its exposure: {left}");
     assert!(right < 0.6 * left, "B is 3 EV darker: {right} vs {left}");
 }
+
+/// A 173 × 101 HDR test image: gradients, a disc with a hard edge, fine stripes and values above
+/// 1 (the tone map's shoulder); `shift` moves the disc and tints the stripes.
+fn pattern(shift: f32) -> luz::imageio::LinearImage {
+    let (w, h) = (173u32, 101u32);
+    let mut pixels = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let (u, v) = (x as f32 / w as f32, y as f32 / h as f32);
+            let mut c = [0.05 + 2.5 * u * u, 0.2 * v, 0.6 * (1.0 - u), 1.0];
+            let (dx, dy) = (x as f32 - 60.0 - shift, y as f32 - 50.0);
+            if dx * dx + dy * dy < 900.0 {
+                c = [4.0, 1.5 + 0.1 * shift, 0.3, 1.0];
+            }
+            if x > 120 && (x / 2) % 2 == 0 {
+                c[1] += 0.5 + 0.05 * shift;
+            }
+            pixels.push(c);
+        }
+    }
+    luz::imageio::LinearImage {
+        width: w,
+        height: h,
+        pixels,
+    }
+}
+
+/// The GPU maps the viewer draws every frame in `difference` and `flip` modes against the CPU
+/// code (`compare::difference_map`, nv-flip through `compare::flip_map`), headless.
+#[test]
+fn gpu_maps_match_the_cpu_maps() {
+    use luz::color::Tonemap;
+    use luz::render::compare::{compare_images, CompareKind};
+    let ctx = common::gpu();
+    let pool = luz::vk::cmd::CommandPool::new(&ctx, "compare test").unwrap();
+    let (a, b) = (pattern(0.0), pattern(3.0));
+    let (w, h) = (a.width, a.height);
+    let display = (0.5, Tonemap::KhronosNeutral);
+    // Identical inputs: exactly zero everywhere, in both kinds, and a zero scale.
+    for kind in [CompareKind::Difference, CompareKind::Flip] {
+        let (map, s) = compare_images(&ctx, &pool, (&a, &a), kind, display).unwrap();
+        assert!(map.values.iter().all(|&v| v == 0.0), "{kind:?}: {s:?}");
+        assert_eq!((s.stats.max, s.stats.mean, s.stats.above), (0.0, 0.0, 0.0));
+    }
+    // Difference: the CPU formula bit for bit (one subtraction and a max per pixel).
+    let (map, s) = compare_images(&ctx, &pool, (&a, &b), CompareKind::Difference, display).unwrap();
+    let cpu = luz::compare::difference_map(&a.pixels, &b.pixels, w, h);
+    assert_eq!(map.values, cpu.values);
+    let exact = luz::compare::MapStats::of(&cpu.values);
+    assert_eq!(s.stats.max, exact.max);
+    assert!(
+        (s.stats.mean - exact.mean).abs() <= 1e-5 * exact.mean,
+        "{s:?} {exact:?}"
+    );
+    assert_eq!(s.stats.above, exact.above);
+    // p99 within its 1/6-octave bin, and the colour bar's top is it.
+    assert!(s.stats.p99 >= exact.p99 && s.stats.p99 <= exact.p99 * 2f32.powf(1.0 / 6.0) * 1.0001);
+    assert_eq!(s.scale, s.stats.p99);
+    // FLIP: nv-flip's C++ on the CPU against the GLSL port, per pixel.
+    let (map, s) = compare_images(&ctx, &pool, (&a, &b), CompareKind::Flip, display).unwrap();
+    let cpu = luz::compare::flip_map(&a.pixels, &b.pixels, (w, h), display.0, display.1);
+    let diffs: Vec<f32> = map
+        .values
+        .iter()
+        .zip(&cpu.values)
+        .map(|(g, c)| (g - c).abs())
+        .collect();
+    let max_diff = diffs.iter().copied().fold(0.0f32, f32::max);
+    let mean_diff = diffs.iter().sum::<f32>() / diffs.len() as f32;
+    let cpu_stats = luz::compare::MapStats::of(&cpu.values);
+    eprintln!(
+        "FLIP GPU vs CPU: max |Δ| {max_diff:.2e}, mean |Δ| {mean_diff:.2e}; mean GPU {:.5} CPU {:.5}",
+        s.stats.mean, cpu_stats.mean
+    );
+    assert!(cpu_stats.mean > 0.05, "the pattern differs: {cpu_stats:?}");
+    assert!(max_diff < 2e-4, "max |GPU − CPU| FLIP {max_diff}");
+    assert!(mean_diff < 1e-5, "mean |GPU − CPU| FLIP {mean_diff}");
+    assert!((s.stats.mean - cpu_stats.mean).abs() < 1e-4);
+    assert_eq!(s.scale, 1.0);
+    common::assert_no_validation_messages(&ctx);
+}
