@@ -164,60 +164,115 @@ fn split_shows_a_left_and_b_right_and_toggle_shows_one_side() {
     assert!(all(&region(&rgb(&shot("toggle_b")), (0, W)), blue));
 }
 
+/// A figure of the viewer's exit line `A/B maps: … difference maps … last: mean M p99 P max X
+/// scale S above F` for `kind` (`difference` or `flip`).
+fn map_figure(log: &str, kind: &str, name: &str) -> f64 {
+    let line = log
+        .lines()
+        .find(|l| l.contains("A/B maps:"))
+        .unwrap_or_else(|| panic!("no A/B maps line: {log}"));
+    let part = line
+        .split(';')
+        .find(|p| p.contains(&format!(" {kind} maps")))
+        .unwrap_or_else(|| panic!("no {kind} maps in {line}"));
+    let rest = part
+        .split(&format!(" {name} "))
+        .nth(1)
+        .unwrap_or_else(|| panic!("no {name} in {part}"));
+    rest.split(' ').next().unwrap().parse().unwrap()
+}
+
 #[test]
-fn difference_of_identical_inputs_is_uniform() {
+fn difference_and_flip_maps_on_the_gpu_follow_every_frame() {
     let dir = scratch("lab_difference");
     let a = plane_scene(&dir, "red", [0.8, 0.05, 0.05]);
     let b = plane_scene(&dir, "blue", [0.05, 0.05, 0.8]);
     let mut images = Vec::new();
+    let mut logs = Vec::new();
     for (other, name) in [(&a, "same"), (&b, "different")] {
-        let shot = dir.join(format!("{name}.png"));
+        let shot = |m: &str| dir.join(format!("{name}_{m}.png"));
         let script = format!(
-            "1:panels=off;2:compare_mode=difference;40:screenshot={}",
-            shot.display()
+            "1:panels=off;2:compare_mode=difference;8:screenshot={};9:compare_mode=flip;\
+             14:screenshot={}",
+            shot("difference").display(),
+            shot("flip").display()
         );
-        let Some(_) = view(&a, Some(other), (W, H), 42, &script) else {
+        let Some(log) = view(&a, Some(other), (W, H), 16, &script) else {
             return;
         };
-        images.push(rgb(&shot));
+        images.push((rgb(&shot("difference")), rgb(&shot("flip"))));
+        logs.push(log);
     }
-    // Identical inputs: every pixel of the map is the palette's zero (black), whatever the scale.
-    let same = map_region(&images[0]);
+    // Identical inputs: every pixel of both maps is the palette's zero, and the figures are 0.
+    for img in [&images[0].0, &images[0].1] {
+        let same = map_region(img);
+        assert!(spread(&same) == 0, "map of identical inputs is not uniform");
+        assert!(all(&same, dark), "{:?}", same[0]);
+    }
+    for kind in ["difference", "flip"] {
+        assert_eq!(map_figure(&logs[0], kind, "max"), 0.0, "{}", logs[0]);
+    }
+    // Red against blue: max_c |A − B| = 0.75 / π · cos θ (Lambert, irradiance 1 at cos θ =
+    // 1/|(0.3, −1, 0.2)|) at every pixel; the colour bar's top is that value, so the map is the
+    // palette's top colour everywhere.
+    let expected = 0.75 / std::f64::consts::PI / (0.3f64 * 0.3 + 1.0 + 0.2 * 0.2).sqrt();
+    for name in ["max", "mean", "p99", "scale"] {
+        let v = map_figure(&logs[1], "difference", name);
+        assert!(
+            (v - expected).abs() < 1e-5 * expected,
+            "{name} {v} vs {expected}: {}",
+            logs[1]
+        );
+    }
+    let top = luz::compare::palette()[255];
+    let different = map_region(&images[1].0);
     assert!(
-        spread(&same) <= 1,
-        "difference map of identical inputs is not uniform"
-    );
-    assert!(all(&same, dark), "{:?}", same[0]);
-    // Different inputs: the map is shown, and it is not the zero colour.
-    let different = map_region(&images[1]);
-    assert!(
-        all(&different, |p| p.iter().map(|&c| u32::from(c)).sum::<u32>()
-            > 200),
-        "the difference of red and blue is bright: {:?}",
+        all(&different, |p| p == top),
+        "the difference of red and blue is the top colour {top:?}: {:?}",
         different[0]
     );
+    // FLIP of red against blue: uniform and far from zero.
+    let flip = map_region(&images[1].1);
+    assert!(spread(&flip) == 0, "FLIP of two uniform images is uniform");
+    assert!(map_figure(&logs[1], "flip", "mean") > 0.3, "{}", logs[1]);
+}
+
+#[test]
+fn error_view_shows_each_side_against_its_reference() {
+    let dir = scratch("lab_error_sides");
+    let plane = plane_scene(&dir, "plane", [0.7, 0.7, 0.7]);
+    let sphere = coarse_sphere(&dir);
+    let shot = dir.join("sides.png");
+    let script = format!(
+        "1:panels=off;2:error_view=on;118:screenshot={}",
+        shot.display()
+    );
+    let Some(log) = view(&plane, Some(&sphere), (W, H), 120, &script) else {
+        return;
+    };
+    let line = |side: &str| {
+        log.lines()
+            .find(|l| l.contains(&format!("error view{side}: reference")))
+            .unwrap_or_else(|| panic!("{side:?} reference finished within 120 frames: {log}"))
+            .to_string()
+    };
+    let (a, b) = (line(""), line(" B"));
+    eprintln!("{a}\n{b}");
+    assert!(mean_relative(&a) < 1e-4, "{a}");
+    assert!(mean_relative(&b) > 0.01, "{b}");
+    // Split mode (the default): A's map left of the divider (uniform zero), B's right of it.
+    let img = rgb(&shot);
+    let left = rows(&img, (0, 230), (90, 185));
+    assert!(spread(&left) <= 1 && all(&left, dark), "{:?}", left[0]);
+    let right = rows(&img, (250, W), (90, 185));
+    assert!(spread(&right) > 150, "B's error map is not uniform");
 }
 
 #[test]
 fn error_view_is_uniform_for_a_lambert_plane_and_not_for_a_coarse_sphere() {
     let dir = scratch("lab_error");
     let plane = plane_scene(&dir, "plane", [0.7, 0.7, 0.7]);
-    let sphere = dir.join("sphere.json");
-    std::fs::write(
-        &sphere,
-        format!(
-            r#"{{
-  "description": "viewer lab test: a coarsely tessellated Lambert sphere, flat shaded",
-  "camera": {{"position": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.1, "far": 100}},
-  "output": {{"width": {W}, "height": {H}, "background": [0, 0, 0], "tonemap": "khronos_neutral"}},
-  "ambient": [0, 0, 0],
-  "lights": [{{"type": "directional", "direction": [0.3, -0.5, -1], "intensity": 1.0}}],
-  "materials": {{"m": {{"model": "lambert", "albedo": [0.7, 0.7, 0.7]}}}},
-  "objects": [{{"mesh": {{"type": "sphere", "radius": 1, "segments": 8, "rings": 4}}, "material": "m", "shading": "flat"}}]
-}}"#
-        ),
-    )
-    .unwrap();
+    let sphere = coarse_sphere(&dir);
     let mut results = Vec::new();
     for scene in [&plane, &sphere] {
         let shot = scene.with_extension("png");
@@ -254,6 +309,27 @@ fn error_view_is_uniform_for_a_lambert_plane_and_not_for_a_coarse_sphere() {
         .filter(|c| c.iter().map(|&v| u32::from(v)).sum::<u32>() > 300);
     assert!(bright.count() > 200, "{sphere_line}");
     assert!(mean_relative(sphere_line) > 0.01, "{sphere_line}");
+}
+
+/// A coarsely tessellated (8 × 4), flat-shaded Lambert sphere.
+fn coarse_sphere(dir: &Path) -> PathBuf {
+    let sphere = dir.join("sphere.json");
+    std::fs::write(
+        &sphere,
+        format!(
+            r#"{{
+  "description": "viewer lab test: a coarsely tessellated Lambert sphere, flat shaded",
+  "camera": {{"position": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.1, "far": 100}},
+  "output": {{"width": {W}, "height": {H}, "background": [0, 0, 0], "tonemap": "khronos_neutral"}},
+  "ambient": [0, 0, 0],
+  "lights": [{{"type": "directional", "direction": [0.3, -0.5, -1], "intensity": 1.0}}],
+  "materials": {{"m": {{"model": "lambert", "albedo": [0.7, 0.7, 0.7]}}}},
+  "objects": [{{"mesh": {{"type": "sphere", "radius": 1, "segments": 8, "rings": 4}}, "material": "m", "shading": "flat"}}]
+}}"#
+        ),
+    )
+    .unwrap();
+    sphere
 }
 
 /// The mean relative error of the viewer's "error view: reference …" log line.

@@ -383,7 +383,13 @@ impl Lab {
                 Some(format!(
                     "{n} {name} maps at {}x{} on the GPU, last: mean {:.6e} p99 {:.6e} max {:.6e} \
                      scale {:.6e} above {:.4}",
-                    m.width, m.height, m.stats.mean, m.stats.p99, m.stats.max, m.scale, m.stats.above
+                    m.width,
+                    m.height,
+                    m.stats.mean,
+                    m.stats.p99,
+                    m.stats.max,
+                    m.scale,
+                    m.stats.above
                 ))
             })
             .collect();
@@ -486,8 +492,7 @@ impl Lab {
                 }
             }
         }
-        if has_b && (self.settings.mode == CompareMode::Split || (error_on && halves.len() == 2))
-        {
+        if has_b && (self.settings.mode == CompareMode::Split || (error_on && halves.len() == 2)) {
             c::divider(ui, &mut self.settings.split);
         }
         let passes = profiler.pass_history();
@@ -533,8 +538,16 @@ impl Lab {
             has_b,
             gpu_ms: (a_ms, b_ms),
             map: self.map.as_ref(),
-            error: if error_on { self.errors[0].status() } else { off },
-            error_b: if error_on && has_b { self.errors[1].status() } else { off },
+            error: if error_on {
+                self.errors[0].status()
+            } else {
+                off
+            },
+            error_b: if error_on && has_b {
+                self.errors[1].status()
+            } else {
+                off
+            },
             plots: self.plots.as_ref(),
         };
         let mut settings = self.settings;
@@ -656,7 +669,12 @@ impl Viewer {
             if self.lab.gpu.is_none() {
                 let views = (self.targets.color.view, b.targets.color.view);
                 let extent = self.targets.color.extent();
-                self.lab.gpu = Some(ComparePass::new(&self.ctx, views, extent, FRAMES_IN_FLIGHT)?);
+                self.lab.gpu = Some(ComparePass::new(
+                    &self.ctx,
+                    views,
+                    extent,
+                    FRAMES_IN_FLIGHT,
+                )?);
             }
             let pass = self.lab.gpu.as_mut().expect("built above");
             let output = self.scene.output;

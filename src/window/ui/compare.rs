@@ -188,9 +188,17 @@ pub fn compare_panel(
     info: &CompareInfo,
 ) -> Vec<CompareAction> {
     let mut actions = Vec::new();
+    // With the lobe plots the panel is at least as wide as the charts, which are drawn at
+    // their pixel size (axis labels legible, not scaled down).
+    let min = if settings.plots {
+        crate::window::plots::PLOT_W as f32 + 24.0
+    } else {
+        160.0
+    };
     Panel::right(Id::new("luz_lab_panel"))
         .resizable(true)
         .default_size(240.0)
+        .min_size(min)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.heading("A/B comparison");
@@ -279,7 +287,9 @@ pub fn compare_panel(
                 }
                 if info.has_b && settings.error_view {
                     ui.weak(match settings.mode {
-                        CompareMode::Toggle => "Each side against its own reference: the side shown.",
+                        CompareMode::Toggle => {
+                            "Each side against its own reference: the side shown."
+                        }
                         _ => "Each side against its own reference: A left of the divider, B right.",
                     });
                     ui.strong("A");
