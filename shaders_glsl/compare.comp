@@ -61,9 +61,18 @@ layout(set = 0, binding = BINDING_H1_B, rgba32f) uniform image2D h1_b;
 
 // The tone map FLIP sees both images through (TONEMAP_*), fixed per pipeline.
 layout(constant_id = 0) const uint TONEMAP = 0u;
-// Filter radii for the pixels per degree (src/render/compare.rs: flip_radii).
+// Filter radii for the pixels per degree (src/render/compare.rs: flip_radii), at most
+// MAX_RADIUS (the shared-memory tiles' apron).
 layout(constant_id = 1) const int SPATIAL_RADIUS = 10;
 layout(constant_id = 2) const int FEATURE_RADIUS = 9;
+#define MAX_RADIUS 10
+#define TILE 16u
+#define APRON (TILE + 2u * uint(MAX_RADIUS))
+#define TILE_N (TILE * APRON)
+#if defined(FLIP_H) || defined(FLIP_V)
+shared vec4 tile_a[TILE_N];
+shared vec4 tile_b[TILE_N];
+#endif
 
 layout(push_constant) uniform ComparePush {
     float exposure_scale;  // color::exposure_scale(ev) of A's scene, for both images
@@ -153,22 +162,31 @@ void main() {
     }
 #elif defined(FLIP_H)
     // Horizontal pass (CPP/image.h: computeColorDifference's and
-    // computeFeatureDifferenceAndFinalError's x loops), both images at once.
+    // computeFeatureDifferenceAndFinalError's x loops), both images at once, from a tile of the
+    // workgroup's rows with MAX_RADIUS columns either side in shared memory (one image load per
+    // texel instead of one per tap: image loads are what lavapipe is slow at).
+    uvec2 g = gl_WorkGroupID.xy * TILE;
+    for (uint i = gl_LocalInvocationIndex; i < TILE_N; i += TILE * TILE) {
+        ivec2 s = ivec2(clamp(int(g.x) - MAX_RADIUS + int(i % APRON), 0, size.x - 1),
+                        clamp(int(g.y + i / APRON), 0, size.y - 1));
+        tile_a[i] = imageLoad(ycc_a, s);
+        tile_b[i] = imageLoad(ycc_b, s);
+    }
+    barrier();
+    int row = int(gl_LocalInvocationID.y) * int(APRON) + int(gl_LocalInvocationID.x) + MAX_RADIUS;
     vec4 ca = vec4(0.0), cb = vec4(0.0), fa = vec4(0.0), fb = vec4(0.0);
     for (int i = -SPATIAL_RADIUS; i <= SPATIAL_RADIUS; i++) {
-        ivec2 s = ivec2(clamp(q.x + i, 0, size.x - 1), q.y);
         vec4 k = w[1 + SPATIAL_RADIUS + i];
-        vec3 a = imageLoad(ycc_a, s).xyz;
-        vec3 b = imageLoad(ycc_b, s).xyz;
+        vec3 a = tile_a[row + i].xyz;
+        vec3 b = tile_b[row + i].xyz;
         ca += vec4(k.x * a.x, k.y * a.y, k.z * a.z, k.w * a.z);
         cb += vec4(k.x * b.x, k.y * b.y, k.z * b.z, k.w * b.z);
     }
     const int feature0 = 2 + 2 * SPATIAL_RADIUS + FEATURE_RADIUS;
     for (int i = -FEATURE_RADIUS; i <= FEATURE_RADIUS; i++) {
-        ivec2 s = ivec2(clamp(q.x + i, 0, size.x - 1), q.y);
         vec3 k = w[feature0 + i].xyz;
-        float a = imageLoad(ycc_a, s).x * (1.0 / 116.0) + 16.0 / 116.0;
-        float b = imageLoad(ycc_b, s).x * (1.0 / 116.0) + 16.0 / 116.0;
+        float a = tile_a[row + i].x * (1.0 / 116.0) + 16.0 / 116.0;
+        float b = tile_b[row + i].x * (1.0 / 116.0) + 16.0 / 116.0;
         fa += vec4(k.y * a, k.z * a, k.x * a, 0.0);
         fb += vec4(k.y * b, k.z * b, k.x * b, 0.0);
     }
@@ -179,15 +197,34 @@ void main() {
         imageStore(h1_b, p, fb);
     }
 #elif defined(FLIP_V)
+    // Vertical pass, from a tile of the workgroup's columns with MAX_RADIUS rows above and
+    // below: first the colour results of the horizontal pass, then (same shared memory) its
+    // feature results.
+    uvec2 g = gl_WorkGroupID.xy * TILE;
+    for (uint i = gl_LocalInvocationIndex; i < TILE_N; i += TILE * TILE) {
+        ivec2 s = ivec2(clamp(int(g.x + i % TILE), 0, size.x - 1),
+                        clamp(int(g.y) - MAX_RADIUS + int(i / TILE), 0, size.y - 1));
+        tile_a[i] = imageLoad(h0_a, s);
+        tile_b[i] = imageLoad(h0_b, s);
+    }
+    barrier();
+    int col = (int(gl_LocalInvocationID.y) + MAX_RADIUS) * int(TILE) + int(gl_LocalInvocationID.x);
     vec4 ca = vec4(0.0), cb = vec4(0.0);
     for (int i = -SPATIAL_RADIUS; i <= SPATIAL_RADIUS; i++) {
-        ivec2 s = ivec2(q.x, clamp(q.y + i, 0, size.y - 1));
         vec4 k = w[1 + SPATIAL_RADIUS + i];
-        vec4 a = imageLoad(h0_a, s);
-        vec4 b = imageLoad(h0_b, s);
+        vec4 a = tile_a[col + i * int(TILE)];
+        vec4 b = tile_b[col + i * int(TILE)];
         ca += vec4(k.x * a.x, k.y * a.y, k.z * a.z, k.w * a.w);
         cb += vec4(k.x * b.x, k.y * b.y, k.z * b.z, k.w * b.w);
     }
+    barrier();
+    for (uint i = gl_LocalInvocationIndex; i < TILE_N; i += TILE * TILE) {
+        ivec2 s = ivec2(clamp(int(g.x + i % TILE), 0, size.x - 1),
+                        clamp(int(g.y) - MAX_RADIUS + int(i / TILE), 0, size.y - 1));
+        tile_a[i] = imageLoad(h1_a, s);
+        tile_b[i] = imageLoad(h1_b, s);
+    }
+    barrier();
     float cmax = w[0].x;
     float pccmax = w[0].y;
     float color = pow(hyab(hunt_lab(vec3(ca.xy, ca.z + ca.w)), hunt_lab(vec3(cb.xy, cb.z + cb.w))), 0.7);
@@ -196,10 +233,9 @@ void main() {
     vec4 fa = vec4(0.0), fb = vec4(0.0);
     const int feature0 = 2 + 2 * SPATIAL_RADIUS + FEATURE_RADIUS;
     for (int i = -FEATURE_RADIUS; i <= FEATURE_RADIUS; i++) {
-        ivec2 s = ivec2(q.x, clamp(q.y + i, 0, size.y - 1));
         vec3 k = w[feature0 + i].xyz;
-        vec3 a = imageLoad(h1_a, s).xyz;
-        vec3 b = imageLoad(h1_b, s).xyz;
+        vec3 a = tile_a[col + i * int(TILE)].xyz;
+        vec3 b = tile_b[col + i * int(TILE)].xyz;
         fa += vec4(k.x * a.x, k.x * a.y, k.y * a.z, k.z * a.z);
         fb += vec4(k.x * b.x, k.x * b.y, k.y * b.z, k.z * b.z);
     }

@@ -45,6 +45,9 @@ const GQC: f32 = 0.7;
 const GPC: f32 = 0.4;
 const GW: f32 = 0.082;
 
+/// The largest filter radius `compare.comp`'s shared-memory tiles hold (`MAX_RADIUS`).
+pub const MAX_FLIP_RADIUS: u32 = 10;
+
 /// Radii of FLIP's spatial and feature filters at `ppd` pixels per degree (nv-flip's
 /// `calculateSpatialFilterRadius` and `3σ` of the feature filter).
 pub fn flip_radii(ppd: f32) -> (u32, u32) {
@@ -874,6 +877,8 @@ mod tests {
     #[test]
     fn flip_filters_are_nv_flips_at_67_ppd() {
         assert_eq!(flip_radii(67.0), (10, 9));
+        let (s, f) = flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE);
+        assert!(s.max(f) <= MAX_FLIP_RADIUS, "compare.comp's tiles hold the filters");
         let w = flip_weights(67.0);
         assert_eq!(w.len(), 1 + 21 + 19);
         // Gaussians sum to 1; the derivatives' positive and negative parts to ±1.
