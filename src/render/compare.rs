@@ -709,38 +709,20 @@ impl ComparePass {
             .ok_or_else(|| {
                 VkError::Setup(format!("compare: no display pipeline for {format:?}"))
             })?;
-        let d = &self.ctx.device;
         // SAFETY: `pipeline` was built with `self.show_layout` for attachments of `format`, with
-        // viewport, scissor and cull mode dynamic (all set here); the slot's show set matches its
-        // set 0; no vertex input. The map is in GENERAL and readable by fragment shaders after
-        // `record` (its closing barrier). The caller's part: `cmd` records inside a rendering
-        // instance on one attachment of `format`.
+        // viewport, scissor and cull mode dynamic; the slot's show set matches its set 0 (no push
+        // constants). The map is in GENERAL and readable by fragment shaders after `record` (its
+        // closing barrier). The caller's part: `cmd` records inside a rendering instance on one
+        // attachment of `format`.
         unsafe {
-            d.cmd_set_viewport(
+            crate::render::display::draw_fullscreen(
+                &self.ctx.device,
                 cmd,
-                0,
-                &[vk::Viewport {
-                    x: 0.0,
-                    y: 0.0,
-                    width: extent.width as f32,
-                    height: extent.height as f32,
-                    min_depth: 0.0,
-                    max_depth: 1.0,
-                }],
-            );
-            d.cmd_set_scissor(cmd, 0, &[clip]);
-            d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.show_layout.raw,
-                0,
-                &[self.show_sets[slot]],
+                (pipeline, self.show_layout.raw, self.show_sets[slot]),
+                (extent, clip),
                 &[],
-            );
-            d.cmd_draw(cmd, 3, 1, 0, 0);
-        }
+            )
+        };
         Ok(())
     }
 
@@ -878,7 +860,10 @@ mod tests {
     fn flip_filters_are_nv_flips_at_67_ppd() {
         assert_eq!(flip_radii(67.0), (10, 9));
         let (s, f) = flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE);
-        assert!(s.max(f) <= MAX_FLIP_RADIUS, "compare.comp's tiles hold the filters");
+        assert!(
+            s.max(f) <= MAX_FLIP_RADIUS,
+            "compare.comp's tiles hold the filters"
+        );
         let w = flip_weights(67.0);
         assert_eq!(w.len(), 1 + 21 + 19);
         // Gaussians sum to 1; the derivatives' positive and negative parts to ±1.

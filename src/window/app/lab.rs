@@ -14,10 +14,7 @@ use crate::window::ui::compare::{
 /// the viewer trades noise in environment-lit scenes for a reference in seconds).
 pub(super) const ERROR_VIEW_ENV_SAMPLES: u32 = 64;
 
-/// The name of B's GPU timer scope (its forward and saturate passes together).
-pub(super) const B_SCOPE: &str = "B: scene";
-/// The name of the A/B map's GPU timer scope (difference or FLIP of both images).
-pub(super) const MAP_SCOPE: &str = "A/B map";
+pub(super) use crate::window::ui::compare::{B_SCOPE, MAP_SCOPE};
 
 /// Side B: a scene and the passes that draw it, like A's in [`Viewer`].
 pub(super) struct Side {

@@ -92,6 +92,11 @@ impl Default for CompareSettings {
     }
 }
 
+/// The name of B's GPU timer scope (its forward and saturate passes together).
+pub const B_SCOPE: &str = "B: scene";
+/// The name of the A/B map's GPU timer scope (difference or FLIP of both images).
+pub const MAP_SCOPE: &str = "A/B map";
+
 /// Where the error view is.
 #[derive(Debug, Clone, Copy)]
 pub enum ErrorStatus<'a> {
