@@ -132,24 +132,37 @@ pub fn flip_map(
     tonemap: Tonemap,
 ) -> ErrorMap {
     check(reference, test, width, height);
+    let map = display_flip(reference, test, (width, height), exposure_ev, tonemap);
+    ErrorMap {
+        width,
+        height,
+        values: map.values,
+    }
+}
+
+/// [`crate::diff::flip_error_map`] of the two images as the display shows them: exposure, tone
+/// map and the 8-bit sRGB encode ([`to_display_rgba8`]), at the default pixels per degree. The
+/// one place `luz lab` and the viewer turn radiance into FLIP's input.
+pub fn display_flip(
+    reference: &[[f32; 4]],
+    test: &[[f32; 4]],
+    (width, height): (u32, u32),
+    exposure_ev: f32,
+    tonemap: Tonemap,
+) -> crate::diff::FlipMap {
     let rgb = |p: &[[f32; 4]]| -> Vec<[u8; 3]> {
         to_display_rgba8(p, exposure_ev, tonemap)
             .chunks_exact(4)
             .map(|c| [c[0], c[1], c[2]])
             .collect()
     };
-    let map = crate::diff::flip_error_map(
+    crate::diff::flip_error_map(
         &rgb(reference),
         &rgb(test),
         width,
         height,
         crate::diff::DEFAULT_PIXELS_PER_DEGREE,
-    );
-    ErrorMap {
-        width,
-        height,
-        values: map.values,
-    }
+    )
 }
 
 /// FLIP's magma palette: 256 colours from near black ((0, 0, 4) at 0) to light yellow (1).

@@ -79,18 +79,12 @@ pub fn error_metrics(
         }
     }
     let finite = (n - nan as f64).max(1.0);
-    let to_rgb = |img: &LinearImage| -> Vec<[u8; 3]> {
-        crate::color::to_display_rgba8(&img.pixels, exposure_ev, tonemap)
-            .chunks_exact(4)
-            .map(|p| [p[0], p[1], p[2]])
-            .collect()
-    };
-    let map = crate::diff::flip_error_map(
-        &to_rgb(reference),
-        &to_rgb(image),
-        image.width,
-        image.height,
-        crate::diff::DEFAULT_PIXELS_PER_DEGREE,
+    let map = crate::compare::display_flip(
+        &reference.pixels,
+        &image.pixels,
+        (image.width, image.height),
+        exposure_ev,
+        tonemap,
     );
     let flip_mean = map.values.iter().map(|&v| v as f64).sum::<f64>() / n;
     Ok((

@@ -164,60 +164,115 @@ fn split_shows_a_left_and_b_right_and_toggle_shows_one_side() {
     assert!(all(&region(&rgb(&shot("toggle_b")), (0, W)), blue));
 }
 
+/// A figure of the viewer's exit line `A/B maps: … difference maps … last: mean M p99 P max X
+/// scale S above F` for `kind` (`difference` or `flip`).
+fn map_figure(log: &str, kind: &str, name: &str) -> f64 {
+    let line = log
+        .lines()
+        .find(|l| l.contains("A/B maps:"))
+        .unwrap_or_else(|| panic!("no A/B maps line: {log}"));
+    let part = line
+        .split(';')
+        .find(|p| p.contains(&format!(" {kind} maps")))
+        .unwrap_or_else(|| panic!("no {kind} maps in {line}"));
+    let rest = part
+        .split(&format!(" {name} "))
+        .nth(1)
+        .unwrap_or_else(|| panic!("no {name} in {part}"));
+    rest.split(' ').next().unwrap().parse().unwrap()
+}
+
 #[test]
-fn difference_of_identical_inputs_is_uniform() {
+fn difference_and_flip_maps_on_the_gpu_follow_every_frame() {
     let dir = scratch("lab_difference");
     let a = plane_scene(&dir, "red", [0.8, 0.05, 0.05]);
     let b = plane_scene(&dir, "blue", [0.05, 0.05, 0.8]);
     let mut images = Vec::new();
+    let mut logs = Vec::new();
     for (other, name) in [(&a, "same"), (&b, "different")] {
-        let shot = dir.join(format!("{name}.png"));
+        let shot = |m: &str| dir.join(format!("{name}_{m}.png"));
         let script = format!(
-            "1:panels=off;2:compare_mode=difference;40:screenshot={}",
-            shot.display()
+            "1:panels=off;2:compare_mode=difference;8:screenshot={};9:compare_mode=flip;\
+             14:screenshot={}",
+            shot("difference").display(),
+            shot("flip").display()
         );
-        let Some(_) = view(&a, Some(other), (W, H), 42, &script) else {
+        let Some(log) = view(&a, Some(other), (W, H), 16, &script) else {
             return;
         };
-        images.push(rgb(&shot));
+        images.push((rgb(&shot("difference")), rgb(&shot("flip"))));
+        logs.push(log);
     }
-    // Identical inputs: every pixel of the map is the palette's zero (black), whatever the scale.
-    let same = map_region(&images[0]);
+    // Identical inputs: every pixel of both maps is the palette's zero, and the figures are 0.
+    for img in [&images[0].0, &images[0].1] {
+        let same = map_region(img);
+        assert!(spread(&same) == 0, "map of identical inputs is not uniform");
+        assert!(all(&same, dark), "{:?}", same[0]);
+    }
+    for kind in ["difference", "flip"] {
+        assert_eq!(map_figure(&logs[0], kind, "max"), 0.0, "{}", logs[0]);
+    }
+    // Red against blue: max_c |A − B| = 0.75 / π · cos θ (Lambert, irradiance 1 at cos θ =
+    // 1/|(0.3, −1, 0.2)|) at every pixel; the colour bar's top is that value, so the map is the
+    // palette's top colour everywhere.
+    let expected = 0.75 / std::f64::consts::PI / (0.3f64 * 0.3 + 1.0 + 0.2 * 0.2).sqrt();
+    for name in ["max", "mean", "p99", "scale"] {
+        let v = map_figure(&logs[1], "difference", name);
+        assert!(
+            (v - expected).abs() < 1e-5 * expected,
+            "{name} {v} vs {expected}: {}",
+            logs[1]
+        );
+    }
+    let top = luz::compare::palette()[255];
+    let different = map_region(&images[1].0);
     assert!(
-        spread(&same) <= 1,
-        "difference map of identical inputs is not uniform"
-    );
-    assert!(all(&same, dark), "{:?}", same[0]);
-    // Different inputs: the map is shown, and it is not the zero colour.
-    let different = map_region(&images[1]);
-    assert!(
-        all(&different, |p| p.iter().map(|&c| u32::from(c)).sum::<u32>()
-            > 200),
-        "the difference of red and blue is bright: {:?}",
+        all(&different, |p| p == top),
+        "the difference of red and blue is the top colour {top:?}: {:?}",
         different[0]
     );
+    // FLIP of red against blue: uniform and far from zero.
+    let flip = map_region(&images[1].1);
+    assert!(spread(&flip) == 0, "FLIP of two uniform images is uniform");
+    assert!(map_figure(&logs[1], "flip", "mean") > 0.3, "{}", logs[1]);
+}
+
+#[test]
+fn error_view_shows_each_side_against_its_reference() {
+    let dir = scratch("lab_error_sides");
+    let plane = plane_scene(&dir, "plane", [0.7, 0.7, 0.7]);
+    let sphere = coarse_sphere(&dir);
+    let shot = dir.join("sides.png");
+    let script = format!(
+        "1:panels=off;2:error_view=on;118:screenshot={}",
+        shot.display()
+    );
+    let Some(log) = view(&plane, Some(&sphere), (W, H), 120, &script) else {
+        return;
+    };
+    let line = |side: &str| {
+        log.lines()
+            .find(|l| l.contains(&format!("error view{side}: reference")))
+            .unwrap_or_else(|| panic!("{side:?} reference finished within 120 frames: {log}"))
+            .to_string()
+    };
+    let (a, b) = (line(""), line(" B"));
+    eprintln!("{a}\n{b}");
+    assert!(mean_relative(&a) < 1e-4, "{a}");
+    assert!(mean_relative(&b) > 0.01, "{b}");
+    // Split mode (the default): A's map left of the divider (uniform zero), B's right of it.
+    let img = rgb(&shot);
+    let left = rows(&img, (0, 230), (90, 185));
+    assert!(spread(&left) <= 1 && all(&left, dark), "{:?}", left[0]);
+    let right = rows(&img, (250, W), (90, 185));
+    assert!(spread(&right) > 150, "B's error map is not uniform");
 }
 
 #[test]
 fn error_view_is_uniform_for_a_lambert_plane_and_not_for_a_coarse_sphere() {
     let dir = scratch("lab_error");
     let plane = plane_scene(&dir, "plane", [0.7, 0.7, 0.7]);
-    let sphere = dir.join("sphere.json");
-    std::fs::write(
-        &sphere,
-        format!(
-            r#"{{
-  "description": "viewer lab test: a coarsely tessellated Lambert sphere, flat shaded",
-  "camera": {{"position": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.1, "far": 100}},
-  "output": {{"width": {W}, "height": {H}, "background": [0, 0, 0], "tonemap": "khronos_neutral"}},
-  "ambient": [0, 0, 0],
-  "lights": [{{"type": "directional", "direction": [0.3, -0.5, -1], "intensity": 1.0}}],
-  "materials": {{"m": {{"model": "lambert", "albedo": [0.7, 0.7, 0.7]}}}},
-  "objects": [{{"mesh": {{"type": "sphere", "radius": 1, "segments": 8, "rings": 4}}, "material": "m", "shading": "flat"}}]
-}}"#
-        ),
-    )
-    .unwrap();
+    let sphere = coarse_sphere(&dir);
     let mut results = Vec::new();
     for scene in [&plane, &sphere] {
         let shot = scene.with_extension("png");
@@ -254,6 +309,27 @@ fn error_view_is_uniform_for_a_lambert_plane_and_not_for_a_coarse_sphere() {
         .filter(|c| c.iter().map(|&v| u32::from(v)).sum::<u32>() > 300);
     assert!(bright.count() > 200, "{sphere_line}");
     assert!(mean_relative(sphere_line) > 0.01, "{sphere_line}");
+}
+
+/// A coarsely tessellated (8 × 4), flat-shaded Lambert sphere.
+fn coarse_sphere(dir: &Path) -> PathBuf {
+    let sphere = dir.join("sphere.json");
+    std::fs::write(
+        &sphere,
+        format!(
+            r#"{{
+  "description": "viewer lab test: a coarsely tessellated Lambert sphere, flat shaded",
+  "camera": {{"position": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45, "near": 0.1, "far": 100}},
+  "output": {{"width": {W}, "height": {H}, "background": [0, 0, 0], "tonemap": "khronos_neutral"}},
+  "ambient": [0, 0, 0],
+  "lights": [{{"type": "directional", "direction": [0.3, -0.5, -1], "intensity": 1.0}}],
+  "materials": {{"m": {{"model": "lambert", "albedo": [0.7, 0.7, 0.7]}}}},
+  "objects": [{{"mesh": {{"type": "sphere", "radius": 1, "segments": 8, "rings": 4}}, "material": "m", "shading": "flat"}}]
+}}"#
+        ),
+    )
+    .unwrap();
+    sphere
 }
 
 /// The mean relative error of the viewer's "error view: reference …" log line.
@@ -327,4 +403,85 @@ fn a_parameter_changed_on_b_shows_right_of_the_divider_only() {
     eprintln!("red level: A {left:.1}, B {right:.1}");
     assert!(left > 100.0, "A keeps its exposure: {left}");
     assert!(right < 0.6 * left, "B is 3 EV darker: {right} vs {left}");
+}
+
+/// A 173 × 101 HDR test image: gradients, a disc with a hard edge, fine stripes and values above
+/// 1 (the tone map's shoulder); `shift` moves the disc and tints the stripes.
+fn pattern(shift: f32) -> luz::imageio::LinearImage {
+    let (w, h) = (173u32, 101u32);
+    let mut pixels = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let (u, v) = (x as f32 / w as f32, y as f32 / h as f32);
+            let mut c = [0.05 + 2.5 * u * u, 0.2 * v, 0.6 * (1.0 - u), 1.0];
+            let (dx, dy) = (x as f32 - 60.0 - shift, y as f32 - 50.0);
+            if dx * dx + dy * dy < 900.0 {
+                c = [4.0, 1.5 + 0.1 * shift, 0.3, 1.0];
+            }
+            if x > 120 && (x / 2) % 2 == 0 {
+                c[1] += 0.5 + 0.05 * shift;
+            }
+            pixels.push(c);
+        }
+    }
+    luz::imageio::LinearImage {
+        width: w,
+        height: h,
+        pixels,
+    }
+}
+
+/// The GPU maps the viewer draws every frame in `difference` and `flip` modes against the CPU
+/// code (`compare::difference_map`, nv-flip through `compare::flip_map`), headless.
+#[test]
+fn gpu_maps_match_the_cpu_maps() {
+    use luz::color::Tonemap;
+    use luz::render::compare::{compare_images, CompareKind};
+    let ctx = common::gpu();
+    let pool = luz::vk::cmd::CommandPool::new(&ctx, "compare test").unwrap();
+    let (a, b) = (pattern(0.0), pattern(3.0));
+    let (w, h) = (a.width, a.height);
+    let display = (0.5, Tonemap::KhronosNeutral);
+    // Identical inputs: exactly zero everywhere, in both kinds, and a zero scale.
+    for kind in [CompareKind::Difference, CompareKind::Flip] {
+        let (map, s) = compare_images(&ctx, &pool, (&a, &a), kind, display).unwrap();
+        assert!(map.values.iter().all(|&v| v == 0.0), "{kind:?}: {s:?}");
+        assert_eq!((s.stats.max, s.stats.mean, s.stats.above), (0.0, 0.0, 0.0));
+    }
+    // Difference: the CPU formula bit for bit (one subtraction and a max per pixel).
+    let (map, s) = compare_images(&ctx, &pool, (&a, &b), CompareKind::Difference, display).unwrap();
+    let cpu = luz::compare::difference_map(&a.pixels, &b.pixels, w, h);
+    assert_eq!(map.values, cpu.values);
+    let exact = luz::compare::MapStats::of(&cpu.values);
+    assert_eq!(s.stats.max, exact.max);
+    assert!(
+        (s.stats.mean - exact.mean).abs() <= 1e-5 * exact.mean,
+        "{s:?} {exact:?}"
+    );
+    assert_eq!(s.stats.above, exact.above);
+    // p99 within its 1/6-octave bin, and the colour bar's top is it.
+    assert!(s.stats.p99 >= exact.p99 && s.stats.p99 <= exact.p99 * 2f32.powf(1.0 / 6.0) * 1.0001);
+    assert_eq!(s.scale, s.stats.p99);
+    // FLIP: nv-flip's C++ on the CPU against the GLSL port, per pixel.
+    let (map, s) = compare_images(&ctx, &pool, (&a, &b), CompareKind::Flip, display).unwrap();
+    let cpu = luz::compare::flip_map(&a.pixels, &b.pixels, (w, h), display.0, display.1);
+    let diffs: Vec<f32> = map
+        .values
+        .iter()
+        .zip(&cpu.values)
+        .map(|(g, c)| (g - c).abs())
+        .collect();
+    let max_diff = diffs.iter().copied().fold(0.0f32, f32::max);
+    let mean_diff = diffs.iter().sum::<f32>() / diffs.len() as f32;
+    let cpu_stats = luz::compare::MapStats::of(&cpu.values);
+    eprintln!(
+        "FLIP GPU vs CPU: max |Δ| {max_diff:.2e}, mean |Δ| {mean_diff:.2e}; mean GPU {:.5} CPU {:.5}",
+        s.stats.mean, cpu_stats.mean
+    );
+    assert!(cpu_stats.mean > 0.05, "the pattern differs: {cpu_stats:?}");
+    assert!(max_diff < 2e-4, "max |GPU − CPU| FLIP {max_diff}");
+    assert!(mean_diff < 1e-5, "mean |GPU − CPU| FLIP {mean_diff}");
+    assert!((s.stats.mean - cpu_stats.mean).abs() < 1e-4);
+    assert_eq!(s.scale, 1.0);
+    common::assert_no_validation_messages(&ctx);
 }

@@ -226,45 +226,61 @@ impl DisplayPass {
         };
         let area = clip;
         // SAFETY: `pipeline` is this pass's prepared pipeline for (`tonemap`, `format`) (looked up
-        // above); it declares viewport, scissor and cull mode dynamic, and all three are set here
-        // before the draw. `self.set` matches set 0 of `self.layout`, and the push-constant bytes
-        // are a `DisplayPush`, the FRAGMENT range of the layout. The draw reads no vertex buffers
-        // (the pipeline has no vertex input). The caller's part, documented above: `cmd` is
-        // recording inside a dynamic rendering instance on one attachment of `format`, and the
-        // source image is in the layout given at creation and readable by fragment shaders.
+        // above) with viewport, scissor and cull mode dynamic; `self.set` matches set 0 of
+        // `self.layout`, and the push-constant bytes are a `DisplayPush`, the FRAGMENT range of
+        // the layout. The caller's part, documented above: `cmd` is recording inside a dynamic
+        // rendering instance on one attachment of `format`, and the source image is in the layout
+        // given at creation and readable by fragment shaders.
         unsafe {
-            d.cmd_set_viewport(
+            draw_fullscreen(
+                d,
                 cmd,
-                0,
-                &[vk::Viewport {
-                    x: 0.0,
-                    y: 0.0,
-                    width: extent.width as f32,
-                    height: extent.height as f32,
-                    min_depth: 0.0,
-                    max_depth: 1.0,
-                }],
-            );
-            d.cmd_set_scissor(cmd, 0, &[area]);
-            d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                0,
-                &[self.set],
-                &[],
-            );
-            d.cmd_push_constants(
-                cmd,
-                self.layout.raw,
-                vk::ShaderStageFlags::FRAGMENT,
-                0,
+                (pipeline, self.layout.raw, self.set),
+                (extent, area),
                 bytemuck::bytes_of(&push),
-            );
-            d.cmd_draw(cmd, 3, 1, 0, 0);
-        }
+            )
+        };
         Ok(())
+    }
+}
+
+/// Draws the full-screen triangle with `pipeline` (no vertex input; viewport, scissor and cull
+/// mode dynamic) over `extent`, only inside `clip`, with `set` as set 0 of `layout` and `push`
+/// (when not empty) as FRAGMENT push constants at offset 0.
+///
+/// # Safety
+/// `cmd` is recording inside a dynamic rendering instance on attachments `pipeline` was built
+/// for; `pipeline` was built with `layout`, declares those three states dynamic and reads only
+/// what `set` binds, which must be live and in the layouts its shader expects; `push` fits the
+/// layout's FRAGMENT range.
+pub unsafe fn draw_fullscreen(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    (pipeline, layout, set): (vk::Pipeline, vk::PipelineLayout, vk::DescriptorSet),
+    (extent, clip): (vk::Extent2D, vk::Rect2D),
+    push: &[u8],
+) {
+    // SAFETY: the caller's contract above.
+    unsafe {
+        d.cmd_set_viewport(
+            cmd,
+            0,
+            &[vk::Viewport {
+                x: 0.0,
+                y: 0.0,
+                width: extent.width as f32,
+                height: extent.height as f32,
+                min_depth: 0.0,
+                max_depth: 1.0,
+            }],
+        );
+        d.cmd_set_scissor(cmd, 0, &[clip]);
+        d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+        d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
+        if !push.is_empty() {
+            d.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, push);
+        }
+        d.cmd_draw(cmd, 3, 1, 0, 0);
     }
 }

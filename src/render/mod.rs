@@ -1,6 +1,7 @@
 //! The GPU renderer: one file per pass. Passes record into a command buffer for a given target and
 //! own no swapchain, so the same pass draws offscreen or into a window.
 
+pub mod compare;
 pub mod display;
 pub mod forward;
 pub mod gpu;

@@ -1,7 +1,7 @@
-//! The viewer's background work, off the frame loop: the A/B comparison maps (`difference`,
-//! `flip`) of two read-back HDR images, and the error view (the CPU reference of the current view
-//! with rayon, then the per-pixel error of the GPU image against it). The frame loop only sends
-//! work and polls for results ([`MapWorker::poll`], [`ReferenceJob::poll`]); it never waits.
+//! The viewer's background work, off the frame loop: the error view (the CPU reference of the
+//! current view with rayon, then the per-pixel error of the GPU image against it). The frame loop
+//! only starts jobs and polls for results ([`ReferenceJob::poll`]); it never waits. (The A/B maps
+//! are computed on the GPU every frame: `crate::render::compare`.)
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::color::Tonemap;
-use crate::compare::{colorize, difference_map, flip_map, relative_error_map, ErrorMap, MapStats};
+use crate::compare::{colorize, flip_map, relative_error_map, ErrorMap, MapStats};
 use crate::imageio::LinearImage;
 use crate::reference::{render_reference_cancellable, ReferenceOptions};
 use crate::scene::Scene;
@@ -81,86 +81,6 @@ pub fn map_image(kind: MapKind, map: ErrorMap, started: Instant) -> MapImage {
         stats,
         scale,
         ms: started.elapsed().as_secs_f64() * 1e3,
-    }
-}
-
-/// Two images to compare, with the display settings FLIP sees them through.
-pub struct MapJob {
-    pub kind: MapKind,
-    pub a: LinearImage,
-    pub b: LinearImage,
-    pub exposure: f32,
-    pub tonemap: Tonemap,
-}
-
-fn compute(job: MapJob) -> MapImage {
-    let started = Instant::now();
-    let size = (job.a.width, job.a.height);
-    let map = match job.kind {
-        MapKind::Difference => difference_map(&job.a.pixels, &job.b.pixels, size.0, size.1),
-        MapKind::Relative => relative_error_map(&job.a.pixels, &job.b.pixels, size.0, size.1),
-        MapKind::Flip | MapKind::FlipReference => flip_map(
-            &job.a.pixels,
-            &job.b.pixels,
-            size,
-            job.exposure,
-            job.tonemap,
-        ),
-    };
-    map_image(job.kind, map, started)
-}
-
-/// One worker thread computing A/B maps; at most one job at a time (the frame loop reads back
-/// a new pair only when the worker is idle, so the map follows the view at the worker's pace).
-pub struct MapWorker {
-    jobs: Sender<MapJob>,
-    results: Receiver<MapImage>,
-    busy: bool,
-}
-
-impl Default for MapWorker {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl MapWorker {
-    pub fn new() -> Self {
-        let (jobs, job_rx) = channel::<MapJob>();
-        let (result_tx, results) = channel();
-        std::thread::Builder::new()
-            .name("luz-compare".into())
-            .spawn(move || {
-                for job in job_rx {
-                    if result_tx.send(compute(job)).is_err() {
-                        break;
-                    }
-                }
-            })
-            .expect("spawn the comparison thread");
-        Self {
-            jobs,
-            results,
-            busy: false,
-        }
-    }
-
-    pub fn idle(&self) -> bool {
-        !self.busy
-    }
-
-    pub fn send(&mut self, job: MapJob) {
-        self.busy = self.jobs.send(job).is_ok();
-    }
-
-    /// The newest finished map, if any.
-    pub fn poll(&mut self) -> Option<MapImage> {
-        let mut last = None;
-        while let Ok(m) = self.results.try_recv() {
-            self.busy = false;
-            last = Some(m);
-        }
-        last
     }
 }
 

@@ -16,9 +16,9 @@ use crate::plot::brdf_charts::{albedo_chart_of, lobe_chart, slice_chart};
 use crate::plot::Chart;
 use crate::scene::{LightKind, Scene};
 
-/// Chart size in pixels (shown scaled to the panel's width).
-const PLOT_W: u32 = 480;
-const PLOT_H: u32 = 340;
+/// Chart size in pixels, shown 1:1 (the lab panel widens to fit them while they are on).
+pub const PLOT_W: u32 = 520;
+pub const PLOT_H: u32 = 380;
 /// The slice's cells per axis and colour decades; the albedo's samples per angle.
 const SLICE_CELLS: usize = 48;
 const SLICE_DECADES: f64 = 4.0;
@@ -147,7 +147,7 @@ impl PlotWorker {
         }
     }
 
-    /// The plots in `ui`, scaled to its width.
+    /// The plots in `ui` at their pixel size (scaled down only when the panel is narrower).
     pub fn show(&self, ui: &mut egui::Ui) {
         if let Some(e) = &self.error {
             ui.colored_label(egui::Color32::from_rgb(220, 90, 90), e);
@@ -161,7 +161,7 @@ impl PlotWorker {
         if self.requested.as_ref() != Some(key) {
             ui.weak("updating…");
         }
-        let w = ui.available_width().max(100.0);
+        let w = ui.available_width().clamp(100.0, PLOT_W as f32);
         let size = egui::Vec2::new(w, w * PLOT_H as f32 / PLOT_W as f32);
         for (title, tex) in &self.textures {
             ui.add(egui::Image::new((tex.id(), size)).alt_text(title.as_str()));

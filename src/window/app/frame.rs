@@ -241,7 +241,6 @@ impl Viewer {
         self.sync_b(slot)?;
         self.lab
             .error_tick(&self.scene, self.targets.color.extent());
-        self.lab.pair_tick();
 
         // 5. Record.
         let cmd = self.frames[slot].cmd;
@@ -316,7 +315,7 @@ impl Viewer {
         }
         if copies.any() {
             let (a, b) = copies.images()?;
-            self.lab.deliver(a, b, &self.scene);
+            self.lab.deliver(a, b);
         }
         self.frames[slot].cpu_ms = start.elapsed().as_secs_f64() * 1e3;
         self.slot = (slot + 1) % FRAMES_IN_FLIGHT;
@@ -367,7 +366,8 @@ impl Viewer {
             cmd,
             FrameStart::AfterPrevious {
                 color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags2::COPY,
+                    | vk::PipelineStageFlags2::COPY
+                    | vk::PipelineStageFlags2::COMPUTE_SHADER,
             },
         );
         // The swapchain image: written whole by the forward pass or the display pass, then the UI
@@ -464,7 +464,7 @@ impl Viewer {
                     width: hdr_extent.width.min(sc.width),
                     height: hdr_extent.height.min(sc.height),
                 };
-                self.record_display(cmd, area)?;
+                self.record_display(cmd, slot, area)?;
                 if let Some(t) = &mut timer {
                     t.end(cmd, s);
                 }

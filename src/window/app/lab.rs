@@ -4,7 +4,8 @@
 //! FLIP) and the error view's reference job. The panel and the overlays are `ui::compare`'s.
 
 use super::*;
-use crate::window::jobs::{ErrorResult, MapImage, MapJob, MapKind, MapWorker, ReferenceJob};
+use crate::render::compare::{CompareKind, ComparePass};
+use crate::window::jobs::{ErrorResult, MapImage, MapKind, ReferenceJob};
 use crate::window::ui::compare::{
     CompareAction, CompareInfo, CompareMode, CompareSettings, ErrorMetric, ErrorStatus,
 };
@@ -13,8 +14,7 @@ use crate::window::ui::compare::{
 /// the viewer trades noise in environment-lit scenes for a reference in seconds).
 pub(super) const ERROR_VIEW_ENV_SAMPLES: u32 = 64;
 
-/// The name of B's GPU timer scope (its forward and saturate passes together).
-pub(super) const B_SCOPE: &str = "B: scene";
+pub(super) use crate::window::ui::compare::{B_SCOPE, MAP_SCOPE};
 
 /// Side B: a scene and the passes that draw it, like A's in [`Viewer`].
 pub(super) struct Side {
@@ -83,7 +83,8 @@ impl Side {
     }
 
     /// Rebuilds what B's scene or the window size now needs; then this frame's per-frame data.
-    /// A failed rebuild undoes the edit (B's passes fit the last scene that built).
+    /// A failed rebuild undoes the edit (B's passes fit the last scene that built). Returns
+    /// `Some` when B's passes and image were rebuilt: the message of a failed edit, or empty.
     fn sync(
         side: &mut Option<Side>,
         env: &SideEnv,
@@ -94,6 +95,7 @@ impl Side {
         let mut message = None;
         let changed = Structure::of(&b.scene, env.settings) != b.structure;
         if changed || nonzero(env.extent) != b.targets.color.extent() {
+            message = Some(String::new());
             // SAFETY: the device is live and only this thread submits; afterwards nothing B's
             // old passes recorded is pending.
             unsafe { env.ctx.device.device_wait_idle()? };
@@ -103,6 +105,7 @@ impl Side {
                 Ok(new) => *b = new,
                 Err(e) => {
                     message = Some(format!("B: {e:#} (the edit was undone)"));
+                    // (a non-empty message: the edit failed; empty: B was rebuilt)
                     *b = Side::new(env, b.built_scene.clone(), None)?;
                 }
             }
@@ -124,7 +127,8 @@ impl Side {
             cmd,
             FrameStart::AfterPrevious {
                 color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags2::COPY,
+                    | vk::PipelineStageFlags2::COPY
+                    | vk::PipelineStageFlags2::COMPUTE_SHADER,
             },
         );
         let views = self.targets.views();
@@ -148,9 +152,10 @@ impl Side {
     }
 }
 
-/// `access` (the display pass's read of an HDR image) plus a copy's read of it.
+/// `access` (the display pass's read of an HDR image) plus a copy's read of it and the A/B map
+/// kernels' ([`ComparePass::source_access`]).
 pub(super) fn readable(mut access: Access) -> Access {
-    access.1 |= vk::PipelineStageFlags2::COPY;
+    access.1 |= vk::PipelineStageFlags2::COPY | vk::PipelineStageFlags2::COMPUTE_SHADER;
     access.2 |= vk::AccessFlags2::TRANSFER_READ;
     access
 }
@@ -199,27 +204,134 @@ impl ViewKey {
     }
 }
 
+/// The error view of one side (A or B): its reference job, result and overlay.
+#[derive(Default)]
+struct ErrorSide {
+    job: Option<(ReferenceJob, ViewKey)>,
+    error: Option<(ErrorResult, ViewKey)>,
+    failed: Option<String>,
+    texture: Option<(egui::TextureHandle, ErrorMetric)>,
+    /// The view of the previous frame: a reference starts once the view held still a frame.
+    last_key: Option<ViewKey>,
+    /// This side's image is read back this frame for a new job.
+    want: bool,
+}
+
+impl ErrorSide {
+    fn poll(&mut self, ctx: &egui::Context, metric: ErrorMetric, side: &str) {
+        let finished = self.job.as_mut().and_then(|(j, _)| j.poll());
+        if let Some(r) = finished {
+            let (_, key) = self.job.take().expect("polled above");
+            match r {
+                Ok(Some(result)) => {
+                    log::info!(
+                        "error view{side}: reference {}x{} in {:.0} ms; relative error mean {:.3e} \
+                         p99 {:.3e} max {:.3e}; FLIP mean {:.4}",
+                        result.width,
+                        result.height,
+                        result.reference_ms,
+                        result.relative.stats.mean,
+                        result.relative.stats.p99,
+                        result.relative.stats.max,
+                        result.flip.stats.mean
+                    );
+                    self.error = Some((result, key));
+                    self.texture = None;
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    log::error!("error view{side}: {e}");
+                    self.failed = Some(e);
+                }
+            }
+        }
+        if let Some((r, _)) = &self.error {
+            if self.texture.as_ref().map(|(_, m)| *m) != Some(metric) {
+                let map = match metric {
+                    ErrorMetric::Relative => &r.relative,
+                    ErrorMetric::Flip => &r.flip,
+                };
+                let mut slot = self.texture.take().map(|(t, _)| t);
+                texture(ctx, &mut slot, &format!("luz_error_map{side}"), map);
+                self.texture = slot.map(|t| (t, metric));
+            }
+        }
+    }
+
+    /// Cancels what the view of `scene` (camera set) at `extent` no longer matches and starts
+    /// a reference once the view held still; sets `want` when this frame's image must go to it.
+    fn tick(&mut self, scene: &Scene, extent: vk::Extent2D) {
+        self.want = false;
+        let key = ViewKey::of(scene, extent);
+        if self.job.as_ref().is_some_and(|(_, k)| *k != key) {
+            self.job = None; // dropping cancels
+        }
+        if self.error.as_ref().is_some_and(|(_, k)| *k != key) {
+            self.error = None;
+            self.texture = None;
+            self.failed = None;
+        }
+        let still = self.last_key.as_ref() == Some(&key);
+        if self.job.is_none() && self.error.is_none() && self.failed.is_none() && still {
+            let mut s = scene.clone();
+            s.output.width = extent.width;
+            s.output.height = extent.height;
+            let opts = crate::reference::ReferenceOptions {
+                samples: ERROR_VIEW_ENV_SAMPLES,
+                ..Default::default()
+            };
+            let job = ReferenceJob::start(s, opts, scene.output.exposure, scene.output.tonemap);
+            self.job = Some((job, key.clone()));
+            self.want = true;
+        }
+        self.last_key = Some(key);
+    }
+
+    fn give(&mut self, image: Option<LinearImage>) {
+        if let (Some(image), Some((job, _))) = (image, &mut self.job) {
+            if job.wants_gpu_image() {
+                job.give_gpu_image(image);
+            }
+        }
+    }
+
+    fn status(&self) -> ErrorStatus<'_> {
+        if let Some(e) = &self.failed {
+            return ErrorStatus::Failed(e);
+        }
+        if let Some((r, _)) = &self.error {
+            return ErrorStatus::Done(r);
+        }
+        match &self.job {
+            Some((j, _)) => ErrorStatus::Running(j.rows_done(), j.total_rows),
+            None => ErrorStatus::Running(0, 0),
+        }
+    }
+
+    fn map(&self, metric: ErrorMetric) -> Option<&MapImage> {
+        self.error.as_ref().map(|(r, _)| match metric {
+            ErrorMetric::Relative => &r.relative,
+            ErrorMetric::Flip => &r.flip,
+        })
+    }
+}
+
 /// The lab's state in the viewer.
 #[derive(Default)]
 pub(super) struct Lab {
     pub settings: CompareSettings,
     pub b: Option<Side>,
-    worker: Option<MapWorker>,
+    /// The GPU maps of A and B (difference, FLIP), built for the current pair of images.
+    gpu: Option<ComparePass>,
+    /// The map kind each frame slot recorded (its figures are read after the slot's fence).
+    recorded: [Option<CompareKind>; FRAMES_IN_FLIGHT],
+    /// The figures of the newest map read back.
     map: Option<MapImage>,
-    map_texture: Option<egui::TextureHandle>,
-    job: Option<(ReferenceJob, ViewKey)>,
-    error: Option<(ErrorResult, ViewKey)>,
-    error_failed: Option<String>,
-    error_texture: Option<(egui::TextureHandle, ErrorMetric)>,
-    /// The view of the previous frame: a reference starts once the view held still a frame.
-    last_key: Option<ViewKey>,
-    /// The pair of images was read back this frame for the map worker.
-    pub want_pair: bool,
-    /// A's image was read back this frame for the reference job.
-    pub want_a: bool,
+    /// Maps drawn in the session, per kind, and the last figures (for the exit log).
+    maps_drawn: [(usize, Option<MapImage>); 2],
+    /// The error view of A and of B.
+    errors: [ErrorSide; 2],
     plots: Option<crate::window::plots::PlotWorker>,
-    /// Worker time of every A/B map received: (kind, width, height, ms).
-    map_times: Vec<(MapKind, u32, u32, f64)>,
 }
 
 fn texture(ctx: &egui::Context, slot: &mut Option<egui::TextureHandle>, name: &str, m: &MapImage) {
@@ -231,177 +343,115 @@ fn texture(ctx: &egui::Context, slot: &mut Option<egui::TextureHandle>, name: &s
     }
 }
 
+/// The GPU map kind a comparison mode draws.
+fn map_kind(mode: CompareMode) -> Option<CompareKind> {
+    match mode {
+        CompareMode::Difference => Some(CompareKind::Difference),
+        CompareMode::Flip => Some(CompareKind::Flip),
+        _ => None,
+    }
+}
+
 impl Lab {
     /// A's forward pass must draw the float image (B is composed with it, or it is read back).
     pub fn forces_hdr(&self) -> bool {
         self.b.is_some() || self.settings.error_view
     }
 
-    /// One line on the A/B maps computed in the session (count and median worker time per kind
-    /// and size), for the exit log; `None` without maps.
+    /// Drops the GPU map pass (A's or B's image was replaced; the device is idle).
+    pub fn drop_gpu(&mut self) {
+        self.gpu = None;
+        self.recorded = Default::default();
+    }
+
+    /// One line on the A/B maps drawn in the session (count and last figures per kind), for
+    /// the exit log; `None` without maps.
     pub fn summary(&self) -> Option<String> {
-        let mut parts = Vec::new();
-        let mut keys: Vec<(MapKind, u32, u32)> = Vec::new();
-        for &(k, w, h, _) in &self.map_times {
-            if !keys.contains(&(k, w, h)) {
-                keys.push((k, w, h));
-            }
-        }
-        for (k, w, h) in keys {
-            let ms: Vec<f64> = self
-                .map_times
-                .iter()
-                .filter(|t| (t.0, t.1, t.2) == (k, w, h))
-                .map(|t| t.3)
-                .collect();
-            let name = if k == MapKind::Flip {
-                "flip"
-            } else {
-                "difference"
-            };
-            parts.push(format!(
-                "{} {name} maps at {w}x{h}, median {:.1} ms on the CPU",
-                ms.len(),
-                crate::stats::quantile(&ms, 0.5)
-            ));
-        }
+        let parts: Vec<String> = self
+            .maps_drawn
+            .iter()
+            .filter_map(|(n, m)| {
+                let m = m.as_ref()?;
+                let name = if m.kind == MapKind::Flip {
+                    "flip"
+                } else {
+                    "difference"
+                };
+                Some(format!(
+                    "{n} {name} maps at {}x{} on the GPU, last: mean {:.6e} p99 {:.6e} max {:.6e} \
+                     scale {:.6e} above {:.4}",
+                    m.width,
+                    m.height,
+                    m.stats.mean,
+                    m.stats.p99,
+                    m.stats.max,
+                    m.scale,
+                    m.stats.above
+                ))
+            })
+            .collect();
         (!parts.is_empty()).then(|| format!("A/B maps: {}", parts.join("; ")))
     }
 
     /// Takes finished work from the threads (never waits).
     pub fn poll(&mut self, ctx: &egui::Context) {
-        if let Some(w) = &mut self.worker {
-            if let Some(m) = w.poll() {
-                self.map_times.push((m.kind, m.width, m.height, m.ms));
-                texture(ctx, &mut self.map_texture, "luz_ab_map", &m);
-                self.map = Some(m);
-            }
-        }
-        let finished = self.job.as_mut().and_then(|(j, _)| j.poll());
-        if let Some(r) = finished {
-            let (_, key) = self.job.take().expect("polled above");
-            match r {
-                Ok(Some(result)) => {
-                    log::info!(
-                        "error view: reference {}x{} in {:.0} ms; relative error mean {:.3e} \
-                         p99 {:.3e} max {:.3e}; FLIP mean {:.4}",
-                        result.width,
-                        result.height,
-                        result.reference_ms,
-                        result.relative.stats.mean,
-                        result.relative.stats.p99,
-                        result.relative.stats.max,
-                        result.flip.stats.mean
-                    );
-                    self.error = Some((result, key));
-                    self.error_texture = None;
-                }
-                Ok(None) => {}
-                Err(e) => {
-                    log::error!("error view: {e}");
-                    self.error_failed = Some(e);
-                }
-            }
-        }
         let metric = self.settings.metric;
-        if let Some((r, _)) = &self.error {
-            if self.error_texture.as_ref().map(|(_, m)| *m) != Some(metric) {
-                let map = match metric {
-                    ErrorMetric::Relative => &r.relative,
-                    ErrorMetric::Flip => &r.flip,
-                };
-                let mut slot = self.error_texture.take().map(|(t, _)| t);
-                texture(ctx, &mut slot, "luz_error_map", map);
-                self.error_texture = slot.map(|t| (t, metric));
-            }
-        }
+        let [a, b] = &mut self.errors;
+        a.poll(ctx, metric, "");
+        b.poll(ctx, metric, " B");
     }
 
-    /// The error view's state machine for this frame, with A's scene (camera set) at `extent`:
-    /// cancels what the view no longer matches, starts a reference once the view held still.
-    /// Sets `want_a` when this frame's A image must go to a new job.
+    /// The error view's state machine for this frame, with A's scene (camera set) at `extent`,
+    /// and B's when comparing.
     pub fn error_tick(&mut self, scene: &Scene, extent: vk::Extent2D) {
-        self.want_a = false;
         if !self.settings.error_view {
-            self.job = None;
-            self.error = None;
-            self.error_texture = None;
-            self.error_failed = None;
-            self.last_key = None;
+            self.errors = Default::default();
             return;
         }
-        let key = ViewKey::of(scene, extent);
-        if self.job.as_ref().is_some_and(|(_, k)| *k != key) {
-            self.job = None; // dropping cancels
+        self.errors[0].tick(scene, extent);
+        match &self.b {
+            Some(b) => self.errors[1].tick(&b.scene, extent),
+            None => self.errors[1] = ErrorSide::default(),
         }
-        if self.error.as_ref().is_some_and(|(_, k)| *k != key) {
-            self.error = None;
-            self.error_texture = None;
-            self.error_failed = None;
-        }
-        let still = self.last_key.as_ref() == Some(&key);
-        if self.job.is_none() && self.error.is_none() && self.error_failed.is_none() && still {
-            let mut s = scene.clone();
-            s.output.width = extent.width;
-            s.output.height = extent.height;
-            let opts = crate::reference::ReferenceOptions {
-                samples: ERROR_VIEW_ENV_SAMPLES,
-                ..Default::default()
-            };
-            let job = ReferenceJob::start(s, opts, scene.output.exposure, scene.output.tonemap);
-            self.job = Some((job, key.clone()));
-            self.want_a = true;
-        }
-        self.last_key = Some(key);
     }
 
-    /// Whether this frame reads back A and B for a new map.
-    pub fn pair_tick(&mut self) {
-        self.want_pair = self.b.is_some()
-            && self.settings.mode.needs_map()
-            && self.worker.as_ref().is_none_or(|w| w.idle());
-        if !self.settings.mode.needs_map() || self.b.is_none() {
+    /// Reads slot `slot`'s figures of the map it drew last (after the slot's fence), and forgets
+    /// the map when the mode no longer draws one.
+    fn read_map(&mut self, slot: usize, gpu_ms: f64) -> Result<()> {
+        if self.b.is_none() || map_kind(self.settings.mode).is_none() {
             self.map = None;
-            self.map_texture = None;
         }
+        let (Some(pass), Some(kind)) = (&self.gpu, self.recorded[slot].take()) else {
+            return Ok(());
+        };
+        let s = pass.read_stats(slot, kind)?;
+        let e = pass.extent();
+        let kind = match kind {
+            CompareKind::Difference => MapKind::Difference,
+            CompareKind::Flip => MapKind::Flip,
+        };
+        let m = MapImage {
+            kind,
+            width: e.width,
+            height: e.height,
+            rgba: Vec::new(),
+            stats: s.stats,
+            scale: s.scale,
+            ms: gpu_ms,
+        };
+        let i = usize::from(kind == MapKind::Flip);
+        self.maps_drawn[i].0 += 1;
+        self.maps_drawn[i].1 = Some(m.clone());
+        if map_kind(self.settings.mode).is_some() && self.b.is_some() {
+            self.map = Some(m);
+        }
+        Ok(())
     }
 
-    /// Hands this frame's read-back images to the worker and the job.
-    pub fn deliver(&mut self, a: Option<LinearImage>, b: Option<LinearImage>, scene: &Scene) {
-        if let (Some(a), Some(b)) = (a.clone(), b) {
-            let kind = match self.settings.mode {
-                CompareMode::Flip => MapKind::Flip,
-                _ => MapKind::Difference,
-            };
-            self.worker.get_or_insert_with(MapWorker::new).send(MapJob {
-                kind,
-                a,
-                b,
-                exposure: scene.output.exposure,
-                tonemap: scene.output.tonemap,
-            });
-        }
-        if let (Some(a), Some((job, _))) = (a, &mut self.job) {
-            if job.wants_gpu_image() {
-                job.give_gpu_image(a);
-            }
-        }
-    }
-
-    fn error_status(&self) -> ErrorStatus<'_> {
-        if !self.settings.error_view {
-            return ErrorStatus::Off;
-        }
-        if let Some(e) = &self.error_failed {
-            return ErrorStatus::Failed(e);
-        }
-        if let Some((r, _)) = &self.error {
-            return ErrorStatus::Done(r);
-        }
-        match &self.job {
-            Some((j, _)) => ErrorStatus::Running(j.rows_done(), j.total_rows),
-            None => ErrorStatus::Running(0, 0),
-        }
+    /// Hands this frame's read-back images to the error view's jobs.
+    pub fn deliver(&mut self, a: Option<LinearImage>, b: Option<LinearImage>) {
+        self.errors[0].give(a);
+        self.errors[1].give(b);
     }
 
     /// Paints the overlays (under the panels) and, with `panels`, the lab panel; returns the
@@ -419,51 +469,82 @@ impl Lab {
                 .get_or_insert_with(Default::default)
                 .update(ui.ctx(), plot);
         }
-        let error_shown = self.settings.error_view && self.error.is_some();
-        if error_shown {
-            if let Some((t, _)) = &self.error_texture {
-                c::paint_map(ui, t);
+        let metric = self.settings.metric;
+        let has_b = self.b.is_some();
+        let error_on = self.settings.error_view;
+        // The error view: A whole without B; with B, the side shown in toggle mode, else A left
+        // of the divider and B right of it.
+        let split = self.settings.split;
+        let halves: Vec<(usize, f32, f32)> = match (has_b, self.settings.mode) {
+            (false, _) => vec![(0, 0.0, 1.0)],
+            (true, CompareMode::Toggle) => vec![(usize::from(self.settings.show_b), 0.0, 1.0)],
+            (true, _) => vec![(0, 0.0, split), (1, split, 1.0)],
+        };
+        let mut error_shown = false;
+        if error_on {
+            for &(side, x0, x1) in &halves {
+                if let Some((t, _)) = &self.errors[side].texture {
+                    c::paint_map(ui, t, (x0, x1));
+                    error_shown = true;
+                }
             }
-        } else if self.b.is_some() && self.settings.mode.needs_map() {
-            if let Some(t) = &self.map_texture {
-                c::paint_map(ui, t);
-            }
-        } else if self.b.is_some() && self.settings.mode == CompareMode::Split {
+        }
+        if has_b && (self.settings.mode == CompareMode::Split || (error_on && halves.len() == 2)) {
             c::divider(ui, &mut self.settings.split);
         }
         let passes = profiler.pass_history();
-        let b_ms = passes
-            .iter()
-            .filter(|(n, _)| *n == B_SCOPE)
-            .map(|(_, t)| t)
-            .sum::<f64>();
+        let scope_ms = |name: &str| {
+            passes
+                .iter()
+                .filter(|(n, _)| *n == name)
+                .map(|(_, t)| t)
+                .sum::<f64>()
+        };
+        let b_ms = scope_ms(B_SCOPE);
+        let map_ms = scope_ms(MAP_SCOPE);
         let a_ms = passes
             .iter()
-            .filter(|(n, _)| !matches!(*n, B_SCOPE | "display" | "ui"))
+            .filter(|(n, _)| !matches!(*n, B_SCOPE | MAP_SCOPE | "display" | "ui"))
             .map(|(_, t)| t)
             .sum::<f64>();
+        if let Some(m) = &mut self.map {
+            m.ms = map_ms;
+        }
         if !panels {
-            let legend = match (&self.error, self.settings.metric) {
-                (Some((r, _)), ErrorMetric::Relative) if error_shown => Some((&r.relative, true)),
-                (Some((r, _)), ErrorMetric::Flip) if error_shown => Some((&r.flip, false)),
-                _ if self.b.is_some() && self.settings.mode.needs_map() => {
-                    self.map.as_ref().map(|m| (m, false))
+            let percent = metric == ErrorMetric::Relative;
+            let mut legend: Vec<(&str, &MapImage)> = Vec::new();
+            if error_shown {
+                for &(side, _, _) in &halves {
+                    if let Some(m) = self.errors[side].map(metric) {
+                        legend.push((["A", "B"][side], m));
+                    }
                 }
-                _ => None,
-            };
-            if let Some((m, percent)) = legend {
-                c::corner_legend(ui.ctx(), m, percent);
+            } else if let Some(m) = self.map.as_ref().filter(|_| has_b) {
+                legend.push(("", m));
+            }
+            if !legend.is_empty() {
+                c::corner_legend(ui.ctx(), &legend, percent && error_shown);
             }
             return Vec::new();
         }
         if !self.settings.open {
             return Vec::new();
         }
+        let off = ErrorStatus::Off;
         let info = CompareInfo {
-            has_b: self.b.is_some(),
+            has_b,
             gpu_ms: (a_ms, b_ms),
             map: self.map.as_ref(),
-            error: self.error_status(),
+            error: if error_on {
+                self.errors[0].status()
+            } else {
+                off
+            },
+            error_b: if error_on && has_b {
+                self.errors[1].status()
+            } else {
+                off
+            },
             plots: self.plots.as_ref(),
         };
         let mut settings = self.settings;
@@ -491,6 +572,7 @@ impl Viewer {
         // dropped below, after nothing uses them.
         unsafe { self.ctx.device.device_wait_idle()? };
         self.lab.b = None;
+        self.lab.drop_gpu();
         let env = self.side_env();
         let side = Side::new(&env, scene, None)?;
         self.lab.b = Some(side);
@@ -517,6 +599,7 @@ impl Viewer {
                     // SAFETY: as in `set_b`.
                     let idle = unsafe { self.ctx.device.device_wait_idle() };
                     self.lab.b = None;
+                    self.lab.drop_gpu();
                     self.lab.settings.edit_b = false;
                     idle.map_err(Into::into)
                 }
@@ -543,8 +626,12 @@ impl Viewer {
         );
         self.lab.b = b;
         if let Some(m) = synced? {
-            log::error!("{m}");
-            self.status = Some(m);
+            // B's image is a new one (the device is idle): the map pass is built again.
+            self.lab.drop_gpu();
+            if !m.is_empty() {
+                log::error!("{m}");
+                self.status = Some(m);
+            }
         }
         Ok(())
     }
@@ -559,6 +646,14 @@ impl Viewer {
         timer: &mut Option<GpuTimer>,
     ) -> Result<Readbacks> {
         let mut out = Readbacks::default();
+        // This slot's previous map is done (its fence was waited for): read its figures.
+        let map_ms = self.profiler.pass_history();
+        let map_ms = map_ms
+            .iter()
+            .filter(|(n, _)| *n == MAP_SCOPE)
+            .map(|(_, t)| t)
+            .sum::<f64>();
+        self.lab.read_map(slot, map_ms)?;
         if let Some(b) = &mut self.lab.b {
             let s = timer.as_mut().and_then(|t| t.begin(cmd, B_SCOPE));
             b.record(d, cmd, slot)?;
@@ -566,10 +661,32 @@ impl Viewer {
                 t.end(cmd, s);
             }
         }
-        if self.lab.want_a || self.lab.want_pair {
+        let kind = map_kind(self.lab.settings.mode);
+        if let (Some(kind), Some(b)) = (kind, &self.lab.b) {
+            if self.lab.gpu.is_none() {
+                let views = (self.targets.color.view, b.targets.color.view);
+                let extent = self.targets.color.extent();
+                self.lab.gpu = Some(ComparePass::new(
+                    &self.ctx,
+                    views,
+                    extent,
+                    FRAMES_IN_FLIGHT,
+                )?);
+            }
+            let pass = self.lab.gpu.as_mut().expect("built above");
+            let output = self.scene.output;
+            pass.prepare(kind, output.tonemap, self.swapchain.format)?;
+            let s = timer.as_mut().and_then(|t| t.begin(cmd, MAP_SCOPE));
+            pass.record(cmd, slot, kind, (output.exposure, output.tonemap))?;
+            if let Some(t) = timer {
+                t.end(cmd, s);
+            }
+            self.lab.recorded[slot] = Some(kind);
+        }
+        if self.lab.errors[0].want {
             out.a = Some(self.copy_color(d, cmd, &self.targets.color, "read-back A")?);
         }
-        if self.lab.want_pair {
+        if self.lab.errors[1].want {
             if let Some(b) = &self.lab.b {
                 out.b = Some(self.copy_color(d, cmd, &b.targets.color, "read-back B")?);
             }
@@ -613,8 +730,14 @@ impl Viewer {
         Ok((buffer, extent))
     }
 
-    /// Draws the window's scene image: A, or A and B as the comparison mode shows them.
-    pub(super) fn record_display(&self, cmd: vk::CommandBuffer, area: vk::Extent2D) -> Result<()> {
+    /// Draws the window's scene image: A, or A and B as the comparison mode shows them (the
+    /// difference and FLIP maps of this frame, slot `slot`).
+    pub(super) fn record_display(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        area: vk::Extent2D,
+    ) -> Result<()> {
         let format = self.swapchain.format;
         let a = (&self.display, &self.scene);
         let rect = |x0: u32, x1: u32| vk::Rect2D {
@@ -637,8 +760,8 @@ impl Viewer {
             return Ok(draw(a, rect(0, area.width))?);
         };
         let b = (&b.display, &b.scene);
-        match self.lab.settings.mode {
-            CompareMode::Split => {
+        match (self.lab.settings.mode, &self.lab.gpu) {
+            (CompareMode::Split, _) => {
                 let x =
                     ((self.lab.settings.split * area.width as f32).round() as u32).min(area.width);
                 if x > 0 {
@@ -648,7 +771,12 @@ impl Viewer {
                     draw(b, rect(x, area.width))?;
                 }
             }
-            CompareMode::Toggle if self.lab.settings.show_b => draw(b, rect(0, area.width))?,
+            (CompareMode::Toggle, _) if self.lab.settings.show_b => draw(b, rect(0, area.width))?,
+            (CompareMode::Difference | CompareMode::Flip, Some(pass))
+                if self.lab.recorded[slot].is_some() =>
+            {
+                pass.record_show(cmd, slot, format, area, rect(0, area.width))?
+            }
             _ => draw(a, rect(0, area.width))?,
         }
         Ok(())

@@ -155,6 +155,7 @@ impl Viewer {
             self.targets = t;
             self.samples = samples;
             self.display.set_source(self.targets.color.view);
+            self.lab.drop_gpu();
         }
         self.structure = Structure::of(&self.scene, &self.settings);
         self.built_scene = self.scene.clone();
@@ -195,6 +196,7 @@ impl Viewer {
         if extent != self.targets.color.extent() {
             self.targets = self.targets.resized(&self.ctx, extent)?;
             self.display.set_source(self.targets.color.view);
+            self.lab.drop_gpu();
             self.saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &self.targets.color)?;
         }
         self.swapchain_dirty = false;

@@ -92,6 +92,11 @@ impl Default for CompareSettings {
     }
 }
 
+/// The name of B's GPU timer scope (its forward and saturate passes together).
+pub const B_SCOPE: &str = "B: scene";
+/// The name of the A/B map's GPU timer scope (difference or FLIP of both images).
+pub const MAP_SCOPE: &str = "A/B map";
+
 /// Where the error view is.
 #[derive(Debug, Clone, Copy)]
 pub enum ErrorStatus<'a> {
@@ -111,6 +116,8 @@ pub struct CompareInfo<'a> {
     /// The newest A/B map (difference or flip modes).
     pub map: Option<&'a MapImage>,
     pub error: ErrorStatus<'a>,
+    /// B's error view (comparing only).
+    pub error_b: ErrorStatus<'a>,
     /// The lobe plots, when shown.
     pub plots: Option<&'a crate::window::plots::PlotWorker>,
 }
@@ -186,9 +193,17 @@ pub fn compare_panel(
     info: &CompareInfo,
 ) -> Vec<CompareAction> {
     let mut actions = Vec::new();
+    // With the lobe plots the panel is at least as wide as the charts, which are drawn at
+    // their pixel size (axis labels legible, not scaled down).
+    let min = if settings.plots {
+        crate::window::plots::PLOT_W as f32 + 24.0
+    } else {
+        160.0
+    };
     Panel::right(Id::new("luz_lab_panel"))
         .resizable(true)
         .default_size(240.0)
+        .min_size(min)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.heading("A/B comparison");
@@ -245,7 +260,7 @@ pub fn compare_panel(
                                 colour_bar(ui, m.kind.label(), m.scale, false);
                                 stats_grid(ui, "luz_ab_stats", &m.stats, false);
                                 ui.weak(format!(
-                                    "{}×{} map on the CPU in {:.1} ms (both images read back)",
+                                    "{}×{} map on the GPU every frame: {:.2} ms (p50)",
                                     m.width, m.height, m.ms
                                 ));
                             }
@@ -275,7 +290,20 @@ pub fn compare_panel(
                         ui.selectable_value(&mut settings.metric, ErrorMetric::Flip, "FLIP");
                     });
                 }
-                error_status(ui, settings, &info.error);
+                if info.has_b && settings.error_view {
+                    ui.weak(match settings.mode {
+                        CompareMode::Toggle => {
+                            "Each side against its own reference: the side shown."
+                        }
+                        _ => "Each side against its own reference: A left of the divider, B right.",
+                    });
+                    ui.strong("A");
+                    error_status(ui, "a", settings, &info.error);
+                    ui.strong("B");
+                    error_status(ui, "b", settings, &info.error_b);
+                } else {
+                    error_status(ui, "a", settings, &info.error);
+                }
                 ui.separator();
                 ui.heading("Lobe plots");
                 ui.checkbox(&mut settings.plots, "selected material (Objects panel)");
@@ -287,7 +315,7 @@ pub fn compare_panel(
     actions
 }
 
-fn error_status(ui: &mut Ui, settings: &CompareSettings, status: &ErrorStatus) {
+fn error_status(ui: &mut Ui, id: &str, settings: &CompareSettings, status: &ErrorStatus) {
     match status {
         ErrorStatus::Off => {}
         ErrorStatus::Running(done, total) => {
@@ -306,7 +334,7 @@ fn error_status(ui: &mut Ui, settings: &CompareSettings, status: &ErrorStatus) {
                 ErrorMetric::Flip => (&r.flip, false),
             };
             colour_bar(ui, map.kind.label(), map.scale, percent);
-            stats_grid(ui, "luz_error_stats", &map.stats, percent);
+            stats_grid(ui, &format!("luz_error_stats_{id}"), &map.stats, percent);
             ui.weak(format!(
                 "reference {}×{} in {:.0} ms (rayon); map {:.1} ms",
                 r.width, r.height, r.reference_ms, map.ms
@@ -315,13 +343,18 @@ fn error_status(ui: &mut Ui, settings: &CompareSettings, status: &ErrorStatus) {
     }
 }
 
-/// Paints `texture` over the whole scene area (under the panels: call before them).
-pub fn paint_map(ui: &Ui, texture: &TextureHandle) {
-    let rect = ui.ctx().content_rect();
+/// Paints the columns `x0..x1` (fractions of the width) of `texture` over the same columns of
+/// the scene area (under the panels: call before them).
+pub fn paint_map(ui: &Ui, texture: &TextureHandle, (x0, x1): (f32, f32)) {
+    let r = ui.ctx().content_rect();
+    let rect = Rect::from_min_max(
+        Pos2::new(r.left() + r.width() * x0, r.top()),
+        Pos2::new(r.left() + r.width() * x1, r.bottom()),
+    );
     ui.painter().image(
         texture.id(),
         rect,
-        Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+        Rect::from_min_max(Pos2::new(x0, 0.0), Pos2::new(x1, 1.0)),
         Color32::WHITE,
     );
 }
@@ -359,18 +392,27 @@ pub fn divider(ui: &Ui, split: &mut f32) {
         });
 }
 
-/// A corner box with the colour bar and the figures when the panels are hidden.
-pub fn corner_legend(ctx: &egui::Context, map: &MapImage, percent: bool) {
+/// A corner box with the colour bar and the figures of `maps` (one line each, named) when the
+/// panels are hidden.
+pub fn corner_legend(ctx: &egui::Context, maps: &[(&str, &MapImage)], percent: bool) {
+    let Some((_, first)) = maps.first() else {
+        return;
+    };
     egui::Area::new(Id::new("luz_map_legend"))
         .anchor(Align2::RIGHT_BOTTOM, Vec2::new(-8.0, -8.0))
         .interactable(false)
         .show(ctx, |ui| {
             egui::Frame::popup(ui.style()).show(ui, |ui| {
-                colour_bar(ui, map.kind.label(), map.scale, percent);
-                ui.monospace(format!(
-                    "mean {:.4}  p99 {:.4}  max {:.4}",
-                    map.stats.mean, map.stats.p99, map.stats.max
-                ));
+                colour_bar(ui, first.kind.label(), first.scale, percent);
+                for (name, map) in maps {
+                    ui.monospace(format!(
+                        "{name}{}mean {:.4}  p99 {:.4}  max {:.4}",
+                        if name.is_empty() { "" } else { ": " },
+                        map.stats.mean,
+                        map.stats.p99,
+                        map.stats.max
+                    ));
+                }
             });
         });
 }

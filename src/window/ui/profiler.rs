@@ -67,12 +67,26 @@ pub(super) fn profiler_ui(ui: &mut Ui, profiler: &Profiler) {
                 .num_columns(2)
                 .spacing([12.0, 2.0])
                 .show(ui, |ui| {
-                    for (name, t) in passes {
+                    for &(name, t) in &passes {
                         ui.label(name);
                         ui.monospace(ms(t));
                         ui.end_row();
                     }
                 });
+            // A/B comparison: say what the frame pays for.
+            let scope = |n: &str| passes.iter().find(|(p, _)| *p == n).map(|(_, t)| *t);
+            if let Some(b) = scope(super::compare::B_SCOPE) {
+                let total: f64 = passes.iter().map(|(_, t)| t).sum();
+                ui.weak(format!(
+                    "A/B: the frame renders both scenes (B {} of {} GPU){}.",
+                    ms(b),
+                    ms(total),
+                    match scope(super::compare::MAP_SCOPE) {
+                        Some(m) => format!(", plus the A/B map ({})", ms(m)),
+                        None => String::new(),
+                    }
+                ));
+            }
         });
         ui.separator();
         frame_graph(ui, profiler, s.p50);

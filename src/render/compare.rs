@@ -1,0 +1,905 @@
+//! A/B comparison maps on the GPU, every frame (the viewer's `difference` and `flip` modes):
+//! `compare.comp` computes the map of two HDR images and its summary figures, and
+//! `compare_show.frag` draws it through FLIP's magma palette into the swapchain image.
+//!
+//! * difference: `max_c |A_c − B_c|` in linear radiance, as [`crate::compare::difference_map`];
+//!   the colour bar's top is the map's 99th percentile (its maximum when that is 0) from a
+//!   histogram of 1/6-octave bins, rounded up to the bin's top and clamped to the maximum, so a
+//!   uniform map is exactly the top colour and identical inputs the bottom one.
+//! * FLIP: LDR FLIP of B against A after A's exposure and tone map and the 8-bit sRGB encode, a
+//!   port of nv-flip's separable C++ code ([`crate::compare::flip_map`] runs that code on the
+//!   CPU): a conversion pass, a horizontal and a vertical filter pass. The colour bar is 0..1.
+//!
+//! The figures (histogram, maximum, count above 0.01, one sum per workgroup) go to a host-visible
+//! buffer per frame slot, read after the slot's fence ([`ComparePass::read_stats`]).
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::color::{exposure_scale, srgb_encode_table, Tonemap};
+use crate::compare::{ErrorMap, MapStats};
+use crate::render::tonemap::tonemap_id;
+use crate::vk::cmd::{memory_barrier, transition, Transition};
+use crate::vk::image::ImageDesc;
+use crate::vk::pipeline::{
+    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
+};
+use crate::vk::shaders::ShaderModule;
+use crate::vk::{Buffer, Context, Image, VkError};
+
+use crate::glsl::compare_comp as cc;
+use crate::glsl::compare_show_frag as cs;
+
+/// What the map measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CompareKind {
+    Difference,
+    Flip,
+}
+
+/// FLIP's constants (nv-flip `sharedflip.h`).
+const PI: f32 = std::f32::consts::PI;
+const GQC: f32 = 0.7;
+const GPC: f32 = 0.4;
+const GW: f32 = 0.082;
+
+/// The largest filter radius `compare.comp`'s shared-memory tiles hold (`MAX_RADIUS`).
+pub const MAX_FLIP_RADIUS: u32 = 10;
+
+/// Radii of FLIP's spatial and feature filters at `ppd` pixels per degree (nv-flip's
+/// `calculateSpatialFilterRadius` and `3σ` of the feature filter).
+pub fn flip_radii(ppd: f32) -> (u32, u32) {
+    let spatial = (3.0 * (0.04f32 / (2.0 * PI * PI)).sqrt() * ppd).ceil() as u32;
+    let feature = (3.0 * 0.5 * GW * ppd).ceil() as u32;
+    (spatial, feature)
+}
+
+fn lab(rgb: [f32; 3]) -> [f32; 3] {
+    let xyz = [
+        (10135552.0 / 24577794.0) * rgb[0]
+            + (8788810.0 / 24577794.0) * rgb[1]
+            + (4435075.0 / 24577794.0) * rgb[2],
+        (2613072.0 / 12288897.0) * rgb[0]
+            + (8788810.0 / 12288897.0) * rgb[1]
+            + (887015.0 / 12288897.0) * rgb[2],
+        (1425312.0 / 73733382.0) * rgb[0]
+            + (8788810.0 / 73733382.0) * rgb[1]
+            + (70074185.0 / 73733382.0) * rgb[2],
+    ];
+    let inv = [1.052_156_9_f32, 1.0, 0.918_357_7];
+    let delta = 6.0f32 / 29.0;
+    let f = |i: usize| {
+        let v = xyz[i] * inv[i];
+        if v > delta * delta * delta {
+            v.powf(1.0 / 3.0)
+        } else {
+            v / (3.0 * delta * delta) + 4.0 / 29.0
+        }
+    };
+    let (x, y, z) = (f(0), f(1), f(2));
+    let l = 116.0 * y - 16.0;
+    [l, 0.01 * l * 500.0 * (x - y), 0.01 * l * 200.0 * (y - z)]
+}
+
+/// FLIP's filter taps and colour constants as `compare.comp` reads them: `(cmax, pccmax, 0, 0)`,
+/// the spatial filter's taps (Y, Cx, Cz's two Gaussians), the feature filter's (Gaussian, first
+/// and second derivative, 0); nv-flip's `setSpatialFilters`, `setFeatureFilter` and
+/// `computeMaxDistance`.
+pub fn flip_weights(ppd: f32) -> Vec<[f32; 4]> {
+    let (rs, rf) = flip_radii(ppd);
+    let (rs, rf) = (rs as i32, rf as i32);
+    let green = lab([0.0, 1.0, 0.0]);
+    let blue = lab([0.0, 0.0, 1.0]);
+    let hyab = (green[0] - blue[0]).abs()
+        + ((green[1] - blue[1]).powi(2) + (green[2] - blue[2]).powi(2)).sqrt();
+    let cmax = hyab.powf(GQC);
+    let mut out = vec![[cmax, GPC * cmax, 0.0, 0.0]];
+    let gauss = |x2: f32, a: f32, b: f32| a * (PI / b).sqrt() * (-PI * PI * x2 / b).exp();
+    let gauss_sqrt =
+        |x2: f32, a: f32, b: f32| (a * (PI / b).sqrt()).sqrt() * (-PI * PI * x2 / b).exp();
+    let spatial: Vec<[f32; 4]> = (-rs..=rs)
+        .map(|i| {
+            let x = i as f32 / ppd;
+            let x2 = x * x;
+            [
+                gauss(x2, 1.0, 0.0047),
+                gauss(x2, 1.0, 0.0053),
+                gauss_sqrt(x2, 34.1, 0.04),
+                gauss_sqrt(x2, 13.5, 0.025),
+            ]
+        })
+        .collect();
+    let sum = |c: usize| spatial.iter().map(|t| t[c]).sum::<f32>();
+    let (sy, sx) = (sum(0), sum(1));
+    let sz = (sum(2) * sum(2) + sum(3) * sum(3)).sqrt();
+    out.extend(
+        spatial
+            .iter()
+            .map(|t| [t[0] / sy, t[1] / sx, t[2] / sz, t[3] / sz]),
+    );
+    let sd = 0.5 * GW * ppd;
+    let feature: Vec<[f32; 3]> = (-rf..=rf)
+        .map(|i| {
+            let x = i as f32;
+            let g = (-(x * x) / (2.0 * sd * sd)).exp();
+            [g, -x * g, (x * x / (sd * sd) - 1.0) * g]
+        })
+        .collect();
+    let g_sum: f32 = feature.iter().map(|t| t[0]).sum();
+    let pos = |c: usize| feature.iter().map(|t| t[c].max(0.0)).sum::<f32>();
+    let neg = |c: usize| feature.iter().map(|t| (-t[c]).max(0.0)).sum::<f32>();
+    let (dp, dn, ddp, ddn) = (pos(1), neg(1), pos(2), neg(2));
+    out.extend(feature.iter().map(|t| {
+        [
+            t[0] / g_sum,
+            t[1] / if t[1] > 0.0 { dp } else { dn },
+            t[2] / if t[2] > 0.0 { ddp } else { ddn },
+            0.0,
+        ]
+    }));
+    out
+}
+
+/// Bytes before the per-workgroup sums in the stats buffer (`include/compare_stats.glsl`).
+const STATS_HEADER: u64 = 256 * 4 + 16;
+
+/// The largest value histogram bin `b` holds (`stats_bin_top` in `include/compare_stats.glsl`).
+fn bin_top(kind: CompareKind, b: usize) -> f32 {
+    match kind {
+        CompareKind::Difference if b == 0 => 0.0,
+        CompareKind::Difference => (b as f32 / 6.0 - 26.0).exp2(),
+        CompareKind::Flip => (b + 1) as f32 / 256.0,
+    }
+}
+
+/// The figures of one GPU map: [`MapStats`] with percentiles from the histogram (the top of the
+/// bin that holds the rank, at most the maximum: within a sixth of an octave for a difference,
+/// 1/256 for FLIP; mean, maximum and share above 0.01 exact) and the colour bar's top.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GpuMapStats {
+    pub stats: MapStats,
+    pub scale: f32,
+}
+
+impl GpuMapStats {
+    /// Decodes a stats buffer's bytes for a `width × height` map.
+    pub fn decode(kind: CompareKind, bytes: &[u8], (width, height): (u32, u32)) -> Self {
+        let words: &[u32] = bytemuck::cast_slice(&bytes[..STATS_HEADER as usize]);
+        let hist = &words[..256];
+        let max = f32::from_bits(words[256]);
+        let above = words[257];
+        let scale = f32::from_bits(words[258]);
+        let groups = (width.div_ceil(16) * height.div_ceil(16)) as usize;
+        let end = STATS_HEADER as usize + groups * 4;
+        let sums: &[f32] = bytemuck::cast_slice(&bytes[STATS_HEADER as usize..end]);
+        let n = u64::from(width) * u64::from(height);
+        let total: u64 = hist.iter().map(|&c| u64::from(c)).sum();
+        let rank = |p: f64| {
+            let k = ((p * total as f64).ceil() as u64).max(1);
+            let mut acc = 0u64;
+            for (b, &c) in hist.iter().enumerate() {
+                acc += u64::from(c);
+                if acc >= k {
+                    return bin_top(kind, b).min(max);
+                }
+            }
+            max
+        };
+        Self {
+            stats: MapStats {
+                mean: (sums.iter().map(|&s| f64::from(s)).sum::<f64>() / n.max(1) as f64) as f32,
+                p50: rank(0.50),
+                p95: rank(0.95),
+                p99: rank(0.99),
+                max,
+                above: above as f32 / n.max(1) as f32,
+            },
+            scale,
+        }
+    }
+}
+
+/// Format of the intermediate and map images.
+const MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+const WORK_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ComparePush {
+    exposure_scale: f32,
+}
+
+type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// The maps of two HDR images (views in GENERAL layout, SAMPLED usage) of one size.
+pub struct ComparePass {
+    extent: vk::Extent2D,
+    map: Image,
+    /// YCxCz of A and B, then the horizontal passes' results (colour, features) of A and B.
+    work: Vec<Image>,
+    stats: Vec<Buffer>,
+    _weights: Buffer,
+    _srgb_table: Buffer,
+    _palette: Buffer,
+    sets: Vec<vk::DescriptorSet>,
+    show_sets: Vec<vk::DescriptorSet>,
+    _pool: DescriptorPool,
+    layout: PipelineLayout,
+    show_layout: PipelineLayout,
+    _set_layout: DescriptorSetLayout,
+    _show_set_layout: DescriptorSetLayout,
+    radii: (u32, u32),
+    kernels: Vec<((CompareKind, Tonemap), Vec<Pipeline>)>,
+    shows: Vec<(vk::Format, Pipeline)>,
+    /// Whether the work images were put in GENERAL layout yet.
+    initialised: bool,
+    ctx: Arc<Context>,
+}
+
+fn layout_binding(
+    binding: u64,
+    ty: vk::DescriptorType,
+    stages: vk::ShaderStageFlags,
+) -> vk::DescriptorSetLayoutBinding<'static> {
+    vk::DescriptorSetLayoutBinding::default()
+        .binding(binding as u32)
+        .descriptor_type(ty)
+        .descriptor_count(1)
+        .stage_flags(stages)
+}
+
+fn write_image<'a>(
+    set: vk::DescriptorSet,
+    binding: u64,
+    ty: vk::DescriptorType,
+    info: &'a [vk::DescriptorImageInfo],
+) -> vk::WriteDescriptorSet<'a> {
+    vk::WriteDescriptorSet::default()
+        .dst_set(set)
+        .dst_binding(binding as u32)
+        .descriptor_type(ty)
+        .image_info(info)
+}
+
+fn write_buffer<'a>(
+    set: vk::DescriptorSet,
+    binding: u64,
+    info: &'a [vk::DescriptorBufferInfo],
+) -> vk::WriteDescriptorSet<'a> {
+    vk::WriteDescriptorSet::default()
+        .dst_set(set)
+        .dst_binding(binding as u32)
+        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+        .buffer_info(info)
+}
+
+impl ComparePass {
+    /// A pass comparing `a` with `b` (both `extent`), with a stats buffer for each of `slots`
+    /// frames in flight.
+    pub fn new(
+        ctx: &Arc<Context>,
+        (a, b): (vk::ImageView, vk::ImageView),
+        extent: vk::Extent2D,
+        slots: usize,
+    ) -> Result<Self, VkError> {
+        use vk::DescriptorType as T;
+        let comp = vk::ShaderStageFlags::COMPUTE;
+        let frag = vk::ShaderStageFlags::FRAGMENT;
+        let mut bindings = vec![
+            layout_binding(cc::BINDING_A as u64, T::SAMPLED_IMAGE, comp),
+            layout_binding(cc::BINDING_B as u64, T::SAMPLED_IMAGE, comp),
+            layout_binding(cc::BINDING_SRGB_TABLE as u64, T::STORAGE_BUFFER, comp),
+            layout_binding(cc::BINDING_WEIGHTS as u64, T::STORAGE_BUFFER, comp),
+            layout_binding(cc::BINDING_MAP as u64, T::STORAGE_IMAGE, comp),
+            layout_binding(cc::BINDING_STATS as u64, T::STORAGE_BUFFER, comp),
+        ];
+        let work_bindings = [
+            cc::BINDING_YCC_A,
+            cc::BINDING_YCC_B,
+            cc::BINDING_H0_A,
+            cc::BINDING_H1_A,
+            cc::BINDING_H0_B,
+            cc::BINDING_H1_B,
+        ];
+        for w in work_bindings {
+            bindings.push(layout_binding(w as u64, T::STORAGE_IMAGE, comp));
+        }
+        let set_layout = DescriptorSetLayout::new(ctx, "compare set layout", &bindings)?;
+        let show_bindings = [
+            layout_binding(cs::BINDING_MAP as u64, T::STORAGE_IMAGE, frag),
+            layout_binding(cs::BINDING_STATS as u64, T::STORAGE_BUFFER, frag),
+            layout_binding(cs::BINDING_PALETTE as u64, T::STORAGE_BUFFER, frag),
+        ];
+        let show_set_layout =
+            DescriptorSetLayout::new(ctx, "compare show set layout", &show_bindings)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: comp,
+            offset: 0,
+            size: std::mem::size_of::<ComparePush>() as u32,
+        }];
+        let layout = PipelineLayout::new(ctx, "compare layout", &[&set_layout], &push)?;
+        let show_layout =
+            PipelineLayout::new(ctx, "compare show layout", &[&show_set_layout], &[])?;
+        let n = slots as u32;
+        let pool = DescriptorPool::new(
+            ctx,
+            "compare pool",
+            2 * n,
+            &[
+                vk::DescriptorPoolSize {
+                    ty: T::SAMPLED_IMAGE,
+                    descriptor_count: 2 * n,
+                },
+                vk::DescriptorPoolSize {
+                    ty: T::STORAGE_BUFFER,
+                    descriptor_count: 5 * n,
+                },
+                vk::DescriptorPoolSize {
+                    ty: T::STORAGE_IMAGE,
+                    descriptor_count: 8 * n,
+                },
+            ],
+        )?;
+        let storage = |name: &str, format| {
+            let mut desc = ImageDesc::color_target(extent.width, extent.height, format);
+            desc.usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+            Image::new(ctx, name, desc)
+        };
+        let map = storage("compare map", MAP_FORMAT)?;
+        let work = [
+            "compare YCxCz A",
+            "compare YCxCz B",
+            "compare colour A",
+            "compare features A",
+            "compare colour B",
+            "compare features B",
+        ]
+        .iter()
+        .map(|n| storage(n, WORK_FORMAT))
+        .collect::<Result<Vec<_>, _>>()?;
+        let groups = u64::from(extent.width.div_ceil(16) * extent.height.div_ceil(16));
+        let stats = (0..slots)
+            .map(|i| {
+                Buffer::new(
+                    ctx,
+                    &format!("compare stats {i}"),
+                    STATS_HEADER + 4 * groups,
+                    vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+                    MemoryLocation::GpuToCpu,
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let weights = Buffer::with_data(
+            ctx,
+            "compare FLIP weights",
+            flip_weights(crate::diff::DEFAULT_PIXELS_PER_DEGREE).as_slice(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let srgb_table = Buffer::with_data(
+            ctx,
+            "compare sRGB encode table",
+            srgb_encode_table().as_slice(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let palette: Vec<u32> = crate::compare::palette()
+            .iter()
+            .map(|c| u32::from(c[0]) | u32::from(c[1]) << 8 | u32::from(c[2]) << 16)
+            .collect();
+        let palette = Buffer::with_data(
+            ctx,
+            "compare palette",
+            palette.as_slice(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let mut sets = Vec::new();
+        let mut show_sets = Vec::new();
+        for s in &stats {
+            let set = pool.allocate(&set_layout)?;
+            let show = pool.allocate(&show_set_layout)?;
+            let img = |view| {
+                [vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
+                    image_view: view,
+                    image_layout: vk::ImageLayout::GENERAL,
+                }]
+            };
+            let buf = |b: &Buffer| {
+                [vk::DescriptorBufferInfo {
+                    buffer: b.raw,
+                    offset: 0,
+                    range: vk::WHOLE_SIZE,
+                }]
+            };
+            let (ia, ib, imap) = (img(a), img(b), img(map.view));
+            let iw: Vec<_> = work.iter().map(|w| img(w.view)).collect();
+            let (bt, bw, bs, bp) = (buf(&srgb_table), buf(&weights), buf(s), buf(&palette));
+            let mut writes = vec![
+                write_image(set, cc::BINDING_A as u64, T::SAMPLED_IMAGE, &ia),
+                write_image(set, cc::BINDING_B as u64, T::SAMPLED_IMAGE, &ib),
+                write_image(set, cc::BINDING_MAP as u64, T::STORAGE_IMAGE, &imap),
+                write_buffer(set, cc::BINDING_SRGB_TABLE as u64, &bt),
+                write_buffer(set, cc::BINDING_WEIGHTS as u64, &bw),
+                write_buffer(set, cc::BINDING_STATS as u64, &bs),
+                write_image(show, cs::BINDING_MAP as u64, T::STORAGE_IMAGE, &imap),
+                write_buffer(show, cs::BINDING_STATS as u64, &bs),
+                write_buffer(show, cs::BINDING_PALETTE as u64, &bp),
+            ];
+            for (binding, info) in work_bindings.iter().zip(&iw) {
+                writes.push(write_image(set, *binding as u64, T::STORAGE_IMAGE, info));
+            }
+            // SAFETY: `writes` and the infos they point to outlive the call; the sets were just
+            // allocated and no command buffer has used them; each binding's type matches its
+            // layout (built above from the same constants). The views are live: `a` and `b` are
+            // the caller's (SAMPLED usage, GENERAL layout while this pass is used, the contract of
+            // `new`), the others this pass's own, kept as long as the sets.
+            unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+            sets.push(set);
+            show_sets.push(show);
+        }
+        Ok(Self {
+            extent,
+            map,
+            work,
+            stats,
+            _weights: weights,
+            _srgb_table: srgb_table,
+            _palette: palette,
+            sets,
+            show_sets,
+            _pool: pool,
+            layout,
+            show_layout,
+            _set_layout: set_layout,
+            _show_set_layout: show_set_layout,
+            radii: flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE),
+            kernels: Vec::new(),
+            shows: Vec::new(),
+            initialised: false,
+            ctx: ctx.clone(),
+        })
+    }
+
+    pub fn extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+
+    /// Builds the kernels of `kind` with `tonemap` and the display pipeline for `format` unless
+    /// they exist.
+    pub fn prepare(
+        &mut self,
+        kind: CompareKind,
+        tonemap: Tonemap,
+        format: vk::Format,
+    ) -> Result<(), VkError> {
+        let tonemap = if kind == CompareKind::Flip {
+            tonemap
+        } else {
+            Tonemap::None
+        };
+        if !self.kernels.iter().any(|(k, _)| *k == (kind, tonemap)) {
+            let names: &[&str] = match kind {
+                CompareKind::Difference => {
+                    &["compare.comp:difference", "compare.comp:scale_difference"]
+                }
+                CompareKind::Flip => &[
+                    "compare.comp:flip_convert",
+                    "compare.comp:flip_h",
+                    "compare.comp:flip_v",
+                    "compare.comp:scale_flip",
+                ],
+            };
+            let spec = [
+                (cc::SPEC_TONEMAP, tonemap_id(tonemap)),
+                (cc::SPEC_SPATIAL_RADIUS, self.radii.0),
+                (cc::SPEC_FEATURE_RADIUS, self.radii.1),
+            ];
+            let pipelines = names
+                .iter()
+                .map(|k| {
+                    let module = ShaderModule::new(&self.ctx, k)?;
+                    Pipeline::compute(&self.ctx, &self.layout, k, &module, &spec)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            self.kernels.push(((kind, tonemap), pipelines));
+        }
+        if !self.shows.iter().any(|(f, _)| *f == format) {
+            let vertex = ShaderModule::new(&self.ctx, "display.vert")?;
+            let fragment = ShaderModule::new(&self.ctx, "compare_show.frag")?;
+            let pipeline = Pipeline::graphics(
+                &self.ctx,
+                &self.show_layout,
+                &GraphicsDesc {
+                    name: &format!("compare show [{format:?}]"),
+                    vertex: &vertex,
+                    fragment: &fragment,
+                    spec: &[],
+                    vertex_bindings: &[],
+                    vertex_attributes: &[],
+                    color_formats: &[format],
+                    depth_format: None,
+                    samples: vk::SampleCountFlags::TYPE_1,
+                    cull: vk::CullModeFlags::NONE,
+                    depth_test: false,
+                    depth_write: false,
+                    depth_compare: vk::CompareOp::ALWAYS,
+                    blend: false,
+                },
+            )?;
+            self.shows.push((format, pipeline));
+        }
+        Ok(())
+    }
+
+    /// The stage and access A and B must be readable at before [`ComparePass::record`] (in
+    /// GENERAL layout).
+    pub fn source_access() -> Access {
+        (
+            vk::ImageLayout::GENERAL,
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+        )
+    }
+
+    /// Records the map of `kind` into slot `slot`'s figures (A's `exposure_ev` and `tonemap` for
+    /// FLIP), leaving the map readable by [`ComparePass::record_show`] and the figures by the
+    /// host after the frame's fence. Outside a render pass, with the kernels prepared.
+    pub fn record(
+        &mut self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        kind: CompareKind,
+        (exposure_ev, tonemap): (f32, Tonemap),
+    ) -> Result<(), VkError> {
+        let tonemap = if kind == CompareKind::Flip {
+            tonemap
+        } else {
+            Tonemap::None
+        };
+        let d = self.ctx.device.clone();
+        let pipelines: Vec<vk::Pipeline> = self
+            .kernels
+            .iter()
+            .find(|(k, _)| *k == (kind, tonemap))
+            .map(|(_, p)| p.iter().map(|p| p.raw).collect())
+            .ok_or_else(|| VkError::Setup("compare: the kernels were not prepared".into()))?;
+        let shader_rw =
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        let general: Access = (
+            vk::ImageLayout::GENERAL,
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            shader_rw,
+        );
+        if !self.initialised {
+            let mut t: Vec<Transition> = self
+                .work
+                .iter()
+                .map(|w| Transition {
+                    image: w.raw,
+                    range: w.subresource_range(),
+                    from: (
+                        vk::ImageLayout::UNDEFINED,
+                        vk::PipelineStageFlags2::NONE,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    to: general,
+                })
+                .collect();
+            t.push(Transition {
+                image: self.map.raw,
+                range: self.map.subresource_range(),
+                from: (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::PipelineStageFlags2::NONE,
+                    vk::AccessFlags2::NONE,
+                ),
+                to: general,
+            });
+            transition(&d, cmd, &t);
+            self.initialised = true;
+        }
+        let stats = &self.stats[slot];
+        // The previous frame's reads of the map (display) and uses of the work images come first
+        // on the queue; this slot's figures were read by the host after its fence.
+        memory_barrier(
+            &d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                shader_rw,
+            ),
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::ALL_TRANSFER,
+                shader_rw | vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+        );
+        let push = ComparePush {
+            exposure_scale: exposure_scale(exposure_ev),
+        };
+        let groups = (
+            self.extent.width.div_ceil(16),
+            self.extent.height.div_ceil(16),
+        );
+        let between = |d: &ash::Device| {
+            memory_barrier(
+                d,
+                cmd,
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
+            )
+        };
+        // SAFETY: `stats` has TRANSFER_DST usage and the fill covers its header; the barrier
+        // after it orders the fill before the kernels. Every pipeline was built with
+        // `self.layout`, whose set 0 the slot's set matches, and the push bytes are a
+        // `ComparePush` in its COMPUTE range. The work images and the map are in GENERAL (the
+        // first record transitions them); A and B are readable by compute shaders in GENERAL
+        // (the caller's part, `source_access`). Each kernel is separated from the next by a
+        // compute-to-compute barrier. `cmd` is recording outside a render pass.
+        unsafe {
+            d.cmd_fill_buffer(cmd, stats.raw, 0, STATS_HEADER, 0);
+            memory_barrier(
+                &d,
+                cmd,
+                (
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
+            );
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout.raw,
+                0,
+                &[self.sets[slot]],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.raw,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            let last = pipelines.len() - 1;
+            for (i, p) in pipelines.iter().enumerate() {
+                if i > 0 {
+                    between(&d);
+                }
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, *p);
+                if i == last {
+                    d.cmd_dispatch(cmd, 1, 1, 1);
+                } else {
+                    d.cmd_dispatch(cmd, groups.0, groups.1, 1);
+                }
+            }
+        }
+        memory_barrier(
+            &d,
+            cmd,
+            (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
+            (
+                vk::PipelineStageFlags2::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags2::HOST
+                    | vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::SHADER_STORAGE_READ
+                    | vk::AccessFlags2::HOST_READ
+                    | vk::AccessFlags2::TRANSFER_READ,
+            ),
+        );
+        Ok(())
+    }
+
+    /// Draws the map of slot `slot` through the palette over `extent`, only inside `clip`
+    /// (inside a rendering instance on an attachment of `format`, prepared).
+    pub fn record_show(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        clip: vk::Rect2D,
+    ) -> Result<(), VkError> {
+        let pipeline = self
+            .shows
+            .iter()
+            .find(|(f, _)| *f == format)
+            .map(|(_, p)| p.raw)
+            .ok_or_else(|| {
+                VkError::Setup(format!("compare: no display pipeline for {format:?}"))
+            })?;
+        // SAFETY: `pipeline` was built with `self.show_layout` for attachments of `format`, with
+        // viewport, scissor and cull mode dynamic; the slot's show set matches its set 0 (no push
+        // constants). The map is in GENERAL and readable by fragment shaders after `record` (its
+        // closing barrier). The caller's part: `cmd` records inside a rendering instance on one
+        // attachment of `format`.
+        unsafe {
+            crate::render::display::draw_fullscreen(
+                &self.ctx.device,
+                cmd,
+                (pipeline, self.show_layout.raw, self.show_sets[slot]),
+                (extent, clip),
+                &[],
+            )
+        };
+        Ok(())
+    }
+
+    /// Slot `slot`'s figures of its last `kind` map (call after the slot's fence).
+    pub fn read_stats(&self, slot: usize, kind: CompareKind) -> Result<GpuMapStats, VkError> {
+        let bytes = self.stats[slot].mapped()?;
+        Ok(GpuMapStats::decode(
+            kind,
+            bytes,
+            (self.extent.width, self.extent.height),
+        ))
+    }
+
+    /// The map image (R32_SFLOAT, GENERAL layout) for a copy after [`ComparePass::record`].
+    pub fn map_image(&self) -> &Image {
+        &self.map
+    }
+}
+
+/// The map of `a` against `b` (same size) computed on the GPU, with its figures: what the viewer
+/// shows, for tests and tools. Uploads both, records, waits.
+pub fn compare_images(
+    ctx: &Arc<Context>,
+    pool: &crate::vk::cmd::CommandPool,
+    (a, b): (&crate::imageio::LinearImage, &crate::imageio::LinearImage),
+    kind: CompareKind,
+    (exposure_ev, tonemap): (f32, Tonemap),
+) -> Result<(ErrorMap, GpuMapStats), VkError> {
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(VkError::Setup(format!(
+            "compare: A is {}x{}, B {}x{}",
+            a.width, a.height, b.width, b.height
+        )));
+    }
+    let extent = vk::Extent2D {
+        width: a.width,
+        height: a.height,
+    };
+    let upload = |name: &str, img: &crate::imageio::LinearImage| -> Result<Image, VkError> {
+        let mut desc = ImageDesc::texture(img.width, img.height, WORK_FORMAT, 1, 1);
+        desc.usage |= vk::ImageUsageFlags::STORAGE;
+        let image = Image::new(ctx, name, desc)?;
+        let region = vk::BufferImageCopy {
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_extent: vk::Extent3D {
+                width: img.width,
+                height: img.height,
+                depth: 1,
+            },
+            ..Default::default()
+        };
+        crate::vk::image::upload(
+            ctx,
+            pool,
+            &image,
+            bytemuck::cast_slice(&img.pixels),
+            &[region],
+            image.subresource_range(),
+            (
+                vk::ImageLayout::UNDEFINED,
+                vk::PipelineStageFlags2::NONE,
+                vk::AccessFlags2::NONE,
+            ),
+            ComparePass::source_access(),
+        )?;
+        Ok(image)
+    };
+    let (ia, ib) = (upload("compare input A", a)?, upload("compare input B", b)?);
+    let mut pass = ComparePass::new(ctx, (ia.view, ib.view), extent, 1)?;
+    pass.prepare(kind, tonemap, vk::Format::R8G8B8A8_UNORM)?;
+    let out = Buffer::new(
+        ctx,
+        "compare map read-back",
+        u64::from(a.width) * u64::from(a.height) * 4,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let d = ctx.device.clone();
+    pool.one_shot(|cmd| {
+        pass.record(cmd, 0, kind, (exposure_ev, tonemap))?;
+        let src: Access = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+        );
+        transition(
+            &d,
+            cmd,
+            &[Transition {
+                image: pass.map.raw,
+                range: pass.map.subresource_range(),
+                from: (
+                    vk::ImageLayout::GENERAL,
+                    vk::PipelineStageFlags2::COMPUTE_SHADER,
+                    vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                ),
+                to: src,
+            }],
+        );
+        crate::vk::cmd::copy_image_to_buffer(&d, cmd, pass.map.raw, src.0, &out, extent);
+        memory_barrier(
+            &d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+        Ok(())
+    })?;
+    let n = a.pixels.len();
+    let values: Vec<f32> = bytemuck::cast_slice(&out.mapped()?[..n * 4]).to_vec();
+    let stats = pass.read_stats(0, kind)?;
+    Ok((
+        ErrorMap {
+            width: a.width,
+            height: a.height,
+            values,
+        },
+        stats,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flip_filters_are_nv_flips_at_67_ppd() {
+        assert_eq!(flip_radii(67.0), (10, 9));
+        let (s, f) = flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE);
+        assert!(
+            s.max(f) <= MAX_FLIP_RADIUS,
+            "compare.comp's tiles hold the filters"
+        );
+        let w = flip_weights(67.0);
+        assert_eq!(w.len(), 1 + 21 + 19);
+        // Gaussians sum to 1; the derivatives' positive and negative parts to ±1.
+        let s = |r: std::ops::Range<usize>, c: usize| w[r].iter().map(|t| t[c]).sum::<f32>();
+        assert!((s(1..22, 0) - 1.0).abs() < 1e-5 && (s(1..22, 1) - 1.0).abs() < 1e-5);
+        assert!((s(22..41, 0) - 1.0).abs() < 1e-5);
+        assert!(s(22..41, 1).abs() < 1e-5 && s(22..41, 2).abs() < 1e-5);
+        // cmax: HyAB of Hunt-adjusted green and blue, to the 0.7.
+        assert!(
+            w[0][0] > 10.0 && (w[0][1] - 0.4 * w[0][0]).abs() < 1e-6,
+            "{:?}",
+            w[0]
+        );
+    }
+
+    #[test]
+    fn stats_decode_reads_percentiles_from_the_bins() {
+        let (w, h) = (32u32, 16u32);
+        let mut words = vec![0u32; (STATS_HEADER / 4) as usize + 2];
+        // 511 pixels at 0.25, one at 0.75 (FLIP bins of 1/256).
+        words[64] = 511;
+        words[192] = 1;
+        words[256] = 0.75f32.to_bits();
+        words[257] = 512;
+        words[258] = 1.0f32.to_bits();
+        let sums = [0.25 * 255.0 + 0.75, 0.25 * 256.0];
+        for (i, s) in sums.iter().enumerate() {
+            words[(STATS_HEADER / 4) as usize + i] = (*s as f32).to_bits();
+        }
+        let s = GpuMapStats::decode(CompareKind::Flip, bytemuck::cast_slice(&words), (w, h));
+        assert_eq!(s.stats.p50, 65.0 / 256.0);
+        assert_eq!(s.stats.p99, 65.0 / 256.0);
+        assert_eq!(s.stats.max, 0.75);
+        assert_eq!(s.stats.above, 1.0);
+        assert!((s.stats.mean - (0.25 * 511.0 + 0.75) / 512.0).abs() < 1e-6);
+        assert_eq!(bin_top(CompareKind::Difference, 0), 0.0);
+        assert_eq!(bin_top(CompareKind::Difference, 156), 1.0);
+    }
+}
