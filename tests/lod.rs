@@ -19,18 +19,30 @@ fn bunnies(count: usize, budget: f32) -> Option<Scene> {
 /// [`bunnies`], the sun casting shadows when `shadow`.
 fn bunnies_lit(count: usize, budget: f32, shadow: bool) -> Option<Scene> {
     shared_dir("models/stanford-bunny.obj")?;
+    let text = bunnies_text(
+        count,
+        budget,
+        shadow,
+        "../../shared/models/stanford-bunny.obj",
+    );
+    Some(luz::scene::parse(&text, &root().join("tests/lod.json")).expect("scene"))
+}
+
+/// The scene file of [`bunnies_lit`], the model at `model` (relative to the scene's folder, or
+/// absolute).
+fn bunnies_text(count: usize, budget: f32, shadow: bool, model: &str) -> String {
     let mut objects = Vec::new();
     for i in 0..count {
         let (row, col) = (i / 6, i % 6);
         objects.push(format!(
-            r#"{{"mesh": {{"type": "obj", "path": "../../shared/models/stanford-bunny.obj"}}, "material": "m",
+            r#"{{"mesh": {{"type": "obj", "path": "{model}"}}, "material": "m",
                 "position": [{}, -0.33, {}], "rotation_deg": [0, {}, 0], "scale": [10, 10, 10]}}"#,
             (col as f32 - 2.5) * 1.8,
             4.0 - 3.5 * row as f32,
             (i * 47) % 360
         ));
     }
-    let text = format!(
+    format!(
         r#"{{
         "camera": {{"position": [0, 1.6, 6], "target": [0, 0.5, -10], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 200}},
         "output": {{"width": 320, "height": 180, "msaa": 1, "tessellation_error_px": {budget}}},
@@ -40,8 +52,7 @@ fn bunnies_lit(count: usize, budget: f32, shadow: bool) -> Option<Scene> {
         "objects": [{}]
     }}"#,
         objects.join(",")
-    );
-    Some(luz::scene::parse(&text, &root().join("tests/lod.json")).expect("scene"))
+    )
 }
 
 fn mean_flip(scene: &Scene, a: &luz::imageio::LinearImage, b: &luz::imageio::LinearImage) -> f32 {
@@ -209,4 +220,54 @@ fn shadow_casters_pick_levels_from_the_light_projection() {
     eprintln!("0.2 px with shadows: mean FLIP {flip:.5} against full detail");
     assert!(flip <= MAX_FLIP_LOOSE_BUDGET, "mean FLIP {flip}");
     assert_no_validation_messages(&ctx);
+}
+
+/// The viewer picks levels for its window's height, not the scene's output height: the same
+/// bunnies in a window four times as tall draw more triangles.
+#[test]
+fn the_viewer_projects_errors_onto_its_window() {
+    let Some(bunny) = shared_dir("models/stanford-bunny.obj") else {
+        return;
+    };
+    let dir = scratch("lod-viewer");
+    let path = dir.join("bunnies.json");
+    std::fs::write(&path, bunnies_text(12, 0.5, false, bunny.to_str().unwrap())).unwrap();
+    let drawn = |name: &str, script: &str| -> Option<u64> {
+        let json = dir.join(name);
+        let mut args = vec![
+            "view",
+            path.to_str().unwrap(),
+            "--bench",
+            "--frames",
+            "7",
+            "--warmup",
+            "4",
+            "--json",
+            json.to_str().unwrap(),
+        ];
+        if !script.is_empty() {
+            args.extend(["--script", script]);
+        }
+        let (code, out, err) = luz_in_window(&args)?;
+        assert_eq!(code, 0, "{out}\n{err}");
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(
+            v["height"],
+            if script.is_empty() { 180 } else { 720 },
+            "{v}"
+        );
+        Some(v["triangles_drawn"].as_u64().expect("triangles_drawn"))
+    };
+    let Some(small) = drawn("small.json", "") else {
+        return;
+    };
+    let Some(tall) = drawn("tall.json", "0:resize=1280x720") else {
+        return;
+    };
+    assert!(
+        tall as f64 > 1.5 * small as f64,
+        "{small} triangles at 320×180, {tall} at 1280×720"
+    );
+    println!("{small} triangles drawn at 320×180, {tall} at 1280×720");
 }

@@ -257,8 +257,11 @@ pub struct ForwardPass {
     shadows: ShadowMaps,
     /// What building the meshes' LOD chains did (chains built, read from the cache, failed).
     lod_stats: crate::scene::lod::ChainStats,
-    /// Image height (px) the LOD choice projects errors onto: the scene's output height.
+    /// Image height (px) the LOD choice projects errors onto: the target's (from
+    /// [`ForwardPass::prepare_extent`]: the viewer's window), else the scene's output height.
     lod_height: u32,
+    /// The height of the target the pass last prepared for, if any.
+    target_height: Option<u32>,
     /// The budget of the LOD choice (`output.tessellation_error_px`).
     lod_budget: f32,
     /// Draws that share mesh, level, pipeline and material are one instanced draw; off
@@ -462,6 +465,7 @@ impl ForwardPass {
             shadows,
             lod_stats,
             lod_height: scene.output.height,
+            target_height: None,
             lod_budget: scene.output.tessellation_error_px,
             instancing: instances::enabled(),
             _empty_layout: empty_layout,
@@ -502,6 +506,7 @@ impl ForwardPass {
     /// Allocates what drawing at `extent` needs beyond the caller's target (the deferred path's
     /// G-buffer). No frame recorded at another extent may still be pending.
     pub fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
+        self.target_height = Some(extent.height);
         match &mut self.deferred {
             Some(d) => d.prepare_extent(extent),
             None => Ok(()),
@@ -565,7 +570,7 @@ impl ForwardPass {
         self.background = scene.output.background;
         self.exposure = scene.output.exposure;
         let visible = self.visibility(scene, aspect);
-        self.lod_height = scene.output.height;
+        self.lod_height = self.target_height.unwrap_or(scene.output.height);
         self.lod_budget = scene.output.tessellation_error_px;
         let levels = self.lod_levels(scene);
         let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
@@ -623,7 +628,7 @@ impl ForwardPass {
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
         let visible = self.visibility(scene, aspect);
-        self.lod_height = scene.output.height;
+        self.lod_height = self.target_height.unwrap_or(scene.output.height);
         self.lod_budget = scene.output.tessellation_error_px;
         let levels = self.lod_levels(scene);
         let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));

@@ -122,6 +122,9 @@ impl Viewer {
                 "width": extent.width,
                 "height": extent.height,
                 "triangles": self.forward.triangle_count(),
+                // Of the last frame: after frustum culling, at the LOD levels chosen for the
+                // window's height.
+                "triangles_drawn": self.forward.triangles_drawn(self.slot),
                 "frame_ms": summary,
                 "p99_over_p50": summary.p99 / summary.median,
                 "stutters": stutters,
