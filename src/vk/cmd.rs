@@ -172,3 +172,78 @@ pub fn copy_image_to_buffer(
     // until the submission completes (the contract of this function).
     unsafe { d.cmd_copy_image_to_buffer(cmd, image, layout, buffer.raw, &[region]) };
 }
+
+/// Where an image stands between commands: layout, and the stages and accesses that use it there.
+pub type ImageState = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+
+/// Copies `regions` of `image` (kept in `state`) to the host in one submission and waits: the
+/// image goes to TRANSFER_SRC and back to `state`, and the first `total` bytes of the tightly
+/// packed copy are returned. `name` labels the staging buffer.
+pub fn read_to_host(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    image: &super::Image,
+    state: ImageState,
+    (regions, total): (&[vk::BufferImageCopy], u64),
+    name: &str,
+) -> Result<Vec<u8>, VkError> {
+    let buf = super::Buffer::new(
+        ctx,
+        name,
+        total,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        gpu_allocator::MemoryLocation::GpuToCpu,
+    )?;
+    let d = &ctx.device;
+    let src = (
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    let (raw, range) = (image.raw, image.subresource_range());
+    pool.one_shot(|cmd| {
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: state,
+                to: src,
+            }],
+        );
+        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (transitioned above), `buf` is a live
+        // TRANSFER_DST buffer of `total` bytes, which the caller's regions fit tightly packed,
+        // and the command buffer is recording outside a render pass.
+        unsafe {
+            d.cmd_copy_image_to_buffer(
+                cmd,
+                raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buf.raw,
+                regions,
+            )
+        };
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image: raw,
+                range,
+                from: src,
+                to: state,
+            }],
+        );
+        memory_barrier(
+            d,
+            cmd,
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+        Ok(())
+    })?;
+    Ok(buf.mapped()?[..total as usize].to_vec())
+}

@@ -3,10 +3,9 @@
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
-use crate::vk::cmd::{memory_barrier, transition, CommandPool, Transition};
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::cmd::{read_to_host, CommandPool};
+use crate::vk::{Context, Image, VkError};
 
 use super::bake::COMPUTE_RW;
 use super::{IblInputs, IblSettings};
@@ -82,65 +81,15 @@ pub(super) fn read_image(
     image: &Image,
 ) -> Result<Vec<u8>, VkError> {
     let (regions, total) = copy_regions(image);
-    let buf = Buffer::new(
-        ctx,
-        "ibl cache readback",
-        total,
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-    )?;
-    let d = &ctx.device;
     let general = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
-    let src = (
-        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        vk::PipelineStageFlags2::COPY,
-        vk::AccessFlags2::TRANSFER_READ,
-    );
-    let (raw, range) = (image.raw, image.subresource_range());
-    pool.one_shot(|cmd| {
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: general,
-                to: src,
-            }],
-        );
-        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (transitioned above), `buf` is a live
-        // TRANSFER_DST buffer large enough for every region, and the command buffer is recording.
-        unsafe {
-            d.cmd_copy_image_to_buffer(
-                cmd,
-                raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                buf.raw,
-                &regions,
-            )
-        };
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: src,
-                to: general,
-            }],
-        );
-        memory_barrier(
-            d,
-            cmd,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
-        Ok(())
-    })?;
-    Ok(buf.mapped()?[..total as usize].to_vec())
+    read_to_host(
+        ctx,
+        pool,
+        image,
+        general,
+        (&regions, total),
+        "ibl cache readback",
+    )
 }
 
 /// Fills every level and layer of a fresh image from `bytes` and leaves it in GENERAL layout.

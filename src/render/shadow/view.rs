@@ -7,11 +7,10 @@
 
 use ash::vk;
 use glam::{Mat4, Vec3};
-use gpu_allocator::MemoryLocation;
 
 use super::{GpuShadowLayer, ShadowMaps};
-use crate::vk::cmd::{memory_barrier, transition, CommandPool, Transition};
-use crate::vk::{Buffer, VkError};
+use crate::vk::cmd::{read_to_host, CommandPool};
+use crate::vk::VkError;
 
 /// One layer (a cascade, a cube face or a spot's map) as it was last drawn.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,26 +47,10 @@ impl ShadowMaps {
         let size = self.size;
         let layers = self.layer_views.len() as u32;
         let bytes = u64::from(size) * u64::from(size) * 4 * u64::from(layers);
-        let buf = Buffer::new(
-            &self.ctx,
-            "shadow map readback",
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        let d = &self.ctx.device;
-        let (raw, range) = (self.image.raw, self.image.subresource_range());
-        let read_stages =
-            vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
         let sampled = (
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            read_stages,
+            vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
             vk::AccessFlags2::SHADER_SAMPLED_READ,
-        );
-        let src = (
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_READ,
         );
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
@@ -86,54 +69,19 @@ impl ShadowMaps {
                 depth: 1,
             },
         };
-        pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: raw,
-                    range,
-                    from: sampled,
-                    to: src,
-                }],
-            );
-            // SAFETY: the image (created with TRANSFER_SRC) is in TRANSFER_SRC_OPTIMAL after the
-            // transition above, the region covers its depth aspect within its extent and layers,
-            // `buf` is a live TRANSFER_DST buffer of exactly the region's tightly packed size, and
-            // `cmd` is recording outside a render pass.
-            unsafe {
-                d.cmd_copy_image_to_buffer(
-                    cmd,
-                    raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    buf.raw,
-                    &[region],
-                )
-            };
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: raw,
-                    range,
-                    from: src,
-                    to: sampled,
-                }],
-            );
-            memory_barrier(
-                d,
-                cmd,
-                (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-            );
-            Ok(())
-        })?;
-        let mapped = buf.mapped()?;
-        let depths: &[f32] = bytemuck::try_cast_slice(&mapped[..bytes as usize])
-            .map_err(|e| VkError::Setup(format!("shadow map readback is misaligned: {e}")))?;
+        let mapped = read_to_host(
+            &self.ctx,
+            pool,
+            &self.image,
+            sampled,
+            (&[region], bytes),
+            "shadow map readback",
+        )?;
+        // The copy is a byte vector (alignment 1): decode, do not cast.
+        let depths: Vec<f32> = mapped
+            .chunks_exact(4)
+            .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
         let side = size as usize;
         let mut out = Vec::new();
         for m in &self.maps {
