@@ -563,19 +563,15 @@ impl ShadowMaps {
                 };
                 let planes = frustum::planes(layer.view_proj);
                 let budget = scene.output.tessellation_error_px;
-                s.draws[index].extend(
-                    drawn
-                        .iter()
-                        .filter(|c| {
-                            frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)
-                        })
-                        .map(|c| {
-                            let l =
-                                c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
-                            let range = (l.first_index, l.index_count);
-                            (c.mesh, range, layer.view_proj * c.model)
-                        }),
-                );
+                let reached: Vec<&&Caster> = drawn
+                    .iter()
+                    .filter(|c| frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius))
+                    .collect();
+                s.draws[index].extend(reached.iter().map(|c| {
+                    let l = c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
+                    let range = (l.first_index, l.index_count);
+                    (c.mesh, range, layer.view_proj * c.model)
+                }));
             }
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;
@@ -714,6 +710,39 @@ fn structure_of_map(m: &LightMaps) -> Option<(ShadowMethod, u32, u32)> {
     Some((m.shadow.method, m.shadow.resolution, m.layers))
 }
 
+/// The forward pass's fixed shadow slots (`SHADOW_FIXED_*` of shadows.glsl): each shadowed light
+/// of `lights` packed whole (light index, first layer, geometry, layers, method, PCF taps), the
+/// layers assigned in light order as [`ShadowMaps::new`] assigns them. All zero (the lookups
+/// read their records per pixel) with more shadowed lights than slots, or a field out of range.
+pub fn fixed_slots(lights: &[crate::scene::Light]) -> [u32; 4] {
+    const SLOTS: usize = g::SHADOW_FIXED_SLOTS as usize;
+    let mut slots = [0u32; SLOTS];
+    let mut next = 0u32;
+    let mut used = 0;
+    for (i, l) in lights.iter().enumerate() {
+        let Some(s) = l.shadow else { continue };
+        let layers = s.layers(l.kind, l.umbra_deg);
+        let geometry = match (l.kind, layers) {
+            (crate::scene::LightKind::Directional, _) => g::SHADOW_GEOMETRY_CASCADES,
+            (_, 1) => g::SHADOW_GEOMETRY_SINGLE,
+            _ => g::SHADOW_GEOMETRY_CUBE,
+        };
+        if used == SLOTS || i > 255 || next > 255 || layers > 7 || s.pcf_kernel > 31 {
+            return [0; SLOTS];
+        }
+        slots[used] = g::SHADOW_FIXED_USED
+            | i as u32
+            | next << 8
+            | geometry << 16
+            | layers << 18
+            | (method_code(s.method) as u32) << 21
+            | s.pcf_kernel << 23;
+        used += 1;
+        next += layers;
+    }
+    slots
+}
+
 fn method_code(m: ShadowMethod) -> i32 {
     match m {
         ShadowMethod::Hard => g::SHADOW_HARD,
@@ -724,3 +753,39 @@ fn method_code(m: ShadowMethod) -> i32 {
 
 /// The vertex layout the depth pass reads (positions at the start of each [`Vertex`]).
 pub(crate) const VERTEX_STRIDE: u32 = std::mem::size_of::<Vertex>() as u32;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The built-in scene's two shadowed lights fill two fixed slots with their own fields and
+    /// layers in light order; five shadowed lights (more than the slots) leave every slot 0.
+    #[test]
+    fn fixed_slots_pack_each_shadowed_light_whole() {
+        let scene = crate::scene::default_scene();
+        let slots = fixed_slots(&scene.lights);
+        let field = |code: u32, shift: u32, bits: u32| (code >> shift) & ((1 << bits) - 1);
+        let sun = slots[0];
+        assert_ne!(sun & g::SHADOW_FIXED_USED, 0);
+        assert_eq!(field(sun, 0, 8), 0, "light index");
+        assert_eq!(field(sun, 8, 8), 0, "first layer");
+        assert_eq!(field(sun, 16, 2), g::SHADOW_GEOMETRY_CASCADES);
+        let cascades = scene.lights[0].shadow.unwrap().cascades;
+        assert_eq!(field(sun, 18, 3), cascades);
+        assert_eq!(field(sun, 21, 2), g::SHADOW_PCF as u32);
+        assert_eq!(field(sun, 23, 5), 2, "PCF taps per side");
+        let lamp = slots[1];
+        assert_eq!(field(lamp, 0, 8), 1);
+        assert_eq!(field(lamp, 8, 8), cascades);
+        assert_eq!(field(lamp, 16, 2), g::SHADOW_GEOMETRY_CUBE);
+        assert_eq!(field(lamp, 18, 3), 6);
+        assert_eq!(&slots[2..], &[0, 0]);
+        let mut many = scene.lights.clone();
+        many.extend(std::iter::repeat_n(scene.lights[1].clone(), 3));
+        assert_eq!(fixed_slots(&many), [0; 4]);
+        assert_eq!(
+            fixed_slots(&many[..4]).iter().filter(|&&c| c != 0).count(),
+            4
+        );
+    }
+}
