@@ -111,6 +111,18 @@ pub fn caster_level(
 }
 
 impl ShadowMaps {
+    /// Frames recorded so far with the maps drawn, and with them reused (nothing they see had
+    /// changed since they were drawn).
+    pub fn frames_drawn_reused(&self) -> (u64, u64) {
+        let n = |k: usize| self.recorded[k].load(std::sync::atomic::Ordering::Relaxed);
+        (n(0), n(1))
+    }
+
+    /// Layers drawn over every recorded frame (a frame reusing a layer does not draw it).
+    pub fn layers_drawn(&self) -> u64 {
+        self.layers_drawn.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// Triangles drawn into the layers of slot `slot`: shadow casters at their LOD levels.
     pub fn triangles_drawn(&self, slot: usize) -> u64 {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
@@ -136,7 +148,14 @@ struct Slot {
     layers: Buffer,
     /// Per layer: the casters that may reach it (mesh, its LOD level, clip-from-object matrix).
     draws: Vec<Vec<LayerDraw>>,
+    /// The layer records of the slot's last update (what its maps are drawn with).
+    records: Vec<GpuShadowLayer>,
 }
+
+/// What one layer of the image holds: the layer record and draws it was last drawn with. A frame
+/// whose record and draws for the layer are the same (nothing moved that the layer sees) reuses
+/// it: a point light's faces stay while the camera orbits, a static scene draws its maps once.
+type Drawn = (GpuShadowLayer, Vec<LayerDraw>);
 
 /// What `luz render --verbose` says about one light's maps.
 #[derive(Debug, Clone, PartialEq)]
@@ -166,6 +185,15 @@ pub struct ShadowMaps {
     light_count: usize,
     /// The layer records of the last update (what the last recorded frame drew with).
     last_layers: Vec<GpuShadowLayer>,
+    /// What each layer of the image holds (`None`: nothing yet); set when a frame's passes
+    /// are recorded (recorded frames are submitted in order on one queue).
+    drawn: std::sync::Mutex<Vec<Option<Drawn>>>,
+    /// Maps are reused when unchanged (`LUZ_SHADOW_CACHE=0` redraws them every frame).
+    reuse: bool,
+    /// Frames recorded with some layer drawn, and with every layer reused.
+    recorded: [std::sync::atomic::AtomicU64; 2],
+    /// Layers drawn over all recorded frames.
+    layers_drawn: std::sync::atomic::AtomicU64,
     ctx: Arc<Context>,
 }
 
@@ -415,6 +443,7 @@ impl ShadowMaps {
                 lights,
                 layers,
                 draws: vec![Vec::new(); layer_count as usize],
+                records: Vec::new(),
             });
         }
         let pipeline = if maps.is_empty() {
@@ -435,6 +464,10 @@ impl ShadowMaps {
             casters: 0,
             light_count: scene.lights.len(),
             last_layers: Vec::new(),
+            drawn: std::sync::Mutex::new(vec![None; layer_count as usize]),
+            reuse: std::env::var("LUZ_SHADOW_CACHE").map_or(true, |v| v != "0"),
+            recorded: Default::default(),
+            layers_drawn: Default::default(),
             ctx: ctx.clone(),
         })
     }
@@ -576,6 +609,7 @@ impl ShadowMaps {
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;
         s.layers.write(0, bytemuck::cast_slice(&layers))?;
+        s.records.clone_from(&layers);
         self.last_layers = layers;
         Ok(())
     }
@@ -594,6 +628,31 @@ impl ShadowMaps {
         };
         let d = &self.ctx.device;
         let s = &self.slots[slot.min(self.slots.len() - 1)];
+        // Layers the image already holds (drawn by a frame recorded earlier in this queue's
+        // order, whose barrier made them readable) are not drawn again.
+        let (redraw, kept) = {
+            let mut drawn = self.drawn.lock().unwrap_or_else(|e| e.into_inner());
+            let kept = drawn.iter().any(Option::is_some);
+            let redraw: Vec<bool> = (0..s.draws.len())
+                .map(|i| {
+                    let same = drawn[i]
+                        .as_ref()
+                        .is_some_and(|(r, d)| Some(r) == s.records.get(i) && *d == s.draws[i]);
+                    if !(self.reuse && same) {
+                        drawn[i] = s.records.get(i).map(|r| (*r, s.draws[i].clone()));
+                    }
+                    !(self.reuse && same)
+                })
+                .collect();
+            (redraw, kept)
+        };
+        let count = redraw.iter().filter(|&&r| r).count() as u64;
+        use std::sync::atomic::Ordering::Relaxed;
+        self.layers_drawn.fetch_add(count, Relaxed);
+        self.recorded[usize::from(count == 0)].fetch_add(1, Relaxed);
+        if count == 0 {
+            return;
+        }
         let mut timer = timer;
         let timed = timer.as_mut().and_then(|t| t.begin(cmd, "shadows"));
         let range = self.image.subresource_range();
@@ -601,7 +660,8 @@ impl ShadowMaps {
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let read_stages =
             vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
-        // Earlier frames' reads finish before the maps are drawn again (same queue).
+        // Earlier frames' reads finish before the maps are drawn again (same queue); the layers
+        // kept keep their contents.
         transition(
             d,
             cmd,
@@ -609,7 +669,11 @@ impl ShadowMaps {
                 image: self.image.raw,
                 range,
                 from: (
-                    vk::ImageLayout::UNDEFINED,
+                    if kept {
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+                    } else {
+                        vk::ImageLayout::UNDEFINED
+                    },
                     read_stages,
                     vk::AccessFlags2::NONE,
                 ),
@@ -625,6 +689,9 @@ impl ShadowMaps {
             let res = m.shadow.resolution;
             for k in 0..m.layers {
                 let index = (m.first_layer + k) as usize;
+                if !redraw[index] {
+                    continue;
+                }
                 pipeline.record_layer(
                     cmd,
                     self.layer_views[index],
