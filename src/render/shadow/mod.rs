@@ -848,7 +848,7 @@ mod tests {
         assert_eq!(field(lamp, 18, 3), 6);
         assert_eq!(&slots[2..], &[0, 0]);
         let mut many = scene.lights.clone();
-        many.extend(std::iter::repeat_n(scene.lights[1].clone(), 3));
+        many.extend(std::iter::repeat_n(scene.lights[1], 3));
         assert_eq!(fixed_slots(&many), [0; 4]);
         assert_eq!(
             fixed_slots(&many[..4]).iter().filter(|&&c| c != 0).count(),
