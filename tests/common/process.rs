@@ -116,3 +116,14 @@ pub fn luz_in_window_with(args: &[&str], env: &[(&str, &str)]) -> Option<(i32, S
         .envs(env.iter().copied());
     Some(run(&mut cmd).parts())
 }
+
+/// A run that must have succeeded with the validation layer silent: exit 0, no panic, the
+/// summary line `validation: 0 errors, 0 warnings` on stderr.
+pub fn assert_ran_clean(code: i32, out: &str, err: &str) {
+    assert_eq!(code, 0, "luz failed\nstdout: {out}\nstderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("validation: 0 errors, 0 warnings"),
+        "validation must be silent: {err}"
+    );
+}
