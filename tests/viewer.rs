@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{luz, luz_in_window, root, scratch, shared_dir};
+use common::{assert_ran_clean, luz, luz_in_window, root, scratch, shared_dir};
 
 fn rgb(path: &Path) -> image::RgbImage {
     image::open(path)
@@ -72,12 +72,7 @@ fn scripted_resize_and_ui_change_show_in_the_screenshot() {
     ]) else {
         return;
     };
-    assert_eq!(code, 0, "luz view failed\nstdout: {out}\nstderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    assert!(
-        err.contains("validation: 0 errors, 0 warnings"),
-        "validation must be silent: {err}"
-    );
+    assert_ran_clean(code, &out, &err);
     let shot_img = rgb(&shot);
     assert_eq!(
         (shot_img.width(), shot_img.height()),

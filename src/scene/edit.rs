@@ -5,7 +5,9 @@
 use glam::{DVec3, Vec3};
 
 use crate::brdf::{metal_preset, CookTorranceParams, Fresnel, ModelKind, SpecularSource};
-use crate::scene::{slots_for_model, Falloff, Light, LightKind, Material, MaterialTextures};
+use crate::scene::{
+    slots_for_model, Falloff, Light, LightKind, Material, MaterialTextures, Shadow, ShadowMethod,
+};
 
 /// Unit vector of `v` (in f64, like the decoder); `None` for a zero or non-finite vector.
 pub fn unit_vec(v: Vec3) -> Option<Vec3> {
@@ -181,6 +183,81 @@ pub fn set_light_kind(light: &mut Light, kind: LightKind) {
     }
 }
 
+/// The map resolutions the lights panel offers (texels per side).
+pub const SHADOW_RESOLUTIONS: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
+
+/// One change to a light's shadow, as the lights panel's Shadow rows make it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ShadowEdit {
+    /// The Shadow checkbox off: no shadow.
+    Off,
+    /// The Shadow checkbox on: the light kind's defaults ([`Shadow::default_for`]).
+    On,
+    /// The Method row (turning the shadow on first when it is off).
+    Method(ShadowMethod),
+    /// The Resolution row: one of [`SHADOW_RESOLUTIONS`].
+    Resolution(u32),
+}
+
+/// Whether PCSS can be used: it needs the light's radius or angular radius.
+pub fn has_size(light: &Light) -> bool {
+    light.radius > 0.0 || light.angular_radius_deg > 0.0
+}
+
+/// Applies `edit` to `light`'s shadow; true when something changed. A method or resolution the
+/// panel does not offer is an error (the light is left as it was): PCSS on a light without a
+/// size, a resolution not in [`SHADOW_RESOLUTIONS`], a resolution for a light without a shadow.
+pub fn edit_shadow(light: &mut Light, edit: ShadowEdit) -> Result<bool, String> {
+    let before = light.shadow;
+    match edit {
+        ShadowEdit::Off => light.shadow = None,
+        ShadowEdit::On => {
+            if light.shadow.is_none() {
+                light.shadow = Some(Shadow::default_for(light.kind));
+            }
+        }
+        ShadowEdit::Method(m) => {
+            if m == ShadowMethod::Pcss && !has_size(light) {
+                return Err(
+                    "pcss needs the light's size (a radius, or an angular radius for a \
+                     directional light)"
+                        .into(),
+                );
+            }
+            light
+                .shadow
+                .get_or_insert_with(|| Shadow::default_for(light.kind))
+                .method = m;
+        }
+        ShadowEdit::Resolution(r) => {
+            if !SHADOW_RESOLUTIONS.contains(&r) {
+                return Err(format!(
+                    "resolution {r}: expected one of {}",
+                    SHADOW_RESOLUTIONS.map(|r| r.to_string()).join(", ")
+                ));
+            }
+            let Some(s) = &mut light.shadow else {
+                return Err("the light casts no shadow (turn it on first)".into());
+            };
+            s.resolution = r;
+        }
+    }
+    Ok(light.shadow != before)
+}
+
+/// After the light's size changed: PCSS without a size is not a valid scene, so it falls back
+/// to PCF. True when it did.
+pub fn fix_shadow_method(light: &mut Light) -> bool {
+    let sized = has_size(light);
+    match &mut light.shadow {
+        Some(s) if s.method == ShadowMethod::Pcss && !sized => {
+            s.method = ShadowMethod::Pcf;
+            true
+        }
+        _ => false,
+    }
+}
+
 /// The material `model` (a scene-format model name) with its defaults, as the decoder makes it
 /// when a material gives only its model. Unknown names give the classic Phong.
 pub fn default_material(model: &str) -> Material {
@@ -240,6 +317,46 @@ pub fn fix_cook_torrance(p: &mut CookTorranceParams) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The Shadow rows' rules: on gives the kind's defaults, a method turns the shadow on,
+    /// PCSS needs a size, resolutions are the panel's, nothing changes on an error, and PCSS
+    /// falls back to PCF when the size goes.
+    #[test]
+    fn shadow_edits_follow_the_panel() {
+        let mut l = default_light(LightKind::Directional, None);
+        l.shadow = None;
+        assert_eq!(edit_shadow(&mut l, ShadowEdit::Off), Ok(false));
+        assert_eq!(edit_shadow(&mut l, ShadowEdit::On), Ok(true));
+        assert_eq!(l.shadow, Some(Shadow::default_for(LightKind::Directional)));
+        assert_eq!(edit_shadow(&mut l, ShadowEdit::On), Ok(false));
+        assert_eq!(edit_shadow(&mut l, ShadowEdit::Off), Ok(true));
+        assert_eq!(l.shadow, None);
+        assert_eq!(
+            edit_shadow(&mut l, ShadowEdit::Method(ShadowMethod::Hard)),
+            Ok(true)
+        );
+        assert_eq!(l.shadow.unwrap().method, ShadowMethod::Hard);
+        assert_eq!(l.shadow.unwrap().cascades, 3);
+        let e = edit_shadow(&mut l, ShadowEdit::Method(ShadowMethod::Pcss)).unwrap_err();
+        assert!(e.contains("pcss needs the light's size"), "{e}");
+        assert_eq!(l.shadow.unwrap().method, ShadowMethod::Hard);
+        let e = edit_shadow(&mut l, ShadowEdit::Resolution(1000)).unwrap_err();
+        assert!(e.contains("expected one of 256, 512"), "{e}");
+        assert_eq!(edit_shadow(&mut l, ShadowEdit::Resolution(512)), Ok(true));
+        assert_eq!(l.shadow.unwrap().resolution, 512);
+        l.angular_radius_deg = 0.5;
+        assert_eq!(
+            edit_shadow(&mut l, ShadowEdit::Method(ShadowMethod::Pcss)),
+            Ok(true)
+        );
+        assert!(!fix_shadow_method(&mut l));
+        l.angular_radius_deg = 0.0;
+        assert!(fix_shadow_method(&mut l));
+        assert_eq!(l.shadow.unwrap().method, ShadowMethod::Pcf);
+        l.shadow = None;
+        let e = edit_shadow(&mut l, ShadowEdit::Resolution(512)).unwrap_err();
+        assert!(e.contains("casts no shadow"), "{e}");
+    }
 
     /// A field of n lights: n ranged point lights inside the bounds' horizontal extent, above
     /// the bottom; the grid evenly spaced, the random field the same every call; valid lights.

@@ -7,6 +7,8 @@ use anyhow::{anyhow, bail, Result};
 
 use crate::color::Tonemap;
 use crate::render::forward::DebugView;
+use crate::scene::edit::ShadowEdit;
+use crate::scene::ShadowMethod;
 use crate::window::ui::compare::{CompareMode, ErrorMetric};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -53,6 +55,19 @@ pub enum Action {
     ShadowMap(Option<usize>),
     /// Read the maps back and write the shown light's picture (`shadow_map_save=PATH`).
     ShadowMapSave(PathBuf),
+    /// Light N's Shadow rows in the lights panel: `light_shadow=N:off|on|hard|pcf|pcss` and
+    /// `light_shadow_resolution=N:TEXELS`.
+    LightShadow(usize, ShadowEdit),
+}
+
+/// The script text of a [`Action::LightShadow`] (for its errors).
+pub fn light_shadow_text(light: usize, edit: ShadowEdit) -> String {
+    match edit {
+        ShadowEdit::Off => format!("light_shadow={light}:off"),
+        ShadowEdit::On => format!("light_shadow={light}:on"),
+        ShadowEdit::Method(m) => format!("light_shadow={light}:{}", m.name()),
+        ShadowEdit::Resolution(r) => format!("light_shadow_resolution={light}:{r}"),
+    }
 }
 
 /// The most lights one `add_lights` (or the panel's "Add many") adds.
@@ -158,6 +173,35 @@ fn parse_action(a: &str) -> Result<Action> {
             })?)),
         },
         "shadow_map_save" => Action::ShadowMapSave(PathBuf::from(need()?)),
+        "light_shadow" | "light_shadow_resolution" => {
+            let v = need()?;
+            let resolution = name == "light_shadow_resolution";
+            let expected = if resolution {
+                "LIGHT:TEXELS"
+            } else {
+                "LIGHT:off|on|hard|pcf|pcss"
+            };
+            let (light, what) = v
+                .split_once(':')
+                .ok_or_else(|| anyhow!("{name}={v}: expected {expected}"))?;
+            let light: usize = light
+                .trim()
+                .parse()
+                .map_err(|_| anyhow!("{name}={v}: {light:?} is not a light index"))?;
+            let edit = match (resolution, what.trim()) {
+                (true, n) => ShadowEdit::Resolution(
+                    n.parse()
+                        .map_err(|_| anyhow!("{name}={v}: {n:?} is not a number of texels"))?,
+                ),
+                (false, "off") => ShadowEdit::Off,
+                (false, "on") => ShadowEdit::On,
+                (false, m) => ShadowEdit::Method(
+                    ShadowMethod::from_name(m)
+                        .ok_or_else(|| anyhow!("{name}={v}: expected {expected}"))?,
+                ),
+            };
+            Action::LightShadow(light, edit)
+        }
         "open" => Action::Open(PathBuf::from(need()?)),
         "save" => Action::Save(PathBuf::from(need()?)),
         "add_lights" => {
@@ -208,7 +252,8 @@ fn parse_action(a: &str) -> Result<Action> {
             "unknown action {other:?} (resize, minimize, restore, exposure, tonemap, panels, help, \
              orbit, zoom, frame_all, reset, vsync, debug_view, screenshot, open, save, add_lights, \
              compare_mode, compare_split, compare_flip, compare_duplicate, error_view, error_metric, \
-             lobe_plots, compare_edit, shadow_map, shadow_map_save)"
+             lobe_plots, compare_edit, shadow_map, shadow_map_save, light_shadow, \
+             light_shadow_resolution)"
         ),
     })
 }
@@ -248,6 +293,18 @@ mod tests {
         assert_eq!(c[5].1, Action::ErrorMetric(ErrorMetric::Flip));
         assert_eq!(c[6].1, Action::LobePlots(true));
         assert_eq!(c[7].1, Action::CompareEdit(true));
+        let l = parse(
+            "1:light_shadow=0:off;2:light_shadow=1:on;3:light_shadow=0:pcss;\
+             4:light_shadow_resolution=2:512",
+        )
+        .unwrap();
+        assert_eq!(l[0].1, Action::LightShadow(0, ShadowEdit::Off));
+        assert_eq!(l[1].1, Action::LightShadow(1, ShadowEdit::On));
+        assert_eq!(
+            l[2].1,
+            Action::LightShadow(0, ShadowEdit::Method(ShadowMethod::Pcss))
+        );
+        assert_eq!(l[3].1, Action::LightShadow(2, ShadowEdit::Resolution(512)));
     }
 
     #[test]
@@ -272,6 +329,16 @@ mod tests {
             ("1:error_view=maybe", "not on or off"),
             ("1:error_metric=ssim", "relative or flip"),
             ("1:compare_edit=c", "a or b"),
+            ("1:light_shadow=0", "expected LIGHT:off|on|hard|pcf|pcss"),
+            (
+                "1:light_shadow=0:soft",
+                "expected LIGHT:off|on|hard|pcf|pcss",
+            ),
+            ("1:light_shadow=x:off", "\"x\" is not a light index"),
+            (
+                "1:light_shadow_resolution=0:big",
+                "\"big\" is not a number of texels",
+            ),
         ] {
             let e = parse(bad).unwrap_err().to_string();
             assert!(e.contains(needle), "{bad}: {e}");

@@ -94,6 +94,11 @@ pub fn luz(args: &[&str]) -> (i32, String, String) {
 /// `xvfb-run -a luz <args>` (a real X server and window; validation on, the IBL cache in this
 /// build's `target/tmp`, not the user's), or None with a visible note when xvfb-run is missing.
 pub fn luz_in_window(args: &[&str]) -> Option<(i32, String, String)> {
+    luz_in_window_with(args, &[])
+}
+
+/// [`luz_in_window`] with more variables for the child (say `LUZ_SYNC_VALIDATION=1`).
+pub fn luz_in_window_with(args: &[&str], env: &[(&str, &str)]) -> Option<(i32, String, String)> {
     let have = Command::new("xvfb-run").arg("--help").output().is_ok();
     if !have {
         eprintln!("SKIPPED: xvfb-run is not installed (scripts/setup.sh installs it)");
@@ -107,6 +112,18 @@ pub fn luz_in_window(args: &[&str]) -> Option<(i32, String, String)> {
         .env(
             "LUZ_CACHE_DIR",
             Path::new(env!("CARGO_TARGET_TMPDIR")).join("luz-viewer-cache"),
-        );
+        )
+        .envs(env.iter().copied());
     Some(run(&mut cmd).parts())
+}
+
+/// A run that must have succeeded with the validation layer silent: exit 0, no panic, the
+/// summary line `validation: 0 errors, 0 warnings` on stderr.
+pub fn assert_ran_clean(code: i32, out: &str, err: &str) {
+    assert_eq!(code, 0, "luz failed\nstdout: {out}\nstderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("validation: 0 errors, 0 warnings"),
+        "validation must be silent: {err}"
+    );
 }

@@ -41,6 +41,18 @@ impl Viewer {
                     }
                 }
                 Action::ShadowMapSave(p) => self.shadow_view.save = Some(p),
+                Action::LightShadow(i, edit) => {
+                    // The lights panel's path: the edit here, the rebuild after the UI when the
+                    // shadow's structure changed.
+                    let text = script::light_shadow_text(i, edit);
+                    let lights = &mut self.edited_scene().lights;
+                    let n = lights.len();
+                    let light = lights.get_mut(i).ok_or_else(|| {
+                        anyhow!("script: {text}: no light {i} (the scene has {n} light(s))")
+                    })?;
+                    crate::scene::edit::edit_shadow(light, edit)
+                        .map_err(|e| anyhow!("script: {text}: {e}"))?;
+                }
                 Action::Open(p) => self.open_path(&p),
                 Action::Save(p) => self.apply_actions(vec![UiAction::Save(p)])?,
                 Action::CompareMode(m) => {

@@ -3,48 +3,49 @@
 //! take effect on the next frame.
 
 use super::*;
-use crate::scene::{Shadow, ShadowMethod};
+use crate::scene::edit::{
+    edit_shadow, fix_shadow_method, has_size, ShadowEdit, SHADOW_RESOLUTIONS,
+};
+use crate::scene::ShadowMethod;
 
-const RESOLUTIONS: [(u32, &str); 6] = [
-    (256, "256²"),
-    (512, "512²"),
-    (1024, "1024²"),
-    (2048, "2048²"),
-    (4096, "4096²"),
-    (8192, "8192²"),
-];
-
+/// The rows; every change of the checkbox, method or resolution goes through
+/// [`edit_shadow`], as the script's `light_shadow` and `light_shadow_resolution` do.
 pub(super) fn shadow_rows(ui: &mut Ui, light: &mut Light) -> bool {
-    let mut c = row(ui, "Shadow", |ui| {
-        let mut on = light.shadow.is_some();
-        if checkbox(ui, &mut on, "") {
-            light.shadow = on.then(|| Shadow::default_for(light.kind));
-            true
-        } else {
-            false
-        }
-    });
+    let mut on = light.shadow.is_some();
+    let mut c = row(ui, "Shadow", |ui| checkbox(ui, &mut on, ""))
+        && edit_shadow(light, if on { ShadowEdit::On } else { ShadowEdit::Off }).unwrap_or(false);
     let kind = light.kind;
-    let has_size = light.radius > 0.0 || light.angular_radius_deg > 0.0;
-    let Some(s) = &mut light.shadow else {
+    let sized = has_size(light);
+    let Some(current) = light.shadow else {
         return c;
     };
-    c |= row(ui, "Method", |ui| {
+    let mut method = current.method;
+    if row(ui, "Method", |ui| {
         let mut options = vec![(ShadowMethod::Hard, "hard"), (ShadowMethod::Pcf, "pcf")];
         // PCSS needs the light's size (set below).
-        if has_size {
+        if sized {
             options.push((ShadowMethod::Pcss, "pcss"));
         }
-        combo(ui, ui.id().with("shadow_method"), &mut s.method, &options)
-    });
-    c |= row(ui, "Resolution", |ui| {
+        combo(ui, ui.id().with("shadow_method"), &mut method, &options)
+    }) {
+        c |= edit_shadow(light, ShadowEdit::Method(method)).unwrap_or(false);
+    }
+    let mut resolution = current.resolution;
+    if row(ui, "Resolution", |ui| {
+        let labels = SHADOW_RESOLUTIONS.map(|r| (r, format!("{r}²")));
+        let options: Vec<(u32, &str)> = labels.iter().map(|(r, t)| (*r, t.as_str())).collect();
         combo(
             ui,
             ui.id().with("shadow_resolution"),
-            &mut s.resolution,
-            &RESOLUTIONS,
+            &mut resolution,
+            &options,
         )
-    });
+    }) {
+        c |= edit_shadow(light, ShadowEdit::Resolution(resolution)).unwrap_or(false);
+    }
+    let Some(s) = &mut light.shadow else {
+        return c;
+    };
     if s.method != ShadowMethod::Hard {
         c |= row(ui, "Kernel", |ui| {
             ui.add(egui::Slider::new(&mut s.pcf_kernel, 1..=9))
@@ -73,12 +74,6 @@ pub(super) fn shadow_rows(ui: &mut Ui, light: &mut Light) -> bool {
         });
     }
     // PCSS without a size is not a valid scene: fall back to PCF.
-    if let Some(s) = &mut light.shadow {
-        if s.method == ShadowMethod::Pcss && light.radius <= 0.0 && light.angular_radius_deg <= 0.0
-        {
-            s.method = ShadowMethod::Pcf;
-            c = true;
-        }
-    }
+    c |= fix_shadow_method(light);
     c
 }
