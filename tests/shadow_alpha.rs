@@ -1,0 +1,273 @@
+//! Shadows of alpha-tested casters (issue 15): a striped quad above a floor, its material MASK or
+//! BLEND, lit by a shadowed directional light. The floor shows the stripes' shadow: lit under the
+//! cut-out stripes, dark under the kept ones, on the GPU (the depth pass's alpha-tested
+//! pipeline) and in the CPU reference (its shadow rays pass through cut-out texels), and the two
+//! agree away from the shadow edges.
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use luz::headless::Headless;
+use luz::imageio::LinearImage;
+use luz::reference::{render_reference, ReferenceOptions};
+use luz::scene::{AlphaMode, Scene};
+
+const W: u32 = 160;
+const H: u32 = 120;
+/// The quad's height above the floor; the light falls at 45° along +x, so the stripes' shadow
+/// is the quad shifted by this much along +x.
+const HEIGHT: f32 = 2.5;
+const ALBEDO: f32 = 0.8;
+const AMBIENT: f32 = 0.05;
+const INTENSITY: f32 = 2.0;
+
+fn luminance(p: [f32; 4]) -> f32 {
+    0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+}
+
+/// An 8 × 8 PNG whose columns 0–1 and 4–5 have alpha `kept` and columns 2–3 and 6–7 alpha `cut`
+/// (white otherwise): four stripes across u.
+fn stripes(path: &std::path::Path, kept: u8, cut: u8) {
+    let img = image::RgbaImage::from_fn(8, 8, |x, _| {
+        let a = if (x / 2) % 2 == 0 { kept } else { cut };
+        image::Rgba([255, 255, 255, a])
+    });
+    img.save(path).unwrap();
+}
+
+/// The scene: a 12 m Lambert floor, a 2 × 2 m quad at `HEIGHT` textured with `stripes.png`
+/// (nearest, clamped) and given `alpha`, a directional light at 45° with shadow `shadow`, seen
+/// from straight above by an orthographic camera.
+fn scene(dir: &std::path::Path, alpha: AlphaMode, shadow: &str) -> Scene {
+    let json = format!(
+        r#"{{
+        "camera": {{"position": [1.25, 10, 0], "target": [1.25, 0, 0], "up": [0, 0, -1], "projection": "orthographic", "ortho_half_height": 2.0, "near": 1, "far": 20}},
+        "output": {{"width": {W}, "height": {H}, "background": [0, 0, 0], "msaa": 1}},
+        "ambient": [{AMBIENT}, {AMBIENT}, {AMBIENT}],
+        "lights": [{{"type": "directional", "direction": [1, -1, 0], "intensity": {INTENSITY}, "shadow": {shadow}}}],
+        "materials": {{
+            "floor": {{"model": "lambert", "albedo": [{ALBEDO}, {ALBEDO}, {ALBEDO}]}},
+            "leaf": {{"model": "lambert", "albedo": [0.2, 0.6, 0.2], "textures": {{"base_color": {{"path": "stripes.png", "filter": "nearest", "wrap": "clamp", "mipmaps": false}}}}}}
+        }},
+        "objects": [
+            {{"mesh": {{"type": "plane", "size": [12, 12]}}, "material": "floor"}},
+            {{"mesh": {{"type": "plane", "size": [2, 2]}}, "material": "leaf", "position": [0, {HEIGHT}, 0]}}
+        ]
+    }}"#
+    );
+    let mut s = luz::scene::parse(&json, &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"));
+    let leaf = s
+        .materials
+        .iter()
+        .position(|m| m.name == "leaf")
+        .expect("leaf material");
+    s.materials[leaf].textures.alpha_mode = alpha;
+    s
+}
+
+fn reference(scene: &Scene) -> LinearImage {
+    render_reference(scene, &ReferenceOptions::default(), None).unwrap_or_else(|e| panic!("{e:#}"))
+}
+
+/// The pixel showing world point `p` (the camera's projection, y down).
+fn pixel(scene: &Scene, p: Vec3) -> usize {
+    let aspect = W as f32 / H as f32;
+    let clip = scene.camera.projection(aspect) * scene.camera.view() * p.extend(1.0);
+    let ndc = clip / clip.w;
+    let x = ((ndc.x + 1.0) * 0.5 * W as f32) as u32;
+    let y = ((1.0 - ndc.y) * 0.5 * H as f32) as u32;
+    (y * W + x) as usize
+}
+
+/// Floor radiance in the light and in its shadow (Lambert, 45° incidence).
+fn expected() -> (f32, f32) {
+    let dark = ALBEDO * AMBIENT;
+    let lit = dark + ALBEDO / std::f32::consts::PI * INTENSITY * std::f32::consts::FRAC_1_SQRT_2;
+    (lit, dark)
+}
+
+/// Floor points at the middle of each stripe's shadow (z = 0): under the quad's stripes at
+/// x = −0.75, −0.25, 0.25, 0.75, shifted by `HEIGHT` along +x; `true` where the stripe is kept.
+fn probes() -> [(Vec3, bool); 4] {
+    [(-0.75, true), (-0.25, false), (0.25, true), (0.75, false)]
+        .map(|(x, kept)| (Vec3::new(x + HEIGHT, 0.0, 0.0), kept))
+}
+
+/// The floor at every probe: dark under a kept stripe, lit under a cut one (within 2 %).
+fn assert_probes(what: &str, scene: &Scene, img: &LinearImage) {
+    let (lit, dark) = expected();
+    for (p, kept) in probes() {
+        let got = luminance(img.pixels[pixel(scene, p)]);
+        let want = if kept { dark } else { lit };
+        assert!(
+            (got - want).abs() <= 0.02 * want,
+            "{what}: floor at {p} under a {} stripe: expected {want:.4} ({}), got {got:.4}",
+            if kept { "kept" } else { "cut-out" },
+            if kept { "shadowed" } else { "lit" },
+        );
+    }
+}
+
+/// Per pixel from the reference with and without the shadow: 0 in shadow (less than half the
+/// light), 1 fully lit, 2 elsewhere (the quad's own pixels, partial light).
+fn classes(with: &LinearImage, without: &LinearImage) -> Vec<u8> {
+    with.pixels
+        .iter()
+        .zip(&without.pixels)
+        .map(|(s, n)| {
+            let (s, n) = (luminance(*s), luminance(*n));
+            let (lit, dark) = expected();
+            if (n - lit).abs() > 1e-3 * lit {
+                2 // not the lit floor without shadows: the quad
+            } else if (s - n).abs() <= 1e-4 * n {
+                1
+            } else if (s - dark).abs() <= 1e-3 * dark {
+                0
+            } else {
+                2
+            }
+        })
+        .collect()
+}
+
+/// GPU against reference on floor pixels at least `band` pixels from a change of class: the
+/// share within 2 % among (lit, shadowed) pixels, and their counts.
+fn agreement(
+    class: &[u8],
+    gpu: &LinearImage,
+    reference: &LinearImage,
+    band: i32,
+) -> ((usize, usize), (usize, usize)) {
+    let (mut lit, mut dark) = ((0, 0), (0, 0));
+    for y in 0..H as i32 {
+        for x in 0..W as i32 {
+            let i = (y as u32 * W + x as u32) as usize;
+            let c = class[i];
+            if c == 2 {
+                continue;
+            }
+            let near_edge = (-band..=band).any(|dy| {
+                (-band..=band).any(|dx| {
+                    let (xx, yy) = (x + dx, y + dy);
+                    xx < 0
+                        || yy < 0
+                        || xx >= W as i32
+                        || yy >= H as i32
+                        || class[(yy as u32 * W + xx as u32) as usize] != c
+                })
+            });
+            if near_edge {
+                continue;
+            }
+            let (g, r) = (luminance(gpu.pixels[i]), luminance(reference.pixels[i]));
+            let ok = ((g - r).abs() <= 0.02 * r) as usize;
+            let n = if c == 1 { &mut lit } else { &mut dark };
+            n.0 += ok;
+            n.1 += 1;
+        }
+    }
+    (lit, dark)
+}
+
+/// Edge band (pixels, 160 × 120 over 5.3 × 4 m: 3 cm each) outside which GPU and reference agree:
+/// the default 1024² PCF map's texels, stretched by 1/cos 45° along the light, and its filter.
+const BAND: i32 = 3;
+
+fn check_case(ctx: &std::sync::Arc<luz::vk::Context>, name: &str, alpha: AlphaMode, png: (u8, u8)) {
+    let dir = scratch(name);
+    stripes(&dir.join("stripes.png"), png.0, png.1);
+    let shadowed = scene(&dir, alpha, "true");
+    let plain = scene(&dir, alpha, "false");
+    let reference_img = reference(&shadowed);
+    let reference_plain = reference(&plain);
+    // The reference first: the stripes' shadow where the geometry puts it.
+    assert_probes(&format!("{name}: reference"), &shadowed, &reference_img);
+
+    let mut r = Headless::new(ctx, &shadowed).expect("renderer");
+    r.render().expect("frame");
+    let gpu_img = r.image().expect("readback");
+    assert_eq!(nan_count(&gpu_img), 0, "{name}: NaN");
+    assert_probes(&format!("{name}: GPU"), &shadowed, &gpu_img);
+    // `luz render --verbose` names the alpha-tested casters.
+    let maps = r.shadow_maps();
+    assert_eq!(maps.len(), 1);
+    assert_eq!(maps[0].alpha_tested, 1, "{name}: {maps:?}");
+    let line = maps[0].describe(2);
+    assert!(line.ends_with("of 2, 1 alpha-tested"), "{name}: {line}");
+
+    let class = classes(&reference_img, &reference_plain);
+    let (lit, dark) = agreement(&class, &gpu_img, &reference_img, BAND);
+    eprintln!(
+        "{name}: GPU within 2 % of the reference {}/{} lit and {}/{} shadowed floor pixels \
+         (more than {BAND} px from an edge)",
+        lit.0, lit.1, dark.0, dark.1
+    );
+    assert!(
+        lit.1 > 3000 && dark.1 > 300,
+        "{name}: too few judged pixels"
+    );
+    assert!(
+        lit.0 as f64 >= 0.995 * lit.1 as f64 && dark.0 as f64 >= 0.995 * dark.1 as f64,
+        "{name}: the GPU's shadow differs from the reference's"
+    );
+}
+
+/// A MASK quad (cutoff 0.5, stripes of alpha 1 and 0) casts the stripes' shadow: the floor under
+/// the cut-out stripes is lit. (Before alpha-tested casters, the whole quad cast a shadow.)
+#[test]
+fn masked_caster_shadows_its_stripes() {
+    let ctx = gpu();
+    check_case(&ctx, "mask", AlphaMode::Mask { cutoff: 0.5 }, (255, 0));
+    assert_no_validation_messages(&ctx);
+}
+
+/// A BLEND quad casts where its alpha reaches 0.5 (docs/shadows.md#alpha): stripes of alpha 0.8
+/// shadow the floor, stripes of alpha 0.3 do not. A MASK with cutoff 0.9 over the same stripes
+/// casts no shadow at all: the cutoff is the material's.
+#[test]
+fn blended_caster_shadows_where_alpha_reaches_half() {
+    let ctx = gpu();
+    check_case(&ctx, "blend", AlphaMode::Blend, (204, 77));
+
+    let dir = scratch("mask-high-cutoff");
+    stripes(&dir.join("stripes.png"), 204, 77);
+    let s = scene(&dir, AlphaMode::Mask { cutoff: 0.9 }, "true");
+    let (lit, _) = expected();
+    for (what, img) in [("reference", reference(&s)), ("GPU", render_on(&ctx, &s))] {
+        for (p, _) in probes() {
+            let got = luminance(img.pixels[pixel(&s, p)]);
+            assert!(
+                (got - lit).abs() <= 0.02 * lit,
+                "mask cutoff 0.9, {what}: floor at {p} expected lit {lit:.4}, got {got:.4}"
+            );
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
+
+/// An opaque quad over the same stripes shadows the floor under every stripe (alpha ignored),
+/// and the depth pass draws no caster with the alpha-tested pipeline.
+#[test]
+fn opaque_caster_ignores_alpha() {
+    let ctx = gpu();
+    let dir = scratch("opaque");
+    stripes(&dir.join("stripes.png"), 255, 0);
+    let s = scene(&dir, AlphaMode::Opaque, "true");
+    let mut r = Headless::new(&ctx, &s).expect("renderer");
+    r.render().expect("frame");
+    let img = r.image().expect("readback");
+    assert_eq!(r.shadow_maps()[0].alpha_tested, 0);
+    let (_, dark) = expected();
+    for (what, img) in [("reference", reference(&s)), ("GPU", img)] {
+        for (p, _) in probes() {
+            let got = luminance(img.pixels[pixel(&s, p)]);
+            assert!(
+                (got - dark).abs() <= 0.02 * dark,
+                "opaque, {what}: floor at {p} expected shadowed {dark:.4}, got {got:.4}"
+            );
+        }
+    }
+    drop(r);
+    assert_no_validation_messages(&ctx);
+}
