@@ -171,8 +171,9 @@ fn agreement(
 }
 
 /// Edge band (pixels, 160 × 120 over 5.3 × 4 m: 3 cm each) outside which GPU and reference agree:
-/// the default 1024² PCF map's texels, stretched by 1/cos 45° along the light, and its filter.
-const BAND: i32 = 3;
+/// the default 1024² PCF map's texels, stretched by 1/cos 45° along the light, and its filter
+/// (1 px passes on lavapipe; 2 keeps a pixel's margin).
+const BAND: i32 = 2;
 
 fn check_case(ctx: &std::sync::Arc<luz::vk::Context>, name: &str, alpha: AlphaMode, png: (u8, u8)) {
     let dir = scratch(name);
@@ -197,10 +198,14 @@ fn check_case(ctx: &std::sync::Arc<luz::vk::Context>, name: &str, alpha: AlphaMo
     assert!(line.ends_with("of 2, 1 alpha-tested"), "{name}: {line}");
 
     let class = classes(&reference_img, &reference_plain);
+    let passes = |((lit_ok, lit), (dark_ok, dark)): ((usize, usize), (usize, usize))| {
+        lit_ok as f64 >= 0.995 * lit as f64 && dark_ok as f64 >= 0.995 * dark as f64
+    };
+    let narrowest = (0..=BAND).find(|&b| passes(agreement(&class, &gpu_img, &reference_img, b)));
     let (lit, dark) = agreement(&class, &gpu_img, &reference_img, BAND);
     eprintln!(
-        "{name}: GPU within 2 % of the reference {}/{} lit and {}/{} shadowed floor pixels \
-         (more than {BAND} px from an edge)",
+        "{name}: GPU within 2 % of the reference on {}/{} lit and {}/{} shadowed floor pixels \
+         more than {BAND} px from an edge; narrowest passing band {narrowest:?} px",
         lit.0, lit.1, dark.0, dark.1
     );
     assert!(
@@ -208,7 +213,7 @@ fn check_case(ctx: &std::sync::Arc<luz::vk::Context>, name: &str, alpha: AlphaMo
         "{name}: too few judged pixels"
     );
     assert!(
-        lit.0 as f64 >= 0.995 * lit.1 as f64 && dark.0 as f64 >= 0.995 * dark.1 as f64,
+        passes((lit, dark)),
         "{name}: the GPU's shadow differs from the reference's"
     );
 }
