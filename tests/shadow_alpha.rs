@@ -40,6 +40,21 @@ fn stripes(path: &std::path::Path, kept: u8, cut: u8) {
 /// (nearest, clamped) and given `alpha`, a directional light at 45° with shadow `shadow`, seen
 /// from straight above by an orthographic camera.
 fn scene(dir: &std::path::Path, alpha: AlphaMode, shadow: &str) -> Scene {
+    let caster = format!(
+        r#"{{"mesh": {{"type": "plane", "size": [2, 2]}}, "material": "leaf", "position": [0, {HEIGHT}, 0]}}"#
+    );
+    let mut s = scene_with(dir, &caster, shadow);
+    let leaf = s
+        .materials
+        .iter()
+        .position(|m| m.name == "leaf")
+        .expect("leaf material");
+    s.materials[leaf].textures.alpha_mode = alpha;
+    s
+}
+
+/// The floor, light and camera of [`scene`] with the object `caster` (JSON) above the floor.
+fn scene_with(dir: &std::path::Path, caster: &str, shadow: &str) -> Scene {
     let json = format!(
         r#"{{
         "camera": {{"position": [1.25, 10, 0], "target": [1.25, 0, 0], "up": [0, 0, -1], "projection": "orthographic", "ortho_half_height": 2.0, "near": 1, "far": 20}},
@@ -52,18 +67,11 @@ fn scene(dir: &std::path::Path, alpha: AlphaMode, shadow: &str) -> Scene {
         }},
         "objects": [
             {{"mesh": {{"type": "plane", "size": [12, 12]}}, "material": "floor"}},
-            {{"mesh": {{"type": "plane", "size": [2, 2]}}, "material": "leaf", "position": [0, {HEIGHT}, 0]}}
+            {caster}
         ]
     }}"#
     );
-    let mut s = luz::scene::parse(&json, &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"));
-    let leaf = s
-        .materials
-        .iter()
-        .position(|m| m.name == "leaf")
-        .expect("leaf material");
-    s.materials[leaf].textures.alpha_mode = alpha;
-    s
+    luz::scene::parse(&json, &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn reference(scene: &Scene) -> LinearImage {
@@ -316,5 +324,65 @@ fn gltf_asset_scene_matches_the_reference() {
     let line = r.shadow_maps()[0].describe(2);
     assert!(line.ends_with("of 4, 3 alpha-tested"), "{line}");
     drop(r);
+    assert_no_validation_messages(&ctx);
+}
+
+/// A MASK quad without a map whose vertex colours' alpha runs from 0 (x = −1) to 1 (x = +1),
+/// from a glTF file: it casts where the interpolated alpha reaches the cutoff 0.5, its half at
+/// x ≥ 0 (the depth pass's vertex-colour variant; the plain one would cast the whole quad).
+#[test]
+fn vertex_colour_alpha_cuts_the_shadow() {
+    let dir = scratch("vertex-alpha");
+    stripes(&dir.join("stripes.png"), 255, 0); // the scene's unused "leaf" material names it
+                                               // Positions, normals, colours (RGBA float), indices (u16) of a 2 × 2 quad in y = 0.
+    let xz = [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let mut bin: Vec<u8> = Vec::new();
+    for (x, z) in xz {
+        bin.extend([x, 0.0, z].iter().flat_map(|v| v.to_le_bytes()));
+    }
+    for _ in xz {
+        bin.extend([0.0f32, 1.0, 0.0].iter().flat_map(|v| v.to_le_bytes()));
+    }
+    for (x, _) in xz {
+        let a = (x + 1.0) / 2.0;
+        bin.extend([0.9f32, 0.9, 0.9, a].iter().flat_map(|v| v.to_le_bytes()));
+    }
+    bin.extend([0u16, 2, 1, 0, 3, 2].iter().flat_map(|v| v.to_le_bytes()));
+    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
+    let gltf = format!(
+        r#"{{"asset": {{"version": "2.0"}},
+        "buffers": [{{"uri": "quad.bin", "byteLength": {}}}],
+        "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 48}},
+                        {{"buffer": 0, "byteOffset": 96, "byteLength": 64}}, {{"buffer": 0, "byteOffset": 160, "byteLength": 12}}],
+        "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, 0, -1], "max": [1, 0, 1]}},
+                      {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"}},
+                      {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC4"}},
+                      {{"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}}],
+        "materials": [{{"name": "vertex alpha", "alphaMode": "MASK", "doubleSided": true,
+                        "pbrMetallicRoughness": {{"metallicFactor": 0, "roughnessFactor": 0.8}}}}],
+        "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1, "COLOR_0": 2}}, "indices": 3, "material": 0}}]}}],
+        "nodes": [{{"mesh": 0, "translation": [0, {HEIGHT}, 0]}}],
+        "scenes": [{{"nodes": [0]}}], "scene": 0}}"#,
+        bin.len()
+    );
+    std::fs::write(dir.join("quad.gltf"), gltf).unwrap();
+    let s = scene_with(
+        &dir,
+        r#"{"mesh": {"type": "gltf", "path": "quad.gltf"}}"#,
+        "true",
+    );
+    let ctx = gpu();
+    let (lit, dark) = expected();
+    for (what, img) in [("reference", reference(&s)), ("GPU", render_on(&ctx, &s))] {
+        // The shadow of the quad's x < 0 half (cut) and x > 0 half (kept), 0.25 m from the line.
+        for (x, want) in [(-0.75, lit), (-0.25, lit), (0.25, dark), (0.75, dark)] {
+            let p = Vec3::new(x + HEIGHT, 0.0, 0.3);
+            let got = luminance(img.pixels[pixel(&s, p)]);
+            assert!(
+                (got - want).abs() <= 0.02 * want,
+                "vertex alpha, {what}: floor at {p} expected {want:.4}, got {got:.4}"
+            );
+        }
+    }
     assert_no_validation_messages(&ctx);
 }
