@@ -354,6 +354,22 @@ impl Headless {
         self.forward.shadow_triangles_drawn(0)
     }
 
+    /// Frames recorded with some shadow map layer drawn, and with every layer reused
+    /// (unchanged), and the layers drawn over all frames.
+    pub fn shadow_frames_drawn_reused(&self) -> (u64, u64, u64) {
+        let m = self.forward.shadow_maps();
+        let (drawn, reused) = m.frames_drawn_reused();
+        (drawn, reused, m.layers_drawn())
+    }
+
+    /// Takes `scene`'s per-frame data for the next frames: camera, lights, object transforms,
+    /// materials' values (what the viewer edits without rebuilding; the scene's structure —
+    /// objects, meshes, models, shadow settings — must be the one the renderer was built for).
+    pub fn update_scene(&mut self, scene: &Scene) -> Result<(), VkError> {
+        let aspect = self.width as f32 / self.height as f32;
+        self.forward.update(0, scene, aspect)
+    }
+
     /// Draw calls per frame (an instanced draw counts once) and the objects they draw.
     pub fn draw_calls(&self) -> (usize, usize) {
         self.forward.draw_calls(0)

@@ -257,3 +257,51 @@ fn the_viewer_window_shows_the_same_maps() {
     );
     assert!(window.pixels().any(|p| near(p, [255, 255, 255], 3)));
 }
+
+/// Map reuse: a frame draws only the layers whose record or casters changed since the image last
+/// held them. A static scene draws its maps once; moving the camera redraws the sun's cascades
+/// (fitted to the view) and keeps the spot's and the point light's seven layers; moving the
+/// sphere redraws every layer that sees it. After each change the image is exactly the one a
+/// fresh renderer makes of the changed scene (no stale map), with zero validation messages.
+#[test]
+fn unchanged_map_layers_are_reused_and_changed_ones_redrawn() {
+    let ctx = gpu_with(true);
+    let mut scene = parse(&scene());
+    let mut r = Headless::new(&ctx, &scene).expect("renderer");
+    r.render().expect("frame");
+    let first = r.image().expect("readback");
+    // 3 cascades + 1 spot map + 6 cube faces, every one drawn in the first frame.
+    assert_eq!(r.shadow_frames_drawn_reused(), (1, 0, 10));
+    r.render().expect("frame");
+    assert_eq!(r.shadow_frames_drawn_reused(), (1, 1, 10));
+    assert_eq!(r.image().expect("readback").pixels, first.pixels);
+
+    // The camera moves: the cascades follow the view, the other lights' layers stay.
+    scene.camera.position = Vec3::new(-2.0, 3.5, 4.5);
+    r.update_scene(&scene).expect("update");
+    r.render().expect("frame");
+    assert_eq!(r.shadow_frames_drawn_reused(), (2, 1, 13));
+    let fresh = render_on(&ctx, &scene);
+    assert_eq!(
+        r.image().expect("readback").pixels,
+        fresh.pixels,
+        "camera moved"
+    );
+    assert_ne!(fresh.pixels, first.pixels);
+
+    // The sphere moves: every layer that saw it or sees it now is drawn again.
+    let sphere = scene.objects.len() - 1;
+    scene.objects[sphere].transform.position += Vec3::new(0.6, 0.2, -0.4);
+    r.update_scene(&scene).expect("update");
+    r.render().expect("frame");
+    let (frames, reused, layers) = r.shadow_frames_drawn_reused();
+    assert_eq!((frames, reused), (3, 1));
+    assert!(layers > 13 + 4, "{layers} layers drawn in all");
+    let fresh = render_on(&ctx, &scene);
+    assert_eq!(
+        r.image().expect("readback").pixels,
+        fresh.pixels,
+        "sphere moved"
+    );
+    assert_no_validation_messages(&ctx);
+}

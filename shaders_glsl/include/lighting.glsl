@@ -293,6 +293,12 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     }
     vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);
     uvec2 cluster = light_list(P);
+    // Fixed shadow slots (shadows.glsl): each shadowed light's visibility once, before the loop.
+    bool fixed_shadows = (LIGHT_KINDS & SHADOW_KINDS) != 0u && SHADOW_FIXED_0 != 0u;
+    vec4 fixed_vis = vec4(1.0);
+    if (fixed_shadows) {
+        fixed_vis = opaque(material.receive_shadow) != 0u ? shadow_fixed_all(P, N) : vec4(1.0);
+    }
     for (uint k = 0u; k < cluster.y; ++k) {
         uint i = light_list_index(cluster, k);
         vec3 l;
@@ -304,7 +310,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         // trip instead of this `if` made lavapipe 22.3 skip the code for lights without a
         // shadow, 2.1× → 1.6× on the default scene, but grow its memory ~5 MB per frame even
         // in scenes without shadows: docs/shadows.md.)
-        bool shadowed = (LIGHT_KINDS & SHADOW_KINDS) != 0u && opaque(material.receive_shadow) != 0u
+        if (fixed_shadows) {
+            E *= shadow_fixed_pick(i, fixed_vis);
+        }
+        bool shadowed = (LIGHT_KINDS & SHADOW_KINDS) != 0u && !fixed_shadows
+            && opaque(material.receive_shadow) != 0u
             && shadow_lights[i].info.x >= 0 && (E.r > 0.0 || E.g > 0.0 || E.b > 0.0)
             && dot(s.n, l) > 0.0;
         if (shadowed) {

@@ -18,9 +18,9 @@
 #define SHADOW_HARD 0
 #define SHADOW_PCF 1
 #define SHADOW_PCSS 2
+#define SHADOW_MAX_CASCADES 4
 // Layers of a light with a cube map (point lights, wide spots).
 #define SHADOW_CUBE_LAYERS 6
-#define SHADOW_MAX_CASCADES 4
 
 layout(set = SET_SHADOW, binding = BINDING_SHADOW_LINEAR) uniform sampler2DArrayShadow shadow_linear;
 layout(set = SET_SHADOW, binding = BINDING_SHADOW_NEAREST) uniform sampler2DArrayShadow shadow_nearest;
@@ -105,21 +105,42 @@ int shadow_layer(uint i, ShadowLight s, vec3 P, out bool beyond) {
     return layer;
 }
 
-// The fraction of light i that reaches P (unit normal N, unit direction l towards the light);
-// the caller skips lights without a shadow (info.x < 0).
-float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
-    ShadowLight s = shadow_lights[i];
-    bool beyond;
-    int layer = shadow_layer(i, s, P, beyond);
-    ShadowLayer L = shadow_layers[layer];
-    bool perspective = L.params.y > 0.5;
+// Fixed shadow slots (src/render/shadow: fixed_slots): when a scene has at most four shadowed
+// lights, each one is described whole by a specialization constant (0: slot unused): its light
+// index, first layer, geometry (cascades, one perspective map, cube faces), layer count, filter
+// and PCF kernel. Each light's lookup then compiles only its own layer choice, projection and
+// filter (lavapipe runs both sides of every `if` under a lane mask, so the generic lookup pays
+// for cube faces, cascades and every filter at each light), the PCF loops unrolled. More lights,
+// or fields out of range: every slot 0 and the lookups read these from the records per pixel
+// (shadow_visibility).
+layout(constant_id = 19) const uint SHADOW_FIXED_0 = 0u;
+layout(constant_id = 20) const uint SHADOW_FIXED_1 = 0u;
+layout(constant_id = 21) const uint SHADOW_FIXED_2 = 0u;
+layout(constant_id = 22) const uint SHADOW_FIXED_3 = 0u;
+// Fields: bits 0–7 light index, 8–15 first layer, 16–17 geometry, 18–20 layers, 21–22 SHADOW_*
+// method, 23–27 PCF taps per side; bit 31 set in every used slot.
+#define SHADOW_FIXED_SLOTS 4
+#define SHADOW_FIXED_USED 2147483648u
+#define SHADOW_GEOMETRY_CASCADES 0u
+#define SHADOW_GEOMETRY_SINGLE 1u
+#define SHADOW_GEOMETRY_CUBE 2u
+
+
+float shadow_filter(ShadowLight s, ShadowLayer L, int layer, bool perspective, int method, int n,
+                    vec2 uv, float ref, float dist, float texel);
+
+// The fraction of light i that reaches P through layer record L (its index `layer`; `beyond`:
+// past the last cascade), filtered by `method` with `n` PCF taps per side (unit normal N, unit
+// direction l towards the light).
+float shadow_lookup(ShadowLight s, ShadowLayer L, int layer, bool beyond, bool perspective,
+                    int method, int n, vec3 P, vec3 N, vec3 l) {
     float dist = dot(P - L.origin.xyz, L.axis.xyz);
     float texel = perspective ? L.params.x * dist : L.params.x;
     // Normal offset (more at grazing light) and an offset towards the light, in texels; wider
     // PCF kernels reach farther over a tilted receiver, so their offsets grow with them.
     float cos_t = clamp(dot(N, l), 0.0, 1.0);
     float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    float reach = s.info.z == SHADOW_PCF ? max(1.0, 0.5 * float(s.info.w - 1)) : 1.0;
+    float reach = method == SHADOW_PCF ? max(1.0, 0.5 * float(n - 1)) : 1.0;
     vec3 Po = P + (N * (s.params.w * sin_t) + l * s.params.z) * (texel * reach);
     vec4 clip = L.view_proj * vec4(Po, 1.0);
     if (clip.w <= 0.0) {
@@ -130,6 +151,12 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     if (beyond || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
         return 1.0;
     }
+    return shadow_filter(s, L, layer, perspective, method, n, uv, ndc.z, dist, texel);
+}
+
+// The filtered comparison of shadow_lookup at layer-local uv (0–1) and reversed depth ref.
+float shadow_filter(ShadowLight s, ShadowLayer L, int layer, bool perspective, int method, int n,
+                    vec2 uv, float ref, float dist, float texel) {
     float scale = s.params.x;
     float inv_size = s.params.y;
     // Taps stay inside the light's own texels of the layer.
@@ -137,8 +164,6 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     vec2 hi = vec2(scale - 0.5 * inv_size);
     uv *= scale;
     float fl = float(layer);
-    float ref = ndc.z;
-    int method = s.info.z;
     if ((LIGHT_KINDS & LK_SHADOW_HARD) != 0u && method == SHADOW_HARD) {
         return textureGrad(shadow_nearest, vec4(clamp(uv, lo, hi), fl, ref), vec2(0.0), vec2(0.0));
     }
@@ -175,7 +200,6 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
     }
     // PCF: n² bilinear comparisons one texel apart, centred on the point (n = 2: a 3×3-texel
     // tent from four taps).
-    int n = s.info.w;
     float c0 = 0.5 * float(n - 1);
     float sum = 0.0;
     for (int y = 0; y < n; ++y) {
@@ -184,6 +208,74 @@ float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
         }
     }
     return sum / float(n * n);
+}
+
+// The fraction of light i that reaches P (unit normal N, unit direction l towards the light);
+// the caller skips lights without a shadow (info.x < 0).
+float shadow_visibility(uint i, vec3 P, vec3 N, vec3 l) {
+    ShadowLight s = shadow_lights[i];
+    bool beyond;
+    int layer = shadow_layer(i, s, P, beyond);
+    ShadowLayer L = shadow_layers[layer];
+    return shadow_lookup(s, L, layer, beyond, L.params.y > 0.5, s.info.z, s.info.w, P, N, l);
+}
+
+// shadow_visibility for the light fixed slot `code` describes; N as there.
+float shadow_fixed(uint code, vec3 P, vec3 N) {
+    uint i = code & 255u;
+    int first = int((code >> 8u) & 255u);
+    uint geometry = (code >> 16u) & 3u;
+    int count = int((code >> 18u) & 7u);
+    int method = int((code >> 21u) & 3u);
+    int n = int((code >> 23u) & 31u);
+    ShadowLight s = shadow_lights[i];
+    vec3 v = lights[i].position_type.xyz;
+    vec3 l = -lights[i].direction_falloff.xyz;
+    int pick = 0;
+    bool beyond = false;
+    if (geometry != SHADOW_GEOMETRY_CASCADES) {
+        vec3 d = v - P;
+        float len = length(d);
+        l = len > 0.0 ? d / len : vec3(0.0, 1.0, 0.0);
+    }
+    if (geometry == SHADOW_GEOMETRY_CUBE) {
+        vec3 d = P - v;
+        vec3 a = abs(d);
+        pick = a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1)
+             : (a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5));
+    }
+    if (geometry == SHADOW_GEOMETRY_CASCADES) {
+        float z = -(frame.view * vec4(P, 1.0)).z;
+        beyond = z > s.splits[count - 1];
+        for (int j = 0; j < count - 1; ++j) {
+            pick += z > s.splits[j] ? 1 : 0;
+        }
+    }
+    // The chosen layer's record by a per-pixel index (cheaper on lavapipe than reading every
+    // layer at a constant index and selecting: docs/shadows.md#cost).
+    ShadowLayer L = shadow_layers[first + pick];
+    return shadow_lookup(s, L, first + pick, beyond, geometry != SHADOW_GEOMETRY_CASCADES,
+                         method, n, P, N, l);
+}
+
+// Every fixed slot's visibility at P (1 where the slot is unused).
+vec4 shadow_fixed_all(vec3 P, vec3 N) {
+    vec4 v = vec4(1.0);
+    if (SHADOW_FIXED_0 != 0u) v.x = shadow_fixed(SHADOW_FIXED_0, P, N);
+    if (SHADOW_FIXED_1 != 0u) v.y = shadow_fixed(SHADOW_FIXED_1, P, N);
+    if (SHADOW_FIXED_2 != 0u) v.z = shadow_fixed(SHADOW_FIXED_2, P, N);
+    if (SHADOW_FIXED_3 != 0u) v.w = shadow_fixed(SHADOW_FIXED_3, P, N);
+    return v;
+}
+
+// Light i's entry of shadow_fixed_all (1: no fixed slot).
+float shadow_fixed_pick(uint i, vec4 v) {
+    float f = 1.0;
+    f = SHADOW_FIXED_0 != 0u && i == (SHADOW_FIXED_0 & 255u) ? v.x : f;
+    f = SHADOW_FIXED_1 != 0u && i == (SHADOW_FIXED_1 & 255u) ? v.y : f;
+    f = SHADOW_FIXED_2 != 0u && i == (SHADOW_FIXED_2 & 255u) ? v.z : f;
+    f = SHADOW_FIXED_3 != 0u && i == (SHADOW_FIXED_3 & 255u) ? v.w : f;
+    return f;
 }
 
 #endif

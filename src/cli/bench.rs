@@ -210,6 +210,13 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let wall: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
     let stutters = luz::profiler::stutter_count(&wall);
     println!("stutters: {stutters} frames slower than 2x the rolling median of the frame time");
+    let (drawn, reused, layers) = renderer.shadow_frames_drawn_reused();
+    if drawn + reused > 0 {
+        println!(
+            "shadow maps: layers drawn in {drawn} frame(s) ({layers} layers in all), every layer \
+             reused in {reused} (nothing it sees moved; LUZ_SHADOW_CACHE=0 draws them every frame)"
+        );
+    }
     println!("memory (resident MiB, GPU allocations, GPU bytes) every {every} frames:");
     for m in &memory {
         println!(
@@ -286,6 +293,9 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
             "triangles_drawn": renderer.triangles_drawn(),
             "draw_calls": renderer.draw_calls().0,
             "shadow_triangles_drawn": renderer.shadow_triangles_drawn(),
+            "shadow_frames_drawn": renderer.shadow_frames_drawn_reused().0,
+            "shadow_frames_reused": renderer.shadow_frames_drawn_reused().1,
+            "shadow_layers_drawn": renderer.shadow_frames_drawn_reused().2,
             "objects_drawn": renderer.drawn_objects().0,
             "tessellation_error_px": scene.output.tessellation_error_px,
             "compared": compared.as_ref().map(|(o, r, f)| serde_json::json!({

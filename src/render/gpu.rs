@@ -61,6 +61,12 @@ pub const SPEC_OUTPUT_CLAMP: u32 = glsl::include_output::SPEC_OUTPUT_CLAMP;
 pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
 /// `CLUSTERED`: the fragment stage loops over its cluster's lights only.
 pub const SPEC_CLUSTERED: u32 = b::SPEC_CLUSTERED;
+/// `SHADOW_FIXED_0..3` of shadows.glsl: the shadowed lights packed whole
+/// ([`crate::render::shadow::fixed_slots`]).
+pub const SPEC_SHADOW_FIXED_0: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_0;
+pub const SPEC_SHADOW_FIXED_1: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_1;
+pub const SPEC_SHADOW_FIXED_2: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_2;
+pub const SPEC_SHADOW_FIXED_3: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_3;
 /// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
 pub const LK_DIRECTIONAL: u32 = b::LK_DIRECTIONAL;
 pub const LK_POINT: u32 = b::LK_POINT;

@@ -214,6 +214,7 @@ pub(super) fn build_draws(
                     maps: GENERIC_MAPS,
                     light_kinds: GENERIC_LIGHT_KINDS,
                     clustered: clustered && obj.shading == Shading::Phong,
+                    shadow_slots: [0; 4],
                     alpha,
                     vertex_color,
                 }
@@ -229,6 +230,7 @@ pub(super) fn build_draws(
                     light_kinds: gpu::light_kinds(&scene.lights),
                     // Flat and Gouraud shade in the vertex stage, over every light.
                     clustered: clustered && obj.shading == Shading::Phong,
+                    shadow_slots: crate::render::shadow::fixed_slots(&scene.lights),
                     alpha,
                     vertex_color,
                 }

@@ -586,10 +586,12 @@ impl ForwardPass {
             if model != draw.variant.model
                 || (!generic
                     && (terms != draw.variant.terms
-                        || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds))
+                        || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds
+                        || crate::render::shadow::fixed_slots(&scene.lights)
+                            != draw.variant.shadow_slots))
             {
                 return Err(VkError::Setup(format!(
-                    "object {}: material model, BRDF terms or light kinds changed; rebuild the forward pass",
+                    "object {}: material model, BRDF terms, light kinds or shadowed lights changed; rebuild the forward pass",
                     obj.name
                 )));
             }

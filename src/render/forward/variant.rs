@@ -182,6 +182,9 @@ pub struct VariantKey {
     pub light_kinds: u32,
     /// The fragment stage loops over its cluster's lights only (`CLUSTERED`).
     pub clustered: bool,
+    /// The shadowed lights, each packed in a specialization constant
+    /// ([`crate::render::shadow::fixed_slots`]; all zero: looked up per pixel).
+    pub shadow_slots: [u32; 4],
     /// The material's alpha mode (`ALPHA_MODE`; blending and no depth writes for `Blend`).
     pub alpha: AlphaKey,
     /// The mesh's vertex colours multiply the base colour (Phong shading only: the
@@ -522,6 +525,13 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         (gpu::SPEC_CLUSTERED, v.clustered as u32),
         (gpu::SPEC_ALPHA_MODE, v.alpha.code()),
     ];
+    let slots = [
+        gpu::SPEC_SHADOW_FIXED_0,
+        gpu::SPEC_SHADOW_FIXED_1,
+        gpu::SPEC_SHADOW_FIXED_2,
+        gpu::SPEC_SHADOW_FIXED_3,
+    ];
+    spec.extend(slots.into_iter().zip(v.shadow_slots));
     if let Some(i) = v.ibl {
         spec.extend([
             (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),

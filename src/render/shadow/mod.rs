@@ -92,7 +92,7 @@ pub struct Caster {
 }
 
 /// One caster drawn into one layer.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct LayerDraw {
     mesh: usize,
     /// The LOD level's index range: first, count.
@@ -122,6 +122,18 @@ pub fn caster_level(
 }
 
 impl ShadowMaps {
+    /// Frames recorded so far with the maps drawn, and with them reused (nothing they see had
+    /// changed since they were drawn).
+    pub fn frames_drawn_reused(&self) -> (u64, u64) {
+        let n = |k: usize| self.recorded[k].load(std::sync::atomic::Ordering::Relaxed);
+        (n(0), n(1))
+    }
+
+    /// Layers drawn over every recorded frame (a frame reusing a layer does not draw it).
+    pub fn layers_drawn(&self) -> u64 {
+        self.layers_drawn.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// Triangles drawn into the layers of slot `slot`: shadow casters at their LOD levels.
     pub fn triangles_drawn(&self, slot: usize) -> u64 {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
@@ -149,7 +161,14 @@ struct Slot {
     layers: Buffer,
     /// Per layer: the casters that may reach it (mesh, its LOD level, clip-from-object matrix).
     draws: Vec<Vec<LayerDraw>>,
+    /// The layer records of the slot's last update (what its maps are drawn with).
+    records: Vec<GpuShadowLayer>,
 }
+
+/// What one layer of the image holds: the layer record and draws it was last drawn with. A frame
+/// whose record and draws for the layer are the same (nothing moved that the layer sees) reuses
+/// it: a point light's faces stay while the camera orbits, a static scene draws its maps once.
+type Drawn = (GpuShadowLayer, Vec<LayerDraw>);
 
 /// What `luz render --verbose` says about one light's maps.
 #[derive(Debug, Clone, PartialEq)]
@@ -184,6 +203,15 @@ pub struct ShadowMaps {
     light_count: usize,
     /// The layer records of the last update (what the last recorded frame drew with).
     last_layers: Vec<GpuShadowLayer>,
+    /// What each layer of the image holds (`None`: nothing yet); set when a frame's passes
+    /// are recorded (recorded frames are submitted in order on one queue).
+    drawn: std::sync::Mutex<Vec<Option<Drawn>>>,
+    /// Maps are reused when unchanged (`LUZ_SHADOW_CACHE=0` redraws them every frame).
+    reuse: bool,
+    /// Frames recorded with some layer drawn, and with every layer reused.
+    recorded: [std::sync::atomic::AtomicU64; 2],
+    /// Layers drawn over all recorded frames.
+    layers_drawn: std::sync::atomic::AtomicU64,
     ctx: Arc<Context>,
 }
 
@@ -436,6 +464,7 @@ impl ShadowMaps {
                 lights,
                 layers,
                 draws: vec![Vec::new(); layer_count as usize],
+                records: Vec::new(),
             });
         }
         let pipeline = if maps.is_empty() {
@@ -477,6 +506,10 @@ impl ShadowMaps {
             alpha_tested: 0,
             light_count: scene.lights.len(),
             last_layers: Vec::new(),
+            drawn: std::sync::Mutex::new(vec![None; layer_count as usize]),
+            reuse: std::env::var("LUZ_SHADOW_CACHE").map_or(true, |v| v != "0"),
+            recorded: Default::default(),
+            layers_drawn: Default::default(),
             ctx: ctx.clone(),
         })
     }
@@ -606,27 +639,24 @@ impl ShadowMaps {
                 };
                 let planes = frustum::planes(layer.view_proj);
                 let budget = scene.output.tessellation_error_px;
-                s.draws[index].extend(
-                    drawn
-                        .iter()
-                        .filter(|c| {
-                            frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius)
-                        })
-                        .map(|c| {
-                            let l =
-                                c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
-                            LayerDraw {
-                                mesh: c.mesh,
-                                range: (l.first_index, l.index_count),
-                                clip: layer.view_proj * c.model,
-                                alpha: c.alpha,
-                            }
-                        }),
-                );
+                let reached: Vec<&&Caster> = drawn
+                    .iter()
+                    .filter(|c| frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius))
+                    .collect();
+                s.draws[index].extend(reached.iter().map(|c| {
+                    let l = c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
+                    LayerDraw {
+                        mesh: c.mesh,
+                        range: (l.first_index, l.index_count),
+                        clip: layer.view_proj * c.model,
+                        alpha: c.alpha,
+                    }
+                }));
             }
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;
         s.layers.write(0, bytemuck::cast_slice(&layers))?;
+        s.records.clone_from(&layers);
         self.last_layers = layers;
         Ok(())
     }
@@ -646,6 +676,31 @@ impl ShadowMaps {
         };
         let d = &self.ctx.device;
         let s = &self.slots[slot.min(self.slots.len() - 1)];
+        // Layers the image already holds (drawn by a frame recorded earlier in this queue's
+        // order, whose barrier made them readable) are not drawn again.
+        let (redraw, kept) = {
+            let mut drawn = self.drawn.lock().unwrap_or_else(|e| e.into_inner());
+            let kept = drawn.iter().any(Option::is_some);
+            let redraw: Vec<bool> = (0..s.draws.len())
+                .map(|i| {
+                    let same = drawn[i]
+                        .as_ref()
+                        .is_some_and(|(r, d)| Some(r) == s.records.get(i) && *d == s.draws[i]);
+                    if !(self.reuse && same) {
+                        drawn[i] = s.records.get(i).map(|r| (*r, s.draws[i].clone()));
+                    }
+                    !(self.reuse && same)
+                })
+                .collect();
+            (redraw, kept)
+        };
+        let count = redraw.iter().filter(|&&r| r).count() as u64;
+        use std::sync::atomic::Ordering::Relaxed;
+        self.layers_drawn.fetch_add(count, Relaxed);
+        self.recorded[usize::from(count == 0)].fetch_add(1, Relaxed);
+        if count == 0 {
+            return;
+        }
         let mut timer = timer;
         let timed = timer.as_mut().and_then(|t| t.begin(cmd, "shadows"));
         let range = self.image.subresource_range();
@@ -653,7 +708,8 @@ impl ShadowMaps {
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let read_stages =
             vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
-        // Earlier frames' reads finish before the maps are drawn again (same queue).
+        // Earlier frames' reads finish before the maps are drawn again (same queue); the layers
+        // kept keep their contents.
         transition(
             d,
             cmd,
@@ -661,7 +717,11 @@ impl ShadowMaps {
                 image: self.image.raw,
                 range,
                 from: (
-                    vk::ImageLayout::UNDEFINED,
+                    if kept {
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+                    } else {
+                        vk::ImageLayout::UNDEFINED
+                    },
                     read_stages,
                     vk::AccessFlags2::NONE,
                 ),
@@ -677,6 +737,9 @@ impl ShadowMaps {
             let res = m.shadow.resolution;
             for k in 0..m.layers {
                 let index = (m.first_layer + k) as usize;
+                if !redraw[index] {
+                    continue;
+                }
                 pipeline.record_layer(
                     cmd,
                     self.layer_views[index],
@@ -769,6 +832,39 @@ fn structure_of_map(m: &LightMaps) -> Option<(ShadowMethod, u32, u32)> {
     Some((m.shadow.method, m.shadow.resolution, m.layers))
 }
 
+/// The forward pass's fixed shadow slots (`SHADOW_FIXED_*` of shadows.glsl): each shadowed light
+/// of `lights` packed whole (light index, first layer, geometry, layers, method, PCF taps), the
+/// layers assigned in light order as [`ShadowMaps::new`] assigns them. All zero (the lookups
+/// read their records per pixel) with more shadowed lights than slots, or a field out of range.
+pub fn fixed_slots(lights: &[crate::scene::Light]) -> [u32; 4] {
+    const SLOTS: usize = g::SHADOW_FIXED_SLOTS as usize;
+    let mut slots = [0u32; SLOTS];
+    let mut next = 0u32;
+    let mut used = 0;
+    for (i, l) in lights.iter().enumerate() {
+        let Some(s) = l.shadow else { continue };
+        let layers = s.layers(l.kind, l.umbra_deg);
+        let geometry = match (l.kind, layers) {
+            (crate::scene::LightKind::Directional, _) => g::SHADOW_GEOMETRY_CASCADES,
+            (_, 1) => g::SHADOW_GEOMETRY_SINGLE,
+            _ => g::SHADOW_GEOMETRY_CUBE,
+        };
+        if used == SLOTS || i > 255 || next > 255 || layers > 7 || s.pcf_kernel > 31 {
+            return [0; SLOTS];
+        }
+        slots[used] = g::SHADOW_FIXED_USED
+            | i as u32
+            | next << 8
+            | geometry << 16
+            | layers << 18
+            | (method_code(s.method) as u32) << 21
+            | s.pcf_kernel << 23;
+        used += 1;
+        next += layers;
+    }
+    slots
+}
+
 fn method_code(m: ShadowMethod) -> i32 {
     match m {
         ShadowMethod::Hard => g::SHADOW_HARD,
@@ -779,3 +875,39 @@ fn method_code(m: ShadowMethod) -> i32 {
 
 /// The vertex layout the depth pass reads (positions at the start of each [`Vertex`]).
 pub(crate) const VERTEX_STRIDE: u32 = std::mem::size_of::<Vertex>() as u32;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The built-in scene's two shadowed lights fill two fixed slots with their own fields and
+    /// layers in light order; five shadowed lights (more than the slots) leave every slot 0.
+    #[test]
+    fn fixed_slots_pack_each_shadowed_light_whole() {
+        let scene = crate::scene::default_scene();
+        let slots = fixed_slots(&scene.lights);
+        let field = |code: u32, shift: u32, bits: u32| (code >> shift) & ((1 << bits) - 1);
+        let sun = slots[0];
+        assert_ne!(sun & g::SHADOW_FIXED_USED, 0);
+        assert_eq!(field(sun, 0, 8), 0, "light index");
+        assert_eq!(field(sun, 8, 8), 0, "first layer");
+        assert_eq!(field(sun, 16, 2), g::SHADOW_GEOMETRY_CASCADES);
+        let cascades = scene.lights[0].shadow.unwrap().cascades;
+        assert_eq!(field(sun, 18, 3), cascades);
+        assert_eq!(field(sun, 21, 2), g::SHADOW_PCF as u32);
+        assert_eq!(field(sun, 23, 5), 2, "PCF taps per side");
+        let lamp = slots[1];
+        assert_eq!(field(lamp, 0, 8), 1);
+        assert_eq!(field(lamp, 8, 8), cascades);
+        assert_eq!(field(lamp, 16, 2), g::SHADOW_GEOMETRY_CUBE);
+        assert_eq!(field(lamp, 18, 3), 6);
+        assert_eq!(&slots[2..], &[0, 0]);
+        let mut many = scene.lights.clone();
+        many.extend(std::iter::repeat_n(scene.lights[1], 3));
+        assert_eq!(fixed_slots(&many), [0; 4]);
+        assert_eq!(
+            fixed_slots(&many[..4]).iter().filter(|&&c| c != 0).count(),
+            4
+        );
+    }
+}

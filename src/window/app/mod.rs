@@ -254,6 +254,8 @@ struct Structure {
     light_kinds: u32,
     /// Per light: the shadow's method, resolution and layers.
     shadows: Vec<Option<(crate::scene::ShadowMethod, u32, u32)>>,
+    /// The forward pass's fixed shadow slots (the PCF kernel is one of their fields).
+    shadow_slots: [u32; 4],
     fog: bool,
     saturation: crate::scene::Saturation,
     msaa: u32,
@@ -285,6 +287,7 @@ impl Structure {
                 .iter()
                 .map(crate::render::shadow::structure_of)
                 .collect(),
+            shadow_slots: crate::render::shadow::fixed_slots(&scene.lights),
             fog: scene.fog.is_some(),
             saturation: scene.saturation,
             msaa: scene.output.msaa,
