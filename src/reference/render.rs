@@ -506,7 +506,10 @@ impl Prepared {
         }
     }
 
-    /// Whether a shadow-casting object meets the ray `o + t d` for t in (0, `t_max`).
+    /// Whether a shadow-casting object meets the ray `o + t d` for t in (0, `t_max`) where it
+    /// casts: everywhere for an opaque material, where its alpha reaches
+    /// [`AlphaMode::shadow_cutoff`] for a mask or a blended one (the ray goes on through the
+    /// cut-out parts, as the GPU's depth pass discards them).
     fn occluded(&self, o: Vec3, d: Vec3, t_max: f32) -> bool {
         let inv = Vec3::ONE / d;
         self.objects.iter().any(|obj| {
@@ -524,7 +527,21 @@ impl Prepared {
                 o: obj.to_local.transform_point3(o),
                 d: obj.to_local.transform_vector3(d),
             };
-            obj.shape.intersect(&local, 0.0, t_max).is_some()
+            let cut = self
+                .materials
+                .get(obj.material)
+                .and_then(|m| m.alpha_mode.shadow_cutoff().map(|c| (m, c)));
+            let mut t0 = 0.0;
+            // Each pass starts past the last hit, so the loop ends after the surfaces on the ray.
+            while let Some((t, part)) = obj.shape.intersect(&local, t0, t_max) {
+                match cut {
+                    Some((mat, cutoff)) if self.alpha_at(obj, mat, (t, part, &local)) < cutoff => {
+                        t0 = next_t(t);
+                    }
+                    _ => return true,
+                }
+            }
+            false
         })
     }
 
@@ -849,6 +866,9 @@ fn env_light(env: &RefEnv, s: &Surface, v: Vec3, key: [u64; 3], samples: u32) ->
     }
     sum.as_vec3()
 }
+
+#[cfg(test)]
+mod occluded_tests;
 
 #[cfg(test)]
 mod tests {

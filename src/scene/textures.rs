@@ -223,6 +223,23 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// Alpha at or above which a BLEND surface casts a shadow ([`AlphaMode::shadow_cutoff`]).
+pub const BLEND_SHADOW_CUTOFF: f32 = 0.5;
+
+impl AlphaMode {
+    /// The alpha below which a surface casts no shadow, or `None` when alpha does not matter
+    /// (opaque): a mask's cutoff; for BLEND [`BLEND_SHADOW_CUTOFF`], an approximation (a
+    /// shadow map holds one depth per texel, not a fraction of the light: docs/shadows.md#alpha).
+    /// The GPU's depth pass and the CPU reference's shadow rays both use it.
+    pub fn shadow_cutoff(self) -> Option<f32> {
+        match self {
+            AlphaMode::Opaque => None,
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+            AlphaMode::Blend => Some(BLEND_SHADOW_CUTOFF),
+        }
+    }
+}
+
 /// Which faces of a material's meshes are drawn, and how back faces are lit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Sides {

@@ -295,24 +295,33 @@ impl Pipeline {
         })
     }
 
-    /// A depth-only graphics pipeline (no fragment stage, no colour attachment) over triangle
-    /// lists of `vertex`: no culling, depth test and write with `compare`, and dynamic viewport,
+    /// A depth-only graphics pipeline (no colour attachment) over triangle lists of `vertex`,
+    /// with no fragment stage or a `fragment` stage that only discards: no culling, depth test and write with `compare`, and dynamic viewport,
     /// scissor and depth bias (the shadow maps).
     pub fn depth_only(
         ctx: &Arc<Context>,
         layout: &PipelineLayout,
         name: &str,
-        vertex: &ShaderModule,
+        (vertex, fragment): (&ShaderModule, Option<&ShaderModule>),
         input: (
             &[vk::VertexInputBindingDescription],
             &[vk::VertexInputAttributeDescription],
         ),
         (depth_format, compare): (vk::Format, vk::CompareOp),
     ) -> Result<Self, VkError> {
-        let stages = [vk::PipelineShaderStageCreateInfo::default()
+        let mut stages = vec![vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
             .module(vertex.raw)
             .name(MAIN)];
+        // A fragment stage only to discard (alpha-tested shadow casters): no colour output.
+        if let Some(f) = fragment {
+            stages.push(
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::FRAGMENT)
+                    .module(f.raw)
+                    .name(MAIN),
+            );
+        }
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
             .vertex_binding_descriptions(input.0)
             .vertex_attribute_descriptions(input.1);
@@ -358,7 +367,8 @@ impl Pipeline {
         // `dynamic_states`, `rendering`) are locals or borrows that outlive the call; the shader
         // module and `layout` are live objects of this device. Dynamic rendering is enabled by
         // `Context::new`, so a null render pass with `rendering` chained is allowed; a pipeline
-        // without a fragment stage and without colour attachments is valid. That the layout
+        // without a fragment stage (or with one that writes no colour) and without colour
+        // attachments is valid. That the layout
         // matches the shader's interface is the caller's part.
         let raw = unsafe {
             ctx.device

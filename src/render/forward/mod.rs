@@ -334,7 +334,7 @@ impl ForwardPass {
             size: std::mem::size_of::<MaterialPush>() as u32,
         }];
         let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
-        let shadows = ShadowMaps::new(ctx, pool, scene, slot_count)?;
+        let shadows = ShadowMaps::new(ctx, pool, scene, slot_count, &materials.set_layout)?;
         // Sets in index order (asserted in gpu.rs): frame, environment (an empty layout without
         // one, so the materials keep their index), materials, shadows.
         let empty_layout = DescriptorSetLayout::new(ctx, "empty set layout", &[])?;
@@ -735,10 +735,12 @@ impl ForwardPass {
                     vertices: m.vertices.raw,
                     indices: m.indices.raw,
                     index_count: m.index_count,
+                    colors: m.colors.as_ref().map(|c| c.raw),
                 })
                 .collect();
+            let materials = self.materials.sets.as_slice();
             self.shadows
-                .record(cmd, slot, &meshes, timer.as_deref_mut());
+                .record(cmd, slot, (&meshes, materials), timer.as_deref_mut());
         }
         let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];

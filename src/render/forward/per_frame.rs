@@ -48,6 +48,11 @@ impl ForwardPass {
                     sphere,
                     plane: mesh.plane.map(|(p, n)| shadow::world_plane(model, p, n)),
                     receiver,
+                    alpha: scene
+                        .materials
+                        .get(d.material)
+                        .and_then(|m| m.textures.alpha_mode.shadow_cutoff())
+                        .map(|cutoff| (d.material, cutoff)),
                 });
             }
         }

@@ -85,11 +85,22 @@ pub struct Caster {
     pub plane: Option<(Vec3, Vec3)>,
     /// Its own index among the receivers, when it receives too.
     pub receiver: Option<usize>,
+    /// For an alpha-tested caster (a MASK or BLEND material): its material (the index of its
+    /// set in the forward pass's material sets) and the alpha below which it casts nothing
+    /// ([`crate::scene::AlphaMode::shadow_cutoff`]). `None`: opaque, the vertex-only pipeline.
+    pub alpha: Option<(usize, f32)>,
 }
 
-/// One caster drawn into one layer: its mesh, the level's index range (first, count) and its
-/// clip-from-object matrix.
-pub(super) type LayerDraw = (usize, (u32, u32), Mat4);
+/// One caster drawn into one layer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct LayerDraw {
+    mesh: usize,
+    /// The LOD level's index range: first, count.
+    range: (u32, u32),
+    clip: Mat4,
+    /// [`Caster::alpha`].
+    alpha: Option<(usize, f32)>,
+}
 
 /// The level of `levels` (object-space errors, × `scale`) a caster whose bounding sphere is
 /// `sphere` draws into `layer` at `budget` texels ([`crate::scene::lod::choose`]): the error over
@@ -129,7 +140,7 @@ impl ShadowMaps {
         s.draws
             .iter()
             .flatten()
-            .map(|(_, (_, count), _)| u64::from(count / 3))
+            .map(|d| u64::from(d.range.1 / 3))
             .sum()
     }
 }
@@ -140,6 +151,8 @@ pub struct MeshRef {
     pub vertices: vk::Buffer,
     pub indices: vk::Buffer,
     pub index_count: u32,
+    /// Vertex colours (binding 2), for meshes that have them (alpha-tested casters read them).
+    pub colors: Option<vk::Buffer>,
 }
 
 struct Slot {
@@ -169,6 +182,8 @@ pub struct MapReport {
     /// Per layer: casters drawn (of all casters) in slot 0.
     pub drawn: Vec<usize>,
     pub casters: usize,
+    /// Casters (of all) drawn with the alpha-tested pipeline: MASK and BLEND materials.
+    pub alpha_tested: usize,
 }
 
 pub struct ShadowMaps {
@@ -181,7 +196,10 @@ pub struct ShadowMaps {
     slots: Vec<Slot>,
     _pool: DescriptorPool,
     pipeline: Option<pipeline::DepthPipeline>,
+    /// Only for scenes with shadowed lights and alpha-tested casters.
+    masks: Option<pipeline::MaskPipelines>,
     casters: usize,
+    alpha_tested: usize,
     light_count: usize,
     /// The layer records of the last update (what the last recorded frame drew with).
     last_layers: Vec<GpuShadowLayer>,
@@ -199,11 +217,14 @@ pub struct ShadowMaps {
 
 impl ShadowMaps {
     /// The maps `scene`'s shadowed lights need, with `slots` copies of the per-frame data.
+    /// `materials`: the layout of the forward pass's material sets, which alpha-tested casters
+    /// bind (the pipelines for them are made only when the scene has such a caster).
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
         scene: &Scene,
         slots: usize,
+        materials: &DescriptorSetLayout,
     ) -> Result<Self, VkError> {
         let limits = ctx.limits();
         let mut maps = Vec::new();
@@ -451,6 +472,25 @@ impl ShadowMaps {
         } else {
             Some(pipeline::DepthPipeline::new(ctx)?)
         };
+        // Casters whose alpha decides where they cast; with vertex colours or not.
+        let alpha_tested: Vec<bool> = scene
+            .objects
+            .iter()
+            .filter(|o| {
+                o.shadow.cast
+                    && scene
+                        .materials
+                        .get(o.material)
+                        .is_some_and(|m| m.textures.alpha_mode.shadow_cutoff().is_some())
+            })
+            .map(|o| !o.mesh.colors.is_empty())
+            .collect();
+        let masks = if maps.is_empty() || alpha_tested.is_empty() {
+            None
+        } else {
+            let color = alpha_tested.iter().any(|&c| c);
+            Some(pipeline::MaskPipelines::new(ctx, materials, color)?)
+        };
         Ok(Self {
             maps,
             size,
@@ -461,7 +501,9 @@ impl ShadowMaps {
             slots: slot_data,
             _pool: desc_pool,
             pipeline,
+            masks,
             casters: 0,
+            alpha_tested: 0,
             light_count: scene.lights.len(),
             last_layers: Vec::new(),
             drawn: std::sync::Mutex::new(vec![None; layer_count as usize]),
@@ -527,6 +569,7 @@ impl ShadowMaps {
             }
         }
         self.casters = casters.len();
+        self.alpha_tested = casters.iter().filter(|c| c.alpha.is_some()).count();
         let spheres: Vec<Sphere> = casters.iter().map(|c| c.sphere).collect();
         let receiver_spheres: Vec<Sphere> = receivers.iter().map(|r| r.sphere).collect();
         let view = fit::View {
@@ -602,8 +645,12 @@ impl ShadowMaps {
                     .collect();
                 s.draws[index].extend(reached.iter().map(|c| {
                     let l = c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
-                    let range = (l.first_index, l.index_count);
-                    (c.mesh, range, layer.view_proj * c.model)
+                    LayerDraw {
+                        mesh: c.mesh,
+                        range: (l.first_index, l.index_count),
+                        clip: layer.view_proj * c.model,
+                        alpha: c.alpha,
+                    }
                 }));
             }
         }
@@ -614,13 +661,14 @@ impl ShadowMaps {
         Ok(())
     }
 
-    /// Records slot `slot`'s maps (timed as "shadows"): each layer cleared and its casters drawn,
-    /// then the image made readable by the vertex and fragment stages. Nothing without shadows.
+    /// Records slot `slot`'s maps (timed as "shadows"): each layer cleared and its casters drawn
+    /// (alpha-tested ones with their material's set of `materials`, by material index), then the
+    /// image made readable by the vertex and fragment stages. Nothing without shadows.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
         slot: usize,
-        meshes: &[MeshRef],
+        (meshes, materials): (&[MeshRef], &[vk::DescriptorSet]),
         timer: Option<&mut GpuTimer>,
     ) {
         let Some(pipeline) = &self.pipeline else {
@@ -696,8 +744,8 @@ impl ShadowMaps {
                     cmd,
                     self.layer_views[index],
                     (res, m.shadow.slope_bias),
-                    &s.draws[index],
-                    meshes,
+                    (&s.draws[index], meshes),
+                    self.masks.as_ref().map(|p| (p, materials)),
                 );
             }
         }
@@ -739,6 +787,7 @@ impl ShadowMaps {
                     .map(|k| self.slots[0].draws[(m.first_layer + k) as usize].len())
                     .collect(),
                 casters: self.casters,
+                alpha_tested: self.alpha_tested,
             })
             .collect()
     }
@@ -746,15 +795,21 @@ impl ShadowMaps {
 
 impl MapReport {
     /// One line for `luz render --verbose`: "light 0: pcf 3x3, 3 layers of 2048², 48.0 MiB,
-    /// casters drawn per layer 5 4 2 of 5".
+    /// casters drawn per layer 5 4 2 of 5", and ", 2 alpha-tested" when some casters are.
     pub fn describe(&self, kernel: u32) -> String {
         let method = match self.method {
             ShadowMethod::Pcf => format!("pcf {kernel}x{kernel}"),
             m => m.name().to_string(),
         };
         let drawn: Vec<String> = self.drawn.iter().map(|d| d.to_string()).collect();
+        let alpha = if self.alpha_tested > 0 {
+            format!(", {} alpha-tested", self.alpha_tested)
+        } else {
+            String::new()
+        };
         format!(
-            "light {}: {method}, {} layer{} of {}², {:.1} MiB, casters drawn per layer {} of {}",
+            "light {}: {method}, {} layer{} of {}², {:.1} MiB, casters drawn per layer {} of \
+             {}{alpha}",
             self.light,
             self.layers,
             if self.layers == 1 { "" } else { "s" },

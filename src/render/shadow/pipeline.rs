@@ -1,21 +1,172 @@
-//! The shadow pass's depth-only pipeline (`shadow.vert`, no fragment stage) and the recording of
-//! one map layer.
+//! The shadow pass's pipelines and the recording of one map layer: the depth-only pipeline
+//! (`shadow.vert`, no fragment stage) for opaque casters and, only in scenes with alpha-tested
+//! casters, [`MaskPipelines`] (`shadow_mask.vert` / `shadow_mask.frag`), which discard where the
+//! base colour's alpha is below the caster's cutoff.
 
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Mat4;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
 
-use super::{MeshRef, FORMAT, VERTEX_STRIDE};
-use crate::vk::pipeline::{Pipeline, PipelineLayout};
+use super::{LayerDraw, MeshRef, FORMAT, VERTEX_STRIDE};
+use crate::render::gpu::glsl::include_shadow_mask as m;
+use crate::vk::pipeline::{DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Context, VkError};
+
+// The mask shaders bind the forward pass's material set as it is (src/render/material.rs).
+const _: () = assert!(
+    m::SHADOW_MASK_SET as u32 == crate::render::material::SET_MATERIAL
+        && m::SHADOW_MASK_BINDING_EXTRA as u32 == crate::render::material::BINDING_EXTRA
+        && m::SHADOW_MASK_MAP_BASE_COLOR
+            == crate::render::gpu::glsl::include_bindings::MAP_BASE_COLOR
+);
+
+/// `ShadowMaskPush` of include/shadow_mask.glsl.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct MaskPush {
+    clip_from_object: Mat4,
+    /// x: the alpha cutoff.
+    params: Vec4,
+}
+
+/// Vertex positions (binding 0, location 0) and, for the mask pipelines, texture coordinates
+/// (location 2) and the vertex colours (binding 2, location 5), as the forward pass reads them.
+fn vertex_input(
+    uv: bool,
+    color: bool,
+) -> (
+    Vec<vk::VertexInputBindingDescription>,
+    Vec<vk::VertexInputAttributeDescription>,
+) {
+    let mut bindings = vec![vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: VERTEX_STRIDE,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let mut attributes = vec![vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 0,
+    }];
+    if uv {
+        attributes.push(vk::VertexInputAttributeDescription {
+            location: 2,
+            binding: 0,
+            format: vk::Format::R32G32_SFLOAT,
+            offset: std::mem::offset_of!(crate::render::gpu::Vertex, uv) as u32,
+        });
+    }
+    if color {
+        bindings.push(vk::VertexInputBindingDescription {
+            binding: 2,
+            stride: 16,
+            input_rate: vk::VertexInputRate::VERTEX,
+        });
+        attributes.push(vk::VertexInputAttributeDescription {
+            location: 5,
+            binding: 2,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 0,
+        });
+    }
+    (bindings, attributes)
+}
+
+/// A depth pipeline of `vertex` (and `fragment`) with `layout`. Reversed depth: the nearest
+/// surface to the light has the largest value.
+fn depth_pipeline(
+    ctx: &Arc<Context>,
+    layout: &PipelineLayout,
+    name: &str,
+    modules: (&ShaderModule, Option<&ShaderModule>),
+    (uv, color): (bool, bool),
+) -> Result<Pipeline, VkError> {
+    let (bindings, attributes) = vertex_input(uv, color);
+    Pipeline::depth_only(
+        ctx,
+        layout,
+        name,
+        modules,
+        (&bindings, &attributes),
+        (FORMAT, vk::CompareOp::GREATER_OR_EQUAL),
+    )
+}
 
 pub(super) struct DepthPipeline {
     pipeline: Pipeline,
     layout: PipelineLayout,
     _module: ShaderModule,
     ctx: Arc<Context>,
+}
+
+/// The alpha-tested casters' pipelines: one for meshes without vertex colours and, when some
+/// alpha-tested caster has them, one reading their alpha too. Set 2 is the forward pass's
+/// material set (base colour map and `MaterialExtra`, bound as the forward pass binds them).
+pub(super) struct MaskPipelines {
+    plain: Pipeline,
+    color: Option<Pipeline>,
+    layout: PipelineLayout,
+    _empty: DescriptorSetLayout,
+    _modules: Vec<ShaderModule>,
+}
+
+impl MaskPipelines {
+    /// The pipelines over `materials` (the forward pass's material set layout); `color`: also
+    /// the one for meshes with vertex colours.
+    pub(super) fn new(
+        ctx: &Arc<Context>,
+        materials: &DescriptorSetLayout,
+        color: bool,
+    ) -> Result<Self, VkError> {
+        let vert = ShaderModule::new(ctx, "shadow_mask.vert:plain")?;
+        let frag = ShaderModule::new(ctx, "shadow_mask.frag")?;
+        let push = [vk::PushConstantRange {
+            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            offset: 0,
+            size: std::mem::size_of::<MaskPush>() as u32,
+        }];
+        // Sets 0 and 1 unused: empty, so the material set keeps its index.
+        let empty = DescriptorSetLayout::new(ctx, "shadow mask empty set layout", &[])?;
+        let layout = PipelineLayout::new(
+            ctx,
+            "shadow mask layout",
+            &[&empty, &empty, materials],
+            &push,
+        )?;
+        let plain = depth_pipeline(
+            ctx,
+            &layout,
+            "shadow pass (alpha-tested)",
+            (&vert, Some(&frag)),
+            (true, false),
+        )?;
+        let mut modules = vec![vert, frag];
+        let color = if color {
+            let vert = ShaderModule::new(ctx, "shadow_mask.vert:color")?;
+            let p = depth_pipeline(
+                ctx,
+                &layout,
+                "shadow pass (alpha-tested, vertex colours)",
+                (&vert, Some(&modules[1])),
+                (true, true),
+            )?;
+            modules.push(vert);
+            Some(p)
+        } else {
+            None
+        };
+        Ok(Self {
+            plain,
+            color,
+            layout,
+            _empty: empty,
+            _modules: modules,
+        })
+    }
 }
 
 impl DepthPipeline {
@@ -27,26 +178,8 @@ impl DepthPipeline {
             size: std::mem::size_of::<Mat4>() as u32,
         }];
         let layout = PipelineLayout::new(ctx, "shadow pass layout", &[], &push)?;
-        let bindings = [vk::VertexInputBindingDescription {
-            binding: 0,
-            stride: VERTEX_STRIDE,
-            input_rate: vk::VertexInputRate::VERTEX,
-        }];
-        let attributes = [vk::VertexInputAttributeDescription {
-            location: 0,
-            binding: 0,
-            format: vk::Format::R32G32B32_SFLOAT,
-            offset: 0,
-        }];
-        // Reversed depth: the nearest surface to the light has the largest value.
-        let pipeline = Pipeline::depth_only(
-            ctx,
-            &layout,
-            "shadow pass",
-            &module,
-            (&bindings, &attributes),
-            (FORMAT, vk::CompareOp::GREATER_OR_EQUAL),
-        )?;
+        let pipeline =
+            depth_pipeline(ctx, &layout, "shadow pass", (&module, None), (false, false))?;
         Ok(Self {
             pipeline,
             layout,
@@ -55,15 +188,17 @@ impl DepthPipeline {
         })
     }
 
-    /// Clears `view` (one layer) and draws `draws` (mesh, index range, clip-from-object) into its top-left
-    /// `resolution`² texels, pushed away from the light by `slope_bias` per unit of depth slope.
+    /// Clears `view` (one layer) and draws `draws` into its top-left `resolution`² texels,
+    /// pushed away from the light by `slope_bias` per unit of depth slope: the opaque casters
+    /// with this pipeline, then the alpha-tested ones with `masked`'s, each with its material's
+    /// set of `masked.1` (by material index).
     pub(super) fn record_layer(
         &self,
         cmd: vk::CommandBuffer,
         view: vk::ImageView,
         (resolution, slope_bias): (u32, f32),
-        draws: &[super::LayerDraw],
-        meshes: &[MeshRef],
+        (draws, meshes): (&[LayerDraw], &[MeshRef]),
+        masked: Option<(&MaskPipelines, &[vk::DescriptorSet])>,
     ) {
         let d = &self.ctx.device;
         let area = vk::Rect2D {
@@ -88,12 +223,22 @@ impl DepthPipeline {
             .render_area(area)
             .layer_count(1)
             .depth_attachment(&depth);
+        // A draw's mesh, when it has indices to draw.
+        let mesh_of = |draw: &LayerDraw| {
+            let (_, count) = draw.range;
+            meshes.get(draw.mesh).filter(|_| count > 0)
+        };
         // SAFETY: `cmd` is recording outside any rendering instance (ShadowMaps::record, before
         // the frame's passes) with `view`'s layer in DEPTH_ATTACHMENT_OPTIMAL (its barrier just
-        // before); `info` and `depth` outlive the calls; the pipeline, its layout and every mesh
-        // buffer belong to live objects that outlive the command buffer's execution (the owners
-        // wait before dropping them); the pushed bytes are one Mat4, the layout's range; the
-        // render area lies inside the layer (resolution ≤ the image's size).
+        // before); `info` and `depth` outlive the calls; the pipelines, their layouts, every
+        // mesh buffer and the material sets belong to live objects that outlive the command
+        // buffer's execution (the owners wait before dropping them); each push matches its
+        // layout's range (one Mat4; a MaskPush for the mask layout, both stages); the material
+        // sets were allocated with the material set layout the mask layout's set 2 is, and their
+        // images are in SHADER_READ_ONLY_OPTIMAL since their upload; a mesh with vertex colours
+        // drawn with the colour pipeline binds its colour buffer at binding 2; the render area
+        // lies inside the layer (resolution ≤ the image's size). Viewport, scissor and depth
+        // bias are dynamic in every pipeline, so they stay set across the pipeline binds.
         unsafe {
             d.cmd_begin_rendering(cmd, &info);
             d.cmd_set_viewport(
@@ -113,26 +258,71 @@ impl DepthPipeline {
             // Reversed depth: away from the light is towards 0.
             d.cmd_set_depth_bias(cmd, 0.0, 0.0, -slope_bias);
             let mut bound = None;
-            for (mesh, (first, count), m) in draws {
-                let Some(mr) = meshes.get(*mesh) else {
-                    continue;
-                };
-                if *count == 0 {
-                    continue;
-                }
-                if bound != Some(*mesh) {
+            for draw in draws.iter().filter(|dr| dr.alpha.is_none()) {
+                let Some(mr) = mesh_of(draw) else { continue };
+                if bound != Some(draw.mesh) {
                     d.cmd_bind_vertex_buffers(cmd, 0, &[mr.vertices], &[0]);
                     d.cmd_bind_index_buffer(cmd, mr.indices, 0, vk::IndexType::UINT32);
-                    bound = Some(*mesh);
+                    bound = Some(draw.mesh);
                 }
                 d.cmd_push_constants(
                     cmd,
                     self.layout.raw,
                     vk::ShaderStageFlags::VERTEX,
                     0,
-                    bytemuck::bytes_of(m),
+                    bytemuck::bytes_of(&draw.clip),
                 );
-                d.cmd_draw_indexed(cmd, *count, 1, *first, 0, 0);
+                d.cmd_draw_indexed(cmd, draw.range.1, 1, draw.range.0, 0, 0);
+            }
+            if let Some((mask, sets)) = masked {
+                let (mut bound_mesh, mut bound_pipeline, mut bound_set) = (None, None, None);
+                for draw in draws {
+                    let Some((material, cutoff)) = draw.alpha else {
+                        continue;
+                    };
+                    let (Some(mr), Some(&set)) = (mesh_of(draw), sets.get(material)) else {
+                        continue;
+                    };
+                    let (pipeline, colors) = match (&mask.color, mr.colors) {
+                        (Some(p), Some(c)) => (p.raw, Some(c)),
+                        _ => (mask.plain.raw, None),
+                    };
+                    if bound_pipeline != Some(pipeline) {
+                        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                        bound_pipeline = Some(pipeline);
+                    }
+                    if bound_set != Some(set) {
+                        d.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::GRAPHICS,
+                            mask.layout.raw,
+                            m::SHADOW_MASK_SET as u32,
+                            &[set],
+                            &[],
+                        );
+                        bound_set = Some(set);
+                    }
+                    if bound_mesh != Some(draw.mesh) {
+                        d.cmd_bind_vertex_buffers(cmd, 0, &[mr.vertices], &[0]);
+                        if let Some(c) = colors {
+                            d.cmd_bind_vertex_buffers(cmd, 2, &[c], &[0]);
+                        }
+                        d.cmd_bind_index_buffer(cmd, mr.indices, 0, vk::IndexType::UINT32);
+                        bound_mesh = Some(draw.mesh);
+                    }
+                    let push = MaskPush {
+                        clip_from_object: draw.clip,
+                        params: Vec4::new(cutoff, 0.0, 0.0, 0.0),
+                    };
+                    d.cmd_push_constants(
+                        cmd,
+                        mask.layout.raw,
+                        vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                        0,
+                        bytemuck::bytes_of(&push),
+                    );
+                    d.cmd_draw_indexed(cmd, draw.range.1, 1, draw.range.0, 0, 0);
+                }
             }
             d.cmd_end_rendering(cmd);
         }
