@@ -172,6 +172,27 @@ const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 80);
 const _: () = assert!(std::mem::size_of::<FrameData>() == 4 * 64 + 4 * 16 + 16 + 16);
 
+/// The vertex colour stream (binding 2, one RGBA32F per vertex, read at location 5) of the
+/// forward pass's `*_color` modules and of the alpha-tested shadow depth pass.
+pub fn vertex_color_input() -> (
+    ash::vk::VertexInputBindingDescription,
+    ash::vk::VertexInputAttributeDescription,
+) {
+    (
+        ash::vk::VertexInputBindingDescription {
+            binding: 2,
+            stride: 16,
+            input_rate: ash::vk::VertexInputRate::VERTEX,
+        },
+        ash::vk::VertexInputAttributeDescription {
+            location: 5,
+            binding: 2,
+            format: ash::vk::Format::R32G32B32A32_SFLOAT,
+            offset: 0,
+        },
+    )
+}
+
 /// One vertex: position, normal, uv, tangent (xyz + handedness).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug, Default)]

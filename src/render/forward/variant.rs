@@ -480,17 +480,9 @@ pub(super) fn vertex_input(
         ]);
     }
     if v.vertex_color {
-        bindings.push(vk::VertexInputBindingDescription {
-            binding: 2,
-            stride: 16,
-            input_rate: vk::VertexInputRate::VERTEX,
-        });
-        attributes.push(vk::VertexInputAttributeDescription {
-            location: 5,
-            binding: 2,
-            format: vk::Format::R32G32B32A32_SFLOAT,
-            offset: 0,
-        });
+        let (binding, attribute) = crate::render::gpu::vertex_color_input();
+        bindings.push(binding);
+        attributes.push(attribute);
     }
     if v.shading == ShadingKey::Flat {
         bindings.push(vk::VertexInputBindingDescription {
