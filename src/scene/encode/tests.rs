@@ -73,6 +73,13 @@ fn canon_textures(t: &MaterialTextures) -> MaterialTextures {
 fn canon_desc(d: &MeshDesc) -> MeshDesc {
     match d {
         MeshDesc::Obj { path } => MeshDesc::Obj { path: canon(path) },
+        MeshDesc::Gltf { path, .. } => {
+            let mut d = d.clone();
+            if let MeshDesc::Gltf { path: p, .. } = &mut d {
+                *p = canon(path);
+            }
+            d
+        }
         d => d.clone(),
     }
 }
