@@ -540,15 +540,7 @@ impl Headless {
             &self.readback,
             self.target.extent(),
         );
-        crate::vk::cmd::memory_barrier(
-            &d,
-            cmd,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
+        crate::vk::cmd::copy_to_host_barrier(&d, cmd);
         if let Some(t) = &mut self.timer {
             t.end(cmd, slot);
         }

@@ -828,15 +828,7 @@ pub fn compare_images(
             }],
         );
         crate::vk::cmd::copy_image_to_buffer(&d, cmd, pass.map.raw, src.0, &out, extent);
-        memory_barrier(
-            &d,
-            cmd,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
+        crate::vk::cmd::copy_to_host_barrier(&d, cmd);
         Ok(())
     })?;
     let n = a.pixels.len();

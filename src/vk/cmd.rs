@@ -139,6 +139,20 @@ pub fn memory_barrier(
     unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
 }
 
+/// Makes transfer writes (copies into host-visible buffers) visible to host reads after the
+/// submission's fence.
+pub fn copy_to_host_barrier(device: &ash::Device, cmd: vk::CommandBuffer) {
+    memory_barrier(
+        device,
+        cmd,
+        (
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        ),
+        (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+    );
+}
+
 /// Copies the colour of mip 0, layer 0 of `image` (in `layout`) over `extent` into `buffer`,
 /// tightly packed.
 pub fn copy_image_to_buffer(
@@ -234,15 +248,7 @@ pub fn read_to_host(
                 to: state,
             }],
         );
-        memory_barrier(
-            d,
-            cmd,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
+        copy_to_host_barrier(d, cmd);
         Ok(())
     })?;
     Ok(buf.mapped()?[..total as usize].to_vec())

@@ -577,6 +577,10 @@ impl ForwardPass {
         self.set_order(slot, order, levels)?;
         self.update_shadows(slot, scene, aspect)?;
         self.write_clusters(slot, scene, aspect)?;
+        let (light_kinds, shadow_slots) = (
+            gpu::light_kinds(&scene.lights),
+            crate::render::shadow::fixed_slots(&scene.lights),
+        );
         for draw in &mut self.draws {
             let obj = &scene.objects[draw.object];
             let material = &scene.materials[obj.material].material;
@@ -586,9 +590,8 @@ impl ForwardPass {
             if model != draw.variant.model
                 || (!generic
                     && (terms != draw.variant.terms
-                        || gpu::light_kinds(&scene.lights) != draw.variant.light_kinds
-                        || crate::render::shadow::fixed_slots(&scene.lights)
-                            != draw.variant.shadow_slots))
+                        || light_kinds != draw.variant.light_kinds
+                        || shadow_slots != draw.variant.shadow_slots))
             {
                 return Err(VkError::Setup(format!(
                     "object {}: material model, BRDF terms, light kinds or shadowed lights changed; rebuild the forward pass",

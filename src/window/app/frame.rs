@@ -514,15 +514,7 @@ impl Viewer {
             }],
         );
         if shot.is_some() || self.lab_copies.any() {
-            crate::vk::cmd::memory_barrier(
-                &d,
-                cmd,
-                (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-            );
+            crate::vk::cmd::copy_to_host_barrier(&d, cmd);
         }
         self.frames[slot].timer = timer;
         Ok(shot)
