@@ -390,6 +390,12 @@ impl Headless {
         self.forward.lod_stats().clone()
     }
 
+    /// What the receiver test left out: lookups compiled out of draws no shadow can reach, and
+    /// draws with lookups only where shadows can fall on screen.
+    pub fn shadow_receivers(&self) -> crate::render::forward::ReceiverStats {
+        self.forward.shadow_receivers()
+    }
+
     /// Per shadowed light: its maps, their memory and the casters drawn into each layer.
     pub fn shadow_maps(&self) -> Vec<crate::render::shadow::MapReport> {
         self.forward.shadow_maps().report()

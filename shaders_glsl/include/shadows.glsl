@@ -121,6 +121,8 @@ layout(constant_id = 22) const uint SHADOW_FIXED_3 = 0u;
 // method, 23–27 PCF taps per side; bit 31 set in every used slot.
 #define SHADOW_FIXED_SLOTS 4
 #define SHADOW_FIXED_USED 2147483648u
+// Set in a draw's slot when the draw does not receive that light's shadow: no lookup compiled.
+#define SHADOW_FIXED_SKIP 268435456u
 #define SHADOW_GEOMETRY_CASCADES 0u
 #define SHADOW_GEOMETRY_SINGLE 1u
 #define SHADOW_GEOMETRY_CUBE 2u
@@ -261,10 +263,10 @@ float shadow_fixed(uint code, vec3 P, vec3 N) {
 // Every fixed slot's visibility at P (1 where the slot is unused).
 vec4 shadow_fixed_all(vec3 P, vec3 N) {
     vec4 v = vec4(1.0);
-    if (SHADOW_FIXED_0 != 0u) v.x = shadow_fixed(SHADOW_FIXED_0, P, N);
-    if (SHADOW_FIXED_1 != 0u) v.y = shadow_fixed(SHADOW_FIXED_1, P, N);
-    if (SHADOW_FIXED_2 != 0u) v.z = shadow_fixed(SHADOW_FIXED_2, P, N);
-    if (SHADOW_FIXED_3 != 0u) v.w = shadow_fixed(SHADOW_FIXED_3, P, N);
+    if (SHADOW_FIXED_0 != 0u && (SHADOW_FIXED_0 & SHADOW_FIXED_SKIP) == 0u) v.x = shadow_fixed(SHADOW_FIXED_0, P, N);
+    if (SHADOW_FIXED_1 != 0u && (SHADOW_FIXED_1 & SHADOW_FIXED_SKIP) == 0u) v.y = shadow_fixed(SHADOW_FIXED_1, P, N);
+    if (SHADOW_FIXED_2 != 0u && (SHADOW_FIXED_2 & SHADOW_FIXED_SKIP) == 0u) v.z = shadow_fixed(SHADOW_FIXED_2, P, N);
+    if (SHADOW_FIXED_3 != 0u && (SHADOW_FIXED_3 & SHADOW_FIXED_SKIP) == 0u) v.w = shadow_fixed(SHADOW_FIXED_3, P, N);
     return v;
 }
 

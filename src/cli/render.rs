@@ -100,6 +100,13 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                 let kernel = scene.lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
                 println!("  {}", m.describe(kernel));
             }
+            let r = renderer.shadow_receivers();
+            println!(
+                "shadow receivers: {} of {} (object, shadowed light) lookups compiled out (no \
+                 caster can darken the object); {} object(s) with lookups only inside the screen \
+                 rectangle shadows can reach (LUZ_SHADOW_RECEIVERS=0: lookups everywhere)",
+                r.skipped, r.pairs, r.split
+            );
         }
         println!("{}", light_loop_line(renderer.cluster_stats()));
     }

@@ -160,6 +160,7 @@ pub(super) fn build_draws(
                 )?;
                 meshes.push(GpuMesh {
                     sphere: frustum::sphere(obj.mesh.bounds()),
+                    tight: tight_sphere(&obj.mesh),
                     bounds: obj.mesh.bounds(),
                     plane: obj.mesh.flat_plane(),
                     levels: levels.into(),
@@ -236,6 +237,7 @@ pub(super) fn build_draws(
                 }
             },
             push,
+            shadow_area: None,
         });
     }
     Ok(Draws {
@@ -548,4 +550,18 @@ impl Slot {
         }
         Ok(())
     }
+}
+
+/// The centre of `mesh`'s bounds and the distance from it to its farthest vertex: a bounding
+/// sphere as tight as the box's allows (a sphere mesh's own radius, where the box's corner
+/// sphere is √3 times larger).
+fn tight_sphere(mesh: &crate::scene::Mesh) -> (glam::Vec3, f32) {
+    let (lo, hi) = mesh.bounds();
+    let c = (lo + hi) * 0.5;
+    let r = mesh
+        .positions
+        .iter()
+        .map(|p| (*p - c).length())
+        .fold(0.0f32, f32::max);
+    (c, r)
 }

@@ -23,6 +23,8 @@ fn same_draw((a, la): (&Draw, u8), (b, lb): (&Draw, u8)) -> bool {
     };
     a.mesh == b.mesh
         && la == lb
+        && a.shadow_area.is_none()
+        && b.shadow_area.is_none()
         && a.variant == b.variant
         && a.material == b.material
         && a.cull == b.cull

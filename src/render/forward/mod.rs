@@ -26,6 +26,7 @@ pub(crate) mod frustum;
 mod instances;
 mod lod;
 mod per_frame;
+mod record;
 mod variant;
 
 use build::{build_draws, draw_order, frame_set_layout, storage_fits, Draws};
@@ -34,12 +35,15 @@ pub use clusters::{ClusterStats, LightLoop};
 
 pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};
 
+pub use per_frame::ReceiverStats;
 use variant::{create_pipeline, create_skybox, Modules};
 pub use variant::{AlphaKey, DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 
 struct GpuMesh {
     /// Object-space bounding sphere (frustum culling, [`frustum`]).
     sphere: (glam::Vec3, f32),
+    /// The bounds' centre and the farthest vertex from it (where shadows can fall).
+    tight: (glam::Vec3, f32),
     /// Object-space bounds (the shadow passes' receivers).
     bounds: (glam::Vec3, glam::Vec3),
     /// Object-space plane of a flat mesh (point, unit normal): `scene::Mesh::flat_plane`.
@@ -65,6 +69,9 @@ struct Draw {
     cull: bool,
     variant: VariantKey,
     push: MaterialPush,
+    /// Where (NDC x0, y0, x1, y1) the shadow lookups of `variant` are needed; elsewhere the
+    /// draw is recorded with [`VariantKey::unshadowed`] (`record::split`). `None`: everywhere.
+    shadow_area: Option<[f32; 4]>,
 }
 
 /// Maps and light kinds of a generic ("all features") pipeline (its terms are
@@ -471,10 +478,10 @@ impl ForwardPass {
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
-        pass.prepare(output)?;
         for slot in 0..slot_count {
             pass.update(slot, scene, aspect)?;
         }
+        pass.prepare(output)?;
         Ok(pass)
     }
 
@@ -484,8 +491,17 @@ impl ForwardPass {
         if let Some(d) = &mut self.deferred {
             return d.prepare(output);
         }
-        let needed: std::collections::BTreeSet<VariantKey> =
-            self.draws.iter().map(|d| d.variant).collect();
+        let needed: std::collections::BTreeSet<VariantKey> = self
+            .draws
+            .iter()
+            .flat_map(|d| {
+                [
+                    Some(d.variant),
+                    d.shadow_area.map(|_| d.variant.unshadowed()),
+                ]
+            })
+            .flatten()
+            .collect();
         for v in needed {
             if self.pipelines.contains_key(&(v, output)) {
                 continue;
@@ -591,7 +607,8 @@ impl ForwardPass {
                 || (!generic
                     && (terms != draw.variant.terms
                         || light_kinds != draw.variant.light_kinds
-                        || shadow_slots != draw.variant.shadow_slots))
+                        || shadow_slots
+                            != draw.variant.shadow_slots.map(|c| c & !shadow::FIXED_SKIP)))
             {
                 return Err(VkError::Setup(format!(
                     "object {}: material model, BRDF terms, light kinds or shadowed lights changed; rebuild the forward pass",
@@ -768,19 +785,39 @@ impl ForwardPass {
                 (output, clear),
                 (set, shadow_set),
                 timer,
-                |pipeline| self.record_draws(cmd, (set, shadow_set, order), |_| pipeline),
+                |pipeline| {
+                    let full = vk::Rect2D {
+                        extent: target.extent,
+                        ..Default::default()
+                    };
+                    self.record_draws(
+                        cmd,
+                        (set, shadow_set, order),
+                        |_| (pipeline, pipeline),
+                        full,
+                    )
+                },
             );
             return Ok(());
         }
         let mut pipelines = Vec::new();
         for draw in &self.draws {
-            let p = self.pipelines.get(&(draw.variant, output)).ok_or_else(|| {
-                VkError::Setup(format!(
-                    "forward: the pipeline {} for {output:?} was not prepared",
-                    draw.variant
-                ))
-            })?;
-            pipelines.push(p.raw);
+            let get = |v: VariantKey| {
+                self.pipelines
+                    .get(&(v, output))
+                    .map(|p| p.raw)
+                    .ok_or_else(|| {
+                        VkError::Setup(format!(
+                            "forward: the pipeline {v} for {output:?} was not prepared"
+                        ))
+                    })
+            };
+            let own = get(draw.variant)?;
+            let outside = match draw.shadow_area {
+                Some(_) => get(draw.variant.unshadowed())?,
+                None => own,
+            };
+            pipelines.push((own, outside));
         }
         let skybox = match (self.has_skybox, self.skyboxes.get(&output)) {
             (false, _) => None,
@@ -861,6 +898,7 @@ impl ForwardPass {
             cmd,
             (set, shadow_set, (&order[..blended], levels, 0)),
             |i| pipelines[i],
+            area,
         );
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe {
@@ -871,127 +909,12 @@ impl ForwardPass {
             }
         }
         let rest = (&order[blended..], levels, blended);
-        self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i]);
+        self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);
         // SAFETY: as above; the draws left the rendering instance open.
         unsafe { d.cmd_end_rendering(cmd) };
         if let Some(t) = timer {
             t.end(cmd, timed);
         }
         Ok(())
-    }
-    /// Binds the frame set `set` (and the environment set) and records, inside the caller's
-    /// rendering instance, the draws of `order` (draw indices; entries from `first` on of the
-    /// slot's order, whose instance buffer names their objects) at their LOD level (`levels`, by
-    /// draw; 0 when empty) with `pipeline_of(draw index)`: one instanced draw per run of draws
-    /// that share mesh, level, pipeline and material ([`instances::runs`]).
-    fn record_draws(
-        &self,
-        cmd: vk::CommandBuffer,
-        (set, shadow_set, (order, levels, first)): (
-            vk::DescriptorSet,
-            vk::DescriptorSet,
-            (&[usize], &[u8], usize),
-        ),
-        pipeline_of: impl Fn(usize) -> vk::Pipeline,
-    ) {
-        let d = &self.ctx.device;
-        // SAFETY: `cmd` is recording inside a rendering instance on attachments of the pipelines'
-        // formats (both callers); every pipeline, set and buffer bound here belongs to this pass
-        // and outlives the command buffer's execution (the owner waits before dropping it); the
-        // push-constant bytes are a `MaterialPush`, the layout's range.
-        unsafe {
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                gpu::SET_FRAME,
-                &[set],
-                &[],
-            );
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.raw,
-                shadow::SET_SHADOW,
-                &[shadow_set],
-                &[],
-            );
-            if let Some(env) = self.env_set {
-                d.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.layout.raw,
-                    gpu::SET_ENV,
-                    &[env],
-                    &[],
-                );
-            }
-            let mut bound: Option<vk::Pipeline> = None;
-            let mut bound_material: Option<usize> = None;
-            let mut bound_cull: Option<bool> = None;
-            let mut bound_mesh: Option<usize> = None;
-            for (start, count) in instances::runs(&self.draws, (order, levels), self.instancing) {
-                let i = order[start];
-                let draw = &self.draws[i];
-                let pipeline = pipeline_of(i);
-                if bound_cull != Some(draw.cull) {
-                    d.cmd_set_cull_mode(
-                        cmd,
-                        if draw.cull {
-                            vk::CullModeFlags::BACK
-                        } else {
-                            vk::CullModeFlags::NONE
-                        },
-                    );
-                    bound_cull = Some(draw.cull);
-                }
-                if bound_material != Some(draw.material) {
-                    if let Some(&set) = self.materials.sets.get(draw.material) {
-                        d.cmd_bind_descriptor_sets(
-                            cmd,
-                            vk::PipelineBindPoint::GRAPHICS,
-                            self.layout.raw,
-                            SET_MATERIAL,
-                            &[set],
-                            &[],
-                        );
-                    }
-                    bound_material = Some(draw.material);
-                }
-                if bound != Some(pipeline) {
-                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                    bound = Some(pipeline);
-                }
-                let m = &self.meshes[draw.mesh];
-                // Objects sharing a mesh (grid49's 49 spheres) bind its buffers once.
-                if bound_mesh != Some(draw.mesh) {
-                    d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
-                    if let Some(c) = &m.centroids {
-                        d.cmd_bind_vertex_buffers(cmd, 1, &[c.raw], &[0]);
-                    }
-                    if let Some(c) = &m.colors {
-                        d.cmd_bind_vertex_buffers(cmd, 2, &[c.raw], &[0]);
-                    }
-                    d.cmd_bind_index_buffer(cmd, m.indices.raw, 0, vk::IndexType::UINT32);
-                    bound_mesh = Some(draw.mesh);
-                }
-                d.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    STAGES,
-                    0,
-                    bytemuck::bytes_of(&draw.push),
-                );
-                let level = m.levels[levels.get(i).copied().unwrap_or(0) as usize];
-                d.cmd_draw_indexed(
-                    cmd,
-                    level.index_count,
-                    count as u32,
-                    level.first_index,
-                    0,
-                    (first + start) as u32,
-                );
-            }
-        }
     }
 }

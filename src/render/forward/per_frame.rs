@@ -1,7 +1,7 @@
 //! What the forward pass refreshes per frame and slot besides the frame data: the shadow maps'
 //! fit and casters, and the light clusters.
 
-use super::{clusters, frustum, Draw, ForwardPass};
+use super::{clusters, frustum, Draw, ForwardPass, TermsKey};
 use crate::render::shadow;
 use crate::scene::Scene;
 use crate::vk::VkError;
@@ -28,17 +28,25 @@ impl ForwardPass {
         };
         let mut casters = Vec::new();
         let mut receivers = Vec::new();
+        let mut draw_receivers = Vec::with_capacity(self.draws.len());
         for d in &self.draws {
             let obj = &scene.objects[d.object];
             let (model, sphere) = world(d);
             let mesh = &self.meshes[d.mesh];
+            let tight = shadow::Sphere {
+                center: model.transform_point3(mesh.tight.0),
+                radius: mesh.tight.1 * frustum::max_scale(model),
+            };
             let receiver = obj.shadow.receive.then(|| {
                 receivers.push(shadow::Receiver {
                     sphere,
                     corners: shadow::box_corners(model, mesh.bounds),
+                    tight,
+                    convex: convex(&obj.desc, d),
                 });
                 receivers.len() - 1
             });
+            draw_receivers.push(receiver);
             if obj.shadow.cast {
                 casters.push(shadow::Caster {
                     mesh: d.mesh,
@@ -46,6 +54,7 @@ impl ForwardPass {
                     scale: frustum::max_scale(model),
                     model,
                     sphere,
+                    tight,
                     plane: mesh.plane.map(|(p, n)| shadow::world_plane(model, p, n)),
                     receiver,
                     alpha: scene
@@ -57,7 +66,66 @@ impl ForwardPass {
             }
         }
         self.shadows
-            .update(slot, scene, aspect, &casters, &receivers)
+            .update(slot, scene, aspect, &casters, &receivers)?;
+        let view_proj = crate::render::gpu::projection(&scene.camera, aspect) * scene.camera.view();
+        self.receive_slots(slot, &draw_receivers, view_proj);
+        Ok(())
+    }
+
+    /// Marks, in each forward draw's variant, the fixed shadow slots whose light cannot darken
+    /// it (`SHADOW_FIXED_SKIP`; every slot for an object that receives no shadow), so that its
+    /// pipeline compiles no lookup for them: lavapipe runs a lookup even where an `if` masks
+    /// every pixel off (docs/shadows.md#cost). A draw of at most [`SPLIT_TRIANGLES`] triangles
+    /// also gets the screen rectangle (`view_proj`) of the part of its box that shadows can
+    /// reach ([`Draw::shadow_area`]): it is drawn unshadowed around it. `draw_receivers`: each
+    /// draw's receiver index in the last update of slot `slot`. Pipelines for new combinations
+    /// are built by the next [`ForwardPass::prepare`]; the deferred path and generic pipelines
+    /// keep theirs.
+    fn receive_slots(
+        &mut self,
+        slot: usize,
+        draw_receivers: &[Option<usize>],
+        view_proj: glam::Mat4,
+    ) {
+        if self.deferred.is_some() || !receivers_culled() {
+            return;
+        }
+        let receives = self.shadows.receives(slot);
+        for (d, r) in self.draws.iter_mut().zip(draw_receivers) {
+            if d.variant.terms == TermsKey::Generic {
+                continue;
+            }
+            let reached = r.and_then(|r| receives.get(r)).copied().unwrap_or_default();
+            for (k, code) in d.variant.shadow_slots.iter_mut().enumerate() {
+                if *code == 0 {
+                    continue;
+                }
+                *code &= !shadow::FIXED_SKIP;
+                if reached.lights & (1 << k) == 0 {
+                    *code |= shadow::FIXED_SKIP;
+                }
+            }
+            let small = self.meshes[d.mesh].levels[0].index_count / 3 <= SPLIT_TRIANGLES;
+            d.shadow_area = match reached.area {
+                Some(area) if small && d.variant.unshadowed() != d.variant => {
+                    ndc_rect(area, view_proj)
+                }
+                _ => None,
+            };
+        }
+    }
+
+    /// What the receiver test left out of the draws' pipelines ([`ForwardPass::receive_slots`]).
+    pub fn shadow_receivers(&self) -> ReceiverStats {
+        let mut stats = ReceiverStats::default();
+        for d in &self.draws {
+            for code in d.variant.shadow_slots.iter().filter(|&&c| c != 0) {
+                stats.pairs += 1;
+                stats.skipped += usize::from(code & shadow::FIXED_SKIP != 0);
+            }
+            stats.split += usize::from(d.shadow_area.is_some());
+        }
+        stats
     }
 
     /// Assigns the scene's lights to the clusters of its camera at `aspect` and writes them into
@@ -77,4 +145,69 @@ impl ForwardPass {
         self.cluster_stats = Some(c.stats);
         Ok(())
     }
+}
+
+/// Whether an object cannot shadow itself beyond its terminator (where n·l ≤ 0 leaves it
+/// unlit anyway): a plane, or a closed convex primitive drawn opaque with its back faces culled
+/// (so that no inside can be seen through it or from within).
+fn convex(desc: &crate::scene::MeshDesc, d: &Draw) -> bool {
+    use crate::scene::MeshDesc as M;
+    match desc {
+        M::Plane { .. } => true,
+        M::Sphere { .. }
+        | M::Icosphere { .. }
+        | M::Cube { .. }
+        | M::Cone { .. }
+        | M::Cylinder { .. } => d.cull && d.variant.alpha == super::AlphaKey::Opaque,
+        _ => false,
+    }
+}
+
+/// What the receiver test did to a forward pass's draws ([`ForwardPass::shadow_receivers`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ReceiverStats {
+    /// (draw, shadowed light) pairs with a specialised lookup (the fixed slots).
+    pub pairs: usize,
+    /// Of those, the pairs compiled without the lookup: nothing can darken the draw there.
+    pub skipped: usize,
+    /// Draws recorded with lookups inside the screen rectangle shadows can reach only.
+    pub split: usize,
+}
+
+/// Receivers get lookups only where shadows can fall unless `LUZ_SHADOW_RECEIVERS=0` (which
+/// keeps every lookup everywhere: the tests that compare both images, and measurements).
+fn receivers_culled() -> bool {
+    std::env::var_os("LUZ_SHADOW_RECEIVERS").is_none_or(|v| v != "0")
+}
+
+/// Draws of at most this many triangles are split where shadows can fall on them
+/// ([`ForwardPass::receive_slots`]): each part runs the vertex stage again, which a floor of a
+/// few hundred triangles repays many times over in fragments that skip the lookups, a mesh of
+/// millions would not.
+pub(super) const SPLIT_TRIANGLES: u32 = 4096;
+
+/// The NDC rectangle (x0, y0, x1, y1) that world box `(lo, hi)` covers under `view_proj`
+/// (empty when it is off screen); `None` when a corner is behind the eye (the whole screen).
+fn ndc_rect((lo, hi): (glam::Vec3, glam::Vec3), view_proj: glam::Mat4) -> Option<[f32; 4]> {
+    let mut r = [
+        f32::INFINITY,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    for k in 0..8 {
+        let pick = |bit: usize, a: f32, b: f32| if k & bit == 0 { a } else { b };
+        let p = glam::Vec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        );
+        let c = view_proj * p.extend(1.0);
+        if c.w.is_nan() || c.w <= 1e-6 {
+            return None;
+        }
+        let (x, y) = (c.x / c.w, c.y / c.w);
+        r = [r[0].min(x), r[1].min(y), r[2].max(x), r[3].max(y)];
+    }
+    Some([r[0].max(-1.0), r[1].max(-1.0), r[2].min(1.0), r[3].min(1.0)])
 }

@@ -222,6 +222,21 @@ impl AlphaKey {
 }
 
 impl VariantKey {
+    /// This variant with every fixed shadow slot skipped: no lookup compiled (where no shadow
+    /// can fall on a draw: `ForwardPass::receive_slots`).
+    pub fn unshadowed(&self) -> VariantKey {
+        VariantKey {
+            shadow_slots: self.shadow_slots.map(|c| {
+                if c == 0 {
+                    0
+                } else {
+                    c | crate::render::shadow::FIXED_SKIP
+                }
+            }),
+            ..*self
+        }
+    }
+
     /// Whether a Phong-shaded pipeline interpolates the tangent and texture coordinates too
     /// (`forward.vert`'s `PHONG_MAPS`): only with texture maps, or for a model that reads the
     /// tangent frame (Principled's anisotropy). The lean variant saves lavapipe's triangle setup

@@ -28,7 +28,7 @@ pub mod fit;
 mod pipeline;
 pub mod view;
 
-pub use cull::{box_corners, world_plane, Receiver};
+pub use cull::{box_corners, world_plane, Reached, Receiver};
 pub use fit::{LightFit, Sphere};
 pub use view::{picture, MapLayer};
 
@@ -57,6 +57,10 @@ pub struct GpuShadowLayer {
 }
 
 const _: () = assert!(std::mem::size_of::<GpuShadowLight>() == 64);
+
+/// Set in a draw's fixed slot code when that light cannot darken the draw (shadows.glsl:
+/// `SHADOW_FIXED_SKIP`): its pipeline leaves the lookup out.
+pub const FIXED_SKIP: u32 = g::SHADOW_FIXED_SKIP;
 const _: () = assert!(std::mem::size_of::<GpuShadowLayer>() == 112);
 
 /// One shadowed light's maps in the image.
@@ -81,6 +85,8 @@ pub struct Caster {
     pub scale: f32,
     pub model: Mat4,
     pub sphere: Sphere,
+    /// A bounding sphere as tight as the mesh's box allows (where its shadows can fall).
+    pub tight: Sphere,
     /// World plane (point, unit normal) when the mesh is flat: see [`cull::hides_nothing`].
     pub plane: Option<(Vec3, Vec3)>,
     /// Its own index among the receivers, when it receives too.
@@ -163,6 +169,8 @@ struct Slot {
     draws: Vec<Vec<LayerDraw>>,
     /// The layer records of the slot's last update (what its maps are drawn with).
     records: Vec<GpuShadowLayer>,
+    /// Per receiver of the slot's last update: where the maps may darken it.
+    receives: Vec<Reached>,
 }
 
 /// What one layer of the image holds: the layer record and draws it was last drawn with. A frame
@@ -465,6 +473,7 @@ impl ShadowMaps {
                 layers,
                 draws: vec![Vec::new(); layer_count as usize],
                 records: Vec::new(),
+                receives: Vec::new(),
             });
         }
         let pipeline = if maps.is_empty() {
@@ -521,6 +530,14 @@ impl ShadowMaps {
     /// Slot `slot`'s set (the last slot's for larger indices).
     pub fn set(&self, slot: usize) -> vk::DescriptorSet {
         self.slots[slot.min(self.slots.len() - 1)].set
+    }
+
+    /// Per receiver (in the order the last update of slot `slot` was given them): the maps
+    /// that may darken it (bit k: map k of [`ShadowMaps::maps`], in the fixed slots' order:
+    /// [`fixed_slots`]) and the part of its box where. A clear bit lets its pipeline leave the
+    /// lookup out.
+    pub fn receives(&self, slot: usize) -> &[Reached] {
+        &self.slots[slot.min(self.slots.len() - 1)].receives
     }
 
     /// Whether any light has a shadow (otherwise nothing is drawn or updated).
@@ -591,7 +608,9 @@ impl ShadowMaps {
         for d in &mut s.draws {
             d.clear();
         }
-        for m in &self.maps {
+        s.receives.clear();
+        s.receives.resize(receivers.len(), Reached::default());
+        for (k, m) in self.maps.iter().enumerate() {
             let light = &scene.lights[m.light];
             let fit = fit::fit(light, &m.shadow, &view);
             // Flat casters that can hide no receiver from this light (a floor under the objects).
@@ -603,6 +622,13 @@ impl ShadowMaps {
                     })
                 })
                 .collect();
+            cull::receiving(
+                &mut s.receives,
+                k,
+                (light, &m.shadow, &fit),
+                scene.camera.view(),
+                (&drawn, receivers),
+            );
             let sh = &m.shadow;
             let size_term = match light.kind {
                 crate::scene::LightKind::Directional => light.angular_radius_deg.to_radians().tan(),
