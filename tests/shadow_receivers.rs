@@ -136,8 +136,10 @@ fn objects_moving_into_a_shadow_get_their_lookups_back() {
     let file = dir.join("moved.json");
     std::fs::write(&file, moved_json).expect("write scene");
     let (on, off, report) = on_and_off(file.to_str().unwrap(), "receivers_moved_images");
+    // The second sphere may be darkened by the first from the sun; the first shares its
+    // pipeline (one instanced draw), so both keep the sun's lookup; neither needs the lamp's.
     assert!(
-        report.contains("3 of 6 (object, shadowed light)"),
+        report.contains("2 of 6 (object, shadowed light)"),
         "{report}"
     );
     assert_eq!(differences(&on, &off), (0, 0));

@@ -75,12 +75,14 @@ impl ForwardPass {
     /// Marks, in each forward draw's variant, the fixed shadow slots whose light cannot darken
     /// it (`SHADOW_FIXED_SKIP`; every slot for an object that receives no shadow), so that its
     /// pipeline compiles no lookup for them: lavapipe runs a lookup even where an `if` masks
-    /// every pixel off (docs/shadows.md#cost). A draw of at most [`SPLIT_TRIANGLES`] triangles
-    /// also gets the screen rectangle (`view_proj`) of the part of its box that shadows can
-    /// reach ([`Draw::shadow_area`]): it is drawn unshadowed around it. `draw_receivers`: each
-    /// draw's receiver index in the last update of slot `slot`. Pipelines for new combinations
-    /// are built by the next [`ForwardPass::prepare`]; the deferred path and generic pipelines
-    /// keep theirs.
+    /// every pixel off (docs/shadows.md#cost). Draws that could be instances of one draw
+    /// (same mesh, material, culling and variant but for these marks) share the union of
+    /// their lights, so that instancing still joins them. A flat draw (a floor, a wall) of at
+    /// most [`SPLIT_TRIANGLES`] triangles lit per pixel also gets the screen rectangle
+    /// (`view_proj`) of the part of its box that shadows can reach ([`Draw::shadow_area`]): it
+    /// is drawn unshadowed around it. `draw_receivers`: each draw's receiver index in the last
+    /// update of slot `slot`. Pipelines for new combinations are built by the next
+    /// [`ForwardPass::prepare`]; the deferred path and generic pipelines keep theirs.
     fn receive_slots(
         &mut self,
         slot: usize,
@@ -91,23 +93,42 @@ impl ForwardPass {
             return;
         }
         let receives = self.shadows.receives(slot);
-        for (d, r) in self.draws.iter_mut().zip(draw_receivers) {
+        let reached: Vec<shadow::Reached> = draw_receivers
+            .iter()
+            .map(|r| r.and_then(|r| receives.get(r)).copied().unwrap_or_default())
+            .collect();
+        // The union of the lights over each group of would-be instances.
+        let group = |d: &Draw| (d.mesh, d.material, d.cull, d.variant.unshadowed());
+        let mut lights: std::collections::HashMap<_, u32> = std::collections::HashMap::new();
+        for (d, r) in self.draws.iter().zip(&reached) {
+            *lights.entry(group(d)).or_default() |= r.lights;
+        }
+        for (d, r) in self.draws.iter_mut().zip(&reached) {
             if d.variant.terms == TermsKey::Generic {
                 continue;
             }
-            let reached = r.and_then(|r| receives.get(r)).copied().unwrap_or_default();
+            let bits = if self.instancing {
+                lights.get(&group(d)).copied().unwrap_or(r.lights)
+            } else {
+                r.lights
+            };
             for (k, code) in d.variant.shadow_slots.iter_mut().enumerate() {
                 if *code == 0 {
                     continue;
                 }
                 *code &= !shadow::FIXED_SKIP;
-                if reached.lights & (1 << k) == 0 {
+                if bits & (1 << k) == 0 {
                     *code |= shadow::FIXED_SKIP;
                 }
             }
-            let small = self.meshes[d.mesh].levels[0].index_count / 3 <= SPLIT_TRIANGLES;
-            d.shadow_area = match reached.area {
-                Some(area) if small && d.variant.unshadowed() != d.variant => {
+            // Flat and Gouraud light in the vertex stage: a triangle across the rectangle's edge
+            // carries its vertices' shadows beyond it, so they are not split.
+            let mesh = &self.meshes[d.mesh];
+            let split = mesh.plane.is_some()
+                && mesh.levels[0].index_count / 3 <= SPLIT_TRIANGLES
+                && d.variant.shading == super::ShadingKey::Phong;
+            d.shadow_area = match r.area {
+                Some(area) if split && d.variant.unshadowed() != d.variant => {
                     ndc_rect(area, view_proj)
                 }
                 _ => None,
@@ -180,7 +201,7 @@ fn receivers_culled() -> bool {
     std::env::var_os("LUZ_SHADOW_RECEIVERS").is_none_or(|v| v != "0")
 }
 
-/// Draws of at most this many triangles are split where shadows can fall on them
+/// Flat draws of at most this many triangles are split where shadows can fall on them
 /// ([`ForwardPass::receive_slots`]): each part runs the vertex stage again, which a floor of a
 /// few hundred triangles repays many times over in fragments that skip the lookups, a mesh of
 /// millions would not.

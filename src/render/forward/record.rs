@@ -152,10 +152,16 @@ pub(super) fn split(ndc: [f32; 4], area: vk::Rect2D) -> Vec<(vk::Rect2D, bool)> 
         let p = round((f64::from(v) * 0.5 + 0.5) * size as f64) as i64;
         p.clamp(0, size)
     };
-    let x0 = (px(ndc[0], w, f64::floor) - 1).max(0);
-    let x1 = (px(ndc[2], w, f64::ceil) + 1).min(w);
-    let y0 = (px(ndc[1], h, f64::floor) - 1).max(0);
-    let y1 = (px(ndc[3], h, f64::ceil) + 1).min(h);
+    let (x0, x1) = (px(ndc[0], w, f64::floor), px(ndc[2], w, f64::ceil));
+    let (y0, y1) = (px(ndc[1], h, f64::floor), px(ndc[3], h, f64::ceil));
+    // Nothing on screen (before growing by a pixel): one unshadowed part.
+    let off = x0 >= x1 || y0 >= y1;
+    let (x0, x1, y0, y1) = (
+        (x0 - 1).max(0),
+        (x1 + 1).min(w),
+        (y0 - 1).max(0),
+        (y1 + 1).min(h),
+    );
     let rect = |(ax, ay, bx, by): (i64, i64, i64, i64), shadowed: bool| {
         (bx > ax && by > ay).then_some((
             vk::Rect2D {
@@ -171,8 +177,7 @@ pub(super) fn split(ndc: [f32; 4], area: vk::Rect2D) -> Vec<(vk::Rect2D, bool)> 
             shadowed,
         ))
     };
-    let empty = ndc[0] >= ndc[2] || ndc[1] >= ndc[3] || x0 >= x1 || y0 >= y1;
-    if empty {
+    if off || ndc[0] >= ndc[2] || ndc[1] >= ndc[3] {
         return rect((0, 0, w, h), false).into_iter().collect();
     }
     [
