@@ -18,6 +18,12 @@
 //! - `ErrorClamped` keeps the attribute share of the error at the position error's scale, so the
 //!   figure stays a distance that can be projected to pixels.
 //!
+//! Other normal weights, meshopt's `Regularize`, `RegularizeLight`, `Prune`, `PreserveFolds` and
+//! `Permissive`, smoothed normals as the attribute and rescaled level errors were measured against
+//! these on the triangles-against-FLIP curve (docs/performance.md, "Simplifier settings against
+//! image quality per triangle"): none made better triangles; the ones that helped bunnies_40m
+//! only moved triangles from far objects to near ones, and hurt the bunnies_lab scene as much.
+//!
 //! Every level is simplified from the full mesh (not from the previous level), so its error is
 //! measured against what the scene file holds; errors are made non-decreasing along the chain.
 //! The levels share the mesh's vertex buffer: only index buffers are added (about 1× the full
