@@ -101,12 +101,27 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                 println!("  {}", m.describe(kernel));
             }
             let r = renderer.shadow_receivers();
-            println!(
-                "shadow receivers: {} of {} (object, shadowed light) lookups compiled out (no \
+            if r.deferred {
+                println!(
+                    "shadow receivers (deferred lighting pass): {} of {} shadowed lights' \
+                     lookups compiled out (no caster can darken any object); lookups {} \
+                     (LUZ_SHADOW_RECEIVERS=0: lookups everywhere)",
+                    r.skipped,
+                    r.pairs,
+                    if r.split == 1 {
+                        "only inside the screen rectangle shadows can reach"
+                    } else {
+                        "everywhere"
+                    }
+                );
+            } else {
+                println!(
+                    "shadow receivers: {} of {} (object, shadowed light) lookups compiled out (no \
                  caster can darken the object); {} object(s) with lookups only inside the screen \
                  rectangle shadows can reach (LUZ_SHADOW_RECEIVERS=0: lookups everywhere)",
-                r.skipped, r.pairs, r.split
-            );
+                    r.skipped, r.pairs, r.split
+                );
+            }
         }
         println!("{}", light_loop_line(renderer.cluster_stats()));
     }

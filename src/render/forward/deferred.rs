@@ -60,7 +60,11 @@ pub(super) struct Deferred {
     variant: VariantKey,
     target: TargetFormat,
     gbuffer_pipeline: Pipeline,
-    light_pipelines: BTreeMap<Output, Pipeline>,
+    /// The lighting pass's variant this frame (the fixed shadow slots no receiver needs
+    /// skipped) and the NDC rectangle its lookups are needed in (`None`: everywhere); around it
+    /// the unshadowed variant lights ([`Deferred::set_receivers`]).
+    lit: (VariantKey, Option<[f32; 4]>),
+    light_pipelines: BTreeMap<(VariantKey, Output), Pipeline>,
     light_layout: PipelineLayout,
     light_vertex: ShaderModule,
     light_fragment: ShaderModule,
@@ -134,6 +138,7 @@ impl Deferred {
         )?;
         Ok(Self {
             variant,
+            lit: (variant, None),
             target,
             gbuffer_pipeline,
             light_pipelines: BTreeMap::new(),
@@ -148,18 +153,53 @@ impl Deferred {
         })
     }
 
-    /// Builds the lighting pipeline writing `output` unless it exists.
+    /// Sets the lighting pass's shadow lookups for the frame: the lights of bit k of `lights`
+    /// (fixed slot k) may darken some receiver, and only inside NDC rectangle `area` (`None`:
+    /// anywhere). The lookups of the other slots are compiled out, and the pass lights with no
+    /// lookup around the rectangle (`ForwardPass::receive_slots`).
+    pub(super) fn set_receivers(&mut self, lights: u32, area: Option<[f32; 4]>) {
+        let mut v = self.variant;
+        for (k, code) in v.shadow_slots.iter_mut().enumerate() {
+            if *code != 0 && lights & (1 << k) == 0 {
+                *code |= crate::render::shadow::FIXED_SKIP;
+            }
+        }
+        self.lit = (v, area.filter(|_| v.unshadowed() != v));
+    }
+
+    /// The lighting pass's variant and the rectangle its lookups are limited to.
+    pub(super) fn receivers(&self) -> (VariantKey, Option<[f32; 4]>) {
+        self.lit
+    }
+
+    /// The lighting variants of the frame: the shadowed one, and the unshadowed one when the
+    /// lookups are limited to a rectangle.
+    fn lit_variants(&self) -> Vec<VariantKey> {
+        let (v, area) = self.lit;
+        std::iter::once(v)
+            .chain(area.map(|_| v.unshadowed()))
+            .collect()
+    }
+
+    /// Builds the lighting pipelines writing `output` that do not exist yet.
     pub(super) fn prepare(&mut self, output: Output) -> Result<(), VkError> {
-        if self.light_pipelines.contains_key(&output) {
+        for v in self.lit_variants() {
+            self.prepare_variant(v, output)?;
+        }
+        Ok(())
+    }
+
+    fn prepare_variant(&mut self, variant: VariantKey, output: Output) -> Result<(), VkError> {
+        if self.light_pipelines.contains_key(&(variant, output)) {
             return Ok(());
         }
-        let mut spec = variant_spec(self.variant);
+        let mut spec = variant_spec(variant);
         spec.extend(output.spec());
         let pipeline = Pipeline::graphics(
             &self.ctx,
             &self.light_layout,
             &GraphicsDesc {
-                name: &format!("deferred lighting {} {output:?}", self.variant),
+                name: &format!("deferred lighting {variant} {output:?}"),
                 vertex: &self.light_vertex,
                 fragment: &self.light_fragment,
                 spec: &spec,
@@ -177,7 +217,7 @@ impl Deferred {
                 blend: false,
             },
         )?;
-        self.light_pipelines.insert(output, pipeline);
+        self.light_pipelines.insert((variant, output), pipeline);
         Ok(())
     }
 
@@ -212,7 +252,10 @@ impl Deferred {
     /// The G-buffer matches `extent` and the lighting pipeline for `output` is built.
     pub(super) fn ready(&self, output: Output, extent: vk::Extent2D) -> bool {
         self.gbuffer.as_ref().is_some_and(|g| g.extent() == extent)
-            && self.light_pipelines.contains_key(&output)
+            && self
+                .lit_variants()
+                .iter()
+                .all(|v| self.light_pipelines.contains_key(&(*v, output)))
     }
 
     /// Records both passes (timed as "gbuffer" and "lighting" on `timer`). `draw_geometry` records the draws (pipeline bound by this function)
@@ -228,8 +271,17 @@ impl Deferred {
         draw_geometry: impl FnOnce(vk::Pipeline),
     ) {
         let d = &self.ctx.device;
-        let (Some(gbuffer), Some(light)) = (&self.gbuffer, self.light_pipelines.get(&output))
-        else {
+        let (lit, shadow_area) = self.lit;
+        let pipeline = |v: VariantKey| self.light_pipelines.get(&(v, output)).map(|p| p.raw);
+        let (Some(gbuffer), Some(light), Some(unshadowed)) = (
+            &self.gbuffer,
+            pipeline(lit),
+            pipeline(if shadow_area.is_some() {
+                lit.unshadowed()
+            } else {
+                lit
+            }),
+        ) else {
             return;
         };
         let area = vk::Rect2D {
@@ -345,7 +397,6 @@ impl Deferred {
             d.cmd_begin_rendering(cmd, &info);
             set_viewport(d, cmd, area);
             d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, light.raw);
             d.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,
@@ -362,7 +413,18 @@ impl Deferred {
                 &[shadow_set],
                 &[],
             );
-            d.cmd_draw(cmd, 3, 1, 0, 0);
+            // With the lookups limited to a rectangle: shadowed inside, unshadowed around it
+            // (the parts tile the target: each pixel is lit once).
+            let parts = match shadow_area {
+                Some(ndc) => super::record::split(ndc, area),
+                None => vec![(area, true)],
+            };
+            for (scissor, shadowed) in parts {
+                let p = if shadowed { light } else { unshadowed };
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p);
+                d.cmd_set_scissor(cmd, 0, &[scissor]);
+                d.cmd_draw(cmd, 3, 1, 0, 0);
+            }
             d.cmd_end_rendering(cmd);
         }
         if let Some(timer) = timer {

@@ -89,7 +89,7 @@ impl ForwardPass {
         draw_receivers: &[Option<usize>],
         view_proj: glam::Mat4,
     ) {
-        if self.deferred.is_some() || !receivers_culled() {
+        if !receivers_culled() {
             return;
         }
         let receives = self.shadows.receives(slot);
@@ -97,6 +97,31 @@ impl ForwardPass {
             .iter()
             .map(|r| r.and_then(|r| receives.get(r)).copied().unwrap_or_default())
             .collect();
+        if let Some(def) = &mut self.deferred {
+            // One lighting pass for every pixel: the union of the lights, inside the union of
+            // the receivers' rectangles (anywhere when one has a corner behind the eye).
+            let lights = reached.iter().fold(0, |m, r| m | r.lights);
+            let area = reached.iter().filter_map(|r| r.area).try_fold(
+                [
+                    f32::INFINITY,
+                    f32::INFINITY,
+                    f32::NEG_INFINITY,
+                    f32::NEG_INFINITY,
+                ],
+                |u, b| {
+                    ndc_rect(b, view_proj).map(|r| {
+                        [
+                            u[0].min(r[0]),
+                            u[1].min(r[1]),
+                            u[2].max(r[2]),
+                            u[3].max(r[3]),
+                        ]
+                    })
+                },
+            );
+            def.set_receivers(lights, area);
+            return;
+        }
         // The union of the lights over each group of would-be instances.
         let group = |d: &Draw| (d.mesh, d.material, d.cull, d.variant.unshadowed());
         let mut lights: std::collections::HashMap<_, u32> = std::collections::HashMap::new();
@@ -139,6 +164,16 @@ impl ForwardPass {
     /// What the receiver test left out of the draws' pipelines ([`ForwardPass::receive_slots`]).
     pub fn shadow_receivers(&self) -> ReceiverStats {
         let mut stats = ReceiverStats::default();
+        if let Some(def) = &self.deferred {
+            let (v, area) = def.receivers();
+            for code in v.shadow_slots.iter().filter(|&&c| c != 0) {
+                stats.pairs += 1;
+                stats.skipped += usize::from(code & shadow::FIXED_SKIP != 0);
+            }
+            stats.split = usize::from(area.is_some());
+            stats.deferred = true;
+            return stats;
+        }
         for d in &self.draws {
             for code in d.variant.shadow_slots.iter().filter(|&&c| c != 0) {
                 stats.pairs += 1;
@@ -193,6 +228,9 @@ pub struct ReceiverStats {
     pub skipped: usize,
     /// Draws recorded with lookups inside the screen rectangle shadows can reach only.
     pub split: usize,
+    /// The deferred path: one lighting pass, whose fixed slots `pairs` and `skipped` count and
+    /// which `split` (0 or 1) limits to the rectangle.
+    pub deferred: bool,
 }
 
 /// Receivers get lookups only where shadows can fall unless `LUZ_SHADOW_RECEIVERS=0` (which
