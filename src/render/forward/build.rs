@@ -158,10 +158,11 @@ pub(super) fn build_draws(
                     bytemuck::cast_slice(&data.indices),
                     vk::BufferUsageFlags::INDEX_BUFFER,
                 )?;
+                let bounds = obj.mesh.bounds();
                 meshes.push(GpuMesh {
-                    sphere: frustum::sphere(obj.mesh.bounds()),
-                    tight: tight_sphere(&obj.mesh),
-                    bounds: obj.mesh.bounds(),
+                    sphere: frustum::sphere(bounds),
+                    tight: tight_sphere(&obj.mesh, bounds),
+                    bounds,
                     plane: obj.mesh.flat_plane(),
                     levels: levels.into(),
                     vertices,
@@ -552,11 +553,13 @@ impl Slot {
     }
 }
 
-/// The centre of `mesh`'s bounds and the distance from it to its farthest vertex: a bounding
+/// The centre of `mesh`'s bounds `(lo, hi)` and the distance from it to its farthest vertex: a bounding
 /// sphere as tight as the box's allows (a sphere mesh's own radius, where the box's corner
 /// sphere is √3 times larger).
-fn tight_sphere(mesh: &crate::scene::Mesh) -> (glam::Vec3, f32) {
-    let (lo, hi) = mesh.bounds();
+fn tight_sphere(
+    mesh: &crate::scene::Mesh,
+    (lo, hi): (glam::Vec3, glam::Vec3),
+) -> (glam::Vec3, f32) {
     let c = (lo + hi) * 0.5;
     let r = mesh
         .positions

@@ -158,12 +158,7 @@ impl Deferred {
     /// anywhere). The lookups of the other slots are compiled out, and the pass lights with no
     /// lookup around the rectangle (`ForwardPass::receive_slots`).
     pub(super) fn set_receivers(&mut self, lights: u32, area: Option<[f32; 4]>) {
-        let mut v = self.variant;
-        for (k, code) in v.shadow_slots.iter_mut().enumerate() {
-            if *code != 0 && lights & (1 << k) == 0 {
-                *code |= crate::render::shadow::FIXED_SKIP;
-            }
-        }
+        let v = self.variant.receiving(lights);
         self.lit = (v, area.filter(|_| v.unshadowed() != v));
     }
 

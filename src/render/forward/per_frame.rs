@@ -137,15 +137,7 @@ impl ForwardPass {
             } else {
                 r.lights
             };
-            for (k, code) in d.variant.shadow_slots.iter_mut().enumerate() {
-                if *code == 0 {
-                    continue;
-                }
-                *code &= !shadow::FIXED_SKIP;
-                if bits & (1 << k) == 0 {
-                    *code |= shadow::FIXED_SKIP;
-                }
-            }
+            d.variant = d.variant.receiving(bits);
             // Flat and Gouraud light in the vertex stage: a triangle across the rectangle's edge
             // carries its vertices' shadows beyond it, so they are not split.
             let mesh = &self.meshes[d.mesh];
@@ -164,23 +156,24 @@ impl ForwardPass {
     /// What the receiver test left out of the draws' pipelines ([`ForwardPass::receive_slots`]).
     pub fn shadow_receivers(&self) -> ReceiverStats {
         let mut stats = ReceiverStats::default();
-        if let Some(def) = &self.deferred {
-            let (v, area) = def.receivers();
+        let mut count = |v: &super::VariantKey, area: bool| {
             for code in v.shadow_slots.iter().filter(|&&c| c != 0) {
                 stats.pairs += 1;
                 stats.skipped += usize::from(code & shadow::FIXED_SKIP != 0);
             }
-            stats.split = usize::from(area.is_some());
-            stats.deferred = true;
-            return stats;
-        }
-        for d in &self.draws {
-            for code in d.variant.shadow_slots.iter().filter(|&&c| c != 0) {
-                stats.pairs += 1;
-                stats.skipped += usize::from(code & shadow::FIXED_SKIP != 0);
+            stats.split += usize::from(area);
+        };
+        match &self.deferred {
+            Some(def) => {
+                let (v, area) = def.receivers();
+                count(&v, area.is_some());
             }
-            stats.split += usize::from(d.shadow_area.is_some());
+            None => self
+                .draws
+                .iter()
+                .for_each(|d| count(&d.variant, d.shadow_area.is_some())),
         }
+        stats.deferred = self.deferred.is_some();
         stats
     }
 
@@ -254,13 +247,7 @@ fn ndc_rect((lo, hi): (glam::Vec3, glam::Vec3), view_proj: glam::Mat4) -> Option
         f32::NEG_INFINITY,
         f32::NEG_INFINITY,
     ];
-    for k in 0..8 {
-        let pick = |bit: usize, a: f32, b: f32| if k & bit == 0 { a } else { b };
-        let p = glam::Vec3::new(
-            pick(1, lo.x, hi.x),
-            pick(2, lo.y, hi.y),
-            pick(4, lo.z, hi.z),
-        );
+    for p in shadow::box_corners(glam::Mat4::IDENTITY, (lo, hi)) {
         let c = view_proj * p.extend(1.0);
         if c.w.is_nan() || c.w <= 1e-6 {
             return None;

@@ -222,19 +222,28 @@ impl AlphaKey {
 }
 
 impl VariantKey {
-    /// This variant with every fixed shadow slot skipped: no lookup compiled (where no shadow
-    /// can fall on a draw: `ForwardPass::receive_slots`).
-    pub fn unshadowed(&self) -> VariantKey {
-        VariantKey {
-            shadow_slots: self.shadow_slots.map(|c| {
-                if c == 0 {
-                    0
+    /// This variant with the lookups of the fixed shadow slots whose bit is clear in `lights`
+    /// skipped (`SHADOW_FIXED_SKIP`: no lookup compiled), the others kept: what a draw that only
+    /// those lights' shadows can reach needs (`ForwardPass::receive_slots`).
+    pub fn receiving(&self, lights: u32) -> VariantKey {
+        let skip = crate::render::shadow::FIXED_SKIP;
+        let mut v = *self;
+        for (k, code) in v.shadow_slots.iter_mut().enumerate() {
+            if *code != 0 {
+                *code = if lights & (1 << k) == 0 {
+                    *code | skip
                 } else {
-                    c | crate::render::shadow::FIXED_SKIP
-                }
-            }),
-            ..*self
+                    *code & !skip
+                };
+            }
         }
+        v
+    }
+
+    /// This variant with every fixed shadow slot skipped: no lookup compiled (where no shadow
+    /// can fall on a draw).
+    pub fn unshadowed(&self) -> VariantKey {
+        self.receiving(0)
     }
 
     /// Whether a Phong-shaded pipeline interpolates the tangent and texture coordinates too
