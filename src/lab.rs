@@ -440,6 +440,9 @@ pub struct LabResult {
     pub triangles: u64,
     pub pipelines: Vec<String>,
     pub error: ErrorMetrics,
+    /// The `lod` group only: mean FLIP against the group's full-detail render (budget 0), the
+    /// measure of issue 17's goal; `error` is against the reference.
+    pub flip_vs_full: Option<f64>,
     pub pareto: bool,
 }
 
@@ -508,6 +511,8 @@ pub fn measure(
     ));
     let total = runs.len() as u64;
     let mut results = Vec::new();
+    // The `lod` group's full-detail image (its first variant), for its FLIP against full detail.
+    let mut lod_full: Option<LinearImage> = None;
     let time = |vscene: &Scene, generic: bool| -> Result<(f64, f64, Headless)> {
         let opts = crate::headless::RenderOptions {
             generic_pipelines: generic,
@@ -552,6 +557,13 @@ pub fn measure(
             scene.output.tonemap,
         )?;
         crate::diff::write_heatmap(&out.join(format!("heatmaps/{i:03}.png")), &map)?;
+        let flip_vs_full = if *group == "lod" {
+            let full = lod_full.get_or_insert_with(|| image.clone());
+            let (e, _) = error_metrics(full, &image, scene.output.exposure, scene.output.tonemap)?;
+            Some(e.flip_mean)
+        } else {
+            None
+        };
         results.push(LabResult {
             group: group.to_string(),
             label: label.clone(),
@@ -561,6 +573,7 @@ pub fn measure(
             triangles: r.triangle_count(),
             pipelines: r.variants(),
             error,
+            flip_vs_full,
             pareto: false,
         });
     }
@@ -592,11 +605,11 @@ pub fn measure(
 /// Writes `results.csv`, `results.json` and the chart (`chart.png`, `chart.svg`) into `dir`.
 pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result<()> {
     let mut csv = String::from(
-        "group,variant,gpu_ms,flip_mean,rmse,mean_relative,max_abs,nan_pixels,triangles,pareto,shadow_ms\n",
+        "group,variant,gpu_ms,flip_mean,rmse,mean_relative,max_abs,nan_pixels,triangles,pareto,shadow_ms,flip_vs_full\n",
     );
     for r in results {
         csv.push_str(&format!(
-            "{},\"{}\",{:.4},{:.6},{:.6},{:.6},{:.6},{},{},{},{:.4}\n",
+            "{},\"{}\",{:.4},{:.6},{:.6},{:.6},{:.6},{},{},{},{:.4},{}\n",
             r.group,
             r.label,
             r.gpu_ms,
@@ -607,7 +620,10 @@ pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result
             r.error.nan_pixels,
             r.triangles,
             r.pareto,
-            r.shadow_ms
+            r.shadow_ms,
+            r.flip_vs_full
+                .map(|f| format!("{f:.6}"))
+                .unwrap_or_default()
         ));
     }
     std::fs::write(dir.join("results.csv"), csv)
@@ -693,6 +709,7 @@ mod tests {
                 max_abs: 0.0,
                 nan_pixels: 0,
             },
+            flip_vs_full: None,
             pareto: false,
         }
     }

@@ -271,3 +271,72 @@ fn the_viewer_projects_errors_onto_its_window() {
     );
     println!("{small} triangles drawn at 320×180, {tall} at 1280×720");
 }
+
+/// `luz lab --only lod`: every budget's row carries its mean FLIP against the group's full-detail
+/// render (issue 17's measure) besides its error against the CPU reference; full detail's is 0 and
+/// a loose budget's matches `luz::diff` on the same two renders.
+#[test]
+fn lab_lod_rows_report_flip_against_full_detail() {
+    let Some(bunny) = shared_dir("models/stanford-bunny.obj") else {
+        return;
+    };
+    let dir = scratch("lod-lab");
+    let path = dir.join("bunnies.json");
+    std::fs::write(&path, bunnies_text(12, 0.2, false, bunny.to_str().unwrap())).unwrap();
+    let out = dir.join("out");
+    let ran = run(&mut luz_command([
+        "lab",
+        path.to_str().unwrap(),
+        "--only",
+        "lod",
+        "--frames",
+        "1",
+        "--rounds",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    assert!(ran.status.success(), "{}\n{}", ran.stdout, ran.stderr);
+    assert!(
+        ran.stderr.contains("validation: 0 errors"),
+        "{}",
+        ran.stderr
+    );
+    assert!(ran.stdout.contains("FLIP full"), "{}", ran.stdout);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let results = json["results"].as_array().unwrap();
+    let row = |label: &str| {
+        results
+            .iter()
+            .find(|r| r["label"] == label)
+            .unwrap_or_else(|| panic!("{label} missing"))
+    };
+    assert_eq!(row("lod 0 px (full detail)")["flip_vs_full"], 0.0);
+    for r in results {
+        let v = &r["flip_vs_full"];
+        if r["group"] == "lod" {
+            let f = v.as_f64().unwrap_or_else(|| panic!("{r}"));
+            assert!((0.0..0.2).contains(&f), "{r}");
+        } else {
+            assert!(v.is_null(), "{r}");
+        }
+    }
+    let loose = row("lod 4 px")["flip_vs_full"].as_f64().unwrap();
+    let fine = row("lod 0.05 px")["flip_vs_full"].as_f64().unwrap();
+    assert!(loose > fine && loose > 0.0, "4 px {loose}, 0.05 px {fine}");
+    // The same two renders compared here.
+    let ctx = gpu();
+    let scene = luz::scene::load(&path).unwrap();
+    let image = |budget: f32| {
+        let mut s = scene.clone();
+        s.output.tessellation_error_px = budget;
+        luz::scene::tessellation::resolve(&mut s);
+        let mut r = Headless::with_options(&ctx, &s, &RenderOptions::default()).unwrap();
+        r.render().unwrap();
+        r.image().unwrap()
+    };
+    let here = mean_flip(&scene, &image(0.0), &image(4.0)) as f64;
+    assert!((here - loose).abs() < 1e-4, "lab {loose}, here {here}");
+    assert_no_validation_messages(&ctx);
+}

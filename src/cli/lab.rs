@@ -137,12 +137,21 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         );
     }
     println!(
-        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6}",
-        "", "group", "variant", "GPU ms", "shadow ms", "FLIP", "RMSE", "rel err", "NaN"
+        "{:<4} {:<14} {:<34} {:>10} {:>10} {:>10} {:>10} {:>10} {:>6} {:>10}",
+        "",
+        "group",
+        "variant",
+        "GPU ms",
+        "shadow ms",
+        "FLIP",
+        "RMSE",
+        "rel err",
+        "NaN",
+        "FLIP full"
     );
     for (i, r) in results.iter().enumerate() {
         println!(
-            "{:<4} {:<14} {:<34} {:>10.3} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6}{}",
+            "{:<4} {:<14} {:<34} {:>10.3} {:>10.3} {:>10.5} {:>10.5} {:>10.5} {:>6} {:>10}{}",
             i,
             r.group,
             r.label,
@@ -152,6 +161,9 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
             r.error.rmse,
             r.error.mean_relative,
             r.error.nan_pixels,
+            r.flip_vs_full
+                .map(|f| format!("{f:.5}"))
+                .unwrap_or_else(|| "-".into()),
             if r.pareto { "  ← Pareto" } else { "" }
         );
     }
