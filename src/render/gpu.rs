@@ -195,7 +195,7 @@ pub fn vertex_color_input() -> (
 
 /// One vertex: position, normal, uv, tangent (xyz + handedness).
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable, Debug, Default)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, Default, PartialEq)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
