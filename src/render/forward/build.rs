@@ -274,6 +274,11 @@ fn lod_data(
         };
         (data, vec![level])
     };
+    // OBJ and glTF meshes (they have a chain, one level when not simplified) drawn smooth: in
+    // vertex fetch order, whole or not.
+    if let (Some(chain), false) = (chain, flat) {
+        return compact_levels(&mesh::smooth(mesh), chain);
+    }
     let Some(chain) = chain.filter(|c| c.levels.len() > 1) else {
         return whole(if flat {
             mesh::flat(mesh)
@@ -281,9 +286,6 @@ fn lod_data(
             mesh::smooth(mesh)
         });
     };
-    if !flat {
-        return compact_levels(&mesh::smooth(mesh), chain);
-    }
     let mut data = mesh::flat(mesh);
     let mut levels = vec![LodLevel {
         first_index: 0,

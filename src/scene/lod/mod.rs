@@ -152,6 +152,7 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
     let mut chain = LodChain::full(mesh);
     let triangles = mesh.indices.len() / 3;
     if triangles < MIN_SIMPLIFIED_TRIANGLES {
+        chain.cache_order(0, mesh.positions.len());
         return Ok(chain);
     }
     let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
@@ -278,7 +279,12 @@ pub fn chain_for(
             warn(format!(
                 "{name}: mesh simplification failed ({reason}); drawn at full detail"
             ));
-            Arc::new(LodChain::full(mesh))
+            // Still in vertex cache order where its indices are valid: drawn whole every frame.
+            let mut chain = LodChain::full(mesh);
+            if check(mesh).is_ok() {
+                chain.cache_order(0, mesh.positions.len());
+            }
+            Arc::new(chain)
         }
     }
 }

@@ -5,6 +5,19 @@ fn sphere() -> Mesh {
     Mesh::sphere(1.0, 96, 48)
 }
 
+/// The triangles of `indices`, each rotated to start at its smallest index (same winding), sorted.
+fn triangles(indices: &[u32]) -> Vec<[u32; 3]> {
+    let mut t: Vec<[u32; 3]> = indices
+        .chunks(3)
+        .map(|t| {
+            let r = (0..3).min_by_key(|&k| t[k]).unwrap();
+            [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
+        })
+        .collect();
+    t.sort_unstable();
+    t
+}
+
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("luz-lod-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -17,17 +30,6 @@ fn chain_levels_shrink_errors_grow_indices_stay_in_range() {
     let chain = build(&mesh).unwrap();
     assert!(chain.levels.len() >= 5, "{:?}", chain.levels);
     // Level 0 is the mesh's triangles, same winding, in the vertex cache optimiser's order.
-    let triangles = |indices: &[u32]| {
-        let mut t: Vec<[u32; 3]> = indices
-            .chunks(3)
-            .map(|t| {
-                let r = (0..3).min_by_key(|&k| t[k]).unwrap();
-                [t[r], t[(r + 1) % 3], t[(r + 2) % 3]]
-            })
-            .collect();
-        t.sort_unstable();
-        t
-    };
     assert_eq!(triangles(chain.level_indices(0)), triangles(&mesh.indices));
     // Every level is in vertex cache order: optimising it again gains nothing, levels of 2000
     // triangles and more shade fewer than 0.75 vertices per triangle with a 16-entry cache (0.5
@@ -137,7 +139,14 @@ fn failed_simplification_draws_the_full_mesh_with_one_warning() {
         let mut warnings = Vec::new();
         let mut stats = ChainStats::default();
         let chain = chain_for(&mesh, "m", None, &mut stats, &mut |w| warnings.push(w));
-        assert_eq!(*chain, LodChain::full(&mesh), "{why}");
+        // The mesh's own triangles, one level (in vertex cache order where its data is valid).
+        assert_eq!(chain.levels.len(), 1, "{why}");
+        assert_eq!(chain.levels[0].error, 0.0);
+        assert_eq!(
+            triangles(chain.level_indices(0)),
+            triangles(&mesh.indices),
+            "{why}"
+        );
         assert_eq!(warnings.len(), 1, "{why}: {warnings:?}");
         assert!(
             warnings[0].starts_with("m: mesh simplification failed (") && warnings[0].contains(why),
@@ -153,6 +162,7 @@ fn failed_simplification_draws_the_full_mesh_with_one_warning() {
         warnings.push(w)
     });
     assert_eq!((chain.levels.len(), warnings.len()), (1, 0));
+    assert_eq!(triangles(chain.level_indices(0)), triangles(&small.indices));
 }
 
 #[test]
