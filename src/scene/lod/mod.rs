@@ -26,8 +26,10 @@
 //!
 //! Every level is simplified from the full mesh (not from the previous level), so its error is
 //! measured against what the scene file holds; errors are made non-decreasing along the chain.
-//! The levels share the mesh's vertex buffer: only index buffers are added (about 1× the full
-//! index buffer in total at a ratio of 1/2 per level).
+//! A chain holds only index buffers into the mesh's vertices (about 1× the full index buffer in
+//! total at a ratio of 1/2 per level). On the GPU each level then gets its own copy of the
+//! vertices it uses, in the order it first uses them (`compact_levels` in
+//! `src/render/forward/build.rs`: about 2× the mesh's vertices, for vertex fetches in sequence).
 //!
 //! Each level, the full mesh's too, is then reordered by `meshopt_optimizeVertexCache` (same
 //! triangles and winding): lavapipe runs the vertex shader once per index that misses its small
