@@ -104,8 +104,17 @@ pub fn luz_in_window_with(args: &[&str], env: &[(&str, &str)]) -> Option<(i32, S
         eprintln!("SKIPPED: xvfb-run is not installed (scripts/setup.sh installs it)");
         return None;
     }
+    // Our own X authority file (one per run): without `-f`, xvfb-run makes a temporary folder
+    // for it and exits 5 instead of luz's status when removing that folder fails, which
+    // happened once with several X servers running in parallel (2026-11-26).
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let auth =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("xauth-{}-{n}", std::process::id()));
+    std::fs::write(&auth, b"").unwrap_or_else(|e| panic!("{}: {e}", auth.display()));
     let mut cmd = Command::new("xvfb-run");
-    cmd.args(["-a", "-s", "-screen 0 1600x1000x24"])
+    cmd.args(["-a", "-s", "-screen 0 1600x1000x24", "-f"])
+        .arg(&auth)
         .arg(LUZ)
         .args(args)
         .env("LUZ_VALIDATION", "1")
@@ -114,7 +123,9 @@ pub fn luz_in_window_with(args: &[&str], env: &[(&str, &str)]) -> Option<(i32, S
             Path::new(env!("CARGO_TARGET_TMPDIR")).join("luz-viewer-cache"),
         )
         .envs(env.iter().copied());
-    Some(run(&mut cmd).parts())
+    let ran = run(&mut cmd).parts();
+    let _ = std::fs::remove_file(&auth);
+    Some(ran)
 }
 
 /// A run that must have succeeded with the validation layer silent: exit 0, no panic, the
