@@ -5,6 +5,7 @@
 mod app;
 pub mod camera;
 pub mod jobs;
+pub mod lod_target;
 pub mod plots;
 pub mod script;
 mod swapchain;
