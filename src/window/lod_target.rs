@@ -13,8 +13,8 @@
 //! was drawn with, not the current one, so the two frames of latency between drawing and
 //! reading the timestamps do not compound into overshoot: with a true elasticity `e`, the error
 //! shrinks by at least `(1 - GAIN) + GAIN · |1 - e / ELASTICITY|` per frame, which is below 1
-//! for any `0 < e < 2 · ELASTICITY`. Two hystereses keep it from hunting: frames within [`BAND`]
-//! of the target leave the budget alone (noise), and for [`HOLD_FRAMES`] measured frames after a
+//! for any `0 < e < 2 · ELASTICITY`. Two hystereses keep it from hunting: frames from 8 % over the
+//! target to 30 % under it leave the budget alone (noise; [`BAND_OVER`], [`BAND_UNDER`]), and for [`HOLD_FRAMES`] measured frames after a
 //! frame was too slow the budget is not lowered back to the one that frame was drawn with (a
 //! change of LOD level that moves the frame time across the whole band, as one large mesh's
 //! can, would otherwise flip it between two levels every few frames).
@@ -36,8 +36,10 @@ pub const FLOOR_PX: f32 = 0.05;
 pub const ELASTICITY: f64 = 0.85;
 /// Share of the way to the estimate the budget moves per measured frame.
 pub const GAIN: f64 = 0.5;
-/// Frames within ±15 % of the target leave the budget alone.
-pub const BAND: f64 = 0.15;
+/// Frames from 8 % over the target ([`BAND_OVER`]) to 30 % under it (`1 / 1.3`, [`BAND_UNDER`])
+/// leave the budget alone: asymmetric, so that it settles under the target rather than over.
+pub const BAND_OVER: f64 = 0.08;
+pub const BAND_UNDER: f64 = 0.3;
 /// The largest change of the log budget per frame (a factor of 2).
 const MAX_STEP: f64 = std::f64::consts::LN_2;
 /// Measured frames for which a budget found too slow bounds the lowering of the budget; each time
@@ -187,7 +189,7 @@ impl LodTarget {
             s.age = s.age.saturating_add(1);
         }
         let error = (ms / target).ln();
-        if error.abs() <= (1.0 + BAND).ln() {
+        if (-(1.0 + BAND_UNDER).ln()..=(1.0 + BAND_OVER).ln()).contains(&error) {
             return;
         }
         let anchor = (used.max(FLOOR_PX) as f64).ln();

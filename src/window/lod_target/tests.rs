@@ -94,9 +94,10 @@ fn settled(frames: &[Frame], lo: f64, hi: f64) -> Option<usize> {
     (0..frames.len()).find(|&k| frames[k..].iter().all(|f| (lo..=hi).contains(&f.ms)))
 }
 
-/// The band the tests accept: the controller's ±15 % dead band plus the ±5 % noise.
-const LO: f64 = 100.0 / 1.15 * 0.95;
-const HI: f64 = 100.0 * 1.15 * 1.05;
+/// The band the tests accept: the controller's dead band (8 % over the target, 30 % under it)
+/// plus the ±5 % noise.
+const LO: f64 = 100.0 / (1.0 + BAND_UNDER) * 0.95;
+const HI: f64 = 100.0 * (1.0 + BAND_OVER) * 1.05;
 
 #[test]
 fn converges_to_the_target_without_oscillating() {
