@@ -117,18 +117,40 @@ fn converges_to_the_target_without_oscillating() {
     assert!((1.3..=2.4).contains(&last), "{last} px");
 }
 
-/// The true elasticity differs from the assumed 0.85: fixed costs dominate (0.4) or the levels
-/// fall faster (1.5); the controller still settles, later, and does not hunt.
+/// The true elasticity differs from the assumed 0.85: the levels fall slower (0.6) or faster
+/// (1.5); the controller still settles, later, and does not hunt.
 #[test]
 fn settles_when_the_cost_model_is_wrong() {
-    for exponent in [0.4, 1.5] {
-        let cost = Cost { exponent, ..BUNNIES };
+    for exponent in [0.6, 1.5] {
+        let cost = Cost {
+            exponent,
+            ms_per_million: 100.0,
+            ..BUNNIES
+        };
         let mut ctl = LodTarget::new(Some(100.0), 0.2);
         let frames = simulate(&mut ctl, cost, 80, |_| true);
         let at = settled(&frames, LO, HI);
         assert!(at.is_some_and(|k| k <= 30), "exponent {exponent}: {at:?}");
         assert!(reversals(&frames) <= 2, "exponent {exponent}: {frames:?}");
     }
+}
+
+/// A target the triangles cannot meet (fixed costs of 120 ms): the budget rises to the ceiling
+/// and stays there.
+#[test]
+fn an_unreachable_target_stops_at_the_ceiling() {
+    let cost = Cost {
+        fixed_ms: 120.0,
+        ..BUNNIES
+    };
+    let mut ctl = LodTarget::new(Some(100.0), 0.2);
+    let frames = simulate(&mut ctl, cost, 40, |_| true);
+    assert!(frames[10..].iter().all(|f| f.budget == MAX_BUDGET_PX), "{frames:?}");
+    assert_eq!(reversals(&frames), 0);
+    // A scene whose own budget is above the ceiling keeps it.
+    let mut ctl = LodTarget::new(Some(100.0), 6.0);
+    let frames = simulate(&mut ctl, cost, 20, |_| true);
+    assert!(frames.iter().all(|f| f.budget == 6.0), "{frames:?}");
 }
 
 #[test]

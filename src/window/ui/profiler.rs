@@ -47,6 +47,10 @@ pub(super) fn profiler_ui(ui: &mut Ui, profiler: &Profiler) {
                             "LOD levels",
                             profiler.geometry().map_or("–".into(), |g| g.1.clone()),
                         ),
+                        (
+                            "LOD budget",
+                            profiler.lod_budget().unwrap_or("–").to_string(),
+                        ),
                     ];
                     for (k, v) in rows {
                         ui.label(k);

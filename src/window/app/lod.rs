@@ -1,0 +1,65 @@
+//! The frame-time target's glue ([`crate::window::lod_target`]): whether the view changed, the
+//! budget handed to the forward pass before its per-frame update, the measured frames fed back.
+
+use super::*;
+use crate::window::lod_target::Mode;
+
+/// What the budget of a recorded frame was (kept with its frame slot until its timestamps are
+/// read).
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct FrameLod {
+    /// The budget (px) its mesh levels were chosen with.
+    pub budget: f32,
+    /// Drawn at the adaptive budget (the view was changing).
+    pub adaptive: bool,
+    /// Triangles it drew (after frustum culling, at its levels).
+    pub triangles: u64,
+}
+
+impl Viewer {
+    /// Before the forward pass's update: whether the view changed since the last frame (camera,
+    /// window size, an edit, a scripted action, a rebuild), and the budget the controller asks
+    /// for. It acts only when some mesh has simplified levels and no A/B comparison is shown
+    /// (both sides must draw at their scenes' budgets to compare exactly).
+    pub(super) fn choose_lod_budget(&mut self) {
+        let view = (self.scene.camera, self.swapchain.extent);
+        let changed = std::mem::take(&mut self.view_changed) || self.last_view != Some(view);
+        self.last_view = Some(view);
+        self.lod_target
+            .set_scene_budget(self.scene.output.tessellation_error_px);
+        let enabled = self.forward.has_lod_levels() && self.lab.b.is_none();
+        let budget = self.lod_target.frame(changed, enabled);
+        self.forward
+            .set_lod_budget((self.lod_target.mode() == Mode::Adaptive).then_some(budget));
+    }
+
+    /// After the forward pass's update: the profiler's geometry and budget lines, and what the
+    /// slot's frame drew with.
+    pub(super) fn note_lod(&mut self, slot: usize) {
+        let choices = self.forward.lod_choices(slot, &self.scene);
+        let triangles = self.forward.triangles_drawn(slot);
+        self.profiler
+            .set_geometry(triangles, crate::scene::lod::levels_in_use(&choices));
+        let budget = self.forward.lod_budget();
+        let has_lod = self.forward.has_lod_levels();
+        self.profiler
+            .set_lod_budget(self.lod_target.describe(budget, has_lod));
+        self.frames[slot].lod = FrameLod {
+            budget,
+            adaptive: self.lod_target.mode() == Mode::Adaptive,
+            triangles,
+        };
+    }
+
+}
+
+/// What the target compares: a frame's GPU time (all timed passes), or its wall frame time when
+/// the device has no timestamps. The GPU time is what the budget changes (the triangles drawn);
+/// the wall time also holds vsync waits and the host's own work, which no budget shortens.
+pub(super) fn frame_cost(sample: &FrameSample) -> f64 {
+    if sample.gpu_ms.is_empty() {
+        sample.frame_ms
+    } else {
+        sample.gpu_ms.iter().map(|(_, t)| t).sum()
+    }
+}
