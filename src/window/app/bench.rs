@@ -50,11 +50,7 @@ impl Viewer {
                 self.warmup
             ));
         }
-        let lods: Vec<&lod::FrameLod> = self
-            .bench_lod
-            .iter()
-            .skip(self.warmup as usize)
-            .collect();
+        let lods: Vec<&lod::FrameLod> = self.bench_lod.iter().skip(self.warmup as usize).collect();
         let budgets: Vec<f64> = lods.iter().map(|l| l.budget as f64).collect();
         let triangles: Vec<f64> = lods.iter().map(|l| l.triangles as f64).collect();
         let adaptive = lods.iter().filter(|l| l.adaptive).count();

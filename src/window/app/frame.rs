@@ -143,7 +143,8 @@ impl Viewer {
                     self.bench_frames.push(sample.clone());
                     self.bench_lod.push(lod);
                 }
-                self.lod_target.observe(lod.budget, lod.adaptive, lod::frame_cost(&sample));
+                self.lod_target
+                    .observe(lod.budget, lod.adaptive, lod::frame_cost(&sample));
                 self.profiler.push(sample);
                 if let Some(r) = &mut self.egui_renderer {
                     for id in std::mem::take(&mut f.free_textures) {

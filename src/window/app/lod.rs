@@ -50,7 +50,6 @@ impl Viewer {
             triangles,
         };
     }
-
 }
 
 /// What the target compares: a frame's GPU time (all timed passes), or its wall frame time when

@@ -111,7 +111,9 @@ fn converges_to_the_target_without_oscillating() {
     eprintln!("settled at frame {at}: {trace:?}");
     assert!(at <= 10, "settled at frame {at}: {trace:?}");
     assert!(reversals(&frames) <= 1, "{trace:?}");
-    assert!(frames.iter().all(|f| f.budget >= 0.2 && f.mode == Mode::Adaptive));
+    assert!(frames
+        .iter()
+        .all(|f| f.budget >= 0.2 && f.mode == Mode::Adaptive));
     // Where it settled: the budget that meets 100 ms on this model is 1.76 px.
     let last = frames.last().unwrap().budget;
     assert!((1.3..=2.4).contains(&last), "{last} px");
@@ -145,7 +147,10 @@ fn an_unreachable_target_stops_at_the_ceiling() {
     };
     let mut ctl = LodTarget::new(Some(100.0), 0.2);
     let frames = simulate(&mut ctl, cost, 40, |_| true);
-    assert!(frames[10..].iter().all(|f| f.budget == MAX_BUDGET_PX), "{frames:?}");
+    assert!(
+        frames[10..].iter().all(|f| f.budget == MAX_BUDGET_PX),
+        "{frames:?}"
+    );
     assert_eq!(reversals(&frames), 0);
     // A scene whose own budget is above the ceiling keeps it.
     let mut ctl = LodTarget::new(Some(100.0), 6.0);
@@ -206,7 +211,10 @@ fn a_jump_across_the_band_does_not_make_it_hunt() {
     let slow: Vec<usize> = (10..frames.len()).filter(|&k| frames[k].ms > HI).collect();
     let episodes: Vec<&[usize]> = slow.chunk_by(|a, b| b - a == 1).collect();
     assert!(episodes.len() <= 2, "slow frames {slow:?}: {frames:?}");
-    assert!(episodes.iter().all(|e| e.len() <= 3), "slow frames {slow:?}");
+    assert!(
+        episodes.iter().all(|e| e.len() <= 3),
+        "slow frames {slow:?}"
+    );
     if let [a, b] = episodes[..] {
         assert!(b[0] - a[0] > HOLD_FRAMES as usize, "slow frames {slow:?}");
     }
@@ -236,7 +244,9 @@ fn full_detail_scene_yields_to_the_target_while_moving() {
     let frames = simulate(&mut ctl, near, 40, |_| true);
     let zeros = frames.iter().filter(|f| f.budget == 0.0).count();
     assert!(zeros <= 3, "{frames:?}");
-    assert!(frames[10..].iter().all(|f| f.budget >= FLOOR_PX && f.ms <= HI));
+    assert!(frames[10..]
+        .iter()
+        .all(|f| f.budget >= FLOOR_PX && f.ms <= HI));
 }
 
 #[test]
@@ -302,5 +312,8 @@ fn describes_the_budget_in_use() {
         "0.20 px (scene's, view still; target 100 ms)"
     );
     let off = LodTarget::new(None, 0.0);
-    assert_eq!(off.describe(0.0, true), "0 px (full detail) (scene's; no target)");
+    assert_eq!(
+        off.describe(0.0, true),
+        "0 px (full detail) (scene's; no target)"
+    );
 }
