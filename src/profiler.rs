@@ -143,9 +143,10 @@ impl Profiler {
     }
 
     /// Records the mesh LOD budget the frame being drawn uses, described
-    /// (`crate::window::lod_target::LodTarget::describe`).
-    pub fn set_lod_budget(&mut self, text: String) {
-        self.lod_budget = Some(text);
+    /// (`crate::window::lod_target::LodTarget::describe`); `None` when no mesh has simplified
+    /// levels (the budget changes nothing drawn).
+    pub fn set_lod_budget(&mut self, text: Option<String>) {
+        self.lod_budget = text;
     }
 
     /// The last [`Profiler::set_lod_budget`].

@@ -91,7 +91,7 @@ pub struct ViewArgs {
     /// draws at the scene's budget, the exact picture `luz render` makes, until something
     /// changes; a scene asking for full detail (0) gets it at rest and while moving as long as
     /// frames meet the target. Primitives' tessellation and shadow casters keep the scene's
-    /// budget; an A/B comparison pauses the target. The headless commands (render, bench, lab)
+    /// budget; the lab's A/B comparison and error view pause the target. The headless commands (render, bench, lab)
     /// always use the scene's budget, so their images and figures stay exact.
     #[arg(long, value_name = "MS", default_value = "100", value_parser = parse_target_ms)]
     pub target_ms: f64,

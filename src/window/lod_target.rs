@@ -137,8 +137,8 @@ impl LodTarget {
     }
 
     /// Starts a frame: `changed` says whether the view (camera, window, scene) changed since the
-    /// last one, `enabled` whether the target may act (the scene has simplified meshes, no A/B
-    /// comparison is shown). Returns the budget (px) to draw the frame with.
+    /// last one, `enabled` whether the target may act (the scene has simplified meshes, the lab
+    /// compares nothing). Returns the budget (px) to draw the frame with.
     pub fn frame(&mut self, changed: bool, enabled: bool) -> f32 {
         self.still = if changed {
             0
@@ -231,8 +231,9 @@ impl LodTarget {
         self.log_budget = next;
     }
 
-    /// The profiler's line: the budget in use, why, and the scene's.
-    pub fn describe(&self, in_use: f32, has_lod: bool) -> String {
+    /// The profiler's line: the budget in use, why, and the scene's (shown when some mesh has
+    /// simplified levels: otherwise [`Mode::Off`] with a target means the lab compares).
+    pub fn describe(&self, in_use: f32) -> String {
         let scene = self.scene_budget;
         let scene_text = if scene > 0.0 {
             format!("{scene} px")
@@ -246,10 +247,9 @@ impl LodTarget {
         };
         match (self.mode, self.target_ms) {
             (_, None) => format!("{used} (scene's; no target)"),
-            (Mode::Off, Some(t)) if !has_lod => {
-                format!("{used} (scene's; no simplified meshes for the {t} ms target)")
+            (Mode::Off, Some(t)) => {
+                format!("{used} (scene's; the lab compares, {t} ms target paused)")
             }
-            (Mode::Off, Some(t)) => format!("{used} (scene's; A/B shown, {t} ms target paused)"),
             (Mode::Adaptive, Some(t)) => {
                 format!("{used} (adaptive, target {t} ms; scene {scene_text})")
             }

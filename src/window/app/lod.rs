@@ -19,15 +19,16 @@ pub(super) struct FrameLod {
 impl Viewer {
     /// Before the forward pass's update: whether the view changed since the last frame (camera,
     /// window size, an edit, a scripted action, a rebuild), and the budget the controller asks
-    /// for. It acts only when some mesh has simplified levels and no A/B comparison is shown
-    /// (both sides must draw at their scenes' budgets to compare exactly).
+    /// for. It acts only when some mesh has simplified levels and the lab compares nothing (no
+    /// side B, no error view: comparisons are of the pictures the scenes' budgets make).
     pub(super) fn choose_lod_budget(&mut self) {
         let view = (self.scene.camera, self.swapchain.extent);
         let changed = std::mem::take(&mut self.view_changed) || self.last_view != Some(view);
         self.last_view = Some(view);
         self.lod_target
             .set_scene_budget(self.scene.output.tessellation_error_px);
-        let enabled = self.forward.has_lod_levels() && self.lab.b.is_none();
+        let enabled =
+            self.forward.has_lod_levels() && self.lab.b.is_none() && !self.lab.settings.error_view;
         let budget = self.lod_target.frame(changed, enabled);
         self.forward
             .set_lod_budget((self.lod_target.mode() == Mode::Adaptive).then_some(budget));
@@ -43,7 +44,7 @@ impl Viewer {
         let budget = self.forward.lod_budget();
         let has_lod = self.forward.has_lod_levels();
         self.profiler
-            .set_lod_budget(self.lod_target.describe(budget, has_lod));
+            .set_lod_budget(has_lod.then(|| self.lod_target.describe(budget)));
         self.frames[slot].lod = FrameLod {
             budget,
             adaptive: self.lod_target.mode() == Mode::Adaptive,

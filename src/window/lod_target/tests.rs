@@ -301,19 +301,16 @@ fn describes_the_budget_in_use() {
     simulate(&mut ctl, BUNNIES, 30, |_| true);
     let b = ctl.budget();
     assert_eq!(
-        ctl.describe(b, true),
+        ctl.describe(b),
         format!("{b:.2} px (adaptive, target 100 ms; scene 0.2 px)")
     );
     ctl.frame(false, true);
     ctl.frame(false, true);
     ctl.frame(false, true);
     assert_eq!(
-        ctl.describe(ctl.budget(), true),
+        ctl.describe(ctl.budget()),
         "0.20 px (scene's, view still; target 100 ms)"
     );
     let off = LodTarget::new(None, 0.0);
-    assert_eq!(
-        off.describe(0.0, true),
-        "0 px (full detail) (scene's; no target)"
-    );
+    assert_eq!(off.describe(0.0), "0 px (full detail) (scene's; no target)");
 }
