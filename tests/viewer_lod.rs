@@ -3,7 +3,7 @@
 //! bunny; skipped visibly without ../shared). With the camera turning and a target no frame can
 //! meet, the mesh LOD budget rises above the scene's and the triangles drawn drop; with the target
 //! off, or with it on and the camera still (the picture at rest), every measured frame draws what
-//! `luz render` draws for the same view.
+//! `luz render` draws for the same view, and a screenshot taken while turning is the exact picture.
 
 mod common;
 
@@ -113,12 +113,16 @@ fn the_target_raises_the_budget_while_moving_and_the_scene_budget_holds_at_rest(
     std::fs::write(&scene, scene_text(&bunny)).unwrap();
 
     // Turning, a target of 1 ms (no frame meets it): the budget climbs to the ceiling.
-    let Some(tight) = bench(
-        &dir,
-        &scene,
-        "tight",
-        &["--turntable", "1", "--target-ms", "1"],
-    ) else {
+    let (shot_tight, shot_off) = (dir.join("tight.png"), dir.join("off.png"));
+    let tight_args = [
+        "--turntable",
+        "1",
+        "--target-ms",
+        "1",
+        "--screenshot",
+        shot_tight.to_str().unwrap(),
+    ];
+    let Some(tight) = bench(&dir, &scene, "tight", &tight_args) else {
         return;
     };
     assert_eq!(num(&tight, &["lod_target_ms"]), 1.0);
@@ -131,12 +135,15 @@ fn the_target_raises_the_budget_while_moving_and_the_scene_budget_holds_at_rest(
         "{tight}"
     );
     // The same turn with the target off: the scene's budget, more triangles in every frame.
-    let Some(off) = bench(
-        &dir,
-        &scene,
+    let off_args = [
+        "--turntable",
+        "1",
+        "--target-ms",
         "off",
-        &["--turntable", "1", "--target-ms", "off"],
-    ) else {
+        "--screenshot",
+        shot_off.to_str().unwrap(),
+    ];
+    let Some(off) = bench(&dir, &scene, "off", &off_args) else {
         return;
     };
     assert!(off["lod_target_ms"].is_null(), "{off}");
@@ -151,6 +158,21 @@ fn the_target_raises_the_budget_while_moving_and_the_scene_budget_holds_at_rest(
         tight_max * 2.0 < off_min,
         "{tight_max} triangles at most with the target, {off_min} at least without"
     );
+
+    // The screenshot frame (one more turn after the last) draws at the scene's budget even while
+    // turning: the same picture as with the target off, below the compact profiler's figures (the
+    // top 64 rows, its frame and shadow; the bunnies are below them). A PNG: the viewer's EXR
+    // screenshot copies the float image in GENERAL layout, a validation performance warning.
+    let (a, b) = (
+        image::open(&shot_tight).unwrap().to_rgb8(),
+        image::open(&shot_off).unwrap().to_rgb8(),
+    );
+    assert_eq!(a.dimensions(), (320, 180));
+    let differing = a
+        .enumerate_pixels()
+        .filter(|&(x, y, p)| y >= 64 && (0..3).any(|i| p[i].abs_diff(b.get_pixel(x, y)[i]) > 1))
+        .count();
+    assert_eq!(differing, 0, "the screenshot is not the exact picture");
 
     // The camera still: with the target off, and with it on (at rest after 3 frames, before the
     // 5 warm-up frames end), every measured frame draws what `luz render` draws.

@@ -86,13 +86,14 @@ pub struct ViewArgs {
     pub display_path: DisplayPathArg,
     /// Frame-time target in ms (0 or "off": none). While the view changes (orbit, zoom, edits,
     /// --turntable) the viewer coarsens the meshes' automatic LOD to hold it: the budget rises
-    /// above the scene's output.tessellation_error_px when frames (their GPU time) take longer
-    /// and falls back, never below the scene's, when they are faster. After 3 still frames it
-    /// draws at the scene's budget, the exact picture `luz render` makes, until something
-    /// changes; a scene asking for full detail (0) gets it at rest and while moving as long as
-    /// frames meet the target. Primitives' tessellation and shadow casters keep the scene's
-    /// budget; the lab's A/B comparison and error view pause the target. The headless commands (render, bench, lab)
-    /// always use the scene's budget, so their images and figures stay exact.
+    /// above the scene's output.tessellation_error_px when frames (their GPU time) take longer and
+    /// falls back, never below the scene's, when they are faster. After 3 still frames it draws at
+    /// the scene's budget, the exact picture `luz render` makes, until something changes;
+    /// screenshots always draw at it. A scene asking for full detail (0) gets it at rest and while
+    /// moving as long as frames meet the target. Primitives' tessellation and shadow casters keep
+    /// the scene's budget; the lab's A/B comparison and error view pause the target. The headless
+    /// commands (render, bench, lab) always use the scene's budget, so their images and figures
+    /// stay exact.
     #[arg(long, value_name = "MS", default_value = "100", value_parser = parse_target_ms)]
     pub target_ms: f64,
     /// Orbit the camera by this many degrees every frame (a turntable: a moving view for

@@ -1,23 +1,23 @@
 //! The viewer's frame-time target (`luz view --target-ms`): while the view changes, the mesh LOD
-//! budget (px) rises above the scene's `output.tessellation_error_px` when frames exceed the
-//! target and falls back when they are faster, never below the scene's; once the view has been
-//! still for [`REST_FRAMES`] frames the viewer draws at the scene's budget (the exact picture, the
-//! one `luz render` makes) until something changes.
+//! budget (px) rises above the scene's `output.tessellation_error_px` when frames exceed the target
+//! and falls back when they are faster, never below the scene's; once the view has been still for
+//! [`REST_FRAMES`] frames the viewer draws at the scene's budget (the exact picture, the one `luz
+//! render` makes) until something changes.
 //!
-//! The controller works on the log of the budget. A frame's cost on lavapipe follows the
-//! triangles drawn, and those fall as a power of the budget (≈ budget^-0.85 on the bunny rows),
-//! so `ln(ms)` is close to linear in `ln(budget)`. Each measured frame (drawn at budget `u`,
-//! taking `t` ms against the target `T`) gives an estimate of the log budget that meets the
-//! target, `ln u + ln(t / T) / ELASTICITY`; the budget moves half way towards it ([`GAIN`]), by
-//! at most a factor of 2 per frame. The estimate is anchored on the budget the *measured* frame
-//! was drawn with, not the current one, so the two frames of latency between drawing and
-//! reading the timestamps do not compound into overshoot: with a true elasticity `e`, the error
-//! shrinks by at least `(1 - GAIN) + GAIN · |1 - e / ELASTICITY|` per frame, which is below 1
-//! for any `0 < e < 2 · ELASTICITY`. Two hystereses keep it from hunting: frames from 8 % over the
-//! target to 30 % under it leave the budget alone (noise; [`BAND_OVER`], [`BAND_UNDER`]), and for [`HOLD_FRAMES`] measured frames after a
-//! frame was too slow the budget is not lowered back to the one that frame was drawn with (a
-//! change of LOD level that moves the frame time across the whole band, as one large mesh's
-//! can, would otherwise flip it between two levels every few frames).
+//! The controller works on the log of the budget. A frame's cost on lavapipe follows the triangles
+//! drawn, and those fall as a power of the budget (≈ budget^-0.85 on the bunny rows), so `ln(ms)`
+//! is close to linear in `ln(budget)`. Each measured frame (drawn at budget `u`, taking `t` ms
+//! against the target `T`) gives an estimate of the log budget that meets the target, `ln u + ln(t
+//! / T) / ELASTICITY`; the budget moves half way towards it ([`GAIN`]), by at most a factor of 2
+//! per frame. The estimate is anchored on the budget the *measured* frame was drawn with, not the
+//! current one, so the two frames of latency between drawing and reading the timestamps do not
+//! compound into overshoot: with a true elasticity `e`, the error shrinks by at least `(1 - GAIN) +
+//! GAIN · |1 - e / ELASTICITY|` per frame, which is below 1 for any `0 < e < 2 · ELASTICITY`. Two
+//! hystereses keep it from hunting: frames from 8 % over the target to 30 % under it leave the
+//! budget alone (noise; [`BAND_OVER`], [`BAND_UNDER`]), and for [`HOLD_FRAMES`] measured frames
+//! after a frame was too slow the budget is not lowered back to the one that frame was drawn with
+//! (a change of LOD level that moves the frame time across the whole band, as one large mesh's can,
+//! would otherwise flip it between two levels every few frames).
 //!
 //! Pure logic, no window: the viewer feeds it ([`LodTarget::frame`], [`LodTarget::observe`]) and
 //! hands the budget to the headless core (`ForwardPass::set_lod_budget`).

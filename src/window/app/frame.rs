@@ -10,7 +10,7 @@ impl Viewer {
                 break;
             }
             let (_, action) = self.script.remove(0);
-            self.view_changed = true;
+            self.view_changed |= lod::changes_view(&action);
             match action {
                 Action::Resize(w, h) => {
                     let _ = self
@@ -224,7 +224,7 @@ impl Viewer {
         let primitives = self
             .egui_ctx
             .tessellate(output.shapes, output.pixels_per_point);
-        self.view_changed |= !actions.is_empty() || !lab_actions.is_empty();
+        self.view_changed |= actions.iter().any(lod::ui_changes_view) || !lab_actions.is_empty();
         self.apply_actions(actions)?;
         self.apply_lab_actions(lab_actions);
         if Structure::of(&self.scene, &self.settings) != self.structure {
@@ -255,7 +255,7 @@ impl Viewer {
         self.scene.camera = self.orbit.to_camera();
         let extent = self.swapchain.extent;
         let aspect = extent.width as f32 / extent.height.max(1) as f32;
-        self.choose_lod_budget();
+        self.choose_lod_budget(slot);
         self.forward.update(slot, &self.scene, aspect)?;
         self.note_lod(slot);
         self.sync_b(slot)?;
