@@ -88,6 +88,8 @@ pub fn stutter_count_with_window(frame_ms: &[f64], capacity: usize) -> u64 {
 pub struct Profiler {
     /// What the last frame drew: triangles, and the LOD levels in use (the viewer's panel).
     geometry: Option<(u64, String)>,
+    /// The mesh LOD budget in use and why (the viewer's frame-time target).
+    lod_budget: Option<String>,
     capacity: usize,
     samples: VecDeque<FrameSample>,
     total_frames: u64,
@@ -108,6 +110,7 @@ impl Profiler {
         let capacity = capacity.max(1);
         Profiler {
             geometry: None,
+            lod_budget: None,
             capacity,
             samples: VecDeque::with_capacity(capacity),
             total_frames: 0,
@@ -137,6 +140,18 @@ impl Profiler {
     /// ([`crate::scene::lod::levels_in_use`]).
     pub fn set_geometry(&mut self, triangles: u64, levels: String) {
         self.geometry = Some((triangles, levels));
+    }
+
+    /// Records the mesh LOD budget the frame being drawn uses, described
+    /// (`crate::window::lod_target::LodTarget::describe`); `None` when no mesh has simplified
+    /// levels (the budget changes nothing drawn).
+    pub fn set_lod_budget(&mut self, text: Option<String>) {
+        self.lod_budget = text;
+    }
+
+    /// The last [`Profiler::set_lod_budget`].
+    pub fn lod_budget(&self) -> Option<&str> {
+        self.lod_budget.as_deref()
     }
 
     /// The last [`Profiler::set_geometry`].

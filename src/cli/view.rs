@@ -42,7 +42,10 @@ pub struct ViewArgs {
     #[arg(long)]
     pub script: Option<String>,
     /// Frame-time benchmark: no panels, no vsync, the scene's output size; prints p50/p95/p99
-    /// frame time, the stutter count and per-pass GPU medians (300 frames unless --frames).
+    /// frame time, the stutter count, per-pass GPU medians and the LOD budget and triangles
+    /// drawn (300 frames unless --frames). The camera stays still unless --turntable or a
+    /// script moves it, so with --target-ms the frames after the first 3 draw at the scene's
+    /// budget.
     #[arg(long)]
     pub bench: bool,
     /// Frames excluded from --bench statistics (pipeline warm-up, first presents).
@@ -81,6 +84,22 @@ pub struct ViewArgs {
     /// runs the display pass (same codes, more time: for comparisons).
     #[arg(long, value_enum, default_value_t = DisplayPathArg::Auto)]
     pub display_path: DisplayPathArg,
+    /// Frame-time target in ms (0 or "off": none). While the view changes (orbit, zoom, edits,
+    /// --turntable) the viewer coarsens the meshes' automatic LOD to hold it: the budget rises
+    /// above the scene's output.tessellation_error_px when frames (their GPU time) take longer and
+    /// falls back, never below the scene's, when they are faster. After 3 still frames it draws at
+    /// the scene's budget, the exact picture `luz render` makes, until something changes;
+    /// screenshots always draw at it. A scene asking for full detail (0) gets it at rest and while
+    /// moving as long as frames meet the target. Primitives' tessellation and shadow casters keep
+    /// the scene's budget; the lab's A/B comparison and error view pause the target. The headless
+    /// commands (render, bench, lab) always use the scene's budget, so their images and figures
+    /// stay exact.
+    #[arg(long, value_name = "MS", default_value = "100", value_parser = parse_target_ms)]
+    pub target_ms: f64,
+    /// Orbit the camera by this many degrees every frame (a turntable: a moving view for
+    /// --bench, which otherwise keeps the camera still).
+    #[arg(long, value_name = "DEGREES", allow_hyphen_values = true, value_parser = parse_degrees)]
+    pub turntable: Option<f32>,
     /// "auto": deferred lighting (a G-buffer pass, then one lighting pass over the covered
     /// pixels) when every object shares one lean Phong variant, no environment, no MSAA; forward
     /// otherwise. "forward": always forward (for comparisons).
@@ -93,6 +112,27 @@ pub struct ViewArgs {
 pub enum DisplayPathArg {
     Auto,
     Hdr,
+}
+
+/// `--target-ms`: a number of milliseconds >= 0, or "off" (0).
+fn parse_target_ms(s: &str) -> Result<f64, String> {
+    if s.eq_ignore_ascii_case("off") {
+        return Ok(0.0);
+    }
+    match s.parse::<f64>() {
+        Ok(ms) if ms.is_finite() && ms >= 0.0 => Ok(ms),
+        _ => Err(format!(
+            "expected a frame time in milliseconds >= 0, or off, got {s:?}"
+        )),
+    }
+}
+
+/// `--turntable`: a finite number of degrees.
+fn parse_degrees(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(d) if d.is_finite() => Ok(d),
+        _ => Err(format!("expected a number of degrees, got {s:?}")),
+    }
 }
 
 /// Runs the viewer until the window closes (or `--frames` have been shown).
@@ -122,6 +162,8 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
             DisplayPathArg::Hdr => luz::window::DisplayPath::Hdr,
         },
         render_path: a.render_path.path(),
+        target_ms: (a.target_ms > 0.0).then_some(a.target_ms),
+        turntable: a.turntable,
         progress: Some(luz::progress::ProgressSink::new(Bar::new(
             "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
         ))),

@@ -5,6 +5,7 @@
 mod app;
 pub mod camera;
 pub mod jobs;
+pub mod lod_target;
 pub mod plots;
 pub mod script;
 mod swapchain;
@@ -61,6 +62,11 @@ pub struct ViewOptions {
     pub display_path: DisplayPath,
     /// Deferred lighting where the scene allows it, or always forward.
     pub render_path: crate::render::forward::RenderPath,
+    /// The frame time (ms) the viewer holds while the view changes by raising the mesh LOD
+    /// budget ([`lod_target`]); `None`: always the scene's budget.
+    pub target_ms: Option<f64>,
+    /// Degrees the camera orbits every frame (a turntable, for benchmarks of a moving view).
+    pub turntable: Option<f32>,
 }
 
 /// How the viewer's frames reach the swapchain image.

@@ -8,7 +8,13 @@ impl ForwardPass {
     /// Per draw: the coarsest LOD level of its mesh whose error, projected at the object's
     /// distance from `scene`'s camera onto the output height, stays within the budget
     /// ([`crate::scene::lod::choose`]).
-    pub(super) fn lod_levels(&self, scene: &Scene) -> Vec<u8> {
+    /// The levels are chosen for the target's height (the viewer's window) or the scene's, at
+    /// the budget asked for ([`ForwardPass::set_lod_budget`]) or the scene's.
+    pub(super) fn lod_levels(&mut self, scene: &Scene) -> Vec<u8> {
+        self.lod_height = self.target_height.unwrap_or(scene.output.height);
+        self.lod_budget = self
+            .lod_override
+            .unwrap_or(scene.output.tessellation_error_px);
         let f = crate::scene::lod::focal_px(&scene.camera, self.lod_height);
         self.draws
             .iter()
@@ -70,6 +76,27 @@ impl ForwardPass {
                 }
             })
             .collect()
+    }
+
+    /// The budget (px) the next [`ForwardPass::update`] or [`ForwardPass::update_camera`]
+    /// chooses mesh LOD levels with; `None`: the scene's `output.tessellation_error_px` (what
+    /// `luz render`, `bench` and `lab` always use). The viewer's frame-time target sets it while
+    /// the view changes. Only the meshes' levels follow it (they are chosen per frame):
+    /// primitives keep the tessellation they were built with, shadow casters the scene's budget.
+    pub fn set_lod_budget(&mut self, budget: Option<f32>) {
+        self.lod_override = budget.filter(|b| b.is_finite() && *b >= 0.0);
+    }
+
+    /// The budget (px) of the last LOD choice.
+    pub fn lod_budget(&self) -> f32 {
+        self.lod_budget
+    }
+
+    /// Whether any drawn mesh has simplified levels (a budget changes what is drawn).
+    pub fn has_lod_levels(&self) -> bool {
+        self.draws
+            .iter()
+            .any(|d| self.meshes[d.mesh].levels.len() > 1)
     }
 
     /// What building the LOD chains did: chains built, read from the disk cache, failed.

@@ -269,8 +269,10 @@ pub struct ForwardPass {
     lod_height: u32,
     /// The height of the target the pass last prepared for, if any.
     target_height: Option<u32>,
-    /// The budget of the LOD choice (`output.tessellation_error_px`).
+    /// The budget of the last LOD choice: `lod_override`, else `output.tessellation_error_px`.
     lod_budget: f32,
+    /// The budget asked for instead of the scene's ([`ForwardPass::set_lod_budget`]).
+    lod_override: Option<f32>,
     /// Draws that share mesh, level, pipeline and material are one instanced draw; off
     /// (`LUZ_INSTANCING=0`, for the test that compares both) records one draw per object.
     instancing: bool,
@@ -474,6 +476,7 @@ impl ForwardPass {
             lod_height: scene.output.height,
             target_height: None,
             lod_budget: scene.output.tessellation_error_px,
+            lod_override: None,
             instancing: instances::enabled(),
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
@@ -586,8 +589,6 @@ impl ForwardPass {
         self.background = scene.output.background;
         self.exposure = scene.output.exposure;
         let visible = self.visibility(scene, aspect);
-        self.lod_height = self.target_height.unwrap_or(scene.output.height);
-        self.lod_budget = scene.output.tessellation_error_px;
         let levels = self.lod_levels(scene);
         let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
         self.set_order(slot, order, levels)?;
@@ -650,8 +651,6 @@ impl ForwardPass {
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
         let visible = self.visibility(scene, aspect);
-        self.lod_height = self.target_height.unwrap_or(scene.output.height);
-        self.lod_budget = scene.output.tessellation_error_px;
         let levels = self.lod_levels(scene);
         let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
         for slot in 0..self.slots.len() {

@@ -50,6 +50,12 @@ impl Viewer {
                 self.warmup
             ));
         }
+        let lods: Vec<&lod::FrameLod> = self.bench_lod.iter().skip(self.warmup as usize).collect();
+        let budgets: Vec<f64> = lods.iter().map(|l| l.budget as f64).collect();
+        let triangles: Vec<f64> = lods.iter().map(|l| l.triangles as f64).collect();
+        let adaptive = lods.iter().filter(|l| l.adaptive).count();
+        let budget = crate::stats::Summary::of(&budgets);
+        let drawn = crate::stats::Summary::of(&triangles);
         let frame_ms: Vec<f64> = frames.iter().map(|f| f.frame_ms).collect();
         let cpu_ms: Vec<f64> = frames.iter().map(|f| f.cpu_ms).collect();
         let summary = crate::stats::Summary::of(&frame_ms);
@@ -71,6 +77,23 @@ impl Viewer {
             summary.max,
             summary.p99 / summary.median,
             stutters
+        );
+        log::info!(
+            "LOD budget px: median {:.3}, min {:.3}, max {:.3} ({} of {} frames adaptive; {}; \
+             scene {} px); triangles drawn: median {:.0}, min {:.0}, max {:.0}",
+            budget.median,
+            budget.min,
+            budget.max,
+            adaptive,
+            lods.len(),
+            match self.lod_target.target_ms() {
+                Some(t) => format!("target {t} ms"),
+                None => "no target".to_string(),
+            },
+            self.lod_target.scene_budget(),
+            drawn.median,
+            drawn.min,
+            drawn.max
         );
         let mut names: Vec<&'static str> = Vec::new();
         for f in &frames {
@@ -96,13 +119,17 @@ impl Viewer {
             passes.insert(n.to_string(), serde_json::to_value(s)?);
         }
         if let Some(p) = &args.csv {
-            let mut out = String::from("frame,frame_ms,cpu_ms");
+            let mut out = String::from("frame,frame_ms,cpu_ms,lod_budget_px,triangles_drawn");
             for n in &names {
                 out.push_str(&format!(",gpu_{n}_ms"));
             }
             out.push('\n');
             for (i, f) in frames.iter().enumerate() {
-                out.push_str(&format!("{i},{:.4},{:.4}", f.frame_ms, f.cpu_ms));
+                let l = lods.get(i).copied().copied().unwrap_or_default();
+                out.push_str(&format!(
+                    "{i},{:.4},{:.4},{},{}",
+                    f.frame_ms, f.cpu_ms, l.budget, l.triangles
+                ));
                 for n in &names {
                     let t = f.gpu_ms.iter().find(|(m, _)| m == n).map(|(_, t)| *t);
                     out.push_str(&format!(",{:.4}", t.unwrap_or(f64::NAN)));
@@ -125,6 +152,14 @@ impl Viewer {
                 // Of the last frame: after frustum culling, at the LOD levels chosen for the
                 // window's height.
                 "triangles_drawn": self.forward.triangles_drawn(self.slot),
+                // Per measured frame: the mesh LOD budget it drew with (the frame-time target's,
+                // or the scene's) and the triangles it drew.
+                "lod_target_ms": self.lod_target.target_ms(),
+                "scene_lod_budget_px": self.lod_target.scene_budget(),
+                "lod_budget_px": budget,
+                "adaptive_frames": adaptive,
+                "triangles_drawn_per_frame": drawn,
+                "turntable_deg_per_frame": self.turntable,
                 "frame_ms": summary,
                 "p99_over_p50": summary.p99 / summary.median,
                 "stutters": stutters,

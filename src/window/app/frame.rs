@@ -10,6 +10,7 @@ impl Viewer {
                 break;
             }
             let (_, action) = self.script.remove(0);
+            self.view_changed |= lod::changes_view(&action);
             match action {
                 Action::Resize(w, h) => {
                     let _ = self
@@ -96,6 +97,9 @@ impl Viewer {
     /// Draws one frame; false when `--frames` are done.
     pub(super) fn frame(&mut self) -> Result<bool> {
         self.run_script()?;
+        if let Some(degrees) = self.turntable {
+            self.orbit.orbit(degrees, 0.0);
+        }
         if self.swapchain_dirty {
             self.recreate_swapchain()?;
         }
@@ -134,9 +138,13 @@ impl Viewer {
                     cpu_ms: f.cpu_ms,
                     gpu_ms,
                 };
+                let lod = f.lod;
                 if self.bench {
                     self.bench_frames.push(sample.clone());
+                    self.bench_lod.push(lod);
                 }
+                self.lod_target
+                    .observe(lod.budget, lod.adaptive, lod::frame_cost(&sample));
                 self.profiler.push(sample);
                 if let Some(r) = &mut self.egui_renderer {
                     for id in std::mem::take(&mut f.free_textures) {
@@ -216,6 +224,7 @@ impl Viewer {
         let primitives = self
             .egui_ctx
             .tessellate(output.shapes, output.pixels_per_point);
+        self.view_changed |= actions.iter().any(lod::ui_changes_view) || !lab_actions.is_empty();
         self.apply_actions(actions)?;
         self.apply_lab_actions(lab_actions);
         if Structure::of(&self.scene, &self.settings) != self.structure {
@@ -246,10 +255,9 @@ impl Viewer {
         self.scene.camera = self.orbit.to_camera();
         let extent = self.swapchain.extent;
         let aspect = extent.width as f32 / extent.height.max(1) as f32;
+        self.choose_lod_budget(slot);
         self.forward.update(slot, &self.scene, aspect)?;
-        let levels = crate::scene::lod::levels_in_use(&self.forward.lod_choices(slot, &self.scene));
-        self.profiler
-            .set_geometry(self.forward.triangles_drawn(slot), levels);
+        self.note_lod(slot);
         self.sync_b(slot)?;
         self.lab
             .error_tick(&self.scene, self.targets.color.extent());

@@ -44,6 +44,7 @@ use crate::vk::{Buffer, Context, ContextDesc, InstanceDesc, VkError};
 mod bench;
 mod frame;
 mod lab;
+mod lod;
 mod open;
 mod shadow_view;
 
@@ -226,6 +227,8 @@ struct FrameSlot {
     cpu_ms: f64,
     /// Wall time from this frame's start to the next frame's start (what a user sees).
     frame_ms: f64,
+    /// The LOD budget and triangles the slot's frame drew with.
+    lod: lod::FrameLod,
 }
 
 /// A screenshot being copied to the host.
@@ -313,6 +316,17 @@ struct Viewer {
     shadow_view: shadow_view::ShadowView,
     profiler: Profiler,
     bench_frames: Vec<FrameSample>,
+    /// Per entry of `bench_frames`: the LOD budget and triangles of that frame.
+    bench_lod: Vec<lod::FrameLod>,
+    /// The frame-time target's controller of the mesh LOD budget (`--target-ms`).
+    lod_target: crate::window::lod_target::LodTarget,
+    /// Set by whatever changes the picture besides the camera and the window size (edits,
+    /// scripted actions, rebuilds): the target's "the view changed".
+    view_changed: bool,
+    /// The camera and window size of the last frame.
+    last_view: Option<(crate::scene::Camera, vk::Extent2D)>,
+    /// Degrees the camera orbits every frame (`--turntable`).
+    turntable: Option<f32>,
     display: DisplayPass,
     saturate: Option<SaturatePass>,
     forward: ForwardPass,
@@ -448,6 +462,7 @@ impl Viewer {
                 free_textures: Vec::new(),
                 cpu_ms: 0.0,
                 frame_ms: 0.0,
+                lod: Default::default(),
             });
         }
         let render_options = RenderOptions {
@@ -524,6 +539,14 @@ impl Viewer {
             shadow_view: Default::default(),
             profiler: Profiler::new(PROFILER_WINDOW),
             bench_frames: Vec::new(),
+            bench_lod: Vec::new(),
+            lod_target: crate::window::lod_target::LodTarget::new(
+                args.target_ms,
+                scene.output.tessellation_error_px,
+            ),
+            view_changed: true,
+            last_view: None,
+            turntable: args.turntable.filter(|d| *d != 0.0),
             display,
             saturate,
             forward,

@@ -89,6 +89,7 @@ impl Viewer {
     /// All or nothing: everything new is built before anything old is replaced, so a failure
     /// (say, an environment file that does not load) leaves the previous passes intact.
     pub(super) fn rebuild(&mut self, environment: bool) -> Result<()> {
+        self.view_changed = true;
         // SAFETY: the device is live and only this thread submits to its queue, so waiting for idle needs no
         // further synchronisation; afterwards nothing the rebuild replaces is in use.
         unsafe { self.ctx.device.device_wait_idle()? };

@@ -30,7 +30,7 @@ pub(super) fn profiler_ui(ui: &mut Ui, profiler: &Profiler) {
                 .num_columns(2)
                 .spacing([12.0, 2.0])
                 .show(ui, |ui| {
-                    let rows = [
+                    let mut rows = vec![
                         ("FPS", fps(s.fps)),
                         ("p50", ms(s.p50)),
                         ("p95", ms(s.p95)),
@@ -48,6 +48,10 @@ pub(super) fn profiler_ui(ui: &mut Ui, profiler: &Profiler) {
                             profiler.geometry().map_or("–".into(), |g| g.1.clone()),
                         ),
                     ];
+                    // Only when a mesh has simplified levels (the row would say nothing else).
+                    if let Some(b) = profiler.lod_budget() {
+                        rows.push(("LOD budget", b.to_string()));
+                    }
                     for (k, v) in rows {
                         ui.label(k);
                         ui.monospace(v);
