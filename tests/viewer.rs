@@ -339,3 +339,41 @@ fn bulk_added_lights_show_in_the_window() {
         .count();
     assert!(lit > (w * h / 4) as usize, "{lit} bright pixels");
 }
+
+/// An EXR screenshot of the viewer is the float image `luz render` writes for the same scene at
+/// its own size (before tone mapping: the panels are not in it; the embedded scene, 1280×720), with the validation layer silent (the
+/// copy reads the image in TRANSFER_SRC_OPTIMAL, not GENERAL) and sync validation on.
+#[test]
+fn exr_screenshot_is_the_headless_float_image() {
+    let dir = scratch("viewer_exr");
+    let shot = dir.join("shot.exr");
+    let Some((code, out, err)) = common::luz_in_window_with(
+        &[
+            "view",
+            "--frames",
+            "4",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ],
+        &[("LUZ_SYNC_VALIDATION", "1")],
+    ) else {
+        return;
+    };
+    assert_ran_clean(code, &out, &err);
+    let reference = dir.join("reference.exr");
+    let (code, _, err) = luz(&["render", "-o", reference.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    // Float images: FLIP after the scene's tone map, and a radiance bound far under one 8-bit step.
+    let (code, out, err) = luz(&[
+        "diff",
+        reference.to_str().unwrap(),
+        shot.to_str().unwrap(),
+        "--max-flip-mean",
+        "0.001",
+        "--max-abs",
+        "0.001",
+        "--max-bad-pixels",
+        "0",
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+}

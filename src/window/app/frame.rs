@@ -437,24 +437,28 @@ impl Viewer {
             }
             let exr = screenshot.filter(|p| is_exr(p));
             let mut read = self.display.source_access();
-            if exr.is_some() || self.lab.forces_hdr() {
+            if self.lab.forces_hdr() {
                 read = lab::readable(read);
             }
-            transition(
-                &d,
-                cmd,
-                &[
-                    Transition {
-                        image: t.color.raw,
-                        range: t.color.subresource_range(),
-                        from: last,
-                        to: read,
-                    },
-                    to_attachment,
-                ],
+            // An EXR screenshot copies the float image in TRANSFER_SRC_OPTIMAL (a copy from
+            // GENERAL is a performance warning of the validation layer), then gives it to the
+            // display pass and the lab.
+            let copy_src: Access = (
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_READ,
             );
+            let color = |from: Access, to: Access| Transition {
+                image: t.color.raw,
+                range: t.color.subresource_range(),
+                from,
+                to,
+            };
+            let first = if exr.is_some() { copy_src } else { read };
+            transition(&d, cmd, &[color(last, first), to_attachment]);
             if let Some(path) = exr {
                 shot = Some(self.copy_hdr(&d, cmd, path)?);
+                transition(&d, cmd, &[color(copy_src, read)]);
             }
             self.lab_copies = self.record_lab(&d, cmd, slot, &mut timer)?;
             vk::AttachmentLoadOp::DONT_CARE
@@ -528,8 +532,8 @@ impl Viewer {
         Ok(shot)
     }
 
-    /// Copies the HDR colour image (in GENERAL layout after the scene passes) for an EXR
-    /// screenshot; the copy is read after the frame's fence.
+    /// Copies the HDR colour image (in TRANSFER_SRC_OPTIMAL layout after the scene passes) for
+    /// an EXR screenshot; the copy is read after the frame's fence.
     fn copy_hdr(&self, d: &ash::Device, cmd: vk::CommandBuffer, path: &Path) -> Result<Shot> {
         let t = &self.targets;
         let extent = t.color.extent();
@@ -544,7 +548,7 @@ impl Viewer {
             d,
             cmd,
             t.color.raw,
-            vk::ImageLayout::GENERAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
             &buffer,
             extent,
         );
