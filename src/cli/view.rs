@@ -88,7 +88,8 @@ pub struct ViewArgs {
     /// --turntable) the viewer coarsens the meshes' automatic LOD to hold it: the budget rises
     /// above the scene's output.tessellation_error_px when frames (their GPU time) take longer and
     /// falls back, never below the scene's, when they are faster. After 3 still frames it draws at
-    /// the scene's budget, the exact picture `luz render` makes, until something changes;
+    /// the scene's budget, the exact picture `luz render` makes, once, then waits for input
+    /// (without --bench, --frames or a script);
     /// screenshots always draw at it. A scene asking for full detail (0) gets it at rest and while
     /// moving as long as frames meet the target. Primitives' tessellation and shadow casters keep
     /// the scene's budget; the lab's A/B comparison and error view pause the target. The headless

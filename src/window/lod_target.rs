@@ -175,6 +175,13 @@ impl LodTarget {
         self.mode
     }
 
+    /// The frame started last is at rest: drawn at the scene's budget, the exact picture, after
+    /// [`REST_FRAMES`] still frames. Drawing it again would draw the same picture: the viewer may
+    /// wait for the next event instead.
+    pub fn exact_drawn(&self) -> bool {
+        self.mode == Mode::Rest && self.still >= REST_FRAMES
+    }
+
     /// A measured frame: drawn at `used` px (at the adaptive budget when `adaptive`), it took
     /// `ms` (its GPU time). Until the first adaptive frame is measured, frames drawn at the
     /// scene's budget count too, so that the first motion starts near the target; after it they

@@ -96,6 +96,7 @@ impl Viewer {
 
     /// Draws one frame; false when `--frames` are done.
     pub(super) fn frame(&mut self) -> Result<bool> {
+        self.awake = self.awake.saturating_sub(1);
         self.run_script()?;
         if let Some(degrees) = self.turntable {
             self.orbit.orbit(degrees, 0.0);

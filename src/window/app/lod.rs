@@ -41,6 +41,23 @@ impl Viewer {
         self.frames[slot].lod.adaptive = adaptive;
     }
 
+    /// Whether the viewer may stop drawing until the next window event: with the frame-time
+    /// target on, the exact picture (the scene's budget, the view still) has been submitted, no
+    /// input arrived in the last [`AWAKE_FRAMES`] frames, and nothing else counts on frames coming
+    /// (a benchmark, `--frames`, a script, a screenshot, the shadow-map window's read-back).
+    /// Redrawing the same picture every frame would take the CPU (half a second a frame on the
+    /// 40 M scene) and leave frames in flight for the first moving frame to wait for.
+    pub(super) fn may_wait(&self) -> bool {
+        self.lod_target.exact_drawn()
+            && self.awake == 0
+            && !self.bench
+            && self.frame_limit.is_none()
+            && self.script.is_empty()
+            && self.pending_screenshot.is_none()
+            && !self.shadow_view.due
+            && self.shadow_view.save.is_none()
+    }
+
     /// After the forward pass's update: the profiler's geometry and budget lines, and what the
     /// slot's frame drew with.
     pub(super) fn note_lod(&mut self, slot: usize) {

@@ -145,6 +145,18 @@ impl ApplicationHandler for App {
     fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(v) = &mut self.viewer else { return };
         let consumed = v.egui_state.on_window_event(&v.window, &event).consumed;
+        // Input wakes a viewer waiting at rest: a few frames for the panels to answer; the cursor
+        // only over a panel or while a button is held (a drag that moves the view).
+        let wakes = match &event {
+            WindowEvent::RedrawRequested => false,
+            WindowEvent::CursorMoved { .. } => {
+                v.drag.left || v.drag.middle || v.egui_ctx.is_pointer_over_egui()
+            }
+            _ => true,
+        };
+        if wakes {
+            v.awake = AWAKE_FRAMES;
+        }
         match event {
             WindowEvent::CloseRequested => self.shutdown(el),
             WindowEvent::Resized(_) => v.swapchain_dirty = true,
@@ -200,9 +212,18 @@ impl ApplicationHandler for App {
         }
     }
 
-    fn about_to_wait(&mut self, _el: &ActiveEventLoop) {
-        if let Some(v) = &self.viewer {
-            v.window.request_redraw();
+    fn about_to_wait(&mut self, el: &ActiveEventLoop) {
+        if let Some(v) = &mut self.viewer {
+            if v.may_wait() {
+                // The exact picture is on its way to the window: draw again on the next event,
+                // with nothing in flight when the view starts to move; the idle gap is no frame
+                // time.
+                el.set_control_flow(ControlFlow::Wait);
+                v.last_frame_start = None;
+            } else {
+                el.set_control_flow(ControlFlow::Poll);
+                v.window.request_redraw();
+            }
         }
     }
 }
@@ -300,6 +321,9 @@ impl Structure {
     }
 }
 
+/// Frames an input event keeps the viewer drawing at rest (egui's hover and click feedback).
+const AWAKE_FRAMES: u32 = 3;
+
 struct Viewer {
     // Dropped first: everything below outlives the GPU work these record.
     egui_renderer:
@@ -358,6 +382,8 @@ struct Viewer {
     status: Option<String>,
     modifiers: ModifiersState,
     drag: Drag,
+    /// Frames to draw after an input event before the viewer may wait at rest.
+    awake: u32,
     window: Window,
     ctx: Arc<Context>,
 }
@@ -573,6 +599,7 @@ impl Viewer {
             frame_index: 0,
             slot: 0,
             last_frame_start: None,
+            awake: AWAKE_FRAMES,
             pending_screenshot: None,
             status: None,
             modifiers: ModifiersState::empty(),

@@ -278,6 +278,36 @@ fn the_first_motion_starts_near_the_target() {
     assert!(frames[20].ms < 200.0, "{frames:?}");
 }
 
+/// The viewer may stop drawing once the exact picture has been started, not before it, not while
+/// the view moves, and never without a target (it then draws every frame as before).
+#[test]
+fn the_exact_picture_is_drawn_once_before_the_viewer_may_wait() {
+    let mut ctl = LodTarget::new(Some(100.0), 0.2);
+    assert!(!ctl.exact_drawn());
+    ctl.frame(true, true);
+    assert!(!ctl.exact_drawn(), "moving");
+    for still in 1..REST_FRAMES {
+        ctl.frame(false, true);
+        assert_eq!(ctl.mode(), Mode::Adaptive, "{still}");
+        assert!(!ctl.exact_drawn(), "{still} still frames: adaptive budget");
+    }
+    ctl.frame(false, true);
+    assert_eq!((ctl.mode(), ctl.budget()), (Mode::Rest, 0.2));
+    assert!(ctl.exact_drawn());
+    ctl.frame(false, true);
+    assert!(ctl.exact_drawn());
+    ctl.frame(true, true);
+    assert!(!ctl.exact_drawn(), "the view changed");
+    // Disabled (the lab compares) or off: never.
+    for (target, enabled) in [(Some(100.0), false), (None, true)] {
+        let mut ctl = LodTarget::new(target, 0.2);
+        for _ in 0..10 {
+            ctl.frame(false, enabled);
+            assert!(!ctl.exact_drawn());
+        }
+    }
+}
+
 #[test]
 fn off_and_disabled_keep_the_scene_budget() {
     for target in [None, Some(0.0), Some(f64::NAN)] {
