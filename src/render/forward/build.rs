@@ -277,7 +277,7 @@ fn lod_data(
     // OBJ and glTF meshes (they have a chain, one level when not simplified) drawn smooth: in
     // vertex fetch order, whole or not.
     if let (Some(chain), false) = (chain, flat) {
-        return compact_levels(&mesh::smooth(mesh), chain);
+        return compact_levels(&smooth_with_moved(mesh, chain), chain);
     }
     let Some(chain) = chain.filter(|c| c.levels.len() > 1) else {
         return whole(if flat {
@@ -287,6 +287,7 @@ fn lod_data(
         });
     };
     let mut data = mesh::flat(mesh);
+    let all = chain.vertices_of(mesh);
     let mut levels = vec![LodLevel {
         first_index: 0,
         index_count: data.indices.len() as u32,
@@ -295,7 +296,7 @@ fn lod_data(
     for (i, l) in chain.levels.iter().enumerate().skip(1) {
         let level = crate::scene::Mesh {
             indices: chain.level_indices(i).to_vec(),
-            ..mesh.clone()
+            ..all.as_ref().clone()
         };
         let part = mesh::flat(&level);
         let base = data.vertices.len() as u32;
@@ -311,6 +312,30 @@ fn lod_data(
         data.indices.extend(part.indices.iter().map(|i| i + base));
     }
     (data, levels)
+}
+
+/// [`mesh::smooth`] of `mesh` with the vertices the simplifier moved for `chain`'s levels after
+/// its own, each with the tangent and colour of the vertex it came from.
+fn smooth_with_moved(
+    mesh: &crate::scene::Mesh,
+    chain: &crate::scene::lod::LodChain,
+) -> mesh::MeshData {
+    let mut data = mesh::smooth(mesh);
+    let m = &chain.moved;
+    for k in 0..m.len() {
+        let origin = m.origin[k] as usize;
+        let mut v = data.vertices[origin];
+        v.position = m.positions[k].to_array();
+        v.normal = m.normals[k].to_array();
+        if let Some(uv) = m.uvs.get(k) {
+            v.uv = uv.to_array();
+        }
+        data.vertices.push(v);
+        if let Some(c) = &mut data.colors {
+            c.push(c[origin]);
+        }
+    }
+    data
 }
 
 /// Smooth levels, each with its own copy of the vertices it uses, in the order its (vertex cache
@@ -637,7 +662,22 @@ mod tests {
             .collect();
         let chain = crate::scene::lod::build(&m).unwrap();
         assert!(chain.levels.len() > 3);
-        let all = mesh::smooth(&m);
+        let all = smooth_with_moved(&m, &chain);
+        let n = m.positions.len();
+        assert_eq!(all.vertices.len(), n + chain.moved.len());
+        // The placed vertices: the simplifier's positions and normals, their origin's colour and
+        // tangent.
+        let own = mesh::smooth(&m);
+        for (k, &o) in chain.moved.origin.iter().enumerate() {
+            let (v, from) = (all.vertices[n + k], own.vertices[o as usize]);
+            assert_eq!(v.position, chain.moved.positions[k].to_array());
+            assert_eq!(v.normal, chain.moved.normals[k].to_array());
+            assert_eq!(v.tangent, from.tangent);
+            assert_eq!(
+                all.colors.as_ref().unwrap()[n + k],
+                m.colors[o as usize].to_array()
+            );
+        }
         let (data, levels) = compact_levels(&all, &chain);
         assert_eq!(levels.len(), chain.levels.len());
         let colors = data.colors.as_ref().unwrap();
@@ -671,10 +711,9 @@ mod tests {
         assert_eq!(next as usize, data.vertices.len());
         // About twice the mesh's vertices (the coarse levels keep a little more than half).
         assert!(
-            data.vertices.len() * 2 <= all.vertices.len() * 5,
-            "{} vertices for {}: {:?}",
+            data.vertices.len() * 2 <= n * 5,
+            "{} vertices for {n}: {:?}",
             data.vertices.len(),
-            all.vertices.len(),
             levels.iter().map(|l| l.index_count).collect::<Vec<_>>()
         );
     }

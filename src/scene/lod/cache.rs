@@ -1,23 +1,27 @@
 //! LOD chains on disk: `<cache dir>/lod/<key>.lod`, one file per mesh content.
 //!
-//! Format: the magic `LUZLOD01`, the CRC-32 of everything after the 16-byte header
+//! Format: the magic `LUZLOD02`, the CRC-32 of everything after the 16-byte header
 //! (little-endian u32), four reserved bytes, then the body: the key (u64), the mesh's vertex and
-//! index counts (u32 each), the number of simplified levels (u32), per level its index count (u32)
-//! and error (f32 bits), then every simplified level's indices (u32). Level 0 (the mesh's own
-//! indices) is not stored. All little-endian.
+//! index counts (u32 each), the number of simplified levels (u32), the number of moved vertices
+//! (u32), per level its index count (u32) and error (f32 bits), then every simplified level's
+//! indices (u32), then per moved vertex its origin (u32), position (3 f32), normal (3 f32) and,
+//! when the mesh has UVs, UV (2 f32). Level 0 (the mesh's own indices) is not stored. All
+//! little-endian.
 //!
 //! On load the checksum is verified first: a file whose bytes changed (a flipped bit, a partial
 //! copy) is [`Read::Corrupt`], rebuilt with one warning and replaced. A file of another version or
-//! another mesh (the key or the counts differ) is a quiet miss; indices beyond the mesh's
-//! vertices or a non-finite error count as corrupt even under a matching checksum.
+//! another mesh (the key or the counts differ) is a quiet miss; indices beyond the vertices,
+//! origins beyond the mesh's, a non-finite error or vertex value count as corrupt even under a
+//! matching checksum.
 
 use std::path::{Path, PathBuf};
 
 use super::{LodChain, LodLevel, LOD_VERSION};
 use crate::env::Fnv1a;
 use crate::scene::Mesh;
+use glam::{Vec2, Vec3};
 
-const MAGIC: &[u8; 8] = b"LUZLOD01";
+const MAGIC: &[u8; 8] = b"LUZLOD02";
 const HEADER: usize = 16;
 
 /// The cache key of `mesh`: FNV-1a 64 over [`LOD_VERSION`], the simplifier's settings and the
@@ -90,7 +94,7 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
     let mut words = body
         .chunks_exact(4)
         .map(|w| u32::from_le_bytes(w.try_into().expect("4 bytes")));
-    if !body.len().is_multiple_of(4) || body.len() < 20 {
+    if !body.len().is_multiple_of(4) || body.len() < 24 {
         return Parsed::Corrupt;
     }
     let (lo, hi) = (words.next(), words.next());
@@ -103,7 +107,11 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
         return Parsed::Miss;
     }
     let count = words.next().unwrap_or(0) as usize;
-    if count > super::MAX_LEVELS || body.len() < 20 + count * 8 {
+    let moved = words.next().unwrap_or(0) as usize;
+    // Each moved vertex is used by some level's triangle: no more of them than indices.
+    let uv = mesh.uvs.len() == mesh.positions.len();
+    let vertex_words = if uv { 9 } else { 7 };
+    if count > super::MAX_LEVELS || body.len() < 24 + count * 8 {
         return Parsed::Corrupt;
     }
     // The file holds the simplified levels; level 0 is the mesh's triangles in cache order.
@@ -122,15 +130,16 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
         total += n as usize;
         sizes.push((n, e));
     }
-    if body.len() != 20 + count * 8 + total * 4 {
+    if moved > total || body.len() != 24 + count * 8 + total * 4 + moved * vertex_words * 4 {
         return Parsed::Corrupt;
     }
-    let n = mesh.positions.len() as u32;
+    let n = mesh.positions.len();
+    let all = (n + moved) as u32;
     for (count, error) in sizes {
         let first = chain.indices.len() as u32;
         for _ in 0..count {
             let i = words.next().unwrap_or(u32::MAX);
-            if i >= n {
+            if i >= all {
                 return Parsed::Corrupt;
             }
             chain.indices.push(i);
@@ -140,6 +149,26 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
             index_count: count,
             error,
         });
+    }
+    let mut float = || f32::from_bits(words.next().unwrap_or(0));
+    let m = &mut chain.moved;
+    for _ in 0..moved {
+        let origin = float().to_bits();
+        let p = Vec3::new(float(), float(), float());
+        let normal = Vec3::new(float(), float(), float());
+        if origin as usize >= n || !p.is_finite() || !normal.is_finite() {
+            return Parsed::Corrupt;
+        }
+        m.origin.push(origin);
+        m.positions.push(p);
+        m.normals.push(normal);
+        if uv {
+            let t = Vec2::new(float(), float());
+            if !t.is_finite() {
+                return Parsed::Corrupt;
+            }
+            m.uvs.push(t);
+        }
     }
     Parsed::Hit(chain)
 }
@@ -153,12 +182,23 @@ fn file(key: u64, mesh: &Mesh, chain: &LodChain) -> Vec<u8> {
         mesh.positions.len() as u32,
         mesh.indices.len() as u32,
         simplified.len() as u32,
+        chain.moved.len() as u32,
     ];
     for l in simplified {
         body.extend_from_slice(&[l.index_count, l.error.to_bits()]);
     }
     for i in 1..chain.levels.len() {
         body.extend_from_slice(chain.level_indices(i));
+    }
+    let m = &chain.moved;
+    for k in 0..m.len() {
+        body.push(m.origin[k]);
+        let uv = m.uvs.get(k).map(|t| t.to_array());
+        let floats = m.positions[k].to_array().into_iter();
+        let floats = floats
+            .chain(m.normals[k].to_array())
+            .chain(uv.into_iter().flatten());
+        body.extend(floats.map(f32::to_bits));
     }
     let body: Vec<u8> = body.iter().flat_map(|w| w.to_le_bytes()).collect();
     let mut data = MAGIC.to_vec();

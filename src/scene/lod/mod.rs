@@ -5,11 +5,21 @@
 //! also drives automatic tessellation of spheres, cones and cylinders
 //! ([`super::tessellation`]). A budget of 0 draws every mesh whole.
 //!
-//! **Simplifier.** meshoptimizer (the `meshopt` crate, 0.7), `meshopt_simplifyWithAttributes`:
+//! **Simplifier.** meshoptimizer (the `meshopt` crate, 0.7), `meshopt_simplifyWithUpdate`:
+//! - it collapses edges like `meshopt_simplifyWithAttributes` and then *places* each kept vertex,
+//!   its normal and its UV where the level's quadric error is least, instead of leaving them where
+//!   the mesh had them. A coarse level's vertices sit slightly off the full surface so that its
+//!   flat triangles follow it on average, and their normals average the relief they replace.
+//!   Against the kept vertices, at the same triangles drawn at each budget, mean FLIP against
+//!   full detail falls by 24–26 % on bunnies_40m (0.2–0.5 px) and by 8–24 % on bunnies_lab
+//!   (0.1–2 px) (docs/performance.md, "Placed vertices"). Each simplified level has its own
+//!   vertices ([`MovedVertices`], after the mesh's); placed normals are renormalised, colours and
+//!   tangents come from the vertex each placed one replaces;
 //! - attribute-aware: the vertex normals (weight [`NORMAL_WEIGHT`]) and UVs ([`UV_WEIGHT`]) are
 //!   part of the quadric error, so shading and texture layout are kept where they vary; vertices
 //!   split at a normal or UV seam (same position, other attributes) are collapsed only along the
-//!   seam, so seams stay closed (meshoptimizer's default, we do not pass `Permissive`);
+//!   seam and placed together, so seams stay closed (meshoptimizer's default, we do not pass
+//!   `Permissive`);
 //! - `LockBorder`: vertices on an open border do not move. Parts of one model (an OBJ's groups, a
 //!   glTF's primitives) are separate objects whose levels are chosen independently; a moving
 //!   border would open cracks between them. Closed meshes have no border and lose nothing;
@@ -21,14 +31,15 @@
 //! Other normal weights, meshopt's `Regularize`, `RegularizeLight`, `Prune`, `PreserveFolds` and
 //! `Permissive`, smoothed normals as the attribute and rescaled level errors were measured against
 //! these on the triangles-against-FLIP curve (docs/performance.md, "Simplifier settings against
-//! image quality per triangle"): none made better triangles; the ones that helped bunnies_40m
-//! only moved triangles from far objects to near ones, and hurt the bunnies_lab scene as much.
+//! image quality per triangle", with the kept vertices): none made better triangles; the ones that
+//! helped bunnies_40m only moved triangles from far objects to near ones, and hurt the bunnies_lab
+//! scene as much.
 //!
 //! Every level is simplified from the full mesh (not from the previous level), so its error is
 //! measured against what the scene file holds; errors are made non-decreasing along the chain.
-//! A chain holds only index buffers into the mesh's vertices (about 1× the full index buffer in
-//! total at a ratio of 1/2 per level). On the GPU each level then gets its own copy of the
-//! vertices it uses, in the order it first uses them (`compact_levels` in
+//! A chain holds the levels' index buffers (about 1× the full index buffer in total at a ratio of
+//! 1/2 per level) and their placed vertices (about 1× the mesh's vertices). On the GPU each level
+//! draws its own vertices in the order it first uses them (`compact_levels` in
 //! `src/render/forward/build.rs`: about 2× the mesh's vertices, for vertex fetches in sequence).
 //!
 //! Each level, the full mesh's too, is then reordered by `meshopt_optimizeVertexCache` (same
@@ -50,7 +61,7 @@ pub mod cache;
 
 /// Bumped whenever [`build`] would make other levels for the same mesh (settings, algorithm,
 /// the meshopt version), so old cache files stop matching.
-pub const LOD_VERSION: u32 = 2;
+pub const LOD_VERSION: u32 = 3;
 /// Triangles of each level relative to the previous one (its target).
 pub const LEVEL_RATIO: f32 = 0.5;
 /// At most this many levels after the full mesh.
@@ -81,11 +92,43 @@ impl LodLevel {
 
 /// A mesh's levels: level 0 is the mesh itself, each next one coarser. `indices` holds every
 /// level's index buffer one after the other (level 0's first: the mesh's own triangles, in vertex
-/// cache order when simplified), all into the mesh's vertices.
+/// cache order when simplified), into the mesh's vertices followed by `moved`
+/// ([`LodChain::vertices_of`]): level 0 uses the mesh's, each simplified level its own.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LodChain {
     pub indices: Vec<u32>,
     pub levels: Vec<LodLevel>,
+    /// Vertices the simplifier moved, after the mesh's own: index `n + k` (n: the mesh's vertex
+    /// count) is `moved`'s vertex k.
+    pub moved: MovedVertices,
+}
+
+/// The simplified levels' own vertices: where `meshopt_simplifyWithUpdate` put them, each with
+/// the mesh vertex it came from (`origin`: its colour and tangent).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MovedVertices {
+    pub origin: Vec<u32>,
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    /// Empty when the mesh has no UVs.
+    pub uvs: Vec<glam::Vec2>,
+}
+
+impl MovedVertices {
+    pub fn len(&self) -> usize {
+        self.origin.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.origin.is_empty()
+    }
+
+    fn append(&mut self, mut other: MovedVertices) {
+        self.origin.append(&mut other.origin);
+        self.positions.append(&mut other.positions);
+        self.normals.append(&mut other.normals);
+        self.uvs.append(&mut other.uvs);
+    }
 }
 
 impl LodChain {
@@ -98,7 +141,32 @@ impl LodChain {
                 index_count: mesh.indices.len() as u32,
                 error: 0.0,
             }],
+            moved: MovedVertices::default(),
         }
+    }
+
+    /// `mesh` with the moved vertices after its own (colours and tangents from their origin):
+    /// the vertices every level's indices refer to.
+    pub fn vertices_of<'a>(&self, mesh: &'a Mesh) -> std::borrow::Cow<'a, Mesh> {
+        if self.moved.is_empty() {
+            return std::borrow::Cow::Borrowed(mesh);
+        }
+        let m = &self.moved;
+        let mut out = mesh.clone();
+        out.positions.extend_from_slice(&m.positions);
+        out.normals.extend_from_slice(&m.normals);
+        if !mesh.uvs.is_empty() {
+            out.uvs.extend_from_slice(&m.uvs);
+        }
+        if mesh.colors.len() == mesh.positions.len() {
+            out.colors
+                .extend(m.origin.iter().map(|&o| mesh.colors[o as usize]));
+        }
+        if mesh.tangents.len() == mesh.positions.len() {
+            out.tangents
+                .extend(m.origin.iter().map(|&o| mesh.tangents[o as usize]));
+        }
+        std::borrow::Cow::Owned(out)
     }
 
     /// Puts level `i`'s triangles (of a mesh of `vertex_count` vertices) in the order
@@ -157,47 +225,13 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
         chain.cache_order(0, mesh.positions.len());
         return Ok(chain);
     }
-    let positions: Vec<[f32; 3]> = mesh.positions.iter().map(|p| p.to_array()).collect();
-    let adapter = meshopt::VertexDataAdapter::new(bytemuck::cast_slice(&positions), 12, 0)
-        .map_err(|e| format!("meshopt: {e}"))?;
-    let uv = mesh.uvs.len() == mesh.positions.len();
-    let stride = if uv { 5 } else { 3 };
-    let mut attributes = Vec::with_capacity(mesh.positions.len() * stride);
-    for i in 0..mesh.positions.len() {
-        attributes.extend_from_slice(&mesh.normals[i].to_array());
-        if uv {
-            attributes.extend_from_slice(&mesh.uvs[i].to_array());
-        }
-    }
-    let weights = [
-        NORMAL_WEIGHT,
-        NORMAL_WEIGHT,
-        NORMAL_WEIGHT,
-        UV_WEIGHT,
-        UV_WEIGHT,
-    ];
-    let locks = vec![meshopt::SimplifyVertex::None; mesh.positions.len()];
-    let options = meshopt::SimplifyOptions::LockBorder
-        | meshopt::SimplifyOptions::ErrorAbsolute
-        | meshopt::SimplifyOptions::ErrorClamped;
+    let simplifier = Simplifier::new(mesh);
     let mut previous = triangles;
     let mut error_so_far = 0.0f32;
     while chain.levels.len() <= MAX_LEVELS && previous >= MIN_TRIANGLES {
         let target = ((previous as f32 * LEVEL_RATIO) as usize).max(1) * 3;
-        let mut error = 0.0f32;
-        let level = meshopt::simplify_with_attributes_and_locks(
-            &mesh.indices,
-            &adapter,
-            &attributes,
-            &weights[..stride],
-            stride * 4,
-            &locks,
-            target,
-            f32::MAX,
-            options,
-            Some(&mut error),
-        );
-        let count = level.len() / 3;
+        let (mut level, error) = simplifier.level(target);
+        let count = level.indices.len() / 3;
         if count == 0 {
             if chain.levels.len() == 1 {
                 return Err("the simplifier removed every triangle (a degenerate mesh?)".into());
@@ -217,19 +251,117 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
             }
             break;
         }
+        if level.moved.positions.iter().any(|p| !p.is_finite()) {
+            return Err("the simplifier moved a vertex to a non-finite position".into());
+        }
+        // The level's vertices follow the mesh's and the levels' before it.
+        let base = (mesh.positions.len() + chain.moved.len()) as u32;
+        level.indices.iter_mut().for_each(|i| *i += base);
+        chain.moved.append(level.moved);
         error_so_far = error_so_far.max(error);
         chain.levels.push(LodLevel {
             first_index: chain.indices.len() as u32,
-            index_count: level.len() as u32,
+            index_count: level.indices.len() as u32,
             error: error_so_far,
         });
-        chain.indices.extend_from_slice(&level);
+        chain.indices.extend_from_slice(&level.indices);
         previous = count;
     }
     for i in 0..chain.levels.len() {
-        chain.cache_order(i, mesh.positions.len());
+        chain.cache_order(i, mesh.positions.len() + chain.moved.len());
     }
     Ok(chain)
+}
+
+/// One simplified level: its indices into its own vertices (`moved`, numbered from 0).
+struct Level {
+    indices: Vec<u32>,
+    moved: MovedVertices,
+}
+
+/// meshoptimizer's `simplifyWithUpdate` on one mesh, run once per level from the full mesh.
+struct Simplifier<'a> {
+    mesh: &'a Mesh,
+    positions: Vec<[f32; 3]>,
+    /// Per vertex: the normal, then the UV when the mesh has UVs.
+    attributes: Vec<f32>,
+    stride: usize,
+    locks: Vec<meshopt::SimplifyVertex>,
+}
+
+impl<'a> Simplifier<'a> {
+    fn new(mesh: &'a Mesh) -> Self {
+        let uv = mesh.uvs.len() == mesh.positions.len();
+        let stride = if uv { 5 } else { 3 };
+        let mut attributes = Vec::with_capacity(mesh.positions.len() * stride);
+        for i in 0..mesh.positions.len() {
+            attributes.extend_from_slice(&mesh.normals[i].to_array());
+            if uv {
+                attributes.extend_from_slice(&mesh.uvs[i].to_array());
+            }
+        }
+        Simplifier {
+            mesh,
+            positions: mesh.positions.iter().map(|p| p.to_array()).collect(),
+            attributes,
+            stride,
+            locks: vec![meshopt::SimplifyVertex::None; mesh.positions.len()],
+        }
+    }
+
+    /// The level of (at most) `target_indices` indices and its error. The simplifier collapses
+    /// edges on copies of the mesh's data and places each kept vertex (and its normal and UV) where
+    /// its quadric error is least; the vertices the level uses are copied out in first-use order,
+    /// normals renormalised.
+    fn level(&self, target_indices: usize) -> (Level, f32) {
+        let weights = [
+            NORMAL_WEIGHT,
+            NORMAL_WEIGHT,
+            NORMAL_WEIGHT,
+            UV_WEIGHT,
+            UV_WEIGHT,
+        ];
+        let options = meshopt::SimplifyOptions::LockBorder
+            | meshopt::SimplifyOptions::ErrorAbsolute
+            | meshopt::SimplifyOptions::ErrorClamped;
+        let mut indices = self.mesh.indices.clone();
+        let mut positions = self.positions.clone();
+        let mut attributes = self.attributes.clone();
+        let mut error = 0.0f32;
+        let count = meshopt::simplify_with_update(
+            &mut indices,
+            &mut positions,
+            &mut attributes,
+            &weights[..self.stride],
+            self.stride * 4,
+            Some(&self.locks),
+            target_indices,
+            f32::MAX,
+            options,
+            Some(&mut error),
+        );
+        indices.truncate(count);
+        let mut moved = MovedVertices::default();
+        let mut slot = vec![u32::MAX; positions.len()];
+        for i in indices.iter_mut() {
+            let v = *i as usize;
+            if slot[v] == u32::MAX {
+                slot[v] = moved.len() as u32;
+                let a = &attributes[v * self.stride..(v + 1) * self.stride];
+                let normal = Vec3::new(a[0], a[1], a[2]);
+                moved.origin.push(*i);
+                moved.positions.push(Vec3::from_array(positions[v]));
+                moved
+                    .normals
+                    .push(normal.try_normalize().unwrap_or(self.mesh.normals[v]));
+                if self.stride == 5 {
+                    moved.uvs.push(glam::Vec2::new(a[3], a[4]));
+                }
+            }
+            *i = slot[v];
+        }
+        (Level { indices, moved }, error)
+    }
 }
 
 /// What building the chains of a scene's meshes did.

@@ -24,6 +24,51 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// Placing vertices opens no crack: welding each level's vertices by position (the UV seam's
+/// two copies of a vertex have one position), the edges not shared by exactly two triangles are
+/// as many as with the same triangles on the positions the mesh had (the seam's copies were
+/// placed together), and none but the coarsest level (a few dozen triangles, where the
+/// simplifier's own topology pinches at a pole) has any.
+#[test]
+fn placed_vertices_keep_seams_closed() {
+    let mesh = sphere();
+    let chain = build(&mesh).unwrap();
+    let all = chain.vertices_of(&mesh);
+    let last = chain.levels.len() - 1;
+    assert!(last >= 4);
+    let kept = |v: u32| match (v as usize).checked_sub(mesh.positions.len()) {
+        Some(k) => mesh.positions[chain.moved.origin[k] as usize],
+        None => mesh.positions[v as usize],
+    };
+    let placed = |v: u32| all.positions[v as usize];
+    let open_edges = |i: usize, at: &dyn Fn(u32) -> Vec3| {
+        let mut weld = std::collections::HashMap::new();
+        let mut id = |v: u32| {
+            let next = weld.len();
+            *weld
+                .entry(at(v).to_array().map(f32::to_bits))
+                .or_insert(next)
+        };
+        let mut edges = std::collections::HashMap::<(usize, usize), u32>::new();
+        for t in chain.level_indices(i).chunks(3) {
+            let w = [id(t[0]), id(t[1]), id(t[2])];
+            for k in 0..3 {
+                let (a, b) = (w[k], w[(k + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        edges.values().filter(|&&n| n != 2).count()
+    };
+    for i in 0..=last {
+        let (p, k) = (open_edges(i, &placed), open_edges(i, &kept));
+        assert_eq!(
+            p, k,
+            "level {i}: {p} open edges placed, {k} on the mesh's positions"
+        );
+        assert!(i == last || p == 0, "level {i}: {p} open edges");
+    }
+}
+
 #[test]
 fn chain_levels_shrink_errors_grow_indices_stay_in_range() {
     let mesh = sphere();
@@ -35,7 +80,8 @@ fn chain_levels_shrink_errors_grow_indices_stay_in_range() {
     // triangles and more shade fewer than 0.75 vertices per triangle with a 16-entry cache (0.5
     // is the ideal of a large grid, 1.5 to 3 triangles in no particular order), and level 0 is
     // no worse than the mesh's own order.
-    let n = mesh.positions.len();
+    let all = chain.vertices_of(&mesh);
+    let n = all.positions.len();
     let acmr = |indices: &[u32]| meshopt::analyze_vertex_cache(indices, n, 16, 0, 0).acmr;
     for i in 0..chain.levels.len() {
         let level = chain.level_indices(i);
@@ -62,19 +108,67 @@ fn chain_levels_shrink_errors_grow_indices_stay_in_range() {
         "{l1:?}"
     );
     assert!(l1.error > 0.0 && l1.error < 0.01, "{l1:?}");
-    let n = mesh.positions.len() as u32;
-    assert!(chain.indices.iter().all(|&i| i < n));
-    // The coarsest level still covers the sphere: its vertices are on the unit sphere and its
-    // bounding box is (almost) the full one.
+    // Level 0 draws the mesh's vertices, the simplified levels only vertices the simplifier
+    // placed (each level its own), with unit normals.
+    let own = mesh.positions.len() as u32;
+    assert!(chain.level_indices(0).iter().all(|&i| i < own));
+    for i in 1..chain.levels.len() {
+        assert!(chain
+            .level_indices(i)
+            .iter()
+            .all(|&v| v >= own && (v as usize) < n));
+    }
+    assert!(chain
+        .moved
+        .normals
+        .iter()
+        .all(|v| (v.length() - 1.0).abs() < 1e-5));
+    assert_eq!(chain.moved.uvs.len(), chain.moved.len());
+    // The reported error bounds how far each level is from the surface: every vertex and every
+    // triangle's centroid of level i lies within its error of the unit sphere (the centroid of a
+    // chord is inside the sphere, which the simplifier compensates by placing vertices slightly
+    // outside).
+    for (i, l) in chain.levels.iter().enumerate().skip(1) {
+        let mut worst = 0.0f32;
+        for t in chain.level_indices(i).chunks(3) {
+            let p = [0, 1, 2].map(|k| all.positions[t[k] as usize]);
+            for x in [p[0], p[1], p[2], (p[0] + p[1] + p[2]) / 3.0] {
+                worst = worst.max((x.length() - 1.0).abs());
+            }
+        }
+        assert!(
+            worst <= l.error * 1.5 + 1e-4,
+            "level {i}: {worst} off the sphere, error {l:?}"
+        );
+        // Placing the vertices beats keeping them where the mesh had them: the same triangles
+        // on the original positions are further from the surface on average.
+        let own = |v: u32| (v as usize).checked_sub(mesh.positions.len());
+        let kept = |v: u32| mesh.positions[chain.moved.origin[own(v).unwrap()] as usize];
+        let placed = |v: u32| all.positions[v as usize];
+        let off = |at: &dyn Fn(u32) -> Vec3| {
+            let d = chain.level_indices(i).chunks(3).map(|t| {
+                let c = (at(t[0]) + at(t[1]) + at(t[2])) / 3.0;
+                (c.length() - 1.0).abs()
+            });
+            d.sum::<f32>() / l.triangles() as f32
+        };
+        let (placed, kept) = (off(&placed), off(&kept));
+        assert!(
+            placed < 0.9 * kept,
+            "level {i}: {placed} placed, {kept} kept"
+        );
+    }
+    // The coarsest level still covers the sphere: its bounding box is (almost) the full one.
     let last = chain.level_indices(chain.levels.len() - 1);
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for &i in last {
-        lo = lo.min(mesh.positions[i as usize]);
-        hi = hi.max(mesh.positions[i as usize]);
+        lo = lo.min(all.positions[i as usize]);
+        hi = hi.max(all.positions[i as usize]);
     }
     let e = chain.levels[chain.levels.len() - 1].error;
     assert!(
-        (lo + Vec3::ONE).max_element() <= 2.0 * e && (Vec3::ONE - hi).max_element() <= 2.0 * e,
+        (lo + Vec3::ONE).abs().max_element() <= 2.0 * e
+            && (Vec3::ONE - hi).abs().max_element() <= 2.0 * e,
         "{lo} {hi} error {e}"
     );
     // Deterministic: the same mesh gives the same chain (the cache relies on it).
@@ -221,6 +315,34 @@ fn cache_round_trip_and_a_damaged_file_is_rebuilt_with_one_warning() {
     assert!(matches!(
         cache::read(&dir, cache::key(&mesh), &mesh),
         cache::Read::Corrupt(_)
+    ));
+    // Impossible data under a matching checksum is corrupt too: a moved vertex's position NaN
+    // (the file's last vertex: origin, position, normal, UV), its origin beyond the mesh.
+    let resealed = |at: usize, word: u32| {
+        let mut f = good.clone();
+        f[at..at + 4].copy_from_slice(&word.to_le_bytes());
+        let crc = crc32fast::hash(&f[16..]);
+        f[8..12].copy_from_slice(&crc.to_le_bytes());
+        f
+    };
+    let last_vertex = good.len() - 9 * 4;
+    for (at, word) in [
+        (last_vertex + 4, f32::NAN.to_bits()),
+        (last_vertex, mesh.positions.len() as u32),
+    ] {
+        std::fs::write(&file, resealed(at, word)).unwrap();
+        assert!(
+            matches!(
+                cache::read(&dir, cache::key(&mesh), &mesh),
+                cache::Read::Corrupt(_)
+            ),
+            "word {word:#x} at {at}"
+        );
+    }
+    std::fs::write(&file, resealed(last_vertex + 4, 0.5f32.to_bits())).unwrap();
+    assert!(matches!(
+        cache::read(&dir, cache::key(&mesh), &mesh),
+        cache::Read::Hit(_)
     ));
     let mut old = good.clone();
     old[7] = b'0';
