@@ -126,8 +126,9 @@ fn one_chain_per_mesh_levels_by_distance_and_flip_against_full_detail() {
         full.triangles_drawn()
     );
     assert!(flip <= MAX_FLIP_DEFAULT_BUDGET, "mean FLIP {flip}");
-    // The 40 M scene's budget (0.2 px): far fewer triangles, a larger error (measured 0.0113 here
-    // at 320x180; 0.0092 on the 40 M scene at 1280x720, docs/performance.md).
+    // A loose budget (0.2 px): far fewer triangles, a larger error (measured 0.00845 here at
+    // 320x180 with the levels' placed vertices, 0.0113 with the kept ones; on the 40 M scene at
+    // 1280x720 0.0068 and 0.0092, docs/performance.md).
     let loose_scene = bunnies(48, 0.2).unwrap();
     let mut loose = Headless::with_options(&ctx, &loose_scene, &options).unwrap();
     let loose_drawn = loose.triangles_drawn();
@@ -139,9 +140,10 @@ fn one_chain_per_mesh_levels_by_distance_and_flip_against_full_detail() {
     assert_no_validation_messages(&ctx);
 }
 
-/// Mean FLIP allowed at 0.2 px on this small scene (the goal for the 40 M scene at
-/// 1280x720 is 0.01).
-const MAX_FLIP_LOOSE_BUDGET: f32 = 0.015;
+/// Mean FLIP allowed at 0.2 px on this small scene: the goal for the 40 M scene at
+/// 1280x720, which the levels' kept vertices missed here (0.0113) and their placed ones meet
+/// (0.00845; with shadows 0.00753).
+const MAX_FLIP_LOOSE_BUDGET: f32 = 0.01;
 
 /// `luz render` reports the LOD choice (summary; `--verbose`: per object and how the chain was
 /// made); `luz bench --compare-budget` refuses a negative budget, naming the option.
