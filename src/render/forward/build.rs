@@ -649,6 +649,38 @@ fn tight_sphere(
 mod tests {
     use super::*;
 
+    /// Flat shading draws each simplified level's triangles on the simplifier's placed vertices
+    /// (three corners per triangle, the face normal), level 0 on the mesh's own.
+    #[test]
+    fn flat_levels_draw_the_placed_vertices() {
+        let m = crate::scene::Mesh::sphere(1.0, 96, 48);
+        let chain = crate::scene::lod::build(&m).unwrap();
+        assert!(!chain.moved.is_empty());
+        let all = chain.vertices_of(&m);
+        let (data, levels) = lod_data(&m, Some(&chain), true);
+        assert_eq!(levels.len(), chain.levels.len());
+        // Level 0 in the mesh's own triangle order, the others in the chain's.
+        assert_eq!(levels[0].index_count as usize, m.indices.len());
+        for (i, l) in levels.iter().enumerate().skip(1) {
+            let ours = &data.indices[l.first_index as usize..][..l.index_count as usize];
+            let theirs = chain.level_indices(i);
+            assert_eq!(ours.len(), theirs.len(), "level {i}");
+            for (t, (a, b)) in ours.chunks(3).zip(theirs.chunks(3)).enumerate() {
+                let p = [0, 1, 2].map(|k| all.positions[b[k] as usize]);
+                let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+                for k in 0..3 {
+                    let v = data.vertices[a[k] as usize];
+                    assert_eq!(v.position, p[k].to_array(), "level {i} triangle {t}");
+                    let n = glam::Vec3::from_array(v.normal);
+                    assert!(
+                        face == glam::Vec3::ZERO || n.dot(face) > 0.9999,
+                        "level {i}"
+                    );
+                }
+            }
+        }
+    }
+
     /// Every level draws the same corners as the chain's indices into the mesh (same vertex data,
     /// same order), from its own vertices, numbered in the order its triangles first use them.
     #[test]
