@@ -166,10 +166,18 @@ pub(super) fn build_draws(
                     bytemuck::cast_slice(&data.indices),
                     vk::BufferUsageFlags::INDEX_BUFFER,
                 )?;
-                let bounds = obj.mesh.bounds();
+                // Over every level's vertices: a simplified level's placed vertices may sit
+                // (by at most its error) outside the mesh, and culling must not cut them off.
+                let positions: Vec<glam::Vec3> = data
+                    .vertices
+                    .iter()
+                    .map(|v| glam::Vec3::from_array(v.position))
+                    .collect();
+                let bounds = box_of(&positions);
+                let tight = tight_sphere(&positions, bounds);
                 meshes.push(GpuMesh {
                     sphere: frustum::sphere(bounds),
-                    tight: tight_sphere(&obj.mesh, bounds),
+                    tight,
                     bounds,
                     plane: obj.mesh.flat_plane(),
                     levels: levels.into(),
@@ -629,16 +637,23 @@ impl Slot {
     }
 }
 
-/// The centre of `mesh`'s bounds `(lo, hi)` and the distance from it to its farthest vertex: a bounding
-/// sphere as tight as the box's allows (a sphere mesh's own radius, where the box's corner
-/// sphere is √3 times larger).
-fn tight_sphere(
-    mesh: &crate::scene::Mesh,
-    (lo, hi): (glam::Vec3, glam::Vec3),
-) -> (glam::Vec3, f32) {
+/// The bounding box `(lo, hi)` of `positions` (zero when there are none).
+fn box_of(positions: &[glam::Vec3]) -> (glam::Vec3, glam::Vec3) {
+    if positions.is_empty() {
+        return (glam::Vec3::ZERO, glam::Vec3::ZERO);
+    }
+    let far = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
+    positions
+        .iter()
+        .fold(far, |(lo, hi), p| (lo.min(*p), hi.max(*p)))
+}
+
+/// The centre of the bounds `(lo, hi)` of `positions` and the distance from it to the farthest
+/// one: a bounding sphere as tight as the box's allows (a sphere mesh's own radius, where the
+/// box's corner sphere is √3 times larger).
+fn tight_sphere(positions: &[glam::Vec3], (lo, hi): (glam::Vec3, glam::Vec3)) -> (glam::Vec3, f32) {
     let c = (lo + hi) * 0.5;
-    let r = mesh
-        .positions
+    let r = positions
         .iter()
         .map(|p| (*p - c).length())
         .fold(0.0f32, f32::max);
@@ -648,6 +663,35 @@ fn tight_sphere(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Culling bounds hold every level: the simplifier places some of a coarse sphere's vertices
+    /// outside the unit sphere (so its flat triangles follow the surface on average), beyond
+    /// the mesh's own tight sphere; the bounds over the levels' vertices contain them all.
+    #[test]
+    fn bounds_hold_the_placed_vertices() {
+        let m = crate::scene::Mesh::sphere(1.0, 96, 48);
+        let chain = crate::scene::lod::build(&m).unwrap();
+        let (data, _) = lod_data(&m, Some(&chain), false);
+        let own = tight_sphere(&m.positions, m.bounds());
+        assert!((own.1 - 1.0).abs() < 1e-5, "{own:?}");
+        let positions: Vec<glam::Vec3> = data
+            .vertices
+            .iter()
+            .map(|v| glam::Vec3::from_array(v.position))
+            .collect();
+        let (centre, radius) = tight_sphere(&positions, box_of(&positions));
+        let outside = chain
+            .moved
+            .positions
+            .iter()
+            .filter(|p| (**p - own.0).length() > own.1 + 1e-4)
+            .count();
+        assert!(outside > 0, "no placed vertex outside the mesh's sphere");
+        for p in &positions {
+            assert!((*p - centre).length() <= radius * (1.0 + 1e-6), "{p}");
+        }
+        assert_eq!(box_of(&[]), (glam::Vec3::ZERO, glam::Vec3::ZERO));
+    }
 
     /// Flat shading draws each simplified level's triangles on the simplifier's placed vertices
     /// (three corners per triangle, the face normal), level 0 on the mesh's own.
