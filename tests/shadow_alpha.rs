@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::shadow_judge::luminance;
 use common::*;
 use glam::Vec3;
 use luz::headless::Headless;
@@ -21,10 +22,6 @@ const HEIGHT: f32 = 2.5;
 const ALBEDO: f32 = 0.8;
 const AMBIENT: f32 = 0.05;
 const INTENSITY: f32 = 2.0;
-
-fn luminance(p: [f32; 4]) -> f32 {
-    0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
-}
 
 /// An 8 × 8 PNG whose columns 0–1 and 4–5 have alpha `kept` and columns 2–3 and 6–7 alpha `cut`
 /// (white otherwise): four stripes across u.

@@ -11,16 +11,13 @@
 
 mod common;
 
+use common::shadow_judge::{judge, light_classes, luminance, Judged, LIT, UMBRA};
 use common::*;
 use luz::imageio::LinearImage;
 use luz::reference::{render_reference, ReferenceOptions};
 
 const W: u32 = 160;
 const H: u32 = 120;
-
-fn luminance(p: [f32; 4]) -> f32 {
-    0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
-}
 
 /// The reference with one ray through each pixel's centre, as the GPU images (MSAA 1) sample.
 fn reference(json: &str) -> LinearImage {
@@ -285,92 +282,14 @@ fn json(case: &Case, lights: &str) -> String {
     scene(lights, case.scale, &case.extra)
 }
 
-/// Per pixel from the references: 2 lit, 0 umbra, 1 penumbra (not judged), 3 not reached.
-fn classes(none: &LinearImage, with: &LinearImage, without: &LinearImage) -> Vec<u8> {
-    (0..(W * H) as usize)
-        .map(|i| {
-            let (a, s, n) = (
-                luminance(none.pixels[i]),
-                luminance(with.pixels[i]),
-                luminance(without.pixels[i]),
-            );
-            let light = n - a;
-            if light <= 1e-6 * n.max(1e-6) {
-                3
-            } else {
-                let vis = (s - a) / light;
-                if vis > 1.0 - 1e-4 {
-                    2
-                } else if vis < 1e-4 {
-                    0
-                } else {
-                    1
-                }
-            }
-        })
-        .collect()
-}
-
-#[derive(Debug, Clone, Copy, Default)]
-struct Judged {
-    lit: usize,
-    lit_ok: usize,
-    dark: usize,
-    dark_ok: usize,
-}
-
-impl Judged {
-    fn passes(&self) -> bool {
-        self.lit_ok as f64 >= 0.995 * self.lit as f64
-            && self.dark_ok as f64 >= 0.995 * self.dark as f64
+/// The judge's classes: lit or umbra; penumbra and pixels the light does not reach are not
+/// judged.
+fn kind(c: u8) -> Option<bool> {
+    match c {
+        LIT => Some(true),
+        UMBRA => Some(false),
+        _ => None,
     }
-}
-
-/// Judges lit and umbra pixels outside a band of `band` pixels around every change of class,
-/// where the unshadowed GPU image and reference agree within 2 % (tessellated silhouettes).
-fn judge(
-    class: &[u8],
-    (gpu, reference): (&LinearImage, &LinearImage),
-    (gpu_plain, ref_plain): (&LinearImage, &LinearImage),
-    band: i32,
-) -> Judged {
-    let mut j = Judged::default();
-    for y in 0..H as i32 {
-        for x in 0..W as i32 {
-            let i = (y as u32 * W + x as u32) as usize;
-            let (gp, rp) = (
-                luminance(gpu_plain.pixels[i]),
-                luminance(ref_plain.pixels[i]),
-            );
-            let c = class[i];
-            if rp <= 0.0 || (gp - rp).abs() > 0.02 * rp || c == 1 || c == 3 {
-                continue;
-            }
-            let near_edge = (-band..=band).any(|dy| {
-                (-band..=band).any(|dx| {
-                    let (xx, yy) = (x + dx, y + dy);
-                    xx >= 0
-                        && yy >= 0
-                        && xx < W as i32
-                        && yy < H as i32
-                        && class[(yy as u32 * W + xx as u32) as usize] != c
-                })
-            });
-            if near_edge {
-                continue;
-            }
-            let (g, r) = (luminance(gpu.pixels[i]), luminance(reference.pixels[i]));
-            let ok = (g - r).abs() <= 0.02 * r;
-            if c == 2 {
-                j.lit += 1;
-                j.lit_ok += ok as usize;
-            } else {
-                j.dark += 1;
-                j.dark_ok += ok as usize;
-            }
-        }
-    }
-    j
 }
 
 fn pct(a: usize, b: usize) -> String {
@@ -457,12 +376,16 @@ fn shadows_stay_finite_and_free_of_acne_across_the_sweep() {
             }
             let with_aa =
                 refs_aa[m.sized as usize].get_or_insert_with(|| reference_antialiased(&shadowed));
-            let class = classes(&none_aa, with_aa, &plain_aa);
+            let class = light_classes(&none_aa, with_aa, &plain_aa);
+            let judge = |band| -> Judged {
+                let images = (&img, &*reference);
+                judge(&class, (W, H), kind, images, (&gpu_plain, &ref_plain), band)
+            };
             let found = (0..=16).find_map(|band| {
-                let j = judge(&class, (&img, reference), (&gpu_plain, &ref_plain), band);
+                let j = judge(band);
                 j.passes().then_some((band, j))
             });
-            let at_bound = judge(&class, (&img, reference), (&gpu_plain, &ref_plain), m.band);
+            let at_bound = judge(m.band);
             let band_text = match found {
                 Some((b, _)) => format!("{b} px"),
                 None => "> 16 px".into(),

@@ -3,14 +3,11 @@
 
 mod common;
 
+use common::shadow_judge::{judge, light_classes, Judged, LIT, PENUMBRA, UNREACHED};
 use common::*;
 use glam::Vec3;
 use luz::imageio::LinearImage;
 use luz::reference::{render_reference, ReferenceOptions};
-
-fn luminance(p: [f32; 4]) -> f32 {
-    0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
-}
 
 fn reference(json: &str) -> LinearImage {
     render_reference(&parse(json), &ReferenceOptions::default(), None).expect("reference")
@@ -212,111 +209,29 @@ fn classes(case: &Case, shadow: (&str, bool)) -> Vec<u32> {
     for k in 0..case.lights.len() {
         let with = reference(&scene(&lights(case, shadow, Some(k), Some(k))));
         let without = reference(&scene(&lights(case, ("false", shadow.1), Some(k), Some(k))));
-        for (i, c) in class.iter_mut().enumerate() {
-            let (a, s, n) = (
-                luminance(none.pixels[i]),
-                luminance(with.pixels[i]),
-                luminance(without.pixels[i]),
-            );
-            let light = n - a;
-            let v = if light <= 1e-6 * n.max(1e-6) {
-                2
-            } else {
-                let vis = (s - a) / light;
-                if vis > 1.0 - 1e-4 {
-                    2
-                } else if vis < 1e-4 {
-                    0
-                } else {
-                    1
-                }
-            };
-            *c = *c * 3 + v;
+        let light = light_classes(&none, &with, &without);
+        for (c, v) in class.iter_mut().zip(light) {
+            // Not reached counts as lit: the light changes nothing there.
+            let v = if v == UNREACHED { LIT } else { v };
+            *c = *c * 3 + u32::from(v);
         }
     }
     class
 }
 
-/// What the judgement found for one method at one band width.
-#[derive(Debug, Clone, Copy)]
-struct Judged {
-    lit: usize,
-    lit_ok: usize,
-    dark: usize,
-    dark_ok: usize,
-}
-
-impl Judged {
-    fn passes(&self) -> bool {
-        self.lit > 0
-            && self.lit_ok as f64 >= 0.995 * self.lit as f64
-            && self.dark_ok as f64 >= 0.995 * self.dark as f64
-    }
-}
-
-/// Judges the GPU image against the reference outside a band of `band` pixels around every
-/// change of class, on pixels whose unshadowed GPU and reference images agree within 2 % (the
-/// tessellated silhouettes differ from the exact ones; that is not the shadows' error). Pixels
-/// in penumbra (a class with a 1) are not judged: soft shadows are the methods' approximation.
-fn judge(
-    class: &[u32],
-    (gpu, reference): (&LinearImage, &LinearImage),
-    (gpu_plain, ref_plain): (&LinearImage, &LinearImage),
-    band: i32,
-) -> Judged {
-    let mut j = Judged {
-        lit: 0,
-        lit_ok: 0,
-        dark: 0,
-        dark_ok: 0,
-    };
-    let all_lit = class.iter().copied().max().unwrap_or(0);
-    for y in 0..H as i32 {
-        for x in 0..W as i32 {
-            let i = (y as u32 * W + x as u32) as usize;
-            let (gp, rp) = (
-                luminance(gpu_plain.pixels[i]),
-                luminance(ref_plain.pixels[i]),
-            );
-            if rp <= 0.0 || (gp - rp).abs() > 0.02 * rp {
-                continue;
+/// The judge's classes: lit by every light, or in some light's umbra (a digit 0); not judged
+/// in any light's penumbra (a digit 1).
+fn kind(all_lit: u32) -> impl Fn(u32) -> Option<bool> {
+    move |c| {
+        let mut digits = c;
+        while digits > 0 {
+            if digits % 3 == u32::from(PENUMBRA) {
+                return None;
             }
-            let c = class[i];
-            // Penumbra: any light's digit is 1.
-            let mut digits = c;
-            let mut soft = false;
-            while digits > 0 {
-                soft |= digits % 3 == 1;
-                digits /= 3;
-            }
-            if soft {
-                continue;
-            }
-            let near_edge = (-band..=band).any(|dy| {
-                (-band..=band).any(|dx| {
-                    let (xx, yy) = (x + dx, y + dy);
-                    xx >= 0
-                        && yy >= 0
-                        && xx < W as i32
-                        && yy < H as i32
-                        && class[(yy as u32 * W + xx as u32) as usize] != c
-                })
-            });
-            if near_edge {
-                continue;
-            }
-            let (g, r) = (luminance(gpu.pixels[i]), luminance(reference.pixels[i]));
-            let ok = (g - r).abs() <= 0.02 * r;
-            if c == all_lit {
-                j.lit += 1;
-                j.lit_ok += ok as usize;
-            } else {
-                j.dark += 1;
-                j.dark_ok += ok as usize;
-            }
+            digits /= 3;
         }
+        Some(c == all_lit)
     }
-    j
 }
 
 /// A method judged: its name, shadow settings, whether its lights have a size, and the band
@@ -389,9 +304,21 @@ fn gpu_shadows_match_the_reference_away_from_edges() {
             assert_eq!(nan_count(&img), 0, "{}: {method}: NaN", case.name);
             let reference = reference(&json);
             let class = classes(case, (shadow, m.sized));
+            let all_lit = class.iter().copied().max().unwrap_or(0);
+            let judge = |band| {
+                let images = (&img, &reference);
+                judge(
+                    &class,
+                    (W, H),
+                    kind(all_lit),
+                    images,
+                    (&gpu_plain, &ref_plain),
+                    band,
+                )
+            };
             // The narrowest band that passes.
             let found = (0..=12).find_map(|band| {
-                let j = judge(&class, (&img, &reference), (&gpu_plain, &ref_plain), band);
+                let j: Judged = judge(band);
                 j.passes().then_some((band, j))
             });
             match found {
@@ -418,7 +345,7 @@ fn gpu_shadows_match_the_reference_away_from_edges() {
                     }
                 }
                 None => {
-                    let j = judge(&class, (&img, &reference), (&gpu_plain, &ref_plain), 12);
+                    let j = judge(12);
                     failures.push(format!(
                         "{}: {method}: fails even 12 px from edges: {j:?}",
                         case.name

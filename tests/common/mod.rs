@@ -5,13 +5,15 @@
 //! * [`process`]: the `luz` binary as a child process ([`luz`], [`luz_command`], [`run`],
 //!   [`run_with_stdin`], [`luz_in_window`], [`Ran`]);
 //! * [`vulkan`]: a validated lavapipe context ([`gpu`]), rendering helpers and golden-image checks
-//!   ([`check_golden`]).
+//!   ([`check_golden`]);
+//! * [`shadow_judge`]: the shadow tests' classes and judge of a GPU image against the reference.
 //!
 //! Nothing here changes the test process's environment (tests run on parallel threads): options
 //! for a child process go to its `Command` only.
 #![allow(dead_code, unused_imports)]
 
 pub mod process;
+pub mod shadow_judge;
 pub mod vulkan;
 
 use std::ops::Deref;
