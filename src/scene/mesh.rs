@@ -310,13 +310,7 @@ impl Mesh {
 
     /// Axis-aligned bounding box (min, max); (0, 0) for an empty mesh.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        if self.positions.is_empty() {
-            return (Vec3::ZERO, Vec3::ZERO);
-        }
-        self.positions.iter().fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        )
+        bounds_of(&self.positions)
     }
 
     /// The plane every vertex lies in, as (a point on it, unit normal), or `None` when the mesh is
@@ -555,6 +549,17 @@ fn spherical_uv(d: Vec3) -> Vec2 {
     let u = if u < 0.0 { u + 1.0 } else { u };
     let v = d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
     Vec2::new(u, v)
+}
+
+/// The bounding box `(lo, hi)` of `positions` (zero when there are none).
+pub fn bounds_of(positions: &[Vec3]) -> (Vec3, Vec3) {
+    if positions.is_empty() {
+        return (Vec3::ZERO, Vec3::ZERO);
+    }
+    positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
 }
 
 #[cfg(test)]

@@ -173,7 +173,7 @@ pub(super) fn build_draws(
                     .iter()
                     .map(|v| glam::Vec3::from_array(v.position))
                     .collect();
-                let bounds = box_of(&positions);
+                let bounds = crate::scene::mesh::bounds_of(&positions);
                 let tight = tight_sphere(&positions, bounds);
                 meshes.push(GpuMesh {
                     sphere: frustum::sphere(bounds),
@@ -637,17 +637,6 @@ impl Slot {
     }
 }
 
-/// The bounding box `(lo, hi)` of `positions` (zero when there are none).
-fn box_of(positions: &[glam::Vec3]) -> (glam::Vec3, glam::Vec3) {
-    if positions.is_empty() {
-        return (glam::Vec3::ZERO, glam::Vec3::ZERO);
-    }
-    let far = (glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY);
-    positions
-        .iter()
-        .fold(far, |(lo, hi), p| (lo.min(*p), hi.max(*p)))
-}
-
 /// The centre of the bounds `(lo, hi)` of `positions` and the distance from it to the farthest
 /// one: a bounding sphere as tight as the box's allows (a sphere mesh's own radius, where the
 /// box's corner sphere is √3 times larger).
@@ -679,7 +668,7 @@ mod tests {
             .iter()
             .map(|v| glam::Vec3::from_array(v.position))
             .collect();
-        let (centre, radius) = tight_sphere(&positions, box_of(&positions));
+        let (centre, radius) = tight_sphere(&positions, crate::scene::mesh::bounds_of(&positions));
         let outside = chain
             .moved
             .positions
@@ -690,7 +679,10 @@ mod tests {
         for p in &positions {
             assert!((*p - centre).length() <= radius * (1.0 + 1e-6), "{p}");
         }
-        assert_eq!(box_of(&[]), (glam::Vec3::ZERO, glam::Vec3::ZERO));
+        assert_eq!(
+            crate::scene::mesh::bounds_of(&[]),
+            (glam::Vec3::ZERO, glam::Vec3::ZERO)
+        );
     }
 
     /// Flat shading draws each simplified level's triangles on the simplifier's placed vertices
