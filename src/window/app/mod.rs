@@ -299,7 +299,7 @@ impl Structure {
                         Arc::as_ptr(&o.mesh) as usize,
                         o.shading,
                         o.material,
-                        crate::render::gpu::material_key(&m.material),
+                        crate::render::forward::material_key(&m.material),
                         crate::render::material::map_bits(&m.textures),
                     )
                 })

@@ -1,0 +1,919 @@
+//! The forward pass: draws every object of a scene with the pipeline variant its material, shading
+//! frequency and the scene's fog need. Variants are built once, only those the scene uses.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::frustum;
+use super::gpu::{self, GpuLight, MaterialPush, Vertex};
+use super::ibl::Ibl;
+use super::material::{MaterialSets, SET_MATERIAL};
+use super::mesh;
+use super::shadow::{self, ShadowMaps};
+use crate::color::Tonemap;
+use crate::scene::{Saturation, Scene, Shading};
+use crate::vk::buffer::Uploader;
+use crate::vk::cmd::CommandPool;
+use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
+use crate::vk::{Buffer, Context, VkError};
+
+mod build;
+pub mod clusters;
+mod deferred;
+mod instances;
+mod lod;
+mod per_frame;
+mod record;
+mod variant;
+
+use build::{build_draws, draw_order, frame_set_layout, storage_fits, Draws};
+pub use build::{lut_geometries, lut_geometry};
+pub use clusters::{ClusterStats, LightLoop};
+
+pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};
+
+pub use per_frame::ReceiverStats;
+use variant::{create_pipeline, create_skybox, Modules};
+pub use variant::{material_key, AlphaKey, DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
+
+struct GpuMesh {
+    /// Object-space bounding sphere (frustum culling, [`frustum`]).
+    sphere: (glam::Vec3, f32),
+    /// The bounds' centre and the farthest vertex from it (where shadows can fall).
+    tight: (glam::Vec3, f32),
+    /// Object-space bounds (the shadow passes' receivers).
+    bounds: (glam::Vec3, glam::Vec3),
+    /// Object-space plane of a flat mesh (point, unit normal): `scene::Mesh::flat_plane`.
+    plane: Option<(glam::Vec3, glam::Vec3)>,
+    /// Ranges of `indices` from full detail (level 0, the first `index_count` indices) to the
+    /// coarsest ([`crate::scene::lod`]); one level for meshes that are not simplified.
+    levels: Arc<[crate::scene::lod::LodLevel]>,
+    vertices: Buffer,
+    centroids: Option<Buffer>,
+    /// Vertex colours (binding 2), for meshes that have them.
+    colors: Option<Buffer>,
+    indices: Buffer,
+    index_count: u32,
+}
+
+struct Draw {
+    mesh: usize,
+    /// Index into the scene's objects (and the objects buffer's slot).
+    object: usize,
+    material: usize,
+    /// Back faces are culled: a closed primitive (outward CCW winding) with positive scale, or a
+    /// single-sided material (`build::culls`).
+    cull: bool,
+    variant: VariantKey,
+    push: MaterialPush,
+    /// Where (NDC x0, y0, x1, y1) the shadow lookups of `variant` are needed; elsewhere the
+    /// draw is recorded with [`VariantKey::unshadowed`] (`record::split`). `None`: everywhere.
+    shadow_area: Option<[f32; 4]>,
+}
+
+/// Maps and light kinds of a generic ("all features") pipeline (its terms are
+/// [`TermsKey::Generic`]): the shader keeps the code for every map and light kind.
+pub const GENERIC_MAPS: u32 = 0xFF;
+pub const GENERIC_LIGHT_KINDS: u32 = 1023;
+
+/// How to build a [`ForwardPass`] beyond the scene and the target.
+#[derive(Debug, Clone)]
+pub struct PassOptions {
+    pub debug: DebugView,
+    /// Copies of the per-frame data, one per frame in flight (≥ 1).
+    pub slots: usize,
+    /// Build "all features" pipelines (runtime BRDF selectors, every map and light kind) instead
+    /// of pipelines specialised to the scene: what the minimal pipelines save (`luz lab`).
+    pub generic: bool,
+    /// The output whose pipelines are built up front (others on [`ForwardPass::prepare`]).
+    pub output: Output,
+    /// Deferred lighting where the scene allows it, or always forward.
+    pub path: RenderPath,
+    /// Plain or clustered light loop in the fragment stage (or chosen from the scene's lights).
+    pub light_loop: LightLoop,
+    /// Keep meshes' LOD chains here between runs ([`crate::scene::lod::cache`]; `None`: build
+    /// them every time).
+    pub lod_cache: Option<std::path::PathBuf>,
+}
+
+impl Default for PassOptions {
+    fn default() -> Self {
+        Self {
+            debug: DebugView::None,
+            slots: 1,
+            generic: false,
+            output: Output::Hdr,
+            path: RenderPath::Auto,
+            light_loop: LightLoop::Auto,
+            lod_cache: None,
+        }
+    }
+}
+
+/// What the forward pass writes into its colour attachment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Output {
+    /// Radiance into the float HDR target ([`TargetFormat::color`]): for EXR output, whole-image
+    /// saturation, the lab and the readback of radiance.
+    Hdr,
+    /// Display codes straight into an 8-bit UNORM attachment of `format` (the swapchain image):
+    /// the scene's clamp saturation when `clamp`, exposure, `tonemap` and the exact sRGB encode in
+    /// the fragment shader (`include/output.glsl`), the codes the display pass would give after
+    /// the float target, without writing and reading 16 bytes per pixel again.
+    Display {
+        format: vk::Format,
+        tonemap: Tonemap,
+        clamp: bool,
+    },
+}
+
+impl Output {
+    /// The display output for `scene` into attachments of `format`, or `None` when a frame of the
+    /// scene needs the whole float image first (`normalize` saturation).
+    pub fn display_for(scene: &Scene, format: vk::Format) -> Option<Self> {
+        match scene.saturation {
+            Saturation::Normalize => None,
+            s => Some(Output::Display {
+                format,
+                tonemap: scene.output.tonemap,
+                clamp: s == Saturation::Clamp,
+            }),
+        }
+    }
+
+    /// The colour format the pipelines write (`hdr`: the float target's).
+    pub fn color_format(self, hdr: vk::Format) -> vk::Format {
+        match self {
+            Output::Hdr => hdr,
+            Output::Display { format, .. } => format,
+        }
+    }
+
+    /// The values of the `OUTPUT`, `OUTPUT_TONEMAP` and `OUTPUT_CLAMP` specialization constants.
+    pub(crate) fn spec(self) -> [(u32, u32); 3] {
+        use crate::glsl::include_output as o;
+        match self {
+            Output::Hdr => [
+                (gpu::SPEC_OUTPUT, o::OUTPUT_HDR),
+                (gpu::SPEC_OUTPUT_TONEMAP, 0),
+                (gpu::SPEC_OUTPUT_CLAMP, 0),
+            ],
+            Output::Display { tonemap, clamp, .. } => [
+                (gpu::SPEC_OUTPUT, o::OUTPUT_DISPLAY),
+                (
+                    gpu::SPEC_OUTPUT_TONEMAP,
+                    crate::render::tonemap::tonemap_id(tonemap),
+                ),
+                (gpu::SPEC_OUTPUT_CLAMP, clamp as u32),
+            ],
+        }
+    }
+
+    /// The clear colour of the background `rgb` in this output: the radiance, or the display
+    /// codes (as UNORM floats) the shader would write for it at `exposure_ev`.
+    pub fn clear_color(self, rgb: glam::Vec3, exposure_ev: f32) -> [f32; 4] {
+        match self {
+            Output::Hdr => rgb.extend(1.0).to_array(),
+            Output::Display { tonemap, clamp, .. } => {
+                let c = if clamp { rgb.min(glam::Vec3::ONE) } else { rgb };
+                let codes = crate::color::to_display_rgba8(
+                    &[c.extend(1.0).to_array()],
+                    exposure_ev,
+                    tonemap,
+                );
+                [0, 1, 2, 3].map(|i| codes[i] as f32 / 255.0)
+            }
+        }
+    }
+}
+
+/// Formats and sample count of the target the pass draws into.
+#[derive(Debug, Clone, Copy)]
+pub struct TargetFormat {
+    pub color: vk::Format,
+    pub depth: vk::Format,
+    pub samples: vk::SampleCountFlags,
+}
+
+/// Views of the attachments for one frame, already in attachment-optimal layouts.
+pub struct TargetViews {
+    pub color: vk::ImageView,
+    /// Single-sample image the multisampled colour resolves into (when samples > 1).
+    pub resolve: Option<vk::ImageView>,
+    pub depth: vk::ImageView,
+    pub extent: vk::Extent2D,
+}
+
+/// The data a frame may change without rebuilding anything: camera and frame uniforms, lights,
+/// object transforms. One copy per frame in flight, so the host can write one while the GPU
+/// reads another.
+struct Slot {
+    frame_ubo: Buffer,
+    lights: Buffer,
+    objects: Buffer,
+    /// Per object slot: its material ([`gpu::DeferredMaterial`]), read by the deferred path.
+    deferred_materials: Buffer,
+    /// The light clusters of the slot's camera ([`clusters`]; a stub when the loop is plain).
+    clusters: Buffer,
+    cluster_lights: Buffer,
+    /// The object of each entry of `order` (`BINDING_INSTANCES`): instanced draws read theirs
+    /// from here ([`instances`]).
+    instances: Buffer,
+    set: vk::DescriptorSet,
+    /// The draws to record for the slot's camera: those whose bounding sphere meets its view
+    /// volume, opaque ones first, then blended ones back to front ([`draw_order`]).
+    order: Vec<usize>,
+    /// Per draw: the LOD level of its mesh for the slot's camera ([`ForwardPass::lod_levels`]).
+    levels: Vec<u8>,
+}
+
+pub struct ForwardPass {
+    /// Built per (variant, output) on [`ForwardPass::prepare`].
+    pipelines: BTreeMap<(VariantKey, Output), Pipeline>,
+    modules: Modules,
+    target: TargetFormat,
+    draws: Vec<Draw>,
+    meshes: Vec<GpuMesh>,
+    slots: Vec<Slot>,
+    /// Scene object index → index into the objects buffer (`None`: the object draws nothing).
+    object_slots: Vec<Option<u32>>,
+    lut_layers: Option<Vec<(i32, u32)>>,
+    _pool: DescriptorPool,
+    layout: PipelineLayout,
+    _set_layout: DescriptorSetLayout,
+    background: glam::Vec3,
+    exposure: f32,
+    light_count: u32,
+    /// The fragment stage culls lights by clusters; the last assignment's figures.
+    clustered: bool,
+    cluster_stats: Option<ClusterStats>,
+    variant_debug: DebugView,
+    /// The environment is drawn as the background: one pipeline per output.
+    has_skybox: bool,
+    skyboxes: BTreeMap<Output, Pipeline>,
+    /// Bound in every slot's set (`BINDING_SRGB_TABLE`); kept as long as they are.
+    _srgb_table: Buffer,
+    /// The deferred path, when the scene takes it ([`deferred::eligible`]).
+    deferred: Option<deferred::Deferred>,
+    env_set: Option<vk::DescriptorSet>,
+    materials: MaterialSets,
+    /// The shadow maps (set 3): a pass before the frame when a light has a shadow.
+    shadows: ShadowMaps,
+    /// What building the meshes' LOD chains did (chains built, read from the cache, failed).
+    lod_stats: crate::scene::lod::ChainStats,
+    /// Image height (px) the LOD choice projects errors onto: the target's (from
+    /// [`ForwardPass::prepare_extent`]: the viewer's window), else the scene's output height.
+    lod_height: u32,
+    /// The height of the target the pass last prepared for, if any.
+    target_height: Option<u32>,
+    /// The budget of the last LOD choice: `lod_override`, else `output.tessellation_error_px`.
+    lod_budget: f32,
+    /// The budget asked for instead of the scene's ([`ForwardPass::set_lod_budget`]).
+    lod_override: Option<f32>,
+    /// Draws that share mesh, level, pipeline and material are one instanced draw; off
+    /// (`LUZ_INSTANCING=0`, for the test that compares both) records one draw per object.
+    instancing: bool,
+    _empty_layout: DescriptorSetLayout,
+    ctx: Arc<Context>,
+}
+
+const STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+);
+
+impl ForwardPass {
+    /// A pass for one frame at a time (headless rendering).
+    pub fn new(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        scene: &Scene,
+        target: TargetFormat,
+        aspect: f32,
+        ibl: Option<&Ibl>,
+        debug: DebugView,
+    ) -> Result<Self, VkError> {
+        Self::in_flight(
+            ctx,
+            pool,
+            scene,
+            target,
+            aspect,
+            ibl,
+            PassOptions {
+                debug,
+                ..Default::default()
+            },
+        )
+    }
+
+    /// A pass with `slots` copies of its per-frame data (camera, lights, transforms), one per
+    /// frame in flight: [`ForwardPass::update`] writes a slot, [`ForwardPass::record_slot`] draws
+    /// with it.
+    pub fn in_flight(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        scene: &Scene,
+        target: TargetFormat,
+        aspect: f32,
+        ibl: Option<&Ibl>,
+        options: PassOptions,
+    ) -> Result<Self, VkError> {
+        let PassOptions {
+            debug,
+            slots,
+            generic,
+            output,
+            path,
+            light_loop,
+            lod_cache,
+        } = options;
+        let clustered = light_loop.clustered(scene, aspect);
+        let slot_count = slots.max(1);
+        let ibl_key = match (ibl, &scene.environment) {
+            (Some(_), Some(e)) => Some(IblKey::from_env(e)),
+            _ => None,
+        };
+        let set_layout = frame_set_layout(ctx)?;
+        let push = [vk::PushConstantRange {
+            stage_flags: STAGES,
+            offset: 0,
+            size: std::mem::size_of::<MaterialPush>() as u32,
+        }];
+        let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
+        let shadows = ShadowMaps::new(ctx, pool, scene, slot_count, &materials.set_layout)?;
+        // Sets in index order (asserted in gpu.rs): frame, environment (an empty layout without
+        // one, so the materials keep their index), materials, shadows.
+        let empty_layout = DescriptorSetLayout::new(ctx, "empty set layout", &[])?;
+        let env_layout = ibl.map(|i| &i.set_layout).unwrap_or(&empty_layout);
+        const _: () = assert!(shadow::SET_SHADOW == 3 && SET_MATERIAL == 2);
+        let layout = PipelineLayout::new(
+            ctx,
+            "forward layout",
+            &[
+                &set_layout,
+                env_layout,
+                &materials.set_layout,
+                shadows.set_layout(),
+            ],
+            &push,
+        )?;
+        let n = slot_count as u32;
+        let pool_sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: n,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: 7 * n,
+            },
+        ];
+        let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
+
+        // Lights: any number up to what one storage buffer can bind (never empty: Vulkan wants a
+        // non-zero range); per-object data likewise. Checked against the device's limits.
+        let limits = ctx.limits();
+        let scene_name = scene.display_name();
+        storage_fits::<GpuLight>(&limits, &scene_name, "lights", scene.lights.len())?;
+        storage_fits::<gpu::ObjectData>(&limits, &scene_name, "objects", scene.objects.len())?;
+        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
+        let mut uploader = Uploader::new(ctx);
+
+        let Draws {
+            meshes,
+            objects,
+            draws,
+            object_slots,
+            lod_stats,
+        } = build_draws(
+            scene,
+            (ibl, ibl_key),
+            debug,
+            (generic, clustered),
+            (&limits, lod_cache.as_deref()),
+            &mut uploader,
+        )?;
+        uploader.flush(pool)?;
+        // Only Phong-shaded draws loop per fragment: without one, no clusters to build.
+        let clustered = draws.iter().any(|d| d.variant.clustered);
+        let light_count = lights.len().max(1);
+        let object_count = objects.len().max(1);
+        let srgb_table = Buffer::with_data(
+            ctx,
+            "forward sRGB encode table",
+            crate::color::srgb_encode_table().as_slice(),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let mut slots = Vec::with_capacity(slot_count);
+        for i in 0..slot_count {
+            slots.push(Slot::new(
+                ctx,
+                &desc_pool,
+                &set_layout,
+                i,
+                (
+                    light_count,
+                    object_count,
+                    if clustered {
+                        clusters::Grid::of(scene, aspect).cells()
+                    } else {
+                        1
+                    },
+                    draws.len(),
+                ),
+                &srgb_table,
+            )?);
+        }
+        let has_skybox =
+            matches!((ibl, &scene.environment), (Some(_), Some(e)) if e.show_background);
+        let variants: Vec<VariantKey> = draws.iter().map(|d| d.variant).collect();
+        let deferred = match (path, deferred::eligible(&variants, target.samples)) {
+            (RenderPath::Auto, Some(v)) if !has_skybox => Some(deferred::Deferred::new(
+                ctx,
+                &layout,
+                &set_layout,
+                (&empty_layout, shadows.set_layout()),
+                target,
+                v,
+            )?),
+            _ => None,
+        };
+        let lut_layers = ibl.map(|i| {
+            lut_geometries(scene)
+                .into_iter()
+                .map(|g| (g, i.lut_layer(g)))
+                .collect()
+        });
+        let mut pass = Self {
+            pipelines: BTreeMap::new(),
+            modules: Modules::default(),
+            target,
+            draws,
+            meshes,
+            slots,
+            object_slots,
+            lut_layers,
+            _pool: desc_pool,
+            layout,
+            _set_layout: set_layout,
+            background: scene.output.background,
+            exposure: scene.output.exposure,
+            light_count: lights.len() as u32,
+            clustered,
+            cluster_stats: None,
+            variant_debug: debug,
+            has_skybox,
+            skyboxes: BTreeMap::new(),
+            _srgb_table: srgb_table,
+            deferred,
+            env_set: ibl.map(|i| i.set),
+            materials,
+            shadows,
+            lod_stats,
+            lod_height: scene.output.height,
+            target_height: None,
+            lod_budget: scene.output.tessellation_error_px,
+            lod_override: None,
+            instancing: instances::enabled(),
+            _empty_layout: empty_layout,
+            ctx: ctx.clone(),
+        };
+        for slot in 0..slot_count {
+            pass.update(slot, scene, aspect)?;
+        }
+        pass.prepare(output)?;
+        Ok(pass)
+    }
+
+    /// Builds the pipelines drawing with `output` that are not built yet (each variant the draws
+    /// use, and the skybox).
+    pub fn prepare(&mut self, output: Output) -> Result<(), VkError> {
+        if let Some(d) = &mut self.deferred {
+            return d.prepare(output);
+        }
+        let needed: std::collections::BTreeSet<VariantKey> = self
+            .draws
+            .iter()
+            .flat_map(|d| {
+                [
+                    Some(d.variant),
+                    d.shadow_area.map(|_| d.variant.unshadowed()),
+                ]
+            })
+            .flatten()
+            .collect();
+        for v in needed {
+            if self.pipelines.contains_key(&(v, output)) {
+                continue;
+            }
+            let (vs, fs) = self.modules.forward(&self.ctx, v)?;
+            let pipeline =
+                create_pipeline(&self.ctx, &self.layout, self.target, v, output, vs, fs)?;
+            self.pipelines.insert((v, output), pipeline);
+        }
+        if self.has_skybox && !self.skyboxes.contains_key(&output) {
+            let (vs, fs) = self.modules.skybox(&self.ctx)?;
+            let sky = create_skybox(&self.ctx, &self.layout, self.target, output, vs, fs)?;
+            self.skyboxes.insert(output, sky);
+        }
+        Ok(())
+    }
+
+    /// Allocates what drawing at `extent` needs beyond the caller's target (the deferred path's
+    /// G-buffer). No frame recorded at another extent may still be pending.
+    pub fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
+        self.target_height = Some(extent.height);
+        match &mut self.deferred {
+            Some(d) => d.prepare_extent(extent),
+            None => Ok(()),
+        }
+    }
+
+    /// "deferred" or "forward": how this pass draws.
+    pub fn render_path(&self) -> &'static str {
+        if self.deferred.is_some() {
+            "deferred"
+        } else {
+            "forward"
+        }
+    }
+
+    /// Number of per-frame data copies.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Rewrites slot `slot`'s per-frame data from `scene`: camera, ambient, fog, background,
+    /// lights, object transforms and material parameters. `scene` must have the structure the
+    /// pass was built for ([`Structure::of`] equal); the slot must not be in use by the GPU.
+    pub fn update(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        // The lights and objects buffers are sized when the pass is built.
+        if scene.lights.len() != self.light_count as usize {
+            return Err(VkError::Setup(format!(
+                "{}: {} lights, but the forward pass's lights buffer was sized for {}; \
+                 rebuild the pass when lights are added or removed",
+                scene.display_name(),
+                scene.lights.len(),
+                self.light_count
+            )));
+        }
+        if scene.objects.len() != self.object_slots.len() {
+            return Err(VkError::Setup(format!(
+                "{}: {} objects, but the forward pass was built for {}; rebuild the pass when \
+                 objects are added or removed",
+                scene.display_name(),
+                scene.objects.len(),
+                self.object_slots.len()
+            )));
+        }
+        let s = self
+            .slots
+            .get_mut(slot)
+            .ok_or_else(|| VkError::Setup(format!("no frame slot {slot}")))?;
+        let data = gpu::frame_data(scene, aspect, self.light_count);
+        s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
+        let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
+        s.lights.write(0, bytemuck::cast_slice(&lights))?;
+        for (obj, index) in scene.objects.iter().zip(&self.object_slots) {
+            if let Some(i) = index {
+                let data = gpu::object_data(obj.transform.matrix());
+                s.objects.write(
+                    *i as u64 * std::mem::size_of::<gpu::ObjectData>() as u64,
+                    bytemuck::bytes_of(&data),
+                )?;
+            }
+        }
+        self.background = scene.output.background;
+        self.exposure = scene.output.exposure;
+        let visible = self.visibility(scene, aspect);
+        let levels = self.lod_levels(scene);
+        let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
+        self.set_order(slot, order, levels)?;
+        self.update_shadows(slot, scene, aspect)?;
+        self.write_clusters(slot, scene, aspect)?;
+        let (light_kinds, shadow_slots) = (
+            gpu::light_kinds(&scene.lights),
+            crate::render::shadow::fixed_slots(&scene.lights),
+        );
+        for draw in &mut self.draws {
+            let obj = &scene.objects[draw.object];
+            let material = &scene.materials[obj.material].material;
+            let mut push = gpu::material_push(material);
+            let (model, terms) = material_key(material);
+            let generic = draw.variant.terms == TermsKey::Generic;
+            if model != draw.variant.model
+                || (!generic
+                    && (terms != draw.variant.terms
+                        || light_kinds != draw.variant.light_kinds
+                        || shadow_slots
+                            != draw.variant.shadow_slots.map(|c| c & !shadow::FIXED_SKIP)))
+            {
+                return Err(VkError::Setup(format!(
+                    "object {}: material model, BRDF terms, light kinds or shadowed lights changed; rebuild the forward pass",
+                    obj.name
+                )));
+            }
+            push.object_index = draw.push.object_index;
+            push.receive_shadow = obj.shadow.receive as u32;
+            push.double_sided = draw.push.double_sided;
+            if let Some(layers) = &self.lut_layers {
+                let g = lut_geometry(material);
+                push.flags = layers
+                    .iter()
+                    .find(|(geometry, _)| *geometry == g)
+                    .map(|(_, l)| *l)
+                    .unwrap_or(draw.push.flags);
+            }
+            draw.push = push;
+        }
+        if self.deferred.is_some() {
+            let s = &mut self.slots[slot];
+            for draw in &self.draws {
+                let textures = &scene.materials[scene.objects[draw.object].material].textures;
+                let data = gpu::DeferredMaterial {
+                    push: draw.push,
+                    extra: super::material::MaterialExtra::without_maps(textures),
+                };
+                s.deferred_materials.write(
+                    draw.push.object_index as u64
+                        * std::mem::size_of::<gpu::DeferredMaterial>() as u64,
+                    bytemuck::bytes_of(&data),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Rewrites the per-frame uniforms (camera, ambient, fog) of every slot.
+    pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
+        let data = gpu::frame_data(scene, aspect, self.light_count);
+        let visible = self.visibility(scene, aspect);
+        let levels = self.lod_levels(scene);
+        let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
+        for slot in 0..self.slots.len() {
+            self.set_order(slot, order.clone(), levels.clone())?;
+            self.slots[slot]
+                .frame_ubo
+                .write(0, bytemuck::bytes_of(&data))?;
+        }
+        for slot in 0..self.slots.len() {
+            self.update_shadows(slot, scene, aspect)?;
+            self.write_clusters(slot, scene, aspect)?;
+        }
+        Ok(())
+    }
+
+    /// The shadow maps (`luz render --verbose`, the viewer's debug view).
+    pub fn shadow_maps(&self) -> &ShadowMaps {
+        &self.shadows
+    }
+
+    /// The light clusters' figures of the last assignment (`None`: the plain loop).
+    pub fn cluster_stats(&self) -> Option<ClusterStats> {
+        self.cluster_stats
+    }
+
+    /// The debug view the pipelines were built with.
+    pub fn debug_view(&self) -> DebugView {
+        self.variant_debug
+    }
+
+    /// Texture maps uploaded for the scene's materials.
+    pub fn texture_count(&self) -> usize {
+        self.materials.texture_count
+    }
+
+    /// The pipeline variants this pass built, in a stable order.
+    pub fn variants(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .draws
+            .iter()
+            .map(|d| d.variant)
+            .collect::<std::collections::BTreeSet<_>>()
+            .iter()
+            .map(|k| k.to_string())
+            .collect();
+        if self.has_skybox {
+            v.push("skybox".to_string());
+        }
+        v
+    }
+
+    /// Per draw: whether its object's bounding sphere meets the view volume of `scene`'s camera
+    /// at `aspect` ([`frustum`]).
+    fn visibility(&self, scene: &Scene, aspect: f32) -> Vec<bool> {
+        let planes = frustum::planes(scene.camera.projection(aspect) * scene.camera.view());
+        self.draws
+            .iter()
+            .map(|d| {
+                let model = scene.objects[d.object].transform.matrix();
+                frustum::visible(&planes, model, self.meshes[d.mesh].sphere)
+            })
+            .collect()
+    }
+
+    /// Objects (draws) recorded for slot `slot`'s camera after frustum culling, and all of them.
+    pub fn drawn_objects(&self, slot: usize) -> (usize, usize) {
+        let s = &self.slots[slot.min(self.slots.len() - 1)];
+        (s.order.len(), self.draws.len())
+    }
+
+    pub fn triangle_count(&self) -> u64 {
+        self.draws
+            .iter()
+            .map(|d| self.meshes[d.mesh].index_count as u64 / 3)
+            .sum()
+    }
+
+    /// Clears the target to the scene background and draws every object (slot 0's data, the HDR
+    /// output).
+    pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) -> Result<(), VkError> {
+        self.record_slot(cmd, target, 0, Output::Hdr, None)
+    }
+
+    /// As [`ForwardPass::record`], with the per-frame data of `slot`, writing `output` (its
+    /// pipelines [`ForwardPass::prepare`]d; `target.color` of its format). Timed on `timer` as
+    /// "forward", or "gbuffer" and "lighting" on the deferred path.
+    pub fn record_slot(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: &TargetViews,
+        slot: usize,
+        output: Output,
+        mut timer: Option<&mut crate::vk::timing::GpuTimer>,
+    ) -> Result<(), VkError> {
+        let d = &self.ctx.device;
+        if self.shadows.active() {
+            let meshes: Vec<shadow::MeshRef> = self
+                .meshes
+                .iter()
+                .map(|m| shadow::MeshRef {
+                    vertices: m.vertices.raw,
+                    indices: m.indices.raw,
+                    index_count: m.index_count,
+                    colors: m.colors.as_ref().map(|c| c.raw),
+                })
+                .collect();
+            let materials = self.materials.sets.as_slice();
+            self.shadows
+                .record(cmd, slot, (&meshes, materials), timer.as_deref_mut());
+        }
+        let shadow_set = self.shadows.set(slot);
+        let slot = &self.slots[slot.min(self.slots.len() - 1)];
+        let set = slot.set;
+        let order = (slot.order.as_slice(), slot.levels.as_slice(), 0);
+        if let Some(def) = &self.deferred {
+            if !def.ready(output, target.extent) || target.resolve.is_some() {
+                return Err(VkError::Setup(format!(
+                    "forward (deferred): not prepared for {output:?} at {}x{} \
+                     (call prepare and prepare_extent first)",
+                    target.extent.width, target.extent.height
+                )));
+            }
+            let clear = vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: output.clear_color(self.background, self.exposure),
+                },
+            };
+            def.record(
+                cmd,
+                target,
+                (output, clear),
+                (set, shadow_set),
+                timer,
+                |pipeline| {
+                    let full = vk::Rect2D {
+                        extent: target.extent,
+                        ..Default::default()
+                    };
+                    self.record_draws(
+                        cmd,
+                        (set, shadow_set, order),
+                        |_| (pipeline, pipeline),
+                        full,
+                    )
+                },
+            );
+            return Ok(());
+        }
+        let mut pipelines = Vec::new();
+        for draw in &self.draws {
+            let get = |v: VariantKey| {
+                self.pipelines
+                    .get(&(v, output))
+                    .map(|p| p.raw)
+                    .ok_or_else(|| {
+                        VkError::Setup(format!(
+                            "forward: the pipeline {v} for {output:?} was not prepared"
+                        ))
+                    })
+            };
+            let own = get(draw.variant)?;
+            let outside = match draw.shadow_area {
+                Some(_) => get(draw.variant.unshadowed())?,
+                None => own,
+            };
+            pipelines.push((own, outside));
+        }
+        let skybox = match (self.has_skybox, self.skyboxes.get(&output)) {
+            (false, _) => None,
+            (true, Some(p)) => Some(p.raw),
+            (true, None) => {
+                return Err(VkError::Setup(format!(
+                    "forward: the skybox for {output:?} was not prepared"
+                )))
+            }
+        };
+        let clear = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: output.clear_color(self.background, self.exposure),
+            },
+        };
+        let mut color = vk::RenderingAttachmentInfo::default()
+            .image_view(target.color)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(clear);
+        if let Some(resolve) = target.resolve {
+            color = color
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(resolve)
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE);
+        }
+        let colors = [color];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: target.extent,
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&colors)
+            .depth_attachment(&depth);
+        let timed = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
+        // SAFETY: the caller passes a command buffer in the recording state whose target views
+        // are in the attachment layouts (`HdrTarget::begin_frame`); `info` and the slices it
+        // points to outlive the calls; every pipeline, set and buffer bound below belongs to this
+        // pass and outlives the command buffer's execution (the owner waits before dropping it).
+        unsafe {
+            d.cmd_begin_rendering(cmd, &info);
+            d.cmd_set_viewport(
+                cmd,
+                0,
+                &[vk::Viewport {
+                    x: 0.0,
+                    y: 0.0,
+                    width: target.extent.width as f32,
+                    height: target.extent.height as f32,
+                    min_depth: 0.0,
+                    max_depth: 1.0,
+                }],
+            );
+            d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        // Opaque draws, the skybox behind them, then blended draws over both.
+        let (order, levels, _) = order;
+        let blended = order
+            .iter()
+            .position(|&i| self.draws[i].variant.alpha == AlphaKey::Blend)
+            .unwrap_or(order.len());
+        self.record_draws(
+            cmd,
+            (set, shadow_set, (&order[..blended], levels, 0)),
+            |i| pipelines[i],
+            area,
+        );
+        // SAFETY: as above; the draws left the rendering instance open.
+        unsafe {
+            if let Some(sky) = skybox {
+                d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
+                d.cmd_draw(cmd, 3, 1, 0, 0);
+            }
+        }
+        let rest = (&order[blended..], levels, blended);
+        self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);
+        // SAFETY: as above; the draws left the rendering instance open.
+        unsafe { d.cmd_end_rendering(cmd) };
+        if let Some(t) = timer {
+            t.end(cmd, timed);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,401 @@
+//! GPU-side data layouts, mirrored in `shaders_glsl/include/bindings.glsl`; the numbers shared with
+//! GLSL come from it ([`glsl`]).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec4};
+
+use crate::scene::{Falloff, Light, LightKind, Material, Scene};
+
+pub use crate::glsl;
+
+use glsl::include_bindings as b;
+
+pub const SET_FRAME: u32 = b::SET_FRAME as u32;
+pub const BINDING_FRAME: u32 = b::BINDING_FRAME as u32;
+pub const BINDING_LIGHTS: u32 = b::BINDING_LIGHTS as u32;
+pub const BINDING_OBJECTS: u32 = b::BINDING_OBJECTS as u32;
+pub const BINDING_SRGB_TABLE: u32 = b::BINDING_SRGB_TABLE as u32;
+pub const BINDING_DEFERRED_MATERIALS: u32 = b::BINDING_DEFERRED_MATERIALS as u32;
+/// Clustered light culling: the grid and clusters, and the light index list.
+pub const BINDING_CLUSTERS: u32 = b::BINDING_CLUSTERS as u32;
+pub const BINDING_CLUSTER_LIGHTS: u32 = b::BINDING_CLUSTER_LIGHTS as u32;
+pub const BINDING_INSTANCES: u32 = b::BINDING_INSTANCES as u32;
+/// The environment's set (`shaders_glsl/include/ibl.glsl`).
+pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
+/// The material maps' set.
+pub const SET_MATERIAL: u32 = b::SET_MATERIAL as u32;
+
+pub const LIGHT_DIRECTIONAL: u32 = b::LIGHT_DIRECTIONAL;
+pub const LIGHT_POINT: u32 = b::LIGHT_POINT;
+pub const LIGHT_SPOT: u32 = b::LIGHT_SPOT;
+pub const FALLOFF_NONE: u32 = b::FALLOFF_NONE;
+pub const FALLOFF_INVERSE_SQUARE: u32 = b::FALLOFF_INVERSE_SQUARE;
+pub const FALLOFF_CLASSIC: u32 = b::FALLOFF_CLASSIC;
+
+// The forward pipeline layout lists its set layouts in index order (frame, environment,
+// materials; `render::forward`).
+const _: () = assert!(SET_FRAME == 0 && SET_ENV == 1 && SET_MATERIAL == 2);
+
+/// Material model ids (specialization constant 0): the CPU reference's codes.
+pub use crate::brdf::model_code;
+
+/// Specialization constant ids.
+pub const SPEC_MODEL: u32 = b::SPEC_MODEL;
+pub const SPEC_FOG: u32 = b::SPEC_FOG;
+pub const SPEC_ALPHA_MODE: u32 = b::SPEC_ALPHA_MODE;
+pub const SPEC_SPECULAR_METHOD: u32 = glsl::include_ibl::SPEC_SPECULAR_METHOD;
+pub const SPEC_DIFFUSE_FROM_SH: u32 = glsl::include_ibl::SPEC_DIFFUSE_FROM_SH;
+pub const SPEC_ENERGY_COMPENSATION: u32 = glsl::include_ibl::SPEC_ENERGY_COMPENSATION;
+pub const SPEC_IBL_SAMPLES: u32 = glsl::include_ibl::SPEC_IBL_SAMPLES;
+pub const SPEC_MIP_FILTERED: u32 = glsl::include_ibl::SPEC_MIP_FILTERED_SAMPLES;
+pub const SPEC_DEBUG_VIEW: u32 = b::SPEC_DEBUG_VIEW;
+pub const SPEC_SEL_DISTRIBUTION: u32 = b::SPEC_SEL_DISTRIBUTION;
+pub const SPEC_SEL_GEOMETRY: u32 = b::SPEC_SEL_GEOMETRY;
+pub const SPEC_SEL_FRESNEL: u32 = b::SPEC_SEL_FRESNEL;
+pub const SPEC_MAPS: u32 = b::SPEC_MAPS;
+pub const SPEC_LIGHT_KINDS: u32 = b::SPEC_LIGHT_KINDS;
+pub const SPEC_OUTPUT: u32 = glsl::include_output::SPEC_OUTPUT;
+pub const SPEC_OUTPUT_TONEMAP: u32 = glsl::include_output::SPEC_OUTPUT_TONEMAP;
+pub const SPEC_OUTPUT_CLAMP: u32 = glsl::include_output::SPEC_OUTPUT_CLAMP;
+/// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`crate::render::forward::material_key`]).
+pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
+/// `CLUSTERED`: the fragment stage loops over its cluster's lights only.
+pub const SPEC_CLUSTERED: u32 = b::SPEC_CLUSTERED;
+/// `SHADOW_FIXED_0..3` of shadows.glsl: the shadowed lights packed whole
+/// ([`crate::render::shadow::fixed_slots`]).
+pub const SPEC_SHADOW_FIXED_0: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_0;
+pub const SPEC_SHADOW_FIXED_1: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_1;
+pub const SPEC_SHADOW_FIXED_2: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_2;
+pub const SPEC_SHADOW_FIXED_3: u32 = glsl::include_shadows::SPEC_SHADOW_FIXED_3;
+/// `LK_*` bits of `shaders_glsl/include/bindings.glsl`.
+pub const LK_DIRECTIONAL: u32 = b::LK_DIRECTIONAL;
+pub const LK_POINT: u32 = b::LK_POINT;
+pub const LK_SPOT: u32 = b::LK_SPOT;
+pub const LK_FALLOFF_NONE: u32 = b::LK_FALLOFF_NONE;
+pub const LK_FALLOFF_INVERSE_SQUARE: u32 = b::LK_FALLOFF_INVERSE_SQUARE;
+pub const LK_FALLOFF_CLASSIC: u32 = b::LK_FALLOFF_CLASSIC;
+pub const LK_RANGE: u32 = b::LK_RANGE;
+pub const LK_SHADOW_HARD: u32 = b::LK_SHADOW_HARD;
+pub const LK_SHADOW_PCF: u32 = b::LK_SHADOW_PCF;
+pub const LK_SHADOW_PCSS: u32 = b::LK_SHADOW_PCSS;
+
+/// The light types and falloffs `lights` use, as `LK_*` bits (the shader leaves out the rest).
+pub fn light_kinds(lights: &[Light]) -> u32 {
+    lights.iter().fold(0, |bits, l| {
+        bits | match l.kind {
+            LightKind::Directional => LK_DIRECTIONAL,
+            LightKind::Point => LK_POINT,
+            LightKind::Spot => LK_SPOT,
+        } | match l.falloff {
+            Falloff::None => LK_FALLOFF_NONE,
+            Falloff::InverseSquare => LK_FALLOFF_INVERSE_SQUARE,
+            Falloff::Classic { .. } => LK_FALLOFF_CLASSIC,
+        } | if l.range.is_some() { LK_RANGE } else { 0 }
+            | match l.shadow.map(|s| s.method) {
+                None => 0,
+                Some(crate::scene::ShadowMethod::Hard) => LK_SHADOW_HARD,
+                Some(crate::scene::ShadowMethod::Pcf) => LK_SHADOW_PCF,
+                Some(crate::scene::ShadowMethod::Pcss) => LK_SHADOW_PCSS,
+            }
+    })
+}
+
+/// `FrameData` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub struct FrameData {
+    pub view: Mat4,
+    pub proj: Mat4,
+    pub view_proj: Mat4,
+    pub camera_pos: Vec4,
+    pub ambient: Vec4,
+    pub fog_color: Vec4,
+    pub fog: Vec4,
+    pub counts: [u32; 4],
+    pub inv_view_proj: Mat4,
+    /// x: `color::exposure_scale` of the scene's exposure, for the display output.
+    pub display: Vec4,
+}
+
+/// `Light` (std430, 80 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
+pub struct GpuLight {
+    pub position_type: Vec4,
+    pub direction_falloff: Vec4,
+    pub radiance: Vec4,
+    pub atten: Vec4,
+    pub cone: Vec4,
+}
+
+/// `ObjectData` (std430, 128 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub struct ObjectData {
+    pub model: Mat4,
+    pub normal_matrix: Mat4,
+}
+
+/// `MaterialPush`: per-material parameters as push constants: the packed BRDF parameters of
+/// [`crate::brdf::GpuBrdfParams`] (96 bytes), then the object's index.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
+pub struct MaterialPush {
+    pub brdf: [u32; 24],
+    pub object_index: u32,
+    pub flags: u32,
+    /// 1: shadow maps darken the object (`ObjectShadow::receive`).
+    pub receive_shadow: u32,
+    /// 1: a back face is lit with the flipped normal (`Sides::Double`, glTF `doubleSided`).
+    pub double_sided: u32,
+}
+
+/// `DeferredMaterial` (std430) of `deferred_light.frag`: one per object slot, the push constants
+/// and the extra block its material has in the forward pass.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug)]
+pub struct DeferredMaterial {
+    pub push: MaterialPush,
+    pub extra: crate::render::material::MaterialExtra,
+}
+
+const _: () = assert!(std::mem::size_of::<MaterialPush>() == 112);
+const _: () = assert!(std::mem::size_of::<DeferredMaterial>() == 160);
+
+/// Vulkan guarantees 128 bytes of push constants; lavapipe offers exactly that.
+const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 80);
+const _: () = assert!(std::mem::size_of::<FrameData>() == 4 * 64 + 4 * 16 + 16 + 16);
+
+/// The vertex colour stream (binding 2, one RGBA32F per vertex, read at location 5) of the
+/// forward pass's `*_color` modules and of the alpha-tested shadow depth pass.
+pub fn vertex_color_input() -> (
+    ash::vk::VertexInputBindingDescription,
+    ash::vk::VertexInputAttributeDescription,
+) {
+    (
+        ash::vk::VertexInputBindingDescription {
+            binding: 2,
+            stride: 16,
+            input_rate: ash::vk::VertexInputRate::VERTEX,
+        },
+        ash::vk::VertexInputAttributeDescription {
+            location: 5,
+            binding: 2,
+            format: ash::vk::Format::R32G32B32A32_SFLOAT,
+            offset: 0,
+        },
+    )
+}
+
+/// One vertex: position, normal, uv, tangent (xyz + handedness).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable, Debug, Default, PartialEq)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+    pub tangent: [f32; 4],
+}
+
+impl GpuLight {
+    pub fn from_light(l: &Light) -> Self {
+        let ty = match l.kind {
+            LightKind::Directional => LIGHT_DIRECTIONAL,
+            LightKind::Point => LIGHT_POINT,
+            LightKind::Spot => LIGHT_SPOT,
+        };
+        let (falloff, c) = match l.falloff {
+            Falloff::None => (FALLOFF_NONE, [0.0; 3]),
+            Falloff::InverseSquare => (FALLOFF_INVERSE_SQUARE, [0.0; 3]),
+            Falloff::Classic { c1, c2, c3 } => (FALLOFF_CLASSIC, [c1, c2, c3]),
+        };
+        let cos_umbra = l.umbra_deg.to_radians().cos();
+        let (cos_inner, smooth) = match l.inner_deg {
+            Some(inner) => (inner.to_radians().cos(), 1.0),
+            None => (cos_umbra, 0.0),
+        };
+        Self {
+            position_type: l.position.extend(ty as f32),
+            direction_falloff: l.direction.normalize_or_zero().extend(falloff as f32),
+            radiance: (l.color * l.intensity).extend(0.0),
+            atten: Vec4::new(c[0], c[1], c[2], l.exponent),
+            // 0: no range (the shader skips the window).
+            cone: Vec4::new(cos_umbra, cos_inner, smooth, l.range.unwrap_or(0.0)),
+        }
+    }
+}
+
+/// The push constants of a material (its packed BRDF parameters).
+pub fn material_push(m: &Material) -> MaterialPush {
+    let packed = crate::brdf::GpuBrdfParams::from_model(m);
+    let bytes = packed.to_bytes();
+    let mut brdf = [0u32; 24];
+    for (w, c) in brdf.iter_mut().zip(bytes.chunks_exact(4)) {
+        *w = u32::from_ne_bytes([c[0], c[1], c[2], c[3]]);
+    }
+    MaterialPush {
+        brdf,
+        object_index: 0,
+        flags: 0,
+        receive_shadow: 1,
+        double_sided: 0,
+    }
+}
+
+/// Vulkan clip space from a right-handed view: y down, depth in [0, 1] (near 0, far 1; the
+/// camera's perspective or orthographic projection, [`crate::scene::Camera::projection`]).
+pub fn projection(camera: &crate::scene::Camera, aspect: f32) -> Mat4 {
+    let mut p = camera.projection(aspect);
+    p.y_axis.y = -p.y_axis.y;
+    p
+}
+
+pub fn frame_data(scene: &Scene, aspect: f32, light_count: u32) -> FrameData {
+    let view = scene.camera.view();
+    let proj = projection(&scene.camera, aspect);
+    let (fog_color, fog) = match &scene.fog {
+        Some(f) => (f.color.extend(0.0), Vec4::new(f.z_a, f.z_b, f.s_a, f.s_b)),
+        None => (Vec4::ZERO, Vec4::ZERO),
+    };
+    FrameData {
+        view,
+        proj,
+        view_proj: proj * view,
+        camera_pos: scene.camera.eye_homogeneous(),
+        ambient: scene.ambient.extend(0.0),
+        fog_color,
+        fog,
+        counts: [light_count, 0, 0, 0],
+        inv_view_proj: (proj * view).inverse(),
+        display: Vec4::new(
+            crate::color::exposure_scale(scene.output.exposure),
+            0.0,
+            0.0,
+            0.0,
+        ),
+    }
+}
+
+pub fn object_data(model: Mat4) -> ObjectData {
+    let n3 = glam::Mat3::from_mat4(model).inverse().transpose();
+    ObjectData {
+        model,
+        normal_matrix: Mat4::from_mat3(n3),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glsl;
+    use crate::render::forward::DebugView;
+    use crate::scene::TextureSlot;
+
+    /// Every debug view has its GLSL code `DEBUG_VIEW_<NAME>`, the codes are dense in `ALL` order,
+    /// and each name parses back to its view.
+    #[test]
+    fn debug_view_codes_names_and_glsl_agree() {
+        let generated = include_str!(concat!(env!("OUT_DIR"), "/glsl_constants.rs"));
+        for (i, v) in DebugView::ALL.iter().enumerate() {
+            assert_eq!(v.id(), i as u32, "{v:?}");
+            let line = format!(
+                "pub const DEBUG_VIEW_{}: u32 = {i};",
+                v.name().to_ascii_uppercase()
+            );
+            assert!(generated.contains(&line), "{line} not generated");
+            assert_eq!(DebugView::from_name(v.name()), Some(*v));
+            assert_eq!(DebugView::from_name(&v.name().to_uppercase()), Some(*v));
+        }
+        assert_eq!(DebugView::from_name("bogus"), None);
+        assert_eq!(
+            generated.matches("pub const DEBUG_VIEW_").count(),
+            DebugView::ALL.len()
+        );
+    }
+
+    /// The material set binds map `TextureSlot::ALL[i]` at binding i = its GLSL `MAP_*`, then the
+    /// extra uniforms.
+    #[test]
+    fn material_map_bindings_follow_the_slots() {
+        use glsl::include_bindings as b;
+        let maps = [
+            b::MAP_BASE_COLOR,
+            b::MAP_SPECULAR,
+            b::MAP_METALLIC,
+            b::MAP_ROUGHNESS,
+            b::MAP_ORM,
+            b::MAP_NORMAL,
+            b::MAP_OCCLUSION,
+            b::MAP_EMISSIVE,
+        ];
+        assert_eq!(maps.len(), TextureSlot::ALL.len());
+        assert_eq!(crate::render::material::SLOT_COUNT, TextureSlot::ALL.len());
+        for (i, (slot, map)) in TextureSlot::ALL.iter().zip(maps).enumerate() {
+            assert_eq!(map, i as i32, "{slot:?}");
+        }
+        assert_eq!(
+            crate::render::material::BINDING_EXTRA,
+            TextureSlot::ALL.len() as u32
+        );
+    }
+
+    /// The forward pass's specialization constants have distinct ids (across `bindings.glsl` and
+    /// `ibl.glsl`, which share the pipeline), and the Rust names point at them.
+    #[test]
+    fn specialization_ids_are_distinct_and_named() {
+        let ids = [
+            super::SPEC_MODEL,
+            super::SPEC_FOG,
+            super::SPEC_SPECULAR_METHOD,
+            super::SPEC_DIFFUSE_FROM_SH,
+            super::SPEC_ENERGY_COMPENSATION,
+            super::SPEC_IBL_SAMPLES,
+            super::SPEC_MIP_FILTERED,
+            super::SPEC_DEBUG_VIEW,
+            super::SPEC_SEL_DISTRIBUTION,
+            super::SPEC_SEL_GEOMETRY,
+            super::SPEC_SEL_FRESNEL,
+            super::SPEC_MAPS,
+            super::SPEC_LIGHT_KINDS,
+            super::SPEC_SEL_DIFFUSE,
+            super::SPEC_OUTPUT,
+            super::SPEC_OUTPUT_TONEMAP,
+            super::SPEC_OUTPUT_CLAMP,
+            super::SPEC_CLUSTERED,
+        ];
+        let mut sorted = ids.to_vec();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), ids.len(), "{ids:?}");
+        assert_eq!(sorted, (0..ids.len() as u32).collect::<Vec<_>>());
+        // The LK_* bits are distinct single bits.
+        let lk = [
+            super::LK_DIRECTIONAL,
+            super::LK_POINT,
+            super::LK_SPOT,
+            super::LK_FALLOFF_NONE,
+            super::LK_FALLOFF_INVERSE_SQUARE,
+            super::LK_FALLOFF_CLASSIC,
+        ];
+        assert!(lk.iter().all(|b| b.is_power_of_two()));
+        assert_eq!(lk.iter().fold(0, |a, b| a | b).count_ones(), 6);
+    }
+
+    /// The generator reads what the sources say: a few values checked against the GLSL text.
+    #[test]
+    fn generated_constants_match_the_sources() {
+        let bindings = include_str!("../../../../shaders_glsl/include/bindings.glsl");
+        assert!(bindings.contains("#define SET_MATERIAL 2\n"));
+        assert_eq!(glsl::include_bindings::SET_MATERIAL, 2);
+        assert!(bindings.contains("layout(constant_id = 13) const int SEL_DIFFUSE"));
+        assert_eq!(glsl::include_bindings::SPEC_SEL_DIFFUSE, 13);
+        assert!(bindings.contains("#define LK_FALLOFF_CLASSIC 32u\n"));
+        assert_eq!(glsl::include_bindings::LK_FALLOFF_CLASSIC, 32);
+        let ibl = include_str!("../../../../shaders_glsl/include/ibl.glsl");
+        assert!(ibl.contains("#define SET_ENV 1\n"));
+        assert_eq!(super::SET_ENV, 1);
+        let color = include_str!("../../../../shaders_glsl/include/color.glsl");
+        assert!(color.contains("#define TONEMAP_AGX 4u\n"));
+        assert_eq!(glsl::include_color::TONEMAP_AGX, 4);
+    }
+}

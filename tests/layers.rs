@@ -1,0 +1,400 @@
+//! The layering rules docs/architecture.md promises, checked on the sources:
+//! - no import circles: inside every module folder (a crate's `src` included), the modules that are
+//!   its children use each other along a DAG (a file using its own parent's items is fine — that
+//!   is how a folder's `mod.rs` re-exports its children — siblings in a loop are not);
+//! - the core crate names neither `ash` nor `shaderc`, in its sources or its manifest;
+//! - pipeline barriers are recorded by the frame graph and the vk layer only: no other file calls
+//!   `cmd_pipeline_barrier`/`cmd_pipeline_barrier2`, and neither `headless.rs` nor `window/`
+//!   records a layout transition by hand.
+//!
+//! Tests (`tests.rs` files and `#[cfg(test)]` modules) are left out: a test may reach anywhere.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Every crate's source folder: the binary's `src` and each `crates/*/src`.
+fn source_roots() -> Vec<PathBuf> {
+    let mut roots = vec![root().join("src")];
+    let mut crates: Vec<PathBuf> = std::fs::read_dir(root().join("crates"))
+        .expect("crates/")
+        .map(|e| e.unwrap().path().join("src"))
+        .filter(|p| p.is_dir())
+        .collect();
+    crates.sort();
+    roots.extend(crates);
+    roots
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|e| e == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The file's code without comments, string contents and its `#[cfg(test)]` module.
+fn code_of(text: &str) -> String {
+    let cut = text
+        .find("#[cfg(test)]\nmod ")
+        .or_else(|| text.find("#[cfg(test)]\npub mod "))
+        .unwrap_or(text.len());
+    let mut out = String::new();
+    for line in text[..cut].lines() {
+        let line = match line.find("//") {
+            Some(i) => &line[..i],
+            None => line,
+        };
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
+/// A module's path inside its crate (`["render", "forward", "variant"]`); `lib.rs` / `main.rs`
+/// is the crate root (empty), `mod.rs` its folder.
+fn module_of(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap();
+    let mut parts: Vec<String> = rel
+        .iter()
+        .map(|c| c.to_string_lossy().into_owned())
+        .collect();
+    let last = parts.pop().unwrap();
+    let stem = last.trim_end_matches(".rs");
+    if !(stem == "mod" || (parts.is_empty() && (stem == "lib" || stem == "main"))) {
+        parts.push(stem.to_string());
+    }
+    parts
+}
+
+/// Every `use` tree and `crate::`/`super::` path in `code`, expanded to paths of identifiers.
+fn referenced_paths(code: &str) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    // `use` statements, braces expanded.
+    let mut rest = code;
+    while let Some(i) = find_word(rest, "use") {
+        let after = &rest[i + 3..];
+        let Some(end) = after.find(';') else { break };
+        expand(after[..end].trim(), &mut Vec::new(), &mut out);
+        rest = &after[end..];
+    }
+    // Inline paths.
+    for start in ["crate::", "super::", "self::"] {
+        let mut from = 0;
+        while let Some(i) = code[from..].find(start) {
+            let at = from + i;
+            from = at + start.len();
+            let before = code[..at].chars().next_back();
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+                continue;
+            }
+            let path: String = code[at..]
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                .collect();
+            out.push(
+                path.split("::")
+                    .filter(|s| !s.is_empty())
+                    .map(str::to_string)
+                    .collect(),
+            );
+        }
+    }
+    out
+}
+
+fn find_word(text: &str, word: &str) -> Option<usize> {
+    let mut from = 0;
+    while let Some(i) = text[from..].find(word) {
+        let at = from + i;
+        let before = text[..at].chars().next_back();
+        let after = text[at + word.len()..].chars().next();
+        let boundary = |c: Option<char>| !c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+        if boundary(before) && after.is_some_and(char::is_whitespace) {
+            return Some(at);
+        }
+        from = at + word.len();
+    }
+    None
+}
+
+/// Expands a `use` tree (`a::{b, c::{d, e}}`) below `prefix`.
+fn expand(tree: &str, prefix: &mut Vec<String>, out: &mut Vec<Vec<String>>) {
+    let tree = tree.trim();
+    if let Some(open) = tree.find('{') {
+        let head: Vec<String> = tree[..open]
+            .split("::")
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(str::to_string)
+            .collect();
+        let inner = &tree[open + 1..tree.rfind('}').unwrap_or(tree.len())];
+        let n = prefix.len();
+        prefix.extend(head);
+        let mut depth = 0;
+        let mut part = String::new();
+        for c in inner.chars() {
+            match c {
+                '{' => depth += 1,
+                '}' => depth -= 1,
+                _ => {}
+            }
+            if c == ',' && depth == 0 {
+                expand(&part, prefix, out);
+                part.clear();
+            } else {
+                part.push(c);
+            }
+        }
+        if !part.trim().is_empty() {
+            expand(&part, prefix, out);
+        }
+        prefix.truncate(n);
+    } else {
+        let tree = tree.split(" as ").next().unwrap_or(tree);
+        let mut p = prefix.clone();
+        p.extend(
+            tree.split("::")
+                .map(str::trim)
+                .filter(|s| !s.is_empty() && *s != "*")
+                .map(str::to_string),
+        );
+        out.push(p);
+    }
+}
+
+/// The module a path starting in `from` names (the longest prefix that is a module of the
+/// crate), or `None` for other crates and the standard library.
+fn resolve(
+    path: &[String],
+    from: &[String],
+    modules: &BTreeSet<Vec<String>>,
+) -> Option<Vec<String>> {
+    let mut base: Vec<String>;
+    let mut rest = path;
+    match path.first().map(String::as_str) {
+        Some("crate") => {
+            base = Vec::new();
+            rest = &path[1..];
+        }
+        Some("super") | Some("self") => {
+            base = from.to_vec();
+            while let Some(first) = rest.first() {
+                match first.as_str() {
+                    "super" => {
+                        base.pop();
+                    }
+                    "self" => {}
+                    _ => break,
+                }
+                rest = &rest[1..];
+            }
+        }
+        _ => return None,
+    }
+    let mut best = base.clone();
+    for seg in rest {
+        base.push(seg.clone());
+        if modules.contains(&base) {
+            best = base.clone();
+        } else {
+            break;
+        }
+    }
+    Some(best)
+}
+
+/// Cycles among the children of every module folder: (folder, one cycle as child names).
+fn import_cycles(src: &Path) -> Vec<(String, Vec<String>)> {
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    let files: Vec<PathBuf> = files
+        .into_iter()
+        .filter(|f| {
+            let name = f.file_name().unwrap().to_string_lossy();
+            !(name == "tests.rs" || name.ends_with("_tests.rs"))
+        })
+        .collect();
+    let modules: BTreeSet<Vec<String>> = files.iter().map(|f| module_of(src, f)).collect();
+    // Edges between modules (file level).
+    let mut edges: BTreeSet<(Vec<String>, Vec<String>)> = BTreeSet::new();
+    for f in &files {
+        let from = module_of(src, f);
+        let code = code_of(&std::fs::read_to_string(f).unwrap());
+        for p in referenced_paths(&code) {
+            if let Some(to) = resolve(&p, &from, &modules) {
+                if to != from {
+                    edges.insert((from.clone(), to));
+                }
+            }
+        }
+    }
+    let mut cycles = Vec::new();
+    for folder in &modules {
+        // Children of `folder`: the next segment of every module strictly below it.
+        let child = |m: &Vec<String>| -> Option<String> {
+            (m.len() > folder.len() && m.starts_with(folder)).then(|| m[folder.len()].clone())
+        };
+        let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (a, b) in &edges {
+            if let (Some(ca), Some(cb)) = (child(a), child(b)) {
+                if ca != cb {
+                    graph.entry(ca).or_default().insert(cb);
+                }
+            }
+        }
+        if let Some(cycle) = find_cycle(&graph) {
+            cycles.push((folder.join("::"), cycle));
+        }
+    }
+    cycles
+}
+
+fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    // 0 unvisited, 1 on the stack, 2 done.
+    fn visit(
+        n: &str,
+        graph: &BTreeMap<String, BTreeSet<String>>,
+        state: &mut BTreeMap<String, u8>,
+        stack: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        state.insert(n.to_string(), 1);
+        stack.push(n.to_string());
+        for m in graph.get(n).into_iter().flatten() {
+            match state.get(m.as_str()).copied().unwrap_or(0) {
+                1 => {
+                    let i = stack.iter().position(|s| s == m).unwrap();
+                    let mut c = stack[i..].to_vec();
+                    c.push(m.clone());
+                    return Some(c);
+                }
+                0 => {
+                    if let Some(c) = visit(m, graph, state, stack) {
+                        return Some(c);
+                    }
+                }
+                _ => {}
+            }
+        }
+        stack.pop();
+        state.insert(n.to_string(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for n in graph.keys() {
+        if state.get(n.as_str()).copied().unwrap_or(0) == 0 {
+            if let Some(c) = visit(n, graph, &mut state, &mut Vec::new()) {
+                return Some(c);
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn no_import_circles_in_any_crate() {
+    let mut all = Vec::new();
+    for src in source_roots() {
+        for (folder, cycle) in import_cycles(&src) {
+            all.push(format!(
+                "{}: in {}: {}",
+                src.strip_prefix(root()).unwrap().display(),
+                if folder.is_empty() {
+                    "the crate root"
+                } else {
+                    &folder
+                },
+                cycle.join(" → ")
+            ));
+        }
+    }
+    assert!(all.is_empty(), "import circles:\n{}", all.join("\n"));
+}
+
+/// The checker finds the kind of circle it is meant to: siblings in a loop, not a parent
+/// re-exporting its children.
+#[test]
+fn the_cycle_checker_sees_sibling_loops_only() {
+    let dir = std::env::temp_dir().join(format!("luz-layers-{}", std::process::id()));
+    let src = dir.join("src");
+    std::fs::create_dir_all(src.join("a")).unwrap();
+    std::fs::write(src.join("lib.rs"), "pub mod a;\npub mod b;\n").unwrap();
+    std::fs::write(
+        src.join("a/mod.rs"),
+        "mod x;\nmod y;\npub use x::X;\npub struct A;\n",
+    )
+    .unwrap();
+    std::fs::write(src.join("a/x.rs"), "use super::A;\npub struct X;\n").unwrap();
+    std::fs::write(src.join("a/y.rs"), "use super::x::X;\n").unwrap();
+    std::fs::write(src.join("b.rs"), "use crate::a::A;\n").unwrap();
+    assert!(import_cycles(&src).is_empty(), "{:?}", import_cycles(&src));
+    // x → y → x, and a → b → a.
+    std::fs::write(src.join("a/x.rs"), "use super::{y, A};\npub struct X;\n").unwrap();
+    std::fs::write(
+        src.join("a/mod.rs"),
+        "mod x;\nmod y;\npub use x::X;\npub struct A;\nfn f() { crate::b::g(); }\n",
+    )
+    .unwrap();
+    let found = import_cycles(&src);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(found.len(), 2, "{found:?}");
+}
+
+#[test]
+fn the_core_crate_knows_no_vulkan() {
+    let core = root().join("crates/luz-core");
+    let manifest = std::fs::read_to_string(core.join("Cargo.toml")).unwrap();
+    for dep in ["ash", "shaderc", "gpu-allocator"] {
+        assert!(
+            !manifest.lines().any(|l| l.trim_start().starts_with(dep)),
+            "crates/luz-core/Cargo.toml depends on {dep}"
+        );
+    }
+    let mut files = Vec::new();
+    rust_files(&core.join("src"), &mut files);
+    for f in files {
+        let code = code_of(&std::fs::read_to_string(&f).unwrap());
+        assert!(
+            !code.contains("ash::") && find_word(&code, "ash").is_none(),
+            "{} names ash",
+            f.display()
+        );
+    }
+}
+
+#[test]
+fn barriers_are_recorded_by_the_graph_and_the_vk_layer_only() {
+    let mut offenders = Vec::new();
+    for src in source_roots() {
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        for f in files {
+            let rel = f
+                .strip_prefix(root())
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            let allowed = rel.starts_with("crates/luz-graph/") || rel.contains("/src/vk/");
+            let code = code_of(&std::fs::read_to_string(&f).unwrap());
+            if !allowed && code.contains("cmd_pipeline_barrier") {
+                offenders.push(format!("{rel}: cmd_pipeline_barrier"));
+            }
+            let frame = rel.ends_with("/headless.rs") || rel.starts_with("src/window/");
+            if frame && (code.contains("transition(") || code.contains("Transition {")) {
+                offenders.push(format!("{rel}: a hand-written transition"));
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "{}", offenders.join("\n"));
+}
