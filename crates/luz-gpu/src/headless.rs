@@ -8,16 +8,17 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
-use crate::render::forward::{DebugView, ForwardPass, Output, TargetViews};
+use crate::render::forward::{DebugView, ForwardPass, Output, PassNames};
+use crate::render::frame::{add_readback, SceneTarget, Transients};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
-use crate::render::target::{FrameStart, HdrTarget, COLOR_ATTACHMENT};
+use crate::render::target::HdrTarget;
 use crate::scene::Scene;
 use crate::stats::Summary;
-use crate::vk::cmd::{transition, CommandPool, Transition};
-use crate::vk::image::ImageDesc;
+use crate::vk::cmd::CommandPool;
 use crate::vk::timing::GpuTimer;
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, VkError};
+use luz_graph::FrameGraph;
 
 /// The split-sum LUT read back: (geometry selector BRDF_G_*, texels) per layer.
 pub type LutLayers = Vec<(i32, Vec<[f32; 4]>)>;
@@ -135,8 +136,11 @@ pub const DISPLAY_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 
 pub struct Headless {
     forward: ForwardPass,
-    /// The display output's 8-bit target, allocated on the first [`Headless::render_display`].
-    display_target: Option<Image>,
+    /// The frame's one-frame images (depth, MSAA colour, the display output's 8-bit target),
+    /// pooled across frames.
+    transients: Transients,
+    /// The last frame's graph.
+    plan: Option<luz_graph::Plan>,
     /// What the last frame wrote into the readback buffer.
     last_output: Output,
     ibl: Option<Ibl>,
@@ -258,7 +262,8 @@ impl Headless {
         ctx.set_name(fence, "headless frame fence");
         Ok(Self {
             forward,
-            display_target: None,
+            transients: Transients::new(ctx),
+            plan: None,
             last_output: Output::Hdr,
             ibl,
             saturate,
@@ -458,11 +463,6 @@ impl Headless {
         let cmd = self.cmd;
         self.forward.prepare(output)?;
         self.forward.prepare_extent(self.target.extent())?;
-        if output != Output::Hdr && self.display_target.is_none() {
-            let mut desc = ImageDesc::color_target(self.width, self.height, DISPLAY_FORMAT);
-            desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-            self.display_target = Some(Image::new(&self.ctx, "headless display codes", desc)?);
-        }
         // SAFETY: `cmd` was allocated from `self.pool` (created with RESET_COMMAND_BUFFER) and is
         // not pending: the previous `render` waited for its fence before returning.
         unsafe {
@@ -476,80 +476,14 @@ impl Headless {
         if let Some(t) = &mut self.timer {
             t.reset(cmd);
         }
-        self.target.begin_frame(&d, cmd, FrameStart::Idle);
-        let (source, last) = match (&self.display_target, output) {
-            (Some(display), Output::Display { .. }) => {
-                transition(
-                    &d,
-                    cmd,
-                    &[Transition {
-                        image: display.raw,
-                        range: display.subresource_range(),
-                        from: (
-                            vk::ImageLayout::UNDEFINED,
-                            vk::PipelineStageFlags2::TOP_OF_PIPE,
-                            vk::AccessFlags2::NONE,
-                        ),
-                        to: COLOR_ATTACHMENT,
-                    }],
-                );
-                let views = TargetViews {
-                    color: display.view,
-                    resolve: None,
-                    depth: self.target.depth.view,
-                    extent: self.target.extent(),
-                };
-                self.forward
-                    .record_slot(cmd, &views, 0, output, self.timer.as_mut())?;
-                ((display.raw, display.subresource_range()), COLOR_ATTACHMENT)
-            }
-            _ => {
-                let views = self.target.views();
-                self.forward
-                    .record_slot(cmd, &views, 0, Output::Hdr, self.timer.as_mut())?;
-                let mut last = COLOR_ATTACHMENT;
-                if let Some(s) = &self.saturate {
-                    let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, s.name()));
-                    last = s.record(cmd, last);
-                    if let Some(t) = &mut self.timer {
-                        t.end(cmd, slot);
-                    }
-                }
-                (
-                    (self.target.color.raw, self.target.color.subresource_range()),
-                    last,
-                )
-            }
-        };
-        let (image, range) = source;
-
-        transition(
-            &d,
-            cmd,
-            &[Transition {
-                image,
-                range,
-                from: last,
-                to: (
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_READ,
-                ),
-            }],
-        );
-        let slot = self.timer.as_mut().and_then(|t| t.begin(cmd, "readback"));
-        crate::vk::cmd::copy_image_to_buffer(
-            &d,
-            cmd,
-            image,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            &self.readback,
-            self.target.extent(),
-        );
-        crate::vk::cmd::copy_to_host_barrier(&d, cmd);
-        if let Some(t) = &mut self.timer {
-            t.end(cmd, slot);
-        }
+        let graph = frame_graph(
+            (&self.forward, self.saturate.as_ref()),
+            (&self.target, &self.readback),
+            output,
+        )?;
+        self.plan = Some(graph.plan().clone());
+        self.transients
+            .execute(&self.ctx, graph, cmd, self.timer.as_mut())?;
         // SAFETY: `cmd` is in the recording state (begun above) and no render pass is open.
         unsafe { d.end_command_buffer(cmd)? };
 
@@ -578,6 +512,11 @@ impl Headless {
             None => Vec::new(),
         };
         Ok(FrameTimes { gpu_ms, cpu_ms })
+    }
+
+    /// The graph of the last frame rendered (passes, resources, barriers), for `--graph`.
+    pub fn last_graph(&self) -> Option<&luz_graph::Plan> {
+        self.plan.as_ref()
     }
 
     /// The last frame of [`Headless::render_display`]: RGBA8 display codes, row by row.
@@ -626,6 +565,44 @@ impl Drop for Headless {
         // The remaining fields free themselves; the command pool frees `cmd`.
         let _ = &self.pool;
     }
+}
+
+/// This frame as a graph: the scene's passes into the HDR target (or, for a display
+/// output, into an 8-bit transient target), saturation, and the readback.
+fn frame_graph<'a>(
+    (forward, saturate): (&'a ForwardPass, Option<&'a SaturatePass>),
+    (target, readback): (&'a HdrTarget, &'a Buffer),
+    output: Output,
+) -> Result<luz_graph::CompiledGraph<'a>, VkError> {
+    let mut g = FrameGraph::new();
+    let scene = target.add_to(&mut g);
+    let extent = target.extent();
+    let source = match output {
+        Output::Display { format, .. } => {
+            let codes = g.create_image(
+                "display codes",
+                luz_graph::ImageDesc::color(extent.width, extent.height, format),
+            );
+            let target = SceneTarget {
+                color: codes,
+                resolve: None,
+                ..scene
+            };
+            forward.add_passes(&mut g, (0, PassNames::MAIN), output, target)?;
+            codes
+        }
+        Output::Hdr => {
+            forward.add_passes(&mut g, (0, PassNames::MAIN), Output::Hdr, scene)?;
+            if let Some(s) = saturate {
+                s.add_pass(&mut g, scene.output(), s.name());
+            }
+            scene.output()
+        }
+    };
+    add_readback(&mut g, "readback", source, readback, extent);
+    let graph = g.compile()?;
+    target.remember(graph.plan(), &scene);
+    Ok(graph)
 }
 
 /// The widest equirectangular image (2:1, RGBA32F on the GPU) the device takes: at most

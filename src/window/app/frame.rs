@@ -2,6 +2,7 @@
 //! into the swapchain image, presenting, and screenshots.
 
 use super::*;
+use crate::window::ui::compare::MAP_SCOPE;
 
 impl Viewer {
     pub(super) fn run_script(&mut self) -> Result<()> {
@@ -364,7 +365,13 @@ impl Viewer {
         )
     }
 
-    /// Records the frame's passes into `cmd`; returns the screenshot being copied, if any.
+    /// Records the frame's passes into `cmd` as one frame graph; returns the screenshot being
+    /// copied, if any.
+    ///
+    /// The graph: A's scene passes (into the swapchain image directly for a display `output`,
+    /// else into A's HDR target, then saturation, an EXR screenshot's copy, B's passes, the A/B
+    /// map, the lab's read-backs and the display pass), the UI over the swapchain image, a PNG
+    /// screenshot's copy, and the swapchain image left for presenting.
     pub(super) fn record(
         &mut self,
         cmd: vk::CommandBuffer,
@@ -374,246 +381,157 @@ impl Viewer {
         screenshot: Option<&Path>,
         output: Output,
     ) -> Result<Option<Shot>> {
-        let d = self.ctx.device.clone();
         let mut timer = self.frames[slot].timer.take();
         if let Some(t) = &mut timer {
             t.reset(cmd);
         }
-        let t = &self.targets;
-        // The previous frame's last uses of the shared images come first on the queue: the
-        // display pass's read and a screenshot's copy of the colour image.
-        t.begin_frame(
-            &d,
-            cmd,
-            FrameStart::AfterPrevious {
-                color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags2::COPY
-                    | vk::PipelineStageFlags2::COMPUTE_SHADER,
-            },
-        );
-        // The swapchain image: written whole by the forward pass or the display pass, then the UI
-        // on top.
-        let image = self.swapchain.images[image_index as usize];
-        let attachment: Access = (
-            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-            vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-        );
-        let to_attachment = Transition {
-            image,
-            range: color_range(),
-            // Chained to the acquire semaphore's wait at this stage.
-            from: (
-                vk::ImageLayout::UNDEFINED,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::NONE,
-            ),
-            to: attachment,
-        };
         let sc = self.swapchain.extent;
-        let swapchain_view = self.swapchain.views[image_index as usize];
-        let mut shot = None;
-        let ui_load = if let Output::Display { .. } = output {
-            transition(&d, cmd, &[to_attachment]);
-            let views = TargetViews {
-                color: swapchain_view,
-                resolve: None,
-                depth: t.depth.view,
-                extent: sc,
-            };
-            self.forward
-                .record_slot(cmd, &views, slot, output, timer.as_mut())?;
-            vk::AttachmentLoadOp::LOAD
-        } else {
-            let views = t.views();
-            self.forward
-                .record_slot(cmd, &views, slot, output, timer.as_mut())?;
-            let mut last = COLOR_ATTACHMENT;
-            if let Some(sat) = &self.saturate {
-                let s = timer.as_mut().and_then(|t| t.begin(cmd, sat.name()));
-                last = sat.record(cmd, last);
-                if let Some(t) = &mut timer {
-                    t.end(cmd, s);
-                }
-            }
-            let exr = screenshot.filter(|p| is_exr(p));
-            let mut read = self.display.source_access();
-            if self.lab.forces_hdr() {
-                read = lab::readable(read);
-            }
-            // An EXR screenshot copies the float image in TRANSFER_SRC_OPTIMAL (a copy from
-            // GENERAL is a performance warning of the validation layer), then gives it to the
-            // display pass and the lab.
-            let copy_src: Access = (
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            );
-            let color = |from: Access, to: Access| Transition {
-                image: t.color.raw,
-                range: t.color.subresource_range(),
-                from,
-                to,
-            };
-            let first = if exr.is_some() { copy_src } else { read };
-            transition(&d, cmd, &[color(last, first), to_attachment]);
-            if let Some(path) = exr {
-                shot = Some(self.copy_hdr(&d, cmd, path)?);
-                transition(&d, cmd, &[color(copy_src, read)]);
-            }
-            self.lab_copies = self.record_lab(&d, cmd, slot, &mut timer)?;
-            vk::AttachmentLoadOp::DONT_CARE
-        };
         let hdr_extent = self.targets.color.extent();
-        let display = ui_load == vk::AttachmentLoadOp::DONT_CARE;
+        let direct = matches!(output, Output::Display { .. });
+        // The host buffers this frame's copies write, made before the graph borrows them.
+        let shot = match screenshot {
+            Some(p) if is_exr(p) && !direct => Some(self.shot_buffer(p, false, hdr_extent)?),
+            Some(p) if !is_exr(p) && self.swapchain.can_read => {
+                Some(self.shot_buffer(p, true, sc)?)
+            }
+            Some(p) if !is_exr(p) => {
+                self.status =
+                    Some("this window's images cannot be read back: no screenshot".into());
+                None
+            }
+            _ => None,
+        };
+        let (map, copies) = if direct {
+            (None, lab::Readbacks::default())
+        } else {
+            self.prepare_lab(slot)?
+        };
         let has_ui = self.egui_renderer.is_some() && !primitives.is_empty();
-        if display || has_ui {
-            let colors = [vk::RenderingAttachmentInfo::default()
-                .image_view(swapchain_view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(ui_load)
-                .store_op(vk::AttachmentStoreOp::STORE)];
-            let info = vk::RenderingInfo::default()
-                .render_area(vk::Rect2D {
-                    offset: vk::Offset2D::default(),
-                    extent: sc,
-                })
-                .layer_count(1)
-                .color_attachments(&colors);
-            // SAFETY: `cmd` is recording; the swapchain image is in COLOR_ATTACHMENT_OPTIMAL (the
-            // transition above, or the forward pass that drew into it), and `info` outlives the call.
-            unsafe { d.cmd_begin_rendering(cmd, &info) };
-            if display {
-                let s = timer.as_mut().and_then(|t| t.begin(cmd, "display"));
-                let area = vk::Extent2D {
-                    width: hdr_extent.width.min(sc.width),
-                    height: hdr_extent.height.min(sc.height),
-                };
-                self.record_display(cmd, slot, area)?;
-                if let Some(t) = &mut timer {
-                    t.end(cmd, s);
-                }
-            }
-            let s = timer.as_mut().and_then(|t| t.begin(cmd, "ui"));
-            if let Some(r) = &mut self.egui_renderer {
-                r.cmd_draw(cmd, sc, self.egui_ctx.pixels_per_point(), primitives)
-                    .map_err(|e| anyhow!("egui: {e}"))?;
-            }
-            // SAFETY: closes the rendering begun above in the same command buffer.
-            unsafe { d.cmd_end_rendering(cmd) };
-            if let Some(t) = &mut timer {
-                t.end(cmd, s);
-            }
-        }
-        let mut last = attachment;
-        let png = screenshot.filter(|p| !is_exr(p));
-        if let Some(path) = png {
-            if let Some(copy) = self.copy_display(&d, cmd, image, &mut last, path)? {
-                shot = Some(copy);
-            }
-        }
-        transition(
-            &d,
-            cmd,
-            &[Transition {
-                image,
-                range: color_range(),
-                from: last,
-                to: (
-                    vk::ImageLayout::PRESENT_SRC_KHR,
-                    vk::PipelineStageFlags2::NONE,
-                    vk::AccessFlags2::NONE,
-                ),
-            }],
+        let pixels_per_point = self.egui_ctx.pixels_per_point();
+        let format = self.swapchain.format;
+        let mut g = FrameGraph::new();
+        let swap = g.import_image(
+            "swapchain image",
+            ImportedImage::new(
+                self.swapchain.images[image_index as usize],
+                self.swapchain.views[image_index as usize],
+                crate::graph::ImageDesc::color(sc.width, sc.height, format),
+            )
+            // Acquired: the submission waits for its semaphore at colour output.
+            .before(ImageStateBefore::Discard(Access::ColorAttachmentWrite))
+            .after(Access::Present),
         );
-        if shot.is_some() || self.lab_copies.any() {
-            crate::vk::cmd::copy_to_host_barrier(&d, cmd);
+        let a = self.targets.add_to(&mut g);
+        let mut b_target = None;
+        if direct {
+            let target = SceneTarget {
+                color: swap,
+                resolve: None,
+                ..a
+            };
+            self.forward
+                .add_passes(&mut g, (slot, PassNames::MAIN), output, target)?;
+        } else {
+            self.forward
+                .add_passes(&mut g, (slot, PassNames::MAIN), Output::Hdr, a)?;
+            if let Some(sat) = &self.saturate {
+                sat.add_pass(&mut g, a.output(), sat.name());
+            }
+            if let Some(shot) = shot.as_ref().filter(|s| !s.display) {
+                add_readback(&mut g, "screenshot", a.output(), &shot.buffer, hdr_extent);
+            }
+            if let Some(b) = &self.lab.b {
+                b_target = Some(lab::add_b_passes(&mut g, b, slot)?);
+            }
+            if let (Some(kind), Some(bt), Some(pass)) = (map, b_target, self.lab.gpu.as_ref()) {
+                let settings = (self.scene.output.exposure, self.scene.output.tonemap);
+                g.pass(MAP_SCOPE)
+                    .read(a.output(), HDR_COMPARE_READ)
+                    .read(bt.output(), HDR_COMPARE_READ)
+                    .side_effect()
+                    .record(move |rc| {
+                        rc.image(a.output())?;
+                        rc.image(bt.output())?;
+                        Ok(pass.record(rc.cmd(), slot, kind, settings)?)
+                    });
+            }
+            if let Some((buffer, extent)) = &copies.a {
+                add_readback(&mut g, "read-back A", a.output(), buffer, *extent);
+            }
+            if let (Some((buffer, extent)), Some(bt)) = (&copies.b, b_target) {
+                add_readback(&mut g, "read-back B", bt.output(), buffer, *extent);
+            }
+            let mut pass = g
+                .pass("display")
+                .read(a.output(), HDR_DISPLAY_READ)
+                .write(swap, Access::ColorAttachmentWrite);
+            if let Some(bt) = b_target {
+                pass = pass.read(bt.output(), HDR_DISPLAY_READ);
+            }
+            let (display, scene, lab) = (&self.display, &self.scene, &self.lab);
+            let area = vk::Extent2D {
+                width: hdr_extent.width.min(sc.width),
+                height: hdr_extent.height.min(sc.height),
+            };
+            pass.record(move |rc| {
+                let view = rc.image(swap)?.view;
+                rc.image(a.output())?;
+                render_to(rc, view, sc, vk::AttachmentLoadOp::DONT_CARE, |cmd| {
+                    lab::record_display(cmd, (slot, area, format), (display, scene), lab)
+                })
+            });
         }
+        if has_ui {
+            let renderer = self.egui_renderer.as_mut();
+            g.pass("ui")
+                .read_write(swap, Access::ColorAttachmentReadWrite)
+                .side_effect()
+                .record(move |rc| {
+                    let view = rc.image(swap)?.view;
+                    render_to(rc, view, sc, vk::AttachmentLoadOp::LOAD, |cmd| {
+                        if let Some(r) = renderer {
+                            r.cmd_draw(cmd, sc, pixels_per_point, primitives)
+                                .map_err(|e| anyhow!("egui: {e}"))?;
+                        }
+                        Ok(())
+                    })
+                });
+        }
+        if let Some(shot) = shot.as_ref().filter(|s| s.display) {
+            add_readback(&mut g, "screenshot", swap, &shot.buffer, sc);
+        }
+        let graph = g.compile()?;
+        self.targets.remember(graph.plan(), &a);
+        if let (Some(b), Some(bt)) = (&self.lab.b, &b_target) {
+            b.remember(graph.plan(), bt);
+        }
+        self.transients
+            .execute(&self.ctx, graph, cmd, timer.as_mut())?;
         self.frames[slot].timer = timer;
+        self.lab_copies = copies;
         Ok(shot)
     }
 
-    /// Copies the HDR colour image (in TRANSFER_SRC_OPTIMAL layout after the scene passes) for
-    /// an EXR screenshot; the copy is read after the frame's fence.
-    fn copy_hdr(&self, d: &ash::Device, cmd: vk::CommandBuffer, path: &Path) -> Result<Shot> {
-        let t = &self.targets;
-        let extent = t.color.extent();
+    /// A host buffer for a screenshot of `extent` (8-bit display codes, or float radiance).
+    fn shot_buffer(&self, path: &Path, display: bool, extent: vk::Extent2D) -> Result<Shot> {
+        let texel = if display { 4 } else { 16 };
         let buffer = Buffer::new(
             &self.ctx,
-            "screenshot (hdr)",
-            extent.width as u64 * extent.height as u64 * 16,
+            if display {
+                "screenshot (display)"
+            } else {
+                "screenshot (hdr)"
+            },
+            extent.width as u64 * extent.height as u64 * texel,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        copy_image_to_buffer(
-            d,
-            cmd,
-            t.color.raw,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            &buffer,
-            extent,
-        );
         Ok(Shot {
             path: path.to_path_buf(),
             buffer,
-            display: false,
+            display,
             extent,
         })
-    }
-
-    /// Copies the swapchain image (what the window shows, UI included) for a PNG screenshot,
-    /// moving it from `last` to TRANSFER_SRC; `None` (and a status line) when this swapchain's
-    /// images cannot be read back.
-    fn copy_display(
-        &mut self,
-        d: &ash::Device,
-        cmd: vk::CommandBuffer,
-        image: vk::Image,
-        last: &mut Access,
-        path: &Path,
-    ) -> Result<Option<Shot>> {
-        let sc = self.swapchain.extent;
-        if !self.swapchain.can_read {
-            self.status = Some("this window's images cannot be read back: no screenshot".into());
-            return Ok(None);
-        }
-        let src: Access = (
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_READ,
-        );
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image,
-                range: color_range(),
-                from: *last,
-                to: src,
-            }],
-        );
-        *last = src;
-        let buffer = Buffer::new(
-            &self.ctx,
-            "screenshot (display)",
-            sc.width as u64 * sc.height as u64 * 4,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        copy_image_to_buffer(
-            d,
-            cmd,
-            image,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            &buffer,
-            sc,
-        );
-        Ok(Some(Shot {
-            path: path.to_path_buf(),
-            buffer,
-            display: true,
-            extent: sc,
-        }))
     }
 
     pub(super) fn save_screenshot(&mut self, shot: &Shot) -> Result<()> {
@@ -680,4 +598,36 @@ pub(super) fn preferred_output(
         return Output::Hdr;
     }
     Output::display_for(scene, format).unwrap_or(Output::Hdr)
+}
+
+/// Records `draw` inside one rendering instance on the colour attachment `view` (the swapchain
+/// image, in COLOR_ATTACHMENT_OPTIMAL as the graph left it), loaded with `load`.
+fn render_to(
+    rc: &mut crate::graph::RecordContext<'_>,
+    view: vk::ImageView,
+    extent: vk::Extent2D,
+    load: vk::AttachmentLoadOp,
+    draw: impl FnOnce(vk::CommandBuffer) -> Result<()>,
+) -> Result<(), crate::graph::PassError> {
+    let (d, cmd) = (rc.device(), rc.cmd());
+    let colors = [vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+        .load_op(load)
+        .store_op(vk::AttachmentStoreOp::STORE)];
+    let info = vk::RenderingInfo::default()
+        .render_area(vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        })
+        .layer_count(1)
+        .color_attachments(&colors);
+    // SAFETY: `cmd` is recording outside a rendering instance (the graph records one pass at a
+    // time) and the image behind `view` is in COLOR_ATTACHMENT_OPTIMAL (the pass's declared
+    // access); `info` outlives the call.
+    unsafe { d.cmd_begin_rendering(cmd, &info) };
+    let result = draw(cmd);
+    // SAFETY: closes the rendering begun above in the same command buffer.
+    unsafe { d.cmd_end_rendering(cmd) };
+    result.map_err(|e| format!("{e:#}").into())
 }

@@ -14,7 +14,7 @@ use crate::window::ui::compare::{
 /// the viewer trades noise in environment-lit scenes for a reference in seconds).
 pub(super) const ERROR_VIEW_ENV_SAMPLES: u32 = 64;
 
-pub(super) use crate::window::ui::compare::{B_SCOPE, MAP_SCOPE};
+pub(super) use crate::window::ui::compare::MAP_SCOPE;
 
 /// Side B: a scene and the passes that draw it, like A's in [`Viewer`].
 pub(super) struct Side {
@@ -118,46 +118,6 @@ impl Side {
         b.display.prepare(b.scene.output.tonemap, format)?;
         Ok(message)
     }
-
-    /// Records B's scene passes into its HDR target, leaving the colour image readable by the
-    /// display pass and by a copy.
-    fn record(&mut self, d: &ash::Device, cmd: vk::CommandBuffer, slot: usize) -> Result<()> {
-        self.targets.begin_frame(
-            d,
-            cmd,
-            FrameStart::AfterPrevious {
-                color_read_stages: vk::PipelineStageFlags2::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags2::COPY
-                    | vk::PipelineStageFlags2::COMPUTE_SHADER,
-            },
-        );
-        let views = self.targets.views();
-        self.forward
-            .record_slot(cmd, &views, slot, Output::Hdr, None)?;
-        let mut last = COLOR_ATTACHMENT;
-        if let Some(sat) = &self.saturate {
-            last = sat.record(cmd, last);
-        }
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: self.targets.color.raw,
-                range: self.targets.color.subresource_range(),
-                from: last,
-                to: readable(self.display.source_access()),
-            }],
-        );
-        Ok(())
-    }
-}
-
-/// `access` (the display pass's read of an HDR image) plus a copy's read of it and the A/B map
-/// kernels' ([`ComparePass::source_access`]).
-pub(super) fn readable(mut access: Access) -> Access {
-    access.1 |= vk::PipelineStageFlags2::COPY | vk::PipelineStageFlags2::COMPUTE_SHADER;
-    access.2 |= vk::AccessFlags2::TRANSFER_READ;
-    access
 }
 
 /// What the error view's reference depends on: when it changes (the camera moved, the window
@@ -322,7 +282,7 @@ pub(super) struct Lab {
     pub settings: CompareSettings,
     pub b: Option<Side>,
     /// The GPU maps of A and B (difference, FLIP), built for the current pair of images.
-    gpu: Option<ComparePass>,
+    pub(super) gpu: Option<ComparePass>,
     /// The map kind each frame slot recorded (its figures are read after the slot's fence).
     recorded: [Option<CompareKind>; FRAMES_IN_FLIGHT],
     /// The figures of the newest map read back.
@@ -500,11 +460,17 @@ impl Lab {
                 .map(|(_, t)| t)
                 .sum::<f64>()
         };
-        let b_ms = scope_ms(B_SCOPE);
+        let b_ms = passes
+            .iter()
+            .filter(|(n, _)| crate::window::ui::compare::is_b(n))
+            .map(|(_, t)| t)
+            .sum::<f64>();
         let map_ms = scope_ms(MAP_SCOPE);
         let a_ms = passes
             .iter()
-            .filter(|(n, _)| !matches!(*n, B_SCOPE | MAP_SCOPE | "display" | "ui"))
+            .filter(|(n, _)| {
+                !crate::window::ui::compare::is_b(n) && !matches!(*n, MAP_SCOPE | "display" | "ui")
+            })
             .map(|(_, t)| t)
             .sum::<f64>();
         if let Some(m) = &mut self.map {
@@ -636,17 +602,10 @@ impl Viewer {
         Ok(())
     }
 
-    /// Records B's passes (timed as one scope) and the copies this frame reads back; A's HDR
-    /// image is already in its display-read state (with copy access when `copy_a`).
-    pub(super) fn record_lab(
-        &mut self,
-        d: &ash::Device,
-        cmd: vk::CommandBuffer,
-        slot: usize,
-        timer: &mut Option<GpuTimer>,
-    ) -> Result<Readbacks> {
-        let mut out = Readbacks::default();
-        // This slot's previous map is done (its fence was waited for): read its figures.
+    /// Gets the lab ready for slot `slot`'s frame: reads the figures of the slot's previous map
+    /// (its fence was waited for), builds the map kernels the comparison mode needs, and makes
+    /// the host buffers of this frame's read-backs. Returns the map kind to record, if any.
+    pub(super) fn prepare_lab(&mut self, slot: usize) -> Result<(Option<CompareKind>, Readbacks)> {
         let map_ms = self.profiler.pass_history();
         let map_ms = map_ms
             .iter()
@@ -654,14 +613,7 @@ impl Viewer {
             .map(|(_, t)| t)
             .sum::<f64>();
         self.lab.read_map(slot, map_ms)?;
-        if let Some(b) = &mut self.lab.b {
-            let s = timer.as_mut().and_then(|t| t.begin(cmd, B_SCOPE));
-            b.record(d, cmd, slot)?;
-            if let Some(t) = timer {
-                t.end(cmd, s);
-            }
-        }
-        let kind = map_kind(self.lab.settings.mode);
+        let kind = map_kind(self.lab.settings.mode).filter(|_| self.lab.b.is_some());
         if let (Some(kind), Some(b)) = (kind, &self.lab.b) {
             if self.lab.gpu.is_none() {
                 let views = (self.targets.color.view, b.targets.color.view);
@@ -676,32 +628,23 @@ impl Viewer {
             let pass = self.lab.gpu.as_mut().expect("built above");
             let output = self.scene.output;
             pass.prepare(kind, output.tonemap, self.swapchain.format)?;
-            let s = timer.as_mut().and_then(|t| t.begin(cmd, MAP_SCOPE));
-            pass.record(cmd, slot, kind, (output.exposure, output.tonemap))?;
-            if let Some(t) = timer {
-                t.end(cmd, s);
-            }
             self.lab.recorded[slot] = Some(kind);
         }
+        let mut out = Readbacks::default();
         if self.lab.errors[0].want {
-            out.a = Some(self.copy_color(d, cmd, &self.targets.color, "read-back A")?);
+            out.a = Some(self.copy_buffer(&self.targets, "read-back A")?);
         }
         if self.lab.errors[1].want {
             if let Some(b) = &self.lab.b {
-                out.b = Some(self.copy_color(d, cmd, &b.targets.color, "read-back B")?);
+                out.b = Some(self.copy_buffer(&b.targets, "read-back B")?);
             }
         }
-        Ok(out)
+        Ok((kind, out))
     }
 
-    fn copy_color(
-        &self,
-        d: &ash::Device,
-        cmd: vk::CommandBuffer,
-        color: &crate::vk::Image,
-        name: &str,
-    ) -> Result<(Buffer, vk::Extent2D)> {
-        let extent = color.extent();
+    /// A host buffer for the whole HDR colour image of `targets`.
+    fn copy_buffer(&self, targets: &HdrTarget, name: &str) -> Result<(Buffer, vk::Extent2D)> {
+        let extent = targets.extent();
         let buffer = Buffer::new(
             &self.ctx,
             name,
@@ -709,78 +652,80 @@ impl Viewer {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        // The copy reads TRANSFER_SRC_OPTIMAL (what the validation layer's performance checks
-        // ask for), then the image goes back to the display pass's read state.
-        let state = readable(self.display.source_access());
-        let src: Access = (
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_READ,
-        );
-        let range = color.subresource_range();
-        let t = |from, to| Transition {
-            image: color.raw,
-            range,
-            from,
-            to,
-        };
-        transition(d, cmd, &[t(state, src)]);
-        copy_image_to_buffer(d, cmd, color.raw, src.0, &buffer, extent);
-        transition(d, cmd, &[t(src, state)]);
         Ok((buffer, extent))
     }
+}
 
-    /// Draws the window's scene image: A, or A and B as the comparison mode shows them (the
-    /// difference and FLIP maps of this frame, slot `slot`).
-    pub(super) fn record_display(
-        &self,
-        cmd: vk::CommandBuffer,
-        slot: usize,
-        area: vk::Extent2D,
-    ) -> Result<()> {
-        let format = self.swapchain.format;
-        let a = (&self.display, &self.scene);
-        let rect = |x0: u32, x1: u32| vk::Rect2D {
-            offset: vk::Offset2D { x: x0 as i32, y: 0 },
-            extent: vk::Extent2D {
-                width: x1.saturating_sub(x0),
-                height: area.height,
-            },
-        };
-        let draw = |(pass, scene): (&DisplayPass, &Scene), clip: vk::Rect2D| {
-            pass.record_clipped(
-                cmd,
-                (scene.output.tonemap, format),
-                scene.output.exposure,
-                area,
-                clip,
-            )
-        };
-        let Some(b) = &self.lab.b else {
-            return Ok(draw(a, rect(0, area.width))?);
-        };
-        let b = (&b.display, &b.scene);
-        match (self.lab.settings.mode, &self.lab.gpu) {
-            (CompareMode::Split, _) => {
-                let x =
-                    ((self.lab.settings.split * area.width as f32).round() as u32).min(area.width);
-                if x > 0 {
-                    draw(a, rect(0, x))?;
-                }
-                if x < area.width {
-                    draw(b, rect(x, area.width))?;
-                }
-            }
-            (CompareMode::Toggle, _) if self.lab.settings.show_b => draw(b, rect(0, area.width))?,
-            (CompareMode::Difference | CompareMode::Flip, Some(pass))
-                if self.lab.recorded[slot].is_some() =>
-            {
-                pass.record_show(cmd, slot, format, area, rect(0, area.width))?
-            }
-            _ => draw(a, rect(0, area.width))?,
-        }
-        Ok(())
+/// Declares B's scene passes (timed on rows of their own, "B: …") into its HDR target.
+pub(super) fn add_b_passes<'a>(
+    g: &mut FrameGraph<'a>,
+    b: &'a Side,
+    slot: usize,
+) -> Result<SceneTarget> {
+    let target = b.targets.add_to(g);
+    b.forward
+        .add_passes(g, (slot, PassNames::B), Output::Hdr, target)?;
+    if let Some(sat) = &b.saturate {
+        sat.add_pass(g, target.output(), "B: saturate");
     }
+    Ok(target)
+}
+
+impl Side {
+    /// Keeps the state this frame's graph leaves B's colour image in.
+    pub(super) fn remember(&self, plan: &crate::graph::Plan, target: &SceneTarget) {
+        self.targets.remember(plan, target);
+    }
+}
+
+/// Draws the window's scene image: A, or A and B as the comparison mode shows them (the
+/// difference and FLIP maps of this frame, slot `slot`).
+pub(super) fn record_display(
+    cmd: vk::CommandBuffer,
+    (slot, area, format): (usize, vk::Extent2D, vk::Format),
+    a: (&DisplayPass, &Scene),
+    lab: &Lab,
+) -> Result<()> {
+    let lab_b = &lab.b;
+    let rect = |x0: u32, x1: u32| vk::Rect2D {
+        offset: vk::Offset2D { x: x0 as i32, y: 0 },
+        extent: vk::Extent2D {
+            width: x1.saturating_sub(x0),
+            height: area.height,
+        },
+    };
+    let draw = |(pass, scene): (&DisplayPass, &Scene), clip: vk::Rect2D| {
+        pass.record_clipped(
+            cmd,
+            (scene.output.tonemap, format),
+            scene.output.exposure,
+            area,
+            clip,
+        )
+    };
+    let Some(b) = lab_b else {
+        return Ok(draw(a, rect(0, area.width))?);
+    };
+    let b = (&b.display, &b.scene);
+    match (lab.settings.mode, &lab.gpu) {
+        (CompareMode::Split, _) => {
+            let x = ((lab.settings.split * area.width as f32).round() as u32).min(area.width);
+            if x > 0 {
+                draw(a, rect(0, x))?;
+            }
+            if x < area.width {
+                draw(b, rect(x, area.width))?;
+            }
+        }
+        (CompareMode::Toggle, _) if lab.settings.show_b => draw(b, rect(0, area.width))?,
+        (CompareMode::Difference | CompareMode::Flip, Some(pass))
+            if lab.recorded[slot].is_some() =>
+        {
+            pass.record_show(cmd, slot, format, area, rect(0, area.width))?
+        }
+        _ => draw(a, rect(0, area.width))?,
+    }
+    Ok(())
 }
 
 /// Host copies recorded this frame: (buffer, extent) of A and B.

@@ -24,19 +24,23 @@ use winit::window::{Window, WindowId};
 
 use super::camera::OrbitCamera;
 use super::script::{self, Action};
-use super::swapchain::{color_range, Swapchain};
+use super::swapchain::Swapchain;
 use super::ui::{self, UiAction, UiState, ViewSettings};
 use super::{DisplayPath, ViewOptions, ViewOutcome};
+use crate::graph::{Access, FrameGraph, ImageStateBefore, ImportedImage};
 use crate::headless::{build_ibl, RenderOptions};
 use crate::imageio::LinearImage;
 use crate::profiler::{FrameSample, Profiler};
 use crate::render::display::DisplayPass;
-use crate::render::forward::{ForwardPass, Output, TargetFormat, TargetViews};
+use crate::render::forward::{ForwardPass, Output, PassNames, TargetFormat};
+use crate::render::frame::{
+    add_readback, SceneTarget, Transients, HDR_COMPARE_READ, HDR_DISPLAY_READ,
+};
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
-use crate::render::target::{FrameStart, HdrTarget, COLOR_ATTACHMENT, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::render::target::{HdrTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::scene::Scene;
-use crate::vk::cmd::{copy_image_to_buffer, transition, CommandPool, Transition};
+use crate::vk::cmd::CommandPool;
 use crate::vk::timing::GpuTimer;
 use crate::vk::{Buffer, Context, ContextDesc, InstanceDesc, VkError};
 
@@ -52,7 +56,6 @@ const FRAMES_IN_FLIGHT: usize = 2;
 /// Frames kept by the profiler's rolling window.
 const PROFILER_WINDOW: usize = 300;
 
-type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
 
 pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
     let mut scene = crate::scene::load_or_default(args.scene.as_deref())?;
@@ -356,6 +359,8 @@ struct Viewer {
     forward: ForwardPass,
     ibl: Option<Ibl>,
     targets: HdrTarget,
+    /// The frame graph's one-frame images (depth, MSAA colour), pooled across frames.
+    transients: Transients,
     frames: Vec<FrameSlot>,
     pool: CommandPool,
     swapchain: Swapchain,
@@ -578,6 +583,7 @@ impl Viewer {
             forward,
             ibl,
             targets,
+            transients: Transients::new(&ctx),
             frames,
             pool,
             swapchain,

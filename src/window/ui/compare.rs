@@ -92,8 +92,13 @@ impl Default for CompareSettings {
     }
 }
 
-/// The name of B's GPU timer scope (its forward and saturate passes together).
-pub const B_SCOPE: &str = "B: scene";
+/// What B's GPU timer scopes start with (its shadows, scene and saturate passes: "B: forward", …).
+pub const B_PREFIX: &str = "B: ";
+
+/// Whether a GPU timer scope is one of B's passes.
+pub fn is_b(scope: &str) -> bool {
+    scope.starts_with(B_PREFIX)
+}
 /// The name of the A/B map's GPU timer scope (difference or FLIP of both images).
 pub const MAP_SCOPE: &str = "A/B map";
 

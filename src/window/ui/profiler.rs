@@ -79,7 +79,13 @@ pub(super) fn profiler_ui(ui: &mut Ui, profiler: &Profiler) {
                 });
             // A/B comparison: say what the frame pays for.
             let scope = |n: &str| passes.iter().find(|(p, _)| *p == n).map(|(_, t)| *t);
-            if let Some(b) = scope(super::compare::B_SCOPE) {
+            let b_passes: Vec<f64> = passes
+                .iter()
+                .filter(|(p, _)| super::compare::is_b(p))
+                .map(|(_, t)| *t)
+                .collect();
+            if !b_passes.is_empty() {
+                let b: f64 = b_passes.iter().sum();
                 let total: f64 = passes.iter().map(|(_, t)| t).sum();
                 ui.weak(format!(
                     "A/B: the frame renders both scenes (B {} of {} GPU){}.",

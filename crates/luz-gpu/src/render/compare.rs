@@ -234,7 +234,7 @@ pub struct ComparePass {
     kernels: Vec<((CompareKind, Tonemap), Vec<Pipeline>)>,
     shows: Vec<(vk::Format, Pipeline)>,
     /// Whether the work images were put in GENERAL layout yet.
-    initialised: bool,
+    initialised: std::cell::Cell<bool>,
     ctx: Arc<Context>,
 }
 
@@ -456,7 +456,7 @@ impl ComparePass {
             radii: flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE),
             kernels: Vec::new(),
             shows: Vec::new(),
-            initialised: false,
+            initialised: std::cell::Cell::new(false),
             ctx: ctx.clone(),
         })
     }
@@ -546,7 +546,7 @@ impl ComparePass {
     /// FLIP), leaving the map readable by [`ComparePass::record_show`] and the figures by the
     /// host after the frame's fence. Outside a render pass, with the kernels prepared.
     pub fn record(
-        &mut self,
+        &self,
         cmd: vk::CommandBuffer,
         slot: usize,
         kind: CompareKind,
@@ -571,7 +571,7 @@ impl ComparePass {
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             shader_rw,
         );
-        if !self.initialised {
+        if !self.initialised.get() {
             let mut t: Vec<Transition> = self
                 .work
                 .iter()
@@ -597,7 +597,7 @@ impl ComparePass {
                 to: general,
             });
             transition(&d, cmd, &t);
-            self.initialised = true;
+            self.initialised.set(true);
         }
         let stats = &self.stats[slot];
         // The previous frame's reads of the map (display) and uses of the work images come first

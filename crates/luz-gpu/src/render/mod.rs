@@ -4,6 +4,8 @@
 pub mod compare;
 pub mod display;
 pub mod forward;
+/// The frame as a graph: the glue to luz-graph and the building blocks of every frame.
+pub mod frame;
 /// Frustum planes, bounding spheres and culling, shared by the forward and shadow passes.
 pub mod frustum;
 pub mod gpu;

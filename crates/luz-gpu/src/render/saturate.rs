@@ -6,8 +6,9 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use luz_graph::{Access, FrameGraph, ImageHandle};
+
 use crate::scene::{Saturation, Scene};
-use crate::vk::cmd::{memory_barrier, transition, Transition};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, Image, VkError};
@@ -16,7 +17,13 @@ use crate::vk::{Buffer, Context, Image, VkError};
 const BINDING_HDR: u32 = crate::glsl::saturate_comp::BINDING_HDR as u32;
 const BINDING_REDUCTION: u32 = crate::glsl::saturate_comp::BINDING_REDUCTION as u32;
 
-type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+/// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
+const TRANSFER_FILL: Access = Access::Custom {
+    layout: vk::ImageLayout::UNDEFINED,
+    stages: vk::PipelineStageFlags2::ALL_TRANSFER,
+    access: vk::AccessFlags2::TRANSFER_WRITE,
+    writes: true,
+};
 
 pub struct SaturatePass {
     mode: Saturation,
@@ -28,7 +35,6 @@ pub struct SaturatePass {
     _set_layout: DescriptorSetLayout,
     groups: (u32, u32),
     image: vk::Image,
-    range: vk::ImageSubresourceRange,
     ctx: Arc<Context>,
 }
 
@@ -127,7 +133,6 @@ impl SaturatePass {
             _set_layout: set_layout,
             groups: (e.width.div_ceil(16), e.height.div_ceil(16)),
             image: target.raw,
-            range: target.subresource_range(),
             ctx: ctx.clone(),
         }))
     }
@@ -139,80 +144,52 @@ impl SaturatePass {
         }
     }
 
-    /// Records the pass on the target, which was last accessed as `from`; returns its new state.
-    pub fn record(&self, cmd: vk::CommandBuffer, from: Access) -> Access {
-        let d = &self.ctx.device;
-        let general = (
-            vk::ImageLayout::GENERAL,
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        );
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: self.image,
-                range: self.range,
-                from,
-                to: general,
-            }],
-        );
-        // SAFETY: `reduction` has TRANSFER_DST usage and is filled whole; each pipeline was built
-        // with `self.layout`, whose set 0 `self.set` matches; the barriers order the fill before
-        // the reduction and each kernel before the next. The transition above puts the target in
-        // GENERAL for the storage accesses. The caller's part: `cmd` is recording outside a render
-        // pass, and `from` is the target's actual state.
-        unsafe {
-            if self.mode == Saturation::Normalize {
-                // Fill is a transfer command: validation layers place it in COPY or CLEAR
-                // depending on their version, so wait on every transfer stage.
-                d.cmd_fill_buffer(cmd, self.reduction.raw, 0, vk::WHOLE_SIZE, 0);
-                memory_barrier(
-                    d,
-                    cmd,
-                    (
-                        vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                    (
-                        vk::PipelineStageFlags2::COMPUTE_SHADER,
-                        vk::AccessFlags2::SHADER_STORAGE_READ
-                            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                    ),
-                );
-            }
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout.raw,
-                0,
-                &[self.set],
-                &[],
-            );
-            for (i, p) in self.pipelines.iter().enumerate() {
-                if i > 0 {
-                    memory_barrier(
-                        d,
-                        cmd,
-                        (
-                            vk::PipelineStageFlags2::COMPUTE_SHADER,
-                            vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                        ),
-                        (
-                            vk::PipelineStageFlags2::COMPUTE_SHADER,
-                            vk::AccessFlags2::SHADER_STORAGE_READ
-                                | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                        ),
+    /// Declares the pass (named `name`, [`SaturatePass::name`] for the main scene) on `color`,
+    /// the image it was made for, read and written in place by the compute kernels.
+    pub fn add_pass<'a>(&'a self, g: &mut FrameGraph<'a>, color: ImageHandle, name: &'static str) {
+        g.pass(name)
+            .read_write(color, Access::ComputeStorageReadWrite)
+            .record(move |rc| {
+                if rc.image(color)?.image != self.image {
+                    return Err(
+                        format!("{}: not the image the pass was made for", self.name()).into(),
                     );
                 }
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raw);
-                d.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1);
-            }
-        }
-        (
-            vk::ImageLayout::GENERAL,
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        )
+                let d = &self.ctx.device;
+                let cmd = rc.cmd();
+                if self.mode == Saturation::Normalize {
+                    // SAFETY: `reduction` has TRANSFER_DST usage and is filled whole; `cmd` is
+                    // recording outside a render pass (the graph records passes one by one).
+                    unsafe { d.cmd_fill_buffer(cmd, self.reduction.raw, 0, vk::WHOLE_SIZE, 0) };
+                    // Fill is a transfer command: validation layers place it in COPY or CLEAR
+                    // depending on their version, so wait on every transfer stage.
+                    rc.memory_barrier(TRANSFER_FILL, Access::ComputeStorageReadWrite);
+                }
+                for (i, p) in self.pipelines.iter().enumerate() {
+                    if i > 0 {
+                        // The image and the reduction buffer: every kernel reads the last's writes.
+                        rc.memory_barrier(
+                            Access::ComputeStorageReadWrite,
+                            Access::ComputeStorageReadWrite,
+                        );
+                    }
+                    // SAFETY: each pipeline was built with `self.layout`, whose set 0 `self.set`
+                    // matches; the graph put the target in GENERAL for the storage accesses and
+                    // the barriers above order each kernel after the one before.
+                    unsafe {
+                        d.cmd_bind_descriptor_sets(
+                            cmd,
+                            vk::PipelineBindPoint::COMPUTE,
+                            self.layout.raw,
+                            0,
+                            &[self.set],
+                            &[],
+                        );
+                        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raw);
+                        d.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1);
+                    }
+                }
+                Ok(())
+            });
     }
 }

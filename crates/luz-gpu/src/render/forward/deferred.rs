@@ -14,15 +14,17 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::variant::{variant_spec, vertex_input, ShadingKey};
-use super::{DebugView, Output, TargetFormat, TargetViews, TermsKey, VariantKey};
+use super::{DebugView, Output, TargetFormat, TermsKey, VariantKey};
 use crate::render::gpu;
-use crate::vk::cmd::{memory_barrier, transition, Transition};
+use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
+
+use crate::render::frame::SceneTarget;
+use crate::render::shadow::SHADOW_READ;
 use crate::vk::image::ImageDesc;
 use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
 };
 use crate::vk::shaders::ShaderModule;
-use crate::vk::timing::GpuTimer;
 use crate::vk::{Context, Image, VkError};
 
 /// The G-buffer: octahedral normal (2 × f32 bits), view depth (f32 bits), object slot.
@@ -253,19 +255,23 @@ impl Deferred {
                 .all(|v| self.light_pipelines.contains_key(&(*v, output)))
     }
 
-    /// Records both passes (timed as "gbuffer" and "lighting" on `timer`). `draw_geometry` records the draws (pipeline bound by this function)
-    /// inside the geometry pass's rendering instance; `frame_set` is the slot's frame set;
-    /// `clear` the background of `output`.
-    pub(super) fn record(
-        &self,
-        cmd: vk::CommandBuffer,
-        target: &TargetViews,
+    /// Declares both passes in `g`: "gbuffer" (the geometry of `draw_geometry`, which records the
+    /// draws with the pipeline it is given, into the G-buffer and `target`'s depth) and
+    /// "lighting" (one full-screen pass over the covered pixels into `target`'s colour, cleared
+    /// to `clear`). `shadow`: the shadow maps both may sample. Nothing when the pipelines for
+    /// `output` are missing ([`Deferred::ready`] says so first).
+    pub(super) fn add_passes<'a>(
+        &'a self,
+        g: &mut FrameGraph<'a>,
+        (target, names): (SceneTarget, super::PassNames),
         (output, clear): (Output, vk::ClearValue),
-        (frame_set, shadow_set): (vk::DescriptorSet, vk::DescriptorSet),
-        mut timer: Option<&mut GpuTimer>,
-        draw_geometry: impl FnOnce(vk::Pipeline),
+        (frame_set, shadow_set, shadow): (
+            vk::DescriptorSet,
+            vk::DescriptorSet,
+            Option<ImageHandle>,
+        ),
+        draw_geometry: impl FnOnce(vk::CommandBuffer, vk::Pipeline) + 'a,
     ) {
-        let d = &self.ctx.device;
         let (lit, shadow_area) = self.lit;
         let pipeline = |v: VariantKey| self.light_pipelines.get(&(v, output)).map(|p| p.raw);
         let (Some(gbuffer), Some(light), Some(unshadowed)) = (
@@ -283,148 +289,132 @@ impl Deferred {
             offset: vk::Offset2D::default(),
             extent: target.extent,
         };
-        // The previous frame's lighting read the G-buffer; its contents are discarded.
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: gbuffer.raw,
-                range: gbuffer.subresource_range(),
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: (
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-            }],
+        // Each frame's lighting is the G-buffer's last use; its contents are discarded.
+        let gb = crate::render::frame::import(
+            g,
+            "g-buffer",
+            gbuffer,
+            ImageStateBefore::Discard(Access::FragmentSampled),
         );
-        // Background pixels are never read (the lighting pass's depth test skips them): no clear.
-        let colors = [vk::RenderingAttachmentInfo::default()
-            .image_view(gbuffer.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(target.depth)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colors)
-            .depth_attachment(&depth);
-        let t = timer.as_mut().and_then(|t| t.begin(cmd, "gbuffer"));
-        // SAFETY: `cmd` is recording outside a rendering instance (the caller's contract); the
-        // G-buffer was just transitioned to COLOR_ATTACHMENT_OPTIMAL and the depth image is in
-        // DEPTH_ATTACHMENT_OPTIMAL (`HdrTarget::begin_frame`); `info` and what it points to outlive
-        // the call, which the caller closes after its draws below.
-        unsafe { d.cmd_begin_rendering(cmd, &info) };
-        set_viewport(d, cmd, area);
-        draw_geometry(self.gbuffer_pipeline.raw);
-        // SAFETY: closes the rendering instance begun above, in the same command buffer.
-        unsafe { d.cmd_end_rendering(cmd) };
-        if let Some(timer) = timer.as_mut() {
-            timer.end(cmd, t);
+        let mut pass = g
+            .pass(names.gbuffer)
+            .write(gb, Access::ColorAttachmentWrite)
+            .write(target.depth, Access::DepthAttachmentWrite);
+        if let Some(s) = shadow {
+            pass = pass.read(s, SHADOW_READ);
         }
-
-        // The G-buffer becomes a sampled image; the depth written above is tested below.
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: gbuffer.raw,
-                range: gbuffer.subresource_range(),
-                from: (
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                to: (
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            }],
-        );
-        let tests = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
-        memory_barrier(
-            d,
-            cmd,
-            (tests, vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE),
-            (tests, vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ),
-        );
-        let t = timer.as_mut().and_then(|t| t.begin(cmd, "lighting"));
-        let colors = [vk::RenderingAttachmentInfo::default()
-            .image_view(target.color)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(clear)];
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(target.depth)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::LOAD)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE);
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colors)
-            .depth_attachment(&depth);
-        // SAFETY: as above: the output view is in COLOR_ATTACHMENT_OPTIMAL (the caller's
-        // contract, as for the forward path), depth in DEPTH_ATTACHMENT_OPTIMAL after the barrier
-        // above. The lighting pipeline belongs to this pass, its layout's set 0 is the frame set
-        // layout `frame_set` was allocated with, set 1 is `self.set` and set 3 the shadow set
-        // layout `shadow_set` was allocated with; it has no vertex input
-        // and no push constants. Viewport, scissor and cull mode (dynamic) are set before the draw.
-        unsafe {
-            d.cmd_begin_rendering(cmd, &info);
+        let gbuffer_pipeline = self.gbuffer_pipeline.raw;
+        pass.record(move |rc| {
+            let view = rc.image(gb)?.view;
+            let depth_view = rc.image(target.depth)?.view;
+            let (d, cmd) = (rc.device(), rc.cmd());
+            // Background pixels are never read (the lighting pass's depth test skips them): no
+            // clear.
+            let colors = [vk::RenderingAttachmentInfo::default()
+                .image_view(view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::DONT_CARE)
+                .store_op(vk::AttachmentStoreOp::STORE)];
+            let depth = vk::RenderingAttachmentInfo::default()
+                .image_view(depth_view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                });
+            let info = vk::RenderingInfo::default()
+                .render_area(area)
+                .layer_count(1)
+                .color_attachments(&colors)
+                .depth_attachment(&depth);
+            // SAFETY: `cmd` is recording outside a rendering instance (the graph records passes
+            // one after another); the graph put the G-buffer in COLOR_ATTACHMENT_OPTIMAL and
+            // depth in DEPTH_ATTACHMENT_OPTIMAL (the accesses declared above); `info` and what it
+            // points to outlive the call, which is closed after the draws below.
+            unsafe { d.cmd_begin_rendering(cmd, &info) };
             set_viewport(d, cmd, area);
-            d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.light_layout.raw,
-                0,
-                &[frame_set, self.set],
-                &[],
-            );
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.light_layout.raw,
-                crate::render::shadow::SET_SHADOW,
-                &[shadow_set],
-                &[],
-            );
-            // With the lookups limited to a rectangle: shadowed inside, unshadowed around it
-            // (the parts tile the target: each pixel is lit once).
-            let parts = match shadow_area {
-                Some(ndc) => super::record::split(ndc, area),
-                None => vec![(area, true)],
-            };
-            for (scissor, shadowed) in parts {
-                let p = if shadowed { light } else { unshadowed };
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p);
-                d.cmd_set_scissor(cmd, 0, &[scissor]);
-                d.cmd_draw(cmd, 3, 1, 0, 0);
+            draw_geometry(cmd, gbuffer_pipeline);
+            // SAFETY: closes the rendering instance begun above, in the same command buffer.
+            unsafe { d.cmd_end_rendering(cmd) };
+            Ok(())
+        });
+        // Depth is tested, not written, but its store op (don't care) counts as a write.
+        let mut pass = g
+            .pass(names.lighting)
+            .read(gb, Access::FragmentSampled)
+            .read_write(target.depth, Access::DepthAttachmentWrite)
+            .write(target.color, Access::ColorAttachmentWrite);
+        if let Some(s) = shadow {
+            pass = pass.read(s, SHADOW_READ);
+        }
+        pass.record(move |rc| {
+            rc.image(gb)?;
+            let color_view = rc.image(target.color)?.view;
+            let depth_view = rc.image(target.depth)?.view;
+            let (d, cmd) = (rc.device(), rc.cmd());
+            let colors = [vk::RenderingAttachmentInfo::default()
+                .image_view(color_view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(clear)];
+            let depth = vk::RenderingAttachmentInfo::default()
+                .image_view(depth_view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::LOAD)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE);
+            let info = vk::RenderingInfo::default()
+                .render_area(area)
+                .layer_count(1)
+                .color_attachments(&colors)
+                .depth_attachment(&depth);
+            // SAFETY: as above: the graph put the output in COLOR_ATTACHMENT_OPTIMAL, depth in
+            // DEPTH_ATTACHMENT_OPTIMAL after the geometry's writes and the G-buffer in
+            // SHADER_READ_ONLY_OPTIMAL. The lighting pipeline belongs to this pass, its layout's
+            // set 0 is the frame set layout `frame_set` was allocated with, set 1 is `self.set`
+            // and set 3 the shadow set layout `shadow_set` was allocated with; it has no vertex
+            // input and no push constants. Viewport, scissor and cull mode (dynamic) are set
+            // before the draw.
+            unsafe {
+                d.cmd_begin_rendering(cmd, &info);
+                set_viewport(d, cmd, area);
+                d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.light_layout.raw,
+                    0,
+                    &[frame_set, self.set],
+                    &[],
+                );
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.light_layout.raw,
+                    crate::render::shadow::SET_SHADOW,
+                    &[shadow_set],
+                    &[],
+                );
+                // With the lookups limited to a rectangle: shadowed inside, unshadowed around it
+                // (the parts tile the target: each pixel is lit once).
+                let parts = match shadow_area {
+                    Some(ndc) => super::record::split(ndc, area),
+                    None => vec![(area, true)],
+                };
+                for (scissor, shadowed) in parts {
+                    let p = if shadowed { light } else { unshadowed };
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p);
+                    d.cmd_set_scissor(cmd, 0, &[scissor]);
+                    d.cmd_draw(cmd, 3, 1, 0, 0);
+                }
+                d.cmd_end_rendering(cmd);
             }
-            d.cmd_end_rendering(cmd);
-        }
-        if let Some(timer) = timer {
-            timer.end(cmd, t);
-        }
+            Ok(())
+        });
     }
 }
 

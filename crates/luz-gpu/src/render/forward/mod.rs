@@ -7,6 +7,9 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use luz_graph::{Access, FrameGraph};
+
+use super::frame::SceneTarget;
 use super::frustum;
 use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
@@ -113,6 +116,38 @@ impl Default for PassOptions {
     }
 }
 
+/// The names (and GPU timer rows) of the scene's passes: the main scene's, and the lab's B
+/// side, timed on rows of its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PassNames {
+    pub shadows: &'static str,
+    pub gbuffer: &'static str,
+    pub lighting: &'static str,
+    pub forward: &'static str,
+}
+
+impl PassNames {
+    /// The rows of `luz bench` and the viewer's profiler.
+    pub const MAIN: Self = Self {
+        shadows: "shadows",
+        gbuffer: "gbuffer",
+        lighting: "lighting",
+        forward: "forward",
+    };
+    /// The viewer's B side.
+    pub const B: Self = Self {
+        shadows: "B: shadows",
+        gbuffer: "B: gbuffer",
+        lighting: "B: lighting",
+        forward: "B: forward",
+    };
+
+    /// Every name, for the reports that group them.
+    pub fn all(&self) -> [&'static str; 4] {
+        [self.shadows, self.gbuffer, self.lighting, self.forward]
+    }
+}
+
 /// What the forward pass writes into its colour attachment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Output {
@@ -196,15 +231,6 @@ pub struct TargetFormat {
     pub color: vk::Format,
     pub depth: vk::Format,
     pub samples: vk::SampleCountFlags,
-}
-
-/// Views of the attachments for one frame, already in attachment-optimal layouts.
-pub struct TargetViews {
-    pub color: vk::ImageView,
-    /// Single-sample image the multisampled colour resolves into (when samples > 1).
-    pub resolve: Option<vk::ImageView>,
-    pub depth: vk::ImageView,
-    pub extent: vk::Extent2D,
 }
 
 /// The data a frame may change without rebuilding anything: camera and frame uniforms, lights,
@@ -728,43 +754,42 @@ impl ForwardPass {
             .sum()
     }
 
-    /// Clears the target to the scene background and draws every object (slot 0's data, the HDR
-    /// output).
-    pub fn record(&self, cmd: vk::CommandBuffer, target: &TargetViews) -> Result<(), VkError> {
-        self.record_slot(cmd, target, 0, Output::Hdr, None)
-    }
-
-    /// As [`ForwardPass::record`], with the per-frame data of `slot`, writing `output` (its
-    /// pipelines [`ForwardPass::prepare`]d; `target.color` of its format). Timed on `timer` as
-    /// "forward", or "gbuffer" and "lighting" on the deferred path.
-    pub fn record_slot(
-        &self,
-        cmd: vk::CommandBuffer,
-        target: &TargetViews,
-        slot: usize,
+    /// Declares the scene's passes for slot `slot` in `g`, writing `output` into `target` (its
+    /// pipelines [`ForwardPass::prepare`]d, the colour image of `output`'s format): the shadow
+    /// maps when a layer must be drawn ("shadows"), then either "gbuffer" and "lighting" (the
+    /// deferred path) or "forward" (opaque draws, the skybox behind them, blended draws over
+    /// both).
+    pub fn add_passes<'a>(
+        &'a self,
+        g: &mut FrameGraph<'a>,
+        (slot, names): (usize, PassNames),
         output: Output,
-        mut timer: Option<&mut crate::vk::timing::GpuTimer>,
+        target: SceneTarget,
     ) -> Result<(), VkError> {
-        let d = &self.ctx.device;
-        if self.shadows.active() {
-            let meshes: Vec<shadow::MeshRef> = self
-                .meshes
-                .iter()
-                .map(|m| shadow::MeshRef {
-                    vertices: m.vertices.raw,
-                    indices: m.indices.raw,
-                    index_count: m.index_count,
-                    colors: m.colors.as_ref().map(|c| c.raw),
-                })
-                .collect();
-            let materials = self.materials.sets.as_slice();
-            self.shadows
-                .record(cmd, slot, (&meshes, materials), timer.as_deref_mut());
-        }
+        let meshes: Vec<shadow::MeshRef> = self
+            .meshes
+            .iter()
+            .map(|m| shadow::MeshRef {
+                vertices: m.vertices.raw,
+                indices: m.indices.raw,
+                index_count: m.index_count,
+                colors: m.colors.as_ref().map(|c| c.raw),
+            })
+            .collect();
+        let shadow_image = self.shadows.add_pass(
+            g,
+            (slot, names.shadows),
+            (meshes, self.materials.sets.as_slice()),
+        );
         let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
-        let order = (slot.order.as_slice(), slot.levels.as_slice(), 0);
+        let (order, levels) = (slot.order.as_slice(), slot.levels.as_slice());
+        let clear = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: output.clear_color(self.background, self.exposure),
+            },
+        };
         if let Some(def) = &self.deferred {
             if !def.ready(output, target.extent) || target.resolve.is_some() {
                 return Err(VkError::Setup(format!(
@@ -773,25 +798,19 @@ impl ForwardPass {
                     target.extent.width, target.extent.height
                 )));
             }
-            let clear = vk::ClearValue {
-                color: vk::ClearColorValue {
-                    float32: output.clear_color(self.background, self.exposure),
-                },
+            let full = vk::Rect2D {
+                extent: target.extent,
+                ..Default::default()
             };
-            def.record(
-                cmd,
-                target,
+            def.add_passes(
+                g,
+                (target, names),
                 (output, clear),
-                (set, shadow_set),
-                timer,
-                |pipeline| {
-                    let full = vk::Rect2D {
-                        extent: target.extent,
-                        ..Default::default()
-                    };
+                (set, shadow_set, shadow_image),
+                move |cmd, pipeline| {
                     self.record_draws(
                         cmd,
-                        (set, shadow_set, order),
+                        (set, shadow_set, (order, levels, 0)),
                         |_| (pipeline, pipeline),
                         full,
                     )
@@ -827,93 +846,104 @@ impl ForwardPass {
                 )))
             }
         };
-        let clear = vk::ClearValue {
-            color: vk::ClearColorValue {
-                float32: output.clear_color(self.background, self.exposure),
-            },
-        };
-        let mut color = vk::RenderingAttachmentInfo::default()
-            .image_view(target.color)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(clear);
+        let mut pass = g
+            .pass(names.forward)
+            .write(target.color, Access::ColorAttachmentWrite)
+            .write(target.depth, Access::DepthAttachmentWrite);
         if let Some(resolve) = target.resolve {
-            color = color
-                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-                .resolve_image_view(resolve)
-                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE);
+            pass = pass.write(resolve, Access::ColorAttachmentWrite);
         }
-        let colors = [color];
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(target.depth)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent: target.extent,
-        };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&colors)
-            .depth_attachment(&depth);
-        let timed = timer.as_mut().and_then(|t| t.begin(cmd, "forward"));
-        // SAFETY: the caller passes a command buffer in the recording state whose target views
-        // are in the attachment layouts (`HdrTarget::begin_frame`); `info` and the slices it
-        // points to outlive the calls; every pipeline, set and buffer bound below belongs to this
-        // pass and outlives the command buffer's execution (the owner waits before dropping it).
-        unsafe {
-            d.cmd_begin_rendering(cmd, &info);
-            d.cmd_set_viewport(
-                cmd,
-                0,
-                &[vk::Viewport {
-                    x: 0.0,
-                    y: 0.0,
-                    width: target.extent.width as f32,
-                    height: target.extent.height as f32,
-                    min_depth: 0.0,
-                    max_depth: 1.0,
-                }],
-            );
-            d.cmd_set_scissor(cmd, 0, &[area]);
+        if let Some(s) = shadow_image {
+            pass = pass.read(s, shadow::SHADOW_READ);
         }
-        // Opaque draws, the skybox behind them, then blended draws over both.
-        let (order, levels, _) = order;
-        let blended = order
-            .iter()
-            .position(|&i| self.draws[i].variant.alpha == AlphaKey::Blend)
-            .unwrap_or(order.len());
-        self.record_draws(
-            cmd,
-            (set, shadow_set, (&order[..blended], levels, 0)),
-            |i| pipelines[i],
-            area,
-        );
-        // SAFETY: as above; the draws left the rendering instance open.
-        unsafe {
-            if let Some(sky) = skybox {
-                d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
-                d.cmd_draw(cmd, 3, 1, 0, 0);
+        pass.record(move |rc| {
+            let color_view = rc.image(target.color)?.view;
+            let depth_view = rc.image(target.depth)?.view;
+            let resolve_view = match target.resolve {
+                Some(r) => Some(rc.image(r)?.view),
+                None => None,
+            };
+            let (d, cmd) = (rc.device(), rc.cmd());
+            let mut color = vk::RenderingAttachmentInfo::default()
+                .image_view(color_view)
+                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(clear);
+            if let Some(resolve) = resolve_view {
+                color = color
+                    .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                    .resolve_image_view(resolve)
+                    .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .store_op(vk::AttachmentStoreOp::DONT_CARE);
             }
-        }
-        let rest = (&order[blended..], levels, blended);
-        self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);
-        // SAFETY: as above; the draws left the rendering instance open.
-        unsafe { d.cmd_end_rendering(cmd) };
-        if let Some(t) = timer {
-            t.end(cmd, timed);
-        }
+            let colors = [color];
+            let depth = vk::RenderingAttachmentInfo::default()
+                .image_view(depth_view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                });
+            let area = vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: 0 },
+                extent: target.extent,
+            };
+            let info = vk::RenderingInfo::default()
+                .render_area(area)
+                .layer_count(1)
+                .color_attachments(&colors)
+                .depth_attachment(&depth);
+            // SAFETY: the graph records this pass outside any rendering instance, with the
+            // attachments in the layouts declared above (colour, resolve: COLOR_ATTACHMENT_OPTIMAL;
+            // depth: DEPTH_ATTACHMENT_OPTIMAL); `info` and the slices it points to outlive the
+            // calls; every pipeline, set and buffer bound below belongs to this pass and outlives
+            // the command buffer's execution (the owner waits before dropping it).
+            unsafe {
+                d.cmd_begin_rendering(cmd, &info);
+                d.cmd_set_viewport(
+                    cmd,
+                    0,
+                    &[vk::Viewport {
+                        x: 0.0,
+                        y: 0.0,
+                        width: target.extent.width as f32,
+                        height: target.extent.height as f32,
+                        min_depth: 0.0,
+                        max_depth: 1.0,
+                    }],
+                );
+                d.cmd_set_scissor(cmd, 0, &[area]);
+            }
+            // Opaque draws, the skybox behind them, then blended draws over both.
+            let blended = order
+                .iter()
+                .position(|&i| self.draws[i].variant.alpha == AlphaKey::Blend)
+                .unwrap_or(order.len());
+            self.record_draws(
+                cmd,
+                (set, shadow_set, (&order[..blended], levels, 0)),
+                |i| pipelines[i],
+                area,
+            );
+            // SAFETY: as above; the draws left the rendering instance open.
+            unsafe {
+                if let Some(sky) = skybox {
+                    d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
+                    d.cmd_draw(cmd, 3, 1, 0, 0);
+                }
+            }
+            let rest = (&order[blended..], levels, blended);
+            self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);
+            // SAFETY: as above; the draws left the rendering instance open.
+            unsafe { d.cmd_end_rendering(cmd) };
+            Ok(())
+        });
         Ok(())
     }
 }

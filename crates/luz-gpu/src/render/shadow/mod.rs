@@ -17,10 +17,11 @@ use gpu_allocator::MemoryLocation;
 use crate::render::frustum;
 use crate::render::gpu::{glsl, Vertex};
 use crate::scene::{Scene, Shadow, ShadowMethod};
+use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
+
 use crate::vk::cmd::{transition, CommandPool, Transition};
 use crate::vk::image::{Image, ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
-use crate::vk::timing::GpuTimer;
 use crate::vk::{Buffer, Context, VkError};
 
 pub mod cull;
@@ -150,6 +151,18 @@ impl ShadowMaps {
             .sum()
     }
 }
+
+/// How the scene passes sample the shadow maps, and the state the image is kept in between
+/// frames (it is made so when created).
+pub const SHADOW_READ: Access = Access::Custom {
+    layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    stages: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+            | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
+    ),
+    access: vk::AccessFlags2::SHADER_SAMPLED_READ,
+    writes: false,
+};
 
 /// A mesh's buffers, as the pass records them.
 #[derive(Debug, Clone, Copy)]
@@ -687,27 +700,32 @@ impl ShadowMaps {
         Ok(())
     }
 
-    /// Records slot `slot`'s maps (timed as "shadows"): each layer cleared and its casters drawn
-    /// (alpha-tested ones with their material's set of `materials`, by material index), then the
-    /// image made readable by the vertex and fragment stages. Nothing without shadows.
-    pub fn record(
-        &self,
-        cmd: vk::CommandBuffer,
-        slot: usize,
-        (meshes, materials): (&[MeshRef], &[vk::DescriptorSet]),
-        timer: Option<&mut GpuTimer>,
-    ) {
-        let Some(pipeline) = &self.pipeline else {
-            return;
-        };
-        let d = &self.ctx.device;
+    /// Declares slot `slot`'s maps in `g`: the image imported with its kept layers, and — when a
+    /// layer must be drawn this frame — the pass `name` ("shadows") that clears and draws those layers'
+    /// casters (alpha-tested ones with their material's set of `materials`, by material index).
+    /// Returns the image for the passes that sample it ([`SHADOW_READ`]); `None` without
+    /// shadows.
+    pub fn add_pass<'a>(
+        &'a self,
+        g: &mut FrameGraph<'a>,
+        (slot, name): (usize, &'static str),
+        (meshes, materials): (Vec<MeshRef>, &'a [vk::DescriptorSet]),
+    ) -> Option<ImageHandle> {
+        let pipeline = self.pipeline.as_ref()?;
+        // The image is left readable between frames: created so, and every frame's last use is
+        // a read by the scene passes.
+        let image = crate::render::frame::import(
+            g,
+            "shadow maps",
+            &self.image,
+            ImageStateBefore::Keep(SHADOW_READ),
+        );
         let s = &self.slots[slot.min(self.slots.len() - 1)];
         // Layers the image already holds (drawn by a frame recorded earlier in this queue's
-        // order, whose barrier made them readable) are not drawn again.
-        let (redraw, kept) = {
+        // order) are not drawn again.
+        let redraw: Vec<bool> = {
             let mut drawn = self.drawn.lock().unwrap_or_else(|e| e.into_inner());
-            let kept = drawn.iter().any(Option::is_some);
-            let redraw: Vec<bool> = (0..s.draws.len())
+            (0..s.draws.len())
                 .map(|i| {
                     let same = drawn[i]
                         .as_ref()
@@ -717,85 +735,40 @@ impl ShadowMaps {
                     }
                     !(self.reuse && same)
                 })
-                .collect();
-            (redraw, kept)
+                .collect()
         };
         let count = redraw.iter().filter(|&&r| r).count() as u64;
         use std::sync::atomic::Ordering::Relaxed;
         self.layers_drawn.fetch_add(count, Relaxed);
         self.recorded[usize::from(count == 0)].fetch_add(1, Relaxed);
         if count == 0 {
-            return;
+            return Some(image);
         }
-        let mut timer = timer;
-        let timed = timer.as_mut().and_then(|t| t.begin(cmd, "shadows"));
-        let range = self.image.subresource_range();
-        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
-        let read_stages =
-            vk::PipelineStageFlags2::VERTEX_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER;
-        // Earlier frames' reads finish before the maps are drawn again (same queue); the layers
-        // kept keep their contents.
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: self.image.raw,
-                range,
-                from: (
-                    if kept {
-                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
-                    } else {
-                        vk::ImageLayout::UNDEFINED
-                    },
-                    read_stages,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    depth_stages,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ),
-            }],
-        );
-        for m in &self.maps {
-            let res = m.shadow.resolution;
-            for k in 0..m.layers {
-                let index = (m.first_layer + k) as usize;
-                if !redraw[index] {
-                    continue;
+        // The layers not drawn keep their contents: the whole image is read and written.
+        g.pass(name)
+            .read_write(image, Access::DepthAttachmentWrite)
+            .record(move |rc| {
+                rc.image(image)?;
+                let cmd = rc.cmd();
+                for m in &self.maps {
+                    let res = m.shadow.resolution;
+                    for k in 0..m.layers {
+                        let index = (m.first_layer + k) as usize;
+                        if !redraw[index] {
+                            continue;
+                        }
+                        pipeline.record_layer(
+                            cmd,
+                            self.layer_views[index],
+                            (res, m.shadow.slope_bias),
+                            (&s.draws[index], &meshes),
+                            self.masks.as_ref().map(|p| (p, materials)),
+                        );
+                    }
                 }
-                pipeline.record_layer(
-                    cmd,
-                    self.layer_views[index],
-                    (res, m.shadow.slope_bias),
-                    (&s.draws[index], meshes),
-                    self.masks.as_ref().map(|p| (p, materials)),
-                );
-            }
-        }
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: self.image.raw,
-                range,
-                from: (
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    depth_stages,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ),
-                to: (
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    read_stages,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            }],
-        );
-        if let Some(t) = timer {
-            t.end(cmd, timed);
-        }
+                Ok(())
+            });
+        Some(image)
     }
 
     /// Per shadowed light: its maps, their memory and the casters slot 0 draws into each.
