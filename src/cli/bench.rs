@@ -31,6 +31,11 @@ pub struct BenchArgs {
     /// Write the summary as JSON.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Write the timed frames as a Chrome/Perfetto trace (JSON; open it in ui.perfetto.dev or
+    /// chrome://tracing): per frame, the CPU's "record" (the frame graph declared, compiled and
+    /// recorded) and "submit + wait" spans, and each pass's GPU span from the graph's timers.
+    #[arg(long, value_name = "FILE.json")]
+    pub trace: Option<PathBuf>,
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: Option<u32>,
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
@@ -122,7 +127,7 @@ fn memory_sample(ctx: &Context, frame: u64) -> MemorySample {
 pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let mut scene = load_scene(a.scene.as_deref(), a.camera)?;
     scene.override_size(a.width, a.height);
-    for p in [&a.csv, &a.json].into_iter().flatten() {
+    for p in [&a.csv, &a.json, &a.trace].into_iter().flatten() {
         std::fs::write(p, b"").with_context(|| format!("cannot write {}", p.display()))?;
     }
     let ctx = context(&a.gpu)?;
@@ -163,9 +168,12 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     }
     let bar = Bar::with_length("{bar:40} {pos}/{len} frames {elapsed}", a.frames as u64);
     let mut frames = Vec::with_capacity(a.frames as usize);
+    let clock = std::time::Instant::now();
+    let mut starts = Vec::with_capacity(a.frames as usize);
     let every = a.memory_every.unwrap_or((a.frames / 10).max(1)) as u64;
     let mut memory = vec![memory_sample(&ctx, 0)];
     for i in 1..=a.frames as u64 {
+        starts.push(clock.elapsed().as_secs_f64() * 1e6);
         frames.push(render(&mut renderer)?);
         if let Some((_, r, f)) = &mut compared {
             f.push(render(r)?);
@@ -176,6 +184,9 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         }
     }
     bar.finish_and_clear();
+    if let Some(path) = &a.trace {
+        write_trace(path, &frames, &starts)?;
+    }
     println!(
         "scene: {} ({}x{}, {} triangles, {} drawn, {} of {} objects in view in {} draw calls, \
          {} lights), {} path, output {}",
@@ -365,4 +376,34 @@ fn print_comparison(
         ta.cpu.median / tb.cpu.median,
         ra.triangles_drawn() as f64 / rb.triangles_drawn().max(1) as f64
     );
+}
+
+/// `--trace FILE`: the timed frames as a Chrome/Perfetto trace. Frame `i` starts at `starts[i]`
+/// (µs since the first timed frame); its GPU spans start when recording ends (the submission).
+fn write_trace(
+    path: &std::path::Path,
+    frames: &[luz::headless::FrameTimes],
+    starts: &[f64],
+) -> Result<()> {
+    let mut trace = luz::graph::Trace::new();
+    for (i, (f, &t)) in frames.iter().zip(starts).enumerate() {
+        let record = f.record_ms * 1e3;
+        let cpu = [
+            luz::graph::CpuSpan {
+                name: "record",
+                start_us: t,
+                dur_us: record,
+            },
+            luz::graph::CpuSpan {
+                name: "submit + wait",
+                start_us: t + record,
+                dur_us: (f.cpu_ms * 1e3 - record).max(0.0),
+            },
+        ];
+        trace.frame(i as u64, &cpu, &f.gpu_ms, t + record);
+    }
+    std::fs::write(path, trace.to_json())
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    println!("wrote {} ({} frames)", path.display(), frames.len());
+    Ok(())
 }

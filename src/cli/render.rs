@@ -58,6 +58,11 @@ pub struct RenderArgs {
     /// from white (nearest drawn texel) to black (farthest), dark blue where nothing was drawn.
     #[arg(long, value_name = "DIR")]
     pub shadow_maps: Option<PathBuf>,
+    /// Also write the last frame's graph: its passes in order (with their median GPU ms; passes
+    /// nobody needed dashed), the resources they use (imported or transient, format and size)
+    /// and each use's access kind. Graphviz DOT, or a standalone SVG when FILE ends in ".svg".
+    #[arg(long, value_name = "FILE")]
+    pub graph: Option<PathBuf>,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -172,7 +177,34 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     if let Some(dir) = &a.shadow_maps {
         write_shadow_maps(&renderer, dir)?;
     }
+    if let Some(path) = &a.graph {
+        write_graph(&renderer, &timing, path)?;
+    }
     Ok(validation_exit(&ctx))
+}
+
+/// `--graph FILE`: the last frame's graph as DOT, or SVG for a `.svg` FILE.
+fn write_graph(renderer: &Headless, timing: &TimingReport, path: &std::path::Path) -> Result<()> {
+    let Some(plan) = renderer.last_graph() else {
+        anyhow::bail!("--graph {}: no frame was rendered", path.display());
+    };
+    let times: Vec<(&str, f64)> = timing.passes.iter().map(|(n, s)| (*n, s.median)).collect();
+    let svg = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let text = if svg {
+        plan.to_svg(&times)
+    } else {
+        plan.to_dot(&times)
+    };
+    std::fs::write(path, text).map_err(|e| anyhow::anyhow!("--graph {}: {e}", path.display()))?;
+    println!(
+        "wrote {} (the frame graph: {} passes, {} culled)",
+        path.display(),
+        plan.live_passes().len(),
+        plan.culled_passes().len()
+    );
+    Ok(())
 }
 
 /// `--shadow-maps DIR`: one picture per shadowed light ([`luz::render::shadow::picture`]).

@@ -84,6 +84,9 @@ pub struct FrameTimes {
     pub gpu_ms: Vec<(&'static str, f64)>,
     /// Wall time of recording, submitting and waiting for the frame.
     pub cpu_ms: f64,
+    /// Of `cpu_ms`, the time spent declaring, compiling and recording the frame graph (the rest
+    /// is the submission and the wait for the GPU).
+    pub record_ms: f64,
 }
 
 impl FrameTimes {
@@ -486,6 +489,7 @@ impl Headless {
             .execute(&self.ctx, graph, cmd, self.timer.as_mut())?;
         // SAFETY: `cmd` is in the recording state (begun above) and no render pass is open.
         unsafe { d.end_command_buffer(cmd)? };
+        let record_ms = start.elapsed().as_secs_f64() * 1e3;
 
         let cmd_infos = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = vk::SubmitInfo2::default().command_buffer_infos(&cmd_infos);
@@ -511,7 +515,11 @@ impl Headless {
             Some(t) => t.read()?,
             None => Vec::new(),
         };
-        Ok(FrameTimes { gpu_ms, cpu_ms })
+        Ok(FrameTimes {
+            gpu_ms,
+            cpu_ms,
+            record_ms,
+        })
     }
 
     /// The graph of the last frame rendered (passes, resources, barriers), for `--graph`.

@@ -445,15 +445,13 @@ impl Viewer {
             }
             if let (Some(kind), Some(bt), Some(pass)) = (map, b_target, self.lab.gpu.as_ref()) {
                 let settings = (self.scene.output.exposure, self.scene.output.tonemap);
-                g.pass(MAP_SCOPE)
-                    .read(a.output(), HDR_COMPARE_READ)
-                    .read(bt.output(), HDR_COMPARE_READ)
-                    .side_effect()
-                    .record(move |rc| {
-                        rc.image(a.output())?;
-                        rc.image(bt.output())?;
-                        Ok(pass.record(rc.cmd(), slot, kind, settings)?)
-                    });
+                pass.add_pass(
+                    &mut g,
+                    (MAP_SCOPE, slot),
+                    (a.output(), bt.output()),
+                    kind,
+                    settings,
+                )?;
             }
             if let Some((buffer, extent)) = &copies.a {
                 add_readback(&mut g, "read-back A", a.output(), buffer, *extent);

@@ -33,9 +33,7 @@ use crate::imageio::LinearImage;
 use crate::profiler::{FrameSample, Profiler};
 use crate::render::display::DisplayPass;
 use crate::render::forward::{ForwardPass, Output, PassNames, TargetFormat};
-use crate::render::frame::{
-    add_readback, SceneTarget, Transients, HDR_COMPARE_READ, HDR_DISPLAY_READ,
-};
+use crate::render::frame::{add_readback, SceneTarget, Transients, HDR_DISPLAY_READ};
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
 use crate::render::target::{HdrTarget, COLOR_FORMAT, DEPTH_FORMAT};
@@ -55,7 +53,6 @@ mod shadow_view;
 const FRAMES_IN_FLIGHT: usize = 2;
 /// Frames kept by the profiler's rolling window.
 const PROFILER_WINDOW: usize = 300;
-
 
 pub fn run(args: ViewOptions) -> Result<ViewOutcome> {
     let mut scene = crate::scene::load_or_default(args.scene.as_deref())?;

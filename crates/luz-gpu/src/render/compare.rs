@@ -21,7 +21,9 @@ use gpu_allocator::MemoryLocation;
 use crate::color::{exposure_scale, srgb_encode_table, Tonemap};
 use crate::compare::{ErrorMap, MapStats};
 use crate::render::tonemap::tonemap_id;
-use crate::vk::cmd::{memory_barrier, transition, Transition};
+use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
+
+use crate::render::frame::{self, HDR_COMPARE_READ};
 use crate::vk::image::ImageDesc;
 use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
@@ -211,7 +213,27 @@ struct ComparePush {
     exposure_scale: f32,
 }
 
-type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+/// How the map is left for the display pass (`record_show`), a copy, or the next frame's kernels.
+const MAP_READ: Access = Access::Custom {
+    layout: vk::ImageLayout::GENERAL,
+    stages: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw()
+            | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
+    ),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+            | vk::AccessFlags2::SHADER_SAMPLED_READ.as_raw(),
+    ),
+    writes: false,
+};
+
+/// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
+const TRANSFER_FILL: Access = Access::Custom {
+    layout: vk::ImageLayout::UNDEFINED,
+    stages: vk::PipelineStageFlags2::ALL_TRANSFER,
+    access: vk::AccessFlags2::TRANSFER_WRITE,
+    writes: true,
+};
 
 /// The maps of two HDR images (views in GENERAL layout, SAMPLED usage) of one size.
 pub struct ComparePass {
@@ -534,7 +556,7 @@ impl ComparePass {
 
     /// The stage and access A and B must be readable at before [`ComparePass::record`] (in
     /// GENERAL layout).
-    pub fn source_access() -> Access {
+    pub fn source_access() -> crate::vk::image::ImageState {
         (
             vk::ImageLayout::GENERAL,
             vk::PipelineStageFlags2::COMPUTE_SHADER,
@@ -542,78 +564,56 @@ impl ComparePass {
         )
     }
 
-    /// Records the map of `kind` into slot `slot`'s figures (A's `exposure_ev` and `tonemap` for
-    /// FLIP), leaving the map readable by [`ComparePass::record_show`] and the figures by the
-    /// host after the frame's fence. Outside a render pass, with the kernels prepared.
-    pub fn record(
-        &self,
-        cmd: vk::CommandBuffer,
-        slot: usize,
+    /// Declares the map of `kind` (node `name`) from the HDR images `a` and `b` (the two this
+    /// pass was made for, read in GENERAL: [`HDR_COMPARE_READ`]) into slot `slot`'s figures (A's
+    /// `exposure_ev` and `tonemap` for FLIP). The graph leaves the map readable by
+    /// [`ComparePass::record_show`] and the figures by the host after the frame's fence. The
+    /// kernels must be [`ComparePass::prepare`]d.
+    pub fn add_pass<'a>(
+        &'a self,
+        g: &mut FrameGraph<'a>,
+        (name, slot): (&'static str, usize),
+        (a, b): (ImageHandle, ImageHandle),
         kind: CompareKind,
         (exposure_ev, tonemap): (f32, Tonemap),
-    ) -> Result<(), VkError> {
+    ) -> Result<ImageHandle, VkError> {
         let tonemap = if kind == CompareKind::Flip {
             tonemap
         } else {
             Tonemap::None
         };
-        let d = self.ctx.device.clone();
         let pipelines: Vec<vk::Pipeline> = self
             .kernels
             .iter()
             .find(|(k, _)| *k == (kind, tonemap))
             .map(|(_, p)| p.iter().map(|p| p.raw).collect())
             .ok_or_else(|| VkError::Setup("compare: the kernels were not prepared".into()))?;
-        let shader_rw =
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-        let general: Access = (
-            vk::ImageLayout::GENERAL,
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            shader_rw,
-        );
-        if !self.initialised.get() {
-            let mut t: Vec<Transition> = self
-                .work
-                .iter()
-                .map(|w| Transition {
-                    image: w.raw,
-                    range: w.subresource_range(),
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::NONE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: general,
-                })
-                .collect();
-            t.push(Transition {
-                image: self.map.raw,
-                range: self.map.subresource_range(),
-                from: (
-                    vk::ImageLayout::UNDEFINED,
-                    vk::PipelineStageFlags2::NONE,
-                    vk::AccessFlags2::NONE,
-                ),
-                to: general,
-            });
-            transition(&d, cmd, &t);
-            self.initialised.set(true);
-        }
+        // The work images and the map hold nothing between frames; after the first frame they
+        // stay in GENERAL.
+        let before = if self.initialised.replace(true) {
+            ImageStateBefore::Discard(MAP_READ)
+        } else {
+            ImageStateBefore::Undefined
+        };
+        let work: Vec<ImageHandle> = self
+            .work
+            .iter()
+            .map(|w| frame::import(g, "compare work", w, before))
+            .collect();
+        let map = frame::import(g, "compare map", &self.map, before);
+        g.image_after(map, MAP_READ);
         let stats = &self.stats[slot];
-        // The previous frame's reads of the map (display) and uses of the work images come first
-        // on the queue; this slot's figures were read by the host after its fence.
-        memory_barrier(
-            &d,
-            cmd,
-            (
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                shader_rw,
-            ),
-            (
-                vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::ALL_TRANSFER,
-                shader_rw | vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-        );
+        let figures = g.import_buffer("compare figures", stats.raw, stats.size, None);
+        g.buffer_after(figures, Access::HostRead);
+        let mut pass = g
+            .pass(name)
+            .read(a, HDR_COMPARE_READ)
+            .read(b, HDR_COMPARE_READ)
+            .write(map, Access::ComputeStorageReadWrite)
+            .write_buffer(figures, Access::ComputeStorageBufferReadWrite);
+        for w in &work {
+            pass = pass.write(*w, Access::ComputeStorageReadWrite);
+        }
         let push = ComparePush {
             exposure_scale: exposure_scale(exposure_ev),
         };
@@ -621,74 +621,60 @@ impl ComparePass {
             self.extent.width.div_ceil(16),
             self.extent.height.div_ceil(16),
         );
-        let between = |d: &ash::Device| {
-            memory_barrier(
-                d,
-                cmd,
-                (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
-                (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
-            )
-        };
-        // SAFETY: `stats` has TRANSFER_DST usage and the fill covers its header; the barrier
-        // after it orders the fill before the kernels. Every pipeline was built with
-        // `self.layout`, whose set 0 the slot's set matches, and the push bytes are a
-        // `ComparePush` in its COMPUTE range. The work images and the map are in GENERAL (the
-        // first record transitions them); A and B are readable by compute shaders in GENERAL
-        // (the caller's part, `source_access`). Each kernel is separated from the next by a
-        // compute-to-compute barrier. `cmd` is recording outside a render pass.
-        unsafe {
-            d.cmd_fill_buffer(cmd, stats.raw, 0, STATS_HEADER, 0);
-            memory_barrier(
-                &d,
-                cmd,
-                (
-                    vk::PipelineStageFlags2::ALL_TRANSFER,
-                    vk::AccessFlags2::TRANSFER_WRITE,
-                ),
-                (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
-            );
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout.raw,
-                0,
-                &[self.sets[slot]],
-                &[],
-            );
-            d.cmd_push_constants(
-                cmd,
-                self.layout.raw,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::bytes_of(&push),
-            );
+        let set = self.sets[slot];
+        pass.record(move |rc| {
+            for h in [a, b, map] {
+                rc.image(h)?;
+            }
+            rc.buffer(figures)?;
+            let (d, cmd) = (&self.ctx.device, rc.cmd());
+            // SAFETY: `stats` has TRANSFER_DST usage and the fill covers its header; `cmd` is
+            // recording outside a render pass (the graph records one pass at a time).
+            unsafe { d.cmd_fill_buffer(cmd, stats.raw, 0, STATS_HEADER, 0) };
+            rc.memory_barrier(TRANSFER_FILL, Access::ComputeStorageReadWrite);
+            // SAFETY: every pipeline was built with `self.layout`, whose set 0 the slot's set
+            // matches, and the push bytes are a `ComparePush` in its COMPUTE range. The graph put
+            // the work images and the map in GENERAL and made A and B readable in GENERAL (the
+            // accesses declared above); each kernel is ordered after the one before by the
+            // barrier between them.
+            unsafe {
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    self.layout.raw,
+                    0,
+                    &[set],
+                    &[],
+                );
+                d.cmd_push_constants(
+                    cmd,
+                    self.layout.raw,
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+            }
             let last = pipelines.len() - 1;
             for (i, p) in pipelines.iter().enumerate() {
                 if i > 0 {
-                    between(&d);
+                    rc.memory_barrier(
+                        Access::ComputeStorageReadWrite,
+                        Access::ComputeStorageReadWrite,
+                    );
                 }
-                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, *p);
-                if i == last {
-                    d.cmd_dispatch(cmd, 1, 1, 1);
-                } else {
-                    d.cmd_dispatch(cmd, groups.0, groups.1, 1);
+                // SAFETY: as above.
+                unsafe {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, *p);
+                    if i == last {
+                        d.cmd_dispatch(cmd, 1, 1, 1);
+                    } else {
+                        d.cmd_dispatch(cmd, groups.0, groups.1, 1);
+                    }
                 }
             }
-        }
-        memory_barrier(
-            &d,
-            cmd,
-            (vk::PipelineStageFlags2::COMPUTE_SHADER, shader_rw),
-            (
-                vk::PipelineStageFlags2::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags2::HOST
-                    | vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::SHADER_STORAGE_READ
-                    | vk::AccessFlags2::HOST_READ
-                    | vk::AccessFlags2::TRANSFER_READ,
-            ),
-        );
-        Ok(())
+            Ok(())
+        });
+        Ok(map)
     }
 
     /// Draws the map of slot `slot` through the palette over `extent`, only inside `clip`
@@ -805,30 +791,21 @@ pub fn compare_images(
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
-    let d = ctx.device.clone();
     pool.one_shot(|cmd| {
-        pass.record(cmd, 0, kind, (exposure_ev, tonemap))?;
-        let src: Access = (
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_READ,
-        );
-        transition(
-            &d,
-            cmd,
-            &[Transition {
-                image: pass.map.raw,
-                range: pass.map.subresource_range(),
-                from: (
-                    vk::ImageLayout::GENERAL,
-                    vk::PipelineStageFlags2::COMPUTE_SHADER,
-                    vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                ),
-                to: src,
-            }],
-        );
-        crate::vk::cmd::copy_image_to_buffer(&d, cmd, pass.map.raw, src.0, &out, extent);
-        crate::vk::cmd::copy_to_host_barrier(&d, cmd);
+        let mut g = FrameGraph::new();
+        let uploaded = ImageStateBefore::Keep(HDR_COMPARE_READ);
+        let ha = frame::import(&mut g, "compare input A", &ia, uploaded);
+        let hb = frame::import(&mut g, "compare input B", &ib, uploaded);
+        let map = pass.add_pass(
+            &mut g,
+            ("A/B map", 0),
+            (ha, hb),
+            kind,
+            (exposure_ev, tonemap),
+        )?;
+        frame::add_readback(&mut g, "compare map read-back", map, &out, extent);
+        let graph = g.compile()?;
+        frame::Transients::new(ctx).execute(ctx, graph, cmd, None)?;
         Ok(())
     })?;
     let n = a.pixels.len();

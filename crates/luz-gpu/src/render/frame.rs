@@ -212,6 +212,24 @@ pub fn import(
     )
 }
 
+/// Leaves a new image (contents undefined) in `access`, in one submission: the state a pass
+/// binds it in before any frame has written it (the shadow maps, the IBL images).
+pub fn settle(
+    ctx: &Arc<Context>,
+    pool: &crate::vk::cmd::CommandPool,
+    image: &Image,
+    access: Access,
+) -> Result<(), VkError> {
+    pool.one_shot(|cmd| {
+        let mut g = FrameGraph::new();
+        let h = import(&mut g, "new image", image, ImageStateBefore::Undefined);
+        g.image_after(h, access);
+        let graph = g.compile()?;
+        Transients::new(ctx).execute(ctx, graph, cmd, None)?;
+        Ok(())
+    })
+}
+
 /// Copies `source` (mip 0, layer 0, over `extent`) into `buffer` and makes the copy visible to
 /// the host after the submission's fence: the readback of headless frames, screenshots and the
 /// lab's read-backs. Timed as `name`.

@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::brdf::{GpuBrdfParams, Model};
 use crate::glsl::brdf_eval_comp as glsl;
-use crate::vk::cmd::{memory_barrier, CommandPool};
+use crate::vk::cmd::CommandPool;
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context};
@@ -150,9 +150,11 @@ impl GpuEvaluator {
         let max_groups = ctx.info.limits.max_compute_work_group_count[0].min(65_535);
         let d = ctx.device.clone();
         let (layout, pipeline, set) = (self.layout.raw, self.pipeline.raw, self.set);
-        self.pool.one_shot(|cmd| {
-            // SAFETY: `cmd` is recording (inside `one_shot`); the pipeline, layout and set belong to this
-            // evaluator and outlive the submission, which `one_shot` waits for.
+        let results_raw = (results.raw, results.size);
+        let record = move |cmd: vk::CommandBuffer| {
+            // SAFETY: `cmd` is recording (the graph's pass, inside `one_shot`); the pipeline, layout
+            // and set belong to this evaluator and outlive the submission, which `one_shot` waits
+            // for.
             unsafe {
                 d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
                 d.cmd_bind_descriptor_sets(
@@ -182,15 +184,21 @@ impl GpuEvaluator {
                 }
                 base += groups * GROUP;
             }
-            memory_barrier(
-                &d,
-                cmd,
-                (
-                    vk::PipelineStageFlags2::COMPUTE_SHADER,
-                    vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                ),
-                (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-            );
+        };
+        self.pool.one_shot(|cmd| {
+            // One compute node writing the results, which the graph makes visible to the host.
+            let mut g = crate::graph::FrameGraph::new();
+            let out = g.import_buffer("brdf_eval results", results_raw.0, results_raw.1, None);
+            g.buffer_after(out, crate::graph::Access::HostRead);
+            g.pass("brdf_eval")
+                .write_buffer(out, crate::graph::Access::ComputeStorageBufferWrite)
+                .record(move |rc| {
+                    rc.buffer(out)?;
+                    record(rc.cmd());
+                    Ok(())
+                });
+            let graph = g.compile()?;
+            crate::render::frame::Transients::new(ctx).execute(ctx, graph, cmd, None)?;
             Ok(())
         })?;
         let mapped = results.mapped()?;

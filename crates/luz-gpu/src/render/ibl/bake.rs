@@ -5,7 +5,10 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::vk::cmd::{memory_barrier, transition, CommandPool, Transition};
+use luz_graph::{Access, FrameGraph, ImageStateBefore, SubresourceRange};
+
+use crate::render::frame::{import, Transients};
+use crate::vk::cmd::CommandPool;
 use crate::vk::image::{ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
@@ -110,14 +113,30 @@ pub(super) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
     ),
 );
 
-type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+/// Where every IBL image is left after each stage's submission: GENERAL, its compute writes
+/// made visible to the later stages' kernels (sampled or storage reads) and to the scene's
+/// shaders. The next stage imports it so ([`ImageStateBefore::Keep`]).
+pub(super) const BAKED: Access = Access::Custom {
+    layout: vk::ImageLayout::GENERAL,
+    stages: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw()
+            | vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+            | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
+    ),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_SAMPLED_READ.as_raw()
+            | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
+    ),
+    writes: false,
+};
 
-const GENERAL: Access = (vk::ImageLayout::GENERAL, COMPUTE_RW.0, COMPUTE_RW.1);
-const UNDEFINED: Access = (
-    vk::ImageLayout::UNDEFINED,
-    vk::PipelineStageFlags2::TOP_OF_PIPE,
-    vk::AccessFlags2::NONE,
-);
+/// A kernel's sampled read of an image in GENERAL (the descriptors name GENERAL: `write_set`).
+const SAMPLED: Access = Access::Custom {
+    layout: vk::ImageLayout::GENERAL,
+    stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
+    access: vk::AccessFlags2::SHADER_SAMPLED_READ,
+    writes: false,
+};
 
 fn groups(n: u32) -> u32 {
     n.div_ceil(8)
@@ -291,8 +310,20 @@ impl<'a> Baker<'a> {
         })
     }
 
+    /// Records one stage as a frame graph of compute nodes in one submission and waits.
+    fn run_graph<'g>(&self, build: impl FnOnce(&mut FrameGraph<'g>)) -> Result<(), VkError> {
+        self.pool.one_shot(|cmd| {
+            let mut g = FrameGraph::new();
+            build(&mut g);
+            let graph = g.compile()?;
+            Transients::new(self.ctx).execute(self.ctx, graph, cmd, None)?;
+            Ok(())
+        })
+    }
+
     /// Stage 1: upload, equirect → cube level 0 (rotated by `cos`, `sin` about +y), then the mip
-    /// chain.
+    /// chain: the nodes "ibl: upload", "ibl: cube" and one "ibl: env mip" per level, each level
+    /// read by the next as its declared mip.
     pub fn environment_cube(
         &self,
         eq: &Equirect,
@@ -301,7 +332,7 @@ impl<'a> Baker<'a> {
         env_mips: u32,
         (cos, sin): (f32, f32),
     ) -> Result<(), VkError> {
-        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_cube, k_down, work_pool) = (&self.k_cube, &self.k_down, &self.work_pool);
         let env_views: Vec<vk::ImageView> = (0..env_mips)
             .map(|m| env.mip_view(m))
@@ -329,111 +360,112 @@ impl<'a> Baker<'a> {
                 Ok(set)
             })
             .collect::<Result<_, VkError>>()?;
-        let eq_raw = eq.image.raw;
-        let eq_range = eq.image.subresource_range();
-        let env_raw = env.raw;
-        let env_range = env.subresource_range();
-        pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[
-                    Transition {
-                        image: eq_raw,
-                        range: eq_range,
-                        from: UNDEFINED,
-                        to: (
+        let env: &Image = env;
+        let staging = &staging;
+        let layers = env.desc.layers;
+        self.run_graph(|g| {
+            let eq_h = import(g, "equirect", &eq.image, ImageStateBefore::Undefined);
+            let env_h = import(g, "environment cube", env, ImageStateBefore::Undefined);
+            g.image_after(env_h, BAKED);
+            let staged = g.import_buffer("equirect staging", staging.raw, staging.size, None);
+            let (w, h) = (eq.width, eq.height);
+            g.pass("ibl: upload")
+                .read_buffer(staged, Access::TransferSrc)
+                .write(eq_h, Access::TransferDst)
+                .record(move |rc| {
+                    let image = rc.image(eq_h)?.image;
+                    let buffer = rc.buffer(staged)?.buffer;
+                    let region = vk::BufferImageCopy {
+                        image_subresource: vk::ImageSubresourceLayers {
+                            aspect_mask: vk::ImageAspectFlags::COLOR,
+                            mip_level: 0,
+                            base_array_layer: 0,
+                            layer_count: 1,
+                        },
+                        image_extent: vk::Extent3D {
+                            width: w,
+                            height: h,
+                            depth: 1,
+                        },
+                        ..Default::default()
+                    };
+                    // SAFETY: the staging buffer holds the texels (written and flushed before
+                    // recording) and the graph put the image in TRANSFER_DST_OPTIMAL; `region`
+                    // lies inside both.
+                    unsafe {
+                        rc.device().cmd_copy_buffer_to_image(
+                            rc.cmd(),
+                            buffer,
+                            image,
                             vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                            vk::PipelineStageFlags2::COPY,
-                            vk::AccessFlags2::TRANSFER_WRITE,
-                        ),
-                    },
-                    Transition {
-                        image: env_raw,
-                        range: env_range,
-                        from: UNDEFINED,
-                        to: GENERAL,
-                    },
-                ],
-            );
-            let region = vk::BufferImageCopy {
-                image_subresource: vk::ImageSubresourceLayers {
-                    aspect_mask: vk::ImageAspectFlags::COLOR,
-                    mip_level: 0,
-                    base_array_layer: 0,
-                    layer_count: 1,
-                },
-                image_extent: vk::Extent3D {
-                    width: eq.width,
-                    height: eq.height,
-                    depth: 1,
-                },
-                ..Default::default()
-            };
-            // SAFETY: the staging buffer holds the texels (written and flushed before recording) and the
-            // image is in TRANSFER_DST_OPTIMAL (transitioned above); `region` lies inside both.
-            unsafe {
-                d.cmd_copy_buffer_to_image(
-                    cmd,
-                    staging.raw,
-                    eq_raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[region],
-                )
-            };
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: eq_raw,
-                    range: eq_range,
-                    from: (
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        vk::PipelineStageFlags2::COPY,
-                        vk::AccessFlags2::TRANSFER_WRITE,
-                    ),
-                    to: GENERAL,
-                }],
-            );
+                            &[region],
+                        )
+                    };
+                    Ok(())
+                });
             let push: [u32; 4] = [cos.to_bits(), sin.to_bits(), s.env_size, 0];
-            dispatch(
-                d,
-                cmd,
-                k_cube,
-                set,
-                bytemuck::bytes_of(&push),
-                groups(s.env_size),
-                groups(s.env_size),
-                6,
-            );
-            for (i, set) in down_sets.iter().enumerate() {
-                memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
-                let size = (s.env_size >> (i + 1)).max(1);
-                dispatch(
-                    d,
-                    cmd,
-                    k_down,
-                    *set,
-                    bytemuck::bytes_of(&size),
-                    groups(size),
-                    groups(size),
-                    6,
-                );
+            g.pass("ibl: cube")
+                .read(eq_h, SAMPLED)
+                .write_range(
+                    env_h,
+                    SubresourceRange::new(0, 1, 0, layers),
+                    Access::ComputeStorageWrite,
+                )
+                .record(move |rc| {
+                    rc.image(eq_h)?;
+                    let cmd = rc.cmd();
+                    dispatch(
+                        d,
+                        cmd,
+                        k_cube,
+                        set,
+                        bytemuck::bytes_of(&push),
+                        groups(s.env_size),
+                        groups(s.env_size),
+                        6,
+                    );
+                    Ok(())
+                });
+            for (i, set) in down_sets.iter().copied().enumerate() {
+                let m = i as u32 + 1;
+                let size = (s.env_size >> m).max(1);
+                g.pass("ibl: env mip")
+                    .read_range(
+                        env_h,
+                        SubresourceRange::new(m - 1, 1, 0, layers),
+                        Access::ComputeStorageRead,
+                    )
+                    .write_range(
+                        env_h,
+                        SubresourceRange::new(m, 1, 0, layers),
+                        Access::ComputeStorageWrite,
+                    )
+                    .record(move |rc| {
+                        rc.image(env_h)?;
+                        dispatch(
+                            d,
+                            rc.cmd(),
+                            k_down,
+                            set,
+                            bytemuck::bytes_of(&size),
+                            groups(size),
+                            groups(size),
+                            6,
+                        );
+                        Ok(())
+                    });
             }
-            Ok(())
-        })?;
-        drop(staging);
-        Ok(())
+        })
     }
 
-    /// Stage 2: the irradiance cube.
+    /// Stage 2: the irradiance cube ("ibl: irradiance", sampling the environment cube).
     pub fn irradiance(
         &self,
         env: &Image,
         sampler: &Sampler,
         irradiance: &mut Image,
     ) -> Result<(), VkError> {
-        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_irr, work_pool) = (&self.k_irr, &self.work_pool);
         let irr_view = irradiance.mip_view(0)?;
         let set = work_pool.allocate(&k_irr.set_layout)?;
@@ -445,58 +477,51 @@ impl<'a> Baker<'a> {
                 Bind::Storage(irr_view),
             ],
         );
-        let irr_raw = irradiance.raw;
-        let irr_range = irradiance.subresource_range();
-        pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: irr_raw,
-                    range: irr_range,
-                    from: UNDEFINED,
-                    to: GENERAL,
-                }],
+        let irradiance: &Image = irradiance;
+        self.run_graph(|g| {
+            let env_h = import(g, "environment cube", env, ImageStateBefore::Keep(BAKED));
+            let irr_h = import(
+                g,
+                "irradiance cube",
+                irradiance,
+                ImageStateBefore::Undefined,
             );
-            memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
+            g.image_after(irr_h, BAKED);
             let push: [u32; 4] = [s.irradiance_size, s.irradiance_samples, s.env_size, 0];
-            dispatch(
-                d,
-                cmd,
-                k_irr,
-                set,
-                bytemuck::bytes_of(&push),
-                groups(s.irradiance_size),
-                groups(s.irradiance_size),
-                6,
-            );
-            Ok(())
-        })?;
-        Ok(())
-    }
-
-    /// Moves every level and layer of a fresh image to GENERAL layout.
-    pub fn to_general(&self, image: &Image) -> Result<(), VkError> {
-        let d = &self.ctx.device;
-        let raw = image.raw;
-        let range = image.subresource_range();
-        self.pool.one_shot(|cmd| {
-            transition(
-                d,
-                cmd,
-                &[Transition {
-                    image: raw,
-                    range,
-                    from: UNDEFINED,
-                    to: GENERAL,
-                }],
-            );
-            Ok(())
+            g.pass("ibl: irradiance")
+                .read(env_h, SAMPLED)
+                .write_range(
+                    irr_h,
+                    SubresourceRange::new(0, 1, 0, irradiance.desc.layers),
+                    Access::ComputeStorageWrite,
+                )
+                .record(move |rc| {
+                    rc.image(env_h)?;
+                    rc.image(irr_h)?;
+                    let cmd = rc.cmd();
+                    dispatch(
+                        d,
+                        cmd,
+                        k_irr,
+                        set,
+                        bytemuck::bytes_of(&push),
+                        groups(s.irradiance_size),
+                        groups(s.irradiance_size),
+                        6,
+                    );
+                    Ok(())
+                });
         })
     }
 
-    /// Stage 3: the prefiltered cube, one roughness per mip (roughness = mip / (mips − 1));
-    /// `tick` after each mip.
+    /// Moves every level and layer of a fresh image to GENERAL layout (the state [`BAKED`]
+    /// names), for the stages that fill it piece by piece and the cache's uploads.
+    pub fn to_general(&self, image: &Image) -> Result<(), VkError> {
+        crate::render::frame::settle(self.ctx, self.pool, image, BAKED)
+    }
+
+    /// Stage 3: the prefiltered cube, one roughness per mip (roughness = mip / (mips − 1)), one
+    /// submission ("ibl: prefilter") per mip; `tick` after each mip.
     pub fn prefilter(
         &self,
         env: &Image,
@@ -505,7 +530,7 @@ impl<'a> Baker<'a> {
         pre_mips: u32,
         tick: &mut dyn FnMut(&str),
     ) -> Result<(), VkError> {
-        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+        let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_pre, work_pool) = (&self.k_pre, &self.work_pool);
         self.to_general(prefiltered)?;
         for m in 0..pre_mips {
@@ -523,61 +548,72 @@ impl<'a> Baker<'a> {
                 0.0
             };
             let push: [u32; 4] = [roughness.to_bits(), size, s.prefilter_samples, s.env_size];
-            pool.one_shot(|cmd| {
-                memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
-                dispatch(
-                    d,
-                    cmd,
-                    k_pre,
-                    set,
-                    bytemuck::bytes_of(&push),
-                    groups(size),
-                    groups(size),
-                    6,
-                );
-                Ok(())
+            let pre: &Image = prefiltered;
+            self.run_graph(|g| {
+                let env_h = import(g, "environment cube", env, ImageStateBefore::Keep(BAKED));
+                let pre_h = import(g, "prefiltered cube", pre, ImageStateBefore::Keep(BAKED));
+                g.image_after(pre_h, BAKED);
+                g.pass("ibl: prefilter")
+                    .read(env_h, SAMPLED)
+                    .write_range(
+                        pre_h,
+                        SubresourceRange::new(m, 1, 0, pre.desc.layers),
+                        Access::ComputeStorageWrite,
+                    )
+                    .record(move |rc| {
+                        rc.image(env_h)?;
+                        rc.image(pre_h)?;
+                        dispatch(
+                            d,
+                            rc.cmd(),
+                            k_pre,
+                            set,
+                            bytemuck::bytes_of(&push),
+                            groups(size),
+                            groups(size),
+                            6,
+                        );
+                        Ok(())
+                    });
             })?;
             tick("prefiltered mip");
         }
         Ok(())
     }
 
-    /// Stage 4, one layer: the split-sum BRDF LUT for geometry selector `g` into `layer` of the
-    /// LUT (already in GENERAL layout), made visible to the forward pass's shaders.
-    pub fn brdf_lut_layer(
-        &self,
-        lut_view: vk::ImageView,
-        g: i32,
-        layer: u32,
-    ) -> Result<(), VkError> {
-        let (ctx, pool, s, d) = (self.ctx, self.pool, self.s, &self.ctx.device);
+    /// Stage 4, one layer: the split-sum BRDF LUT for geometry selector `g` into `layer` of
+    /// `lut` (already in GENERAL layout: [`Baker::to_general`]), left readable by the scene's
+    /// shaders ("ibl: brdf lut").
+    pub fn brdf_lut_layer(&self, lut: &Image, g: i32, layer: u32) -> Result<(), VkError> {
+        let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_lut, work_pool) = (&self.k_lut, &self.work_pool);
         let set = work_pool.allocate(&k_lut.set_layout)?;
-        write_set(ctx, set, &[Bind::Storage(lut_view)]);
+        write_set(ctx, set, &[Bind::Storage(lut.view)]);
         let push: [u32; 4] = [s.lut_size, s.lut_samples, g as u32, layer];
-        pool.one_shot(|cmd| {
-            memory_barrier(d, cmd, COMPUTE_RW, COMPUTE_RW);
-            dispatch(
-                d,
-                cmd,
-                k_lut,
-                set,
-                bytemuck::bytes_of(&push),
-                groups(s.lut_size),
-                groups(s.lut_size),
-                1,
-            );
-            memory_barrier(
-                d,
-                cmd,
-                COMPUTE_RW,
-                (
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER
-                        | vk::PipelineStageFlags2::VERTEX_SHADER,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            );
-            Ok(())
+        self.run_graph(|graph| {
+            let lut_h = import(graph, "brdf lut", lut, ImageStateBefore::Keep(BAKED));
+            graph.image_after(lut_h, BAKED);
+            graph
+                .pass("ibl: brdf lut")
+                .write_range(
+                    lut_h,
+                    SubresourceRange::new(0, 1, layer, 1),
+                    Access::ComputeStorageWrite,
+                )
+                .record(move |rc| {
+                    rc.image(lut_h)?;
+                    dispatch(
+                        d,
+                        rc.cmd(),
+                        k_lut,
+                        set,
+                        bytemuck::bytes_of(&push),
+                        groups(s.lut_size),
+                        groups(s.lut_size),
+                        1,
+                    );
+                    Ok(())
+                });
         })
     }
 }

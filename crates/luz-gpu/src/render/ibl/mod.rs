@@ -284,7 +284,6 @@ impl Images {
         let lut_geometries = inputs.lut_geometries;
         let lut = &self.lut;
         let t = Instant::now();
-        let lut_view = lut.view;
         let lut_layers: Vec<i32> = if lut_geometries.is_empty() {
             vec![crate::brdf::Geometry::SmithGgxCorrelated as i32]
         } else {
@@ -302,7 +301,7 @@ impl Images {
                 continue;
             }
             computed.push(layer);
-            baker.brdf_lut_layer(lut_view, *g, layer as u32)?;
+            baker.brdf_lut_layer(lut, *g, layer as u32)?;
             tick("brdf lut");
         }
         if !computed.is_empty() && inputs.cache.is_some() {

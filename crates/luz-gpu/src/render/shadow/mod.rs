@@ -19,7 +19,7 @@ use crate::render::gpu::{glsl, Vertex};
 use crate::scene::{Scene, Shadow, ShadowMethod};
 use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
 
-use crate::vk::cmd::{transition, CommandPool, Transition};
+use crate::vk::cmd::CommandPool;
 use crate::vk::image::{Image, ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, VkError};
@@ -323,30 +323,7 @@ impl ShadowMaps {
         }
         // Every frame starts the maps from UNDEFINED; until the first one (and for ever without
         // shadows) the image is in the layout its descriptors name.
-        let range = image.subresource_range();
-        let raw = image.raw;
-        pool.one_shot(|cmd| {
-            transition(
-                &ctx.device,
-                cmd,
-                &[Transition {
-                    image: raw,
-                    range,
-                    from: (
-                        vk::ImageLayout::UNDEFINED,
-                        vk::PipelineStageFlags2::NONE,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    to: (
-                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                        vk::PipelineStageFlags2::VERTEX_SHADER
-                            | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
-                }],
-            );
-            Ok(())
-        })?;
+        crate::render::frame::settle(ctx, pool, &image, SHADOW_READ)?;
         let sampler = |name: &str, filter: vk::Filter, compare: bool| {
             let info = vk::SamplerCreateInfo::default()
                 .mag_filter(filter)
