@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{luz, scratch};
+use common::{luz, luz_in_window, scratch};
 
 /// The default scene's frame, as DOT and as SVG: every pass `luz render` timed (each with its
 /// GPU ms) and the resources they use.
@@ -137,4 +137,30 @@ fn unwritable_trace_is_a_clear_error() {
         err.contains("/nonexistent-dir/trace.json") && !err.contains("panicked"),
         "{err}"
     );
+}
+
+/// The viewer's profiler writes the same trace (`luz view --bench --trace`), with its passes
+/// ("display", "ui" or the scene's straight into the window) from the same graph.
+#[test]
+fn viewer_trace_spans_nest_and_add_up() {
+    let dir = scratch("frame-trace-view");
+    let trace = dir.join("view.json");
+    let Some((code, out, err)) = luz_in_window(&[
+        "view",
+        "--bench",
+        "--frames",
+        "6",
+        "--warmup",
+        "2",
+        "--trace",
+        trace.to_str().unwrap(),
+    ]) else {
+        return;
+    };
+    assert_eq!(code, 0, "{out}\n{err}");
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let summary = luz::graph::check_trace(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    assert_eq!(summary.gpu_frames, 4, "{summary:?}");
+    assert_eq!(summary.cpu_frames, 4, "{summary:?}");
+    assert!(summary.gpu_passes >= 4, "{summary:?}");
 }

@@ -57,6 +57,11 @@ pub struct ViewArgs {
     /// With --bench: a JSON summary.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// With --bench: the measured frames as a Chrome/Perfetto trace (as `luz bench --trace`):
+    /// the CPU's frame and its recording span, and each pass's GPU span from the frame graph's
+    /// timers.
+    #[arg(long, value_name = "FILE.json")]
+    pub trace: Option<PathBuf>,
     /// Window width in pixels (default: the scene's output width).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: Option<u32>,
@@ -152,6 +157,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
         warmup: a.warmup,
         csv: a.csv,
         json: a.json,
+        trace: a.trace,
         width: a.width,
         height: a.height,
         no_vsync: a.no_vsync,

@@ -44,6 +44,8 @@ pub struct ViewOptions {
     pub csv: Option<PathBuf>,
     /// With `bench`: a JSON summary.
     pub json: Option<PathBuf>,
+    /// With `bench`: the measured frames as a Chrome/Perfetto trace.
+    pub trace: Option<PathBuf>,
     /// Window width (default: the scene's output width).
     pub width: Option<u32>,
     /// Window height (default: the scene's output height).

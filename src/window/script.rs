@@ -70,8 +70,7 @@ pub fn light_shadow_text(light: usize, edit: ShadowEdit) -> String {
     }
 }
 
-/// The most lights one `add_lights` (or the panel's "Add many") adds.
-pub const MAX_ADDED_LIGHTS: u32 = 65_536;
+pub use crate::scene::edit::MAX_ADDED_LIGHTS;
 
 /// `FRAME:ACTION;FRAME:ACTION;…` → (frame, action) sorted by frame (stable).
 pub fn parse(text: &str) -> Result<Vec<(u64, Action)>> {

@@ -419,6 +419,13 @@ fn use_cells(u: &Use, dims: &[(u32, u32)]) -> Vec<u32> {
     }
 }
 
+impl<'a> FrameGraph<'a> {
+    /// Checks the declarations, culls passes nobody needs and derives every barrier.
+    pub fn compile(self) -> Result<CompiledGraph<'a>, GraphError> {
+        compile(self)
+    }
+}
+
 pub(crate) fn compile(graph: FrameGraph<'_>) -> Result<CompiledGraph<'_>, GraphError> {
     let FrameGraph {
         images,

@@ -3,8 +3,7 @@
 use ash::vk;
 
 use crate::access::Access;
-use crate::compile::{self, CompiledGraph};
-use crate::error::{GraphError, PassError};
+use crate::error::PassError;
 use crate::exec::RecordContext;
 use crate::resource::{
     BufferHandle, ImageDesc, ImageHandle, ImageStateBefore, ImportedImage, Resource,
@@ -197,11 +196,6 @@ impl<'a> FrameGraph<'a> {
     /// The name of a buffer.
     pub fn buffer_name(&self, buffer: BufferHandle) -> Option<&str> {
         self.buffers.get(buffer.index()).map(|b| b.name.as_str())
-    }
-
-    /// Checks the declarations, culls passes nobody needs and derives every barrier.
-    pub fn compile(self) -> Result<CompiledGraph<'a>, GraphError> {
-        compile::compile(self)
     }
 }
 

@@ -139,6 +139,32 @@ impl Viewer {
             std::fs::write(p, out).with_context(|| format!("cannot write {}", p.display()))?;
             log::info!("wrote {}", p.display());
         }
+        if let Some(p) = &args.trace {
+            // Frames back to back on the CPU track (each its wall time, the recording inside
+            // it); a frame's GPU passes start where its recording ends.
+            let mut trace = crate::graph::Trace::new();
+            let mut t = 0.0;
+            for (i, f) in frames.iter().enumerate() {
+                let (frame, record) = (f.frame_ms * 1e3, f.cpu_ms.min(f.frame_ms) * 1e3);
+                let cpu = [
+                    crate::graph::CpuSpan {
+                        name: "record + submit",
+                        start_us: t,
+                        dur_us: record,
+                    },
+                    crate::graph::CpuSpan {
+                        name: "rest of the frame",
+                        start_us: t + record,
+                        dur_us: (frame - record).max(0.0),
+                    },
+                ];
+                trace.frame(i as u64, &cpu, &f.gpu_ms, t + record);
+                t += frame.max(record);
+            }
+            std::fs::write(p, trace.to_json())
+                .with_context(|| format!("cannot write {}", p.display()))?;
+            log::info!("wrote {}", p.display());
+        }
         if let Some(p) = &args.json {
             let json = serde_json::json!({
                 "device": self.ctx.info.summary(),

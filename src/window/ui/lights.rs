@@ -34,7 +34,7 @@ pub(super) fn lights_ui(ui: &mut Ui, scene: &mut Scene, expand_all: bool, out: &
         let mut n = ui.data_mut(|d| *d.get_temp_mut_or(id, 256u32));
         ui.add(
             egui::DragValue::new(&mut n)
-                .range(1..=crate::window::script::MAX_ADDED_LIGHTS)
+                .range(1..=crate::scene::edit::MAX_ADDED_LIGHTS)
                 .speed(4.0),
         );
         ui.data_mut(|d| d.insert_temp(id, n));

@@ -7,7 +7,6 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::names::ModelKind;
 use super::presets::{f0_from_ior, ior_from_f0, ComplexIor};
 use super::terms::*;
 
@@ -565,38 +564,6 @@ impl From<Model> for ModelRepr {
 }
 
 impl Model {
-    /// The model without its parameters.
-    pub fn kind(&self) -> ModelKind {
-        match self {
-            Model::Lambert(_) => ModelKind::Lambert,
-            Model::Phong(p) if p.blinn => ModelKind::BlinnPhong,
-            Model::Phong(_) => ModelKind::Phong,
-            Model::CookTorrance(_) => ModelKind::CookTorrance,
-            Model::MetalRough(_) => ModelKind::MetalRough,
-            Model::Principled(_) => ModelKind::Principled,
-            Model::OrenNayar(_) => ModelKind::OrenNayar,
-        }
-    }
-
-    /// The serde tag and the scene format's `model`: "lambert", "phong", "blinn_phong",
-    /// "cook_torrance", "metal_rough", "principled", "oren_nayar" ([`ModelKind::name`]).
-    pub fn name(&self) -> &'static str {
-        self.kind().name()
-    }
-
-    /// The model of kind `kind` with its default parameters.
-    pub fn default_of(kind: ModelKind) -> Self {
-        match kind {
-            ModelKind::Lambert => Model::Lambert(Default::default()),
-            ModelKind::Phong => Model::default_phong(false),
-            ModelKind::BlinnPhong => Model::default_phong(true),
-            ModelKind::CookTorrance => Model::CookTorrance(Default::default()),
-            ModelKind::MetalRough => Model::MetalRough(Default::default()),
-            ModelKind::Principled => Model::Principled(Default::default()),
-            ModelKind::OrenNayar => Model::OrenNayar(Default::default()),
-        }
-    }
-
     /// The classic model with the format's defaults (also the material of OBJ parts without an
     /// MTL material): ka 0.2, kd 0.8, ks 0.5, shininess 32, diffuse 0.8 grey, specular white.
     pub fn default_phong(blinn: bool) -> Self {

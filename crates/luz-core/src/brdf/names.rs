@@ -2,7 +2,7 @@
 //! `ALL`, `name()`, `NAMED` and `from_name()` are generated (the scene format, the CLI, the
 //! stability sweep and pipeline-variant names all use these).
 
-use super::models::{Diffuse, Distribution, Fresnel, Geometry};
+use super::models::{Diffuse, Distribution, Fresnel, Geometry, Model};
 
 /// `ALL`, `name()`, `NAMED` and `from_name()` of a selector enum from one list of (variant, name):
 /// the one source of the names the scene format, the CLI, the stability sweep and pipeline-variant
@@ -88,5 +88,39 @@ impl ModelKind {
     /// Whether the model's D, G, F and diffuse lobe are selectable.
     pub const fn has_terms(self) -> bool {
         matches!(self, ModelKind::CookTorrance | ModelKind::MetalRough)
+    }
+}
+
+impl Model {
+    /// The model without its parameters.
+    pub fn kind(&self) -> ModelKind {
+        match self {
+            Model::Lambert(_) => ModelKind::Lambert,
+            Model::Phong(p) if p.blinn => ModelKind::BlinnPhong,
+            Model::Phong(_) => ModelKind::Phong,
+            Model::CookTorrance(_) => ModelKind::CookTorrance,
+            Model::MetalRough(_) => ModelKind::MetalRough,
+            Model::Principled(_) => ModelKind::Principled,
+            Model::OrenNayar(_) => ModelKind::OrenNayar,
+        }
+    }
+
+    /// The serde tag and the scene format's `model`: "lambert", "phong", "blinn_phong",
+    /// "cook_torrance", "metal_rough", "principled", "oren_nayar" ([`ModelKind::name`]).
+    pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The model of kind `kind` with its default parameters.
+    pub fn default_of(kind: ModelKind) -> Self {
+        match kind {
+            ModelKind::Lambert => Model::Lambert(Default::default()),
+            ModelKind::Phong => Model::default_phong(false),
+            ModelKind::BlinnPhong => Model::default_phong(true),
+            ModelKind::CookTorrance => Model::CookTorrance(Default::default()),
+            ModelKind::MetalRough => Model::MetalRough(Default::default()),
+            ModelKind::Principled => Model::Principled(Default::default()),
+            ModelKind::OrenNayar => Model::OrenNayar(Default::default()),
+        }
     }
 }

@@ -35,11 +35,11 @@ mod material;
 mod object;
 mod shadow;
 
+pub(crate) use super::mesh_cache::MeshCache;
 use fields::*;
 pub use material::MATERIAL_MODELS;
 use material::*;
 pub(crate) use material::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
-pub(crate) use object::MeshCache;
 use object::*;
 
 // ---------------------------------------------------------------------------------------------

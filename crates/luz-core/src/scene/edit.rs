@@ -88,6 +88,9 @@ impl LightField {
     }
 }
 
+/// The most lights one `add_lights` (or the panel's "Add many") adds.
+pub const MAX_ADDED_LIGHTS: u32 = 65_536;
+
 /// `n` coloured inverse-square point lights with a range, spread over the horizontal extent of
 /// `bounds` (the objects' box; a 2 m square without) a little above its bottom: the viewer's bulk
 /// add, for many-light scenes. With spacing s between neighbours (grid: the extent over ⌈√n⌉; the

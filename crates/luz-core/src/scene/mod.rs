@@ -15,6 +15,7 @@ pub mod gltf;
 pub mod json;
 pub mod lod;
 pub mod mesh;
+mod mesh_cache;
 pub mod model;
 pub mod obj;
 pub mod shadow;

@@ -109,7 +109,7 @@ fn world_radius(object: &Object) -> Option<f32> {
 /// output size.
 pub fn resolve(scene: &mut Scene) {
     let budget = scene.output.tessellation_error_px;
-    let mut built = super::decode::MeshCache::default();
+    let mut built = super::mesh_cache::MeshCache::default();
     for object in &mut scene.objects {
         let Tessellation::Auto { rings_given, .. } = object.tessellation else {
             continue;

@@ -15,7 +15,7 @@ use crate::vk::image::{ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, VkError};
 
-pub const SET_MATERIAL: u32 = super::gpu::SET_MATERIAL;
+pub const SET_MATERIAL: u32 = crate::glsl::include_bindings::SET_MATERIAL as u32;
 /// Bindings 0..8: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
 pub const SLOT_COUNT: usize = 8;
 
@@ -29,7 +29,7 @@ pub fn map_bits(textures: &crate::scene::MaterialTextures) -> u32 {
         .fold(0, |bits, (i, _)| bits | 1 << i)
 }
 /// The binding of `MaterialExtra` (after the maps, whose bindings are their `MAP_*` slots).
-pub const BINDING_EXTRA: u32 = super::gpu::glsl::include_bindings::BINDING_MATERIAL_EXTRA as u32;
+pub const BINDING_EXTRA: u32 = crate::glsl::include_bindings::BINDING_MATERIAL_EXTRA as u32;
 
 /// `MaterialExtra` (std140) in `shaders_glsl/include/bindings.glsl`.
 #[repr(C)]
