@@ -15,10 +15,12 @@ fn render_writes_the_frame_graph_as_dot_and_svg() {
     let dot = dir.join("frame.dot");
     let svg = dir.join("frame.svg");
     let png = dir.join("frame.png");
+    // One frame: the graph drawn is the last frame's, and a second frame reuses the shadow maps
+    // (no "shadows" pass) while the timing rows are medians over both.
     let (code, out, err) = luz(&[
         "render",
         "--frames",
-        "2",
+        "1",
         "-o",
         png.to_str().unwrap(),
         "--graph",
@@ -31,7 +33,7 @@ fn render_writes_the_frame_graph_as_dot_and_svg() {
     // The passes luz render printed timings for are the graph's passes.
     let rows: Vec<&str> = ["shadows", "forward", "gbuffer", "lighting", "readback"]
         .into_iter()
-        .filter(|p| out.lines().any(|l| l.trim_start().starts_with(p)))
+        .filter(|p| out.lines().any(|l| l.starts_with(&format!("GPU {p} "))))
         .collect();
     assert!(rows.contains(&"readback"), "{out}");
     assert!(rows.len() >= 2, "{out}");
@@ -95,8 +97,8 @@ fn bench_trace_spans_nest_and_add_up() {
     assert_eq!(summary.gpu_frames, 4, "{summary:?}");
     assert_eq!(summary.cpu_frames, 4, "{summary:?}");
     assert_eq!(
-        summary.cpu_spans, 8,
-        "record and submit + wait per frame: {summary:?}"
+        summary.cpu_spans, 12,
+        "the frame, its recording and its submit + wait: {summary:?}"
     );
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let events = v["traceEvents"].as_array().unwrap();
@@ -108,7 +110,7 @@ fn bench_trace_spans_nest_and_add_up() {
     assert!(passes.contains("readback"), "{passes:?}");
     for p in &passes {
         assert!(
-            out.lines().any(|l| l.trim_start().starts_with(p)),
+            out.lines().any(|l| l.starts_with(&format!("GPU {p} "))),
             "{p} is not one of bench's rows:\n{out}"
         );
     }
@@ -160,7 +162,8 @@ fn viewer_trace_spans_nest_and_add_up() {
     assert_eq!(code, 0, "{out}\n{err}");
     let text = std::fs::read_to_string(&trace).unwrap();
     let summary = luz::graph::check_trace(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    assert_eq!(summary.gpu_frames, 4, "{summary:?}");
-    assert_eq!(summary.cpu_frames, 4, "{summary:?}");
-    assert!(summary.gpu_passes >= 4, "{summary:?}");
+    // The measured frames whose timestamps were read (the last ones in flight are not).
+    assert!(summary.gpu_frames >= 2, "{summary:?}");
+    assert_eq!(summary.cpu_frames, summary.gpu_frames, "{summary:?}");
+    assert!(summary.gpu_passes >= 2 * summary.gpu_frames, "{summary:?}");
 }

@@ -105,6 +105,8 @@ pub enum Access {
     FragmentStorageBufferWrite,
     /// Anything else, spelled out.
     Custom {
+        /// Its name in the graph's pictures.
+        name: &'static str,
         /// The image layout (ignored for buffers).
         layout: vk::ImageLayout,
         /// The stages of the use.
@@ -364,11 +366,12 @@ impl Access {
                 Buffer,
             ),
             Access::Custom {
+                name,
                 layout,
                 stages,
                 access,
                 writes,
-            } => row("Custom", layout, stages, access, writes, Both),
+            } => row(name, layout, stages, access, writes, Both),
         }
     }
 

@@ -149,6 +149,7 @@ impl Plan {
         let layout = im.end_layout?;
         let (stages, access) = im.final_scope;
         Some(ImageStateBefore::Keep(Access::Custom {
+            name: "last use",
             layout,
             stages,
             access,

@@ -215,6 +215,7 @@ struct ComparePush {
 
 /// How the map is left for the display pass (`record_show`), a copy, or the next frame's kernels.
 const MAP_READ: Access = Access::Custom {
+    name: "MapRead",
     layout: vk::ImageLayout::GENERAL,
     stages: vk::PipelineStageFlags2::from_raw(
         vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw()
@@ -229,6 +230,7 @@ const MAP_READ: Access = Access::Custom {
 
 /// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
 const TRANSFER_FILL: Access = Access::Custom {
+    name: "TransferFill",
     layout: vk::ImageLayout::UNDEFINED,
     stages: vk::PipelineStageFlags2::ALL_TRANSFER,
     access: vk::AccessFlags2::TRANSFER_WRITE,

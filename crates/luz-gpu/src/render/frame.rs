@@ -26,6 +26,7 @@ use crate::vk::{Buffer, Context, Image, VkError};
 /// How the viewer's display pass samples an HDR colour image: in GENERAL, the layout the A/B
 /// map kernels read it in too (one descriptor layout for both).
 pub const HDR_DISPLAY_READ: Access = Access::Custom {
+    name: "DisplaySampled (GENERAL)",
     layout: vk::ImageLayout::GENERAL,
     stages: vk::PipelineStageFlags2::FRAGMENT_SHADER,
     access: vk::AccessFlags2::SHADER_SAMPLED_READ,
@@ -34,6 +35,7 @@ pub const HDR_DISPLAY_READ: Access = Access::Custom {
 
 /// How the A/B map kernels read the two HDR colour images ([`crate::render::compare`]).
 pub const HDR_COMPARE_READ: Access = Access::Custom {
+    name: "ComputeSampled (GENERAL)",
     layout: vk::ImageLayout::GENERAL,
     stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
     access: vk::AccessFlags2::SHADER_SAMPLED_READ,

@@ -19,6 +19,7 @@ const BINDING_REDUCTION: u32 = crate::glsl::saturate_comp::BINDING_REDUCTION as 
 
 /// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
 const TRANSFER_FILL: Access = Access::Custom {
+    name: "TransferFill",
     layout: vk::ImageLayout::UNDEFINED,
     stages: vk::PipelineStageFlags2::ALL_TRANSFER,
     access: vk::AccessFlags2::TRANSFER_WRITE,

@@ -279,6 +279,7 @@ fn forward_frame_barriers_are_exact() {
     assert_eq!(
         plan.end_state(s.shadow),
         Some(ImageStateBefore::Keep(Access::Custom {
+            name: "last use",
             layout: L::SHADER_READ_ONLY_OPTIMAL,
             stages: S::FRAGMENT_SHADER,
             access: A::NONE,

@@ -117,6 +117,7 @@ pub(super) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
 /// made visible to the later stages' kernels (sampled or storage reads) and to the scene's
 /// shaders. The next stage imports it so ([`ImageStateBefore::Keep`]).
 pub(super) const BAKED: Access = Access::Custom {
+    name: "Baked (GENERAL)",
     layout: vk::ImageLayout::GENERAL,
     stages: vk::PipelineStageFlags2::from_raw(
         vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw()
@@ -132,6 +133,7 @@ pub(super) const BAKED: Access = Access::Custom {
 
 /// A kernel's sampled read of an image in GENERAL (the descriptors name GENERAL: `write_set`).
 const SAMPLED: Access = Access::Custom {
+    name: "ComputeSampled (GENERAL)",
     layout: vk::ImageLayout::GENERAL,
     stages: vk::PipelineStageFlags2::COMPUTE_SHADER,
     access: vk::AccessFlags2::SHADER_SAMPLED_READ,

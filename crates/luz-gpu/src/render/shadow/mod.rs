@@ -155,6 +155,7 @@ impl ShadowMaps {
 /// How the scene passes sample the shadow maps, and the state the image is kept in between
 /// frames (it is made so when created).
 pub const SHADOW_READ: Access = Access::Custom {
+    name: "ShadowSampled",
     layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
     stages: vk::PipelineStageFlags2::from_raw(
         vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
