@@ -2,9 +2,10 @@
 
 use std::fmt::Write;
 
-use crate::compile::{CompiledGraph, ImageInfo, Plan};
-use crate::graph::UseMode;
+use crate::exec::CompiledGraph;
+use crate::plan::{ImageInfo, Plan};
 use crate::resource::Resource;
+use crate::resource::UseMode;
 
 /// Escapes a string for a DOT quoted label.
 fn esc(s: &str) -> String {

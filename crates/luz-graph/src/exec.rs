@@ -4,10 +4,10 @@
 use ash::vk;
 
 use crate::access::{Access, WRITE_ACCESS};
-use crate::compile::{BarrierInfo, CompiledGraph, ImageInfo};
-use crate::error::GraphError;
-use crate::graph::ImageSource;
+use crate::error::{GraphError, PassError};
+use crate::plan::{BarrierInfo, BufferInfo, ImageInfo, Plan};
 use crate::pool::{ImageFactory, PooledImage, TransientPool};
+use crate::resource::ImageSource;
 use crate::resource::{BufferHandle, ImageDesc, ImageHandle, Resource, SubresourceRange};
 
 /// An image barrier ready to record.
@@ -179,6 +179,23 @@ fn record_barriers(device: &ash::Device, cmd: vk::CommandBuffer, batch: &Barrier
     unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
 }
 
+/// A pass's recording: runs once at execution if the pass is live, borrowing the caller's state
+/// for the graph's lifetime `'a`.
+pub type RecordFn<'a> = Box<dyn FnOnce(&mut RecordContext<'_>) -> Result<(), PassError> + 'a>;
+
+/// A graph ready to execute: the [`Plan`] and the live passes' record closures.
+pub struct CompiledGraph<'a> {
+    pub(crate) plan: Plan,
+    pub(crate) records: Vec<Option<RecordFn<'a>>>,
+}
+
+impl CompiledGraph<'_> {
+    /// The plan (passes, barriers) as data.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+}
+
 /// GPU timer scopes around passes (luz's `GpuTimer`).
 pub trait PassTimer {
     /// Opens the scope of pass `name` (e.g. writes a timestamp); returns its query slot.
@@ -254,7 +271,7 @@ pub struct RecordContext<'r> {
     pass: &'static str,
     images: &'r [ImageInfo],
     resolved: &'r [Option<Resolved>],
-    buffers: &'r [crate::compile::BufferInfo],
+    buffers: &'r [BufferInfo],
     declared_images: Vec<(ImageHandle, SubresourceRange)>,
     declared_buffers: Vec<BufferHandle>,
     violation: Option<GraphError>,
@@ -427,7 +444,7 @@ pub struct ExecReport {
 fn resolve_batch(
     barriers: &[BarrierInfo],
     resolved: &[Option<Resolved>],
-    buffers: &[crate::compile::BufferInfo],
+    buffers: &[BufferInfo],
     pool_scopes: &[(vk::PipelineStageFlags2, vk::AccessFlags2)],
 ) -> BarrierBatch {
     let mut batch = BarrierBatch::default();

@@ -11,22 +11,23 @@ mod dot;
 mod error;
 mod exec;
 mod graph;
+mod plan;
 mod pool;
 mod resource;
 mod svg;
 pub mod trace;
 
 pub use access::{Access, AccessInfo, AppliesTo, WRITE_ACCESS};
-pub use compile::{BarrierInfo, BufferInfo, CompiledGraph, ImageInfo, PassPlan, Plan};
 pub use error::{GraphError, PassError};
 pub use exec::{
-    AshRecorder, BarrierBatch, BufferBarrier, BufferRef, ExecReport, ImageBarrier, ImageRef,
-    MemoryBarrier, PassTimer, RecordContext, Recorder,
+    AshRecorder, BarrierBatch, BufferBarrier, BufferRef, CompiledGraph, ExecReport, ImageBarrier,
+    ImageRef, MemoryBarrier, PassTimer, RecordContext, RecordFn, Recorder,
 };
-pub use graph::{FrameGraph, PassBuilder, RecordFn, Use, UseMode};
+pub use graph::{FrameGraph, PassBuilder};
+pub use plan::{BarrierInfo, BufferInfo, ImageInfo, PassPlan, Plan};
 pub use pool::{ImageFactory, PooledImage, TransientPool};
 pub use resource::{
     BufferHandle, ImageDesc, ImageHandle, ImageStateBefore, ImportedImage, Resource,
-    SubresourceRange,
+    SubresourceRange, Use, UseMode,
 };
 pub use trace::{check_trace, CpuSpan, Trace, TraceSummary};

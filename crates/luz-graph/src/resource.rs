@@ -239,3 +239,48 @@ impl ImportedImage {
         Self { range, ..self }
     }
 }
+
+/// How a pass uses what it declares (the dependency; the synchronisation comes from the
+/// [`Access`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UseMode {
+    /// Reads the current contents.
+    Read,
+    /// Overwrites the declared range entirely (clear, don't-care load, full overwrite): the
+    /// previous contents are not needed.
+    Write,
+    /// Reads the current contents and writes (load + store, blending, read-modify-write).
+    ReadWrite,
+}
+
+impl UseMode {
+    /// Whether the previous contents are needed.
+    pub fn reads(self) -> bool {
+        !matches!(self, UseMode::Write)
+    }
+
+    /// Whether the pass changes the contents.
+    pub fn writes(self) -> bool {
+        !matches!(self, UseMode::Read)
+    }
+}
+
+/// One declaration of a pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Use {
+    /// The resource.
+    pub resource: Resource,
+    /// The kind of use.
+    pub access: Access,
+    /// Read, write or both.
+    pub mode: UseMode,
+    /// The part of an image (`None`: all of it; always `None` for buffers).
+    pub range: Option<SubresourceRange>,
+}
+
+/// Where an image comes from.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum ImageSource {
+    Transient,
+    Imported(ImportedImage),
+}

@@ -4,10 +4,10 @@
 
 use std::fmt::Write;
 
-use crate::compile::Plan;
 use crate::dot::{image_label, time_of};
-use crate::graph::UseMode;
+use crate::plan::Plan;
 use crate::resource::Resource;
+use crate::resource::UseMode;
 
 /// Escapes text for XML.
 fn esc(s: &str) -> String {

@@ -443,15 +443,16 @@ impl Viewer {
             if let Some(b) = &self.lab.b {
                 b_target = Some(lab::add_b_passes(&mut g, b, slot)?);
             }
+            let mut shown_map = None;
             if let (Some(kind), Some(bt), Some(pass)) = (map, b_target, self.lab.gpu.as_ref()) {
                 let settings = (self.scene.output.exposure, self.scene.output.tonemap);
-                pass.add_pass(
+                shown_map = Some(pass.add_pass(
                     &mut g,
                     (MAP_SCOPE, slot),
                     (a.output(), bt.output()),
                     kind,
                     settings,
-                )?;
+                )?);
             }
             if let Some((buffer, extent)) = &copies.a {
                 add_readback(&mut g, "read-back A", a.output(), buffer, *extent);
@@ -465,6 +466,12 @@ impl Viewer {
                 .write(swap, Access::ColorAttachmentWrite);
             if let Some(bt) = b_target {
                 pass = pass.read(bt.output(), HDR_DISPLAY_READ);
+            }
+            // The difference and FLIP modes show this frame's map and its figures.
+            if let Some(m) = shown_map {
+                pass = pass
+                    .read(m.map, crate::render::compare::MAP_SHOW_READ)
+                    .read_buffer(m.figures, Access::FragmentStorageBufferRead);
             }
             let (display, scene, lab) = (&self.display, &self.scene, &self.lab);
             let area = vk::Extent2D {

@@ -237,6 +237,19 @@ const TRANSFER_FILL: Access = Access::Custom {
     writes: true,
 };
 
+/// The map and its figures as a frame graph declared them ([`ComparePass::add_pass`]): a pass
+/// that shows the map ([`ComparePass::record_show`]) reads both ([`MAP_SHOW_READ`],
+/// `FragmentStorageBufferRead`).
+#[derive(Debug, Clone, Copy)]
+pub struct MapHandles {
+    pub map: ImageHandle,
+    pub figures: luz_graph::BufferHandle,
+}
+
+/// How [`ComparePass::record_show`] reads the map: a storage image in GENERAL, in the fragment
+/// stage.
+pub const MAP_SHOW_READ: Access = Access::FragmentStorageRead;
+
 /// The maps of two HDR images (views in GENERAL layout, SAMPLED usage) of one size.
 pub struct ComparePass {
     extent: vk::Extent2D,
@@ -578,7 +591,7 @@ impl ComparePass {
         (a, b): (ImageHandle, ImageHandle),
         kind: CompareKind,
         (exposure_ev, tonemap): (f32, Tonemap),
-    ) -> Result<ImageHandle, VkError> {
+    ) -> Result<MapHandles, VkError> {
         let tonemap = if kind == CompareKind::Flip {
             tonemap
         } else {
@@ -676,7 +689,7 @@ impl ComparePass {
             }
             Ok(())
         });
-        Ok(map)
+        Ok(MapHandles { map, figures })
     }
 
     /// Draws the map of slot `slot` through the palette over `extent`, only inside `clip`
@@ -805,7 +818,7 @@ pub fn compare_images(
             kind,
             (exposure_ev, tonemap),
         )?;
-        frame::add_readback(&mut g, "compare map read-back", map, &out, extent);
+        frame::add_readback(&mut g, "compare map read-back", map.map, &out, extent);
         let graph = g.compile()?;
         frame::Transients::new(ctx).execute(ctx, graph, cmd, None)?;
         Ok(())
