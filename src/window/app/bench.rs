@@ -141,9 +141,13 @@ impl Viewer {
         }
         if let Some(p) = &args.trace {
             // Frames back to back on the CPU track (each its wall time, the recording inside
-            // it); a frame's GPU passes start where its recording ends.
+            // it); a frame's GPU passes start where its recording ends, or where the previous
+            // frame's end on the GPU.
             let mut trace = crate::graph::Trace::new();
             let mut t = 0.0;
+            // With frames in flight a frame's GPU work may start after the next recording: the
+            // GPU track lays the frames one after another.
+            let mut gpu_free = 0.0f64;
             for (i, f) in frames.iter().enumerate() {
                 let (frame, record) = (f.frame_ms * 1e3, f.cpu_ms.min(f.frame_ms) * 1e3);
                 let cpu = [
@@ -158,7 +162,9 @@ impl Viewer {
                         dur_us: (frame - record).max(0.0),
                     },
                 ];
-                trace.frame(i as u64, &cpu, &f.gpu_ms, t + record);
+                let gpu_start = (t + record).max(gpu_free);
+                trace.frame(i as u64, &cpu, &f.gpu_ms, gpu_start);
+                gpu_free = gpu_start + f.gpu_ms.iter().map(|(_, ms)| ms * 1e3).sum::<f64>();
                 t += frame.max(record);
             }
             std::fs::write(p, trace.to_json())
