@@ -27,6 +27,32 @@ pub struct GpuArgs {
     pub device: Option<String>,
 }
 
+/// `--width`, `--height` and `--camera` of the commands that render a scene file's view.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct ViewOverrides {
+    /// Override the scene's output width.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: Option<u32>,
+    /// Override the scene's output height.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: Option<u32>,
+    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
+}
+
+impl ViewOverrides {
+    /// Applies them to a loaded scene: the camera first, then the output size
+    /// ([`Scene::override_size`]).
+    pub fn apply(&self, scene: &mut Scene) -> Result<()> {
+        if let Some(n) = self.camera {
+            luz::scene::model::use_camera(scene, n)?;
+        }
+        scene.override_size(self.width, self.height);
+        Ok(())
+    }
+}
+
 /// Presets of `render::ibl::IblSettings`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum IblQuality {

@@ -10,6 +10,7 @@ use luz::lab::{measure, variants, write_outputs, LabOptions};
 
 use super::common::{
     context, render_options, report_tessellation, validation_exit, Bar, GpuArgs, IblQuality,
+    ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -33,15 +34,9 @@ pub struct LabArgs {
     /// Environment samples per pixel of the reference (Monte Carlo).
     #[arg(long, default_value_t = 1024)]
     pub reference_samples: u32,
-    /// Override the scene's output width (the lab renders every variant at this size).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    /// Override the scene's output height.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
-    #[arg(long, value_name = "N")]
-    pub camera: Option<usize>,
+    // --width and --height: the lab renders every variant at this size.
+    #[command(flatten)]
+    pub view: ViewOverrides,
     /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows, lod).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
@@ -54,10 +49,7 @@ pub struct LabArgs {
 
 pub fn run(a: LabArgs) -> Result<ExitCode> {
     let mut scene = luz::scene::load(&a.scene)?;
-    if let Some(n) = a.camera {
-        luz::scene::model::use_camera(&mut scene, n)?;
-    }
-    scene.override_size(a.width, a.height);
+    a.view.apply(&mut scene)?;
     report_tessellation(&scene, false);
     std::fs::create_dir_all(a.out.join("heatmaps"))
         .with_context(|| format!("cannot create {}", a.out.display()))?;

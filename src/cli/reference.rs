@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::Result;
 use clap::Args;
 
-use super::common::{check_output, report_written, Bar};
+use super::common::{check_output, report_written, Bar, ViewOverrides};
 
 /// `luz reference`.
 #[derive(Args, Debug)]
@@ -41,34 +41,16 @@ pub struct ReferenceArgs {
     /// soft shadows); point-like lights take one (hard shadows).
     #[arg(long, default_value_t = luz::reference::DEFAULT_SHADOW_SAMPLES, value_parser = clap::value_parser!(u32).range(1..=luz::reference::MAX_SAMPLES as i64))]
     pub shadow_samples: u32,
-    /// Override the scene's output width.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    /// Override the scene's output height.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
-    #[arg(long, value_name = "N")]
-    pub camera: Option<usize>,
+    #[command(flatten)]
+    pub view: ViewOverrides,
 }
 
 /// Runs `luz reference`.
 pub fn run(a: ReferenceArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let format = check_output(&a.output)?;
-    let mut scene = match &a.scene {
-        Some(p) => luz::scene::load(p)?,
-        None => luz::scene::default_scene(),
-    };
-    if let Some(n) = a.camera {
-        luz::scene::model::use_camera(&mut scene, n)?;
-    }
-    if let Some(w) = a.width {
-        scene.output.width = w;
-    }
-    if let Some(h) = a.height {
-        scene.output.height = h;
-    }
+    let mut scene = luz::scene::load_or_default(a.scene.as_deref())?;
+    a.view.apply(&mut scene)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }

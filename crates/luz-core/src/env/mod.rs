@@ -113,13 +113,7 @@ pub fn load_equirect_with_report(
     env: &Environment,
     max_dimension: u32,
 ) -> Result<(Equirect, LoadReport), EnvError> {
-    if max_dimension < MIN_DIMENSION {
-        return Err(EnvError::LimitTooSmall(max_dimension));
-    }
-    let mut report = LoadReport {
-        downsampled_by: 1,
-        ..LoadReport::default()
-    };
+    let mut report = start_report(max_dimension)?;
     let fit = |w: u32| w.min(max_dimension);
     let eq = match &env.source {
         EnvSource::Hdr(path) => {
@@ -136,6 +130,17 @@ pub fn load_equirect_with_report(
     finish(eq, env.intensity, report)
 }
 
+/// The report a load starts with (nothing done yet), once `max_dimension` is known to be usable.
+fn start_report(max_dimension: u32) -> Result<LoadReport, EnvError> {
+    if max_dimension < MIN_DIMENSION {
+        return Err(EnvError::LimitTooSmall(max_dimension));
+    }
+    Ok(LoadReport {
+        downsampled_by: 1,
+        ..LoadReport::default()
+    })
+}
+
 /// [`load_equirect_with_report`] for an `hdr` environment whose file is already in memory:
 /// `name` gives the format (`.hdr` or `.exr`, by extension) and names it in errors; `limits`
 /// are the decoder's size limits ([`imageio::SizeLimits::DEFAULT`] for files).
@@ -146,13 +151,7 @@ pub fn load_equirect_bytes(
     max_dimension: u32,
     limits: &imageio::SizeLimits,
 ) -> Result<(Equirect, LoadReport), EnvError> {
-    if max_dimension < MIN_DIMENSION {
-        return Err(EnvError::LimitTooSmall(max_dimension));
-    }
-    let mut report = LoadReport {
-        downsampled_by: 1,
-        ..LoadReport::default()
-    };
+    let mut report = start_report(max_dimension)?;
     let img = imageio::load_radiance_bytes(bytes, name, limits)?;
     let eq = fit_radiance(img, name, max_dimension, &mut report)?;
     finish(eq, intensity, report)

@@ -245,75 +245,46 @@ impl fmt::Debug for LoadedImage {
 }
 
 fn from_rgb8_codes(width: u32, height: u32, rgb: &[u8]) -> LoadedImage {
-    let px = rgb.chunks_exact(3);
-    LoadedImage {
-        width,
-        height,
-        format: FileFormat::Png,
-        linear: px
-            .clone()
-            .map(|p| {
-                [
-                    srgb_decode_u8(p[0]),
-                    srgb_decode_u8(p[1]),
-                    srgb_decode_u8(p[2]),
-                    1.0,
-                ]
-            })
-            .collect(),
-        display: px.clone().map(|p| [p[0], p[1], p[2]]).collect(),
-        encoded: px
-            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32, 255.0])
-            .collect(),
-        encoded_max: 255.0,
-    }
+    let px = rgb.chunks_exact(3).map(|p| [p[0], p[1], p[2], 255]);
+    from_srgb_codes(width, height, px, 255.0, srgb_decode_u8, |c| c)
 }
 
 fn from_rgba8(width: u32, height: u32, rgba: &[u8]) -> LoadedImage {
-    let px = rgba.chunks_exact(4);
-    LoadedImage {
-        width,
-        height,
-        format: FileFormat::Png,
-        linear: px
-            .clone()
-            .map(|p| {
-                [
-                    srgb_decode_u8(p[0]),
-                    srgb_decode_u8(p[1]),
-                    srgb_decode_u8(p[2]),
-                    p[3] as f32 / 255.0,
-                ]
-            })
-            .collect(),
-        display: px.clone().map(|p| [p[0], p[1], p[2]]).collect(),
-        encoded: px
-            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32, p[3] as f32])
-            .collect(),
-        encoded_max: 255.0,
-    }
+    let px = rgba.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]);
+    from_srgb_codes(width, height, px, 255.0, srgb_decode_u8, |c| c)
 }
 
 fn from_rgba16(width: u32, height: u32, rgba: &[u16]) -> LoadedImage {
-    let px = rgba.chunks_exact(4);
+    let px = rgba.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]);
     let dec = |v: u16| srgb_decode(v as f32 / 65535.0);
     let to8 = |v: u16| (v as f32 / 257.0).round() as u8;
+    from_srgb_codes(width, height, px, 65535.0, dec, to8)
+}
+
+/// A PNG from its RGBA codes (0 to `max`): sRGB colour that `decode` turns into linear light and
+/// `to8` into the 8-bit code displayed, linear alpha.
+fn from_srgb_codes<T: Copy + Into<f32>>(
+    width: u32,
+    height: u32,
+    px: impl Iterator<Item = [T; 4]> + Clone,
+    max: f32,
+    decode: impl Fn(T) -> f32,
+    to8: impl Fn(T) -> u8,
+) -> LoadedImage {
     LoadedImage {
         width,
         height,
         format: FileFormat::Png,
         linear: px
             .clone()
-            .map(|p| [dec(p[0]), dec(p[1]), dec(p[2]), p[3] as f32 / 65535.0])
+            .map(|p| [decode(p[0]), decode(p[1]), decode(p[2]), p[3].into() / max])
             .collect(),
         display: px
             .clone()
             .map(|p| [to8(p[0]), to8(p[1]), to8(p[2])])
             .collect(),
-        encoded: px
-            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32, p[3] as f32])
-            .collect(),
-        encoded_max: 65535.0,
+        encoded: px.map(|p| p.map(Into::into)).collect(),
+        encoded_max: max,
     }
 }
 
@@ -369,7 +340,9 @@ pub fn save_with(
                 .chunks_exact(4)
                 .flat_map(|p| [p[0], p[1], p[2]])
                 .collect();
-            write_png_meta(path, img.width, img.height, &rgb, &meta)
+            write_with_meta(path, |w| {
+                provenance::write_png(w, img.width, img.height, &rgb, &meta)
+            })
         }
         FileFormat::Exr => {
             meta.set_default(
@@ -429,17 +402,9 @@ pub fn save_png_rgb8_with(
     }
     check_buffer(path, width, height, width as usize * height as usize)?;
     let meta = complete(meta, width, height);
-    write_png_meta(path, width, height, rgb, &meta)
-}
-
-fn write_png_meta(
-    path: &Path,
-    width: u32,
-    height: u32,
-    rgb: &[u8],
-    meta: &Provenance,
-) -> Result<(), ImageError> {
-    write_with_meta(path, |w| provenance::write_png(w, width, height, rgb, meta))
+    write_with_meta(path, |w| {
+        provenance::write_png(w, width, height, rgb, &meta)
+    })
 }
 
 /// Creates `path` and runs `encode` on it; an I/O failure is a write error, anything else an

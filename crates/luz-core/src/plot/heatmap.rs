@@ -63,11 +63,7 @@ pub(super) fn draw_heatmap<DB: DrawingBackend>(
     };
     let (w, h) = root.dim_in_pixel();
     let fs = font_size(h, 16.0);
-    // ab_glyph draws glyphs about a quarter of the size above the requested top: leave room.
-    let root = root.margin((font_size(h, 22.0) * 0.35) as u32, 0, 0, 0);
-    let root = root
-        .titled(&c.title, (FAMILY, font_size(h, 22.0)))
-        .map_err(de)?;
+    let root = titled(root, &c.title)?;
     let bar_w = ((w as f64) * 0.17).max(fs * 6.0) as u32;
     let (left, right) = root.split_horizontally(w.saturating_sub(bar_w));
     let mut chart = ChartBuilder::on(&left)
@@ -76,17 +72,7 @@ pub(super) fn draw_heatmap<DB: DrawingBackend>(
         .y_label_area_size((fs * 4.0) as u32)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(de)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(c.x.label.as_str())
-        .y_desc(c.y.label.as_str())
-        .label_style((FAMILY, fs))
-        .axis_desc_style((FAMILY, fs))
-        .x_label_formatter(&|v| format_number(*v))
-        .y_label_formatter(&|v| format_number(*v))
-        .draw()
-        .map_err(de)?;
+    draw_axes(&mut chart, &c.x, &c.y, fs, false)?;
     let (dx, dy) = ((x1 - x0) / c.nx as f64, (y1 - y0) / c.ny as f64);
     let mut any_empty = false;
     // Runs of equal colour along a row become one rectangle (keeps the SVG small).

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, bail, Context as _, Result};
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -499,6 +500,47 @@ fn legend_pos(l: Legend) -> Option<SeriesLabelPosition> {
         Legend::LowerLeft => Some(SeriesLabelPosition::LowerLeft),
         Legend::None => None,
     }
+}
+
+/// The area of `root` below `title`, which this draws at its top.
+fn titled<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>> {
+    let h = root.dim_in_pixel().1;
+    // ab_glyph draws glyphs about a quarter of the size above the requested top: leave room.
+    let root = root.margin((font_size(h, 22.0) * 0.35) as u32, 0, 0, 0);
+    root.titled(title, (FAMILY, font_size(h, 22.0))).map_err(de)
+}
+
+/// Draws a cartesian chart's axes as every chart here has them: the axes' labels, numbers by
+/// [`format_number`], text at `fs` pixels; light grey grid lines when `grid`, else none.
+fn draw_axes<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    x: &Axis,
+    y: &Axis,
+    fs: f64,
+    grid: bool,
+) -> Result<()>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut mesh = chart.configure_mesh();
+    if grid {
+        mesh.light_line_style(RGBColor(235, 235, 235));
+    } else {
+        mesh.disable_mesh();
+    }
+    mesh.x_desc(x.label.as_str())
+        .y_desc(y.label.as_str())
+        .label_style((FAMILY, fs))
+        .axis_desc_style((FAMILY, fs))
+        .x_label_formatter(&|v| format_number(*v))
+        .y_label_formatter(&|v| format_number(*v))
+        .draw()
+        .map_err(de)
 }
 
 fn font_size(root_h: u32, base: f64) -> f64 {

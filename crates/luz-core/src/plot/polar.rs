@@ -79,11 +79,7 @@ pub(super) fn draw_polar<DB: DrawingBackend>(
 ) -> Result<()> {
     let (_, h0) = root.dim_in_pixel();
     let fs = font_size(h0, 16.0);
-    // ab_glyph draws glyphs about a quarter of the size above the requested top: leave room.
-    let root = root.margin((font_size(h0, 22.0) * 0.35) as u32, 0, 0, 0);
-    let root = root
-        .titled(&c.title, (FAMILY, font_size(h0, 22.0)))
-        .map_err(de)?;
+    let root = titled(root, &c.title)?;
     let (w, h) = root.dim_in_pixel();
     let (w, h) = (w as f64, h as f64);
     let data_max = c

@@ -48,27 +48,9 @@ pub(super) fn draw_line<DB: DrawingBackend>(
         &c.y,
         c.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)),
     );
-    let h = root.dim_in_pixel().1;
-    let fs = font_size(h, 16.0);
+    let fs = font_size(root.dim_in_pixel().1, 16.0);
     with_axes!(c.x, xr, c.y, yr, |xs, ys| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(&c.title, (FAMILY, font_size(h, 22.0)))
-            .margin(font_size(h, 14.0) as u32)
-            .x_label_area_size((fs * 3.0) as u32)
-            .y_label_area_size((fs * 4.5) as u32)
-            .build_cartesian_2d(xs, ys)
-            .map_err(de)?;
-        chart
-            .configure_mesh()
-            .x_desc(c.x.label.as_str())
-            .y_desc(c.y.label.as_str())
-            .label_style((FAMILY, fs))
-            .axis_desc_style((FAMILY, fs))
-            .x_label_formatter(&|v| format_number(*v))
-            .y_label_formatter(&|v| format_number(*v))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(de)?;
+        let mut chart = chart_with_axes(root, &c.title, (&c.x, xs), (&c.y, ys))?;
         let mut any_label = false;
         for (i, s) in c.series.iter().enumerate() {
             let color = s.color.unwrap_or_else(|| palette(i));
@@ -100,14 +82,7 @@ pub(super) fn draw_line<DB: DrawingBackend>(
             }
         }
         if let (true, Some(pos)) = (any_label, legend_pos(c.legend)) {
-            chart
-                .configure_series_labels()
-                .position(pos)
-                .label_font((FAMILY, fs))
-                .background_style(WHITE.mix(0.85))
-                .border_style(RGBColor(160, 160, 160))
-                .draw()
-                .map_err(de)?;
+            draw_legend(&mut chart, pos, fs)?;
         }
         Ok(())
     })
@@ -128,27 +103,9 @@ pub(super) fn draw_scatter<DB: DrawingBackend>(
             xr.1 + (xr.1 - xr.0) * 0.15
         };
     }
-    let h = root.dim_in_pixel().1;
-    let fs = font_size(h, 16.0);
+    let fs = font_size(root.dim_in_pixel().1, 16.0);
     with_axes!(c.x, xr, c.y, yr, |xs, ys| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(&c.title, (FAMILY, font_size(h, 22.0)))
-            .margin(font_size(h, 14.0) as u32)
-            .x_label_area_size((fs * 3.0) as u32)
-            .y_label_area_size((fs * 4.5) as u32)
-            .build_cartesian_2d(xs, ys)
-            .map_err(de)?;
-        chart
-            .configure_mesh()
-            .x_desc(c.x.label.as_str())
-            .y_desc(c.y.label.as_str())
-            .label_style((FAMILY, fs))
-            .axis_desc_style((FAMILY, fs))
-            .x_label_formatter(&|v| format_number(*v))
-            .y_label_formatter(&|v| format_number(*v))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(de)?;
+        let mut chart = chart_with_axes(root, &c.title, (&c.x, xs), (&c.y, ys))?;
         let groups = c
             .points
             .iter()
@@ -182,15 +139,59 @@ pub(super) fn draw_scatter<DB: DrawingBackend>(
                 .map_err(de)?;
         }
         if let (false, Some(pos)) = (c.groups.is_empty(), legend_pos(c.legend)) {
-            chart
-                .configure_series_labels()
-                .position(pos)
-                .label_font((FAMILY, fs))
-                .background_style(WHITE.mix(0.85))
-                .border_style(RGBColor(160, 160, 160))
-                .draw()
-                .map_err(de)?;
+            draw_legend(&mut chart, pos, fs)?;
         }
         Ok(())
     })
+}
+
+/// The chart context of [`chart_with_axes`] on the coordinate ranges `X`, `Y`.
+type XyChart<'a, DB, X, Y> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<<X as AsRangedCoord>::CoordDescType, <Y as AsRangedCoord>::CoordDescType>,
+>;
+
+/// A line or scatter chart on `root`: the title above, the axes drawn ([`draw_axes`] with grid
+/// lines) on the coordinate ranges `xs`, `ys`.
+fn chart_with_axes<'a, DB, X, Y>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    (x, xs): (&Axis, X),
+    (y, ys): (&Axis, Y),
+) -> Result<XyChart<'a, DB, X, Y>>
+where
+    DB: DrawingBackend,
+    X: AsRangedCoord,
+    Y: AsRangedCoord,
+    X::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let h = root.dim_in_pixel().1;
+    let fs = font_size(h, 16.0);
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FAMILY, font_size(h, 22.0)))
+        .margin(font_size(h, 14.0) as u32)
+        .x_label_area_size((fs * 3.0) as u32)
+        .y_label_area_size((fs * 4.5) as u32)
+        .build_cartesian_2d(xs, ys)
+        .map_err(de)?;
+    draw_axes(&mut chart, x, y, fs, true)?;
+    Ok(chart)
+}
+
+/// The series' legend box at `pos`, text at `fs` pixels.
+fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    pos: SeriesLabelPosition,
+    fs: f64,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .position(pos)
+        .label_font((FAMILY, fs))
+        .background_style(WHITE.mix(0.85))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()
+        .map_err(de)
 }

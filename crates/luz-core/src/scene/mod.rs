@@ -498,6 +498,20 @@ pub enum MeshDesc {
 }
 
 impl MeshDesc {
+    /// The mesh's `"type"` in the scene file (also the default object name's stem).
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            MeshDesc::Sphere { .. } => "sphere",
+            MeshDesc::Icosphere { .. } => "icosphere",
+            MeshDesc::Plane { .. } => "plane",
+            MeshDesc::Cube { .. } => "cube",
+            MeshDesc::Cone { .. } => "cone",
+            MeshDesc::Cylinder { .. } => "cylinder",
+            MeshDesc::Obj { .. } => "obj",
+            MeshDesc::Gltf { .. } => "gltf",
+        }
+    }
+
     /// Segments around a sphere, cone or cylinder (`None` for other meshes).
     pub fn segments(&self) -> Option<u32> {
         match *self {

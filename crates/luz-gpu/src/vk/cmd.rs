@@ -121,6 +121,26 @@ pub fn transition(device: &ash::Device, cmd: vk::CommandBuffer, transitions: &[T
     unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
 }
 
+/// Records `record` with `range` of `image` in the state `during`: a transition from `before`
+/// into it first, and one from it to `after` once `record` has run.
+pub fn between_transitions(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    (image, range): (vk::Image, vk::ImageSubresourceRange),
+    [before, during, after]: [ImageState; 3],
+    record: impl FnOnce(),
+) {
+    let step = |from, to| Transition {
+        image,
+        range,
+        from,
+        to,
+    };
+    transition(device, cmd, &[step(before, during)]);
+    record();
+    transition(device, cmd, &[step(during, after)]);
+}
+
 /// A global memory barrier between two stage/access pairs.
 pub fn memory_barrier(
     device: &ash::Device,
@@ -216,38 +236,20 @@ pub fn read_to_host(
     );
     let (raw, range) = (image.raw, image.subresource_range());
     pool.one_shot(|cmd| {
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: state,
-                to: src,
-            }],
-        );
-        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (transitioned above), `buf` is a live
-        // TRANSFER_DST buffer of `total` bytes, which the caller's regions fit tightly packed,
-        // and the command buffer is recording outside a render pass.
-        unsafe {
-            d.cmd_copy_image_to_buffer(
-                cmd,
-                raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                buf.raw,
-                regions,
-            )
-        };
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: src,
-                to: state,
-            }],
-        );
+        between_transitions(d, cmd, (raw, range), [state, src, state], || {
+            // SAFETY: the image is in TRANSFER_SRC_OPTIMAL (transitioned before this runs), `buf`
+            // is a live TRANSFER_DST buffer of `total` bytes, which the caller's regions fit
+            // tightly packed, and the command buffer is recording outside a render pass.
+            unsafe {
+                d.cmd_copy_image_to_buffer(
+                    cmd,
+                    raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    buf.raw,
+                    regions,
+                )
+            };
+        });
         copy_to_host_barrier(d, cmd);
         Ok(())
     })?;

@@ -27,39 +27,51 @@ pub struct ImageDesc {
 }
 
 impl ImageDesc {
-    /// A sampled + storage cube map with `mips` levels (IBL data).
-    pub fn cube(size: u32, format: vk::Format, mips: u32) -> Self {
-        Self {
-            width: size,
-            height: size,
-            format,
-            usage: vk::ImageUsageFlags::SAMPLED
-                | vk::ImageUsageFlags::STORAGE
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | vk::ImageUsageFlags::TRANSFER_DST,
-            samples: vk::SampleCountFlags::TYPE_1,
-            mip_levels: mips,
-            aspect: vk::ImageAspectFlags::COLOR,
-            layers: 6,
-            cube: true,
-            array: false,
-        }
-    }
-    /// A sampled texture (2D, or a 2D array when `layers` > 1) filled by copies or storage writes.
-    pub fn texture(width: u32, height: u32, format: vk::Format, mips: u32, layers: u32) -> Self {
+    /// A 2D image of one mip level, one layer and one sample: what the constructors start from.
+    fn single(
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Self {
         Self {
             width,
             height,
             format,
-            usage: vk::ImageUsageFlags::SAMPLED
-                | vk::ImageUsageFlags::TRANSFER_DST
-                | vk::ImageUsageFlags::TRANSFER_SRC,
+            usage,
             samples: vk::SampleCountFlags::TYPE_1,
-            mip_levels: mips,
-            aspect: vk::ImageAspectFlags::COLOR,
-            layers,
+            mip_levels: 1,
+            aspect,
+            layers: 1,
             cube: false,
+            array: false,
+        }
+    }
+
+    /// A sampled + storage cube map with `mips` levels (IBL data).
+    pub fn cube(size: u32, format: vk::Format, mips: u32) -> Self {
+        let usage = vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::TRANSFER_DST;
+        Self {
+            mip_levels: mips,
+            layers: 6,
+            cube: true,
+            ..Self::single(size, size, format, usage, vk::ImageAspectFlags::COLOR)
+        }
+    }
+    /// A sampled texture (2D, or a 2D array when `layers` > 1) filled by copies or storage writes.
+    pub fn texture(width: u32, height: u32, format: vk::Format, mips: u32, layers: u32) -> Self {
+        let usage = vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_DST
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        Self {
+            mip_levels: mips,
+            layers,
             array: layers > 1,
+            ..Self::single(width, height, format, usage, vk::ImageAspectFlags::COLOR)
         }
     }
     fn view_type(&self) -> vk::ImageViewType {
@@ -74,21 +86,11 @@ impl ImageDesc {
 
     /// A single-sample colour target that can be copied out.
     pub fn color_target(width: u32, height: u32, format: vk::Format) -> Self {
-        Self {
-            width,
-            height,
-            format,
-            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | vk::ImageUsageFlags::STORAGE
-                | vk::ImageUsageFlags::SAMPLED,
-            samples: vk::SampleCountFlags::TYPE_1,
-            mip_levels: 1,
-            aspect: vk::ImageAspectFlags::COLOR,
-            layers: 1,
-            cube: false,
-            array: false,
-        }
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED;
+        Self::single(width, height, format, usage, vk::ImageAspectFlags::COLOR)
     }
     /// A multisampled colour target resolved into a single-sample one.
     pub fn msaa_color(
@@ -97,18 +99,11 @@ impl ImageDesc {
         format: vk::Format,
         samples: vk::SampleCountFlags,
     ) -> Self {
+        let usage =
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
         Self {
-            width,
-            height,
-            format,
-            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
-                | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
             samples,
-            mip_levels: 1,
-            aspect: vk::ImageAspectFlags::COLOR,
-            layers: 1,
-            cube: false,
-            array: false,
+            ..Self::single(width, height, format, usage, vk::ImageAspectFlags::COLOR)
         }
     }
     pub fn depth(
@@ -117,18 +112,40 @@ impl ImageDesc {
         format: vk::Format,
         samples: vk::SampleCountFlags,
     ) -> Self {
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
         Self {
-            width,
-            height,
-            format,
-            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             samples,
-            mip_levels: 1,
-            aspect: vk::ImageAspectFlags::DEPTH,
-            layers: 1,
-            cube: false,
-            array: false,
+            ..Self::single(width, height, format, usage, vk::ImageAspectFlags::DEPTH)
         }
+    }
+
+    /// Mips `base_mip_level ..+ level_count` of layers `base_array_layer ..+ layer_count`.
+    fn range(
+        &self,
+        (base_mip_level, level_count): (u32, u32),
+        (base_array_layer, layer_count): (u32, u32),
+    ) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level,
+            level_count,
+            base_array_layer,
+            layer_count,
+        }
+    }
+
+    /// A view of `range` of `image` (an image of this description), in its format.
+    fn view_info(
+        &self,
+        image: vk::Image,
+        view_type: vk::ImageViewType,
+        range: vk::ImageSubresourceRange,
+    ) -> vk::ImageViewCreateInfo<'static> {
+        vk::ImageViewCreateInfo::default()
+            .image(image)
+            .view_type(view_type)
+            .format(self.format)
+            .subresource_range(range)
     }
 }
 
@@ -229,17 +246,8 @@ impl Image {
                 .bind_image_memory(raw, allocation.memory(), allocation.offset())
         };
         let view = bound.and_then(|_| {
-            let view_info = vk::ImageViewCreateInfo::default()
-                .image(raw)
-                .view_type(desc.view_type())
-                .format(desc.format)
-                .subresource_range(vk::ImageSubresourceRange {
-                    aspect_mask: desc.aspect,
-                    base_mip_level: 0,
-                    level_count: desc.mip_levels,
-                    base_array_layer: 0,
-                    layer_count: desc.layers,
-                });
+            let range = desc.range((0, desc.mip_levels), (0, desc.layers));
+            let view_info = desc.view_info(raw, desc.view_type(), range);
             // SAFETY: `view_info` is a local that outlives the call; `raw` is bound to memory
             // (this closure runs only when the bind succeeded); the view covers exactly the
             // image's mips and layers with its own format, aspect and a view type matching its
@@ -276,39 +284,30 @@ impl Image {
     }
 
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange {
-            aspect_mask: self.desc.aspect,
-            base_mip_level: 0,
-            level_count: self.desc.mip_levels,
-            base_array_layer: 0,
-            layer_count: self.desc.layers,
-        }
+        self.desc
+            .range((0, self.desc.mip_levels), (0, self.desc.layers))
     }
 
     /// An extra view of one mip level (all layers; a cube stays a cube), owned by the image.
     pub fn mip_view(&mut self, level: u32) -> Result<vk::ImageView, VkError> {
-        let info = vk::ImageViewCreateInfo::default()
-            .image(self.raw)
-            .view_type(self.desc.view_type())
-            .format(self.desc.format)
-            .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: self.desc.aspect,
-                base_mip_level: level,
-                level_count: 1,
-                base_array_layer: 0,
-                layer_count: self.desc.layers,
-            });
+        let range = self.desc.range((level, 1), (0, self.desc.layers));
+        let info = self.desc.view_info(self.raw, self.desc.view_type(), range);
         // SAFETY: `info` is a local that outlives the call; `self.raw` is a live, bound image of
         // this device. The range is one mip at `level` over all layers; the caller passes
         // `level < mip_levels` (as the IBL passes do: one view per mip).
         let view = unsafe { self.ctx.device.create_image_view(&info, None) }?;
-        self.ctx.set_name(view, &format!("mip {level} view"));
-        self.extra_views.push(view);
-        Ok(view)
+        Ok(self.keep_view(view, &format!("mip {level} view")))
     }
 }
 
 impl Image {
+    /// Names `view`, an extra view of this image, and destroys it with the image.
+    fn keep_view(&mut self, view: vk::ImageView, name: &str) -> vk::ImageView {
+        self.ctx.set_name(view, name);
+        self.extra_views.push(view);
+        view
+    }
+
     /// An extra 2D view of one array layer (mip 0), owned by the image: a render target for
     /// one layer (the shadow maps).
     pub fn layer_view(&mut self, layer: u32) -> Result<vk::ImageView, VkError> {
@@ -318,24 +317,15 @@ impl Image {
                 self.desc.layers
             )));
         }
-        let info = vk::ImageViewCreateInfo::default()
-            .image(self.raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
-            .format(self.desc.format)
-            .subresource_range(vk::ImageSubresourceRange {
-                aspect_mask: self.desc.aspect,
-                base_mip_level: 0,
-                level_count: 1,
-                base_array_layer: layer,
-                layer_count: 1,
-            });
+        let range = self.desc.range((0, 1), (layer, 1));
+        let info = self
+            .desc
+            .view_info(self.raw, vk::ImageViewType::TYPE_2D, range);
         // SAFETY: `info` is a local that outlives the call; `self.raw` is a live, bound image of
         // this device; the range is mip 0 of one layer below the layer count (checked above), a
         // 2D view of a 2D image with the image's own format and aspect.
         let view = unsafe { self.ctx.device.create_image_view(&info, None) }?;
-        self.ctx.set_name(view, &format!("layer {layer} view"));
-        self.extra_views.push(view);
-        Ok(view)
+        Ok(self.keep_view(view, &format!("layer {layer} view")))
     }
 }
 
@@ -411,8 +401,7 @@ impl Drop for Image {
     }
 }
 
-/// (layout, stages, accesses) of an image before or after a transition.
-pub type ImageState = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
+pub use super::cmd::ImageState;
 
 /// Copies `bytes` into `image` through a staging buffer: `range` goes from `from` to
 /// TRANSFER_DST_OPTIMAL, receives `regions` (offsets into `bytes`), then goes to `to`. Submits and
@@ -428,7 +417,6 @@ pub fn upload(
     from: ImageState,
     to: ImageState,
 ) -> Result<(), VkError> {
-    use super::cmd::{transition, Transition};
     let mut staging = super::Buffer::new(
         ctx,
         "image upload staging",
@@ -445,40 +433,22 @@ pub fn upload(
     );
     let raw = image.raw;
     pool.one_shot(|cmd| {
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from,
-                to: dst,
-            }],
-        );
-        // SAFETY: `one_shot` hands over `cmd` recording, outside a render pass. `staging`
-        // (TRANSFER_SRC, holding `bytes`) lives until `one_shot` has waited for the copy; `raw` is
-        // in TRANSFER_DST_OPTIMAL over `range` after the transition just recorded. The caller
-        // passes `regions` inside `bytes` and inside `range` of `image`, and `image` with
-        // TRANSFER_DST usage (the contract of this function).
-        unsafe {
-            d.cmd_copy_buffer_to_image(
-                cmd,
-                staging.raw,
-                raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                regions,
-            )
-        };
-        transition(
-            d,
-            cmd,
-            &[Transition {
-                image: raw,
-                range,
-                from: dst,
-                to,
-            }],
-        );
+        super::cmd::between_transitions(d, cmd, (raw, range), [from, dst, to], || {
+            // SAFETY: `one_shot` hands over `cmd` recording, outside a render pass. `staging`
+            // (TRANSFER_SRC, holding `bytes`) lives until `one_shot` has waited for the copy;
+            // `raw` is in TRANSFER_DST_OPTIMAL over `range` after the transition just recorded.
+            // The caller passes `regions` inside `bytes` and inside `range` of `image`, and
+            // `image` with TRANSFER_DST usage (the contract of this function).
+            unsafe {
+                d.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw,
+                    raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    regions,
+                )
+            };
+        });
         Ok(())
     })
 }

@@ -204,23 +204,75 @@ impl Pipeline {
         layout: &PipelineLayout,
         desc: &GraphicsDesc<'_>,
     ) -> Result<Self, VkError> {
+        // Cull mode is dynamic (core in Vulkan 1.3): closed meshes cull back faces, open ones not.
+        Self::graphics_from(
+            ctx,
+            layout,
+            &GraphicsState {
+                name: desc.name,
+                shaders: (desc.vertex, Some(desc.fragment)),
+                spec: desc.spec,
+                input: (desc.vertex_bindings, desc.vertex_attributes),
+                raster: (desc.cull, false),
+                samples: desc.samples,
+                depth: (desc.depth_test, desc.depth_write, desc.depth_compare),
+                color: (desc.color_formats, desc.blend),
+                depth_format: desc.depth_format.unwrap_or(vk::Format::UNDEFINED),
+                dynamic: vk::DynamicState::CULL_MODE,
+            },
+        )
+    }
+
+    /// A depth-only graphics pipeline (no colour attachment) over triangle lists of `vertex`,
+    /// with no fragment stage or a `fragment` stage that only discards: no culling, depth test and write with `compare`, and dynamic viewport,
+    /// scissor and depth bias (the shadow maps).
+    pub fn depth_only(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        name: &str,
+        shaders: (&ShaderModule, Option<&ShaderModule>),
+        input: (
+            &[vk::VertexInputBindingDescription],
+            &[vk::VertexInputAttributeDescription],
+        ),
+        (depth_format, compare): (vk::Format, vk::CompareOp),
+    ) -> Result<Self, VkError> {
+        // A fragment stage only to discard (alpha-tested shadow casters): no colour output.
+        Self::graphics_from(
+            ctx,
+            layout,
+            &GraphicsState {
+                name,
+                shaders,
+                spec: &[],
+                input,
+                raster: (vk::CullModeFlags::NONE, true),
+                samples: vk::SampleCountFlags::TYPE_1,
+                depth: (true, true, compare),
+                color: (&[], false),
+                depth_format,
+                dynamic: vk::DynamicState::DEPTH_BIAS,
+            },
+        )
+    }
+
+    /// The graphics pipeline of `state` for dynamic rendering.
+    fn graphics_from(
+        ctx: &Arc<Context>,
+        layout: &PipelineLayout,
+        state: &GraphicsState<'_>,
+    ) -> Result<Self, VkError> {
         let (mut e, mut d) = (Vec::new(), Vec::new());
-        let spec = spec_info(desc.spec, &mut e, &mut d);
-        let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(desc.vertex.raw)
-                .name(MAIN)
-                .specialization_info(&spec),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(desc.fragment.raw)
-                .name(MAIN)
-                .specialization_info(&spec),
-        ];
+        let spec = spec_info(state.spec, &mut e, &mut d);
+        let (vertex, fragment) = state.shaders;
+        let stages: Vec<_> = [(vk::ShaderStageFlags::VERTEX, vertex)]
+            .into_iter()
+            .chain(fragment.map(|f| (vk::ShaderStageFlags::FRAGMENT, f)))
+            .map(|(stage, module)| shader_stage(stage, module).specialization_info(&spec))
+            .collect();
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(desc.vertex_bindings)
-            .vertex_attribute_descriptions(desc.vertex_attributes);
+            .vertex_binding_descriptions(state.input.0)
+            .vertex_attribute_descriptions(state.input.1);
         let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
             .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
         let viewport = vk::PipelineViewportStateCreateInfo::default()
@@ -228,22 +280,24 @@ impl Pipeline {
             .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(desc.cull)
+            .cull_mode(state.raster.0)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .depth_bias_enable(state.raster.1)
             .line_width(1.0);
         let multisample =
-            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(state.samples);
+        let (depth_test, depth_write, depth_compare) = state.depth;
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(desc.depth_test)
-            .depth_write_enable(desc.depth_write)
-            .depth_compare_op(desc.depth_compare);
-        let blend_attachments: Vec<_> = desc
-            .color_formats
+            .depth_test_enable(depth_test)
+            .depth_write_enable(depth_write)
+            .depth_compare_op(depth_compare);
+        let (color_formats, blend) = state.color;
+        let blend_attachments: Vec<_> = color_formats
             .iter()
             .map(|_| {
                 vk::PipelineColorBlendAttachmentState::default()
                     .color_write_mask(vk::ColorComponentFlags::RGBA)
-                    .blend_enable(desc.blend)
+                    .blend_enable(blend)
                     .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
                     .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
                     .color_blend_op(vk::BlendOp::ADD)
@@ -254,16 +308,15 @@ impl Pipeline {
             .collect();
         let blend =
             vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-        // Cull mode is dynamic (core in Vulkan 1.3): closed meshes cull back faces, open ones not.
         let dynamic_states = [
             vk::DynamicState::VIEWPORT,
             vk::DynamicState::SCISSOR,
-            vk::DynamicState::CULL_MODE,
+            state.dynamic,
         ];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(desc.color_formats)
-            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+            .color_attachment_formats(color_formats)
+            .depth_attachment_format(state.depth_format);
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)
             .vertex_input_state(&vertex_input)
@@ -278,108 +331,19 @@ impl Pipeline {
             .push_next(&mut rendering);
         // SAFETY: `info` and everything it points to (`stages` with `spec`, `e` and `d`, the state
         // structs, `blend_attachments`, `dynamic_states`, `rendering` with the colour formats) are
-        // locals or borrows of `desc` that outlive the call. The shader modules and `layout` are
+        // locals or borrows of `state` that outlive the call. The shader modules and `layout` are
         // live objects of this device (borrowed). Dynamic rendering is enabled by `Context::new`,
-        // so a null render pass with `rendering` chained is allowed. Each specialization entry
-        // reads 4 bytes at `4 * i` of `d`, which holds 4 bytes per entry. That the layout matches
-        // the shaders' interface is the caller's part (each pass builds both together).
+        // so a null render pass with `rendering` chained is allowed; a pipeline without a fragment
+        // stage (or with one that writes no colour) and without colour attachments is valid. Each
+        // specialization entry reads 4 bytes at `4 * i` of `d`, which holds 4 bytes per entry.
+        // That the layout matches the shaders' interface is the caller's part (each pass builds
+        // both together).
         let raw = unsafe {
             ctx.device
                 .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
         }
         .map_err(|(_, e)| e)?[0];
-        ctx.set_name(raw, desc.name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
-    }
-
-    /// A depth-only graphics pipeline (no colour attachment) over triangle lists of `vertex`,
-    /// with no fragment stage or a `fragment` stage that only discards: no culling, depth test and write with `compare`, and dynamic viewport,
-    /// scissor and depth bias (the shadow maps).
-    pub fn depth_only(
-        ctx: &Arc<Context>,
-        layout: &PipelineLayout,
-        name: &str,
-        (vertex, fragment): (&ShaderModule, Option<&ShaderModule>),
-        input: (
-            &[vk::VertexInputBindingDescription],
-            &[vk::VertexInputAttributeDescription],
-        ),
-        (depth_format, compare): (vk::Format, vk::CompareOp),
-    ) -> Result<Self, VkError> {
-        let mut stages = vec![vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vertex.raw)
-            .name(MAIN)];
-        // A fragment stage only to discard (alpha-tested shadow casters): no colour output.
-        if let Some(f) = fragment {
-            stages.push(
-                vk::PipelineShaderStageCreateInfo::default()
-                    .stage(vk::ShaderStageFlags::FRAGMENT)
-                    .module(f.raw)
-                    .name(MAIN),
-            );
-        }
-        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-            .vertex_binding_descriptions(input.0)
-            .vertex_attribute_descriptions(input.1);
-        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport = vk::PipelineViewportStateCreateInfo::default()
-            .viewport_count(1)
-            .scissor_count(1);
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(vk::CullModeFlags::NONE)
-            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-            .depth_bias_enable(true)
-            .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(true)
-            .depth_write_enable(true)
-            .depth_compare_op(compare);
-        let blend = vk::PipelineColorBlendStateCreateInfo::default();
-        let dynamic_states = [
-            vk::DynamicState::VIEWPORT,
-            vk::DynamicState::SCISSOR,
-            vk::DynamicState::DEPTH_BIAS,
-        ];
-        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let mut rendering =
-            vk::PipelineRenderingCreateInfo::default().depth_attachment_format(depth_format);
-        let info = vk::GraphicsPipelineCreateInfo::default()
-            .stages(&stages)
-            .vertex_input_state(&vertex_input)
-            .input_assembly_state(&input_assembly)
-            .viewport_state(&viewport)
-            .rasterization_state(&raster)
-            .multisample_state(&multisample)
-            .depth_stencil_state(&depth)
-            .color_blend_state(&blend)
-            .dynamic_state(&dynamic)
-            .layout(layout.raw)
-            .push_next(&mut rendering);
-        // SAFETY: `info` and everything it points to (`stages`, the state structs,
-        // `dynamic_states`, `rendering`) are locals or borrows that outlive the call; the shader
-        // module and `layout` are live objects of this device. Dynamic rendering is enabled by
-        // `Context::new`, so a null render pass with `rendering` chained is allowed; a pipeline
-        // without a fragment stage (or with one that writes no colour) and without colour
-        // attachments is valid. That the layout
-        // matches the shader's interface is the caller's part.
-        let raw = unsafe {
-            ctx.device
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-        }
-        .map_err(|(_, e)| e)?[0];
-        ctx.set_name(raw, name);
-        Ok(Self {
-            raw,
-            ctx: ctx.clone(),
-        })
+        Ok(Self::named(ctx, raw, state.name))
     }
 
     pub fn compute(
@@ -391,11 +355,7 @@ impl Pipeline {
     ) -> Result<Self, VkError> {
         let (mut e, mut d) = (Vec::new(), Vec::new());
         let spec = spec_info(spec, &mut e, &mut d);
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module.raw)
-            .name(MAIN)
-            .specialization_info(&spec);
+        let stage = shader_stage(vk::ShaderStageFlags::COMPUTE, module).specialization_info(&spec);
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.raw);
@@ -409,10 +369,52 @@ impl Pipeline {
                 .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
         }
         .map_err(|(_, e)| e)?[0];
+        Ok(Self::named(ctx, raw, name))
+    }
+
+    /// Owns `raw`, a pipeline just created on `ctx`'s device, and gives it its debug name.
+    fn named(ctx: &Arc<Context>, raw: vk::Pipeline, name: &str) -> Self {
         ctx.set_name(raw, name);
-        Ok(Self {
+        Self {
             raw,
             ctx: ctx.clone(),
-        })
+        }
     }
+}
+
+/// What luz's graphics pipelines choose; the rest is the same for all of them: triangle lists,
+/// filled polygons with counter-clockwise front faces, dynamic viewport and scissor (one each).
+struct GraphicsState<'a> {
+    name: &'a str,
+    /// The vertex stage and the fragment stage, if any.
+    shaders: (&'a ShaderModule, Option<&'a ShaderModule>),
+    /// Specialization constants of both stages.
+    spec: &'a SpecValues,
+    /// Vertex bindings and attributes.
+    input: (
+        &'a [vk::VertexInputBindingDescription],
+        &'a [vk::VertexInputAttributeDescription],
+    ),
+    /// The cull mode, and whether depth bias is enabled.
+    raster: (vk::CullModeFlags, bool),
+    samples: vk::SampleCountFlags,
+    /// Depth test, depth write and the compare op.
+    depth: (bool, bool, vk::CompareOp),
+    /// The colour attachments' formats, and whether they blend "over" ([`GraphicsDesc::blend`]).
+    color: (&'a [vk::Format], bool),
+    /// `UNDEFINED` without a depth attachment.
+    depth_format: vk::Format,
+    /// The state that is dynamic besides the viewport and scissor.
+    dynamic: vk::DynamicState,
+}
+
+/// The shader stage `stage` running `module`'s `main`.
+fn shader_stage(
+    stage: vk::ShaderStageFlags,
+    module: &ShaderModule,
+) -> vk::PipelineShaderStageCreateInfo<'static> {
+    vk::PipelineShaderStageCreateInfo::default()
+        .stage(stage)
+        .module(module.raw)
+        .name(MAIN)
 }

@@ -876,20 +876,12 @@ mod tests {
 
     #[test]
     fn light_incidence_matches_the_falloffs() {
+        // A white point light 2 above the origin, no range, no size.
         let mut l = Light {
-            kind: LightKind::Point,
-            direction: Vec3::NEG_Y,
             position: Vec3::new(0.0, 2.0, 0.0),
-            color: Vec3::ONE,
             intensity: 8.0,
             falloff: crate::scene::Falloff::InverseSquare,
-            umbra_deg: 180.0,
-            inner_deg: None,
-            exponent: 0.0,
-            range: None,
-            shadow: None,
-            radius: 0.0,
-            angular_radius_deg: 0.0,
+            ..crate::scene::edit::default_light(LightKind::Point, None)
         };
         let (dir, e) = light_incidence(&l, Vec3::ZERO);
         assert_eq!(dir, Vec3::Y);

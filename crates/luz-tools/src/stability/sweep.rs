@@ -250,6 +250,30 @@ fn evaluate(
     Ok((outs, fs))
 }
 
+impl SideStats {
+    /// Counts `values` (one output's) as NaN, Inf and negative where any channel is; `describe`
+    /// says where for each kind found, kept for the first few problems.
+    fn count_problems(&mut self, values: &[Vec3], describe: impl Fn(&str) -> String) {
+        let nan = values.iter().any(|v| v.is_nan());
+        let inf = values
+            .iter()
+            .any(|v| v.to_array().iter().any(|c| c.is_infinite()));
+        let neg = values.iter().any(|v| v.to_array().iter().any(|&c| c < 0.0));
+        for (flag, count, what) in [
+            (nan, &mut self.nan, "NaN"),
+            (inf, &mut self.inf, "Inf"),
+            (neg, &mut self.negative, "negative"),
+        ] {
+            if flag {
+                *count += 1;
+                if self.first_problems.len() < 8 {
+                    self.first_problems.push(describe(what));
+                }
+            }
+        }
+    }
+}
+
 /// Counts NaN, Inf and negative point outputs (describing the first few) and records the largest
 /// f and radiance.
 fn point_stats(s: &mut SideStats, row: &Row, dirs: &[Dir], side: &str, outs: &[Output]) {
@@ -257,23 +281,7 @@ fn point_stats(s: &mut SideStats, row: &Row, dirs: &[Dir], side: &str, outs: &[O
     for (i, o) in outs.iter().enumerate() {
         let (set, d) = (&row.sets[i / nd], &dirs[i % nd]);
         let values = [o.f, o.radiance[0], o.radiance[1], o.radiance[2]];
-        let nan = values.iter().any(|v| v.is_nan());
-        let inf = values
-            .iter()
-            .any(|v| v.to_array().iter().any(|c| c.is_infinite()));
-        let neg = values.iter().any(|v| v.to_array().iter().any(|&c| c < 0.0));
-        for (flag, count, what) in [
-            (nan, &mut s.nan, "NaN"),
-            (inf, &mut s.inf, "Inf"),
-            (neg, &mut s.negative, "negative"),
-        ] {
-            if flag {
-                *count += 1;
-                if s.first_problems.len() < 8 {
-                    s.first_problems.push(describe(row, set, d, side, what, o));
-                }
-            }
-        }
+        s.count_problems(&values, |what| describe(row, set, d, side, what, o));
         for c in o.f.to_array() {
             if c.is_finite() && c > s.max_f {
                 s.max_f = c;
@@ -302,31 +310,19 @@ fn albedo_point_stats(
 ) {
     for job in jobs {
         for (k, o) in fs[job.start..job.start + job.len].iter().enumerate() {
-            let nan = o.f.is_nan();
-            let inf = o.f.to_array().iter().any(|c| c.is_infinite());
-            let neg = o.f.to_array().iter().any(|&c| c < 0.0);
-            for (flag, count, what) in [
-                (nan, &mut s.nan, "NaN"),
-                (inf, &mut s.inf, "Inf"),
-                (neg, &mut s.negative, "negative"),
-            ] {
-                if flag {
-                    *count += 1;
-                    if s.first_problems.len() < 8 {
-                        let c = &albedo_cases[job.start + k];
-                        s.first_problems.push(format!(
-                            "{} {}: {}: {what} at set [{}], albedo point: n=+z l={} v={}; f={}",
-                            row.model,
-                            row.variant,
-                            side,
-                            row.sets[job.set].label,
-                            fmt_vec(c.l),
-                            fmt_vec(c.v),
-                            fmt_vec(o.f)
-                        ));
-                    }
-                }
-            }
+            s.count_problems(&[o.f], |what| {
+                let c = &albedo_cases[job.start + k];
+                format!(
+                    "{} {}: {}: {what} at set [{}], albedo point: n=+z l={} v={}; f={}",
+                    row.model,
+                    row.variant,
+                    side,
+                    row.sets[job.set].label,
+                    fmt_vec(c.l),
+                    fmt_vec(c.v),
+                    fmt_vec(o.f)
+                )
+            });
         }
     }
 }
@@ -485,26 +481,13 @@ fn compare_points(
         for (ref_v, got_v, e, what) in pairs {
             for ch in 0..3 {
                 let (r, g) = (ref_v[ch], got_v[ch]);
-                if r.is_finite() != g.is_finite() {
-                    c.finite_mismatch += 1;
-                    continue;
-                }
-                if !r.is_finite() {
-                    continue;
-                }
-                let diff = (g - r).abs();
-                let rel = diff / (r.abs() + COMPARE_ABS * e);
-                if diff > COMPARE_REL * r.abs() + COMPARE_ABS * e {
-                    c.over_bound += 1;
-                }
-                if rel > c.max_rel {
-                    c.max_rel = rel;
+                c.add(r, g, e, || {
                     let (set, d) = (&row.sets[i / nd], &dirs[i % nd]);
-                    c.max_rel_at = format!(
+                    format!(
                         "{what}[{ch}] at [{}], {}: cpu {r:e}, {} {g:e}",
                         set.label, d.label, name
-                    );
-                }
+                    )
+                });
             }
         }
     }
@@ -523,25 +506,35 @@ fn compare_albedos(
         let (a, b) = (reference[j], got[j]);
         for ch in 0..3 {
             let (r, g) = (a[ch], b[ch]);
-            if r.is_finite() != g.is_finite() {
-                c.finite_mismatch += 1;
-                continue;
-            }
-            if !r.is_finite() {
-                continue;
-            }
-            let diff = (g - r).abs();
-            let rel = diff / (r.abs() + COMPARE_ABS);
-            if diff > COMPARE_REL * r.abs() + COMPARE_ABS {
-                c.over_bound += 1;
-            }
-            if rel > c.max_rel {
-                c.max_rel = rel;
-                c.max_rel_at = format!(
+            c.add(r, g, 1.0, || {
+                format!(
                     "albedo[{ch}] at [{}] cosθl={:e}: cpu {r:e}, {} {g:e}",
                     row.sets[job.set].label, job.cos_l, name
-                );
-            }
+                )
+            });
+        }
+    }
+}
+
+impl Comparison {
+    /// Counts one channel of a side, `g`, against the reference's `r` at light intensity `e` (1
+    /// for f and albedos); `at` says where, kept when the relative difference is the largest yet.
+    fn add(&mut self, r: f32, g: f32, e: f32, at: impl FnOnce() -> String) {
+        if r.is_finite() != g.is_finite() {
+            self.finite_mismatch += 1;
+            return;
+        }
+        if !r.is_finite() {
+            return;
+        }
+        let diff = (g - r).abs();
+        let rel = diff / (r.abs() + COMPARE_ABS * e);
+        if diff > COMPARE_REL * r.abs() + COMPARE_ABS * e {
+            self.over_bound += 1;
+        }
+        if rel > self.max_rel {
+            self.max_rel = rel;
+            self.max_rel_at = at();
         }
     }
 }

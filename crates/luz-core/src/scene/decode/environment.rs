@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{choice, color, one_of, show, string, unit, Check, Fields, Invalid, Result, Value};
+use super::{choice, color, file_name, one_of, show, unit, Check, Fields, Invalid, Result, Value};
 use crate::scene::{
     DiffuseMethod, EnvSource, Environment, SpecularMethod, DEFAULT_ENV_SAMPLES,
     DEFAULT_SUN_DIRECTION, DEFAULT_SUN_INTENSITY, MAX_ENV_SAMPLES, MAX_SUN_INTENSITY,
@@ -141,15 +141,7 @@ const PROCEDURALS: &[&str] = &["sky", "studio"];
 /// An environment image path: `.hdr` or `.exr`, resolved against `base`, an existing file whose
 /// first bytes are those of its format (the pixels are read later, by `env::load_equirect`).
 fn env_image(v: &Value, path: &str, base: &Path) -> Result<PathBuf> {
-    let p = string(v, path)?;
-    if p.trim().is_empty() {
-        return Err(Invalid::new(path, "must not be empty"));
-    }
-    let file = base.join(p);
-    let ext = file
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let (file, ext) = file_name(v, path, base)?;
     let (magic, format, article): (&[&[u8]], &str, &str) = match ext.as_deref() {
         Some("hdr") => (&[b"#?RADIANCE", b"#?RGBE"], "Radiance HDR", "a"),
         Some("exr") => (&[&[0x76, 0x2f, 0x31, 0x01]], "OpenEXR", "an"),

@@ -370,6 +370,21 @@ pub(super) fn string<'a>(v: &'a Value, path: &str) -> Result<&'a str> {
     }
 }
 
+/// A file named at `path`: a non-empty string, resolved against `base`; with its extension in
+/// lower case.
+pub(super) fn file_name(v: &Value, path: &str, base: &Path) -> Result<(PathBuf, Option<String>)> {
+    let p = string(v, path)?;
+    if p.trim().is_empty() {
+        return Err(Invalid::new(path, "must not be empty"));
+    }
+    let file = base.join(p);
+    let ext = file
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    Ok((file, ext))
+}
+
 pub(super) fn choice<'a>(v: &'a Value, path: &str, options: &[&str]) -> Result<&'a str> {
     let s = match &v.kind {
         Kind::String(s) => s.as_str(),

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::{
-    a_material, string, Check, Fields, Invalid, Kind, Result, Value, MTL_DEFAULT_SHININESS, UNIT,
+    a_material, file_name, Check, Fields, Invalid, Kind, Result, Value, MTL_DEFAULT_SHININESS, UNIT,
 };
 use crate::brdf::MetalRoughParams;
 use crate::scene::obj::{MtlMap, MtlMaterial, TEXTURE_EXTENSIONS};
@@ -182,16 +182,8 @@ fn texture_ref(v: &Value, path: &str, slot: TextureSlot, base: &Path) -> Result<
 
 /// A texture file name: `.png`, `.exr` or `.hdr`, resolved against `base`, an existing file.
 fn texture_file(v: &Value, path: &str, base: &Path) -> Result<PathBuf> {
-    let p = string(v, path)?;
-    if p.trim().is_empty() {
-        return Err(Invalid::new(path, "must not be empty"));
-    }
-    let file = base.join(p);
-    let ext = file
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
+    let (file, ext) = file_name(v, path, base)?;
+    let ext = ext.unwrap_or_default();
     if !TEXTURE_EXTENSIONS.contains(&ext.as_str()) {
         let shown = if ext.is_empty() {
             "no extension".to_string()

@@ -72,22 +72,13 @@ pub(super) fn phong(f: &Fields, model: &str) -> Result<Material> {
     )?;
     // Start from the documented defaults and override what the file gives.
     let mut m = Material::default_phong(model == "blinn_phong");
-    if let Material::Phong(crate::brdf::PhongParams {
-        ka,
-        kd,
-        ks,
-        shininess,
-        diffuse_color,
-        specular_color,
-        ..
-    }) = &mut m
-    {
-        *ka = f.num("ka", *ka, Check::NonNegative)?;
-        *kd = f.num("kd", *kd, Check::NonNegative)?;
-        *ks = f.num("ks", *ks, Check::NonNegative)?;
-        *shininess = f.num("shininess", *shininess, Check::NonNegative)?;
-        *diffuse_color = f.color("diffuse_color", *diffuse_color)?;
-        *specular_color = f.color("specular_color", *specular_color)?;
+    if let Material::Phong(p) = &mut m {
+        p.ka = f.num("ka", p.ka, Check::NonNegative)?;
+        p.kd = f.num("kd", p.kd, Check::NonNegative)?;
+        p.ks = f.num("ks", p.ks, Check::NonNegative)?;
+        p.shininess = f.num("shininess", p.shininess, Check::NonNegative)?;
+        p.diffuse_color = f.color("diffuse_color", p.diffuse_color)?;
+        p.specular_color = f.color("specular_color", p.specular_color)?;
     }
     Ok(m)
 }

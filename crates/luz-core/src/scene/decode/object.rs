@@ -222,16 +222,7 @@ pub(super) fn object(
             m
         }
     };
-    let kind = match &desc {
-        MeshDesc::Sphere { .. } => "sphere",
-        MeshDesc::Icosphere { .. } => "icosphere",
-        MeshDesc::Plane { .. } => "plane",
-        MeshDesc::Cube { .. } => "cube",
-        MeshDesc::Cone { .. } => "cone",
-        MeshDesc::Cylinder { .. } => "cylinder",
-        MeshDesc::Obj { .. } => "obj",
-        MeshDesc::Gltf { .. } => "gltf",
-    };
+    let kind = desc.type_name();
     scene.objects.push(Object {
         name: name.unwrap_or_else(|| format!("{kind}{i}")),
         desc,

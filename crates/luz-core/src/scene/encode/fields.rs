@@ -145,23 +145,10 @@ fn shadow(s: &Shadow, kind: LightKind) -> Node {
     n
 }
 
-pub(super) fn mesh_type(desc: &MeshDesc) -> &'static str {
-    match desc {
-        MeshDesc::Sphere { .. } => "sphere",
-        MeshDesc::Icosphere { .. } => "icosphere",
-        MeshDesc::Plane { .. } => "plane",
-        MeshDesc::Cube { .. } => "cube",
-        MeshDesc::Cone { .. } => "cone",
-        MeshDesc::Cylinder { .. } => "cylinder",
-        MeshDesc::Obj { .. } => "obj",
-        MeshDesc::Gltf { .. } => "gltf",
-    }
-}
-
 /// A built-in mesh's description; automatically chosen segments (and rings) are left out, so the
 /// file stays automatic.
 pub(super) fn primitive(desc: &MeshDesc, tessellation: Tessellation) -> Node {
-    let n = Node::obj().with("type", mesh_type(desc));
+    let n = Node::obj().with("type", desc.type_name());
     let (auto, rings_given) = match tessellation {
         Tessellation::Given => (false, true),
         Tessellation::Auto { rings_given, .. } => (true, rings_given),

@@ -240,21 +240,13 @@ impl Encoder<'_> {
     fn material(&mut self, name: &str, material: &Material, textures: &MaterialTextures) -> Node {
         let mut n = Node::obj().with("model", material.name());
         match material {
-            Material::Phong(crate::brdf::PhongParams {
-                ka,
-                kd,
-                ks,
-                shininess,
-                diffuse_color,
-                specular_color,
-                ..
-            }) => {
-                n.put("ka", *ka)
-                    .put("kd", *kd)
-                    .put("ks", *ks)
-                    .put("shininess", *shininess)
-                    .put("diffuse_color", *diffuse_color)
-                    .put("specular_color", *specular_color);
+            Material::Phong(p) => {
+                n.put("ka", p.ka)
+                    .put("kd", p.kd)
+                    .put("ks", p.ks)
+                    .put("shininess", p.shininess)
+                    .put("diffuse_color", p.diffuse_color)
+                    .put("specular_color", p.specular_color);
             }
             Material::Lambert(crate::brdf::LambertParams { albedo }) => {
                 n.put("albedo", *albedo);
