@@ -13,6 +13,7 @@ use luz::vk::Context;
 use super::common::{
     context, debug_view_parser, light_loop_line, load_scene, print_timing, render_options,
     report_tessellation, validation_exit, Bar, GpuArgs, IblQuality, LightLoopArg, RenderPathArg,
+    ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -36,13 +37,8 @@ pub struct BenchArgs {
     /// recorded) and "submit + wait" spans, and each pass's GPU span from the graph's timers.
     #[arg(long, value_name = "FILE.json")]
     pub trace: Option<PathBuf>,
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
-    #[arg(long, value_name = "N")]
-    pub camera: Option<usize>,
+    #[command(flatten)]
+    pub view: ViewOverrides,
     /// Recompute image-based lighting data instead of reading it from the cache.
     #[arg(long)]
     pub no_cache: bool,
@@ -125,8 +121,8 @@ fn memory_sample(ctx: &Context, frame: u64) -> MemorySample {
 }
 
 pub fn run(a: BenchArgs) -> Result<ExitCode> {
-    let mut scene = load_scene(a.scene.as_deref(), a.camera)?;
-    scene.override_size(a.width, a.height);
+    let mut scene = load_scene(a.scene.as_deref(), None)?;
+    a.view.apply(&mut scene)?;
     for p in [&a.csv, &a.json, &a.trace].into_iter().flatten() {
         std::fs::write(p, b"").with_context(|| format!("cannot write {}", p.display()))?;
     }

@@ -13,7 +13,7 @@ use luz::render::forward::DebugView;
 use super::common::{
     check_output, context, debug_view_parser, light_loop_line, load_scene, print_timing,
     render_options, report_lod, report_tessellation, report_written, validation_exit, GpuArgs,
-    IblQuality, LightLoopArg,
+    IblQuality, LightLoopArg, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -26,15 +26,8 @@ pub struct RenderArgs {
     /// Frames to render; timings are the median over them.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub frames: u32,
-    /// Override the scene's output width.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    /// Override the scene's output height.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
-    #[arg(long, value_name = "N")]
-    pub camera: Option<usize>,
+    #[command(flatten)]
+    pub view: ViewOverrides,
     /// List the pipeline variants built and more detail.
     #[arg(short, long)]
     pub verbose: bool,
@@ -70,8 +63,8 @@ pub struct RenderArgs {
 pub fn run(a: RenderArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let format = check_output(&a.output)?;
-    let mut scene = load_scene(a.scene.as_deref(), a.camera)?;
-    scene.override_size(a.width, a.height);
+    let mut scene = load_scene(a.scene.as_deref(), None)?;
+    a.view.apply(&mut scene)?;
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
     let mut renderer = Headless::with_options(
