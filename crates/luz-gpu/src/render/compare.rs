@@ -23,7 +23,7 @@ use crate::compare::{ErrorMap, MapStats};
 use crate::render::tonemap::tonemap_id;
 use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
 
-use crate::render::frame::{self, HDR_COMPARE_READ};
+use crate::render::frame::{self, HDR_COMPARE_READ, TRANSFER_FILL};
 use crate::vk::image::ImageDesc;
 use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
@@ -226,15 +226,6 @@ const MAP_READ: Access = Access::Custom {
             | vk::AccessFlags2::SHADER_SAMPLED_READ.as_raw(),
     ),
     writes: false,
-};
-
-/// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
-const TRANSFER_FILL: Access = Access::Custom {
-    name: "TransferFill",
-    layout: vk::ImageLayout::UNDEFINED,
-    stages: vk::PipelineStageFlags2::ALL_TRANSFER,
-    access: vk::AccessFlags2::TRANSFER_WRITE,
-    writes: true,
 };
 
 /// The map and its figures as a frame graph declared them ([`ComparePass::add_pass`]): a pass

@@ -42,6 +42,15 @@ pub const HDR_COMPARE_READ: Access = Access::Custom {
     writes: false,
 };
 
+/// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
+pub const TRANSFER_FILL: Access = Access::Custom {
+    name: "TransferFill",
+    layout: vk::ImageLayout::UNDEFINED,
+    stages: vk::PipelineStageFlags2::ALL_TRANSFER,
+    access: vk::AccessFlags2::TRANSFER_WRITE,
+    writes: true,
+};
+
 /// Makes the graph's transient images as luz [`Image`]s (named, checked against the device's
 /// limits).
 pub struct Factory {
@@ -168,11 +177,6 @@ impl Transients {
 pub struct Carried(Cell<Option<Access>>);
 
 impl Carried {
-    /// Starts in `access` (an image a one-shot submission left readable, e.g. the shadow maps).
-    pub fn starting(access: Access) -> Self {
-        Self(Cell::new(Some(access)))
-    }
-
     /// Import state for an image whose contents this frame does not need: from `UNDEFINED`,
     /// after the previous frame's last use (nothing before the first frame).
     pub fn discard(&self) -> ImageStateBefore {

@@ -8,6 +8,8 @@ use gpu_allocator::MemoryLocation;
 
 use luz_graph::{Access, FrameGraph, ImageHandle};
 
+use crate::render::frame::TRANSFER_FILL;
+
 use crate::scene::{Saturation, Scene};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
@@ -16,15 +18,6 @@ use crate::vk::{Buffer, Context, Image, VkError};
 /// Bindings of `saturate.comp` (its `BINDING_*`).
 const BINDING_HDR: u32 = crate::glsl::saturate_comp::BINDING_HDR as u32;
 const BINDING_REDUCTION: u32 = crate::glsl::saturate_comp::BINDING_REDUCTION as u32;
-
-/// `vkCmdFillBuffer`'s write (COPY or CLEAR, depending on the validation layer's version).
-const TRANSFER_FILL: Access = Access::Custom {
-    name: "TransferFill",
-    layout: vk::ImageLayout::UNDEFINED,
-    stages: vk::PipelineStageFlags2::ALL_TRANSFER,
-    access: vk::AccessFlags2::TRANSFER_WRITE,
-    writes: true,
-};
 
 pub struct SaturatePass {
     mode: Saturation,

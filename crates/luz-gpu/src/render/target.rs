@@ -18,13 +18,6 @@ use crate::vk::{Context, Image, VkError};
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The state of the colour attachments while the forward pass draws.
-pub const COLOR_ATTACHMENT: (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2) = (
-    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-);
-
 /// The HDR colour image a frame's scene passes write (through the MSAA image when `msaa` > 1),
 /// kept by its owner across frames because later passes bind it in descriptor sets (saturation,
 /// display, the A/B maps); depth and the MSAA colour are the graph's transients, pooled by
