@@ -216,11 +216,11 @@ fn cesium_man_containers_render_identically() {
     let Some(files) = shared_files() else { return };
     let ctx = gpu();
     let mut images = Vec::new();
+    let mut loads = Vec::new();
     for f in &files[..3] {
         let t = Instant::now();
         let mut scene = luz::scene::load(f).unwrap_or_else(|e| panic!("{e}"));
-        let load_s = t.elapsed().as_secs_f64();
-        assert!(load_s < 1.0, "{}: loading took {load_s} s", f.display());
+        loads.push((f.display().to_string(), t.elapsed().as_secs_f64()));
         assert_eq!(scene.materials.len(), 1, "{}", f.display());
         assert!(scene.materials[0].textures.base_color.is_some());
         assert!(
@@ -232,6 +232,15 @@ fn cesium_man_containers_render_identically() {
         let img = render_small(&ctx, &scene);
         assert_eq!(nan_count(&img), 0);
         images.push(img);
+    }
+    // No container is much slower to load than the others (ratios in one run: a busy CI
+    // machine misses absolute limits). The base64 one decodes 4/3 the bytes.
+    let fastest = loads.iter().map(|l| l.1).fold(f64::INFINITY, f64::min);
+    for (f, s) in &loads {
+        assert!(
+            *s <= 4.0 * fastest + 0.05,
+            "{f}: loading took {s:.3} s, the fastest container {fastest:.3} s"
+        );
     }
     for (i, img) in images.iter().enumerate().skip(1) {
         let same = img
