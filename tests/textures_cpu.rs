@@ -119,8 +119,9 @@ fn real_pbr_set_decodes_with_full_mip_chains() {
     );
 }
 
-/// Mip generation is linear in the pixels: a 2048² chain costs about 4× a 1024² one (the best
-/// of three runs each, measured in the same run: no absolute time, which busy CI machines miss).
+/// Mip generation is linear in the pixels: a 2048² chain costs about 16× a 512² one (quadratic
+/// work would cost 256×; caches make the larger one up to a few times dearer per pixel). The
+/// best of three runs each, in the same run: no absolute time, which busy CI machines miss.
 #[test]
 fn mip_generation_of_2048_squared_is_linear() {
     let build = |size: u32, space: ColorSpace| {
@@ -144,15 +145,15 @@ fn mip_generation_of_2048_squared_is_linear() {
             .fold(f64::INFINITY, f64::min)
     };
     for space in [ColorSpace::Srgb, ColorSpace::NormalMap] {
-        let (small, large) = (build(1024, space), build(2048, space));
+        let (small, large) = (build(512, space), build(2048, space));
         let ratio = large / small;
         println!(
-            "{space:?}: 1024² {:.0} ms, 2048² {:.0} ms, ratio {ratio:.2} (4 is linear)",
+            "{space:?}: 512² {:.1} ms, 2048² {:.0} ms, ratio {ratio:.2} (16 is linear)",
             small * 1e3,
             large * 1e3
         );
         if !cfg!(debug_assertions) {
-            assert!(ratio < 8.0, "{space:?}: 2048² costs {ratio:.2}× 1024²");
+            assert!(ratio < 64.0, "{space:?}: 2048² costs {ratio:.2}× 512²");
         }
     }
 }
