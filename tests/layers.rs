@@ -404,3 +404,44 @@ fn barriers_are_recorded_by_the_graph_and_the_vk_layer_only() {
     }
     assert!(offenders.is_empty(), "{}", offenders.join("\n"));
 }
+
+/// Issue 33: descriptor set layouts, pools and writes come from the shaders' reflected
+/// interfaces (`luz_gpu::vk::interface`); no code outside the vk layer restates a binding.
+#[test]
+fn descriptor_layouts_are_made_from_the_shaders_only() {
+    let hand_written = [
+        "DescriptorSetLayoutBinding",
+        "DescriptorPoolSize",
+        "PushConstantRange",
+        "WriteDescriptorSet",
+        "update_descriptor_sets",
+        "DescriptorSetLayout::new",
+        "PipelineLayout::new",
+    ];
+    let mut offenders = Vec::new();
+    let mut seen_vk = false;
+    for src in source_roots() {
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        for f in files {
+            let rel = f
+                .strip_prefix(root())
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            let code = code_of(&std::fs::read_to_string(&f).unwrap());
+            if rel.contains("/src/vk/") {
+                seen_vk |= code.contains("update_descriptor_sets");
+                continue;
+            }
+            for word in hand_written {
+                if code.contains(word) {
+                    offenders.push(format!("{rel}: {word}"));
+                }
+            }
+        }
+    }
+    // The check looks where it should: the vk layer does write descriptors.
+    assert!(seen_vk, "no update_descriptor_sets found in the vk layer");
+    assert!(offenders.is_empty(), "{}", offenders.join("\n"));
+}

@@ -155,7 +155,7 @@ impl Viewer {
         if let Some(t) = targets {
             self.targets = t;
             self.samples = samples;
-            self.display.set_source(self.targets.color.view);
+            self.display.set_source(self.targets.color.view)?;
             self.lab.drop_gpu();
         }
         self.structure = Structure::of(&self.scene, &self.settings);
@@ -196,7 +196,7 @@ impl Viewer {
         let extent = nonzero(self.swapchain.extent);
         if extent != self.targets.color.extent() {
             self.targets = self.targets.resized(&self.ctx, extent)?;
-            self.display.set_source(self.targets.color.view);
+            self.display.set_source(self.targets.color.view)?;
             self.lab.drop_gpu();
             self.saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &self.targets.color)?;
         }

@@ -25,11 +25,10 @@ use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
 
 use crate::render::frame::{self, HDR_COMPARE_READ, TRANSFER_FILL};
 use crate::vk::image::ImageDesc;
-use crate::vk::pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
-};
+use crate::vk::interface::keys_with_prefix;
+use crate::vk::pipeline::{GraphicsDesc, Pipeline};
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, Image, SingleSet, VkError};
 
 use crate::glsl::compare_comp as cc;
 use crate::glsl::compare_show_frag as cs;
@@ -251,56 +250,16 @@ pub struct ComparePass {
     _weights: Buffer,
     _srgb_table: Buffer,
     _palette: Buffer,
-    sets: Vec<vk::DescriptorSet>,
-    show_sets: Vec<vk::DescriptorSet>,
-    _pool: DescriptorPool,
-    layout: PipelineLayout,
-    show_layout: PipelineLayout,
-    _set_layout: DescriptorSetLayout,
-    _show_set_layout: DescriptorSetLayout,
+    /// The kernels' layout and a set per frame slot.
+    single: SingleSet,
+    /// The map display's layout and a set per frame slot.
+    show: SingleSet,
     radii: (u32, u32),
     kernels: Vec<((CompareKind, Tonemap), Vec<Pipeline>)>,
     shows: Vec<(vk::Format, Pipeline)>,
     /// Whether the work images were put in GENERAL layout yet.
     initialised: std::cell::Cell<bool>,
     ctx: Arc<Context>,
-}
-
-fn layout_binding(
-    binding: u64,
-    ty: vk::DescriptorType,
-    stages: vk::ShaderStageFlags,
-) -> vk::DescriptorSetLayoutBinding<'static> {
-    vk::DescriptorSetLayoutBinding::default()
-        .binding(binding as u32)
-        .descriptor_type(ty)
-        .descriptor_count(1)
-        .stage_flags(stages)
-}
-
-fn write_image<'a>(
-    set: vk::DescriptorSet,
-    binding: u64,
-    ty: vk::DescriptorType,
-    info: &'a [vk::DescriptorImageInfo],
-) -> vk::WriteDescriptorSet<'a> {
-    vk::WriteDescriptorSet::default()
-        .dst_set(set)
-        .dst_binding(binding as u32)
-        .descriptor_type(ty)
-        .image_info(info)
-}
-
-fn write_buffer<'a>(
-    set: vk::DescriptorSet,
-    binding: u64,
-    info: &'a [vk::DescriptorBufferInfo],
-) -> vk::WriteDescriptorSet<'a> {
-    vk::WriteDescriptorSet::default()
-        .dst_set(set)
-        .dst_binding(binding as u32)
-        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-        .buffer_info(info)
 }
 
 impl ComparePass {
@@ -312,63 +271,13 @@ impl ComparePass {
         extent: vk::Extent2D,
         slots: usize,
     ) -> Result<Self, VkError> {
-        use vk::DescriptorType as T;
-        let comp = vk::ShaderStageFlags::COMPUTE;
-        let frag = vk::ShaderStageFlags::FRAGMENT;
-        let mut bindings = vec![
-            layout_binding(cc::BINDING_A as u64, T::SAMPLED_IMAGE, comp),
-            layout_binding(cc::BINDING_B as u64, T::SAMPLED_IMAGE, comp),
-            layout_binding(cc::BINDING_SRGB_TABLE as u64, T::STORAGE_BUFFER, comp),
-            layout_binding(cc::BINDING_WEIGHTS as u64, T::STORAGE_BUFFER, comp),
-            layout_binding(cc::BINDING_MAP as u64, T::STORAGE_IMAGE, comp),
-            layout_binding(cc::BINDING_STATS as u64, T::STORAGE_BUFFER, comp),
-        ];
-        let work_bindings = [
-            cc::BINDING_YCC_A,
-            cc::BINDING_YCC_B,
-            cc::BINDING_H0_A,
-            cc::BINDING_H1_A,
-            cc::BINDING_H0_B,
-            cc::BINDING_H1_B,
-        ];
-        for w in work_bindings {
-            bindings.push(layout_binding(w as u64, T::STORAGE_IMAGE, comp));
-        }
-        let set_layout = DescriptorSetLayout::new(ctx, "compare set layout", &bindings)?;
-        let show_bindings = [
-            layout_binding(cs::BINDING_MAP as u64, T::STORAGE_IMAGE, frag),
-            layout_binding(cs::BINDING_STATS as u64, T::STORAGE_BUFFER, frag),
-            layout_binding(cs::BINDING_PALETTE as u64, T::STORAGE_BUFFER, frag),
-        ];
-        let show_set_layout =
-            DescriptorSetLayout::new(ctx, "compare show set layout", &show_bindings)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: comp,
-            offset: 0,
-            size: std::mem::size_of::<ComparePush>() as u32,
-        }];
-        let layout = PipelineLayout::new(ctx, "compare layout", &[&set_layout], &push)?;
-        let show_layout =
-            PipelineLayout::new(ctx, "compare show layout", &[&show_set_layout], &[])?;
-        let n = slots as u32;
-        let pool = DescriptorPool::new(
+        let kernels: Vec<&str> = keys_with_prefix("compare.comp:").collect();
+        let single = SingleSet::with_copies(ctx, "compare", &kernels, slots)?;
+        let show = SingleSet::with_copies(
             ctx,
-            "compare pool",
-            2 * n,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: T::SAMPLED_IMAGE,
-                    descriptor_count: 2 * n,
-                },
-                vk::DescriptorPoolSize {
-                    ty: T::STORAGE_BUFFER,
-                    descriptor_count: 5 * n,
-                },
-                vk::DescriptorPoolSize {
-                    ty: T::STORAGE_IMAGE,
-                    descriptor_count: 8 * n,
-                },
-            ],
+            "compare show",
+            &["display.vert", "compare_show.frag"],
+            slots,
         )?;
         let storage = |name: &str, format| {
             let mut desc = ImageDesc::color_target(extent.width, extent.height, format);
@@ -421,50 +330,41 @@ impl ComparePass {
             palette.as_slice(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let mut sets = Vec::new();
-        let mut show_sets = Vec::new();
-        for s in &stats {
-            let set = pool.allocate(&set_layout)?;
-            let show = pool.allocate(&show_set_layout)?;
-            let img = |view| {
-                [vk::DescriptorImageInfo {
-                    sampler: vk::Sampler::null(),
-                    image_view: view,
-                    image_layout: vk::ImageLayout::GENERAL,
-                }]
-            };
-            let buf = |b: &Buffer| {
-                [vk::DescriptorBufferInfo {
-                    buffer: b.raw,
-                    offset: 0,
-                    range: vk::WHOLE_SIZE,
-                }]
-            };
-            let (ia, ib, imap) = (img(a), img(b), img(map.view));
-            let iw: Vec<_> = work.iter().map(|w| img(w.view)).collect();
-            let (bt, bw, bs, bp) = (buf(&srgb_table), buf(&weights), buf(s), buf(&palette));
-            let mut writes = vec![
-                write_image(set, cc::BINDING_A as u64, T::SAMPLED_IMAGE, &ia),
-                write_image(set, cc::BINDING_B as u64, T::SAMPLED_IMAGE, &ib),
-                write_image(set, cc::BINDING_MAP as u64, T::STORAGE_IMAGE, &imap),
-                write_buffer(set, cc::BINDING_SRGB_TABLE as u64, &bt),
-                write_buffer(set, cc::BINDING_WEIGHTS as u64, &bw),
-                write_buffer(set, cc::BINDING_STATS as u64, &bs),
-                write_image(show, cs::BINDING_MAP as u64, T::STORAGE_IMAGE, &imap),
-                write_buffer(show, cs::BINDING_STATS as u64, &bs),
-                write_buffer(show, cs::BINDING_PALETTE as u64, &bp),
-            ];
-            for (binding, info) in work_bindings.iter().zip(&iw) {
-                writes.push(write_image(set, *binding as u64, T::STORAGE_IMAGE, info));
+        let work_bindings = [
+            cc::BINDING_YCC_A,
+            cc::BINDING_YCC_B,
+            cc::BINDING_H0_A,
+            cc::BINDING_H1_A,
+            cc::BINDING_H0_B,
+            cc::BINDING_H1_B,
+        ];
+        let general = vk::ImageLayout::GENERAL;
+        for (i, s) in stats.iter().enumerate() {
+            let mut writes = single
+                .writes_to(i)
+                .buffer(cc::BINDING_SRGB_TABLE as u32, srgb_table.raw)
+                .buffer(cc::BINDING_WEIGHTS as u32, weights.raw)
+                .buffer(cc::BINDING_STATS as u32, s.raw);
+            writes = writes
+                .view(cc::BINDING_A as u32, a, general)
+                .view(cc::BINDING_B as u32, b, general)
+                .view(cc::BINDING_MAP as u32, map.view, general);
+            for (binding, w) in work_bindings.iter().zip(&work) {
+                writes = writes.view(*binding as u32, w.view, general);
             }
-            // SAFETY: `writes` and the infos they point to outlive the call; the sets were just
-            // allocated and no command buffer has used them; each binding's type matches its
-            // layout (built above from the same constants). The views are live: `a` and `b` are
-            // the caller's (SAMPLED usage, GENERAL layout while this pass is used, the contract of
-            // `new`), the others this pass's own, kept as long as the sets.
-            unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
-            sets.push(set);
-            show_sets.push(show);
+            let show_writes = show
+                .writes_to(i)
+                .view(cs::BINDING_MAP as u32, map.view, general)
+                .buffer(cs::BINDING_STATS as u32, s.raw)
+                .buffer(cs::BINDING_PALETTE as u32, palette.raw);
+            // SAFETY: the sets were just allocated and no command buffer has used them. The views
+            // are live: `a` and `b` are the caller's (SAMPLED usage, GENERAL layout while this
+            // pass is used, the contract of `new`), the others this pass's own, kept as long as
+            // the sets, as are the buffers (STORAGE_BUFFER usage).
+            unsafe {
+                writes.apply(ctx)?;
+                show_writes.apply(ctx)?;
+            }
         }
         Ok(Self {
             extent,
@@ -474,13 +374,8 @@ impl ComparePass {
             _weights: weights,
             _srgb_table: srgb_table,
             _palette: palette,
-            sets,
-            show_sets,
-            _pool: pool,
-            layout,
-            show_layout,
-            _set_layout: set_layout,
-            _show_set_layout: show_set_layout,
+            single,
+            show,
             radii: flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE),
             kernels: Vec::new(),
             shows: Vec::new(),
@@ -527,7 +422,7 @@ impl ComparePass {
                 .iter()
                 .map(|k| {
                     let module = ShaderModule::new(&self.ctx, k)?;
-                    Pipeline::compute(&self.ctx, &self.layout, k, &module, &spec)
+                    Pipeline::compute(&self.ctx, &self.single.layout, k, &module, &spec)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             self.kernels.push(((kind, tonemap), pipelines));
@@ -537,23 +432,13 @@ impl ComparePass {
             let fragment = ShaderModule::new(&self.ctx, "compare_show.frag")?;
             let pipeline = Pipeline::graphics(
                 &self.ctx,
-                &self.show_layout,
-                &GraphicsDesc {
-                    name: &format!("compare show [{format:?}]"),
-                    vertex: &vertex,
-                    fragment: &fragment,
-                    spec: &[],
-                    vertex_bindings: &[],
-                    vertex_attributes: &[],
-                    color_formats: &[format],
-                    depth_format: None,
-                    samples: vk::SampleCountFlags::TYPE_1,
-                    cull: vk::CullModeFlags::NONE,
-                    depth_test: false,
-                    depth_write: false,
-                    depth_compare: vk::CompareOp::ALWAYS,
-                    blend: false,
-                },
+                &self.show.layout,
+                &GraphicsDesc::fullscreen(
+                    &format!("compare show [{format:?}]"),
+                    (&vertex, &fragment),
+                    &[],
+                    &[format],
+                ),
             )?;
             self.shows.push((format, pipeline));
         }
@@ -627,7 +512,6 @@ impl ComparePass {
             self.extent.width.div_ceil(16),
             self.extent.height.div_ceil(16),
         );
-        let set = self.sets[slot];
         pass.record(move |rc| {
             for h in [a, b, map] {
                 rc.image(h)?;
@@ -638,27 +522,14 @@ impl ComparePass {
             // recording outside a render pass (the graph records one pass at a time).
             unsafe { d.cmd_fill_buffer(cmd, stats.raw, 0, STATS_HEADER, 0) };
             rc.memory_barrier(TRANSFER_FILL, Access::ComputeStorageReadWrite);
-            // SAFETY: every pipeline was built with `self.layout`, whose set 0 the slot's set
-            // matches, and the push bytes are a `ComparePush` in its COMPUTE range. The graph put
+            // SAFETY: every pipeline was built with `self.single.layout`, whose set 0 the slot's
+            // set matches, and the push bytes are a `ComparePush`, its push range. The graph put
             // the work images and the map in GENERAL and made A and B readable in GENERAL (the
             // accesses declared above); each kernel is ordered after the one before by the
             // barrier between them.
             unsafe {
-                d.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    self.layout.raw,
-                    0,
-                    &[set],
-                    &[],
-                );
-                d.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    bytemuck::bytes_of(&push),
-                );
+                self.single.bind(cmd, vk::PipelineBindPoint::COMPUTE, slot);
+                self.single.layout.push(cmd, &push)?;
             }
             let last = pipelines.len() - 1;
             for (i, p) in pipelines.iter().enumerate() {
@@ -701,21 +572,18 @@ impl ComparePass {
             .ok_or_else(|| {
                 VkError::Setup(format!("compare: no display pipeline for {format:?}"))
             })?;
-        // SAFETY: `pipeline` was built with `self.show_layout` for attachments of `format`, with
-        // viewport, scissor and cull mode dynamic; the slot's show set matches its set 0 (no push
-        // constants). The map is in GENERAL and readable by fragment shaders after `record` (its
+        // SAFETY: `pipeline` was built with `self.show.layout` for attachments of `format`, with
+        // viewport, scissor and cull mode dynamic (no push constants). The map is in GENERAL and readable by fragment shaders after `record` (its
         // closing barrier). The caller's part: `cmd` records inside a rendering instance on one
         // attachment of `format`.
         unsafe {
             crate::render::display::draw_fullscreen(
-                &self.ctx.device,
                 cmd,
-                (pipeline, self.show_layout.raw, self.show_sets[slot]),
+                (pipeline, &self.show, slot),
                 (extent, clip),
                 &[],
             )
-        };
-        Ok(())
+        }
     }
 
     /// Slot `slot`'s figures of its last `kind` map (call after the slot's fence).
@@ -757,20 +625,7 @@ pub fn compare_images(
         let mut desc = ImageDesc::texture(img.width, img.height, WORK_FORMAT, 1, 1);
         desc.usage |= vk::ImageUsageFlags::STORAGE;
         let image = Image::new(ctx, name, desc)?;
-        let region = vk::BufferImageCopy {
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_extent: vk::Extent3D {
-                width: img.width,
-                height: img.height,
-                depth: 1,
-            },
-            ..Default::default()
-        };
+        let region = crate::vk::image::color_region(0, 0, (img.width, img.height));
         crate::vk::image::upload(
             ctx,
             pool,

@@ -15,11 +15,9 @@ use ash::vk;
 use crate::color::{exposure_scale, srgb_encode_table, Tonemap};
 use crate::render::tonemap::tonemap_id;
 use crate::vk::buffer::Buffer;
-use crate::vk::pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
-};
+use crate::vk::pipeline::{GraphicsDesc, Pipeline};
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Context, VkError};
+use crate::vk::{Context, SingleSet, VkError};
 
 /// Bindings of `display.frag` (its `BINDING_*`).
 const BINDING_HDR: u32 = crate::glsl::display_frag::BINDING_HDR as u32;
@@ -35,11 +33,8 @@ pub struct DisplayPass {
     pipelines: Vec<((Tonemap, vk::Format), Pipeline)>,
     vertex: ShaderModule,
     fragment: ShaderModule,
-    layout: PipelineLayout,
-    set: vk::DescriptorSet,
+    single: SingleSet,
     _srgb_table: Buffer,
-    _pool: DescriptorPool,
-    _set_layout: DescriptorSetLayout,
     source_layout: vk::ImageLayout,
     ctx: Arc<Context>,
 }
@@ -51,96 +46,46 @@ impl DisplayPass {
         source: vk::ImageView,
         source_layout: vk::ImageLayout,
     ) -> Result<Self, VkError> {
-        let binding = |index, ty| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(index)
-                .descriptor_type(ty)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT)
-        };
-        let bindings = [
-            binding(BINDING_HDR, vk::DescriptorType::SAMPLED_IMAGE),
-            binding(BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
-        ];
-        let set_layout = DescriptorSetLayout::new(ctx, "display set layout", &bindings)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: std::mem::size_of::<DisplayPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(ctx, "display layout", &[&set_layout], &push)?;
-        let pool = DescriptorPool::new(
-            ctx,
-            "display pool",
-            1,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::SAMPLED_IMAGE,
-                    descriptor_count: 1,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_BUFFER,
-                    descriptor_count: 1,
-                },
-            ],
-        )?;
-        let set = pool.allocate(&set_layout)?;
+        let single = SingleSet::new(ctx, "display", &["display.vert", "display.frag"])?;
         let srgb_table = Buffer::with_data(
             ctx,
             "display sRGB encode table",
             srgb_encode_table().as_slice(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let table_info = [vk::DescriptorBufferInfo {
-            buffer: srgb_table.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(BINDING_SRGB_TABLE)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&table_info);
-        // SAFETY: `write` and the `table_info` it points to outlive the call. `set` was just
-        // allocated from `pool` and no command buffer has used it; binding 1 is a STORAGE_BUFFER
-        // in `set_layout`, and `srgb_table` is a live STORAGE_BUFFER-usage buffer, kept by the pass
-        // as long as the set.
-        unsafe { ctx.device.update_descriptor_sets(&[write], &[]) };
+        // SAFETY: the set was just allocated and no command buffer has used it; `srgb_table` is
+        // a live STORAGE_BUFFER-usage buffer, kept by the pass as long as the set.
+        unsafe {
+            single
+                .writes()
+                .buffer(BINDING_SRGB_TABLE, srgb_table.raw)
+                .apply(ctx)
+        }?;
         let mut pass = Self {
             pipelines: Vec::new(),
             vertex: ShaderModule::new(ctx, "display.vert")?,
             fragment: ShaderModule::new(ctx, "display.frag")?,
-            layout,
-            set,
+            single,
             _srgb_table: srgb_table,
-            _pool: pool,
-            _set_layout: set_layout,
             source_layout,
             ctx: ctx.clone(),
         };
-        pass.set_source(source);
+        pass.set_source(source)?;
         Ok(pass)
     }
 
     /// Points the pass at another HDR view (a resized viewer). No command buffer that recorded
     /// this pass may still be pending.
-    pub fn set_source(&mut self, source: vk::ImageView) {
-        let info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: source,
-            image_layout: self.source_layout,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(BINDING_HDR)
-            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-            .image_info(&info);
-        // SAFETY: `write` and `info` outlive the call; binding 0 of `self.set` is a SAMPLED_IMAGE.
-        // `&mut self` gives this call sole access to the set. The caller's part, documented above
-        // and in `new`: `source` is a live view with SAMPLED usage, and no pending command buffer
-        // recorded this pass (VUID-vkUpdateDescriptorSets-None-03047) — the viewer waits for the
-        // device to go idle before it points the pass at a new image.
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+    pub fn set_source(&mut self, source: vk::ImageView) -> Result<(), VkError> {
+        let writes = self
+            .single
+            .writes()
+            .view(BINDING_HDR, source, self.source_layout);
+        // SAFETY: `&mut self` gives this call sole access to the set. The caller's part,
+        // documented above and in `new`: `source` is a live view with SAMPLED usage, and no
+        // pending command buffer recorded this pass (VUID-vkUpdateDescriptorSets-None-03047) —
+        // the viewer waits for the device to go idle before it points the pass at a new image.
+        unsafe { writes.apply(&self.ctx) }
     }
 
     /// The stage and access the HDR image must be made visible to before [`DisplayPass::record`].
@@ -160,23 +105,13 @@ impl DisplayPass {
         let name = format!("display[{}, {format:?}]", tonemap.name());
         let pipeline = Pipeline::graphics(
             &self.ctx,
-            &self.layout,
-            &GraphicsDesc {
-                name: &name,
-                vertex: &self.vertex,
-                fragment: &self.fragment,
-                spec: &[(crate::glsl::display_frag::SPEC_TONEMAP, tonemap_id(tonemap))],
-                vertex_bindings: &[],
-                vertex_attributes: &[],
-                color_formats: &[format],
-                depth_format: None,
-                samples: vk::SampleCountFlags::TYPE_1,
-                cull: vk::CullModeFlags::NONE,
-                depth_test: false,
-                depth_write: false,
-                depth_compare: vk::CompareOp::ALWAYS,
-                blend: false,
-            },
+            &self.single.layout,
+            &GraphicsDesc::fullscreen(
+                &name,
+                (&self.vertex, &self.fragment),
+                &[(crate::glsl::display_frag::SPEC_TONEMAP, tonemap_id(tonemap))],
+                &[format],
+            ),
         )?;
         self.pipelines.push(((tonemap, format), pipeline));
         Ok(())
@@ -220,67 +155,50 @@ impl DisplayPass {
                     tonemap.name()
                 ))
             })?;
-        let d = &self.ctx.device;
         let push = DisplayPush {
             exposure_scale: exposure_scale(exposure_ev),
         };
-        let area = clip;
         // SAFETY: `pipeline` is this pass's prepared pipeline for (`tonemap`, `format`) (looked up
-        // above) with viewport, scissor and cull mode dynamic; `self.set` matches set 0 of
-        // `self.layout`, and the push-constant bytes are a `DisplayPush`, the FRAGMENT range of
-        // the layout. The caller's part, documented above: `cmd` is recording inside a dynamic
+        // above) with viewport, scissor and cull mode dynamic, built with `self.single`'s layout. The caller's part, documented above: `cmd` is recording inside a dynamic
         // rendering instance on one attachment of `format`, and the source image is in the layout
         // given at creation and readable by fragment shaders.
         unsafe {
             draw_fullscreen(
-                d,
                 cmd,
-                (pipeline, self.layout.raw, self.set),
-                (extent, area),
+                (pipeline, &self.single, 0),
+                (extent, clip),
                 bytemuck::bytes_of(&push),
             )
-        };
-        Ok(())
+        }
     }
 }
 
 /// Draws the full-screen triangle with `pipeline` (no vertex input; viewport, scissor and cull
-/// mode dynamic) over `extent`, only inside `clip`, with `set` as set 0 of `layout` and `push`
-/// (when not empty) as FRAGMENT push constants at offset 0.
+/// mode dynamic) over `extent`, only inside `clip`, with `single`'s set copy `copy` as set 0 and `push`
+/// (when not empty) as its layout's push constants.
 ///
 /// # Safety
 /// `cmd` is recording inside a dynamic rendering instance on attachments `pipeline` was built
-/// for; `pipeline` was built with `layout`, declares those three states dynamic and reads only
-/// what `set` binds, which must be live and in the layouts its shader expects; `push` fits the
-/// layout's FRAGMENT range.
+/// for; `pipeline` was built with `single`'s layout, declares those three states dynamic and
+/// reads only what the set binds, which must be live and in the layouts its shader expects.
 pub unsafe fn draw_fullscreen(
-    d: &ash::Device,
     cmd: vk::CommandBuffer,
-    (pipeline, layout, set): (vk::Pipeline, vk::PipelineLayout, vk::DescriptorSet),
+    (pipeline, single, copy): (vk::Pipeline, &SingleSet, usize),
     (extent, clip): (vk::Extent2D, vk::Rect2D),
     push: &[u8],
-) {
+) -> Result<(), VkError> {
+    let d = &single.layout.device();
+    let (layout, set) = (single.layout.raw, single.sets[copy]);
     // SAFETY: the caller's contract above.
     unsafe {
-        d.cmd_set_viewport(
-            cmd,
-            0,
-            &[vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: extent.width as f32,
-                height: extent.height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            }],
-        );
-        d.cmd_set_scissor(cmd, 0, &[clip]);
+        crate::vk::cmd::set_viewport(d, cmd, extent, clip);
         d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
         d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
         if !push.is_empty() {
-            d.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::FRAGMENT, 0, push);
+            single.layout.push_bytes(cmd, push)?;
         }
         d.cmd_draw(cmd, 3, 1, 0, 0);
     }
+    Ok(())
 }

@@ -13,7 +13,7 @@ use crate::texture::{ColorSpace, TexFormat, TextureData};
 use crate::vk::cmd::CommandPool;
 use crate::vk::image::{ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, Image, SetWrites, VkError};
 
 pub const SET_MATERIAL: u32 = crate::glsl::include_bindings::SET_MATERIAL as u32;
 /// Bindings 0..8: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
@@ -117,21 +117,7 @@ fn upload(
     let mut offset = 0u64;
     for level in 0..data.mips.len() {
         let (w, h) = data.level_extent(level);
-        regions.push(vk::BufferImageCopy {
-            buffer_offset: offset,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: vk::ImageAspectFlags::COLOR,
-                mip_level: level as u32,
-                base_array_layer: 0,
-                layer_count: 1,
-            },
-            image_extent: vk::Extent3D {
-                width: w,
-                height: h,
-                depth: 1,
-            },
-            ..Default::default()
-        });
+        regions.push(crate::vk::image::color_region(level as u32, offset, (w, h)));
         offset += data.mips[level].len() as u64;
     }
     let bytes = data.mips.concat();
@@ -174,36 +160,9 @@ impl MaterialSets {
         scene: &Scene,
         warn: &mut dyn FnMut(String),
     ) -> Result<Self, VkError> {
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let mut bindings: Vec<_> = (0..SLOT_COUNT as u32)
-            .map(|i| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(i)
-                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                    .descriptor_count(1)
-                    .stage_flags(stages)
-            })
-            .collect();
-        bindings.push(
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_EXTRA)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(stages),
-        );
-        let set_layout = DescriptorSetLayout::new(ctx, "material set layout", &bindings)?;
+        let set_layout = crate::render::gpu::scene_interface()?.set_layout(ctx, SET_MATERIAL)?;
         let n = scene.materials.len().max(1) as u32;
-        let pool_sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                descriptor_count: n * SLOT_COUNT as u32,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: n,
-            },
-        ];
-        let desc_pool = DescriptorPool::new(ctx, "material pool", n, &pool_sizes)?;
+        let desc_pool = DescriptorPool::for_sets(ctx, "material pool", &[(&set_layout, n)])?;
 
         let limits = &ctx.info.limits;
         // The limits in force (tests tighten them to reach the downscale path).
@@ -283,46 +242,25 @@ impl MaterialSets {
             };
             extra.write(stride * mi as u64, bytemuck::bytes_of(&data))?;
             let set = desc_pool.allocate(&set_layout)?;
-            let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = views
-                .iter()
-                .map(|(view, sampler)| {
-                    [vk::DescriptorImageInfo {
-                        sampler: *sampler,
-                        image_view: *view,
-                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    }]
-                })
-                .collect();
-            let buffer_info = [vk::DescriptorBufferInfo {
-                buffer: extra.raw,
-                offset: stride * mi as u64,
-                range: std::mem::size_of::<MaterialExtra>() as u64,
-            }];
-            let mut writes: Vec<_> = image_infos
+            let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+            let writes = views
                 .iter()
                 .enumerate()
-                .map(|(i, info)| {
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(set)
-                        .dst_binding(i as u32)
-                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                        .image_info(info)
-                })
-                .collect();
-            writes.push(
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(BINDING_EXTRA)
-                    .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                    .buffer_info(&buffer_info),
-            );
-            // SAFETY: `writes` and the `image_infos` / `buffer_info` they point to outlive the
-            // call. `set` was just allocated and no command buffer has used it; each binding is
-            // written with the type `set_layout` declares (COMBINED_IMAGE_SAMPLER slots, the
-            // UNIFORM_BUFFER extras). Every view and sampler is alive — owned by `images` and
-            // `samplers`, which the returned struct keeps — and the uniform range lies inside
-            // `extra` at an offset aligned to minUniformBufferOffsetAlignment (`stride`).
-            unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+                .fold(
+                    SetWrites::new(&set_layout, set),
+                    |w, (i, (view, sampler))| w.image(i as u32, *view, layout, *sampler),
+                )
+                .buffer_range(
+                    BINDING_EXTRA,
+                    extra.raw,
+                    stride * mi as u64,
+                    std::mem::size_of::<MaterialExtra>() as u64,
+                );
+            // SAFETY: `set` was just allocated and no command buffer has used it. Every view and
+            // sampler is alive — owned by `images` and `samplers`, which the returned struct
+            // keeps — and the uniform range lies inside `extra` at an offset aligned to
+            // minUniformBufferOffsetAlignment (`stride`).
+            unsafe { writes.apply(ctx) }?;
             sets.push(set);
         }
         Ok(Self {

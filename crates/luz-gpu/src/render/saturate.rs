@@ -11,9 +11,9 @@ use luz_graph::{Access, FrameGraph, ImageHandle};
 use crate::render::frame::TRANSFER_FILL;
 
 use crate::scene::{Saturation, Scene};
-use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
+use crate::vk::pipeline::Pipeline;
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, Image, SingleSet, VkError};
 
 /// Bindings of `saturate.comp` (its `BINDING_*`).
 const BINDING_HDR: u32 = crate::glsl::saturate_comp::BINDING_HDR as u32;
@@ -23,10 +23,7 @@ pub struct SaturatePass {
     mode: Saturation,
     pipelines: Vec<Pipeline>,
     reduction: Buffer,
-    set: vk::DescriptorSet,
-    _pool: DescriptorPool,
-    layout: PipelineLayout,
-    _set_layout: DescriptorSetLayout,
+    single: SingleSet,
     groups: (u32, u32),
     image: vk::Image,
     ctx: Arc<Context>,
@@ -45,36 +42,7 @@ impl SaturatePass {
             Saturation::Clamp => &["saturate.comp:clamp"],
             Saturation::Normalize => &["saturate.comp:reduce", "saturate.comp:normalize"],
         };
-        let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_HDR)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_REDUCTION)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE),
-        ];
-        let set_layout = DescriptorSetLayout::new(ctx, "saturate set layout", &bindings)?;
-        let layout = PipelineLayout::new(ctx, "saturate layout", &[&set_layout], &[])?;
-        let pool = DescriptorPool::new(
-            ctx,
-            "saturate pool",
-            1,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_IMAGE,
-                    descriptor_count: 1,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_BUFFER,
-                    descriptor_count: 1,
-                },
-            ],
-        )?;
-        let set = pool.allocate(&set_layout)?;
+        let single = SingleSet::new(ctx, "saturate", kernels)?;
         let reduction = Buffer::new(
             ctx,
             "saturation max",
@@ -82,38 +50,21 @@ impl SaturatePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let image_info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: target.view,
-            image_layout: vk::ImageLayout::GENERAL,
-        }];
-        let buffer_info = [vk::DescriptorBufferInfo {
-            buffer: reduction.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let writes = [
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(BINDING_HDR)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(&image_info),
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(BINDING_REDUCTION)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&buffer_info),
-        ];
-        // SAFETY: `writes` and the infos they point to outlive the call. `set` was just allocated
-        // and no command buffer has used it; the bindings match `set_layout` (STORAGE_IMAGE 0,
-        // STORAGE_BUFFER 1). `target.view` is a live view of a colour target with STORAGE usage,
-        // and `reduction` a STORAGE_BUFFER that the pass keeps as long as the set.
-        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        let mut writes = single
+            .writes()
+            .view(BINDING_HDR, target.view, vk::ImageLayout::GENERAL);
+        if mode == Saturation::Normalize {
+            writes = writes.buffer(BINDING_REDUCTION, reduction.raw);
+        }
+        // SAFETY: `single.set` was just allocated and no command buffer has used it.
+        // `target.view` is a live view of a colour target with STORAGE usage, and `reduction` a
+        // STORAGE_BUFFER that the pass keeps as long as the set.
+        unsafe { writes.apply(ctx) }?;
         let pipelines = kernels
             .iter()
             .map(|k| {
                 let module = ShaderModule::new(ctx, k)?;
-                Pipeline::compute(ctx, &layout, k, &module, &[])
+                Pipeline::compute(ctx, &single.layout, k, &module, &[])
             })
             .collect::<Result<Vec<_>, _>>()?;
         let e = target.extent();
@@ -121,10 +72,7 @@ impl SaturatePass {
             mode,
             pipelines,
             reduction,
-            set,
-            _pool: pool,
-            layout,
-            _set_layout: set_layout,
+            single,
             groups: (e.width.div_ceil(16), e.height.div_ceil(16)),
             image: target.raw,
             ctx: ctx.clone(),
@@ -167,18 +115,11 @@ impl SaturatePass {
                             Access::ComputeStorageReadWrite,
                         );
                     }
-                    // SAFETY: each pipeline was built with `self.layout`, whose set 0 `self.set`
-                    // matches; the graph put the target in GENERAL for the storage accesses and
-                    // the barriers above order each kernel after the one before.
+                    // SAFETY: each pipeline was built with `self.single.layout`, whose set 0 is
+                    // the one bound; the graph put the target in GENERAL for the storage accesses
+                    // and the barriers above order each kernel after the one before.
                     unsafe {
-                        d.cmd_bind_descriptor_sets(
-                            cmd,
-                            vk::PipelineBindPoint::COMPUTE,
-                            self.layout.raw,
-                            0,
-                            &[self.set],
-                            &[],
-                        );
+                        self.single.bind(cmd, vk::PipelineBindPoint::COMPUTE, 0);
                         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raw);
                         d.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1);
                     }

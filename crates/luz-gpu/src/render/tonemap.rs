@@ -23,9 +23,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::color::{exposure_scale, Tonemap};
-use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
+use crate::vk::pipeline::Pipeline;
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Context, VkError};
+use crate::vk::{Context, SingleSet, VkError};
 
 /// (layout, stage, access) of an image at a synchronisation point, as in [`crate::vk::cmd::Transition`].
 pub type Access = (vk::ImageLayout, vk::PipelineStageFlags2, vk::AccessFlags2);
@@ -101,10 +101,7 @@ pub struct TonemapPass {
     /// Built on demand, one per operator used.
     pipelines: Vec<(Tonemap, Pipeline)>,
     module: ShaderModule,
-    layout: PipelineLayout,
-    set: vk::DescriptorSet,
-    _pool: DescriptorPool,
-    _set_layout: DescriptorSetLayout,
+    single: SingleSet,
     source_layout: vk::ImageLayout,
     extent: vk::Extent2D,
     // Last: the device outlives everything above.
@@ -124,55 +121,17 @@ impl TonemapPass {
         extent: vk::Extent2D,
     ) -> Result<Self, VkError> {
         check_source_layout(source_layout)?;
-        let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_SOURCE)
-                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_DESTINATION)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE),
-        ];
-        let set_layout = DescriptorSetLayout::new(ctx, "tonemap set layout", &bindings)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: std::mem::size_of::<TonemapPush>() as u32,
-        }];
-        let layout = PipelineLayout::new(ctx, "tonemap layout", &[&set_layout], &push)?;
-        let pool = DescriptorPool::new(
-            ctx,
-            "tonemap pool",
-            1,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::SAMPLED_IMAGE,
-                    descriptor_count: 1,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_IMAGE,
-                    descriptor_count: 1,
-                },
-            ],
-        )?;
-        let set = pool.allocate(&set_layout)?;
-        ctx.set_name(set, "tonemap set");
+        let single = SingleSet::new(ctx, "tonemap", &["tonemap.comp"])?;
         let module = ShaderModule::new(ctx, "tonemap.comp")?;
         let mut pass = Self {
             pipelines: Vec::new(),
             module,
-            layout,
-            set,
-            _pool: pool,
-            _set_layout: set_layout,
+            single,
             source_layout,
             extent,
             ctx: ctx.clone(),
         };
-        pass.write_set(source, destination);
+        pass.write_set(source, destination)?;
         Ok(pass)
     }
 
@@ -188,39 +147,24 @@ impl TonemapPass {
         check_source_layout(source_layout)?;
         self.source_layout = source_layout;
         self.extent = extent;
-        self.write_set(source, destination);
-        Ok(())
+        self.write_set(source, destination)
     }
 
-    fn write_set(&mut self, source: vk::ImageView, destination: vk::ImageView) {
-        let source_info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: source,
-            image_layout: self.source_layout,
-        }];
-        let destination_info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: destination,
-            image_layout: vk::ImageLayout::GENERAL,
-        }];
-        let writes = [
-            vk::WriteDescriptorSet::default()
-                .dst_set(self.set)
-                .dst_binding(BINDING_SOURCE)
-                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-                .image_info(&source_info),
-            vk::WriteDescriptorSet::default()
-                .dst_set(self.set)
-                .dst_binding(BINDING_DESTINATION)
-                .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
-                .image_info(&destination_info),
-        ];
-        // SAFETY: `writes` and the infos they point to outlive the call; bindings and types match
-        // `_set_layout` (SAMPLED_IMAGE source, STORAGE_IMAGE destination), and `&mut self` gives
-        // this call sole access to `self.set`. The caller's part, documented on `new` and
-        // `set_images`: both views are live, with SAMPLED and STORAGE usage, and no pending
-        // command buffer recorded this pass (VUID-vkUpdateDescriptorSets-None-03047).
-        unsafe { self.ctx.device.update_descriptor_sets(&writes, &[]) };
+    fn write_set(
+        &mut self,
+        source: vk::ImageView,
+        destination: vk::ImageView,
+    ) -> Result<(), VkError> {
+        let writes = self
+            .single
+            .writes()
+            .view(BINDING_SOURCE, source, self.source_layout)
+            .view(BINDING_DESTINATION, destination, vk::ImageLayout::GENERAL);
+        // SAFETY: `&mut self` gives this call sole access to the set. The caller's part,
+        // documented on `new` and `set_images`: both views are live, with SAMPLED and STORAGE
+        // usage, and no pending command buffer recorded this pass
+        // (VUID-vkUpdateDescriptorSets-None-03047).
+        unsafe { writes.apply(&self.ctx) }
     }
 
     /// Name for GPU timers and logs.
@@ -245,7 +189,7 @@ impl TonemapPass {
         let name = format!("tonemap[{}]", tonemap.name());
         let pipeline = Pipeline::compute(
             &self.ctx,
-            &self.layout,
+            &self.single.layout,
             &name,
             &self.module,
             &[(SPEC_TONEMAP, tonemap_id(tonemap))],
@@ -281,28 +225,15 @@ impl TonemapPass {
             tonemap: tonemap_id(tonemap),
         };
         // SAFETY: `pipeline` is this pass's prepared compute pipeline for `tonemap` (looked up
-        // above), built with `self.layout`; `self.set` matches its set 0 and the push-constant
-        // bytes are a `TonemapPush`, the COMPUTE range of the layout. The dispatch covers
-        // `extent`, and the shader skips pixels outside either image. The caller's part,
-        // documented above: `cmd` is recording outside a render pass, and the source and
-        // destination are in the states `source_access` and `DESTINATION_ACCESS` describe.
+        // above), built with `self.single.layout`, whose set 0 is the one bound and whose push
+        // range is a `TonemapPush` (checked by `push`). The dispatch covers `extent`, and the
+        // shader skips pixels outside either image. The caller's part, documented above: `cmd`
+        // is recording outside a render pass, and the source and destination are in the states
+        // `source_access` and `DESTINATION_ACCESS` describe.
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout.raw,
-                0,
-                &[self.set],
-                &[],
-            );
-            d.cmd_push_constants(
-                cmd,
-                self.layout.raw,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::bytes_of(&push),
-            );
+            self.single.bind(cmd, vk::PipelineBindPoint::COMPUTE, 0);
+            self.single.layout.push(cmd, &push)?;
             d.cmd_dispatch(
                 cmd,
                 self.extent.width.div_ceil(GROUP),

@@ -255,3 +255,29 @@ pub fn read_to_host(
     })?;
     Ok(buf.mapped()?[..total as usize].to_vec())
 }
+
+/// Sets the dynamic viewport to the whole of `extent` (depth 0..1) and the scissor to `scissor`.
+///
+/// # Safety
+/// `cmd` must be recording, with a pipeline whose viewport and scissor are dynamic (or about to
+/// be bound).
+pub unsafe fn set_viewport(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    extent: vk::Extent2D,
+    scissor: vk::Rect2D,
+) {
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    // SAFETY: the caller's contract; the arrays are locals that outlive the calls.
+    unsafe {
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[scissor]);
+    }
+}

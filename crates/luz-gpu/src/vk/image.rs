@@ -403,6 +403,29 @@ impl Drop for Image {
 
 pub use super::cmd::ImageState;
 
+/// A copy of `width`×`height` texels of mip `mip` (layer 0, colour) from `buffer_offset`.
+pub fn color_region(
+    mip: u32,
+    buffer_offset: vk::DeviceSize,
+    (width, height): (u32, u32),
+) -> vk::BufferImageCopy {
+    vk::BufferImageCopy {
+        buffer_offset,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: mip,
+            base_array_layer: 0,
+            layer_count: 1,
+        },
+        image_extent: vk::Extent3D {
+            width,
+            height,
+            depth: 1,
+        },
+        ..Default::default()
+    }
+}
+
 /// Copies `bytes` into `image` through a staging buffer: `range` goes from `from` to
 /// TRANSFER_DST_OPTIMAL, receives `regions` (offsets into `bytes`), then goes to `to`. Submits and
 /// waits.
@@ -417,14 +440,12 @@ pub fn upload(
     from: ImageState,
     to: ImageState,
 ) -> Result<(), VkError> {
-    let mut staging = super::Buffer::new(
+    let staging = super::Buffer::with_data(
         ctx,
         "image upload staging",
-        bytes.len() as u64,
+        bytes,
         vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
     )?;
-    staging.write(0, bytes)?;
     let d = &ctx.device;
     let dst = (
         vk::ImageLayout::TRANSFER_DST_OPTIMAL,

@@ -7,6 +7,7 @@ pub mod device;
 pub mod host;
 pub mod image;
 pub mod instance;
+pub mod interface;
 pub mod limits;
 pub mod pipeline;
 pub mod shaders;
@@ -16,6 +17,7 @@ pub use buffer::Buffer;
 pub use device::{Context, ContextDesc, DeviceInfo};
 pub use image::Image;
 pub use instance::{InstanceDesc, ValidationLog};
+pub use interface::{Interface, SetWrites, SingleSet};
 pub use limits::Limits;
 
 use ash::vk;

@@ -5,31 +5,63 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::interface::LayoutBinding;
 use super::shaders::ShaderModule;
 use super::{Context, VkError};
 
 const MAIN: &CStr = c"main";
 
+/// A descriptor set layout, with the bindings it was made from (pools and writes read them).
+/// Made from the shaders' reflected interface ([`super::interface::Interface::set_layout`]).
 pub struct DescriptorSetLayout {
     pub raw: vk::DescriptorSetLayout,
+    bindings: Vec<LayoutBinding>,
+    name: String,
     ctx: Arc<Context>,
 }
 
 impl DescriptorSetLayout {
-    pub fn new(
+    pub(super) fn from_bindings(
         ctx: &Arc<Context>,
         name: &str,
-        bindings: &[vk::DescriptorSetLayoutBinding<'_>],
+        bindings: Vec<LayoutBinding>,
     ) -> Result<Self, VkError> {
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
-        // SAFETY: `info` and the `bindings` slice it points to outlive the call; the device is
+        let raw_bindings: Vec<_> = bindings
+            .iter()
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b.binding)
+                    .descriptor_type(b.ty)
+                    .descriptor_count(b.count)
+                    .stage_flags(b.stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&raw_bindings);
+        // SAFETY: `info` and the `raw_bindings` slice it points to outlive the call; the device is
         // alive while `ctx` is.
         let raw = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
             raw,
+            bindings,
+            name: name.to_string(),
             ctx: ctx.clone(),
         })
+    }
+
+    /// A layout with no binding: a set index the pipelines built with it do not use.
+    pub fn empty(ctx: &Arc<Context>, name: &str) -> Result<Self, VkError> {
+        Self::from_bindings(ctx, name, Vec::new())
+    }
+
+    /// The bindings, sorted by number.
+    pub fn bindings(&self) -> &[LayoutBinding] {
+        &self.bindings
+    }
+
+    /// The debug name.
+    pub fn name(&self) -> &str {
+        &self.name
     }
 }
 
@@ -53,7 +85,29 @@ pub struct DescriptorPool {
 }
 
 impl DescriptorPool {
-    pub fn new(
+    /// A pool for `count` sets of each layout (and nothing more).
+    pub fn for_sets(
+        ctx: &Arc<Context>,
+        name: &str,
+        sets: &[(&DescriptorSetLayout, u32)],
+    ) -> Result<Self, VkError> {
+        let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
+        for (layout, count) in sets {
+            for b in layout.bindings() {
+                match sizes.iter_mut().find(|s| s.ty == b.ty) {
+                    Some(s) => s.descriptor_count += b.count * count,
+                    None => sizes.push(vk::DescriptorPoolSize {
+                        ty: b.ty,
+                        descriptor_count: b.count * count,
+                    }),
+                }
+            }
+        }
+        let max_sets = sets.iter().map(|(_, n)| n).sum::<u32>().max(1);
+        Self::new(ctx, name, max_sets, &sizes)
+    }
+
+    fn new(
         ctx: &Arc<Context>,
         name: &str,
         max_sets: u32,
@@ -96,11 +150,13 @@ impl Drop for DescriptorPool {
 
 pub struct PipelineLayout {
     pub raw: vk::PipelineLayout,
+    /// The push-constant range (at most one), if any.
+    push: Option<vk::PushConstantRange>,
     ctx: Arc<Context>,
 }
 
 impl PipelineLayout {
-    pub fn new(
+    pub(super) fn new(
         ctx: &Arc<Context>,
         name: &str,
         sets: &[&DescriptorSetLayout],
@@ -128,8 +184,59 @@ impl PipelineLayout {
         ctx.set_name(raw, name);
         Ok(Self {
             raw,
+            push: push.first().copied(),
             ctx: ctx.clone(),
         })
+    }
+
+    /// The stages of the push-constant range (empty without one).
+    pub fn push_stages(&self) -> vk::ShaderStageFlags {
+        self.push
+            .map_or(vk::ShaderStageFlags::empty(), |r| r.stage_flags)
+    }
+
+    /// The device the layout belongs to.
+    pub fn device(&self) -> &ash::Device {
+        &self.ctx.device
+    }
+
+    /// Records `vkCmdPushConstants` of `value` with this layout's range and stages.
+    ///
+    /// # Safety
+    /// `cmd` must be recording, with pipelines made with this layout bound where they are used.
+    pub unsafe fn push<T: bytemuck::Pod>(
+        &self,
+        cmd: vk::CommandBuffer,
+        value: &T,
+    ) -> Result<(), VkError> {
+        // SAFETY: the caller's contract, the same.
+        unsafe { self.push_bytes(cmd, bytemuck::bytes_of(value)) }
+    }
+
+    /// [`PipelineLayout::push`] of raw bytes (which must fill the range exactly).
+    ///
+    /// # Safety
+    /// As [`PipelineLayout::push`].
+    pub unsafe fn push_bytes(&self, cmd: vk::CommandBuffer, bytes: &[u8]) -> Result<(), VkError> {
+        let range = self
+            .push
+            .filter(|r| r.size as usize == bytes.len())
+            .ok_or_else(|| {
+                VkError::Setup(format!(
+                    "push constants of {} bytes for a layout whose range is {:?}",
+                    bytes.len(),
+                    self.push.map(|r| r.size)
+                ))
+            })?;
+        // SAFETY: `bytes` is exactly the layout's one range, pushed with the range's stages
+        // (VUID-vkCmdPushConstants-offset-01795/01796); `self.raw` is live. The caller's part is
+        // in the contract.
+        unsafe {
+            self.ctx
+                .device
+                .cmd_push_constants(cmd, self.raw, range.stage_flags, 0, bytes)
+        };
+        Ok(())
     }
 }
 
@@ -196,6 +303,34 @@ pub struct GraphicsDesc<'a> {
     /// "Over" blending with the fragment's alpha (straight, not premultiplied): colour =
     /// src · a + dst · (1 − a), alpha = a + dst · (1 − a).
     pub blend: bool,
+}
+
+impl<'a> GraphicsDesc<'a> {
+    /// A full-screen triangle (no vertex input, no culling) into one single-sampled colour
+    /// attachment of `color_formats[0]`: no depth, no blending.
+    pub fn fullscreen(
+        name: &'a str,
+        (vertex, fragment): (&'a ShaderModule, &'a ShaderModule),
+        spec: &'a SpecValues,
+        color_formats: &'a [vk::Format],
+    ) -> Self {
+        Self {
+            name,
+            vertex,
+            fragment,
+            spec,
+            vertex_bindings: &[],
+            vertex_attributes: &[],
+            color_formats,
+            depth_format: None,
+            samples: vk::SampleCountFlags::TYPE_1,
+            cull: vk::CullModeFlags::NONE,
+            depth_test: false,
+            depth_write: false,
+            depth_compare: vk::CompareOp::ALWAYS,
+            blend: false,
+        }
+    }
 }
 
 impl Pipeline {

@@ -57,3 +57,24 @@ impl Drop for ShaderModule {
         unsafe { self.ctx.device.destroy_shader_module(self.raw, None) };
     }
 }
+
+/// One descriptor binding a module declares, as build.rs read it from the SPIR-V.
+#[derive(Debug, Clone, Copy)]
+pub struct ReflectedBinding {
+    pub set: u32,
+    pub binding: u32,
+    /// A `VkDescriptorType` value.
+    pub ty: u32,
+    pub count: u32,
+    /// The GLSL name (of the block or the variable).
+    pub name: &'static str,
+}
+
+/// A module's resource interface: its stage (a `VkShaderStageFlags` bit), its descriptor bindings
+/// and its push-constant block's size in bytes (0 without one).
+#[derive(Debug, Clone, Copy)]
+pub struct ModuleInterface {
+    pub stage: u32,
+    pub push_size: u32,
+    pub bindings: &'static [ReflectedBinding],
+}

@@ -10,20 +10,17 @@ use gpu_allocator::MemoryLocation;
 use crate::brdf::{GpuBrdfParams, Model};
 use crate::glsl::brdf_eval_comp as glsl;
 use crate::vk::cmd::CommandPool;
-use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
+use crate::vk::pipeline::Pipeline;
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Buffer, Context};
+use crate::vk::{Buffer, Context, SingleSet};
 
 use super::{Case, Evaluator, Output};
 
 /// The GPU mirror: `brdf_eval.comp` (brdf_eval / brdf_radiance of `models.glsl`), one invocation
 /// per case, parameters packed by [`GpuBrdfParams::from_model`] as the renderer packs them.
 pub struct GpuEvaluator {
-    set: vk::DescriptorSet,
-    _desc_pool: DescriptorPool,
+    single: SingleSet,
     pipeline: Pipeline,
-    layout: PipelineLayout,
-    _set_layout: DescriptorSetLayout,
     pool: CommandPool,
     max_cases: usize,
     ctx: Arc<Context>,
@@ -39,52 +36,18 @@ const GROUP: u32 = 64;
 
 impl GpuEvaluator {
     pub fn new(ctx: &Arc<Context>) -> Result<Self> {
-        let binding = |i: u32| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(i)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE)
-        };
-        let set_layout = DescriptorSetLayout::new(
-            ctx,
-            "brdf_eval set layout",
-            &[
-                binding(glsl::BINDING_PARAMS as u32),
-                binding(glsl::BINDING_CASES as u32),
-                binding(glsl::BINDING_RESULTS as u32),
-            ],
-        )?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: 32,
-        }];
-        let layout = PipelineLayout::new(ctx, "brdf_eval layout", &[&set_layout], &push)?;
-        let desc_pool = DescriptorPool::new(
-            ctx,
-            "brdf_eval pool",
-            1,
-            &[vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 3,
-            }],
-        )?;
-        let set = desc_pool.allocate(&set_layout)?;
+        let single = SingleSet::new(ctx, "brdf_eval", &["brdf_eval.comp"])?;
         // One pipeline for every model: specialising per (model, D, G, F) was measured slower on
         // lavapipe (71 JIT compilations cost more than the branches they remove).
         let module = ShaderModule::new(ctx, "brdf_eval.comp")?;
-        let pipeline = Pipeline::compute(ctx, &layout, "brdf_eval", &module, &[])?;
+        let pipeline = Pipeline::compute(ctx, &single.layout, "brdf_eval", &module, &[])?;
         let pool = CommandPool::new(ctx, "brdf_eval commands")?;
         // Results take 64 bytes per case, inputs 96: stay well inside maxStorageBufferRange.
         let range = ctx.info.limits.max_storage_buffer_range as usize;
         let max_cases = (range / CASE_BYTES).clamp(1024, 1 << 18);
         Ok(Self {
-            set,
-            _desc_pool: desc_pool,
+            single,
             pipeline,
-            layout,
-            _set_layout: set_layout,
             pool,
             max_cases,
             ctx: ctx.clone(),
@@ -125,31 +88,18 @@ impl GpuEvaluator {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
-        let infos = [params, &case_buf, &results].map(|b| {
-            [vk::DescriptorBufferInfo {
-                buffer: b.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }]
-        });
-        let writes: Vec<_> = infos
+        let writes = [params, &case_buf, &results]
             .iter()
             .enumerate()
-            .map(|(i, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(i as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        // SAFETY: no command buffer using `self.set` is pending (the previous chunk's `one_shot` waited);
-        // the buffers in `infos` are live storage buffers and `infos` outlives the call.
-        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+            .fold(self.single.writes(), |w, (i, b)| w.buffer(i as u32, b.raw));
+        // SAFETY: no command buffer using the set is pending (the previous chunk's `one_shot`
+        // waited); the buffers are live storage buffers.
+        unsafe { writes.apply(ctx) }?;
         let count = cases.len() as u32;
         let max_groups = ctx.info.limits.max_compute_work_group_count[0].min(65_535);
         let d = ctx.device.clone();
-        let (layout, pipeline, set) = (self.layout.raw, self.pipeline.raw, self.set);
+        let (layout, pipeline, set) =
+            (self.single.layout.raw, self.pipeline.raw, self.single.set());
         let results_raw = (results.raw, results.size);
         let record = move |cmd: vk::CommandBuffer| {
             // SAFETY: `cmd` is recording (the graph's pass, inside `one_shot`); the pipeline, layout

@@ -22,35 +22,9 @@ pub(super) fn storage_fits<T>(
 
 /// The per-frame set's layout: frame uniforms, lights, objects, the sRGB encode table, the
 /// deferred path's materials, the light clusters and their index list, the instances' objects
-/// (`bindings.glsl`, set 0).
+/// (`bindings.glsl`, set 0), as the scene's shaders declare it.
 pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
-    let binding = |binding, ty, stages| {
-        vk::DescriptorSetLayoutBinding::default()
-            .binding(binding)
-            .descriptor_type(ty)
-            .descriptor_count(1)
-            .stage_flags(stages)
-    };
-    let (uniform, storage) = (
-        vk::DescriptorType::UNIFORM_BUFFER,
-        vk::DescriptorType::STORAGE_BUFFER,
-    );
-    let fragment = vk::ShaderStageFlags::FRAGMENT;
-    let bindings = [
-        binding(gpu::BINDING_FRAME, uniform, STAGES),
-        binding(gpu::BINDING_LIGHTS, storage, STAGES),
-        binding(gpu::BINDING_OBJECTS, storage, STAGES),
-        binding(gpu::BINDING_SRGB_TABLE, storage, fragment),
-        binding(gpu::BINDING_DEFERRED_MATERIALS, storage, fragment),
-        binding(gpu::BINDING_CLUSTERS, storage, fragment),
-        binding(gpu::BINDING_CLUSTER_LIGHTS, storage, fragment),
-        binding(
-            gpu::BINDING_INSTANCES,
-            storage,
-            vk::ShaderStageFlags::VERTEX,
-        ),
-    ];
-    DescriptorSetLayout::new(ctx, "forward frame set layout", &bindings)
+    gpu::scene_interface()?.set_layout(ctx, gpu::SET_FRAME)
 }
 
 /// What [`build_draws`] makes: the meshes queued for upload, the objects' data and one draw per
@@ -498,13 +472,6 @@ impl Slot {
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
         let set = pool.allocate(layout)?;
-        let info = |b: &Buffer| {
-            [vk::DescriptorBufferInfo {
-                buffer: b.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }]
-        };
         let deferred_materials = buffer(
             "deferred materials",
             object_count * std::mem::size_of::<gpu::DeferredMaterial>(),
@@ -525,45 +492,23 @@ impl Slot {
             draw_count.max(1) * 4,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let infos = [
-            info(&frame_ubo),
-            info(&lights),
-            info(&objects),
-            info(srgb_table),
-            info(&deferred_materials),
-            info(&clusters),
-            info(&cluster_lights),
-            info(&instances),
-        ];
         let writes = [
-            (gpu::BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
-            (gpu::BINDING_LIGHTS, vk::DescriptorType::STORAGE_BUFFER),
-            (gpu::BINDING_OBJECTS, vk::DescriptorType::STORAGE_BUFFER),
-            (gpu::BINDING_SRGB_TABLE, vk::DescriptorType::STORAGE_BUFFER),
-            (
-                gpu::BINDING_DEFERRED_MATERIALS,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (gpu::BINDING_CLUSTERS, vk::DescriptorType::STORAGE_BUFFER),
-            (
-                gpu::BINDING_CLUSTER_LIGHTS,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (gpu::BINDING_INSTANCES, vk::DescriptorType::STORAGE_BUFFER),
+            (gpu::BINDING_FRAME, &frame_ubo),
+            (gpu::BINDING_LIGHTS, &lights),
+            (gpu::BINDING_OBJECTS, &objects),
+            (gpu::BINDING_SRGB_TABLE, srgb_table),
+            (gpu::BINDING_DEFERRED_MATERIALS, &deferred_materials),
+            (gpu::BINDING_CLUSTERS, &clusters),
+            (gpu::BINDING_CLUSTER_LIGHTS, &cluster_lights),
+            (gpu::BINDING_INSTANCES, &instances),
         ]
-        .iter()
-        .zip(&infos)
-        .map(|(&(binding, ty), info)| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(binding)
-                .descriptor_type(ty)
-                .buffer_info(info)
-        })
-        .collect::<Vec<_>>();
+        .into_iter()
+        .fold(SetWrites::new(layout, set), |w, (binding, b)| {
+            w.buffer(binding, b.raw)
+        });
         // SAFETY: `set` was just allocated and is not in use by any command buffer; the writes'
-        // buffers are live, of the usages the bindings need, and `infos` outlives the call.
-        unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        // buffers are live and of the usages the bindings need.
+        unsafe { writes.apply(ctx) }?;
         Ok(Self {
             frame_ubo,
             lights,
@@ -582,7 +527,7 @@ impl Slot {
     /// rewritten) when it does not fit. The slot must not be in use by the GPU.
     pub(super) fn write_clusters(
         &mut self,
-        ctx: &Arc<Context>,
+        (ctx, layout): (&Arc<Context>, &DescriptorSetLayout),
         index: usize,
         c: &Clusters,
     ) -> Result<(), VkError> {
@@ -611,20 +556,11 @@ impl Slot {
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::CpuToGpu,
             )?;
-            let info = [vk::DescriptorBufferInfo {
-                buffer: buffer.raw,
-                offset: 0,
-                range: vk::WHOLE_SIZE,
-            }];
-            let write = vk::WriteDescriptorSet::default()
-                .dst_set(self.set)
-                .dst_binding(binding)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&info);
+            let writes = SetWrites::new(layout, self.set).buffer(binding, buffer.raw);
             // SAFETY: the slot (and so its set) is not in use by any pending command buffer (the
             // caller's contract); the new buffer is live, a storage buffer, kept in the slot as
-            // long as the set refers to it; `info` outlives the call.
-            unsafe { ctx.device.update_descriptor_sets(&[write], &[]) };
+            // long as the set refers to it.
+            unsafe { writes.apply(ctx) }?;
         }
         self.clusters.write(0, bytemuck::bytes_of(&c.header))?;
         self.clusters

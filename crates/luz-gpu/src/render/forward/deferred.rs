@@ -25,7 +25,7 @@ use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
 };
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Context, Image, VkError};
+use crate::vk::{Context, Image, Interface, SetWrites, VkError};
 
 /// The G-buffer: octahedral normal (2 × f32 bits), view depth (f32 bits), object slot.
 pub const GBUFFER_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
@@ -72,7 +72,7 @@ pub(super) struct Deferred {
     light_fragment: ShaderModule,
     set: vk::DescriptorSet,
     _pool: DescriptorPool,
-    _set_layout: DescriptorSetLayout,
+    set_layout: DescriptorSetLayout,
     gbuffer: Option<Image>,
     ctx: Arc<Context>,
 }
@@ -83,37 +83,21 @@ impl Deferred {
     pub(super) fn new(
         ctx: &Arc<Context>,
         forward_layout: &PipelineLayout,
-        frame_set_layout: &DescriptorSetLayout,
+        frameset_layout: &DescriptorSetLayout,
         (empty_layout, shadow_layout): (&DescriptorSetLayout, &DescriptorSetLayout),
         target: TargetFormat,
         variant: VariantKey,
     ) -> Result<Self, VkError> {
-        let set_layout = DescriptorSetLayout::new(
-            ctx,
-            "deferred G-buffer set layout",
-            &[vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_GBUFFER)
-                .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT)],
-        )?;
         const _: () = assert!(SET_GBUFFER == 1 && gpu::SET_FRAME == 0);
         const _: () = assert!(crate::render::shadow::SET_SHADOW == 3);
-        let light_layout = PipelineLayout::new(
+        let interface =
+            Interface::of("deferred lighting", &["skybox.vert", "deferred_light.frag"])?;
+        let set_layout = interface.set_layout(ctx, SET_GBUFFER)?;
+        let light_layout = interface.pipeline_layout(
             ctx,
-            "deferred lighting layout",
-            &[frame_set_layout, &set_layout, empty_layout, shadow_layout],
-            &[],
+            &[frameset_layout, &set_layout, empty_layout, shadow_layout],
         )?;
-        let pool = DescriptorPool::new(
-            ctx,
-            "deferred pool",
-            1,
-            &[vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::SAMPLED_IMAGE,
-                descriptor_count: 1,
-            }],
-        )?;
+        let pool = DescriptorPool::for_sets(ctx, "deferred pool", &[(&set_layout, 1)])?;
         let set = pool.allocate(&set_layout)?;
         let vs = ShaderModule::new(ctx, "forward.vert:gbuffer")?;
         let fs = ShaderModule::new(ctx, "deferred_gbuffer.frag")?;
@@ -149,7 +133,7 @@ impl Deferred {
             light_fragment: ShaderModule::new(ctx, "deferred_light.frag")?,
             set,
             _pool: pool,
-            _set_layout: set_layout,
+            set_layout,
             gbuffer: None,
             ctx: ctx.clone(),
         })
@@ -227,21 +211,15 @@ impl Deferred {
         let mut desc = ImageDesc::color_target(extent.width, extent.height, GBUFFER_FORMAT);
         desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
         let image = Image::new(&self.ctx, "deferred G-buffer", desc)?;
-        let info = [vk::DescriptorImageInfo {
-            sampler: vk::Sampler::null(),
-            image_view: image.view,
-            image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.set)
-            .dst_binding(BINDING_GBUFFER)
-            .descriptor_type(vk::DescriptorType::SAMPLED_IMAGE)
-            .image_info(&info);
-        // SAFETY: `write` and `info` outlive the call; the binding is a SAMPLED_IMAGE of
-        // `self.set`, and `image.view` a live view with SAMPLED usage, kept in `self.gbuffer` as
-        // long as the set refers to it. No pending command buffer uses the set (the contract
-        // above), and `&mut self` gives this call sole access to it.
-        unsafe { self.ctx.device.update_descriptor_sets(&[write], &[]) };
+        let writes = SetWrites::new(&self.set_layout, self.set).view(
+            BINDING_GBUFFER,
+            image.view,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        );
+        // SAFETY: `image.view` is a live view with SAMPLED usage, kept in `self.gbuffer` as long
+        // as the set refers to it. No pending command buffer uses the set (the contract above),
+        // and `&mut self` gives this call sole access to it.
+        unsafe { writes.apply(&self.ctx) }?;
         self.gbuffer = Some(image);
         Ok(())
     }
@@ -419,21 +397,7 @@ impl Deferred {
 }
 
 fn set_viewport(d: &ash::Device, cmd: vk::CommandBuffer, area: vk::Rect2D) {
-    // SAFETY: `cmd` is recording inside a rendering instance (both callers above); the arrays
-    // are locals that outlive the calls.
-    unsafe {
-        d.cmd_set_viewport(
-            cmd,
-            0,
-            &[vk::Viewport {
-                x: 0.0,
-                y: 0.0,
-                width: area.extent.width as f32,
-                height: area.extent.height as f32,
-                min_depth: 0.0,
-                max_depth: 1.0,
-            }],
-        );
-        d.cmd_set_scissor(cmd, 0, &[area]);
-    }
+    // SAFETY: `cmd` is recording inside a rendering instance with dynamic viewport and scissor
+    // (both callers above).
+    unsafe { crate::vk::cmd::set_viewport(d, cmd, area.extent, area) }
 }

@@ -21,7 +21,7 @@ use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
 use crate::vk::cmd::CommandPool;
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
-use crate::vk::{Buffer, Context, VkError};
+use crate::vk::{Buffer, Context, SetWrites, VkError};
 
 mod build;
 pub mod clusters;
@@ -269,7 +269,7 @@ pub struct ForwardPass {
     lut_layers: Option<Vec<(i32, u32)>>,
     _pool: DescriptorPool,
     layout: PipelineLayout,
-    _set_layout: DescriptorSetLayout,
+    set_layout: DescriptorSetLayout,
     background: glam::Vec3,
     exposure: f32,
     light_count: u32,
@@ -306,9 +306,18 @@ pub struct ForwardPass {
     ctx: Arc<Context>,
 }
 
-const STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
-);
+/// The interface of the modules drawn in the forward layout: the forward variants, the skybox
+/// and the deferred path's geometry pass (its push block is [`MaterialPush`]).
+fn forward_interface() -> Result<crate::vk::Interface, VkError> {
+    use crate::vk::interface::keys_with_prefix;
+    let keys: Vec<&str> = ["forward.", "skybox.", "deferred_gbuffer."]
+        .into_iter()
+        .flat_map(keys_with_prefix)
+        .collect();
+    let interface = crate::vk::Interface::of("forward", &keys)?;
+    interface.check_push::<MaterialPush>()?;
+    Ok(interface)
+}
 
 impl ForwardPass {
     /// A pass for one frame at a time (headless rendering).
@@ -363,41 +372,27 @@ impl ForwardPass {
             _ => None,
         };
         let set_layout = frame_set_layout(ctx)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: STAGES,
-            offset: 0,
-            size: std::mem::size_of::<MaterialPush>() as u32,
-        }];
         let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
         let shadows = ShadowMaps::new(ctx, pool, scene, slot_count, &materials.set_layout)?;
         // Sets in index order (asserted in gpu.rs): frame, environment (an empty layout without
         // one, so the materials keep their index), materials, shadows.
-        let empty_layout = DescriptorSetLayout::new(ctx, "empty set layout", &[])?;
+        let empty_layout = DescriptorSetLayout::empty(ctx, "empty set layout")?;
         let env_layout = ibl.map(|i| &i.set_layout).unwrap_or(&empty_layout);
         const _: () = assert!(shadow::SET_SHADOW == 3 && SET_MATERIAL == 2);
-        let layout = PipelineLayout::new(
+        let layout = forward_interface()?.pipeline_layout(
             ctx,
-            "forward layout",
             &[
                 &set_layout,
                 env_layout,
                 &materials.set_layout,
                 shadows.set_layout(),
             ],
-            &push,
         )?;
-        let n = slot_count as u32;
-        let pool_sizes = [
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::UNIFORM_BUFFER,
-                descriptor_count: n,
-            },
-            vk::DescriptorPoolSize {
-                ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: 7 * n,
-            },
-        ];
-        let desc_pool = DescriptorPool::new(ctx, "forward descriptor pool", n, &pool_sizes)?;
+        let desc_pool = DescriptorPool::for_sets(
+            ctx,
+            "forward descriptor pool",
+            &[(&set_layout, slot_count as u32)],
+        )?;
 
         // Lights: any number up to what one storage buffer can bind (never empty: Vulkan wants a
         // non-zero range); per-object data likewise. Checked against the device's limits.
@@ -484,7 +479,7 @@ impl ForwardPass {
             lut_layers,
             _pool: desc_pool,
             layout,
-            _set_layout: set_layout,
+            set_layout,
             background: scene.output.background,
             exposure: scene.output.exposure,
             light_count: lights.len() as u32,
@@ -905,19 +900,7 @@ impl ForwardPass {
             // the command buffer's execution (the owner waits before dropping it).
             unsafe {
                 d.cmd_begin_rendering(cmd, &info);
-                d.cmd_set_viewport(
-                    cmd,
-                    0,
-                    &[vk::Viewport {
-                        x: 0.0,
-                        y: 0.0,
-                        width: target.extent.width as f32,
-                        height: target.extent.height as f32,
-                        min_depth: 0.0,
-                        max_depth: 1.0,
-                    }],
-                );
-                d.cmd_set_scissor(cmd, 0, &[area]);
+                crate::vk::cmd::set_viewport(d, cmd, target.extent, area);
             }
             // Opaque draws, the skybox behind them, then blended draws over both.
             let blended = order

@@ -190,7 +190,7 @@ impl ForwardPass {
         }
         let grid = clusters::Grid::of(scene, aspect);
         let c = clusters::build(&grid, scene.camera.view(), &scene.lights);
-        self.slots[slot].write_clusters(&self.ctx, slot, &c)?;
+        self.slots[slot].write_clusters((&self.ctx, &self.set_layout), slot, &c)?;
         self.cluster_stats = Some(c.stats);
         Ok(())
     }

@@ -2,7 +2,7 @@
 
 use ash::vk;
 
-use super::{gpu, instances, shadow, ForwardPass, SET_MATERIAL, STAGES};
+use super::{gpu, instances, shadow, ForwardPass, SET_MATERIAL};
 
 impl ForwardPass {
     /// Binds the frame set `set` (and the environment set) and records, inside the caller's
@@ -28,7 +28,8 @@ impl ForwardPass {
         // SAFETY: `cmd` is recording inside a rendering instance on attachments of the pipelines'
         // formats (both callers); every pipeline, set and buffer bound here belongs to this pass
         // and outlives the command buffer's execution (the owner waits before dropping it); the
-        // push-constant bytes are a `MaterialPush`, the layout's range.
+        // push-constant bytes are a `MaterialPush`, the layout's range (`forward_interface` checks
+        // the size), pushed with its stages.
         unsafe {
             d.cmd_bind_descriptor_sets(
                 cmd,
@@ -105,7 +106,7 @@ impl ForwardPass {
                 d.cmd_push_constants(
                     cmd,
                     self.layout.raw,
-                    STAGES,
+                    self.layout.push_stages(),
                     0,
                     bytemuck::bytes_of(&draw.push),
                 );

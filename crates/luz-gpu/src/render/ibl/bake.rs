@@ -3,7 +3,6 @@
 use std::sync::Arc;
 
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use luz_graph::{Access, FrameGraph, ImageStateBefore, SubresourceRange};
 
@@ -12,7 +11,7 @@ use crate::vk::cmd::CommandPool;
 use crate::vk::image::{ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, Image, Interface, SetWrites, VkError};
 
 use super::{EquirectView, IblSettings};
 
@@ -23,30 +22,11 @@ struct Kernel {
 }
 
 impl Kernel {
-    fn new(
-        ctx: &Arc<Context>,
-        key: &str,
-        bindings: &[vk::DescriptorType],
-        push_size: u32,
-    ) -> Result<Self, VkError> {
-        let b: Vec<_> = bindings
-            .iter()
-            .enumerate()
-            .map(|(i, t)| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(i as u32)
-                    .descriptor_type(*t)
-                    .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            })
-            .collect();
-        let set_layout = DescriptorSetLayout::new(ctx, &format!("{key} set layout"), &b)?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: push_size,
-        }];
-        let layout = PipelineLayout::new(ctx, &format!("{key} layout"), &[&set_layout], &push)?;
+    /// The kernel `key` in a layout made from its interface.
+    fn new(ctx: &Arc<Context>, key: &str) -> Result<Self, VkError> {
+        let interface = Interface::of(key, &[key])?;
+        let set_layout = interface.set_layout(ctx, 0)?;
+        let layout = interface.pipeline_layout(ctx, &[&set_layout])?;
         let module = ShaderModule::new(ctx, key)?;
         let pipeline = Pipeline::compute(ctx, &layout, key, &module, &[])?;
         Ok(Self {
@@ -54,6 +34,18 @@ impl Kernel {
             layout,
             set_layout,
         })
+    }
+
+    /// A set for one dispatch from `pool`, binding `binds` in binding order.
+    fn set(
+        &self,
+        ctx: &Context,
+        pool: &DescriptorPool,
+        binds: &[Bind],
+    ) -> Result<vk::DescriptorSet, VkError> {
+        let set = pool.allocate(&self.set_layout)?;
+        write_set(ctx, (&self.set_layout, set), binds)?;
+        Ok(set)
     }
 }
 
@@ -63,41 +55,23 @@ pub(super) enum Bind {
     Storage(vk::ImageView),
 }
 
-pub(super) fn write_set(ctx: &Context, set: vk::DescriptorSet, binds: &[Bind]) {
-    let infos: Vec<[vk::DescriptorImageInfo; 1]> = binds
+/// Writes `binds` into bindings 0, 1, … of `set` (of `layout`), every image in GENERAL.
+pub(super) fn write_set(
+    ctx: &Context,
+    (layout, set): (&DescriptorSetLayout, vk::DescriptorSet),
+    binds: &[Bind],
+) -> Result<(), VkError> {
+    let general = vk::ImageLayout::GENERAL;
+    let writes = binds
         .iter()
-        .map(|b| match b {
-            Bind::Sampled(view, sampler) => [vk::DescriptorImageInfo {
-                sampler: *sampler,
-                image_view: *view,
-                image_layout: vk::ImageLayout::GENERAL,
-            }],
-            Bind::Storage(view) => [vk::DescriptorImageInfo {
-                sampler: vk::Sampler::null(),
-                image_view: *view,
-                image_layout: vk::ImageLayout::GENERAL,
-            }],
-        })
-        .collect();
-    let writes: Vec<_> = binds
-        .iter()
-        .zip(&infos)
         .enumerate()
-        .map(|(i, (b, info))| {
-            vk::WriteDescriptorSet::default()
-                .dst_set(set)
-                .dst_binding(i as u32)
-                .descriptor_type(match b {
-                    Bind::Sampled(..) => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    Bind::Storage(..) => vk::DescriptorType::STORAGE_IMAGE,
-                })
-                .image_info(info)
-        })
-        .collect();
-    // SAFETY: `set` is not in use by any pending command buffer (each stage writes its set before
-    // recording); the views and samplers in `infos` are live, and `writes` and `infos` outlive
-    // the call.
-    unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+        .fold(SetWrites::new(layout, set), |w, (i, b)| match b {
+            Bind::Sampled(view, sampler) => w.image(i as u32, *view, general, *sampler),
+            Bind::Storage(view) => w.view(i as u32, *view, general),
+        });
+    // SAFETY: `set` is not in use by any pending command buffer (each stage writes its sets
+    // before recording); the callers pass live views and samplers.
+    unsafe { writes.apply(ctx) }
 }
 
 pub(super) fn mip_count(size: u32) -> u32 {
@@ -154,10 +128,10 @@ fn dispatch(
     x: u32,
     y: u32,
     z: u32,
-) {
+) -> Result<(), VkError> {
     // SAFETY: the caller records into a command buffer in the recording state; the kernel's pipeline,
-    // layout and `set` are live and outlive the submission (`one_shot` waits); `push` fits the
-    // layout's push-constant range.
+    // layout and `set` are live and outlive the submission (`one_shot` waits); `push` must fill
+    // the layout's push-constant range (`push_bytes` checks).
     unsafe {
         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, k.pipeline.raw);
         d.cmd_bind_descriptor_sets(
@@ -168,9 +142,10 @@ fn dispatch(
             &[set],
             &[],
         );
-        d.cmd_push_constants(cmd, k.layout.raw, vk::ShaderStageFlags::COMPUTE, 0, push);
+        k.layout.push_bytes(cmd, push)?;
         d.cmd_dispatch(cmd, x, y, z);
     }
+    Ok(())
 }
 
 /// The equirectangular input on the GPU (sampled by the equirect → cube kernel).
@@ -199,15 +174,12 @@ impl Equirect {
                 1,
             ),
         )?;
-        let bytes: &[u8] = bytemuck::cast_slice(equirect.texels);
-        let mut staging = Buffer::new(
+        let staging = Buffer::with_data(
             ctx,
             "equirect staging",
-            bytes.len() as u64,
+            equirect.texels,
             vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
         )?;
-        staging.write(0, bytes)?;
         let sampler_eq = Sampler::linear(ctx, "equirect sampler", vk::SamplerAddressMode::REPEAT)?;
         Ok((
             Self {
@@ -242,62 +214,17 @@ impl<'a> Baker<'a> {
         s: &'a IblSettings,
         dispatches: u32,
     ) -> Result<Self, VkError> {
-        let k_cube = Kernel::new(
-            ctx,
-            "ibl/equirect_to_cube.comp",
-            &[
-                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::DescriptorType::STORAGE_IMAGE,
-            ],
-            16,
-        )?;
-        let k_down = Kernel::new(
-            ctx,
-            "ibl/cube_downsample.comp",
-            &[
-                vk::DescriptorType::STORAGE_IMAGE,
-                vk::DescriptorType::STORAGE_IMAGE,
-            ],
-            4,
-        )?;
-        let k_irr = Kernel::new(
-            ctx,
-            "ibl/irradiance.comp",
-            &[
-                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::DescriptorType::STORAGE_IMAGE,
-            ],
-            16,
-        )?;
-        let k_pre = Kernel::new(
-            ctx,
-            "ibl/prefilter.comp",
-            &[
-                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::DescriptorType::STORAGE_IMAGE,
-            ],
-            16,
-        )?;
-        let k_lut = Kernel::new(
-            ctx,
-            "ibl/brdf_lut.comp",
-            &[vk::DescriptorType::STORAGE_IMAGE],
-            16,
-        )?;
-        let work_pool = DescriptorPool::new(
+        let k_cube = Kernel::new(ctx, "ibl/equirect_to_cube.comp")?;
+        let k_down = Kernel::new(ctx, "ibl/cube_downsample.comp")?;
+        let k_irr = Kernel::new(ctx, "ibl/irradiance.comp")?;
+        let k_pre = Kernel::new(ctx, "ibl/prefilter.comp")?;
+        let k_lut = Kernel::new(ctx, "ibl/brdf_lut.comp")?;
+        // Room for `dispatches` sets of any one kernel.
+        let kernels = [&k_cube, &k_down, &k_irr, &k_pre, &k_lut];
+        let work_pool = DescriptorPool::for_sets(
             ctx,
             "ibl work pool",
-            dispatches,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    descriptor_count: dispatches,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::STORAGE_IMAGE,
-                    descriptor_count: 2 * dispatches,
-                },
-            ],
+            &kernels.map(|k| (&k.set_layout, dispatches)),
         )?;
         Ok(Self {
             ctx,
@@ -339,27 +266,18 @@ impl<'a> Baker<'a> {
         let env_views: Vec<vk::ImageView> = (0..env_mips)
             .map(|m| env.mip_view(m))
             .collect::<Result<_, _>>()?;
-        let set = work_pool.allocate(&k_cube.set_layout)?;
-        write_set(
+        let set = k_cube.set(
             ctx,
-            set,
+            work_pool,
             &[
                 Bind::Sampled(eq.image.view, eq.sampler.raw),
                 Bind::Storage(env_views[0]),
             ],
-        );
-        let down_sets: Vec<vk::DescriptorSet> = (1..env_mips)
+        )?;
+        let down_sets: Vec<vk::DescriptorSet> = (1..env_mips as usize)
             .map(|m| {
-                let set = work_pool.allocate(&k_down.set_layout)?;
-                write_set(
-                    ctx,
-                    set,
-                    &[
-                        Bind::Storage(env_views[m as usize - 1]),
-                        Bind::Storage(env_views[m as usize]),
-                    ],
-                );
-                Ok(set)
+                let binds = [Bind::Storage(env_views[m - 1]), Bind::Storage(env_views[m])];
+                k_down.set(ctx, work_pool, &binds)
             })
             .collect::<Result<_, VkError>>()?;
         let env: &Image = env;
@@ -377,20 +295,7 @@ impl<'a> Baker<'a> {
                 .record(move |rc| {
                     let image = rc.image(eq_h)?.image;
                     let buffer = rc.buffer(staged)?.buffer;
-                    let region = vk::BufferImageCopy {
-                        image_subresource: vk::ImageSubresourceLayers {
-                            aspect_mask: vk::ImageAspectFlags::COLOR,
-                            mip_level: 0,
-                            base_array_layer: 0,
-                            layer_count: 1,
-                        },
-                        image_extent: vk::Extent3D {
-                            width: w,
-                            height: h,
-                            depth: 1,
-                        },
-                        ..Default::default()
-                    };
+                    let region = crate::vk::image::color_region(0, 0, (w, h));
                     // SAFETY: the staging buffer holds the texels (written and flushed before
                     // recording) and the graph put the image in TRANSFER_DST_OPTIMAL; `region`
                     // lies inside both.
@@ -425,7 +330,7 @@ impl<'a> Baker<'a> {
                         groups(s.env_size),
                         groups(s.env_size),
                         6,
-                    );
+                    )?;
                     Ok(())
                 });
             for (i, set) in down_sets.iter().copied().enumerate() {
@@ -453,7 +358,7 @@ impl<'a> Baker<'a> {
                             groups(size),
                             groups(size),
                             6,
-                        );
+                        )?;
                         Ok(())
                     });
             }
@@ -470,15 +375,14 @@ impl<'a> Baker<'a> {
         let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_irr, work_pool) = (&self.k_irr, &self.work_pool);
         let irr_view = irradiance.mip_view(0)?;
-        let set = work_pool.allocate(&k_irr.set_layout)?;
-        write_set(
+        let set = k_irr.set(
             ctx,
-            set,
+            work_pool,
             &[
                 Bind::Sampled(env.view, sampler.raw),
                 Bind::Storage(irr_view),
             ],
-        );
+        )?;
         let irradiance: &Image = irradiance;
         self.run_graph(|g| {
             let env_h = import(g, "environment cube", env, ImageStateBefore::Keep(BAKED));
@@ -510,7 +414,7 @@ impl<'a> Baker<'a> {
                         groups(s.irradiance_size),
                         groups(s.irradiance_size),
                         6,
-                    );
+                    )?;
                     Ok(())
                 });
         })
@@ -537,12 +441,11 @@ impl<'a> Baker<'a> {
         self.to_general(prefiltered)?;
         for m in 0..pre_mips {
             let view = prefiltered.mip_view(m)?;
-            let set = work_pool.allocate(&k_pre.set_layout)?;
-            write_set(
+            let set = k_pre.set(
                 ctx,
-                set,
+                work_pool,
                 &[Bind::Sampled(env.view, sampler.raw), Bind::Storage(view)],
-            );
+            )?;
             let size = (s.prefilter_size >> m).max(1);
             let roughness = if pre_mips > 1 {
                 m as f32 / (pre_mips - 1) as f32
@@ -574,7 +477,7 @@ impl<'a> Baker<'a> {
                             groups(size),
                             groups(size),
                             6,
-                        );
+                        )?;
                         Ok(())
                     });
             })?;
@@ -589,8 +492,7 @@ impl<'a> Baker<'a> {
     pub fn brdf_lut_layer(&self, lut: &Image, g: i32, layer: u32) -> Result<(), VkError> {
         let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_lut, work_pool) = (&self.k_lut, &self.work_pool);
-        let set = work_pool.allocate(&k_lut.set_layout)?;
-        write_set(ctx, set, &[Bind::Storage(lut.view)]);
+        let set = k_lut.set(ctx, work_pool, &[Bind::Storage(lut.view)])?;
         let push: [u32; 4] = [s.lut_size, s.lut_samples, g as u32, layer];
         self.run_graph(|graph| {
             let lut_h = import(graph, "brdf lut", lut, ImageStateBefore::Keep(BAKED));
@@ -613,7 +515,7 @@ impl<'a> Baker<'a> {
                         groups(s.lut_size),
                         groups(s.lut_size),
                         1,
-                    );
+                    )?;
                     Ok(())
                 });
         })

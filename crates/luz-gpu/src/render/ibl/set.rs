@@ -6,9 +6,10 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::render::gpu::glsl::include_ibl as glsl_ibl;
+use crate::render::gpu::SET_ENV;
 use crate::vk::image::Sampler;
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
-use crate::vk::{Buffer, Context, Image, VkError};
+use crate::vk::{Buffer, Context, Image, SetWrites, VkError};
 
 use super::bake::{write_set, Bind};
 use super::EnvData;
@@ -41,7 +42,6 @@ impl EnvSet {
         images: [&Image; 4],
         sampler: &Sampler,
     ) -> Result<Self, VkError> {
-        let d = &ctx.device;
         let [env, irradiance, prefiltered, lut] = images;
         let mut ubo = Buffer::new(
             ctx,
@@ -51,64 +51,27 @@ impl EnvSet {
             MemoryLocation::CpuToGpu,
         )?;
         ubo.write(0, bytemuck::bytes_of(ubo_data))?;
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        // Bindings 0..4 (BINDING_ENV_CUBE … BINDING_BRDF_LUT) in the order of the writes below.
-        let mut bindings: Vec<_> = (0..BINDING_ENV_DATA)
-            .map(|i| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(i)
-                    .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
-                    .descriptor_count(1)
-                    .stage_flags(stages)
-            })
-            .collect();
-        bindings.push(
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(BINDING_ENV_DATA)
-                .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(stages),
-        );
-        let set_layout = DescriptorSetLayout::new(ctx, "environment set layout", &bindings)?;
-        let set_pool = DescriptorPool::new(
-            ctx,
-            "environment pool",
-            1,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    descriptor_count: 4,
-                },
-                vk::DescriptorPoolSize {
-                    ty: vk::DescriptorType::UNIFORM_BUFFER,
-                    descriptor_count: 1,
-                },
-            ],
-        )?;
+        let set_layout = crate::render::gpu::scene_interface()?.set_layout(ctx, SET_ENV)?;
+        let set_pool = DescriptorPool::for_sets(ctx, "environment pool", &[(&set_layout, 1)])?;
         let set = set_pool.allocate(&set_layout)?;
+        let sampled = |view| Bind::Sampled(view, sampler.raw);
         write_set(
             ctx,
-            set,
+            (&set_layout, set),
             &[
-                Bind::Sampled(env.view, sampler.raw),
-                Bind::Sampled(irradiance.view, sampler.raw),
-                Bind::Sampled(prefiltered.view, sampler.raw),
-                Bind::Sampled(lut.view, sampler.raw),
+                sampled(env.view),
+                sampled(irradiance.view),
+                sampled(prefiltered.view),
+                sampled(lut.view),
             ],
-        );
-        let ubo_info = [vk::DescriptorBufferInfo {
-            buffer: ubo.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(set)
-            .dst_binding(BINDING_ENV_DATA)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .buffer_info(&ubo_info);
-        // SAFETY: `set` was just allocated and is unused; `ubo` is a live uniform buffer and `ubo_info`
-        // outlives the call.
-        unsafe { d.update_descriptor_sets(&[write], &[]) };
+        )?;
+        // SAFETY: `set` was just allocated and is unused; `ubo` is a live uniform buffer, kept as
+        // long as the set.
+        unsafe {
+            SetWrites::new(&set_layout, set)
+                .buffer(BINDING_ENV_DATA, ubo.raw)
+                .apply(ctx)
+        }?;
         Ok(Self {
             set,
             set_layout,

@@ -22,7 +22,7 @@ use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
 use crate::vk::cmd::CommandPool;
 use crate::vk::image::{Image, ImageDesc, Sampler};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
-use crate::vk::{Buffer, Context, VkError};
+use crate::vk::{Buffer, Context, SetWrites, VkError};
 
 pub mod cull;
 pub mod fit;
@@ -344,43 +344,10 @@ impl ShadowMaps {
             sampler("shadow compare nearest", vk::Filter::NEAREST, true)?,
             sampler("shadow depth", vk::Filter::NEAREST, false)?,
         ];
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let binding = |b: i32, ty| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(b as u32)
-                .descriptor_type(ty)
-                .descriptor_count(1)
-                .stage_flags(stages)
-        };
-        let image_ty = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let set_layout = DescriptorSetLayout::new(
-            ctx,
-            "shadow set layout",
-            &[
-                binding(g::BINDING_SHADOW_LINEAR, image_ty),
-                binding(g::BINDING_SHADOW_NEAREST, image_ty),
-                binding(g::BINDING_SHADOW_DEPTH, image_ty),
-                binding(g::BINDING_SHADOW_LIGHTS, storage),
-                binding(g::BINDING_SHADOW_LAYERS, storage),
-            ],
-        )?;
+        let set_layout = crate::render::gpu::scene_interface()?.set_layout(ctx, SET_SHADOW)?;
         let n = slots.max(1) as u32;
-        let desc_pool = DescriptorPool::new(
-            ctx,
-            "shadow descriptor pool",
-            n,
-            &[
-                vk::DescriptorPoolSize {
-                    ty: image_ty,
-                    descriptor_count: 3 * n,
-                },
-                vk::DescriptorPoolSize {
-                    ty: storage,
-                    descriptor_count: 2 * n,
-                },
-            ],
-        )?;
+        let desc_pool =
+            DescriptorPool::for_sets(ctx, "shadow descriptor pool", &[(&set_layout, n)])?;
         let light_count = scene.lights.len().max(1);
         let mut slot_data = Vec::new();
         for i in 0..n {
@@ -411,53 +378,24 @@ impl ShadowMaps {
                 layer_count as usize * std::mem::size_of::<GpuShadowLayer>(),
             )?;
             let set = desc_pool.allocate(&set_layout)?;
-            let images = samplers.each_ref().map(|s| {
-                [vk::DescriptorImageInfo {
-                    sampler: s.raw,
-                    image_view: image.view,
-                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                }]
-            });
-            let buffers = [&lights, &layers].map(|b| {
-                [vk::DescriptorBufferInfo {
-                    buffer: b.raw,
-                    offset: 0,
-                    range: vk::WHOLE_SIZE,
-                }]
-            });
+            let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
             let image_bindings = [
                 g::BINDING_SHADOW_LINEAR,
                 g::BINDING_SHADOW_NEAREST,
                 g::BINDING_SHADOW_DEPTH,
             ];
-            let mut writes: Vec<vk::WriteDescriptorSet> = image_bindings
+            let writes = image_bindings
                 .iter()
-                .zip(&images)
-                .map(|(&b, info)| {
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(set)
-                        .dst_binding(b as u32)
-                        .descriptor_type(image_ty)
-                        .image_info(info)
+                .zip(&samplers)
+                .fold(SetWrites::new(&set_layout, set), |w, (b, s)| {
+                    w.image(*b as u32, image.view, read, s.raw)
                 })
-                .collect();
-            for (b, info) in [g::BINDING_SHADOW_LIGHTS, g::BINDING_SHADOW_LAYERS]
-                .iter()
-                .zip(&buffers)
-            {
-                writes.push(
-                    vk::WriteDescriptorSet::default()
-                        .dst_set(set)
-                        .dst_binding(*b as u32)
-                        .descriptor_type(storage)
-                        .buffer_info(info),
-                );
-            }
+                .buffer(g::BINDING_SHADOW_LIGHTS as u32, lights.raw)
+                .buffer(g::BINDING_SHADOW_LAYERS as u32, layers.raw);
             // SAFETY: `set` was just allocated and no command buffer uses it; the samplers, view
             // and buffers written are live objects of this device with the usages the bindings
-            // need (sampled depth image in the layout named, storage buffers); `images` and
-            // `buffers` outlive the call.
-            unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
+            // need (sampled depth image in the layout named, storage buffers).
+            unsafe { writes.apply(ctx) }?;
             slot_data.push(Slot {
                 set,
                 lights,

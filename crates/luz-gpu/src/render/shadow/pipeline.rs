@@ -11,9 +11,10 @@ use glam::{Mat4, Vec4};
 
 use super::{LayerDraw, MeshRef, FORMAT, VERTEX_STRIDE};
 use crate::render::gpu::glsl::include_shadow_mask as m;
+use crate::vk::interface::keys_with_prefix;
 use crate::vk::pipeline::{DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Context, VkError};
+use crate::vk::{Context, Interface, VkError};
 
 // The mask shaders bind the forward pass's material set as it is (src/render/material.rs).
 const _: () = assert!(
@@ -116,19 +117,14 @@ impl MaskPipelines {
     ) -> Result<Self, VkError> {
         let vert = ShaderModule::new(ctx, "shadow_mask.vert:plain")?;
         let frag = ShaderModule::new(ctx, "shadow_mask.frag")?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-            offset: 0,
-            size: std::mem::size_of::<MaskPush>() as u32,
-        }];
-        // Sets 0 and 1 unused: empty, so the material set keeps its index.
-        let empty = DescriptorSetLayout::new(ctx, "shadow mask empty set layout", &[])?;
-        let layout = PipelineLayout::new(
-            ctx,
-            "shadow mask layout",
-            &[&empty, &empty, materials],
-            &push,
+        let interface = Interface::of(
+            "shadow mask",
+            &keys_with_prefix("shadow_mask.").collect::<Vec<_>>(),
         )?;
+        interface.check_push::<MaskPush>()?;
+        // Sets 0 and 1 unused: empty, so the material set keeps its index.
+        let empty = DescriptorSetLayout::empty(ctx, "shadow mask empty set layout")?;
+        let layout = interface.pipeline_layout(ctx, &[&empty, &empty, materials])?;
         let plain = depth_pipeline(
             ctx,
             &layout,
@@ -164,12 +160,9 @@ impl MaskPipelines {
 impl DepthPipeline {
     pub(super) fn new(ctx: &Arc<Context>) -> Result<Self, VkError> {
         let module = ShaderModule::new(ctx, "shadow.vert")?;
-        let push = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::VERTEX,
-            offset: 0,
-            size: std::mem::size_of::<Mat4>() as u32,
-        }];
-        let layout = PipelineLayout::new(ctx, "shadow pass layout", &[], &push)?;
+        let interface = Interface::of("shadow pass", &["shadow.vert"])?;
+        interface.check_push::<Mat4>()?;
+        let layout = interface.pipeline_layout(ctx, &[])?;
         let pipeline =
             depth_pipeline(ctx, &layout, "shadow pass", (&module, None), (false, false))?;
         Ok(Self {
@@ -225,7 +218,8 @@ impl DepthPipeline {
         // before); `info` and `depth` outlive the calls; the pipelines, their layouts, every
         // mesh buffer and the material sets belong to live objects that outlive the command
         // buffer's execution (the owners wait before dropping them); each push matches its
-        // layout's range (one Mat4; a MaskPush for the mask layout, both stages); the material
+        // layout's range with its stages (one Mat4; a MaskPush for the mask layout; sizes checked
+        // when the layouts were made); the material
         // sets were allocated with the material set layout the mask layout's set 2 is, and their
         // images are in SHADER_READ_ONLY_OPTIMAL since their upload; a mesh with vertex colours
         // drawn with the colour pipeline binds its colour buffer at binding 2; the render area
@@ -233,19 +227,7 @@ impl DepthPipeline {
         // bias are dynamic in every pipeline, so they stay set across the pipeline binds.
         unsafe {
             d.cmd_begin_rendering(cmd, &info);
-            d.cmd_set_viewport(
-                cmd,
-                0,
-                &[vk::Viewport {
-                    x: 0.0,
-                    y: 0.0,
-                    width: resolution as f32,
-                    height: resolution as f32,
-                    min_depth: 0.0,
-                    max_depth: 1.0,
-                }],
-            );
-            d.cmd_set_scissor(cmd, 0, &[area]);
+            crate::vk::cmd::set_viewport(d, cmd, area.extent, area);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
             // Reversed depth: away from the light is towards 0.
             d.cmd_set_depth_bias(cmd, 0.0, 0.0, -slope_bias);
@@ -260,7 +242,7 @@ impl DepthPipeline {
                 d.cmd_push_constants(
                     cmd,
                     self.layout.raw,
-                    vk::ShaderStageFlags::VERTEX,
+                    self.layout.push_stages(),
                     0,
                     bytemuck::bytes_of(&draw.clip),
                 );
@@ -309,7 +291,7 @@ impl DepthPipeline {
                     d.cmd_push_constants(
                         cmd,
                         mask.layout.raw,
-                        vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                        mask.layout.push_stages(),
                         0,
                         bytemuck::bytes_of(&push),
                     );
