@@ -18,7 +18,7 @@ use std::sync::Arc;
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::color::{exposure_scale, srgb_encode_table, Tonemap};
+use crate::color::{exposure_scale, Tonemap};
 use crate::compare::{ErrorMap, MapStats};
 use crate::render::tonemap::tonemap_id;
 use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
@@ -314,12 +314,7 @@ impl ComparePass {
             flip_weights(crate::diff::DEFAULT_PIXELS_PER_DEGREE).as_slice(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let srgb_table = Buffer::with_data(
-            ctx,
-            "compare sRGB encode table",
-            srgb_encode_table().as_slice(),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
+        let srgb_table = super::srgb_table(ctx, "compare sRGB encode table")?;
         let palette: Vec<u32> = crate::compare::palette()
             .iter()
             .map(|c| u32::from(c[0]) | u32::from(c[1]) << 8 | u32::from(c[2]) << 16)
@@ -564,14 +559,9 @@ impl ComparePass {
         extent: vk::Extent2D,
         clip: vk::Rect2D,
     ) -> Result<(), VkError> {
-        let pipeline = self
-            .shows
-            .iter()
-            .find(|(f, _)| *f == format)
-            .map(|(_, p)| p.raw)
-            .ok_or_else(|| {
-                VkError::Setup(format!("compare: no display pipeline for {format:?}"))
-            })?;
+        let pipeline = super::prepared(&self.shows, &format, || {
+            format!("compare: the display pipeline for {format:?}")
+        })?;
         // SAFETY: `pipeline` was built with `self.show.layout` for attachments of `format`, with
         // viewport, scissor and cull mode dynamic (no push constants). The map is in GENERAL and readable by fragment shaders after `record` (its
         // closing barrier). The caller's part: `cmd` records inside a rendering instance on one

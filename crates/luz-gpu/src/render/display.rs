@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::color::{exposure_scale, srgb_encode_table, Tonemap};
+use crate::color::{exposure_scale, Tonemap};
 use crate::render::tonemap::tonemap_id;
 use crate::vk::buffer::Buffer;
 use crate::vk::pipeline::{GraphicsDesc, Pipeline};
@@ -47,12 +47,7 @@ impl DisplayPass {
         source_layout: vk::ImageLayout,
     ) -> Result<Self, VkError> {
         let single = SingleSet::new(ctx, "display", &["display.vert", "display.frag"])?;
-        let srgb_table = Buffer::with_data(
-            ctx,
-            "display sRGB encode table",
-            srgb_encode_table().as_slice(),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
+        let srgb_table = super::srgb_table(ctx, "display sRGB encode table")?;
         // SAFETY: the set was just allocated and no command buffer has used it; `srgb_table` is
         // a live STORAGE_BUFFER-usage buffer, kept by the pass as long as the set.
         unsafe {
@@ -144,17 +139,9 @@ impl DisplayPass {
         extent: vk::Extent2D,
         clip: vk::Rect2D,
     ) -> Result<(), VkError> {
-        let pipeline = self
-            .pipelines
-            .iter()
-            .find(|(k, _)| *k == (tonemap, format))
-            .map(|(_, p)| p.raw)
-            .ok_or_else(|| {
-                VkError::Setup(format!(
-                    "display: the {} pipeline for {format:?} was not prepared",
-                    tonemap.name()
-                ))
-            })?;
+        let pipeline = super::prepared(&self.pipelines, &(tonemap, format), || {
+            format!("display: the {} pipeline for {format:?}", tonemap.name())
+        })?;
         let push = DisplayPush {
             exposure_scale: exposure_scale(exposure_ev),
         };

@@ -209,17 +209,9 @@ impl TonemapPass {
         tonemap: Tonemap,
     ) -> Result<(), VkError> {
         let d = &self.ctx.device;
-        let pipeline = self
-            .pipelines
-            .iter()
-            .find(|(t, _)| *t == tonemap)
-            .map(|(_, p)| p.raw)
-            .ok_or_else(|| {
-                VkError::Setup(format!(
-                    "tonemap: the {} pipeline was not prepared",
-                    tonemap.name()
-                ))
-            })?;
+        let pipeline = super::prepared(&self.pipelines, &tonemap, || {
+            format!("tonemap: the {} pipeline", tonemap.name())
+        })?;
         let push = TonemapPush {
             exposure_scale: exposure_scale(exposure_ev),
             tonemap: tonemap_id(tonemap),

@@ -281,3 +281,80 @@ pub unsafe fn set_viewport(
         device.cmd_set_scissor(cmd, 0, &[scissor]);
     }
 }
+
+/// How a rendering attachment starts.
+#[derive(Clone, Copy)]
+pub enum Load {
+    /// Cleared to a value.
+    Clear(vk::ClearValue),
+    /// What the image holds.
+    Keep,
+    /// Undefined (every pixel read is written first, or nothing is read).
+    DontCare,
+}
+
+impl Load {
+    /// Depth cleared to `depth` (stencil 0).
+    pub fn depth(depth: f32) -> Self {
+        Load::Clear(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue { depth, stencil: 0 },
+        })
+    }
+}
+
+/// A dynamic-rendering attachment of `view` in `layout` that starts as `load` says and is
+/// stored (`store`) or not.
+pub fn attachment(
+    view: vk::ImageView,
+    layout: vk::ImageLayout,
+    load: Load,
+    store: bool,
+) -> vk::RenderingAttachmentInfo<'static> {
+    let a = vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(layout)
+        .store_op(if store {
+            vk::AttachmentStoreOp::STORE
+        } else {
+            vk::AttachmentStoreOp::DONT_CARE
+        });
+    match load {
+        Load::Clear(value) => a.load_op(vk::AttachmentLoadOp::CLEAR).clear_value(value),
+        Load::Keep => a.load_op(vk::AttachmentLoadOp::LOAD),
+        Load::DontCare => a.load_op(vk::AttachmentLoadOp::DONT_CARE),
+    }
+}
+
+/// [`attachment`] for a colour view in COLOR_ATTACHMENT_OPTIMAL.
+pub fn color_attachment(
+    view: vk::ImageView,
+    load: Load,
+    store: bool,
+) -> vk::RenderingAttachmentInfo<'static> {
+    attachment(view, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL, load, store)
+}
+
+/// [`attachment`] for a depth view in DEPTH_ATTACHMENT_OPTIMAL.
+pub fn depth_attachment(
+    view: vk::ImageView,
+    load: Load,
+    store: bool,
+) -> vk::RenderingAttachmentInfo<'static> {
+    attachment(view, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL, load, store)
+}
+
+/// One layer of rendering over `area` into `colors` and `depth`.
+pub fn rendering_info<'a>(
+    area: vk::Rect2D,
+    colors: &'a [vk::RenderingAttachmentInfo<'a>],
+    depth: Option<&'a vk::RenderingAttachmentInfo<'a>>,
+) -> vk::RenderingInfo<'a> {
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(colors);
+    match depth {
+        Some(d) => info.depth_attachment(d),
+        None => info,
+    }
+}

@@ -314,23 +314,17 @@ impl<'a> SetWrites<'a> {
             Ok(b.ty)
         };
         let mut writes = Vec::with_capacity(self.images.len() + self.buffers.len());
+        let write = |binding: u32, image: bool| -> Result<vk::WriteDescriptorSet, VkError> {
+            Ok(vk::WriteDescriptorSet::default()
+                .dst_set(self.set)
+                .dst_binding(binding)
+                .descriptor_type(ty_of(binding, image)?))
+        };
         for (binding, info) in &self.images {
-            writes.push(
-                vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(*binding)
-                    .descriptor_type(ty_of(*binding, true)?)
-                    .image_info(std::slice::from_ref(info)),
-            );
+            writes.push(write(*binding, true)?.image_info(std::slice::from_ref(info)));
         }
         for (binding, info) in &self.buffers {
-            writes.push(
-                vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(*binding)
-                    .descriptor_type(ty_of(*binding, false)?)
-                    .buffer_info(std::slice::from_ref(info)),
-            );
+            writes.push(write(*binding, false)?.buffer_info(std::slice::from_ref(info)));
         }
         // SAFETY: `writes` and the infos they point to (in `self`) outlive the call; each write's
         // type is its binding's in the set's layout (checked above). The caller's part is in the

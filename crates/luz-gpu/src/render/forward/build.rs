@@ -189,41 +189,36 @@ pub(super) fn build_draws(
         let positive = obj.transform.scale.min_element() > 0.0;
         let alpha = AlphaKey::of(named.textures.alpha_mode);
         let vertex_color = meshes[mesh_index].colors.is_some() && obj.shading == Shading::Phong;
+        // The generic pipeline: every map and light kind, no fixed shadow slots.
+        let generic_key = VariantKey {
+            shading: ShadingKey::from_shading(obj.shading),
+            model,
+            fog: scene.fog.is_some(),
+            debug,
+            ibl: ibl_key,
+            terms: TermsKey::Generic,
+            maps: GENERIC_MAPS,
+            light_kinds: GENERIC_LIGHT_KINDS,
+            // Flat and Gouraud shade in the vertex stage, over every light.
+            clustered: clustered && obj.shading == Shading::Phong,
+            shadow_slots: [0; 4],
+            alpha,
+            vertex_color,
+        };
         draws.push(Draw {
             mesh: mesh_index,
             object,
             material: obj.material,
             cull: culls(named.textures.sides, closed) && positive,
             variant: if generic {
-                VariantKey {
-                    shading: ShadingKey::from_shading(obj.shading),
-                    model,
-                    fog: scene.fog.is_some(),
-                    debug,
-                    ibl: ibl_key,
-                    terms: TermsKey::Generic,
-                    maps: GENERIC_MAPS,
-                    light_kinds: GENERIC_LIGHT_KINDS,
-                    clustered: clustered && obj.shading == Shading::Phong,
-                    shadow_slots: [0; 4],
-                    alpha,
-                    vertex_color,
-                }
+                generic_key
             } else {
                 VariantKey {
-                    shading: ShadingKey::from_shading(obj.shading),
-                    model,
-                    fog: scene.fog.is_some(),
-                    debug,
-                    ibl: ibl_key,
                     terms,
                     maps: crate::render::material::map_bits(&named.textures),
                     light_kinds: gpu::light_kinds(&scene.lights),
-                    // Flat and Gouraud shade in the vertex stage, over every light.
-                    clustered: clustered && obj.shading == Shading::Phong,
                     shadow_slots: crate::render::shadow::fixed_slots(&scene.lights),
-                    alpha,
-                    vertex_color,
+                    ..generic_key
                 }
             },
             push,

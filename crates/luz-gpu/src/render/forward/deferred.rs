@@ -20,6 +20,7 @@ use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
 
 use crate::render::frame::SceneTarget;
 use crate::render::shadow::SHADOW_READ;
+use crate::vk::cmd::{color_attachment, depth_attachment, rendering_info, Load};
 use crate::vk::image::ImageDesc;
 use crate::vk::pipeline::{
     DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
@@ -288,27 +289,9 @@ impl Deferred {
             let (d, cmd) = (rc.device(), rc.cmd());
             // Background pixels are never read (the lighting pass's depth test skips them): no
             // clear.
-            let colors = [vk::RenderingAttachmentInfo::default()
-                .image_view(view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::DONT_CARE)
-                .store_op(vk::AttachmentStoreOp::STORE)];
-            let depth = vk::RenderingAttachmentInfo::default()
-                .image_view(depth_view)
-                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue {
-                        depth: 1.0,
-                        stencil: 0,
-                    },
-                });
-            let info = vk::RenderingInfo::default()
-                .render_area(area)
-                .layer_count(1)
-                .color_attachments(&colors)
-                .depth_attachment(&depth);
+            let colors = [color_attachment(view, Load::DontCare, true)];
+            let depth = depth_attachment(depth_view, Load::depth(1.0), true);
+            let info = rendering_info(area, &colors, Some(&depth));
             // SAFETY: `cmd` is recording outside a rendering instance (the graph records passes
             // one after another); the graph put the G-buffer in COLOR_ATTACHMENT_OPTIMAL and
             // depth in DEPTH_ATTACHMENT_OPTIMAL (the accesses declared above); `info` and what it
@@ -334,22 +317,9 @@ impl Deferred {
             let color_view = rc.image(target.color)?.view;
             let depth_view = rc.image(target.depth)?.view;
             let (d, cmd) = (rc.device(), rc.cmd());
-            let colors = [vk::RenderingAttachmentInfo::default()
-                .image_view(color_view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(clear)];
-            let depth = vk::RenderingAttachmentInfo::default()
-                .image_view(depth_view)
-                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::LOAD)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE);
-            let info = vk::RenderingInfo::default()
-                .render_area(area)
-                .layer_count(1)
-                .color_attachments(&colors)
-                .depth_attachment(&depth);
+            let colors = [color_attachment(color_view, Load::Clear(clear), true)];
+            let depth = depth_attachment(depth_view, Load::Keep, false);
+            let info = rendering_info(area, &colors, Some(&depth));
             // SAFETY: as above: the graph put the output in COLOR_ATTACHMENT_OPTIMAL, depth in
             // DEPTH_ATTACHMENT_OPTIMAL after the geometry's writes and the G-buffer in
             // SHADER_READ_ONLY_OPTIMAL. The lighting pipeline belongs to this pass, its layout's

@@ -19,7 +19,7 @@ use super::shadow::{self, ShadowMaps};
 use crate::color::Tonemap;
 use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
-use crate::vk::cmd::CommandPool;
+use crate::vk::cmd::{color_attachment, depth_attachment, rendering_info, CommandPool, Load};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::{Buffer, Context, SetWrites, VkError};
 
@@ -422,12 +422,7 @@ impl ForwardPass {
         let clustered = draws.iter().any(|d| d.variant.clustered);
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
-        let srgb_table = Buffer::with_data(
-            ctx,
-            "forward sRGB encode table",
-            crate::color::srgb_encode_table().as_slice(),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
+        let srgb_table = super::srgb_table(ctx, "forward sRGB encode table")?;
         let mut slots = Vec::with_capacity(slot_count);
         for i in 0..slot_count {
             slots.push(Slot::new(
@@ -859,12 +854,7 @@ impl ForwardPass {
                 None => None,
             };
             let (d, cmd) = (rc.device(), rc.cmd());
-            let mut color = vk::RenderingAttachmentInfo::default()
-                .image_view(color_view)
-                .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(clear);
+            let mut color = color_attachment(color_view, Load::Clear(clear), true);
             if let Some(resolve) = resolve_view {
                 color = color
                     .resolve_mode(vk::ResolveModeFlags::AVERAGE)
@@ -873,26 +863,12 @@ impl ForwardPass {
                     .store_op(vk::AttachmentStoreOp::DONT_CARE);
             }
             let colors = [color];
-            let depth = vk::RenderingAttachmentInfo::default()
-                .image_view(depth_view)
-                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE)
-                .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue {
-                        depth: 1.0,
-                        stencil: 0,
-                    },
-                });
+            let depth = depth_attachment(depth_view, Load::depth(1.0), false);
             let area = vk::Rect2D {
                 offset: vk::Offset2D { x: 0, y: 0 },
                 extent: target.extent,
             };
-            let info = vk::RenderingInfo::default()
-                .render_area(area)
-                .layer_count(1)
-                .color_attachments(&colors)
-                .depth_attachment(&depth);
+            let info = rendering_info(area, &colors, Some(&depth));
             // SAFETY: the graph records this pass outside any rendering instance, with the
             // attachments in the layouts declared above (colour, resolve: COLOR_ATTACHMENT_OPTIMAL;
             // depth: DEPTH_ATTACHMENT_OPTIMAL); `info` and the slices it points to outlive the

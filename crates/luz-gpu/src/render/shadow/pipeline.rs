@@ -11,6 +11,7 @@ use glam::{Mat4, Vec4};
 
 use super::{LayerDraw, MeshRef, FORMAT, VERTEX_STRIDE};
 use crate::render::gpu::glsl::include_shadow_mask as m;
+use crate::vk::cmd::{depth_attachment, rendering_info, Load};
 use crate::vk::interface::keys_with_prefix;
 use crate::vk::pipeline::{DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
@@ -193,21 +194,8 @@ impl DepthPipeline {
                 height: resolution,
             },
         };
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 0.0,
-                    stencil: 0,
-                },
-            });
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .depth_attachment(&depth);
+        let depth = depth_attachment(view, Load::depth(0.0), true);
+        let info = rendering_info(area, &[], Some(&depth));
         // A draw's mesh, when it has indices to draw.
         let mesh_of = |draw: &LayerDraw| {
             let (_, count) = draw.range;
