@@ -146,6 +146,19 @@ struct Span {
     dur: f64,
 }
 
+/// Field `key` of event `i` read with `get` (e.g. [`Value::as_str`]); an error naming the event
+/// and the field when it is missing or of another type.
+fn field<'v, T>(
+    e: &'v Value,
+    i: usize,
+    key: &str,
+    get: impl FnOnce(&'v Value) -> Option<T>,
+) -> Result<T, String> {
+    e.get(key)
+        .and_then(get)
+        .ok_or_else(|| format!("event {i}: no {key}"))
+}
+
 /// Parses a trace and checks it: every complete event has a name, a timestamp and a
 /// non-negative duration; on each track spans nest (children within parents, siblings not
 /// overlapping); every GPU frame span lasts the sum of its pass spans (within 1 µs).
@@ -158,22 +171,10 @@ pub fn check_trace(json: &str) -> Result<TraceSummary, String> {
     let mut names: BTreeMap<(u64, u64), String> = BTreeMap::new();
     let mut tracks: BTreeMap<(u64, u64), Vec<Span>> = BTreeMap::new();
     for (i, e) in events.iter().enumerate() {
-        let ph = e
-            .get("ph")
-            .and_then(Value::as_str)
-            .ok_or(format!("event {i}: no ph"))?;
-        let pid = e
-            .get("pid")
-            .and_then(Value::as_u64)
-            .ok_or(format!("event {i}: no pid"))?;
-        let tid = e
-            .get("tid")
-            .and_then(Value::as_u64)
-            .ok_or(format!("event {i}: no tid"))?;
-        let name = e
-            .get("name")
-            .and_then(Value::as_str)
-            .ok_or(format!("event {i}: no name"))?;
+        let ph = field(e, i, "ph", Value::as_str)?;
+        let pid = field(e, i, "pid", Value::as_u64)?;
+        let tid = field(e, i, "tid", Value::as_u64)?;
+        let name = field(e, i, "name", Value::as_str)?;
         match ph {
             "M" => {
                 if name == "thread_name" {
@@ -184,14 +185,8 @@ pub fn check_trace(json: &str) -> Result<TraceSummary, String> {
                 }
             }
             "X" => {
-                let ts = e
-                    .get("ts")
-                    .and_then(Value::as_f64)
-                    .ok_or(format!("event {i}: no ts"))?;
-                let dur = e
-                    .get("dur")
-                    .and_then(Value::as_f64)
-                    .ok_or(format!("event {i}: no dur"))?;
+                let ts = field(e, i, "ts", Value::as_f64)?;
+                let dur = field(e, i, "dur", Value::as_f64)?;
                 if !(ts.is_finite() && dur.is_finite() && dur >= 0.0) {
                     return Err(format!("event {i} (\"{name}\"): bad ts {ts} / dur {dur}"));
                 }
