@@ -29,6 +29,8 @@ pub struct CpuSpan<'n> {
 #[derive(Clone, Debug)]
 pub struct Trace {
     events: Vec<Value>,
+    /// Where the last frame's GPU span ends (µs).
+    gpu_end_us: f64,
 }
 
 impl Default for Trace {
@@ -49,6 +51,7 @@ impl Trace {
                 meta("thread_sort_index", CPU_TID, json!({"sort_index": 0})),
                 meta("thread_sort_index", GPU_TID, json!({"sort_index": 1})),
             ],
+            gpu_end_us: 0.0,
         }
     }
 
@@ -92,6 +95,7 @@ impl Trace {
         }
         let total: f64 = gpu.iter().map(|&(_, ms)| ms * 1000.0).sum();
         self.span(GPU_TID, "frame", &name, gpu_start_us, total, args);
+        self.gpu_end_us = gpu_start_us + total;
         let mut t = gpu_start_us;
         for &(pass, ms) in gpu {
             let dur = ms * 1000.0;
@@ -105,6 +109,36 @@ impl Trace {
             );
             t += dur;
         }
+    }
+
+    /// Frame `index` of a run timed frame after frame: on the CPU track from `start_us`, a span
+    /// `first` of `first_us` and a span `rest` for what remains of `total_us` (none when `first`
+    /// takes it all); on the GPU track the passes `gpu` from the end of `first` (the submission),
+    /// or from the end of the previous frame's GPU span if that is later. Frames in flight may
+    /// start on the GPU after the next recording, and GPU timestamps and the host clock differ a
+    /// little, so the GPU frames are laid one after another.
+    pub fn sequential_frame(
+        &mut self,
+        index: u64,
+        start_us: f64,
+        (first, first_us): (&str, f64),
+        (rest, total_us): (&str, f64),
+        gpu: &[(&str, f64)],
+    ) {
+        let cpu = [
+            CpuSpan {
+                name: first,
+                start_us,
+                dur_us: first_us,
+            },
+            CpuSpan {
+                name: rest,
+                start_us: start_us + first_us,
+                dur_us: (total_us - first_us).max(0.0),
+            },
+        ];
+        let gpu_start = (start_us + first_us).max(self.gpu_end_us);
+        self.frame(index, &cpu, gpu, gpu_start);
     }
 
     /// The number of events (metadata included).
