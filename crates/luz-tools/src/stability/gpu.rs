@@ -14,7 +14,7 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, Pipelin
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context};
 
-use super::{Case, Evaluator, Output};
+use super::{Batch, Case, Evaluator, Output};
 
 /// The GPU mirror: `brdf_eval.comp` (brdf_eval / brdf_radiance of `models.glsl`), one invocation
 /// per case, parameters packed by [`GpuBrdfParams::from_model`] as the renderer packs them.
@@ -233,15 +233,9 @@ impl Evaluator for GpuEvaluator {
         "gpu"
     }
 
-    fn evaluate(
-        &mut self,
-        sets: &[Model],
-        cases: &[Case],
-        intensities: [f32; 3],
-        with_radiance: bool,
-    ) -> Result<Vec<Output>> {
-        let mut params = Vec::with_capacity(sets.len() * GpuBrdfParams::SIZE);
-        for m in sets {
+    fn evaluate(&mut self, batch: &Batch<'_>) -> Result<Vec<Output>> {
+        let mut params = Vec::with_capacity(batch.sets.len() * GpuBrdfParams::SIZE);
+        for m in batch.sets {
             params.extend_from_slice(&GpuBrdfParams::from_model(m).to_bytes());
         }
         let params = Buffer::with_data(
@@ -250,9 +244,15 @@ impl Evaluator for GpuEvaluator {
             &params,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let mut out = Vec::with_capacity(cases.len());
-        for chunk in cases.chunks(self.max_cases) {
-            self.run_chunk(&params, chunk, intensities, with_radiance, &mut out)?;
+        let mut out = Vec::with_capacity(batch.cases.len());
+        for chunk in batch.cases.chunks(self.max_cases) {
+            self.run_chunk(
+                &params,
+                chunk,
+                batch.intensities,
+                batch.with_radiance,
+                &mut out,
+            )?;
         }
         Ok(out)
     }
