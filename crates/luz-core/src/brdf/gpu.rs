@@ -10,13 +10,13 @@
 //! | 64 | `vec4 p1`     | – | – | – | – | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
 //! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
 //!
-//! `diffuse` is the [`Diffuse`] code as a float (0 Lambert, 1 Burley): `sel` is full. The forward
-//! pass may also fix it per pipeline (specialization constant `SEL_DIFFUSE`).
+//! `diffuse` is the [`Diffuse`](super::Diffuse) code as a float (0 Lambert, 1 Burley): `sel` is
+//! full. The forward pass may also fix it per pipeline (specialization constant `SEL_DIFFUSE`).
 //!
 //! Unused slots are 0. The parameters are sanitised first ([`Model::sanitized`]), so the GLSL
 //! does no range checks of its own beyond the clamps inside the terms.
 
-use super::models::{Diffuse, Fresnel, Model};
+use super::models::Model;
 
 /// `BRDF_MODEL_*` codes in `sel.x`.
 pub mod model_code {
@@ -150,22 +150,3 @@ impl GpuBrdfParams {
         out
     }
 }
-
-// The selector codes are the GLSL's `BRDF_D_*`, `BRDF_G_*`, `BRDF_F_*` and `BRDF_DIFFUSE_*`
-// (generated from shaders_glsl/brdf/models.glsl; every code is checked in the tests too).
-const _: () = {
-    use super::models::{Distribution, Geometry};
-    use crate::glsl::brdf_models as g;
-    assert!(Distribution::Beckmann as i32 == g::BRDF_D_BECKMANN);
-    assert!(Distribution::Ggx as i32 == g::BRDF_D_GGX);
-    assert!(Geometry::CookTorrance as i32 == g::BRDF_G_COOK_TORRANCE);
-    assert!(Geometry::SmithGgx as i32 == g::BRDF_G_SMITH_GGX);
-    assert!(Geometry::SmithGgxCorrelated as i32 == g::BRDF_G_SMITH_GGX_CORRELATED);
-    assert!(Geometry::SchlickGgx as i32 == g::BRDF_G_SCHLICK_GGX);
-    assert!(Fresnel::Schlick as i32 == g::BRDF_F_SCHLICK);
-    assert!(Fresnel::SchlickSg as i32 == g::BRDF_F_SCHLICK_SG);
-    assert!(Fresnel::Dielectric as i32 == g::BRDF_F_DIELECTRIC);
-    assert!(Fresnel::Conductor as i32 == g::BRDF_F_CONDUCTOR);
-    assert!(Diffuse::Lambert as i32 == g::BRDF_DIFFUSE_LAMBERT);
-    assert!(Diffuse::Burley as i32 == g::BRDF_DIFFUSE_BURLEY);
-};
