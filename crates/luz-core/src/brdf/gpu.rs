@@ -36,6 +36,17 @@ pub mod model_code {
     pub const OREN_NAYAR: i32 = crate::glsl::brdf_models::BRDF_MODEL_OREN_NAYAR;
 }
 
+/// The codes of a microfacet model's diffuse term, D, G and F (Cook-Torrance, metallic-roughness);
+/// `None` for the other models.
+fn microfacet_selectors(model: &Model) -> Option<(i32, i32, i32, i32)> {
+    let (diffuse, d, g, f) = match model {
+        Model::CookTorrance(p) => (p.diffuse, p.distribution, p.geometry, p.fresnel),
+        Model::MetalRough(p) => (p.diffuse, p.distribution, p.geometry, p.fresnel),
+        _ => return None,
+    };
+    Some((diffuse as i32, d as i32, g as i32, f as i32))
+}
+
 /// The GLSL `BrdfParams` struct, byte for byte (see the module docs for the slot table).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -64,7 +75,8 @@ impl GpuBrdfParams {
     /// Packs a (sanitised) model.
     pub fn from_model(model: &Model) -> Self {
         let mut g = GpuBrdfParams::default();
-        match model.sanitized() {
+        let model = model.sanitized();
+        match &model {
             Model::Lambert(p) => {
                 g.color = p.albedo.extend(0.0).to_array();
                 g.sel[0] = model_code::LAMBERT;
@@ -85,25 +97,13 @@ impl GpuBrdfParams {
                 g.color = p.color.extend(p.roughness).to_array();
                 g.spec = spec.extend(0.0).to_array();
                 g.kappa = kappa.extend(p.kd).to_array();
-                g.p0[1] = p.diffuse as i32 as f32;
-                g.sel = [
-                    model_code::COOK_TORRANCE,
-                    p.distribution as i32,
-                    p.geometry as i32,
-                    p.fresnel as i32,
-                ];
+                g.sel[0] = model_code::COOK_TORRANCE;
             }
             Model::MetalRough(p) => {
                 g.color = p.base_color.extend(p.roughness).to_array();
                 g.spec = p.dielectric_f0.extend(p.metallic).to_array();
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
-                g.p0[1] = p.diffuse as i32 as f32;
-                g.sel = [
-                    model_code::METAL_ROUGH,
-                    p.distribution as i32,
-                    p.geometry as i32,
-                    p.fresnel as i32,
-                ];
+                g.sel[0] = model_code::METAL_ROUGH;
             }
             Model::Principled(p) => {
                 g.color = p.base_color.extend(p.roughness).to_array();
@@ -118,17 +118,17 @@ impl GpuBrdfParams {
                 g.sel[0] = model_code::OREN_NAYAR;
             }
         }
+        if let Some((diffuse, d, geometry, f)) = microfacet_selectors(&model) {
+            g.p0[1] = diffuse as f32;
+            g.sel[1..].copy_from_slice(&[d, geometry, f]);
+        }
         g
     }
 
     /// The diffuse selector (`Diffuse` code) of the models that have one (Cook-Torrance,
     /// metallic-roughness), `None` for the others: what `SEL_DIFFUSE` is specialised to.
     pub fn diffuse_selector(model: &Model) -> Option<i32> {
-        match model {
-            Model::CookTorrance(p) => Some(p.diffuse as i32),
-            Model::MetalRough(p) => Some(p.diffuse as i32),
-            _ => None,
-        }
+        microfacet_selectors(model).map(|(diffuse, ..)| diffuse)
     }
 
     /// The 96 bytes in native (little-endian on every Vulkan target luz runs on) order, ready for
