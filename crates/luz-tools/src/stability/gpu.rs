@@ -7,7 +7,7 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use crate::brdf::{GpuBrdfParams, Model};
+use crate::brdf::GpuBrdfParams;
 use crate::glsl::brdf_eval_comp as glsl;
 use crate::vk::cmd::CommandPool;
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
