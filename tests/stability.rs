@@ -7,7 +7,7 @@ mod common;
 use anyhow::Result;
 use luz::brdf::Model;
 use luz::stability::{
-    self, Case, CpuEvaluator, Evaluator, Output, SweepOptions, ENERGY_TOLERANCE, MODELS,
+    self, Batch, CpuEvaluator, Evaluator, Output, SweepOptions, ENERGY_TOLERANCE, MODELS,
 };
 use serde_json::Value;
 
@@ -124,15 +124,9 @@ impl Evaluator for Planted {
         "planted"
     }
 
-    fn evaluate(
-        &mut self,
-        sets: &[Model],
-        cases: &[Case],
-        intensities: [f32; 3],
-        with_radiance: bool,
-    ) -> Result<Vec<Output>> {
-        let mut out = CpuEvaluator.evaluate(sets, cases, intensities, with_radiance)?;
-        if with_radiance {
+    fn evaluate(&mut self, batch: &Batch<'_>) -> Result<Vec<Output>> {
+        let mut out = CpuEvaluator.evaluate(batch)?;
+        if batch.with_radiance {
             if let Some(i) = self.nan_at {
                 out[i].radiance[2].y = f32::NAN;
             }

@@ -382,26 +382,14 @@ fn write_trace(
     starts: &[f64],
 ) -> Result<()> {
     let mut trace = luz::graph::Trace::new();
-    // The GPU track lays the frames one after another (timestamps and the host clock differ by
-    // a little).
-    let mut gpu_free = 0.0f64;
     for (i, (f, &t)) in frames.iter().zip(starts).enumerate() {
-        let record = f.record_ms * 1e3;
-        let cpu = [
-            luz::graph::CpuSpan {
-                name: "record",
-                start_us: t,
-                dur_us: record,
-            },
-            luz::graph::CpuSpan {
-                name: "submit + wait",
-                start_us: t + record,
-                dur_us: (f.cpu_ms * 1e3 - record).max(0.0),
-            },
-        ];
-        let gpu_start = (t + record).max(gpu_free);
-        trace.frame(i as u64, &cpu, &f.gpu_ms, gpu_start);
-        gpu_free = gpu_start + f.gpu_total() * 1e3;
+        trace.sequential_frame(
+            i as u64,
+            t,
+            ("record", f.record_ms * 1e3),
+            ("submit + wait", f.cpu_ms * 1e3),
+            &f.gpu_ms,
+        );
     }
     std::fs::write(path, trace.to_json())
         .with_context(|| format!("cannot write {}", path.display()))?;

@@ -76,19 +76,31 @@ pub use crate::scene::edit::MAX_ADDED_LIGHTS;
 pub fn parse(text: &str) -> Result<Vec<(u64, Action)>> {
     let mut out = Vec::new();
     for item in text.split(';').map(str::trim).filter(|s| !s.is_empty()) {
-        let (frame, action) = item
-            .split_once(':')
-            .ok_or_else(|| anyhow!("script item {item:?}: expected FRAME:ACTION"))?;
-        let frame: u64 = frame
-            .trim()
-            .parse()
-            .map_err(|_| anyhow!("script item {item:?}: {frame:?} is not a frame number"))?;
-        let action =
-            parse_action(action.trim()).map_err(|e| anyhow!("script item {item:?}: {e}"))?;
+        let context = format!("script item {item:?}");
+        let (frame, action) = numbered::<u64>(item, &context, "FRAME:ACTION", "a frame number")?;
+        let action = parse_action(action.trim()).map_err(|e| anyhow!("{context}: {e}"))?;
         out.push((frame, action));
     }
     out.sort_by_key(|(f, _)| *f);
     Ok(out)
+}
+
+/// `N:REST` → (N, REST), N trimmed and parsed. The errors start with `context` and say what was
+/// `expected` (no ':') or that N is not `number` ("a frame number").
+fn numbered<'s, N: std::str::FromStr>(
+    s: &'s str,
+    context: &str,
+    expected: &str,
+    number: &str,
+) -> Result<(N, &'s str)> {
+    let (n, rest) = s
+        .split_once(':')
+        .ok_or_else(|| anyhow!("{context}: expected {expected}"))?;
+    let n = n
+        .trim()
+        .parse()
+        .map_err(|_| anyhow!("{context}: {n:?} is not {number}"))?;
+    Ok((n, rest))
 }
 
 fn on_off(v: &str) -> Result<bool> {
@@ -180,13 +192,8 @@ fn parse_action(a: &str) -> Result<Action> {
             } else {
                 "LIGHT:off|on|hard|pcf|pcss"
             };
-            let (light, what) = v
-                .split_once(':')
-                .ok_or_else(|| anyhow!("{name}={v}: expected {expected}"))?;
-            let light: usize = light
-                .trim()
-                .parse()
-                .map_err(|_| anyhow!("{name}={v}: {light:?} is not a light index"))?;
+            let (light, what) =
+                numbered::<usize>(v, &format!("{name}={v}"), expected, "a light index")?;
             let edit = match (resolution, what.trim()) {
                 (true, n) => ShadowEdit::Resolution(
                     n.parse()

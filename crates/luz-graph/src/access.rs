@@ -120,6 +120,16 @@ pub enum Access {
 
 const FRAG_TESTS: S =
     S::from_raw(S::EARLY_FRAGMENT_TESTS.as_raw() | S::LATE_FRAGMENT_TESTS.as_raw());
+/// Colour attachment loaded and stored.
+const COLOR_READ_WRITE: A =
+    A::from_raw(A::COLOR_ATTACHMENT_READ.as_raw() | A::COLOR_ATTACHMENT_WRITE.as_raw());
+/// Depth test and depth write.
+const DEPTH_READ_WRITE: A = A::from_raw(
+    A::DEPTH_STENCIL_ATTACHMENT_READ.as_raw() | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+);
+/// Storage image or buffer read and written.
+const STORAGE_READ_WRITE: A =
+    A::from_raw(A::SHADER_STORAGE_READ.as_raw() | A::SHADER_STORAGE_WRITE.as_raw());
 
 /// Builds one row of the table.
 const fn row(
@@ -185,7 +195,7 @@ impl Access {
                 "ColorAttachmentReadWrite",
                 L::COLOR_ATTACHMENT_OPTIMAL,
                 S::COLOR_ATTACHMENT_OUTPUT,
-                A::from_raw(A::COLOR_ATTACHMENT_READ.as_raw() | A::COLOR_ATTACHMENT_WRITE.as_raw()),
+                COLOR_READ_WRITE,
                 true,
                 Image,
             ),
@@ -193,10 +203,7 @@ impl Access {
                 "DepthAttachmentWrite",
                 L::DEPTH_ATTACHMENT_OPTIMAL,
                 FRAG_TESTS,
-                A::from_raw(
-                    A::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
-                        | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
-                ),
+                DEPTH_READ_WRITE,
                 true,
                 Image,
             ),
@@ -260,7 +267,7 @@ impl Access {
                 "ComputeStorageReadWrite",
                 L::GENERAL,
                 S::COMPUTE_SHADER,
-                A::from_raw(A::SHADER_STORAGE_READ.as_raw() | A::SHADER_STORAGE_WRITE.as_raw()),
+                STORAGE_READ_WRITE,
                 true,
                 Image,
             ),
@@ -345,7 +352,7 @@ impl Access {
                 "ComputeStorageBufferReadWrite",
                 L::UNDEFINED,
                 S::COMPUTE_SHADER,
-                A::from_raw(A::SHADER_STORAGE_READ.as_raw() | A::SHADER_STORAGE_WRITE.as_raw()),
+                STORAGE_READ_WRITE,
                 true,
                 Buffer,
             ),

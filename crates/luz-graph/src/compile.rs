@@ -20,7 +20,8 @@ use crate::exec::CompiledGraph;
 use crate::graph::{resource_name, BufferEntry, FrameGraph, ImageEntry};
 use crate::plan::{BarrierInfo, BufferInfo, ImageInfo, PassPlan, Plan};
 use crate::resource::{
-    ImageHandle, ImageSource, ImageStateBefore, Resource, SubresourceRange, Use, UseMode,
+    ImageHandle, ImageSource, ImageStateBefore, ImportedImage, Resource, SubresourceRange, Use,
+    UseMode,
 };
 
 /// A barrier's content, before merging cells into ranges.
@@ -264,6 +265,25 @@ fn use_cells(u: &Use, dims: &[(u32, u32)]) -> Vec<u32> {
     }
 }
 
+/// Every cell of the imported images `keep` selects.
+fn imported_cells(
+    images: &[ImageEntry],
+    dims: &[(u32, u32)],
+    keep: impl Fn(&ImportedImage) -> bool,
+) -> HashSet<(Resource, u32)> {
+    let mut cells = HashSet::new();
+    for (i, im) in images.iter().enumerate() {
+        if let ImageSource::Imported(imp) = &im.source {
+            if keep(imp) {
+                for c in cells_of(None, dims[i]) {
+                    cells.insert((Resource::Image(ImageHandle(i as u32)), c));
+                }
+            }
+        }
+    }
+    cells
+}
+
 impl<'a> FrameGraph<'a> {
     /// Checks the declarations, culls passes nobody needs and derives every barrier.
     pub fn compile(self) -> Result<CompiledGraph<'a>, GraphError> {
@@ -326,16 +346,7 @@ pub(crate) fn compile(graph: FrameGraph<'_>) -> Result<CompiledGraph<'_>, GraphE
     }
 
     // Reads must follow a write (or imported contents), in declaration order.
-    let mut defined: HashSet<(Resource, u32)> = HashSet::new();
-    for (i, im) in images.iter().enumerate() {
-        if let ImageSource::Imported(imp) = &im.source {
-            if imp.before.defined() {
-                for c in cells_of(None, dims[i]) {
-                    defined.insert((Resource::Image(ImageHandle(i as u32)), c));
-                }
-            }
-        }
-    }
+    let mut defined = imported_cells(&images, &dims, |imp| imp.before.defined());
     for (i, _) in buffers.iter().enumerate() {
         // Buffers are always imported; their contents are the caller's.
         defined.insert((Resource::Buffer(crate::resource::BufferHandle(i as u32)), 0));
@@ -360,16 +371,7 @@ pub(crate) fn compile(graph: FrameGraph<'_>) -> Result<CompiledGraph<'_>, GraphE
     }
 
     // Culling: walk backwards keeping the set of cells whose current contents are needed.
-    let mut needed: HashSet<(Resource, u32)> = HashSet::new();
-    for (i, im) in images.iter().enumerate() {
-        if let ImageSource::Imported(imp) = &im.source {
-            if imp.after.is_some() {
-                for c in cells_of(None, dims[i]) {
-                    needed.insert((Resource::Image(ImageHandle(i as u32)), c));
-                }
-            }
-        }
-    }
+    let mut needed = imported_cells(&images, &dims, |imp| imp.after.is_some());
     for (i, b) in buffers.iter().enumerate() {
         if b.after.is_some() {
             needed.insert((Resource::Buffer(crate::resource::BufferHandle(i as u32)), 0));

@@ -110,6 +110,58 @@ impl Recorder for AshRecorder<'_> {
     }
 }
 
+/// Sets a synchronization2 barrier's four scope masks from one of ours (anything with
+/// `src_stages`, `src_access`, `dst_stages` and `dst_access`).
+macro_rules! with_scopes {
+    ($barrier:expr, $b:expr) => {
+        $barrier
+            .src_stage_mask($b.src_stages)
+            .src_access_mask($b.src_access)
+            .dst_stage_mask($b.dst_stages)
+            .dst_access_mask($b.dst_access)
+    };
+}
+
+impl MemoryBarrier {
+    /// As a `MemoryBarrier2`.
+    fn to_vk(self) -> vk::MemoryBarrier2<'static> {
+        with_scopes!(vk::MemoryBarrier2::default(), self)
+    }
+}
+
+impl BufferBarrier {
+    /// As a `BufferMemoryBarrier2`.
+    fn to_vk(self) -> vk::BufferMemoryBarrier2<'static> {
+        let whole = vk::BufferMemoryBarrier2::default()
+            .buffer(self.buffer)
+            .offset(0)
+            .size(vk::WHOLE_SIZE);
+        with_scopes!(whole, self)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+    }
+}
+
+impl ImageBarrier {
+    /// As an `ImageMemoryBarrier2`.
+    fn to_vk(self) -> vk::ImageMemoryBarrier2<'static> {
+        let transition = vk::ImageMemoryBarrier2::default()
+            .image(self.image)
+            .subresource_range(vk::ImageSubresourceRange {
+                aspect_mask: self.aspect,
+                base_mip_level: self.range.base_mip,
+                level_count: self.range.mip_count,
+                base_array_layer: self.range.base_layer,
+                layer_count: self.range.layer_count,
+            })
+            .old_layout(self.old_layout)
+            .new_layout(self.new_layout);
+        with_scopes!(transition, self)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+    }
+}
+
 /// Records `batch` as one `vkCmdPipelineBarrier2`: the only place of the crate calling it.
 ///
 /// Contract: `cmd` is in the recording state, externally synchronised by the caller, on a device
@@ -118,56 +170,9 @@ fn record_barriers(device: &ash::Device, cmd: vk::CommandBuffer, batch: &Barrier
     if batch.is_empty() {
         return;
     }
-    let memory: Vec<vk::MemoryBarrier2> = batch
-        .memory
-        .iter()
-        .map(|b| {
-            vk::MemoryBarrier2::default()
-                .src_stage_mask(b.src_stages)
-                .src_access_mask(b.src_access)
-                .dst_stage_mask(b.dst_stages)
-                .dst_access_mask(b.dst_access)
-        })
-        .collect();
-    let buffers: Vec<vk::BufferMemoryBarrier2> = batch
-        .buffers
-        .iter()
-        .map(|b| {
-            vk::BufferMemoryBarrier2::default()
-                .buffer(b.buffer)
-                .offset(0)
-                .size(vk::WHOLE_SIZE)
-                .src_stage_mask(b.src_stages)
-                .src_access_mask(b.src_access)
-                .dst_stage_mask(b.dst_stages)
-                .dst_access_mask(b.dst_access)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        })
-        .collect();
-    let images: Vec<vk::ImageMemoryBarrier2> = batch
-        .images
-        .iter()
-        .map(|b| {
-            vk::ImageMemoryBarrier2::default()
-                .image(b.image)
-                .subresource_range(vk::ImageSubresourceRange {
-                    aspect_mask: b.aspect,
-                    base_mip_level: b.range.base_mip,
-                    level_count: b.range.mip_count,
-                    base_array_layer: b.range.base_layer,
-                    layer_count: b.range.layer_count,
-                })
-                .old_layout(b.old_layout)
-                .new_layout(b.new_layout)
-                .src_stage_mask(b.src_stages)
-                .src_access_mask(b.src_access)
-                .dst_stage_mask(b.dst_stages)
-                .dst_access_mask(b.dst_access)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-        })
-        .collect();
+    let memory: Vec<_> = batch.memory.iter().map(|b| b.to_vk()).collect();
+    let buffers: Vec<_> = batch.buffers.iter().map(|b| b.to_vk()).collect();
+    let images: Vec<_> = batch.images.iter().map(|b| b.to_vk()).collect();
     let dep = vk::DependencyInfo::default()
         .memory_barriers(&memory)
         .buffer_memory_barriers(&buffers)
@@ -368,21 +373,7 @@ impl<'r> RecordContext<'r> {
         to: Access,
     ) -> Result<(), GraphError> {
         let (res, _) = self.declared_image(h)?;
-        let batch = BarrierBatch {
-            images: vec![ImageBarrier {
-                image: res.image,
-                aspect: res.aspect,
-                range: res.offset(range),
-                old_layout: from.layout(),
-                new_layout: to.layout(),
-                src_stages: from.stages(),
-                src_access: from.access() & WRITE_ACCESS,
-                dst_stages: to.stages(),
-                dst_access: to.access(),
-            }],
-            ..Default::default()
-        };
-        self.recorder.pipeline_barrier(self.cmd, &batch);
+        self.own_barrier(Own::Image(res, range), from, to);
         Ok(())
     }
 
@@ -394,33 +385,59 @@ impl<'r> RecordContext<'r> {
         to: Access,
     ) -> Result<(), GraphError> {
         let b = self.buffer(h)?;
-        let batch = BarrierBatch {
-            buffers: vec![BufferBarrier {
-                buffer: b.buffer,
-                src_stages: from.stages(),
-                src_access: from.access() & WRITE_ACCESS,
-                dst_stages: to.stages(),
-                dst_access: to.access(),
-            }],
-            ..Default::default()
-        };
-        self.recorder.pipeline_barrier(self.cmd, &batch);
+        self.own_barrier(Own::Buffer(b.buffer), from, to);
         Ok(())
     }
 
     /// A global memory barrier between two of this pass's own uses.
     pub fn memory_barrier(&mut self, from: Access, to: Access) {
-        let batch = BarrierBatch {
-            memory: vec![MemoryBarrier {
-                src_stages: from.stages(),
-                src_access: from.access() & WRITE_ACCESS,
-                dst_stages: to.stages(),
-                dst_access: to.access(),
-            }],
-            ..Default::default()
-        };
+        self.own_barrier(Own::Memory, from, to);
+    }
+
+    /// Records one barrier between two of this pass's own uses on `what`: the source scope is
+    /// `from`'s stages and writes, the destination scope `to`'s stages and accesses.
+    fn own_barrier(&mut self, what: Own, from: Access, to: Access) {
+        let (src_stages, src_access) = (from.stages(), from.access() & WRITE_ACCESS);
+        let (dst_stages, dst_access) = (to.stages(), to.access());
+        let mut batch = BarrierBatch::default();
+        match what {
+            Own::Image(res, range) => batch.images.push(ImageBarrier {
+                image: res.image,
+                aspect: res.aspect,
+                range: res.offset(range),
+                old_layout: from.layout(),
+                new_layout: to.layout(),
+                src_stages,
+                src_access,
+                dst_stages,
+                dst_access,
+            }),
+            Own::Buffer(buffer) => batch.buffers.push(BufferBarrier {
+                buffer,
+                src_stages,
+                src_access,
+                dst_stages,
+                dst_access,
+            }),
+            Own::Memory => batch.memory.push(MemoryBarrier {
+                src_stages,
+                src_access,
+                dst_stages,
+                dst_access,
+            }),
+        }
         self.recorder.pipeline_barrier(self.cmd, &batch);
     }
+}
+
+/// What [`RecordContext::own_barrier`] synchronises.
+enum Own {
+    /// A range (relative to the pass's declaration) of a resolved image.
+    Image(Resolved, SubresourceRange),
+    /// A whole buffer.
+    Buffer(vk::Buffer),
+    /// All memory.
+    Memory,
 }
 
 /// What an execution did.

@@ -29,6 +29,8 @@ pub struct CpuSpan<'n> {
 #[derive(Clone, Debug)]
 pub struct Trace {
     events: Vec<Value>,
+    /// Where the last frame's GPU span ends (µs).
+    gpu_end_us: f64,
 }
 
 impl Default for Trace {
@@ -49,6 +51,7 @@ impl Trace {
                 meta("thread_sort_index", CPU_TID, json!({"sort_index": 0})),
                 meta("thread_sort_index", GPU_TID, json!({"sort_index": 1})),
             ],
+            gpu_end_us: 0.0,
         }
     }
 
@@ -92,6 +95,7 @@ impl Trace {
         }
         let total: f64 = gpu.iter().map(|&(_, ms)| ms * 1000.0).sum();
         self.span(GPU_TID, "frame", &name, gpu_start_us, total, args);
+        self.gpu_end_us = gpu_start_us + total;
         let mut t = gpu_start_us;
         for &(pass, ms) in gpu {
             let dur = ms * 1000.0;
@@ -105,6 +109,36 @@ impl Trace {
             );
             t += dur;
         }
+    }
+
+    /// Frame `index` of a run timed frame after frame: on the CPU track from `start_us`, a span
+    /// `first` of `first_us` and a span `rest` for what remains of `total_us` (none when `first`
+    /// takes it all); on the GPU track the passes `gpu` from the end of `first` (the submission),
+    /// or from the end of the previous frame's GPU span if that is later. Frames in flight may
+    /// start on the GPU after the next recording, and GPU timestamps and the host clock differ a
+    /// little, so the GPU frames are laid one after another.
+    pub fn sequential_frame(
+        &mut self,
+        index: u64,
+        start_us: f64,
+        (first, first_us): (&str, f64),
+        (rest, total_us): (&str, f64),
+        gpu: &[(&str, f64)],
+    ) {
+        let cpu = [
+            CpuSpan {
+                name: first,
+                start_us,
+                dur_us: first_us,
+            },
+            CpuSpan {
+                name: rest,
+                start_us: start_us + first_us,
+                dur_us: (total_us - first_us).max(0.0),
+            },
+        ];
+        let gpu_start = (start_us + first_us).max(self.gpu_end_us);
+        self.frame(index, &cpu, gpu, gpu_start);
     }
 
     /// The number of events (metadata included).
@@ -146,6 +180,19 @@ struct Span {
     dur: f64,
 }
 
+/// Field `key` of event `i` read with `get` (e.g. [`Value::as_str`]); an error naming the event
+/// and the field when it is missing or of another type.
+fn field<'v, T>(
+    e: &'v Value,
+    i: usize,
+    key: &str,
+    get: impl FnOnce(&'v Value) -> Option<T>,
+) -> Result<T, String> {
+    e.get(key)
+        .and_then(get)
+        .ok_or_else(|| format!("event {i}: no {key}"))
+}
+
 /// Parses a trace and checks it: every complete event has a name, a timestamp and a
 /// non-negative duration; on each track spans nest (children within parents, siblings not
 /// overlapping); every GPU frame span lasts the sum of its pass spans (within 1 µs).
@@ -158,22 +205,10 @@ pub fn check_trace(json: &str) -> Result<TraceSummary, String> {
     let mut names: BTreeMap<(u64, u64), String> = BTreeMap::new();
     let mut tracks: BTreeMap<(u64, u64), Vec<Span>> = BTreeMap::new();
     for (i, e) in events.iter().enumerate() {
-        let ph = e
-            .get("ph")
-            .and_then(Value::as_str)
-            .ok_or(format!("event {i}: no ph"))?;
-        let pid = e
-            .get("pid")
-            .and_then(Value::as_u64)
-            .ok_or(format!("event {i}: no pid"))?;
-        let tid = e
-            .get("tid")
-            .and_then(Value::as_u64)
-            .ok_or(format!("event {i}: no tid"))?;
-        let name = e
-            .get("name")
-            .and_then(Value::as_str)
-            .ok_or(format!("event {i}: no name"))?;
+        let ph = field(e, i, "ph", Value::as_str)?;
+        let pid = field(e, i, "pid", Value::as_u64)?;
+        let tid = field(e, i, "tid", Value::as_u64)?;
+        let name = field(e, i, "name", Value::as_str)?;
         match ph {
             "M" => {
                 if name == "thread_name" {
@@ -184,14 +219,8 @@ pub fn check_trace(json: &str) -> Result<TraceSummary, String> {
                 }
             }
             "X" => {
-                let ts = e
-                    .get("ts")
-                    .and_then(Value::as_f64)
-                    .ok_or(format!("event {i}: no ts"))?;
-                let dur = e
-                    .get("dur")
-                    .and_then(Value::as_f64)
-                    .ok_or(format!("event {i}: no dur"))?;
+                let ts = field(e, i, "ts", Value::as_f64)?;
+                let dur = field(e, i, "dur", Value::as_f64)?;
                 if !(ts.is_finite() && dur.is_finite() && dur >= 0.0) {
                     return Err(format!("event {i} (\"{name}\"): bad ts {ts} / dur {dur}"));
                 }

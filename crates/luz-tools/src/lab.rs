@@ -693,6 +693,25 @@ pub fn write_outputs(dir: &Path, scene: &Scene, results: &[LabResult]) -> Result
 mod tests {
     use super::*;
 
+    /// The repository's root.
+    fn repo() -> &'static Path {
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+    }
+
+    /// The diffuse term and the D, G, F selectors of a microfacet material.
+    fn microfacet(m: &Material) -> Option<(Diffuse, (Distribution, Geometry, Fresnel))> {
+        match m {
+            Material::MetalRough(p) => Some((p.diffuse, (p.distribution, p.geometry, p.fresnel))),
+            Material::CookTorrance(p) => Some((p.diffuse, (p.distribution, p.geometry, p.fresnel))),
+            _ => None,
+        }
+    }
+
+    /// Loads the scene at `path` in the repository.
+    fn repo_scene(path: &str) -> Scene {
+        crate::scene::load(&repo().join(path)).unwrap()
+    }
+
     fn result(ms: f64, flip: f64) -> LabResult {
         LabResult {
             group: "g".into(),
@@ -754,12 +773,11 @@ mod tests {
     /// The `lod` group: one variant per budget, in order, on a scene of OBJ meshes.
     #[test]
     fn lod_group_sweeps_the_budget_on_mesh_scenes() {
-        let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-        if !root.join("../shared/models/stanford-bunny.obj").exists() {
+        if !repo().join("../shared/models/stanford-bunny.obj").exists() {
             eprintln!("SKIPPED: ../shared/models/stanford-bunny.obj not found");
             return;
         }
-        let scene = crate::scene::load(&root.join("assets/scenes/lod/bunnies_lab.json")).unwrap();
+        let scene = repo_scene("assets/scenes/lod/bunnies_lab.json");
         let v = variants(&scene, &["lod".to_string()]);
         let budgets: Vec<f32> = v
             .iter()
@@ -772,11 +790,7 @@ mod tests {
 
     #[test]
     fn variants_cover_each_group_that_applies() {
-        let scene = crate::scene::load(
-            &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-                .join("assets/scenes/ibl/seed001_grid_sky.json"),
-        )
-        .unwrap();
+        let scene = repo_scene("assets/scenes/ibl/seed001_grid_sky.json");
         let v = variants(&scene, &[]);
         let count = |g: &str| v.iter().filter(|x| x.group == g).count();
         assert_eq!(count("as written"), 1);
@@ -793,11 +807,7 @@ mod tests {
         assert_eq!(count("brdf"), 0);
         // Spheres only: no mesh to simplify, no `lod` variant.
         assert_eq!(count("lod"), 0);
-        let grid = crate::scene::load(
-            &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-                .join("assets/scenes/bench/grid49.json"),
-        )
-        .unwrap();
+        let grid = repo_scene("assets/scenes/bench/grid49.json");
         let g = variants(&grid, &[]);
         assert!(g.iter().filter(|x| x.group == "brdf").count() >= 16);
         // Lambert vs Burley: two variants with the scene's own terms, every Cook-Torrance and
@@ -818,24 +828,12 @@ mod tests {
             assert!(v.label.ends_with(want.name()), "{}", v.label);
             let mut switched = 0;
             for (m, orig) in v.scene.materials.iter().zip(&grid.materials) {
-                match (&m.material, &orig.material) {
-                    (Material::MetalRough(p), Material::MetalRough(o)) => {
-                        assert_eq!(p.diffuse, want);
-                        assert_eq!(
-                            (p.distribution, p.geometry, p.fresnel),
-                            (o.distribution, o.geometry, o.fresnel)
-                        );
-                        switched += 1;
-                    }
-                    (Material::CookTorrance(p), Material::CookTorrance(o)) => {
-                        assert_eq!(p.diffuse, want);
-                        assert_eq!(
-                            (p.distribution, p.geometry, p.fresnel),
-                            (o.distribution, o.geometry, o.fresnel)
-                        );
-                        switched += 1;
-                    }
-                    _ => {}
+                if let (Some((diffuse, lobes)), Some((_, orig_lobes))) =
+                    (microfacet(&m.material), microfacet(&orig.material))
+                {
+                    assert_eq!(diffuse, want);
+                    assert_eq!(lobes, orig_lobes);
+                    switched += 1;
                 }
             }
             assert!(switched > 0);
@@ -854,11 +852,7 @@ mod tests {
     /// cut-off bound of its intensity; a scene with ranges also gets them removed.
     #[test]
     fn lights_group_sets_ranges_per_threshold() {
-        let scene = crate::scene::load(
-            &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-                .join("assets/scenes/bench/lights256.json"),
-        )
-        .unwrap();
+        let scene = repo_scene("assets/scenes/bench/lights256.json");
         let v = variants(&scene, &["lights".to_string()]);
         let lights: Vec<&Variant> = v.iter().filter(|x| x.group == "lights").collect();
         assert_eq!(lights.len(), RANGE_THRESHOLDS.len(), "no ranges to remove");

@@ -145,26 +145,15 @@ impl Viewer {
             // frame's end on the GPU.
             let mut trace = crate::graph::Trace::new();
             let mut t = 0.0;
-            // With frames in flight a frame's GPU work may start after the next recording: the
-            // GPU track lays the frames one after another.
-            let mut gpu_free = 0.0f64;
             for (i, f) in frames.iter().enumerate() {
                 let (frame, record) = (f.frame_ms * 1e3, f.cpu_ms.min(f.frame_ms) * 1e3);
-                let cpu = [
-                    crate::graph::CpuSpan {
-                        name: "record + submit",
-                        start_us: t,
-                        dur_us: record,
-                    },
-                    crate::graph::CpuSpan {
-                        name: "rest of the frame",
-                        start_us: t + record,
-                        dur_us: (frame - record).max(0.0),
-                    },
-                ];
-                let gpu_start = (t + record).max(gpu_free);
-                trace.frame(i as u64, &cpu, &f.gpu_ms, gpu_start);
-                gpu_free = gpu_start + f.gpu_ms.iter().map(|(_, ms)| ms * 1e3).sum::<f64>();
+                trace.sequential_frame(
+                    i as u64,
+                    t,
+                    ("record + submit", record),
+                    ("rest of the frame", frame),
+                    &f.gpu_ms,
+                );
                 t += frame.max(record);
             }
             std::fs::write(p, trace.to_json())

@@ -14,6 +14,24 @@ pub(super) enum EnvKind {
     File,
 }
 
+const ENV_SOURCES: [(EnvKind, &str); 5] = [
+    (EnvKind::None, "none"),
+    (EnvKind::Sky, "procedural sky"),
+    (EnvKind::Studio, "studio"),
+    (EnvKind::Uniform, "uniform"),
+    (EnvKind::File, "file (.hdr / .exr)"),
+];
+
+const SPECULAR_METHODS: [(SpecularMethod, &str); 2] = [
+    (SpecularMethod::SplitSum, "split sum"),
+    (SpecularMethod::Importance, "importance sampling"),
+];
+
+const DIFFUSE_METHODS: [(DiffuseMethod, &str); 2] = [
+    (DiffuseMethod::Sh9, "SH9"),
+    (DiffuseMethod::Cubemap, "convolved cubemap"),
+];
+
 pub(super) fn environment_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState, out: &mut Out) {
     let current = match scene.environment.as_ref().map(|e| &e.source) {
         None => EnvKind::None,
@@ -34,18 +52,7 @@ pub(super) fn environment_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState
     let changed = ui
         .horizontal(|ui| {
             ui.label("Source");
-            combo(
-                ui,
-                "luz_env_source",
-                &mut k,
-                &[
-                    (EnvKind::None, "none"),
-                    (EnvKind::Sky, "procedural sky"),
-                    (EnvKind::Studio, "studio"),
-                    (EnvKind::Uniform, "uniform"),
-                    (EnvKind::File, "file (.hdr / .exr)"),
-                ],
-            )
+            combo(ui, "luz_env_source", &mut k, &ENV_SOURCES)
         })
         .inner;
     if changed {
@@ -127,10 +134,7 @@ pub(super) fn environment_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState
                 ui,
                 "luz_env_specular",
                 &mut env.specular_method,
-                &[
-                    (SpecularMethod::SplitSum, "split sum"),
-                    (SpecularMethod::Importance, "importance sampling"),
-                ],
+                &SPECULAR_METHODS,
             )
         });
         if env.specular_method == SpecularMethod::Importance {
@@ -159,10 +163,7 @@ pub(super) fn environment_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState
                 ui,
                 "luz_env_diffuse",
                 &mut env.diffuse_method,
-                &[
-                    (DiffuseMethod::Sh9, "SH9"),
-                    (DiffuseMethod::Cubemap, "convolved cubemap"),
-                ],
+                &DIFFUSE_METHODS,
             )
         });
         c |= row(ui, "Energy compensation", |ui| {

@@ -81,21 +81,18 @@ pub(super) fn lights_ui(ui: &mut Ui, scene: &mut Scene, expand_all: bool, out: &
     }
 }
 
+const LIGHT_KINDS: [(LightKind, &str); 3] = [
+    (LightKind::Directional, "directional"),
+    (LightKind::Point, "point"),
+    (LightKind::Spot, "spot"),
+];
+
 pub(super) fn light_ui(ui: &mut Ui, light: &mut Light) -> bool {
     grid(ui, "luz_light_grid", |ui| {
         let mut c = false;
         c |= row(ui, "Type", |ui| {
             let mut k = light.kind;
-            let changed = combo(
-                ui,
-                "kind",
-                &mut k,
-                &[
-                    (LightKind::Directional, "directional"),
-                    (LightKind::Point, "point"),
-                    (LightKind::Spot, "spot"),
-                ],
-            );
+            let changed = combo(ui, "kind", &mut k, &LIGHT_KINDS);
             if changed {
                 set_light_kind(light, k);
             }
@@ -186,16 +183,12 @@ pub(super) fn falloff_ui(ui: &mut Ui, f: &mut Falloff) -> bool {
             Falloff::InverseSquare => K::InverseSquare,
             Falloff::Classic { .. } => K::Classic,
         };
-        let mut changed = combo(
-            ui,
-            "falloff",
-            &mut k,
-            &[
-                (K::None, "none"),
-                (K::InverseSquare, "inverse square"),
-                (K::Classic, "classic f_at"),
-            ],
-        );
+        const KINDS: [(K, &str); 3] = [
+            (K::None, "none"),
+            (K::InverseSquare, "inverse square"),
+            (K::Classic, "classic f_at"),
+        ];
+        let mut changed = combo(ui, "falloff", &mut k, &KINDS);
         if changed {
             // The classic coefficients default to the decoder's (c1 = 1, c2 = c3 = 0).
             *f = match k {

@@ -31,16 +31,7 @@ pub(super) fn objects_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState, ou
         });
         c |= row(ui, "Scale", |ui| vec3(ui, &mut t.scale, 1e-3..=1e6, 0.01));
         c |= row(ui, "Shading", |ui| {
-            combo(
-                ui,
-                "luz_shading",
-                &mut object.shading,
-                &[
-                    (Shading::Flat, "flat"),
-                    (Shading::Gouraud, "Gouraud"),
-                    (Shading::Phong, "Phong"),
-                ],
-            )
+            combo(ui, "luz_shading", &mut object.shading, &SHADINGS)
         });
         c |= row(ui, "Material", |ui| {
             let mut m = object.material;
@@ -98,6 +89,12 @@ pub(super) fn objects_ui(ui: &mut Ui, scene: &mut Scene, state: &mut UiState, ou
         ui.label(format!("Texture maps: {}", maps.join(", ")));
     }
 }
+
+const SHADINGS: [(Shading, &str); 3] = [
+    (Shading::Flat, "flat"),
+    (Shading::Gouraud, "Gouraud"),
+    (Shading::Phong, "Phong"),
+];
 
 pub(super) const DISTRIBUTIONS: [(Distribution, &str); 2] = [
     (Distribution::Beckmann, "Beckmann"),

@@ -57,6 +57,12 @@ pub(super) fn debug_view_name(v: DebugView) -> String {
     v.name().to_string()
 }
 
+const SATURATIONS: [(Saturation, &str); 3] = [
+    (Saturation::Clamp, "clamp"),
+    (Saturation::Normalize, "normalize"),
+    (Saturation::None, "none"),
+];
+
 pub(super) fn scene_ui(ui: &mut Ui, scene: &mut Scene, settings: &mut ViewSettings, out: &mut Out) {
     let near = scene.camera.near;
     let far = scene.camera.far;
@@ -77,16 +83,7 @@ pub(super) fn scene_ui(ui: &mut Ui, scene: &mut Scene, settings: &mut ViewSettin
             combo(ui, "luz_tonemap", &mut scene.output.tonemap, &options)
         });
         c |= row(ui, "Saturation", |ui| {
-            combo(
-                ui,
-                "luz_saturation",
-                &mut scene.saturation,
-                &[
-                    (Saturation::Clamp, "clamp"),
-                    (Saturation::Normalize, "normalize"),
-                    (Saturation::None, "none"),
-                ],
-            )
+            combo(ui, "luz_saturation", &mut scene.saturation, &SATURATIONS)
         });
         c
     });

@@ -10,13 +10,13 @@
 //! | 64 | `vec4 p1`     | – | – | – | – | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
 //! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
 //!
-//! `diffuse` is the [`Diffuse`] code as a float (0 Lambert, 1 Burley): `sel` is full. The forward
-//! pass may also fix it per pipeline (specialization constant `SEL_DIFFUSE`).
+//! `diffuse` is the [`Diffuse`](super::Diffuse) code as a float (0 Lambert, 1 Burley): `sel` is
+//! full. The forward pass may also fix it per pipeline (specialization constant `SEL_DIFFUSE`).
 //!
 //! Unused slots are 0. The parameters are sanitised first ([`Model::sanitized`]), so the GLSL
 //! does no range checks of its own beyond the clamps inside the terms.
 
-use super::models::{Diffuse, Fresnel, Model};
+use super::models::Model;
 
 /// `BRDF_MODEL_*` codes in `sel.x`.
 pub mod model_code {
@@ -34,6 +34,17 @@ pub mod model_code {
     pub const PRINCIPLED: i32 = crate::glsl::brdf_models::BRDF_MODEL_PRINCIPLED;
     /// Oren-Nayar.
     pub const OREN_NAYAR: i32 = crate::glsl::brdf_models::BRDF_MODEL_OREN_NAYAR;
+}
+
+/// The codes of a microfacet model's diffuse term, D, G and F (Cook-Torrance, metallic-roughness);
+/// `None` for the other models.
+fn microfacet_selectors(model: &Model) -> Option<(i32, i32, i32, i32)> {
+    let (diffuse, d, g, f) = match model {
+        Model::CookTorrance(p) => (p.diffuse, p.distribution, p.geometry, p.fresnel),
+        Model::MetalRough(p) => (p.diffuse, p.distribution, p.geometry, p.fresnel),
+        _ => return None,
+    };
+    Some((diffuse as i32, d as i32, g as i32, f as i32))
 }
 
 /// The GLSL `BrdfParams` struct, byte for byte (see the module docs for the slot table).
@@ -64,7 +75,8 @@ impl GpuBrdfParams {
     /// Packs a (sanitised) model.
     pub fn from_model(model: &Model) -> Self {
         let mut g = GpuBrdfParams::default();
-        match model.sanitized() {
+        let model = model.sanitized();
+        match &model {
             Model::Lambert(p) => {
                 g.color = p.albedo.extend(0.0).to_array();
                 g.sel[0] = model_code::LAMBERT;
@@ -85,25 +97,13 @@ impl GpuBrdfParams {
                 g.color = p.color.extend(p.roughness).to_array();
                 g.spec = spec.extend(0.0).to_array();
                 g.kappa = kappa.extend(p.kd).to_array();
-                g.p0[1] = p.diffuse as i32 as f32;
-                g.sel = [
-                    model_code::COOK_TORRANCE,
-                    p.distribution as i32,
-                    p.geometry as i32,
-                    p.fresnel as i32,
-                ];
+                g.sel[0] = model_code::COOK_TORRANCE;
             }
             Model::MetalRough(p) => {
                 g.color = p.base_color.extend(p.roughness).to_array();
                 g.spec = p.dielectric_f0.extend(p.metallic).to_array();
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
-                g.p0[1] = p.diffuse as i32 as f32;
-                g.sel = [
-                    model_code::METAL_ROUGH,
-                    p.distribution as i32,
-                    p.geometry as i32,
-                    p.fresnel as i32,
-                ];
+                g.sel[0] = model_code::METAL_ROUGH;
             }
             Model::Principled(p) => {
                 g.color = p.base_color.extend(p.roughness).to_array();
@@ -118,17 +118,17 @@ impl GpuBrdfParams {
                 g.sel[0] = model_code::OREN_NAYAR;
             }
         }
+        if let Some((diffuse, d, geometry, f)) = microfacet_selectors(&model) {
+            g.p0[1] = diffuse as f32;
+            g.sel[1..].copy_from_slice(&[d, geometry, f]);
+        }
         g
     }
 
     /// The diffuse selector (`Diffuse` code) of the models that have one (Cook-Torrance,
     /// metallic-roughness), `None` for the others: what `SEL_DIFFUSE` is specialised to.
     pub fn diffuse_selector(model: &Model) -> Option<i32> {
-        match model {
-            Model::CookTorrance(p) => Some(p.diffuse as i32),
-            Model::MetalRough(p) => Some(p.diffuse as i32),
-            _ => None,
-        }
+        microfacet_selectors(model).map(|(diffuse, ..)| diffuse)
     }
 
     /// The 96 bytes in native (little-endian on every Vulkan target luz runs on) order, ready for
@@ -150,22 +150,3 @@ impl GpuBrdfParams {
         out
     }
 }
-
-// The selector codes are the GLSL's `BRDF_D_*`, `BRDF_G_*`, `BRDF_F_*` and `BRDF_DIFFUSE_*`
-// (generated from shaders_glsl/brdf/models.glsl; every code is checked in the tests too).
-const _: () = {
-    use super::models::{Distribution, Geometry};
-    use crate::glsl::brdf_models as g;
-    assert!(Distribution::Beckmann as i32 == g::BRDF_D_BECKMANN);
-    assert!(Distribution::Ggx as i32 == g::BRDF_D_GGX);
-    assert!(Geometry::CookTorrance as i32 == g::BRDF_G_COOK_TORRANCE);
-    assert!(Geometry::SmithGgx as i32 == g::BRDF_G_SMITH_GGX);
-    assert!(Geometry::SmithGgxCorrelated as i32 == g::BRDF_G_SMITH_GGX_CORRELATED);
-    assert!(Geometry::SchlickGgx as i32 == g::BRDF_G_SCHLICK_GGX);
-    assert!(Fresnel::Schlick as i32 == g::BRDF_F_SCHLICK);
-    assert!(Fresnel::SchlickSg as i32 == g::BRDF_F_SCHLICK_SG);
-    assert!(Fresnel::Dielectric as i32 == g::BRDF_F_DIELECTRIC);
-    assert!(Fresnel::Conductor as i32 == g::BRDF_F_CONDUCTOR);
-    assert!(Diffuse::Lambert as i32 == g::BRDF_DIFFUSE_LAMBERT);
-    assert!(Diffuse::Burley as i32 == g::BRDF_DIFFUSE_BURLEY);
-};

@@ -9,19 +9,22 @@ use serde::{Deserialize, Serialize};
 
 use super::presets::{f0_from_ior, ior_from_f0, ComplexIor};
 use super::terms::*;
+use crate::glsl::brdf_models as glsl;
 
 // ---------------------------------------------------------------------------------------------
 // Selectors
 // ---------------------------------------------------------------------------------------------
+// Their discriminants are the GLSL's codes (generated from shaders_glsl/brdf/models.glsl), so
+// `as i32` gives what the shaders compare `sel` with.
 
 /// Normal distribution selector. GPU code: `BRDF_D_*` in `models.glsl`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Distribution {
     /// [`d_beckmann`].
-    Beckmann = 0,
+    Beckmann = glsl::BRDF_D_BECKMANN as isize,
     /// [`d_ggx`] (GTR2).
-    Ggx = 1,
+    Ggx = glsl::BRDF_D_GGX as isize,
 }
 
 /// Masking-shadowing selector. GPU code: `BRDF_G_*` in `models.glsl`.
@@ -29,13 +32,13 @@ pub enum Distribution {
 #[serde(rename_all = "snake_case")]
 pub enum Geometry {
     /// [`g_cook_torrance`].
-    CookTorrance = 0,
+    CookTorrance = glsl::BRDF_G_COOK_TORRANCE as isize,
     /// [`g_smith_ggx_separable`].
-    SmithGgx = 1,
+    SmithGgx = glsl::BRDF_G_SMITH_GGX as isize,
     /// [`g_smith_ggx_correlated`].
-    SmithGgxCorrelated = 2,
+    SmithGgxCorrelated = glsl::BRDF_G_SMITH_GGX_CORRELATED as isize,
     /// [`g_schlick_ggx`] with [`k_punctual`].
-    SchlickGgx = 3,
+    SchlickGgx = glsl::BRDF_G_SCHLICK_GGX as isize,
 }
 
 /// Fresnel selector. GPU code: `BRDF_F_*` in `models.glsl`.
@@ -43,13 +46,13 @@ pub enum Geometry {
 #[serde(rename_all = "snake_case")]
 pub enum Fresnel {
     /// [`f_schlick`] (needs F0).
-    Schlick = 0,
+    Schlick = glsl::BRDF_F_SCHLICK as isize,
     /// [`f_schlick_sg`] (needs F0).
-    SchlickSg = 1,
+    SchlickSg = glsl::BRDF_F_SCHLICK_SG as isize,
     /// [`f_dielectric`] per channel (needs η).
-    Dielectric = 2,
+    Dielectric = glsl::BRDF_F_DIELECTRIC as isize,
     /// [`f_conductor`] (needs η and κ).
-    Conductor = 3,
+    Conductor = glsl::BRDF_F_CONDUCTOR as isize,
 }
 
 /// Diffuse lobe selector of Cook-Torrance and metallic-roughness. GPU code: `BRDF_DIFFUSE_*`
@@ -61,9 +64,9 @@ pub enum Fresnel {
 pub enum Diffuse {
     /// [`diffuse_lambert`]: `albedo/π`.
     #[default]
-    Lambert = 0,
+    Lambert = glsl::BRDF_DIFFUSE_LAMBERT as isize,
     /// [`diffuse_burley`]: `albedo/π · Fd` with the model's perceptual roughness (MODELS.md §5).
-    Burley = 1,
+    Burley = glsl::BRDF_DIFFUSE_BURLEY as isize,
 }
 
 impl Diffuse {

@@ -143,14 +143,22 @@ pub fn d_ggx(n_h: f32, alpha: f32) -> f32 {
 /// [`d_ggx`] with `sin²θ_h` given (`|n × h|²`): `α² / (π (α² c² + s²)²)`
 /// (`c²(α² − 1) + 1 = α² c² + s²`).
 pub fn d_ggx_sin2(n_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    if n_h <= 0.0 {
+    let Some((a2, t)) = gtr_terms(n_h, sin2_h, alpha) else {
         return 0.0;
+    };
+    a2 / (PI * t * t)
+}
+
+/// What GGX and GTR1 share: `(α², α² c² + s²)` with `α` clamped to [`ALPHA_MIN`] and `c = n·h`
+/// to `[COS_EPS, 1]`; `None` for `n·h ≤ 0` (where both are 0).
+fn gtr_terms(n_h: f32, sin2_h: f32, alpha: f32) -> Option<(f32, f32)> {
+    if n_h <= 0.0 {
+        return None;
     }
     let a = alpha.max(ALPHA_MIN);
     let a2 = a * a;
     let c = clamp_cos(n_h);
-    let t = a2 * c * c + saturate(sin2_h);
-    a2 / (PI * t * t)
+    Some((a2, a2 * c * c + saturate(sin2_h)))
 }
 
 /// GTR1 (Disney clearcoat): `(α² − 1) / (π ln(α²) (1 + (α² − 1)(n·h)²))`, `1/π` when `α² ≥ 1`;
@@ -161,16 +169,12 @@ pub fn d_gtr1(n_h: f32, alpha: f32) -> f32 {
 
 /// [`d_gtr1`] with `sin²θ_h` given (`|n × h|²`): `(α² − 1) / (π ln(α²) (α² c² + s²))`.
 pub fn d_gtr1_sin2(n_h: f32, sin2_h: f32, alpha: f32) -> f32 {
-    if n_h <= 0.0 {
+    let Some((a2, t)) = gtr_terms(n_h, sin2_h, alpha) else {
         return 0.0;
-    }
-    let a = alpha.max(ALPHA_MIN);
-    let a2 = a * a;
+    };
     if a2 >= 1.0 {
         return INV_PI;
     }
-    let c = clamp_cos(n_h);
-    let t = a2 * c * c + saturate(sin2_h);
     (a2 - 1.0) / (PI * a2.ln() * t)
 }
 

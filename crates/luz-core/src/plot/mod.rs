@@ -247,26 +247,26 @@ impl Chart {
     }
 }
 
-impl From<LineChart> for Chart {
-    fn from(c: LineChart) -> Self {
-        Chart::Line(c)
-    }
+/// `impl From<Kind> for Chart` for each kind of chart, so that each can be passed where a
+/// `Chart` is expected.
+macro_rules! chart_from {
+    ($($variant:ident($kind:ty)),* $(,)?) => {
+        $(
+            impl From<$kind> for Chart {
+                fn from(c: $kind) -> Self {
+                    Chart::$variant(c)
+                }
+            }
+        )*
+    };
 }
-impl From<ScatterChart> for Chart {
-    fn from(c: ScatterChart) -> Self {
-        Chart::Scatter(c)
-    }
-}
-impl From<Heatmap> for Chart {
-    fn from(c: Heatmap) -> Self {
-        Chart::Heatmap(c)
-    }
-}
-impl From<PolarChart> for Chart {
-    fn from(c: PolarChart) -> Self {
-        Chart::Polar(c)
-    }
-}
+
+chart_from!(
+    Line(LineChart),
+    Scatter(ScatterChart),
+    Heatmap(Heatmap),
+    Polar(PolarChart),
+);
 
 // ---------------------------------------------------------------------------------------------
 // Output

@@ -107,3 +107,54 @@ fn broken_traces_are_rejected() {
     let broken = edit(&json, |e| e["ph"] == "X", |e| e["dur"] = Value::from(-1.0));
     assert!(check_trace(&broken).is_err());
 }
+
+/// `sequential_frame`: two CPU spans per frame, and GPU frames laid end to end when a frame's
+/// GPU work would start before the previous one's ended.
+#[test]
+fn sequential_frames_queue_on_the_gpu() {
+    let mut t = Trace::new();
+    // Frame 0: recording 1000 µs of 3000; 5 ms of GPU work from 1000 to 6000.
+    t.sequential_frame(
+        0,
+        0.0,
+        ("record", 1000.0),
+        ("rest", 3000.0),
+        &[("a", 2.0), ("b", 3.0)],
+    );
+    // Frame 1: submitted at 3500, but the GPU is busy until 6000.
+    t.sequential_frame(
+        1,
+        3000.0,
+        ("record", 500.0),
+        ("rest", 3000.0),
+        &[("a", 1.0)],
+    );
+    // Frame 2: submitted at 10200, after the GPU went idle at 7000; the recording takes longer
+    // than the whole frame was measured, so its second span is empty.
+    t.sequential_frame(
+        2,
+        10_000.0,
+        ("record", 200.0),
+        ("rest", 150.0),
+        &[("a", 1.0)],
+    );
+    let json = t.to_json();
+    let v: Value = serde_json::from_str(&json).unwrap();
+    let events = v["traceEvents"].as_array().unwrap();
+    let span = |tid: u64, name: &str, nth: usize| {
+        let e = events
+            .iter()
+            .filter(|e| e["tid"] == tid && e["name"] == name)
+            .nth(nth)
+            .unwrap();
+        (e["ts"].as_f64().unwrap(), e["dur"].as_f64().unwrap())
+    };
+    assert_eq!(span(2, "frame 0", 0), (1000.0, 5000.0));
+    assert_eq!(span(2, "frame 1", 0), (6000.0, 1000.0));
+    assert_eq!(span(2, "frame 2", 0), (10_200.0, 1000.0));
+    assert_eq!(span(1, "record", 1), (3000.0, 500.0));
+    assert_eq!(span(1, "rest", 1), (3500.0, 2500.0));
+    assert_eq!(span(1, "rest", 2), (10_200.0, 0.0));
+    let s = check_trace(&json).unwrap();
+    assert_eq!((s.gpu_frames, s.cpu_frames, s.gpu_passes), (3, 3, 4));
+}

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use anyhow::{Context as _, Result};
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
+use glam::{BVec3, Mat3, Mat4, Vec2, Vec3, Vec4, Vec4Swizzles};
 
 use super::geometry::{LocalSurface, MeshAccel, Part, Ray, Shape};
 use super::sampling::{cmj, hash, mix64, unit_float, EnvDistribution};
@@ -15,6 +15,7 @@ use super::texture::{CpuTexture, Texels};
 use super::ReferenceOptions;
 use crate::brdf::{radical_inverse_vdc, sampling_lobes, Lobe, Model};
 use crate::env::{env_rotation, Equirect};
+use crate::scene::mesh::bounds_of;
 use crate::scene::{AlphaMode, Fog, Light, LightKind, MeshDesc, Scene, Sides, TextureSlot};
 
 /// A material as the reference shades it: the sanitised model and its decoded maps.
@@ -175,18 +176,11 @@ impl Prepared {
                 anyhow::bail!("object {:?}: its transform cannot be inverted", o.name);
             }
             let (lo, hi) = shape.bounds();
-            let mut wlo = Vec3::splat(f32::INFINITY);
-            let mut whi = Vec3::splat(f32::NEG_INFINITY);
-            for i in 0..8 {
-                let c = Vec3::new(
-                    if i & 1 == 0 { lo.x } else { hi.x },
-                    if i & 2 == 0 { lo.y } else { hi.y },
-                    if i & 4 == 0 { lo.z } else { hi.z },
-                );
-                let p = to_world.transform_point3(c);
-                wlo = wlo.min(p);
-                whi = whi.max(p);
-            }
+            let corners = (0..8).map(|i| {
+                let upper = BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0);
+                to_world.transform_point3(Vec3::select(upper, hi, lo))
+            });
+            let (wlo, whi) = bounds_of(&corners.collect::<Vec<_>>());
             let pad = (whi - wlo).max_element().max(1e-6) * 1e-5;
             objects.push(RefObject {
                 shape,
@@ -460,50 +454,41 @@ impl Prepared {
         let side = if n.dot(l) >= 0.0 { n } else { -n };
         let o = p + side * (scale * 2e-5);
         let (a, b) = orthonormal_basis(l);
-        let disc = |s: u32, count: u32, pattern: u32| {
-            let u = cmj(s, count, pattern);
-            concentric_disc(u)
+        // The light's size (tangent of the angular radius, or radius), how far a ray may go
+        // (to infinity, or to just short of the light) and the sample pattern's salt.
+        let (size, t_max, salt) = match light.kind {
+            LightKind::Directional => (
+                light.angular_radius_deg.to_radians().tan(),
+                f32::INFINITY,
+                0x5ad0,
+            ),
+            _ => (light.radius, 1.0 - 1e-5, 0x5ad1),
         };
-        match light.kind {
-            LightKind::Directional => {
-                let tan = light.angular_radius_deg.to_radians().tan();
-                if tan <= 0.0 {
-                    return if self.occluded(o, l, f32::INFINITY) {
-                        0.0
-                    } else {
-                        1.0
-                    };
-                }
-                let pattern = hash(&[key[0], key[1], key[2], 0x5ad0]) as u32;
-                let lit = (0..samples)
-                    .filter(|&s| {
-                        let d = disc(s, samples, pattern);
-                        let dir = l + (a * d.x + b * d.y) * tan;
-                        !self.occluded(o, dir, f32::INFINITY)
-                    })
-                    .count();
-                lit as f32 / samples as f32
+        // The ray towards the light's centre (`None`) or towards the point `d` of its unit disc.
+        let ray = |d: Option<Vec2>| match (light.kind, d) {
+            (LightKind::Directional, None) => l,
+            (LightKind::Directional, Some(d)) => l + (a * d.x + b * d.y) * size,
+            (_, None) => light.position - o,
+            (_, Some(d)) => {
+                let d = d * size;
+                light.position + a * d.x + b * d.y - o
             }
-            _ => {
-                let to = light.position - o;
-                if light.radius <= 0.0 {
-                    return if self.occluded(o, to, 1.0 - 1e-5) {
-                        0.0
-                    } else {
-                        1.0
-                    };
-                }
-                let pattern = hash(&[key[0], key[1], key[2], 0x5ad1]) as u32;
-                let lit = (0..samples)
-                    .filter(|&s| {
-                        let d = disc(s, samples, pattern) * light.radius;
-                        let q = light.position + a * d.x + b * d.y;
-                        !self.occluded(o, q - o, 1.0 - 1e-5)
-                    })
-                    .count();
-                lit as f32 / samples as f32
-            }
+        };
+        if size <= 0.0 {
+            return if self.occluded(o, ray(None), t_max) {
+                0.0
+            } else {
+                1.0
+            };
         }
+        let pattern = hash(&[key[0], key[1], key[2], salt]) as u32;
+        let lit = (0..samples)
+            .filter(|&s| {
+                let d = concentric_disc(cmj(s, samples, pattern));
+                !self.occluded(o, ray(Some(d)), t_max)
+            })
+            .count();
+        lit as f32 / samples as f32
     }
 
     /// Whether a shadow-casting object meets the ray `o + t d` for t in (0, `t_max`) where it

@@ -7,14 +7,14 @@ use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
-use crate::brdf::{GpuBrdfParams, Model};
+use crate::brdf::GpuBrdfParams;
 use crate::glsl::brdf_eval_comp as glsl;
 use crate::vk::cmd::CommandPool;
 use crate::vk::pipeline::Pipeline;
 use crate::vk::shaders::ShaderModule;
 use crate::vk::{Buffer, Context, SingleSet};
 
-use super::{Case, Evaluator, Output};
+use super::{Batch, Case, Evaluator, Output};
 
 /// The GPU mirror: `brdf_eval.comp` (brdf_eval / brdf_radiance of `models.glsl`), one invocation
 /// per case, parameters packed by [`GpuBrdfParams::from_model`] as the renderer packs them.
@@ -183,15 +183,9 @@ impl Evaluator for GpuEvaluator {
         "gpu"
     }
 
-    fn evaluate(
-        &mut self,
-        sets: &[Model],
-        cases: &[Case],
-        intensities: [f32; 3],
-        with_radiance: bool,
-    ) -> Result<Vec<Output>> {
-        let mut params = Vec::with_capacity(sets.len() * GpuBrdfParams::SIZE);
-        for m in sets {
+    fn evaluate(&mut self, batch: &Batch<'_>) -> Result<Vec<Output>> {
+        let mut params = Vec::with_capacity(batch.sets.len() * GpuBrdfParams::SIZE);
+        for m in batch.sets {
             params.extend_from_slice(&GpuBrdfParams::from_model(m).to_bytes());
         }
         let params = Buffer::with_data(
@@ -200,9 +194,15 @@ impl Evaluator for GpuEvaluator {
             &params,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let mut out = Vec::with_capacity(cases.len());
-        for chunk in cases.chunks(self.max_cases) {
-            self.run_chunk(&params, chunk, intensities, with_radiance, &mut out)?;
+        let mut out = Vec::with_capacity(batch.cases.len());
+        for chunk in batch.cases.chunks(self.max_cases) {
+            self.run_chunk(
+                &params,
+                chunk,
+                batch.intensities,
+                batch.with_radiance,
+                &mut out,
+            )?;
         }
         Ok(out)
     }

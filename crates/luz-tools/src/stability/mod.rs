@@ -123,18 +123,22 @@ pub struct Output {
     pub radiance: [Vec3; 3],
 }
 
+/// One [`Evaluator::evaluate`] call's work: every case with `sets[case.set]`; the radiances at
+/// the three `intensities` only when `with_radiance`.
+#[derive(Debug, Clone, Copy)]
+pub struct Batch<'a> {
+    pub sets: &'a [Model],
+    pub cases: &'a [Case],
+    pub intensities: [f32; 3],
+    pub with_radiance: bool,
+}
+
 /// Something that evaluates the BRDFs: the CPU reference, the GPU mirror, or a test's fake.
 pub trait Evaluator {
     /// "cpu", "gpu", …
     fn name(&self) -> &str;
-    /// Evaluates every case with `sets[case.set]`; the radiances only when `with_radiance`.
-    fn evaluate(
-        &mut self,
-        sets: &[Model],
-        cases: &[Case],
-        intensities: [f32; 3],
-        with_radiance: bool,
-    ) -> Result<Vec<Output>>;
+    /// One output per case of `batch`, in order.
+    fn evaluate(&mut self, batch: &Batch<'_>) -> Result<Vec<Output>>;
 }
 
 /// The CPU reference: [`brdf::eval`] and [`brdf::radiance`], in parallel.
@@ -145,22 +149,17 @@ impl Evaluator for CpuEvaluator {
         "cpu"
     }
 
-    fn evaluate(
-        &mut self,
-        sets: &[Model],
-        cases: &[Case],
-        intensities: [f32; 3],
-        with_radiance: bool,
-    ) -> Result<Vec<Output>> {
-        Ok(cases
+    fn evaluate(&mut self, batch: &Batch<'_>) -> Result<Vec<Output>> {
+        Ok(batch
+            .cases
             .par_iter()
             .with_min_len(256)
             .map(|c| {
-                let m = &sets[c.set as usize];
+                let m = &batch.sets[c.set as usize];
                 let f = brdf::eval(m, c.n, c.l, c.v, c.x, c.y);
                 let mut radiance = [Vec3::ZERO; 3];
-                if with_radiance {
-                    for (r, e) in radiance.iter_mut().zip(intensities) {
+                if batch.with_radiance {
+                    for (r, e) in radiance.iter_mut().zip(batch.intensities) {
                         *r = brdf::radiance(m, c.n, c.l, c.v, c.x, c.y, Vec3::splat(e));
                     }
                 }

@@ -9,9 +9,9 @@ use rayon::prelude::*;
 use crate::brdf::{self, Model};
 
 use super::{
-    Case, Comparison, Dir, Evaluator, Output, ParamSet, Row, RowReport, SetAlbedo, SideStats,
-    SweepOptions, ALBEDO_COS_L, COMPARE_ABS, COMPARE_REL, GRAZING_SAMPLE_FACTOR, INTENSITIES,
-    REFINE_FACTOR, REFINE_MARGIN,
+    Batch, Case, Comparison, Dir, Evaluator, Output, ParamSet, Row, RowReport, SetAlbedo,
+    SideStats, SweepOptions, ALBEDO_COS_L, COMPARE_ABS, COMPARE_REL, GRAZING_SAMPLE_FACTOR,
+    INTENSITIES, REFINE_FACTOR, REFINE_MARGIN,
 };
 
 /// An albedo integral to compute: set, light direction, its quadrature points.
@@ -232,11 +232,17 @@ fn evaluate(
     cases: &[Case],
     albedo_cases: &[Case],
 ) -> Result<(Vec<Output>, Vec<Output>)> {
+    let batch = |cases, with_radiance| Batch {
+        sets: models,
+        cases,
+        intensities: INTENSITIES,
+        with_radiance,
+    };
     let outs = ev
-        .evaluate(models, cases, INTENSITIES, true)
+        .evaluate(&batch(cases, true))
         .with_context(|| format!("{} {}: {} evaluation", row.model, row.variant, ev.name()))?;
     let fs = ev
-        .evaluate(models, albedo_cases, INTENSITIES, false)
+        .evaluate(&batch(albedo_cases, false))
         .with_context(|| format!("{} {}: {} albedo", row.model, row.variant, ev.name()))?;
     anyhow::ensure!(
         outs.len() == cases.len() && fs.len() == albedo_cases.len(),
