@@ -4,14 +4,17 @@
 # six 512² faces, PCF 2×2) against the same scene without "shadow" (default_unshadowed.json),
 # alternating, ROUNDS rounds, at the scenes' own size (1280×720, MSAA 4×). Frame cost = median
 # GPU total of `luz bench` (every pass, the shadow passes included, and the readback). The scene is
-# static, so its maps are drawn in the first frame and reused after; LUZ_SHADOW_CACHE=0 in the
-# environment draws them every frame (what a moving scene costs).
+# static, so its maps are drawn in the first frame and reused after; `--no-shadow-cache` after
+# ROUNDS and FRAMES (passed to every `luz bench`) draws them every frame (what a moving scene
+# costs).
 #
-#   scripts/shadow_cost.sh [ROUNDS] [FRAMES]   (default 3 10; LUZ=path/to/luz)
+#   scripts/shadow_cost.sh [ROUNDS] [FRAMES] [BENCH FLAGS...]   (default 3 10; LUZ=path/to/luz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROUNDS=${1:-3}
 FRAMES=${2:-10}
+shift $(( $# < 2 ? $# : 2 ))
+EXTRA=("$@")
 LUZ=${LUZ:-${CARGO_TARGET_DIR:-target}/release/luz}
 [ -x "$LUZ" ] || { echo "build first: cargo build --release ($LUZ missing)" >&2; exit 1; }
 tmp=$(mktemp -d)
@@ -19,7 +22,7 @@ trap 'rm -rf "$tmp"' EXIT
 
 # bench SCENE -> "gpu_total_ms shadows_ms"
 bench() {
-    "$LUZ" bench "$1" --frames "$FRAMES" --warmup 2 --json "$tmp/b.json" >/dev/null
+    "$LUZ" bench "$1" --frames "$FRAMES" --warmup 2 --json "$tmp/b.json" "${EXTRA[@]}" >/dev/null
     python3 - "$tmp/b.json" <<'PY'
 import json, sys
 b = json.load(open(sys.argv[1]))

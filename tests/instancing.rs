@@ -1,6 +1,6 @@
 //! Instancing (issue 17) on lavapipe with validation on: objects sharing mesh, LOD level,
 //! pipeline and material are one instanced draw, and the image is the same, bit for bit, as one
-//! draw per object (`LUZ_INSTANCING=0`), on the forward path (flat, Gouraud and Phong shading, a
+//! draw per object (`Switches::instancing` off, `--no-instancing`), on the forward path (flat, Gouraud and Phong shading, a
 //! shadowed sun, meshes with and without LOD chains) and on the deferred path.
 //!
 //! The switch is an environment variable read when a pass is built, so this file holds a single
@@ -65,13 +65,15 @@ fn render(
     path: RenderPath,
     instancing: bool,
 ) -> (luz::imageio::LinearImage, &'static str, (usize, usize)) {
-    std::env::set_var("LUZ_INSTANCING", if instancing { "1" } else { "0" });
     let options = RenderOptions {
         render_path: path,
+        switches: luz::render::forward::Switches {
+            instancing,
+            ..Default::default()
+        },
         ..RenderOptions::default()
     };
     let mut r = Headless::with_options(ctx, scene, &options).unwrap();
-    std::env::remove_var("LUZ_INSTANCING");
     r.render().unwrap();
     (r.image().unwrap(), r.render_path(), r.draw_calls())
 }

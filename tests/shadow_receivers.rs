@@ -2,7 +2,7 @@
 //! light gets a pipeline without that light's lookup, and a small receiver (a floor) has its
 //! lookups only inside the screen rectangle its possible shadows cover. The images must not
 //! change: each scene here is rendered with the receiver test on and off
-//! (`LUZ_SHADOW_RECEIVERS=0`) and compared, and a renderer whose objects move into another's
+//! (`--no-shadow-receivers`) and compared, and a renderer whose objects move into another's
 //! shadow switches pipelines and matches a fresh renderer.
 
 mod common;
@@ -24,11 +24,20 @@ fn on_and_off(scene: &str, name: &str) -> (Vec<u8>, Vec<u8>, String) {
         png("on").to_str().unwrap(),
     ]));
     assert_ran_clean(on.code, &on.stdout, &on.stderr);
-    let off = run(
-        luz_command(["render", scene, "-o", png("off").to_str().unwrap()])
-            .env("LUZ_SHADOW_RECEIVERS", "0"),
-    );
+    let off = run(&mut luz_command([
+        "render",
+        scene,
+        "--no-shadow-receivers",
+        "-o",
+        png("off").to_str().unwrap(),
+    ]));
     assert_ran_clean(off.code, &off.stdout, &off.stderr);
+    // Each image says how it was made.
+    for (tag, want) in [("on", "on"), ("off", "off")] {
+        let p = luz::imageio::provenance::read(&png(tag)).expect("provenance");
+        assert_eq!(p.get("luz.shadow_receivers"), Some(want), "{tag}");
+        assert_eq!(p.get("luz.instancing"), Some("on"), "{tag}");
+    }
     let decode = |p: std::path::PathBuf| image::open(p).expect("png").to_rgba8().into_raw();
     (decode(png("on")), decode(png("off")), on.stdout)
 }

@@ -13,7 +13,7 @@ use luz::vk::Context;
 use super::common::{
     context, debug_view_parser, light_loop_line, load_scene, print_timing, render_options,
     report_tessellation, validation_exit, Bar, GpuArgs, IblQuality, LightLoopArg, RenderPathArg,
-    ViewOverrides,
+    SwitchArgs, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -78,6 +78,8 @@ pub struct BenchArgs {
     #[arg(long, value_name = "PX")]
     pub compare_budget: Option<f32>,
     #[command(flatten)]
+    pub switches: SwitchArgs,
+    #[command(flatten)]
     pub gpu: GpuArgs,
 }
 
@@ -132,6 +134,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let options = luz::headless::RenderOptions {
         render_path: a.render_path.path(),
         light_loop: a.light_loop.light_loop(),
+        switches: a.switches.switches(),
         ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
     };
     let mut renderer = Headless::with_options(&ctx, &scene, &options)?;
@@ -221,7 +224,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
     if drawn + reused > 0 {
         println!(
             "shadow maps: layers drawn in {drawn} frame(s) ({layers} layers in all), every layer \
-             reused in {reused} (nothing it sees moved; LUZ_SHADOW_CACHE=0 draws them every frame)"
+             reused in {reused} (nothing it sees moved; --no-shadow-cache draws them every frame)"
         );
     }
     println!("memory (resident MiB, GPU allocations, GPU bytes) every {every} frames:");

@@ -174,6 +174,34 @@ pub fn validation_exit_counts(enabled: bool, errors: u32, warnings: u32) -> Exit
     ExitCode::SUCCESS
 }
 
+/// What a measurement or a comparison turns off (`luz render`, `luz bench`); each is on by
+/// default, and the image's provenance records all three.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct SwitchArgs {
+    /// Record one draw per object instead of one instanced draw per run of objects that share
+    /// mesh, LOD level, pipeline and material (what instancing saves; the image is the same).
+    #[arg(long)]
+    pub no_instancing: bool,
+    /// Draw every shadow map in every frame instead of reusing the maps nothing they see changed
+    /// in (what a moving scene pays; the image is the same).
+    #[arg(long)]
+    pub no_shadow_cache: bool,
+    /// Shadow lookups at every fragment instead of only where shadows can fall (what the
+    /// receiver culling saves; the image is the same).
+    #[arg(long)]
+    pub no_shadow_receivers: bool,
+}
+
+impl SwitchArgs {
+    pub fn switches(&self) -> luz::render::forward::Switches {
+        luz::render::forward::Switches {
+            instancing: !self.no_instancing,
+            shadow_cache: !self.no_shadow_cache,
+            shadow_receivers: !self.no_shadow_receivers,
+        }
+    }
+}
+
 /// The renderer options the `render` and `bench` flags ask for, with a progress bar for the IBL
 /// precomputation.
 pub fn render_options(no_cache: bool, quality: IblQuality, debug_view: DebugView) -> RenderOptions {

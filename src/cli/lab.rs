@@ -10,7 +10,7 @@ use luz::lab::{measure, variants, write_outputs, LabOptions};
 
 use super::common::{
     context, render_options, report_tessellation, validation_exit, Bar, GpuArgs, IblQuality,
-    ViewOverrides,
+    SwitchArgs, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -43,6 +43,8 @@ pub struct LabArgs {
     /// Sizes of the image-based lighting data.
     #[arg(long, value_enum, default_value_t = IblQuality::Full)]
     pub ibl_quality: IblQuality,
+    #[command(flatten)]
+    pub switches: SwitchArgs,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -102,6 +104,7 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         rounds: a.rounds,
         render: luz::headless::RenderOptions {
             progress: None,
+            switches: a.switches.switches(),
             ..render_options(false, a.ibl_quality, Default::default())
         },
     };

@@ -13,7 +13,7 @@ use luz::render::forward::DebugView;
 use super::common::{
     check_output, context, debug_view_parser, light_loop_line, load_scene, print_timing,
     render_options, report_lod, report_tessellation, report_written, validation_exit, GpuArgs,
-    IblQuality, LightLoopArg, ViewOverrides,
+    IblQuality, LightLoopArg, SwitchArgs, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -57,6 +57,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub graph: Option<PathBuf>,
     #[command(flatten)]
+    pub switches: SwitchArgs,
+    #[command(flatten)]
     pub gpu: GpuArgs,
 }
 
@@ -72,6 +74,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         &scene,
         &luz::headless::RenderOptions {
             light_loop: a.light_loop.light_loop(),
+            switches: a.switches.switches(),
             ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
         },
     )?;
@@ -103,7 +106,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                 println!(
                     "shadow receivers (deferred lighting pass): {} of {} shadowed lights' \
                      lookups compiled out (no caster can darken any object); lookups {} \
-                     (LUZ_SHADOW_RECEIVERS=0: lookups everywhere)",
+                     (--no-shadow-receivers: lookups everywhere)",
                     r.skipped,
                     r.pairs,
                     if r.split == 1 {
@@ -116,7 +119,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                 println!(
                     "shadow receivers: {} of {} (object, shadowed light) lookups compiled out (no \
                  caster can darken the object); {} object(s) with lookups only inside the screen \
-                 rectangle shadows can reach (LUZ_SHADOW_RECEIVERS=0: lookups everywhere)",
+                 rectangle shadows can reach (--no-shadow-receivers: lookups everywhere)",
                     r.skipped, r.pairs, r.split
                 );
             }
@@ -154,7 +157,11 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         &image,
         scene.output.exposure,
         scene.output.tonemap,
-        &luz::provenance::of_render(&ctx.info, &scene, Some(&timing)),
+        &{
+            let mut p = luz::provenance::of_render(&ctx.info, &scene, Some(&timing));
+            luz::provenance::add_switches(&mut p, &a.switches.switches());
+            p
+        },
     )?;
     let nan = luz::imageio::count_non_finite(&image.pixels);
     println!(

@@ -43,6 +43,9 @@ pub struct RenderOptions {
     pub render_path: crate::render::forward::RenderPath,
     /// Plain or clustered light loop (or chosen from the scene's lights).
     pub light_loop: crate::render::forward::LightLoop,
+    /// What a measurement or a comparison turns off (all on by default; recorded in provenance
+    /// by [`crate::provenance::add_switches`]).
+    pub switches: crate::render::forward::Switches,
 }
 
 impl RenderOptions {
@@ -61,6 +64,7 @@ impl RenderOptions {
             progress: None,
             render_path: Default::default(),
             light_loop: Default::default(),
+            switches: Default::default(),
         }
     }
 
@@ -73,6 +77,7 @@ impl RenderOptions {
             path: self.render_path,
             light_loop: self.light_loop,
             lod_cache: self.cache_dir.clone(),
+            switches: self.switches,
         }
     }
 }

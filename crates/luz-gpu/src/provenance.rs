@@ -56,6 +56,14 @@ pub fn add_scene(p: &mut Provenance, scene: &Scene) {
     p.set("luz.msaa", o.msaa.to_string());
 }
 
+/// `luz.instancing`, `luz.shadow_cache`, `luz.shadow_receivers`: `on` or `off` (the
+/// [`crate::render::forward::Switches`] the image was rendered with).
+pub fn add_switches(p: &mut Provenance, switches: &crate::render::forward::Switches) {
+    for (name, on) in switches.list() {
+        p.set(&format!("luz.{name}"), if on { "on" } else { "off" });
+    }
+}
+
 /// `luz.frame.frames`, `luz.frame.cpu_median_ms` and `luz.frame.gpu_<pass>_median_ms`.
 pub fn add_timing(p: &mut Provenance, t: &TimingReport) {
     p.set("luz.frame.frames", t.frames.to_string());

@@ -732,6 +732,7 @@ fn pass_options(
         path,
         light_loop: Default::default(),
         lod_cache: crate::render::ibl::default_cache_dir(),
+        switches: Default::default(),
     }
 }
 

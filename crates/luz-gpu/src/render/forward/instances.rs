@@ -9,12 +9,6 @@
 use super::{gpu::MaterialPush, Draw, ForwardPass};
 use crate::vk::VkError;
 
-/// Instancing is on unless `LUZ_INSTANCING=0` (the test that compares images with and without
-/// it, and measurements of what it saves).
-pub(super) fn enabled() -> bool {
-    std::env::var_os("LUZ_INSTANCING").is_none_or(|v| v != "0")
-}
-
 /// Whether `b` (at LOD level `lb`) can be another instance of the draw recording `a` (at `la`).
 fn same_draw((a, la): (&Draw, u8), (b, lb): (&Draw, u8)) -> bool {
     let material = |d: &Draw| MaterialPush {

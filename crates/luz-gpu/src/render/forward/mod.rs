@@ -100,6 +100,44 @@ pub struct PassOptions {
     /// Keep meshes' LOD chains here between runs ([`crate::scene::lod::cache`]; `None`: build
     /// them every time).
     pub lod_cache: Option<std::path::PathBuf>,
+    /// What measurements and comparisons turn off (all on by default).
+    pub switches: Switches,
+}
+
+/// The savings a measurement or a comparison can turn off, each on by default (the image is the
+/// same either way, to the bit: `tests/instancing.rs`, `tests/shadow_receivers.rs`). They are
+/// options, not environment variables, so that an image's provenance records them
+/// ([`crate::provenance::add_switches`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Switches {
+    /// One instanced draw per run of draws sharing mesh, level, pipeline and material (off: one
+    /// draw per object).
+    pub instancing: bool,
+    /// Shadow maps nothing they see changed in are reused (off: drawn every frame).
+    pub shadow_cache: bool,
+    /// Shadow lookups only where shadows can fall (off: everywhere).
+    pub shadow_receivers: bool,
+}
+
+impl Default for Switches {
+    fn default() -> Self {
+        Self {
+            instancing: true,
+            shadow_cache: true,
+            shadow_receivers: true,
+        }
+    }
+}
+
+impl Switches {
+    /// (name, on) of each switch, for provenance and reports.
+    pub fn list(&self) -> [(&'static str, bool); 3] {
+        [
+            ("instancing", self.instancing),
+            ("shadow_cache", self.shadow_cache),
+            ("shadow_receivers", self.shadow_receivers),
+        ]
+    }
 }
 
 impl Default for PassOptions {
@@ -112,6 +150,7 @@ impl Default for PassOptions {
             path: RenderPath::Auto,
             light_loop: LightLoop::Auto,
             lod_cache: None,
+            switches: Switches::default(),
         }
     }
 }
@@ -300,8 +339,10 @@ pub struct ForwardPass {
     /// The budget asked for instead of the scene's ([`ForwardPass::set_lod_budget`]).
     lod_override: Option<f32>,
     /// Draws that share mesh, level, pipeline and material are one instanced draw; off
-    /// (`LUZ_INSTANCING=0`, for the test that compares both) records one draw per object.
+    /// ([`Switches::instancing`], for the test that compares both) records one draw per object.
     instancing: bool,
+    /// Shadow lookups only where shadows can fall ([`Switches::shadow_receivers`]).
+    receivers_culled: bool,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
@@ -364,6 +405,7 @@ impl ForwardPass {
             path,
             light_loop,
             lod_cache,
+            switches,
         } = options;
         let clustered = light_loop.clustered(scene, aspect);
         let slot_count = slots.max(1);
@@ -373,7 +415,13 @@ impl ForwardPass {
         };
         let set_layout = frame_set_layout(ctx)?;
         let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
-        let shadows = ShadowMaps::new(ctx, pool, scene, slot_count, &materials.set_layout)?;
+        let shadows = ShadowMaps::new(
+            ctx,
+            pool,
+            scene,
+            (slot_count, switches.shadow_cache),
+            &materials.set_layout,
+        )?;
         // Sets in index order (asserted in gpu.rs): frame, environment (an empty layout without
         // one, so the materials keep their index), materials, shadows.
         let empty_layout = DescriptorSetLayout::empty(ctx, "empty set layout")?;
@@ -493,7 +541,8 @@ impl ForwardPass {
             target_height: None,
             lod_budget: scene.output.tessellation_error_px,
             lod_override: None,
-            instancing: instances::enabled(),
+            instancing: switches.instancing,
+            receivers_culled: switches.shadow_receivers,
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };

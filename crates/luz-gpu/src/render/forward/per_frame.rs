@@ -89,7 +89,7 @@ impl ForwardPass {
         draw_receivers: &[Option<usize>],
         view_proj: glam::Mat4,
     ) {
-        if !receivers_culled() {
+        if !self.receivers_culled {
             return;
         }
         let receives = self.shadows.receives(slot);
@@ -224,12 +224,6 @@ pub struct ReceiverStats {
     /// The deferred path: one lighting pass, whose fixed slots `pairs` and `skipped` count and
     /// which `split` (0 or 1) limits to the rectangle.
     pub deferred: bool,
-}
-
-/// Receivers get lookups only where shadows can fall unless `LUZ_SHADOW_RECEIVERS=0` (which
-/// keeps every lookup everywhere: the tests that compare both images, and measurements).
-fn receivers_culled() -> bool {
-    std::env::var_os("LUZ_SHADOW_RECEIVERS").is_none_or(|v| v != "0")
 }
 
 /// Flat draws of at most this many triangles are split where shadows can fall on them

@@ -228,7 +228,7 @@ pub struct ShadowMaps {
     /// What each layer of the image holds (`None`: nothing yet); set when a frame's passes
     /// are recorded (recorded frames are submitted in order on one queue).
     drawn: std::sync::Mutex<Vec<Option<Drawn>>>,
-    /// Maps are reused when unchanged (`LUZ_SHADOW_CACHE=0` redraws them every frame).
+    /// Maps are reused when unchanged (off: drawn every frame; `Switches::shadow_cache`).
     reuse: bool,
     /// Frames recorded with some layer drawn, and with every layer reused.
     recorded: [std::sync::atomic::AtomicU64; 2],
@@ -245,7 +245,7 @@ impl ShadowMaps {
         ctx: &Arc<Context>,
         pool: &CommandPool,
         scene: &Scene,
-        slots: usize,
+        (slots, reuse): (usize, bool),
         materials: &DescriptorSetLayout,
     ) -> Result<Self, VkError> {
         let limits = ctx.limits();
@@ -445,7 +445,7 @@ impl ShadowMaps {
             light_count: scene.lights.len(),
             last_layers: Vec::new(),
             drawn: std::sync::Mutex::new(vec![None; layer_count as usize]),
-            reuse: std::env::var("LUZ_SHADOW_CACHE").map_or(true, |v| v != "0"),
+            reuse,
             recorded: Default::default(),
             layers_drawn: Default::default(),
             ctx: ctx.clone(),
