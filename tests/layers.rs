@@ -445,3 +445,50 @@ fn descriptor_layouts_are_made_from_the_shaders_only() {
     assert!(seen_vk, "no update_descriptor_sets found in the vk layer");
     assert!(offenders.is_empty(), "{}", offenders.join("\n"));
 }
+
+/// Issue 33: rendering is switched by options (recorded in provenance), never by environment
+/// variables read inside the library. The only `LUZ_` variables library code may read are the
+/// documented device, validation, host-tuning and file-location ones (docs/cli.md).
+#[test]
+fn library_code_reads_only_the_documented_luz_variables() {
+    let allowed = [
+        "LUZ_CACHE_DIR",
+        "LUZ_DEVICE",
+        "LUZ_VALIDATION",
+        "LUZ_SYNC_VALIDATION",
+        "LUZ_MALLOC_TUNING",
+        "LUZ_FONT",
+        "LUZ_GIT_COMMIT",
+    ];
+    let cli = std::fs::read_to_string(root().join("docs/cli.md")).unwrap();
+    let mut offenders = Vec::new();
+    let mut found = std::collections::BTreeSet::new();
+    for src in source_roots() {
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        for f in files {
+            let rel = f
+                .strip_prefix(root())
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            let code = code_of(&std::fs::read_to_string(&f).unwrap());
+            for (i, _) in code.match_indices("\"LUZ_") {
+                let name: String = code[i + 1..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_uppercase() || *c == '_')
+                    .collect();
+                if !allowed.contains(&name.as_str()) {
+                    offenders.push(format!("{rel}: {name}"));
+                }
+                found.insert(name);
+            }
+        }
+    }
+    assert!(offenders.is_empty(), "{}", offenders.join("\n"));
+    // The scan sees the variables that are there, and each is documented.
+    assert!(found.contains("LUZ_CACHE_DIR"), "{found:?}");
+    for name in found.iter().filter(|n| *n != "LUZ_GIT_COMMIT") {
+        assert!(cli.contains(name.as_str()), "{name} is not in docs/cli.md");
+    }
+}
