@@ -194,6 +194,44 @@ fn evict(dir: &Path, max: u64) -> (usize, u64) {
     (removed, total)
 }
 
+/// The frame every cache file has: an 8-byte magic (six bytes naming the format, two its
+/// version), the CRC-32 of the body (little-endian u32), four reserved bytes, the body.
+pub fn frame(magic: &[u8; 8], body: &[u8]) -> Vec<u8> {
+    let mut data = Vec::with_capacity(16 + body.len());
+    data.extend_from_slice(magic);
+    data.extend_from_slice(&crc32fast::hash(body).to_le_bytes());
+    data.extend_from_slice(&[0; 4]);
+    data.extend_from_slice(body);
+    data
+}
+
+/// What a cache file's [`frame`] holds.
+#[derive(Debug, PartialEq)]
+pub enum Framed<'a> {
+    /// The body, its checksum verified.
+    Body(&'a [u8]),
+    /// Another version of the same format: a quiet miss.
+    OtherVersion,
+    /// Empty, zeroed, truncated, another program's data or a body that does not match its
+    /// checksum: damaged (one warning, computed again).
+    Damaged,
+}
+
+/// The body of the cache file `data` framed with `magic` ([`frame`]).
+pub fn unframe<'a>(data: &'a [u8], magic: &[u8; 8]) -> Framed<'a> {
+    if !data.starts_with(magic) {
+        return if data.len() >= 8 && data.starts_with(&magic[..6]) {
+            Framed::OtherVersion
+        } else {
+            Framed::Damaged
+        };
+    }
+    match (data.get(8..12), data.get(16..)) {
+        (Some(crc), Some(body)) if crc == crc32fast::hash(body).to_le_bytes() => Framed::Body(body),
+        _ => Framed::Damaged,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

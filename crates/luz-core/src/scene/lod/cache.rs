@@ -21,6 +21,7 @@
 use std::path::{Path, PathBuf};
 
 use super::{LodChain, LodLevel, LOD_VERSION};
+use crate::files::cache_dir::Framed;
 use crate::files::Fnv1a;
 use crate::scene::Mesh;
 use glam::{Vec2, Vec3};
@@ -28,7 +29,6 @@ use glam::{Vec2, Vec3};
 const MAGIC: &[u8; 8] = b"LUZLOD03";
 /// Level count of a file that records a failed simplification.
 const FAILED: u32 = u32::MAX;
-const HEADER: usize = 16;
 
 /// The cache key of `mesh`: FNV-1a 64 over [`LOD_VERSION`], the simplifier's settings and the
 /// mesh's positions, normals, UVs and indices (its contents, not its file: an edited model gets a
@@ -104,21 +104,11 @@ enum Parsed {
 }
 
 fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
-    let Some(rest) = data.strip_prefix(MAGIC.as_slice()) else {
-        // Another version's file is not damage; anything else under this name is (an empty or
-        // zeroed file, another program's data).
-        return if data.starts_with(b"LUZLOD") && data.len() >= 8 {
-            Parsed::Miss
-        } else {
-            Parsed::Corrupt
-        };
+    let body = match crate::files::cache_dir::unframe(data, MAGIC) {
+        Framed::Body(body) => body,
+        Framed::OtherVersion => return Parsed::Miss,
+        Framed::Damaged => return Parsed::Corrupt,
     };
-    let (Some(crc), Some(body)) = (rest.get(..4), data.get(HEADER..)) else {
-        return Parsed::Corrupt;
-    };
-    if u32::from_le_bytes(crc.try_into().expect("4 bytes")) != crc32fast::hash(body) {
-        return Parsed::Corrupt;
-    }
     let mut words = body
         .chunks_exact(4)
         .map(|w| u32::from_le_bytes(w.try_into().expect("4 bytes")));
@@ -225,16 +215,7 @@ fn failure_file(key: u64, mesh: &Mesh, reason: &str) -> Vec<u8> {
     .collect();
     body.extend_from_slice(reason.as_bytes());
     body.resize(body.len().next_multiple_of(4), 0);
-    framed(&body)
-}
-
-/// The magic, the checksum of `body`, four reserved bytes, `body`.
-fn framed(body: &[u8]) -> Vec<u8> {
-    let mut data = MAGIC.to_vec();
-    data.extend_from_slice(&crc32fast::hash(body).to_le_bytes());
-    data.extend_from_slice(&[0; 4]);
-    data.extend_from_slice(body);
-    data
+    crate::files::cache_dir::frame(MAGIC, &body)
 }
 
 /// The bytes of the file holding `chain` (of `mesh`, key `key`).
@@ -265,7 +246,7 @@ fn file(key: u64, mesh: &Mesh, chain: &LodChain) -> Vec<u8> {
         body.extend(floats.map(f32::to_bits));
     }
     let body: Vec<u8> = body.iter().flat_map(|w| w.to_le_bytes()).collect();
-    framed(&body)
+    crate::files::cache_dir::frame(MAGIC, &body)
 }
 
 /// Writes the chain of `mesh` under `dir`, or the reason it could not be simplified (atomically:

@@ -47,9 +47,20 @@
 //! vertex cache, and the simplifier's output order misses often (measured on bunnies_40m:
 //! docs/performance.md).
 //!
+//! **Any mesh, in bounded time** ([`prepare`], issue 38). The simplifier is given the mesh's
+//! vertices welded where they are exact copies (exported glTF often gives every triangle its own
+//! vertices, which meshopt sees as seams everywhere), without degenerate triangles, with fans of
+//! more than [`MAX_VALENCE`] triangles around one position kept whole in every level (meshopt's
+//! edge lookups are quadratic in a vertex's valence), and at most [`SIMPLIFY_BUDGET`] triangles
+//! per chain. When the first level still cannot be reduced, it may collapse across normal seams
+//! (UV seams protected), then move open borders within the level's error. A mesh that still
+//! cannot be simplified is drawn whole; [`ChainStats::failure_summary`] reports all such meshes
+//! in one line.
+//!
 //! **Cache.** Chains are kept on disk ([`cache`]) under the IBL cache directory, keyed by a hash
 //! of the mesh's contents and the simplifier settings, with a CRC-32 over the file checked on
-//! load: a damaged file gives one warning and is rebuilt.
+//! load: a damaged (also empty or zeroed) file gives one warning and is rebuilt. Failures are
+//! cached too. The folder's size cap, temporary files and warnings: `files::cache_dir`.
 
 use std::sync::Arc;
 
@@ -265,7 +276,7 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
         ));
     }
     let prepared = prepare::prepare(mesh);
-    if prepared.indices.is_empty() && prepared.set_aside.is_empty() {
+    if prepared.mesh.indices.is_empty() && prepared.set_aside.is_empty() {
         return Err(format!(
             "all {triangles} triangles are degenerate (no area)"
         ));
@@ -278,7 +289,7 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
     let mut work = 0usize;
     while chain.levels.len() <= MAX_LEVELS && previous >= MIN_TRIANGLES {
         let target = ((previous as f32 * LEVEL_RATIO) as usize).max(1);
-        let input = prepared.indices.len() / 3;
+        let input = prepared.mesh.indices.len() / 3;
         if work + input > SIMPLIFY_BUDGET {
             break;
         }
@@ -372,14 +383,15 @@ enum Relax {
 
 impl<'a> Simplifier<'a> {
     fn new(prepared: &'a Prepared) -> Self {
-        let n = prepared.positions.len();
-        let uv = prepared.uvs.len() == n;
+        let m = &prepared.mesh;
+        let n = m.positions.len();
+        let uv = m.uvs.len() == n;
         let stride = if uv { 5 } else { 3 };
         let mut attributes = Vec::with_capacity(n * stride);
         for i in 0..n {
-            attributes.extend_from_slice(&prepared.normals[i].to_array());
+            attributes.extend_from_slice(&m.normals[i].to_array());
             if uv {
-                attributes.extend_from_slice(&prepared.uvs[i].to_array());
+                attributes.extend_from_slice(&m.uvs[i].to_array());
             }
         }
         let locks = prepared
@@ -433,8 +445,8 @@ impl<'a> Simplifier<'a> {
             options |= meshopt::SimplifyOptions::Permissive;
         }
         let p = self.prepared;
-        let mut indices = p.indices.clone();
-        let mut positions = p.positions.clone();
+        let mut indices = p.mesh.indices.clone();
+        let mut positions: Vec<[f32; 3]> = p.mesh.positions.iter().map(|v| v.to_array()).collect();
         let mut attributes = self.attributes.clone();
         let mut error = 0.0f32;
         let count = if indices.is_empty() {
@@ -448,7 +460,7 @@ impl<'a> Simplifier<'a> {
                 self.stride * 4,
                 Some(&self.locks),
                 // meshopt asserts (aborts) on a target above its input.
-                target_indices.min(p.indices.len()),
+                target_indices.min(p.mesh.indices.len()),
                 f32::MAX,
                 options,
                 Some(&mut error),
@@ -467,7 +479,7 @@ impl<'a> Simplifier<'a> {
                 moved.positions.push(Vec3::from_array(positions[v]));
                 moved
                     .normals
-                    .push(normal.try_normalize().unwrap_or(p.normals[v]));
+                    .push(normal.try_normalize().unwrap_or(p.mesh.normals[v]));
                 if self.stride == 5 {
                     moved.uvs.push(glam::Vec2::new(a[3], a[4]));
                 }

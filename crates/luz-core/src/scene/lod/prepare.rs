@@ -28,22 +28,17 @@ pub const MAX_VALENCE: usize = 256;
 /// degenerate (its smallest angle is below about 10⁻⁸ rad).
 pub const AREA_EPSILON: f64 = 1e-8;
 
-/// The simplifier's input for one mesh.
+/// The simplifier's input for one mesh: `mesh` holds the welded vertices (positions, normals,
+/// UVs when the mesh has them) and the triangles to simplify; `origin` gives, per welded vertex,
+/// the mesh vertex it stands for; `set_aside` holds the triangles kept as they are in every level
+/// (into the mesh's own vertices); `uv_seam` marks the welded vertices that share their position
+/// with another of other UVs (protected when the simplifier may cross other seams), and
+/// `has_seams` says whether some position has several welded vertices.
 pub(super) struct Prepared {
-    pub positions: Vec<[f32; 3]>,
-    pub normals: Vec<Vec3>,
-    /// Empty when the mesh has no UVs.
-    pub uvs: Vec<Vec2>,
-    /// The triangles to simplify, into the prepared vertices.
-    pub indices: Vec<u32>,
-    /// Per prepared vertex, the mesh vertex it stands for.
+    pub mesh: Mesh,
     pub origin: Vec<u32>,
-    /// Triangles kept as they are in every level, into the mesh's own vertices.
     pub set_aside: Vec<u32>,
-    /// Per prepared vertex: it shares its position with another vertex of other UVs (a UV seam,
-    /// protected when the simplifier is allowed across other seams).
     pub uv_seam: Vec<bool>,
-    /// Some position has several prepared vertices (a normal or UV seam).
     pub has_seams: bool,
 }
 
@@ -90,18 +85,17 @@ pub(super) fn prepare(mesh: &Mesh) -> Prepared {
         let indices = meshopt::remap_index_buffer(Some(&mesh.indices), n, &remap);
         (origin, indices)
     };
-    let positions: Vec<[f32; 3]> = origin
-        .iter()
-        .map(|&o| mesh.positions[o as usize].to_array())
-        .collect();
-    let normals: Vec<Vec3> = origin.iter().map(|&o| mesh.normals[o as usize]).collect();
+    let pick = |v: &[Vec3]| origin.iter().map(|&o| v[o as usize]).collect::<Vec<Vec3>>();
+    let (positions, normals) = (pick(&mesh.positions), pick(&mesh.normals));
     let uvs: Vec<Vec2> = if uv {
         origin.iter().map(|&o| mesh.uvs[o as usize]).collect()
     } else {
         Vec::new()
     };
     // One id per position (meshopt's position remap: the first vertex at that position).
-    let at = meshopt::generate_position_remap_decoder(&positions);
+    let at = meshopt::generate_position_remap_decoder(
+        &positions.iter().map(|p| p.to_array()).collect::<Vec<_>>(),
+    );
     let mut kept = Vec::with_capacity(indices.len());
     let mut valence = vec![0u32; positions.len()];
     for t in indices.chunks_exact(3) {
@@ -136,10 +130,13 @@ pub(super) fn prepare(mesh: &Mesh) -> Prepared {
     }
     let uv_seam = at.iter().map(|&a| seam_uv[a as usize]).collect();
     Prepared {
-        positions,
-        normals,
-        uvs,
-        indices: simplified,
+        mesh: Mesh {
+            positions,
+            normals,
+            uvs,
+            indices: simplified,
+            ..Mesh::default()
+        },
         origin,
         set_aside,
         uv_seam,
@@ -149,8 +146,8 @@ pub(super) fn prepare(mesh: &Mesh) -> Prepared {
 
 /// Whether triangle `t` has (almost) no area: |cross| below [`AREA_EPSILON`] times its longest
 /// edge's square (in f64, so that rounding does not decide).
-fn zero_area(positions: &[[f32; 3]], t: &[u32]) -> bool {
-    let p = |k: usize| glam::DVec3::from_array(positions[t[k] as usize].map(f64::from));
+fn zero_area(positions: &[Vec3], t: &[u32]) -> bool {
+    let p = |k: usize| positions[t[k] as usize].as_dvec3();
     let (a, b, c) = (p(0), p(1), p(2));
     let longest = (b - a)
         .length_squared()

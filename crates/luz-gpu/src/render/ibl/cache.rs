@@ -194,7 +194,6 @@ fn upload_regions(
 /// the checksum: a file whose bytes changed inside an intact header (a flipped bit on disk, a
 /// partial copy) used to load as it was and change the image.
 const BLOB_MAGIC: &[u8; 8] = b"LUZIBL02";
-const HEADER: usize = 16;
 
 /// What reading a cache file found.
 #[derive(Debug, PartialEq)]
@@ -259,45 +258,29 @@ pub(super) fn read_blobs(path: &std::path::Path, expected: &[u64]) -> Cached {
 }
 
 fn parse_blobs(data: &[u8], expected: &[u64]) -> Cached {
-    let Some(rest) = data.strip_prefix(BLOB_MAGIC.as_slice()) else {
-        // Another version's file is not damage; anything else under this name is (an empty or
-        // zeroed file, another program's data).
-        return if data.starts_with(b"LUZIBL") && data.len() >= 8 {
-            Cached::Miss
-        } else {
-            Cached::Corrupt
-        };
+    use crate::files::cache_dir::{unframe, Framed};
+    let body = match unframe(data, BLOB_MAGIC) {
+        Framed::Body(body) => body,
+        Framed::OtherVersion => return Cached::Miss,
+        Framed::Damaged => return Cached::Corrupt,
     };
-    let (Some(crc), Some(body)) = (rest.get(..4), data.get(HEADER..)) else {
-        return Cached::Corrupt;
-    };
-    // Sizes first: another size is other settings, not damage (unless the checksum fails too).
+    // Other sizes under an intact checksum are other settings, not damage.
     let mut out = Vec::with_capacity(expected.len());
     let mut pos = 0usize;
-    let mut sizes_match = true;
     for &want in expected {
-        let Some(len) = body.get(pos..pos + 8) else {
-            sizes_match = false;
-            break;
-        };
-        let len = u64::from_le_bytes(len.try_into().expect("8 bytes"));
-        match (
-            len == want,
-            body.get(pos + 8..).and_then(|b| b.get(..len as usize)),
-        ) {
-            (true, Some(bytes)) => out.push(bytes.to_vec()),
-            _ => {
-                sizes_match = false;
-                break;
-            }
+        let len = body
+            .get(pos..pos + 8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")));
+        match body.get(pos + 8..).and_then(|b| b.get(..want as usize)) {
+            Some(bytes) if len == Some(want) => out.push(bytes.to_vec()),
+            _ => return Cached::Miss,
         }
-        pos += 8 + len as usize;
+        pos += 8 + want as usize;
     }
-    let crc_ok = u32::from_le_bytes(crc.try_into().expect("4 bytes")) == crc32fast::hash(body);
-    match (crc_ok, sizes_match && pos == body.len()) {
-        (true, true) => Cached::Hit(out),
-        (true, false) => Cached::Miss,
-        (false, _) => Cached::Corrupt,
+    if pos == body.len() {
+        Cached::Hit(out)
+    } else {
+        Cached::Miss
     }
 }
 
@@ -308,11 +291,7 @@ fn blob_file(blobs: &[&[u8]]) -> Vec<u8> {
         body.extend_from_slice(&(b.len() as u64).to_le_bytes());
         body.extend_from_slice(b);
     }
-    let mut data = BLOB_MAGIC.to_vec();
-    data.extend_from_slice(&crc32fast::hash(&body).to_le_bytes());
-    data.extend_from_slice(&[0; 4]);
-    data.extend_from_slice(&body);
-    data
+    crate::files::cache_dir::frame(BLOB_MAGIC, &body)
 }
 
 /// The cached images of one environment, if the file exists, its checksum holds and every size
@@ -391,6 +370,9 @@ pub fn default_cache_dir() -> Option<std::path::PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Bytes before a file's body: magic, checksum, reserved.
+    const HEADER: usize = 16;
 
     /// A file round-trips; a byte flipped anywhere after the magic is caught by the checksum
     /// (header, lengths or contents); other sizes or another version are a quiet miss.
