@@ -85,8 +85,7 @@ fn one_chain_per_mesh_levels_by_distance_and_flip_against_full_detail() {
         full.lod_stats(),
         luz::scene::lod::ChainStats {
             built: 1,
-            loaded: 0,
-            failed: 0
+            ..Default::default()
         }
     );
     // Budget 0: every object at level 0, every triangle of the objects in view drawn.
@@ -341,4 +340,188 @@ fn lab_lod_rows_report_flip_against_full_detail() {
     let here = mean_flip(&scene, &image(0.0), &image(4.0)) as f64;
     assert!((here - loose).abs() < 1e-4, "lab {loose}, here {here}");
     assert_no_validation_messages(&ctx);
+}
+
+/// Every mesh of the shared glTF files and OBJ models large enough to simplify gets a chain
+/// (issue 38: `color_teapot_spheres.gltf`'s teapot and spheres, stored with no shared vertex, and
+/// an open band of `retroufo.glb` could not be reduced): at least one level below the mesh, the
+/// first with at most 90 % of its triangles.
+#[test]
+fn every_shared_model_gets_a_chain() {
+    let (Some(gltf), Some(models)) = (shared_dir("gltf"), shared_dir("models")) else {
+        return;
+    };
+    let mut files = Vec::new();
+    let mut folders = vec![gltf, models];
+    while let Some(dir) = folders.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            match p.extension().and_then(|e| e.to_str()) {
+                _ if p.is_dir() => folders.push(p),
+                Some("gltf" | "glb" | "obj") => files.push(p),
+                _ => {}
+            }
+        }
+    }
+    assert!(files.len() >= 10, "{files:?}");
+    let mut meshes = 0;
+    for file in &files {
+        let scene = luz::scene::load(file).unwrap_or_else(|e| panic!("{e}"));
+        for o in &scene.objects {
+            let triangles = o.mesh.indices.len() / 3;
+            if triangles < luz::scene::lod::MIN_SIMPLIFIED_TRIANGLES {
+                continue;
+            }
+            meshes += 1;
+            let chain = luz::scene::lod::build(&o.mesh)
+                .unwrap_or_else(|e| panic!("{}: {}: {e}", file.display(), o.name));
+            assert!(chain.levels.len() >= 2, "{}: {}", file.display(), o.name);
+            let first = chain.levels[1].triangles() as usize;
+            assert!(
+                first * 10 <= triangles * 9,
+                "{}: {}: {first} of {triangles}",
+                file.display(),
+                o.name
+            );
+        }
+    }
+    assert!(meshes >= 30, "{meshes} meshes");
+}
+
+/// A scene drawing a generated grid OBJ of `n`×`n` quads (2n² triangles) under a procedural sky,
+/// in `dir`: its path.
+fn grid_scene(dir: &std::path::Path, n: usize) -> std::path::PathBuf {
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
+            let y = 0.1 * (9.0 * x).sin() * (7.0 * z).cos();
+            obj += &format!("v {x} {y} {z}\n");
+        }
+    }
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            obj += &format!("f {a} {d} {c} {b}\n");
+        }
+    }
+    std::fs::write(dir.join("grid.obj"), obj).unwrap();
+    let scene = dir.join("grid.json");
+    std::fs::write(
+        &scene,
+        r#"{
+        "camera": {"position": [0, 1, 1.5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 20},
+        "output": {"width": 64, "height": 48, "msaa": 1},
+        "environment": {"procedural": "sky", "intensity": 0.5},
+        "lights": [{"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2}],
+        "materials": {"m": {"model": "lambert", "albedo": [0.7, 0.5, 0.4]}},
+        "objects": [{"mesh": {"type": "obj", "path": "grid.obj"}, "material": "m"}]
+    }"#,
+    )
+    .unwrap();
+    scene
+}
+
+/// The warnings of a run (stderr lines starting `warning: `).
+fn warnings(stderr: &str) -> Vec<&str> {
+    stderr
+        .lines()
+        .filter(|l| l.starts_with("warning: "))
+        .collect()
+}
+
+/// Cache problems through the binary, each with one warning saying what it costs (issue 38):
+/// `LUZ_CACHE_DIR` naming a file, a folder that cannot be written, a zeroed cache file. A usable
+/// folder loses its stale temporary files and keeps the `--cache-max-mb` cap (oldest first), and
+/// a second run reads the chain back.
+#[test]
+fn the_cache_folder_is_checked_tidied_and_capped() {
+    let dir = scratch("lod-cache-dir");
+    let scene = grid_scene(&dir, 48);
+    let out = dir.join("out.png");
+    let render = |cache: &std::path::Path, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--ibl-quality",
+            "fast",
+            "--verbose",
+        ];
+        args.extend_from_slice(extra);
+        run(luz_command(&args).env("LUZ_CACHE_DIR", cache)).parts()
+    };
+    // A file, and a folder that cannot be written (/proc, even for root): one warning, a render.
+    let file = dir.join("not-a-folder");
+    std::fs::write(&file, b"x").unwrap();
+    for (cache, what) in [
+        (file.as_path(), "is a file, not a folder"),
+        (
+            std::path::Path::new("/proc"),
+            "cannot write in the cache folder",
+        ),
+    ] {
+        let (code, _, stderr) = render(cache, &[]);
+        assert_eq!(code, 0, "{stderr}");
+        let w = warnings(&stderr);
+        assert_eq!(w.len(), 1, "{stderr}");
+        assert!(
+            w[0].contains(what) && w[0].contains("nothing is cached"),
+            "{stderr}"
+        );
+    }
+    // A folder with temporary files of runs that were killed and an old 3 MiB cache file.
+    let cache = dir.join("cache");
+    std::fs::create_dir_all(cache.join("lod")).unwrap();
+    let dead = 4_194_999; // beyond Linux's largest process id
+    let stale = [
+        cache.join(format!(".a.ibl.{dead}.tmp")),
+        cache.join(format!("lod/.b.lod.{dead}.tmp")),
+    ];
+    for f in &stale {
+        std::fs::write(f, vec![1u8; 1000]).unwrap();
+    }
+    let old = cache.join("lod/00000000000000ff.lod");
+    std::fs::write(&old, vec![0u8; 3 << 20]).unwrap();
+    let f = std::fs::File::options().append(true).open(&old).unwrap();
+    f.set_modified(std::time::SystemTime::now() - std::time::Duration::from_secs(86400))
+        .unwrap();
+    let (code, stdout, stderr) = render(&cache, &["--cache-max-mb", "1"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(warnings(&stderr).is_empty(), "{stderr}");
+    assert!(stdout.contains("LOD chains: 1 built"), "{stdout}");
+    assert!(stale.iter().all(|f| !f.exists()) && !old.exists());
+    let files: Vec<std::path::PathBuf> = ["", "lod"]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(cache.join(d)).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .collect();
+    let total: u64 = files.iter().map(|p| p.metadata().unwrap().len()).sum();
+    assert!(total <= 1 << 20, "{total} bytes: {files:?}");
+    // The default cap keeps the chain: the next run reads it back.
+    let (code, _, stderr) = render(&cache, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, stderr) = render(&cache, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("0 built, 1 read from the cache"),
+        "{stdout}"
+    );
+    let lod: Vec<_> = std::fs::read_dir(cache.join("lod"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(lod.len(), 1, "{lod:?}");
+    // Zeroed (a crash of the disk, not of luz): one warning, rebuilt and replaced.
+    let len = lod[0].metadata().unwrap().len() as usize;
+    std::fs::write(&lod[0], vec![0u8; len]).unwrap();
+    let (code, stdout, stderr) = render(&cache, &[]);
+    assert_eq!(code, 0, "{stderr}");
+    let w = warnings(&stderr);
+    assert_eq!(w.len(), 1, "{stderr}");
+    assert!(w[0].contains("is damaged"), "{stderr}");
+    assert!(stdout.contains("LOD chains: 1 built"), "{stdout}");
 }

@@ -41,6 +41,11 @@ luz stability                         BRDFs at the edges of their domain, CPU an
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// Size cap of the disk cache (IBL data and LOD chains, in $LUZ_CACHE_DIR, else
+    /// $XDG_CACHE_HOME/luz, else ~/.cache/luz), in MiB: beyond it the least recently used cache
+    /// files are removed.
+    #[arg(long, global = true, value_name = "MB", default_value_t = luz::files::cache_dir::DEFAULT_MAX_MB)]
+    pub cache_max_mb: u64,
 }
 
 #[derive(Subcommand, Debug)]
@@ -81,6 +86,7 @@ pub enum Command {
 pub fn run() -> ExitCode {
     common::Logger::install();
     let cli = Cli::parse();
+    luz::files::cache_dir::set_max_mb(cli.cache_max_mb);
     match dispatch(cli) {
         Ok(code) => code,
         Err(e) => {

@@ -1,5 +1,6 @@
 //! Leaf helpers every layer may use: the stable hash of the disk caches, file-name-safe
-//! characters and atomic writes. Nothing here imports another luz module.
+//! characters, atomic writes and the disk caches' folder ([`cache_dir`]). Nothing here imports
+//! another luz module.
 
 /// 64-bit FNV-1a (Fowler–Noll–Vo): stable across Rust versions and platforms, unlike
 /// `std::collections::hash_map::DefaultHasher`.
@@ -58,11 +59,60 @@ pub fn file_safe_char(c: char) -> char {
 /// Writes `bytes` to `path` through a temporary file and a rename, creating its folder (best
 /// effort: the disk caches (IBL data, LOD chains) are only slower next time when it fails).
 pub fn write_file_atomically(path: &std::path::Path, bytes: &[u8]) {
-    if let Some(dir) = path.parent() {
-        let _ = std::fs::create_dir_all(dir);
+    let _ = try_write_file_atomically(path, bytes);
+}
+
+/// [`write_file_atomically`] with its error: the temporary file (next to `path`,
+/// [`cache_dir::temp_path`]) is removed whatever fails (a full disk leaves nothing behind), and
+/// `path` is either its old contents or `bytes`, never a part of them.
+pub fn try_write_file_atomically(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_atomically_with(path, bytes, |tmp, bytes| std::fs::write(tmp, bytes))
+}
+
+/// [`try_write_file_atomically`] with the temporary file written by `write` (tests: a full disk).
+fn write_atomically_with(
+    path: &std::path::Path,
+    bytes: &[u8],
+    write: impl FnOnce(&std::path::Path, &[u8]) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
     }
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
-    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_err() {
+    let tmp = cache_dir::temp_path(path);
+    let done = write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if done.is_err() {
         let _ = std::fs::remove_file(&tmp);
+    }
+    done
+}
+
+/// The disk caches' folder: its checks on start, stale temporary files, the size cap.
+pub mod cache_dir;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A write that fails half way (a full disk: ENOSPC after part of the bytes) leaves neither
+    /// its temporary file nor a part of the file; the old contents stay.
+    #[test]
+    fn a_failed_write_leaves_nothing_behind() {
+        let dir = std::env::temp_dir().join(format!("luz-files-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.lod");
+        try_write_file_atomically(&path, b"old").unwrap();
+        let full = write_atomically_with(&path, &[7u8; 1 << 20], |tmp, bytes| {
+            std::fs::write(tmp, &bytes[..bytes.len() / 2])?;
+            Err(std::io::Error::from_raw_os_error(28)) // ENOSPC
+        });
+        assert_eq!(full.unwrap_err().raw_os_error(), Some(28));
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["a.lod"]);
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

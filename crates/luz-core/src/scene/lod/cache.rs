@@ -1,28 +1,34 @@
 //! LOD chains on disk: `<cache dir>/lod/<key>.lod`, one file per mesh content.
 //!
-//! Format: the magic `LUZLOD02`, the CRC-32 of everything after the 16-byte header
+//! Format: the magic `LUZLOD03`, the CRC-32 of everything after the 16-byte header
 //! (little-endian u32), four reserved bytes, then the body: the key (u64), the mesh's vertex and
 //! index counts (u32 each), the number of simplified levels (u32), the number of moved vertices
 //! (u32), per level its index count (u32) and error (f32 bits), then every simplified level's
 //! indices (u32), then per moved vertex its origin (u32), position (3 f32), normal (3 f32) and,
 //! when the mesh has UVs, UV (2 f32). Level 0 (the mesh's own indices) is not stored. All
-//! little-endian.
+//! little-endian. A mesh whose simplification failed is stored too, so that the next run does not
+//! pay for it again: its level count is `u32::MAX`, followed by the reason's length in bytes (u32)
+//! and the reason (UTF-8, zero-padded to 4 bytes).
 //!
 //! On load the checksum is verified first: a file whose bytes changed (a flipped bit, a partial
-//! copy) is [`Read::Corrupt`], rebuilt with one warning and replaced. A file of another version or
-//! another mesh (the key or the counts differ) is a quiet miss; indices beyond the vertices,
-//! origins beyond the mesh's, a non-finite error or vertex value count as corrupt even under a
-//! matching checksum.
+//! copy, an empty or zeroed file) is [`Read::Corrupt`], rebuilt with one warning and replaced. A
+//! file of another version (`LUZLOD` and other digits) or another mesh (the key or the counts
+//! differ) is a quiet miss; indices beyond the vertices, origins beyond the mesh's, a non-finite
+//! error or vertex value count as corrupt even under a matching checksum. An entry that cannot be
+//! read (a folder in its place, no permission) is [`Read::Unreadable`]: one warning, as it costs a
+//! simplification on every run.
 
 use std::path::{Path, PathBuf};
 
 use super::{LodChain, LodLevel, LOD_VERSION};
+use crate::files::cache_dir::Framed;
 use crate::files::Fnv1a;
 use crate::scene::Mesh;
 use glam::{Vec2, Vec3};
 
-const MAGIC: &[u8; 8] = b"LUZLOD02";
-const HEADER: usize = 16;
+const MAGIC: &[u8; 8] = b"LUZLOD03";
+/// Level count of a file that records a failed simplification.
+const FAILED: u32 = u32::MAX;
 
 /// The cache key of `mesh`: FNV-1a 64 over [`LOD_VERSION`], the simplifier's settings and the
 /// mesh's positions, normals, UVs and indices (its contents, not its file: an edited model gets a
@@ -56,41 +62,53 @@ pub fn path(dir: &Path, key: u64) -> PathBuf {
 #[derive(Debug, PartialEq)]
 pub enum Read {
     Hit(LodChain),
+    /// An earlier run could not simplify this mesh, for this reason.
+    Failed(String),
     /// No file, or one for another version or mesh.
     Miss,
     /// The file at this path does not match its checksum or holds impossible data.
     Corrupt(PathBuf),
+    /// The entry at this path cannot be read (why): a folder, no permission.
+    Unreadable(PathBuf, String),
 }
 
-/// Reads the chain of `mesh` (key `key`) from `dir`.
+/// Reads the chain of `mesh` (key `key`) from `dir`; a hit marks the file as just used (the
+/// cache's eviction removes the least recently used files first).
 pub fn read(dir: &Path, key: u64, mesh: &Mesh) -> Read {
     let path = path(dir, key);
-    let Ok(data) = std::fs::read(&path) else {
-        return Read::Miss;
-    };
-    match parse(&data, key, mesh) {
-        Parsed::Hit(chain) => Read::Hit(chain),
-        Parsed::Miss => Read::Miss,
-        Parsed::Corrupt => Read::Corrupt(path),
+    if path.is_dir() {
+        return Read::Unreadable(path, "a folder is in its place".into());
     }
+    let data = match std::fs::read(&path) {
+        Ok(data) => data,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Read::Miss,
+        Err(e) => return Read::Unreadable(path, e.to_string()),
+    };
+    let read = match parse(&data, key, mesh) {
+        Parsed::Hit(chain) => Read::Hit(chain),
+        Parsed::Failed(reason) => Read::Failed(reason),
+        Parsed::Miss => Read::Miss,
+        Parsed::Corrupt => Read::Corrupt(path.clone()),
+    };
+    if matches!(read, Read::Hit(_) | Read::Failed(_)) {
+        crate::files::cache_dir::touch(&path);
+    }
+    read
 }
 
 enum Parsed {
     Hit(LodChain),
+    Failed(String),
     Miss,
     Corrupt,
 }
 
 fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
-    let Some(rest) = data.strip_prefix(MAGIC.as_slice()) else {
-        return Parsed::Miss;
+    let body = match crate::files::cache_dir::unframe(data, MAGIC) {
+        Framed::Body(body) => body,
+        Framed::OtherVersion => return Parsed::Miss,
+        Framed::Damaged => return Parsed::Corrupt,
     };
-    let (Some(crc), Some(body)) = (rest.get(..4), data.get(HEADER..)) else {
-        return Parsed::Corrupt;
-    };
-    if u32::from_le_bytes(crc.try_into().expect("4 bytes")) != crc32fast::hash(body) {
-        return Parsed::Corrupt;
-    }
     let mut words = body
         .chunks_exact(4)
         .map(|w| u32::from_le_bytes(w.try_into().expect("4 bytes")));
@@ -106,8 +124,17 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
     {
         return Parsed::Miss;
     }
-    let count = words.next().unwrap_or(0) as usize;
+    let count = words.next().unwrap_or(0);
     let moved = words.next().unwrap_or(0) as usize;
+    if count == FAILED {
+        let len = moved;
+        let text = body.get(24..24 + len).map(|b| String::from_utf8_lossy(b));
+        return match text {
+            Some(t) if body.len() == 24 + len.next_multiple_of(4) => Parsed::Failed(t.into()),
+            _ => Parsed::Corrupt,
+        };
+    }
+    let count = count as usize;
     // Each moved vertex is used by some level's triangle: no more of them than indices.
     let uv = mesh.uvs.len() == mesh.positions.len();
     let vertex_words = if uv { 9 } else { 7 };
@@ -173,6 +200,24 @@ fn parse(data: &[u8], key: u64, mesh: &Mesh) -> Parsed {
     Parsed::Hit(chain)
 }
 
+/// The bytes of the file recording that `mesh` (key `key`) could not be simplified (`reason`).
+fn failure_file(key: u64, mesh: &Mesh, reason: &str) -> Vec<u8> {
+    let mut body: Vec<u8> = [
+        key as u32,
+        (key >> 32) as u32,
+        mesh.positions.len() as u32,
+        mesh.indices.len() as u32,
+        FAILED,
+        reason.len() as u32,
+    ]
+    .iter()
+    .flat_map(|w| w.to_le_bytes())
+    .collect();
+    body.extend_from_slice(reason.as_bytes());
+    body.resize(body.len().next_multiple_of(4), 0);
+    crate::files::cache_dir::frame(MAGIC, &body)
+}
+
 /// The bytes of the file holding `chain` (of `mesh`, key `key`).
 fn file(key: u64, mesh: &Mesh, chain: &LodChain) -> Vec<u8> {
     let simplified = &chain.levels[1..];
@@ -201,15 +246,49 @@ fn file(key: u64, mesh: &Mesh, chain: &LodChain) -> Vec<u8> {
         body.extend(floats.map(f32::to_bits));
     }
     let body: Vec<u8> = body.iter().flat_map(|w| w.to_le_bytes()).collect();
-    let mut data = MAGIC.to_vec();
-    data.extend_from_slice(&crc32fast::hash(&body).to_le_bytes());
-    data.extend_from_slice(&[0; 4]);
-    data.extend_from_slice(&body);
-    data
+    crate::files::cache_dir::frame(MAGIC, &body)
 }
 
-/// Writes the chain of `mesh` under `dir` (best effort, atomically: a cache that cannot be
-/// written is only slower next time).
-pub fn write(dir: &Path, key: u64, mesh: &Mesh, chain: &LodChain) {
-    crate::files::write_file_atomically(&path(dir, key), &file(key, mesh, chain));
+/// Writes the chain of `mesh` under `dir`, or the reason it could not be simplified (atomically:
+/// through a temporary file and a rename). A write that fails is only slower next time:
+/// `Err(warning)` (saying so) the first time this process meets that problem, else `Ok`.
+pub fn write(
+    dir: &Path,
+    key: u64,
+    mesh: &Mesh,
+    chain: Result<&LodChain, &String>,
+) -> Result<(), String> {
+    let path = path(dir, key);
+    let data = match chain {
+        Ok(chain) => file(key, mesh, chain),
+        Err(reason) => failure_file(key, mesh, reason),
+    };
+    match crate::files::try_write_file_atomically(&path, &data) {
+        Ok(()) => {
+            crate::files::cache_dir::written(&path, data.len() as u64);
+            Ok(())
+        }
+        Err(e) => {
+            let (key, at) = if path.is_dir() {
+                (format!("folder:{}", path.display()), path.clone())
+            } else {
+                let folder = path.parent().unwrap_or(dir);
+                (
+                    format!("write:{}:{:?}", folder.display(), e.kind()),
+                    folder.into(),
+                )
+            };
+            let mut warning = None;
+            crate::files::cache_dir::warn_once(
+                &key,
+                format!(
+                    "{}: cannot write LOD cache files ({e}); meshes are simplified again on \
+                     every run",
+                    at.display()
+                ),
+                &mut |w| warning = Some(w),
+            );
+            warning.map_or(Ok(()), Err)
+        }
+    }
 }

@@ -47,9 +47,20 @@
 //! vertex cache, and the simplifier's output order misses often (measured on bunnies_40m:
 //! docs/performance.md).
 //!
+//! **Any mesh, in bounded time** ([`prepare`], issue 38). The simplifier is given the mesh's
+//! vertices welded where they are exact copies (exported glTF often gives every triangle its own
+//! vertices, which meshopt sees as seams everywhere), without degenerate triangles, with fans of
+//! more than [`MAX_VALENCE`] triangles around one position kept whole in every level (meshopt's
+//! edge lookups are quadratic in a vertex's valence), and at most [`SIMPLIFY_BUDGET`] triangles
+//! per chain. When the first level still cannot be reduced, it may collapse across normal seams
+//! (UV seams protected), then move open borders within the level's error. A mesh that still
+//! cannot be simplified is drawn whole; [`ChainStats::failure_summary`] reports all such meshes
+//! in one line.
+//!
 //! **Cache.** Chains are kept on disk ([`cache`]) under the IBL cache directory, keyed by a hash
 //! of the mesh's contents and the simplifier settings, with a CRC-32 over the file checked on
-//! load: a damaged file gives one warning and is rebuilt.
+//! load: a damaged (also empty or zeroed) file gives one warning and is rebuilt. Failures are
+//! cached too. The folder's size cap, temporary files and warnings: `files::cache_dir`.
 
 use std::sync::Arc;
 
@@ -58,10 +69,14 @@ use glam::Vec3;
 use super::{Camera, Mesh};
 
 pub mod cache;
+mod prepare;
+
+use prepare::Prepared;
+pub use prepare::{AREA_EPSILON, MAX_VALENCE};
 
 /// Bumped whenever [`build`] would make other levels for the same mesh (settings, algorithm,
 /// the meshopt version), so old cache files stop matching.
-pub const LOD_VERSION: u32 = 3;
+pub const LOD_VERSION: u32 = 4;
 /// Triangles of each level relative to the previous one (its target).
 pub const LEVEL_RATIO: f32 = 0.5;
 /// At most this many levels after the full mesh.
@@ -70,6 +85,10 @@ pub const MAX_LEVELS: usize = 10;
 pub const MIN_TRIANGLES: usize = 64;
 /// Meshes with fewer triangles than this are not simplified (nothing to gain).
 pub const MIN_SIMPLIFIED_TRIANGLES: usize = 2 * MIN_TRIANGLES;
+/// Triangles a chain may give the simplifier in all (each level is simplified from the full
+/// mesh, so about the mesh's triangles times its levels): a chain stops before a level that would
+/// pass it, and a mesh larger than this is drawn whole. About 15 s of simplification on one core.
+pub const SIMPLIFY_BUDGET: usize = 1 << 24;
 /// Weight of each normal component in the simplifier's error (normals are unit vectors).
 pub const NORMAL_WEIGHT: f32 = 0.5;
 /// Weight of each UV component in the simplifier's error.
@@ -172,10 +191,29 @@ impl LodChain {
     /// Puts level `i`'s triangles (of a mesh of `vertex_count` vertices) in the order
     /// meshoptimizer's vertex cache optimiser picks (same triangles, same winding): lavapipe runs
     /// the vertex shader once per index that misses its small cache of recent vertices.
+    ///
+    /// The optimiser's time is quadratic in a vertex's valence (it rescores every triangle of a
+    /// vertex each time one of them is emitted): triangles at a vertex of more than
+    /// [`MAX_VALENCE`] triangles (a fan) keep their order, after the others.
     pub(crate) fn cache_order(&mut self, i: usize, vertex_count: usize) {
         let l = self.levels[i];
         let range = l.first_index as usize..(l.first_index + l.index_count) as usize;
-        meshopt::optimize_vertex_cache_in_place(&mut self.indices[range], vertex_count);
+        let level = &mut self.indices[range];
+        let mut valence = vec![0u32; vertex_count];
+        level.iter().for_each(|&v| valence[v as usize] += 1);
+        if valence.iter().all(|&n| n as usize <= MAX_VALENCE) {
+            meshopt::optimize_vertex_cache_in_place(level, vertex_count);
+            return;
+        }
+        let (mut rest, fans): (Vec<[u32; 3]>, Vec<[u32; 3]>) = level
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .partition(|t| {
+                t.iter()
+                    .all(|&v| valence[v as usize] as usize <= MAX_VALENCE)
+            });
+        meshopt::optimize_vertex_cache_in_place(rest.as_flattened_mut(), vertex_count);
+        level.copy_from_slice(&[rest, fans].concat().concat());
     }
 
     /// Level `i`'s indices.
@@ -216,7 +254,14 @@ fn check(mesh: &Mesh) -> Result<(), String> {
 }
 
 /// Builds the chain of `mesh`. `Err(reason)` when it cannot be simplified (non-finite data,
-/// indices out of range, a simplifier that removes every triangle): draw it whole.
+/// indices out of range, nothing but degenerate triangles, a simplifier that cannot reduce it,
+/// more triangles than [`SIMPLIFY_BUDGET`]): draw it whole.
+///
+/// The simplifier works on [`prepare`]'s input (exact copies welded, degenerate triangles
+/// dropped, fans beyond [`prepare::MAX_VALENCE`] set aside and kept whole in every level), so its
+/// time stays in proportion to the triangles whatever the mesh. When the first level cannot be
+/// reduced on a mesh with seams (every vertex a copy on a hard edge, say), it tries once more
+/// allowed across normal seams, with UV seams protected (meshopt's `Permissive` with `Protect`).
 pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
     check(mesh)?;
     let mut chain = LodChain::full(mesh);
@@ -225,13 +270,40 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
         chain.cache_order(0, mesh.positions.len());
         return Ok(chain);
     }
-    let simplifier = Simplifier::new(mesh);
+    if triangles > SIMPLIFY_BUDGET {
+        return Err(format!(
+            "{triangles} triangles is beyond the simplifier's budget of {SIMPLIFY_BUDGET} per mesh"
+        ));
+    }
+    let prepared = prepare::prepare(mesh);
+    if prepared.mesh.indices.is_empty() && prepared.set_aside.is_empty() {
+        return Err(format!(
+            "all {triangles} triangles are degenerate (no area)"
+        ));
+    }
+    let mut simplifier = Simplifier::new(&prepared);
+    let set_aside = prepared.set_aside.len() / 3;
     let mut previous = triangles;
     let mut error_so_far = 0.0f32;
+    // Triangles given to meshopt so far: each level is simplified from the full mesh.
+    let mut work = 0usize;
     while chain.levels.len() <= MAX_LEVELS && previous >= MIN_TRIANGLES {
-        let target = ((previous as f32 * LEVEL_RATIO) as usize).max(1) * 3;
-        let (mut level, error) = simplifier.level(target);
-        let count = level.indices.len() / 3;
+        let target = ((previous as f32 * LEVEL_RATIO) as usize).max(1);
+        let input = prepared.mesh.indices.len() / 3;
+        if work + input > SIMPLIFY_BUDGET {
+            break;
+        }
+        work += input;
+        let (mut level, mut error) = simplifier.level(target.saturating_sub(set_aside) * 3);
+        let mut count = level.indices.len() / 3 + set_aside;
+        let stalled = |count: usize| count as f32 > previous as f32 * 0.9;
+        // The first level could not be reduced: allowed across normal seams, then (a mesh that is
+        // all border, an open band) its border allowed to move within the level's error.
+        while stalled(count) && chain.levels.len() == 1 && simplifier.relax() {
+            work += input;
+            (level, error) = simplifier.level(target.saturating_sub(set_aside) * 3);
+            count = level.indices.len() / 3 + set_aside;
+        }
         if count == 0 {
             if chain.levels.len() == 1 {
                 return Err("the simplifier removed every triangle (a degenerate mesh?)".into());
@@ -242,11 +314,16 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
             return Err(format!("the simplifier reported the error {error}"));
         }
         // Stalled (borders, seams): another level would cost memory and gain nothing.
-        if count as f32 > previous as f32 * 0.9 {
+        if stalled(count) {
             if chain.levels.len() == 1 {
+                let fans = if set_aside > 0 {
+                    format!(", {set_aside} of them in fans kept whole")
+                } else {
+                    String::new()
+                };
                 return Err(format!(
-                    "the simplifier could not reduce it: {count} of {triangles} triangles left \
-                     (degenerate or non-manifold?)"
+                    "the simplifier could not reduce it: {count} of {triangles} triangles \
+                     left{fans} (non-manifold?)"
                 ));
             }
             break;
@@ -254,9 +331,11 @@ pub fn build(mesh: &Mesh) -> Result<LodChain, String> {
         if level.moved.positions.iter().any(|p| !p.is_finite()) {
             return Err("the simplifier moved a vertex to a non-finite position".into());
         }
-        // The level's vertices follow the mesh's and the levels' before it.
+        // The level's vertices follow the mesh's and the levels' before it; the fans set aside
+        // use the mesh's own.
         let base = (mesh.positions.len() + chain.moved.len()) as u32;
         level.indices.iter_mut().for_each(|i| *i += base);
+        level.indices.extend_from_slice(&prepared.set_aside);
         chain.moved.append(level.moved);
         error_so_far = error_so_far.max(error);
         chain.levels.push(LodLevel {
@@ -279,34 +358,70 @@ struct Level {
     moved: MovedVertices,
 }
 
-/// meshoptimizer's `simplifyWithUpdate` on one mesh, run once per level from the full mesh.
+/// meshoptimizer's `simplifyWithUpdate` on one prepared mesh, run once per level from the full
+/// mesh.
 struct Simplifier<'a> {
-    mesh: &'a Mesh,
-    positions: Vec<[f32; 3]>,
+    prepared: &'a Prepared,
     /// Per vertex: the normal, then the UV when the mesh has UVs.
     attributes: Vec<f32>,
     stride: usize,
     locks: Vec<meshopt::SimplifyVertex>,
+    /// How far the simplifier is allowed beyond its defaults ([`Relax`]).
+    relax: Relax,
+}
+
+/// What the simplifier may do beyond its defaults when a mesh's first level cannot be reduced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Relax {
+    /// Seams kept closed and collapsed only along themselves, open borders locked.
+    None,
+    /// Collapses across normal seams (meshopt's `Permissive`), UV seams protected.
+    Seams,
+    /// Also open borders may move (within the level's error, which measures them too).
+    Border,
 }
 
 impl<'a> Simplifier<'a> {
-    fn new(mesh: &'a Mesh) -> Self {
-        let uv = mesh.uvs.len() == mesh.positions.len();
+    fn new(prepared: &'a Prepared) -> Self {
+        let m = &prepared.mesh;
+        let n = m.positions.len();
+        let uv = m.uvs.len() == n;
         let stride = if uv { 5 } else { 3 };
-        let mut attributes = Vec::with_capacity(mesh.positions.len() * stride);
-        for i in 0..mesh.positions.len() {
-            attributes.extend_from_slice(&mesh.normals[i].to_array());
+        let mut attributes = Vec::with_capacity(n * stride);
+        for i in 0..n {
+            attributes.extend_from_slice(&m.normals[i].to_array());
             if uv {
-                attributes.extend_from_slice(&mesh.uvs[i].to_array());
+                attributes.extend_from_slice(&m.uvs[i].to_array());
             }
         }
+        let locks = prepared
+            .uv_seam
+            .iter()
+            .map(|&s| {
+                if s {
+                    meshopt::SimplifyVertex::Protect
+                } else {
+                    meshopt::SimplifyVertex::None
+                }
+            })
+            .collect();
         Simplifier {
-            mesh,
-            positions: mesh.positions.iter().map(|p| p.to_array()).collect(),
+            prepared,
             attributes,
             stride,
-            locks: vec![meshopt::SimplifyVertex::None; mesh.positions.len()],
+            locks,
+            relax: Relax::None,
         }
+    }
+
+    /// Allows the next step of [`Relax`]; false when there is none left worth trying.
+    fn relax(&mut self) -> bool {
+        self.relax = match self.relax {
+            Relax::None if self.prepared.has_seams => Relax::Seams,
+            Relax::None | Relax::Seams => Relax::Border,
+            Relax::Border => return false,
+        };
+        true
     }
 
     /// The level of (at most) `target_indices` indices and its error. The simplifier collapses
@@ -321,25 +436,36 @@ impl<'a> Simplifier<'a> {
             UV_WEIGHT,
             UV_WEIGHT,
         ];
-        let options = meshopt::SimplifyOptions::LockBorder
-            | meshopt::SimplifyOptions::ErrorAbsolute
-            | meshopt::SimplifyOptions::ErrorClamped;
-        let mut indices = self.mesh.indices.clone();
-        let mut positions = self.positions.clone();
+        let mut options =
+            meshopt::SimplifyOptions::ErrorAbsolute | meshopt::SimplifyOptions::ErrorClamped;
+        if self.relax < Relax::Border {
+            options |= meshopt::SimplifyOptions::LockBorder;
+        }
+        if self.relax >= Relax::Seams {
+            options |= meshopt::SimplifyOptions::Permissive;
+        }
+        let p = self.prepared;
+        let mut indices = p.mesh.indices.clone();
+        let mut positions: Vec<[f32; 3]> = p.mesh.positions.iter().map(|v| v.to_array()).collect();
         let mut attributes = self.attributes.clone();
         let mut error = 0.0f32;
-        let count = meshopt::simplify_with_update(
-            &mut indices,
-            &mut positions,
-            &mut attributes,
-            &weights[..self.stride],
-            self.stride * 4,
-            Some(&self.locks),
-            target_indices,
-            f32::MAX,
-            options,
-            Some(&mut error),
-        );
+        let count = if indices.is_empty() {
+            0
+        } else {
+            meshopt::simplify_with_update(
+                &mut indices,
+                &mut positions,
+                &mut attributes,
+                &weights[..self.stride],
+                self.stride * 4,
+                Some(&self.locks),
+                // meshopt asserts (aborts) on a target above its input.
+                target_indices.min(p.mesh.indices.len()),
+                f32::MAX,
+                options,
+                Some(&mut error),
+            )
+        };
         indices.truncate(count);
         let mut moved = MovedVertices::default();
         let mut slot = vec![u32::MAX; positions.len()];
@@ -349,11 +475,11 @@ impl<'a> Simplifier<'a> {
                 slot[v] = moved.len() as u32;
                 let a = &attributes[v * self.stride..(v + 1) * self.stride];
                 let normal = Vec3::new(a[0], a[1], a[2]);
-                moved.origin.push(*i);
+                moved.origin.push(p.origin[v]);
                 moved.positions.push(Vec3::from_array(positions[v]));
                 moved
                     .normals
-                    .push(normal.try_normalize().unwrap_or(self.mesh.normals[v]));
+                    .push(normal.try_normalize().unwrap_or(p.mesh.normals[v]));
                 if self.stride == 5 {
                     moved.uvs.push(glam::Vec2::new(a[3], a[4]));
                 }
@@ -371,13 +497,40 @@ pub struct ChainStats {
     pub built: usize,
     /// Chains read from the disk cache.
     pub loaded: usize,
-    /// Meshes drawn whole because their simplification failed (each with one warning).
+    /// Meshes drawn whole because their simplification failed (now or in a cached run).
     pub failed: usize,
+    /// Each failure: the mesh's name and the reason, for [`ChainStats::failure_summary`].
+    pub failures: Vec<(String, String)>,
+}
+
+impl ChainStats {
+    /// The one line that reports the meshes drawn whole because their simplification failed
+    /// (none: `None`): how many, the first with its reason, and how many more.
+    pub fn failure_summary(&self) -> Option<String> {
+        let (name, reason) = self.failures.first()?;
+        let more = match self.failures.len() - 1 {
+            0 => String::new(),
+            n => format!(", and {n} more"),
+        };
+        Some(format!(
+            "automatic LOD: {} mesh(es) drawn at full detail because their simplification \
+             failed: {name} ({reason}){more}",
+            self.failures.len()
+        ))
+    }
+
+    fn fail(&mut self, name: &str, reason: String) {
+        self.failed += 1;
+        self.failures.push((name.to_string(), reason));
+    }
 }
 
 /// The chain of `mesh` (named `name` in warnings): from the cache in `cache_dir` when a file for
 /// its contents is there and intact, else built (and written there). A failed simplification
-/// gives the full mesh's chain and one warning through `warn`.
+/// gives the full mesh's chain and is recorded in `stats` (one line for all of them:
+/// [`ChainStats::failure_summary`]); it is cached too, so the next run does not pay for it again.
+/// Cache problems (a damaged file, an entry that cannot be written) give one warning each
+/// through `warn`.
 pub fn chain_for(
     mesh: &Mesh,
     name: &str,
@@ -386,39 +539,61 @@ pub fn chain_for(
     warn: &mut dyn FnMut(String),
 ) -> Arc<LodChain> {
     let key = cache::key(mesh);
+    // Still in vertex cache order where its indices are valid: drawn whole every frame.
+    let whole = || {
+        let mut chain = LodChain::full(mesh);
+        if check(mesh).is_ok() {
+            chain.cache_order(0, mesh.positions.len());
+        }
+        Arc::new(chain)
+    };
+    // Where to write what is built: not over an entry that cannot be read (a folder).
+    let mut write_to = cache_dir;
     if let Some(dir) = cache_dir {
         match cache::read(dir, key, mesh) {
             cache::Read::Hit(chain) => {
                 stats.loaded += 1;
                 return Arc::new(chain);
             }
+            cache::Read::Failed(reason) => {
+                stats.loaded += 1;
+                stats.fail(name, reason);
+                return whole();
+            }
             cache::Read::Miss => {}
             cache::Read::Corrupt(path) => warn(format!(
-                "{}: cached LOD chain of {name} does not match its checksum (damaged on disk?); \
-                 simplifying it again and replacing the file",
+                "{}: cached LOD chain of {name} is damaged (empty, zeroed or not matching its \
+                 checksum); simplifying it again and replacing the file",
                 path.display()
             )),
+            cache::Read::Unreadable(path, why) => {
+                write_to = None;
+                crate::files::cache_dir::warn_once(
+                    &format!("folder:{}", path.display()),
+                    format!(
+                        "{}: cached LOD chain of {name} cannot be read ({why}); it is simplified \
+                         again on every run until this is removed",
+                        path.display()
+                    ),
+                    warn,
+                );
+            }
         }
     }
-    match build(mesh) {
+    let built = build(mesh);
+    if let Some(dir) = write_to {
+        if let Err(e) = cache::write(dir, key, mesh, built.as_ref()) {
+            warn(e);
+        }
+    }
+    match built {
         Ok(chain) => {
             stats.built += 1;
-            if let Some(dir) = cache_dir {
-                cache::write(dir, key, mesh, &chain);
-            }
             Arc::new(chain)
         }
         Err(reason) => {
-            stats.failed += 1;
-            warn(format!(
-                "{name}: mesh simplification failed ({reason}); drawn at full detail"
-            ));
-            // Still in vertex cache order where its indices are valid: drawn whole every frame.
-            let mut chain = LodChain::full(mesh);
-            if check(mesh).is_ok() {
-                chain.cache_order(0, mesh.positions.len());
-            }
-            Arc::new(chain)
+            stats.fail(name, reason);
+            whole()
         }
     }
 }

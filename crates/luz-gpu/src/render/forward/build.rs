@@ -225,6 +225,10 @@ pub(super) fn build_draws(
             shadow_area: None,
         });
     }
+    // One line for every mesh drawn whole because its simplification failed (issue 38).
+    if let Some(line) = lod_stats.failure_summary() {
+        log::warn!("{line}");
+    }
     Ok(Draws {
         meshes,
         objects,

@@ -194,7 +194,6 @@ fn upload_regions(
 /// the checksum: a file whose bytes changed inside an intact header (a flipped bit on disk, a
 /// partial copy) used to load as it was and change the image.
 const BLOB_MAGIC: &[u8; 8] = b"LUZIBL02";
-const HEADER: usize = 16;
 
 /// What reading a cache file found.
 #[derive(Debug, PartialEq)]
@@ -203,21 +202,42 @@ pub(super) enum Cached {
     Hit(Vec<Vec<u8>>),
     /// No file, another format version or other sizes (other settings): compute it quietly.
     Miss,
-    /// The file's contents do not match its checksum: compute it again, with a warning.
+    /// The file is damaged (empty, zeroed, truncated, not matching its checksum): compute it
+    /// again and replace it, with a warning.
     Corrupt,
+    /// The entry cannot be read (why): a folder in its place, no permission.
+    Unreadable(String),
 }
 
+/// What a cache entry that cannot be used costs, in its warning.
+const COST: &str = "the IBL precompute (1-4 s) runs again on every run until it is removed";
+
 impl Cached {
-    /// The blobs on a hit; a corrupt file is logged (one warning naming it) and treated as a miss.
+    /// The blobs on a hit; a damaged or unreadable entry is logged (one warning naming it and
+    /// what it costs) and treated as a miss.
     pub(super) fn hit(self, path: &std::path::Path) -> Option<Vec<Vec<u8>>> {
         match self {
-            Cached::Hit(blobs) => Some(blobs),
+            Cached::Hit(blobs) => {
+                crate::files::cache_dir::touch(path);
+                Some(blobs)
+            }
             Cached::Miss => None,
             Cached::Corrupt => {
                 log::warn!(
-                    "{}: cached IBL data does not match its checksum (damaged on disk?); \
-                     computing it again and replacing the file",
+                    "{}: cached IBL data is damaged (empty, zeroed or not matching its \
+                     checksum); computing it again and replacing the file",
                     path.display()
+                );
+                None
+            }
+            Cached::Unreadable(why) => {
+                crate::files::cache_dir::warn_once(
+                    &format!("folder:{}", path.display()),
+                    format!(
+                        "{}: cached IBL data cannot be read ({why}); {COST}",
+                        path.display()
+                    ),
+                    &mut |w| log::warn!("{w}"),
                 );
                 None
             }
@@ -227,46 +247,40 @@ impl Cached {
 
 /// Reads a cache file whose blobs must have the sizes `expected` (bytes each).
 pub(super) fn read_blobs(path: &std::path::Path, expected: &[u64]) -> Cached {
-    let Ok(data) = std::fs::read(path) else {
-        return Cached::Miss;
-    };
-    parse_blobs(&data, expected)
+    if path.is_dir() {
+        return Cached::Unreadable("a folder is in its place".into());
+    }
+    match std::fs::read(path) {
+        Ok(data) => parse_blobs(&data, expected),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Cached::Miss,
+        Err(e) => Cached::Unreadable(e.to_string()),
+    }
 }
 
 fn parse_blobs(data: &[u8], expected: &[u64]) -> Cached {
-    let Some(rest) = data.strip_prefix(BLOB_MAGIC.as_slice()) else {
-        return Cached::Miss;
+    use crate::files::cache_dir::{unframe, Framed};
+    let body = match unframe(data, BLOB_MAGIC) {
+        Framed::Body(body) => body,
+        Framed::OtherVersion => return Cached::Miss,
+        Framed::Damaged => return Cached::Corrupt,
     };
-    let (Some(crc), Some(body)) = (rest.get(..4), data.get(HEADER..)) else {
-        return Cached::Miss;
-    };
-    // Sizes first: another size is other settings, not damage (unless the checksum fails too).
+    // Other sizes under an intact checksum are other settings, not damage.
     let mut out = Vec::with_capacity(expected.len());
     let mut pos = 0usize;
-    let mut sizes_match = true;
     for &want in expected {
-        let Some(len) = body.get(pos..pos + 8) else {
-            sizes_match = false;
-            break;
-        };
-        let len = u64::from_le_bytes(len.try_into().expect("8 bytes"));
-        match (
-            len == want,
-            body.get(pos + 8..).and_then(|b| b.get(..len as usize)),
-        ) {
-            (true, Some(bytes)) => out.push(bytes.to_vec()),
-            _ => {
-                sizes_match = false;
-                break;
-            }
+        let len = body
+            .get(pos..pos + 8)
+            .map(|b| u64::from_le_bytes(b.try_into().expect("8 bytes")));
+        match body.get(pos + 8..).and_then(|b| b.get(..want as usize)) {
+            Some(bytes) if len == Some(want) => out.push(bytes.to_vec()),
+            _ => return Cached::Miss,
         }
-        pos += 8 + len as usize;
+        pos += 8 + want as usize;
     }
-    let crc_ok = u32::from_le_bytes(crc.try_into().expect("4 bytes")) == crc32fast::hash(body);
-    match (crc_ok, sizes_match && pos == body.len()) {
-        (true, true) => Cached::Hit(out),
-        (true, false) => Cached::Miss,
-        (false, _) => Cached::Corrupt,
+    if pos == body.len() {
+        Cached::Hit(out)
+    } else {
+        Cached::Miss
     }
 }
 
@@ -277,11 +291,7 @@ fn blob_file(blobs: &[&[u8]]) -> Vec<u8> {
         body.extend_from_slice(&(b.len() as u64).to_le_bytes());
         body.extend_from_slice(b);
     }
-    let mut data = BLOB_MAGIC.to_vec();
-    data.extend_from_slice(&crc32fast::hash(&body).to_le_bytes());
-    data.extend_from_slice(&[0; 4]);
-    data.extend_from_slice(&body);
-    data
+    crate::files::cache_dir::frame(BLOB_MAGIC, &body)
 }
 
 /// The cached images of one environment, if the file exists, its checksum holds and every size
@@ -294,26 +304,75 @@ pub(super) fn read_blob(path: &std::path::Path, images: &[&Image]) -> Option<Vec
     read_blobs(path, &expected).hit(path)
 }
 
-/// Writes a cache file holding `blobs` (best effort, atomically).
+/// Writes a cache file holding `blobs` (atomically: a temporary file and a rename). A write that
+/// fails gives one warning per folder and problem (a folder in the file's place, one per entry),
+/// saying what it costs.
 pub(super) fn write_blob(path: &std::path::Path, blobs: &[&[u8]]) {
-    crate::files::write_file_atomically(path, &blob_file(blobs));
+    let data = blob_file(blobs);
+    match crate::files::try_write_file_atomically(path, &data) {
+        Ok(()) => crate::files::cache_dir::written(path, data.len() as u64),
+        Err(e) => {
+            let (key, at) = if path.is_dir() {
+                (format!("folder:{}", path.display()), path)
+            } else {
+                let folder = path.parent().unwrap_or(path);
+                (format!("write:{}:{:?}", folder.display(), e.kind()), folder)
+            };
+            crate::files::cache_dir::warn_once(
+                &key,
+                format!(
+                    "{}: cannot write IBL cache files ({e}); {COST}",
+                    at.display()
+                ),
+                &mut |w| log::warn!("{w}"),
+            );
+        }
+    }
 }
 
-/// The directory luz keeps precomputed IBL data in: `$LUZ_CACHE_DIR`, else
-/// `$XDG_CACHE_HOME/luz`, else `$HOME/.cache/luz`.
+/// The directory luz keeps precomputed IBL data and LOD chains in: `$LUZ_CACHE_DIR`, else
+/// `$XDG_CACHE_HOME/luz`, else `$HOME/.cache/luz`; checked and tidied once per process
+/// (`files::cache_dir::open`: stale temporary files removed, the size cap kept). `None`, with one
+/// warning saying what it costs, when it cannot be used (a file, a read-only folder).
 pub fn default_cache_dir() -> Option<std::path::PathBuf> {
-    if let Some(d) = std::env::var_os("LUZ_CACHE_DIR") {
-        return Some(d.into());
-    }
-    if let Some(d) = std::env::var_os("XDG_CACHE_HOME") {
-        return Some(std::path::PathBuf::from(d).join("luz"));
-    }
-    std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".cache/luz"))
+    static DIR: std::sync::OnceLock<Option<std::path::PathBuf>> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = if let Some(d) = std::env::var_os("LUZ_CACHE_DIR") {
+            std::path::PathBuf::from(d)
+        } else if let Some(d) = std::env::var_os("XDG_CACHE_HOME") {
+            std::path::PathBuf::from(d).join("luz")
+        } else {
+            std::path::PathBuf::from(std::env::var_os("HOME")?).join(".cache/luz")
+        };
+        match crate::files::cache_dir::open(&dir) {
+            Ok(tidied) => {
+                if tidied.stale_removed + tidied.evicted > 0 {
+                    log::info!(
+                        "{}: removed {} stale temporary file(s) and {} cache file(s) beyond the \
+                         {} MiB cap",
+                        dir.display(),
+                        tidied.stale_removed,
+                        tidied.evicted,
+                        crate::files::cache_dir::max_bytes() >> 20
+                    );
+                }
+                Some(dir)
+            }
+            Err(warning) => {
+                log::warn!("{warning}");
+                None
+            }
+        }
+    })
+    .clone()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Bytes before a file's body: magic, checksum, reserved.
+    const HEADER: usize = 16;
 
     /// A file round-trips; a byte flipped anywhere after the magic is caught by the checksum
     /// (header, lengths or contents); other sizes or another version are a quiet miss.
@@ -347,7 +406,9 @@ mod tests {
         let mut old = file.clone();
         old[..8].copy_from_slice(b"LUZIBL01");
         assert_eq!(parse_blobs(&old, &[1000, 64]), Cached::Miss);
-        assert_eq!(parse_blobs(b"LUZIBL02", &[1]), Cached::Miss);
-        assert_eq!(parse_blobs(&[], &[1]), Cached::Miss);
+        // Truncated in its header, empty, zeroed: damaged (one warning, computed again).
+        assert_eq!(parse_blobs(b"LUZIBL02", &[1]), Cached::Corrupt);
+        assert_eq!(parse_blobs(&[], &[1]), Cached::Corrupt);
+        assert_eq!(parse_blobs(&[0; 4096], &[1]), Cached::Corrupt);
     }
 }
