@@ -4,6 +4,7 @@
 
 mod bench;
 mod brdf;
+mod budget;
 mod common;
 mod devices;
 mod diff;
@@ -41,6 +42,9 @@ luz stability                         BRDFs at the edges of their domain, CPU an
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// The input budget (docs/reliability.md, "Input budget").
+    #[command(flatten)]
+    pub budget: budget::BudgetArgs,
 }
 
 #[derive(Subcommand, Debug)]
@@ -81,6 +85,7 @@ pub enum Command {
 pub fn run() -> ExitCode {
     common::Logger::install();
     let cli = Cli::parse();
+    cli.budget.budget().install();
     match dispatch(cli) {
         Ok(code) => code,
         Err(e) => {
