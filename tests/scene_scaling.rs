@@ -1,6 +1,8 @@
 //! The scene loader is linear in the size of the file: machine-written one-line scenes of
-//! 10 MB (about 100,000 point lights, or tens of thousands of materials and objects) parse in
-//! well under a second, and a huge file with an error after a huge array is refused as fast.
+//! 10 MB (about 100,000 point lights, or tens of thousands of materials and objects) parse at
+//! the time per MB of 1 MB ones, and a huge file with an error after a huge array is refused as
+//! fast as the same text is read. Only ratios of two timings of one run are asserted (issue 38:
+//! absolute limits fail on busy machines).
 //! (The scaling check through the scene fuzz target's entry point is in
 //! `tests/fuzz_regressions.rs`.) `parsing_speed_comparison` (ignored) prints the numbers of
 //! `docs/scene-format.md`, "Parsing speed".
@@ -87,32 +89,63 @@ fn origin() -> &'static Path {
     Path::new("generated.json")
 }
 
+/// The largest ratio accepted between two timings of one run (the slower against the faster
+/// reference): linear work stays near 1 (or near the size ratio), the quadratic loaders this
+/// guards against were 10 to 100 times off. No absolute time is asserted: a busy machine slows
+/// both sides alike.
+const RATIO: f64 = 4.0;
+
 #[test]
-fn ten_megabyte_one_line_scenes_parse_in_under_a_second() {
+fn one_line_scenes_parse_in_time_proportional_to_their_size() {
     let _timing = TIMING.lock().unwrap_or_else(|e| e.into_inner());
-    let lights = lights_scene(10 << 20);
     let n = 40_000;
     let objects = objects_scene(n);
     assert!(objects.len() > 9 << 20, "{} bytes", objects.len());
-    for (what, text) in [("lights", &lights), ("objects", &objects)] {
-        let scene = luz::scene::parse(text, origin()).unwrap_or_else(|e| panic!("{what}: {e}"));
-        match what {
-            "lights" => assert!(scene.lights.len() > 100_000, "{}", scene.lights.len()),
-            _ => {
-                assert_eq!(scene.materials.len(), n);
-                assert_eq!(scene.objects.len(), 2 * n);
-                assert_eq!(scene.objects[1].material, n - 1);
-            }
-        }
+    let scene = luz::scene::parse(&objects, origin()).unwrap_or_else(|e| panic!("objects: {e}"));
+    assert_eq!(scene.materials.len(), n);
+    assert_eq!(scene.objects.len(), 2 * n);
+    assert_eq!(scene.objects[1].material, n - 1);
+    // Time per MB of a 10 MB scene against a 1 MB one of the same kind (quadratic: ×10).
+    let per_mb = |text: &str| {
         let t = best_of(3, || {
             luz::scene::parse(text, origin()).unwrap();
         });
+        t.as_secs_f64() / (text.len() as f64 / (1 << 20) as f64)
+    };
+    let pairs = [
+        ("lights", lights_scene(1 << 20), lights_scene(10 << 20)),
+        ("objects", objects_scene(n / 10), objects),
+    ];
+    for (what, small, large) in &pairs {
+        let scene = luz::scene::parse(large, origin()).unwrap_or_else(|e| panic!("{what}: {e}"));
+        if *what == "lights" {
+            assert!(scene.lights.len() > 100_000, "{}", scene.lights.len());
+        }
+        let (a, b) = (per_mb(small), per_mb(large));
         assert!(
-            t < Duration::from_secs(1),
-            "{what}: {} MB parsed in {t:?}",
-            text.len() >> 20
+            b <= RATIO * a,
+            "{what}: {:.1} ms/MB at {} MB against {:.1} ms/MB at {} MB",
+            b * 1e3,
+            large.len() >> 20,
+            a * 1e3,
+            small.len() >> 20
         );
     }
+}
+
+/// `bad` (refused by the scene loader) against `reference` (the same size, read by the JSON
+/// reader alone, or a valid twin): refusing may not cost more than [`RATIO`] times reading.
+fn refused_in_proportion(what: &str, bad: &str, reference: impl Fn()) -> luz::scene::SceneError {
+    let e = luz::scene::parse(bad, origin()).unwrap_err();
+    let refuse = best_of(3, || {
+        let _ = luz::scene::parse(bad, origin());
+    });
+    let read = best_of(3, reference);
+    assert!(
+        refuse.as_secs_f64() <= RATIO * read.as_secs_f64(),
+        "{what}: refused after {refuse:?}, but reading the same size takes {read:?}"
+    );
+    e
 }
 
 /// A 200,000-element array and then an unknown field (2.6 MB; 2.4 MB took 35 s to be refused).
@@ -127,46 +160,34 @@ fn errors_after_a_huge_array_are_reported_at_once() {
         text.push_str("[0.25,0.5,1]");
     }
     text.push_str(r#"],"lihgts":1}"#);
-    let t = Instant::now();
-    let e = luz::scene::parse(&text, origin()).unwrap_err();
-    let elapsed = t.elapsed();
+    let e = refused_in_proportion("unknown field", &text, || {
+        luz::scene::json::parse(&text).unwrap();
+    });
     assert_eq!(e.json_path(), "lihgts");
     assert!(e.reason().contains("unknown field"), "{e}");
-    assert!(
-        elapsed < Duration::from_secs(1),
-        "refused after {elapsed:?}"
-    );
 
     // A syntax error at the end of the one line: its column counts characters, not bytes.
-    let mut text = lights_scene(10 << 20);
-    text.insert_str(0, r#"{"description":"é","x":"#);
-    text.push_str(" x}");
-    let t = Instant::now();
-    let e = luz::scene::parse(&text, origin()).unwrap_err();
-    let elapsed = t.elapsed();
+    let lights = lights_scene(10 << 20);
+    let valid = format!(r#"{{"description":"é","x":{lights}}}"#);
+    let text = format!(r#"{{"description":"é","x":{lights} x}}"#);
+    let e = refused_in_proportion("syntax error", &text, || {
+        luz::scene::json::parse(&valid).unwrap();
+    });
     let column = text.chars().count() - 1;
     assert!(
         e.to_string()
             .ends_with(&format!("at line 1, column {column}")),
         "{e}"
     );
-    assert!(
-        elapsed < Duration::from_secs(2),
-        "refused after {elapsed:?}"
-    );
 
     // An unknown field with a 10 MB name (no "did you mean" search through its length).
     let text = format!(r#"{{"{}":1}}"#, "lights".repeat(10 << 20 >> 3));
-    let t = Instant::now();
-    let e = luz::scene::parse(&text, origin()).unwrap_err();
-    let elapsed = t.elapsed();
+    let e = refused_in_proportion("10 MB field name", &text, || {
+        luz::scene::json::parse(&text).unwrap();
+    });
     assert!(
         e.reason().starts_with("unknown field \"lightslights"),
         "{e}"
-    );
-    assert!(
-        elapsed < Duration::from_secs(2),
-        "refused after {elapsed:?}"
     );
 
     // A duplicate key at the end of an object of 200,000 fields.
@@ -174,16 +195,13 @@ fn errors_after_a_huge_array_are_reported_at_once() {
     for i in 0..200_000 {
         let _ = write!(text, r#""m{i}":{{}},"#);
     }
+    let valid = format!(r#"{text}"mx":{{}}}}}}"#);
     text.push_str(r#""m7":{}}}"#);
-    let t = Instant::now();
-    let e = luz::scene::parse(&text, origin()).unwrap_err();
-    let elapsed = t.elapsed();
+    let e = refused_in_proportion("duplicate field", &text, || {
+        luz::scene::json::parse(&valid).unwrap();
+    });
     assert_eq!(e.json_path(), "materials.m7");
     assert!(e.reason().contains("duplicate field"), "{e}");
-    assert!(
-        elapsed < Duration::from_secs(2),
-        "refused after {elapsed:?}"
-    );
 }
 
 /// Prints parse times (best of 3) of 1 MB and 10 MB one-line light scenes: the JSON reader

@@ -4,6 +4,7 @@
 
 mod bench;
 mod brdf;
+mod budget;
 mod common;
 mod devices;
 mod diff;
@@ -46,6 +47,9 @@ pub struct Cli {
     /// files are removed.
     #[arg(long, global = true, value_name = "MB", default_value_t = luz::files::cache_dir::DEFAULT_MAX_MB)]
     pub cache_max_mb: u64,
+    /// The input budget (docs/reliability.md, "Input budget").
+    #[command(flatten)]
+    pub budget: budget::BudgetArgs,
 }
 
 #[derive(Subcommand, Debug)]
@@ -87,6 +91,7 @@ pub fn run() -> ExitCode {
     common::Logger::install();
     let cli = Cli::parse();
     luz::files::cache_dir::set_max_mb(cli.cache_max_mb);
+    cli.budget.budget().install();
     match dispatch(cli) {
         Ok(code) => code,
         Err(e) => {

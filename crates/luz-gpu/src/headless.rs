@@ -165,25 +165,37 @@ pub struct Headless {
     ctx: Arc<Context>,
 }
 
-fn sample_flags(ctx: &Context, msaa: u32) -> Result<vk::SampleCountFlags, VkError> {
-    let flags = match msaa {
-        1 => return Ok(vk::SampleCountFlags::TYPE_1),
-        2 => vk::SampleCountFlags::TYPE_2,
-        4 => vk::SampleCountFlags::TYPE_4,
-        8 => vk::SampleCountFlags::TYPE_8,
-        16 => vk::SampleCountFlags::TYPE_16,
-        _ => {
-            return Err(VkError::Setup(format!(
-                "msaa {msaa} is not a power of two in 1..16"
-            )))
-        }
+/// The sample count of `output.msaa`; an error names the scene file and the field, and lists
+/// the counts the device supports as numbers.
+fn sample_flags(ctx: &Context, scene: &Scene) -> Result<vk::SampleCountFlags, VkError> {
+    let msaa = scene.output.msaa;
+    let flags_of = |n: u32| match n {
+        1 => Some(vk::SampleCountFlags::TYPE_1),
+        2 => Some(vk::SampleCountFlags::TYPE_2),
+        4 => Some(vk::SampleCountFlags::TYPE_4),
+        8 => Some(vk::SampleCountFlags::TYPE_8),
+        16 => Some(vk::SampleCountFlags::TYPE_16),
+        _ => None,
+    };
+    let Some(flags) = flags_of(msaa) else {
+        return Err(VkError::Setup(format!(
+            "{}: output.msaa: {msaa} is not a power of two in 1..16",
+            scene.display_name()
+        )));
     };
     let limits = &ctx.info.limits;
     let supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
     if !supported.contains(flags) {
+        let counts: Vec<String> = [1, 2, 4, 8, 16]
+            .into_iter()
+            .filter(|&n| flags_of(n).is_some_and(|f| supported.contains(f)))
+            .map(|n| n.to_string())
+            .collect();
         return Err(VkError::Setup(format!(
-            "msaa {msaa} is not supported by {} (supported sample counts: {:?})",
-            ctx.info.name, supported
+            "{}: output.msaa: {msaa} samples are not supported by {} (it supports {})",
+            scene.display_name(),
+            ctx.info.name,
+            counts.join(", ")
         )));
     }
     Ok(flags)
@@ -225,7 +237,7 @@ impl Headless {
         let target_pixel = 16 * u64::from(scene.output.msaa.max(1));
         ctx.limits()
             .check_render_size(&scene.display_name(), width, height, target_pixel, 16)?;
-        let samples = sample_flags(ctx, scene.output.msaa)?;
+        let samples = sample_flags(ctx, scene)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
         let target = HdrTarget::new(ctx, "headless", vk::Extent2D { width, height }, samples)?;
         let bytes = width as u64 * height as u64 * 16;

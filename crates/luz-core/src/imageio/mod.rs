@@ -537,7 +537,7 @@ fn open_file(path: &Path) -> Result<File, ImageError> {
             path: path.to_path_buf(),
         });
     }
-    File::open(path).map_err(|e| read_error(path, e))
+    crate::files::open_input(path).map_err(|e| read_error(path, e))
 }
 
 /// The decoding shared by [`load`] and [`load_bytes`]; `declared` reads the size the file

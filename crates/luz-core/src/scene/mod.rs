@@ -630,7 +630,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     if model::is_model(path) {
         return model::model_scene(path);
     }
-    let bytes = std::fs::read(path).map_err(|e| SceneError::Read {
+    let bytes = crate::files::read_input(path).map_err(|e| SceneError::Read {
         file: path.to_path_buf(),
         reason: format!("cannot read the scene file: {e}"),
     })?;

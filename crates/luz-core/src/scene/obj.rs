@@ -119,7 +119,7 @@ pub struct ObjFile {
 /// `with_materials` the MTL libraries named by `mtllib` are loaded (relative to the OBJ) and must
 /// exist; without it they are not read at all.
 pub fn load_obj(path: &Path, with_materials: bool) -> Result<ObjFile, ObjError> {
-    let bytes = std::fs::read(path).map_err(|e| ObjError {
+    let bytes = crate::files::read_input(path).map_err(|e| ObjError {
         file: path.to_path_buf(),
         line: None,
         reason: format!("cannot read: {e}"),
@@ -158,7 +158,7 @@ pub fn load_obj_bytes(
             .iter()
             .find(|(_, name)| Path::new(name) == mtl)
             .map(|(l, _)| *l);
-        let result = std::fs::read(&full)
+        let result = crate::files::read_input(&full)
             .map_err(|e| ObjError {
                 file: full.clone(),
                 line: None,
@@ -382,7 +382,8 @@ fn mtl_extras(text: &str, mtl: &Path) -> Result<(Vec<MtlExtra>, Vec<String>), Li
                 let (opts, file) = map_options(kw, rest).map_err(|e| (no, e))?;
                 let Some(target) = map_target(kw) else {
                     warnings.push(warn(format!(
-                        "{kw} {file}: this kind of map is not used, ignored"
+                        "{kw} {}: this kind of map is not used, ignored",
+                        crate::files::excerpt(file)
                     )));
                     continue;
                 };
@@ -396,7 +397,8 @@ fn mtl_extras(text: &str, mtl: &Path) -> Result<(Vec<MtlExtra>, Vec<String>), Li
                     return Err((
                         no,
                         format!(
-                            "{kw}: unsupported texture file \"{file}\" (supported: .png, .exr, .hdr; convert it, or give the object a \"material\" so that the MTL file is not read)"
+                            "{kw}: unsupported texture file \"{}\" (supported: .png, .exr, .hdr; convert it, or give the object a \"material\" so that the MTL file is not read)",
+                            crate::files::excerpt(file)
                         ),
                     ));
                 }
@@ -492,7 +494,7 @@ fn map_options<'a>(keyword: &str, rest: &'a str) -> Result<(MapOptions, &'a str)
                 let on = match v {
                     "on" => true,
                     "off" => false,
-                    _ => return Err(format!("{keyword}: option {opt} takes on or off, got {v:?}")),
+                    _ => return Err(format!("{keyword}: option {opt} takes on or off, got {}", Quoted(v))),
                 };
                 if opt == "-clamp" {
                     opts.clamp = on;
@@ -534,7 +536,8 @@ fn map_options<'a>(keyword: &str, rest: &'a str) -> Result<(MapOptions, &'a str)
                     }
                     _ => {
                         return Err(format!(
-                            "{keyword}: option -imfchan takes r, g, b, m, l or z, got {v:?}"
+                            "{keyword}: option -imfchan takes r, g, b, m, l or z, got {}",
+                            Quoted(v)
                         ))
                     }
                 };
@@ -544,7 +547,8 @@ fn map_options<'a>(keyword: &str, rest: &'a str) -> Result<(MapOptions, &'a str)
             }
             _ => {
                 return Err(format!(
-                    "{keyword}: unknown option {opt} (known: -blendu, -blendv, -bm, -boost, -cc, -clamp, -imfchan, -mm, -o, -s, -t, -texres, -type)"
+                    "{keyword}: unknown option {} (known: -blendu, -blendv, -bm, -boost, -cc, -clamp, -imfchan, -mm, -o, -s, -t, -texres, -type)",
+                    crate::files::excerpt(opt)
                 ))
             }
         }
@@ -567,14 +571,25 @@ fn utf8(bytes: &[u8]) -> Result<&str, (usize, String)> {
 
 type LineError = (usize, String);
 
+/// A word of the input in an error message: quoted, and shortened when long
+/// ([`crate::files::quoted`]); formatted only when the message is.
+struct Quoted<'a>(&'a str);
+
+impl std::fmt::Display for Quoted<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&crate::files::quoted(self.0))
+    }
+}
+
 fn number(word: Option<&str>, what: &str) -> Result<f32, String> {
     let Some(word) = word else {
         return Err(format!("{what}: missing number"));
     };
+    let qw = Quoted(word);
     match word.parse::<f32>() {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(format!("{what}: {word:?} is not a finite number")),
-        Err(_) => Err(format!("{what}: {word:?} is not a number")),
+        Ok(_) => Err(format!("{what}: {qw} is not a finite number")),
+        Err(_) => Err(format!("{what}: {qw} is not a number")),
     }
 }
 
@@ -650,14 +665,15 @@ fn check_obj(text: &str) -> Result<Vec<(usize, String)>, LineError> {
                 let mut corners = 0usize;
                 for word in words {
                     corners += 1;
+                    let qw = Quoted(word);
                     let parts: Vec<&str> = word.split('/').collect();
                     if parts.len() > 3 {
                         return Err(fail(format!(
-                            "bad face vertex {word:?} (v, v/vt, v//vn or v/vt/vn)"
+                            "bad face vertex {qw} (v, v/vt, v//vn or v/vt/vn)"
                         )));
                     }
                     if parts[0].is_empty() {
-                        return Err(fail(format!("face vertex {word:?} has no position index")));
+                        return Err(fail(format!("face vertex {qw} has no position index")));
                     }
                     let what = ["vertex", "texture coordinate", "normal"];
                     let totals = [nv, nvt, nvn];
@@ -668,7 +684,8 @@ fn check_obj(text: &str) -> Result<Vec<(usize, String)>, LineError> {
                         }
                         let Ok(x) = p.parse::<isize>() else {
                             return Err(fail(format!(
-                                "face vertex {word:?}: {p:?} is not an index"
+                                "face vertex {qw}: {} is not an index",
+                                Quoted(p)
                             )));
                         };
                         let ok = if x > 0 {
@@ -677,7 +694,7 @@ fn check_obj(text: &str) -> Result<Vec<(usize, String)>, LineError> {
                             x.unsigned_abs() <= running[i]
                         } else {
                             return Err(fail(format!(
-                                "face vertex {word:?}: index 0 (OBJ indices start at 1)"
+                                "face vertex {qw}: index 0 (OBJ indices start at 1)"
                             )));
                         };
                         if !ok {
@@ -688,7 +705,7 @@ fn check_obj(text: &str) -> Result<Vec<(usize, String)>, LineError> {
                                 format!("only {} {plural} before this line", running[i])
                             };
                             return Err(fail(format!(
-                                "face vertex {word:?}: {} index {x} out of range ({have})",
+                                "face vertex {qw}: {} index {x} out of range ({have})",
                                 what[i]
                             )));
                         }
@@ -759,7 +776,10 @@ fn check_mtl(text: &str) -> Result<(), LineError> {
             Some("illum") => {
                 let w = words.next().unwrap_or("");
                 if w.parse::<u8>().is_err() {
-                    return Err(fail(format!("illum: {w:?} is not a number from 0 to 255")));
+                    return Err(fail(format!(
+                        "illum: {} is not a number from 0 to 255",
+                        Quoted(w)
+                    )));
                 }
             }
             Some(kw) if (kw.starts_with("map_") || kw == "bump") && words.next().is_none() => {

@@ -27,7 +27,7 @@
 //!
 //! Also: procedural images for tests ([`checker`], [`noise_normal_map`]).
 
-use std::fs::{self, File};
+use std::fs;
 use std::io::{self, BufReader};
 use std::path::{Path, PathBuf};
 
@@ -183,9 +183,11 @@ pub enum TextureError {
         reason: String,
     },
     #[error(
-        "{}: image too large ({declared}); limits are {MAX_DIMENSION} pixels per side, \
-         2^30 pixels in total and 4 GiB of decoded data",
-        .path.display()
+        "{}: image too large ({declared}); textures are limited to {MAX_DIMENSION} pixels per \
+         side and {} Mpix in total (1 Mpix = 1024 × 1024 pixels; raise it with \
+         --max-texture-mpix)",
+        .path.display(),
+        crate::files::InputBudget::current().max_texture_pixels / crate::files::MPIX
     )]
     TooLarge { path: PathBuf, declared: String },
 }
@@ -254,7 +256,7 @@ pub fn load_texture(
     on_warning: &mut dyn FnMut(String),
 ) -> Result<TextureData, TextureError> {
     let img = match &r.embedded {
-        Some(bytes) => decode_embedded(bytes, &r.path, &crate::imageio::SizeLimits::DEFAULT)?,
+        Some(bytes) => decode_embedded(bytes, &r.path, &texture_limits())?,
         None => decode_file(&r.path)?,
     };
     texture_from_image(
@@ -268,8 +270,20 @@ pub fn load_texture(
     )
 }
 
-/// Decodes an image file (PNG, EXR or HDR by extension) with the size limits of
-/// [`crate::imageio`].
+/// The decoding limits of a texture: [`crate::imageio`]'s per side, and the input budget's
+/// pixels ([`crate::files::InputBudget::max_texture_pixels`], 16 bytes a pixel at most), checked
+/// from the header before any pixel memory is allocated.
+pub fn texture_limits() -> crate::imageio::SizeLimits {
+    let pixels = crate::files::InputBudget::current().max_texture_pixels;
+    crate::imageio::SizeLimits {
+        max_dimension: MAX_DIMENSION,
+        max_pixels: pixels,
+        max_bytes: pixels.saturating_mul(16),
+    }
+}
+
+/// Decodes an image file (PNG, EXR or HDR by extension) with [`texture_limits`] (a regular file
+/// within the input budget).
 pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
     let kind = file_kind(path)?;
     let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
@@ -278,13 +292,8 @@ pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
             path: path.to_path_buf(),
         });
     }
-    let file = File::open(path).map_err(|e| read_error(path, e))?;
-    decode_from(
-        BufReader::new(file),
-        path,
-        kind,
-        &crate::imageio::SizeLimits::DEFAULT,
-    )
+    let file = crate::files::open_input(path).map_err(|e| read_error(path, e))?;
+    decode_from(BufReader::new(file), path, kind, &texture_limits())
 }
 
 /// [`decode_file`] on a file's bytes already in memory, with explicit size limits; `name` gives

@@ -215,6 +215,48 @@ pub enum Verdict {
     Blessed(BlessChange),
 }
 
+/// Writes `path` through `write` on a temporary file beside it (same folder, same extension),
+/// flushed to disk and renamed over `path`: a run killed or failing mid-write leaves the old
+/// golden whole (a rename is atomic), never a truncated one. The temporary file is removed when
+/// the write fails.
+pub fn replace_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), String>,
+) -> Result<(), String> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.bless-{}.{ext}", std::process::id()));
+    let result = write(&tmp).and_then(|()| {
+        let synced = std::fs::File::open(&tmp).and_then(|f| f.sync_all());
+        synced
+            .and_then(|()| std::fs::rename(&tmp, path))
+            .map_err(|e| format!("cannot replace {}: {e}", path.display()))
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+        return result;
+    }
+    let dir = path.parent().unwrap_or(Path::new("."));
+    // The rename itself reaches the disk with its folder (best effort).
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    // Temporary files of runs killed mid-write are stale now.
+    let stale = format!(".{name}.bless-");
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        if entry.file_name().to_string_lossy().starts_with(&stale) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+    result
+}
+
 /// What `--bless` did to a golden.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BlessChange {
@@ -522,15 +564,19 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         };
         if change != BlessChange::Unchanged {
             let meta = case.actual_provenance.clone().unwrap_or_default();
-            if let Err(e) = imageio::save_with(
-                &golden,
-                &image,
-                scene.output.exposure,
-                scene.output.tonemap,
-                &meta,
-            ) {
+            let saved = replace_atomically(&golden, |tmp| {
+                imageio::save_with(
+                    tmp,
+                    &image,
+                    scene.output.exposure,
+                    scene.output.tonemap,
+                    &meta,
+                )
+                .map_err(|e| e.to_string())
+            });
+            if let Err(e) = saved {
                 case.verdict = Verdict::Fail;
-                case.failures.push(e.to_string());
+                case.failures.push(e);
                 case.millis = t0.elapsed().as_secs_f64() * 1e3;
                 return case;
             }

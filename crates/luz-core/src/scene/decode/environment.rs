@@ -181,7 +181,7 @@ fn read_head(file: &Path, n: usize) -> std::result::Result<Vec<u8>, String> {
         Ok(_) => {}
     }
     let mut head = Vec::with_capacity(n);
-    std::fs::File::open(file)
+    crate::files::open_input(file)
         .and_then(|f| f.take(n as u64).read_to_end(&mut head))
         .map_err(|e| format!("cannot read: {e}"))?;
     Ok(head)

@@ -198,8 +198,9 @@ fn texture_file(v: &Value, path: &str, base: &Path) -> Result<PathBuf> {
             ),
         ));
     }
-    match std::fs::metadata(&file) {
-        Ok(m) if m.is_dir() => Err(Invalid::new(
+    // A regular file within the input budget (a FIFO would block the renderer later).
+    match crate::files::check_input(&file) {
+        Err(e) if e.kind() == std::io::ErrorKind::IsADirectory => Err(Invalid::new(
             path,
             format!("{}: is a directory, not an image file", file.display()),
         )),

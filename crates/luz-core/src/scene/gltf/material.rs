@@ -84,7 +84,12 @@ impl Images {
                             .map_err(|e| GltfError::at(file, format!("images[{i}].uri"), e))?;
                         (name, Some(Arc::from(bytes)))
                     } else {
-                        let path = base.join(super::percent_decode(uri));
+                        let path = crate::files::resolve_inside(
+                            base,
+                            &super::percent_decode(uri),
+                            crate::files::InputBudget::current().allow_outside_uris,
+                        )
+                        .map_err(|e| GltfError::at(file, format!("images[{i}].uri"), e))?;
                         if !path.is_file() {
                             return Err(GltfError::at(
                                 file,

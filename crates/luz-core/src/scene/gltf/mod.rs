@@ -30,10 +30,9 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
 ];
 
-/// Most triangles one file may expand into (its meshes baked once per node that uses them): a
-/// small file whose thousands of nodes share one big mesh must not make the loader build
-/// gigabytes.
-pub const MAX_TRIANGLES: usize = 1 << 25;
+/// Narrowest camera `aspectRatio` accepted (1/16; the widest is 16): beyond, the image would be
+/// one pixel or thousands of pixels wide.
+const MIN_ASPECT: f32 = 1.0 / 16.0;
 
 /// Why a glTF file could not be loaded: `<file>: <json path>: <reason>`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -108,18 +107,22 @@ pub fn is_gltf(path: &Path) -> bool {
 /// Loads scene `scene` of the glTF file at `path` (`None`: the file's default scene, else its
 /// first).
 pub fn load(path: &Path, scene: Option<usize>) -> Result<GltfFile, GltfError> {
-    let bytes = std::fs::read(path)
+    let bytes = crate::files::read_input(path)
         .map_err(|e| GltfError::at(path, "(root)", format!("cannot read the file: {e}")))?;
     load_bytes(&bytes, path, scene)
 }
 
-/// [`load`] on the file's bytes; `path` names it and is the base of relative URIs.
+/// [`load`] on the file's bytes; `path` names it and is the base of relative URIs. The file may
+/// expand into at most the input budget's triangles and instances
+/// ([`crate::files::InputBudget`]): a small file whose thousands of nodes share one big mesh
+/// must not make the loader build gigabytes.
 pub fn load_bytes(bytes: &[u8], path: &Path, scene: Option<usize>) -> Result<GltfFile, GltfError> {
-    load_bytes_with(bytes, path, scene, MAX_TRIANGLES)
+    let budget = crate::files::InputBudget::current();
+    load_bytes_with(bytes, path, scene, budget.max_triangles)
 }
 
-/// [`load_bytes`] with another budget of triangles than [`MAX_TRIANGLES`] (the fuzz target's is
-/// smaller).
+/// [`load_bytes`] with another budget of triangles than the input budget's (the fuzz target's
+/// is smaller).
 pub fn load_bytes_with(
     bytes: &[u8],
     path: &Path,
@@ -318,8 +321,26 @@ fn load_buffers(
                 data_uri(uri).map_err(|e| GltfError::at(path, format!("buffers[{i}].uri"), e))?
             }
             gltf::buffer::Source::Uri(uri) => {
-                let file = base.join(percent_decode(uri));
-                std::fs::read(&file).map_err(|e| {
+                let budget = crate::files::InputBudget::current();
+                if b.length() as u64 > budget.max_file_bytes {
+                    return Err(GltfError::at(
+                        path,
+                        format!("buffers[{i}].byteLength"),
+                        format!(
+                            "declares {}, more than the input budget's largest file ({}; raise \
+                             it with --max-file-mb)",
+                            crate::files::human_bytes(b.length() as u64),
+                            crate::files::human_bytes(budget.max_file_bytes)
+                        ),
+                    ));
+                }
+                let file = crate::files::resolve_inside(
+                    base,
+                    &percent_decode(uri),
+                    budget.allow_outside_uris,
+                )
+                .map_err(|e| GltfError::at(path, format!("buffers[{i}].uri"), e))?;
+                crate::files::read_input(&file).map_err(|e| {
                     GltfError::at(
                         path,
                         format!("buffers[{i}].uri"),
@@ -358,6 +379,8 @@ struct Builder<'a> {
     /// Triangles of the parts so far, and the budget.
     triangles: usize,
     max_triangles: usize,
+    /// Most parts (mesh instances, one per node and primitive).
+    max_instances: usize,
     /// A node with a skin, a primitive with morph targets (one warning at the end).
     skinned: bool,
     morphed: bool,
@@ -384,7 +407,8 @@ impl<'a> Builder<'a> {
             default_material: None,
             warned: HashMap::new(),
             triangles: 0,
-            max_triangles: MAX_TRIANGLES,
+            max_triangles: crate::files::InputBudget::current().max_triangles,
+            max_instances: crate::files::InputBudget::current().max_instances,
             skinned: false,
             morphed: false,
         })
@@ -430,7 +454,16 @@ impl<'a> Builder<'a> {
                             child[c.index()] = true;
                         }
                     }
-                    (0..child.len()).filter(|&i| !child[i]).collect()
+                    let roots: Vec<usize> = (0..child.len()).filter(|&i| !child[i]).collect();
+                    if roots.is_empty() && !child.is_empty() {
+                        return Err(GltfError::at(
+                            self.path,
+                            "nodes",
+                            "the file has no scene and every node is the child of another (a \
+                             cycle): there is no root node to draw",
+                        ));
+                    }
+                    roots
                 }
             },
         };
@@ -528,8 +561,20 @@ impl<'a> Builder<'a> {
                     self.path,
                     format!("nodes[{i}]"),
                     format!(
-                        "the file expands into more than {} triangles (its meshes are baked once per node that uses them)",
+                        "the file expands into more than {} triangles (its meshes are baked once \
+                         per node that uses them; raise the input budget with --max-triangles)",
                         self.max_triangles
+                    ),
+                ));
+            }
+            if self.out.parts.len() >= self.max_instances {
+                return Err(GltfError::at(
+                    self.path,
+                    format!("nodes[{i}]"),
+                    format!(
+                        "the file places more than {} mesh instances (one per node and \
+                         primitive; raise the input budget with --max-instances)",
+                        self.max_instances
                     ),
                 ));
             }
@@ -659,8 +704,16 @@ impl<'a> Builder<'a> {
         };
         let aspect = match p.aspect_ratio() {
             None => None,
-            Some(a) if a > 0.0 && a.is_finite() => Some(a),
-            Some(a) => return Err(err("aspectRatio", format!("must be positive, got {a}"))),
+            Some(a) if (MIN_ASPECT..=1.0 / MIN_ASPECT).contains(&a) => Some(a),
+            Some(a) => {
+                return Err(err(
+                    "aspectRatio",
+                    format!(
+                        "must be between 1/16 and 16 (the image is its height × aspectRatio \
+                         wide), got {a}"
+                    ),
+                ))
+            }
         };
         Ok((
             Projection::Perspective,
@@ -739,6 +792,7 @@ impl<'a> Builder<'a> {
             .transform_vector3(Vec3::NEG_Z)
             .try_normalize()
             .unwrap_or(Vec3::NEG_Z);
+        let mut hard_edge = None;
         let (kind, umbra_deg, inner_deg) = match l.kind() {
             Kind::Directional => (LightKind::Directional, 180.0, None),
             Kind::Point => (LightKind::Point, 180.0, None),
@@ -760,9 +814,20 @@ impl<'a> Builder<'a> {
                         format!("must be in [0, outerConeAngle), got {inner_cone_angle}"),
                     ));
                 }
+                if inner >= outer {
+                    hard_edge = Some(format!(
+                        "{}: extensions.KHR_lights_punctual.lights[{li}].spot.innerConeAngle \
+                         ({inner_cone_angle}) is not below outerConeAngle ({outer_cone_angle}); \
+                         the spot is drawn with a hard edge at outerConeAngle",
+                        self.file_name
+                    ));
+                }
                 (LightKind::Spot, outer, (inner < outer).then_some(inner))
             }
         };
+        if let Some(w) = hard_edge {
+            self.out.warnings.push(w);
+        }
         self.out.lights.push(Light {
             kind,
             direction: if kind == LightKind::Point {
