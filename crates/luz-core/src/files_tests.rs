@@ -53,3 +53,26 @@ fn only_regular_files_within_the_budget_are_read() {
     assert_eq!(read_input_text(&small).unwrap(), "abc");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A write that fails half way (a full disk: ENOSPC after part of the bytes) leaves neither
+/// its temporary file nor a part of the file; the old contents stay.
+#[test]
+fn a_failed_write_leaves_nothing_behind() {
+    let dir = std::env::temp_dir().join(format!("luz-files-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("a.lod");
+    try_write_file_atomically(&path, b"old").unwrap();
+    let full = write_atomically_with(&path, &[7u8; 1 << 20], |tmp, bytes| {
+        std::fs::write(tmp, &bytes[..bytes.len() / 2])?;
+        Err(std::io::Error::from_raw_os_error(28)) // ENOSPC
+    });
+    assert_eq!(full.unwrap_err().raw_os_error(), Some(28));
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["a.lod"]);
+    assert_eq!(std::fs::read(&path).unwrap(), b"old");
+    let _ = std::fs::remove_dir_all(&dir);
+}
