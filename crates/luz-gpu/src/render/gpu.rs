@@ -39,21 +39,6 @@ const _: () = assert!(SET_FRAME == 0 && SET_ENV == 1 && SET_MATERIAL == 2 && SET
 /// The shadow maps' set (`shaders_glsl/include/shadows.glsl`).
 pub const SET_SHADOW: u32 = glsl::include_shadows::SET_SHADOW as u32;
 
-/// The interface of the scene's shared sets — frame (0), environment (1), materials (2) and
-/// shadows (3) — as every module drawn with them declares it: the forward, G-buffer, skybox
-/// and alpha-tested shadow modules, and the deferred lighting pass's frame and shadow sets (its
-/// set 1 is the G-buffer's). Each of these set layouts is made from it, once for all the pipeline
-/// layouts that share it.
-pub fn scene_interface() -> Result<crate::vk::Interface, crate::vk::VkError> {
-    use crate::vk::interface::keys_with_prefix;
-    let keys: Vec<&str> = ["forward.", "skybox.", "shadow_mask.", "deferred_gbuffer."]
-        .into_iter()
-        .flat_map(keys_with_prefix)
-        .collect();
-    crate::vk::Interface::of("scene", &keys)?
-        .with(&["deferred_light.frag"], &[SET_FRAME, SET_SHADOW])
-}
-
 /// Material model ids (specialization constant 0): the CPU reference's codes.
 pub use crate::brdf::model_code;
 

@@ -160,7 +160,7 @@ impl MaterialSets {
         scene: &Scene,
         warn: &mut dyn FnMut(String),
     ) -> Result<Self, VkError> {
-        let set_layout = crate::render::gpu::scene_interface()?.set_layout(ctx, SET_MATERIAL)?;
+        let set_layout = crate::render::sets::scene_interface()?.set_layout(ctx, SET_MATERIAL)?;
         let n = scene.materials.len().max(1) as u32;
         let desc_pool = DescriptorPool::for_sets(ctx, "material pool", &[(&set_layout, n)])?;
 

@@ -13,6 +13,8 @@ pub mod ibl;
 pub mod material;
 pub mod mesh;
 pub mod saturate;
+/// The scene's shared descriptor sets, made from the shaders' interfaces.
+pub mod sets;
 pub mod shadow;
 pub mod target;
 pub mod tonemap;

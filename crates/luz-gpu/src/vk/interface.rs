@@ -13,19 +13,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
+pub use super::pipeline::LayoutBinding;
 use super::pipeline::{DescriptorPool, DescriptorSetLayout, PipelineLayout};
 use super::shaders::{ModuleInterface, INTERFACES};
 use super::{Context, VkError};
-
-/// One binding of a set layout: its number, type, array count, stages and GLSL name.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct LayoutBinding {
-    pub binding: u32,
-    pub ty: vk::DescriptorType,
-    pub count: u32,
-    pub stages: vk::ShaderStageFlags,
-    pub name: &'static str,
-}
 
 /// The resource interface of a group of modules that share a pipeline layout.
 #[derive(Debug, Clone)]

@@ -5,11 +5,20 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::interface::LayoutBinding;
 use super::shaders::ShaderModule;
 use super::{Context, VkError};
 
 const MAIN: &CStr = c"main";
+
+/// One binding of a set layout: its number, type, array count, stages and GLSL name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LayoutBinding {
+    pub binding: u32,
+    pub ty: vk::DescriptorType,
+    pub count: u32,
+    pub stages: vk::ShaderStageFlags,
+    pub name: &'static str,
+}
 
 /// A descriptor set layout, with the bindings it was made from (pools and writes read them).
 /// Made from the shaders' reflected interface ([`super::interface::Interface::set_layout`]).

@@ -24,7 +24,7 @@ pub(super) fn storage_fits<T>(
 /// deferred path's materials, the light clusters and their index list, the instances' objects
 /// (`bindings.glsl`, set 0), as the scene's shaders declare it.
 pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout, VkError> {
-    gpu::scene_interface()?.set_layout(ctx, gpu::SET_FRAME)
+    crate::render::sets::scene_interface()?.set_layout(ctx, gpu::SET_FRAME)
 }
 
 /// What [`build_draws`] makes: the meshes queued for upload, the objects' data and one draw per

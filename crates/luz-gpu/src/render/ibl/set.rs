@@ -51,7 +51,7 @@ impl EnvSet {
             MemoryLocation::CpuToGpu,
         )?;
         ubo.write(0, bytemuck::bytes_of(ubo_data))?;
-        let set_layout = crate::render::gpu::scene_interface()?.set_layout(ctx, SET_ENV)?;
+        let set_layout = crate::render::sets::scene_interface()?.set_layout(ctx, SET_ENV)?;
         let set_pool = DescriptorPool::for_sets(ctx, "environment pool", &[(&set_layout, 1)])?;
         let set = set_pool.allocate(&set_layout)?;
         let sampled = |view| Bind::Sampled(view, sampler.raw);

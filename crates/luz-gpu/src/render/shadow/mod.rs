@@ -344,7 +344,7 @@ impl ShadowMaps {
             sampler("shadow compare nearest", vk::Filter::NEAREST, true)?,
             sampler("shadow depth", vk::Filter::NEAREST, false)?,
         ];
-        let set_layout = crate::render::gpu::scene_interface()?.set_layout(ctx, SET_SHADOW)?;
+        let set_layout = crate::render::sets::scene_interface()?.set_layout(ctx, SET_SHADOW)?;
         let n = slots.max(1) as u32;
         let desc_pool =
             DescriptorPool::for_sets(ctx, "shadow descriptor pool", &[(&set_layout, n)])?;
