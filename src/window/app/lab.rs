@@ -46,18 +46,7 @@ impl Side {
         let targets = HdrTarget::new(env.ctx, "viewer B", nonzero(env.extent), samples)?;
         let ibl = match ibl {
             Some(i) => i,
-            None => match &scene.environment {
-                Some(e) => Some(build_ibl(
-                    env.ctx,
-                    env.pool,
-                    &scene,
-                    e,
-                    &env.options.ibl,
-                    env.options.cache_dir.as_deref(),
-                    env.options.progress.as_deref(),
-                )?),
-                None => None,
-            },
+            None => scene_ibl(env.ctx, env.pool, &scene, env.options)?,
         };
         let forward = make_forward(
             env.ctx,

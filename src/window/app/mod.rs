@@ -500,18 +500,7 @@ impl Viewer {
         let samples = sample_flags(scene.output.msaa);
         let extent = swapchain.extent;
         let targets = HdrTarget::new(&ctx, "viewer", nonzero(extent), samples)?;
-        let ibl = match &scene.environment {
-            Some(env) => Some(build_ibl(
-                &ctx,
-                &pool,
-                &scene,
-                env,
-                &render_options.ibl,
-                render_options.cache_dir.as_deref(),
-                render_options.progress.as_deref(),
-            )?),
-            None => None,
-        };
+        let ibl = scene_ibl(&ctx, &pool, &scene, &render_options)?;
         let forward = make_forward(
             &ctx,
             &pool,
@@ -692,6 +681,29 @@ fn nonzero(e: vk::Extent2D) -> vk::Extent2D {
         width: e.width.max(1),
         height: e.height.max(1),
     }
+}
+
+/// The image-based lighting of `scene`'s environment with `options`' sizes, cache and progress;
+/// `None` without an environment.
+fn scene_ibl(
+    ctx: &Arc<Context>,
+    pool: &CommandPool,
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<Option<Ibl>, VkError> {
+    let Some(env) = &scene.environment else {
+        return Ok(None);
+    };
+    let ibl = build_ibl(
+        ctx,
+        pool,
+        scene,
+        env,
+        &options.ibl,
+        options.cache_dir.as_deref(),
+        options.progress.as_deref(),
+    )?;
+    Ok(Some(ibl))
 }
 
 fn make_forward(

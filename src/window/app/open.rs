@@ -94,18 +94,12 @@ impl Viewer {
         // further synchronisation; afterwards nothing the rebuild replaces is in use.
         unsafe { self.ctx.device.device_wait_idle()? };
         let ibl = if environment {
-            Some(match &self.scene.environment {
-                Some(env) => Some(build_ibl(
-                    &self.ctx,
-                    &self.pool,
-                    &self.scene,
-                    env,
-                    &self.render_options.ibl,
-                    self.render_options.cache_dir.as_deref(),
-                    self.render_options.progress.as_deref(),
-                )?),
-                None => None,
-            })
+            Some(scene_ibl(
+                &self.ctx,
+                &self.pool,
+                &self.scene,
+                &self.render_options,
+            )?)
         } else {
             None
         };
