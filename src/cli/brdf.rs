@@ -357,7 +357,7 @@ fn command_line_material(args: &BrdfArgs) -> Result<Option<(Model, Value)>> {
     let mut value = match (&args.material, &args.model) {
         (Some(m), _) => {
             let text = match m.strip_prefix('@') {
-                Some(path) => std::fs::read_to_string(path)
+                Some(path) => luz::files::read_input_text(std::path::Path::new(path))
                     .with_context(|| format!("--material: reading {path}"))?,
                 None => m.clone(),
             };

@@ -139,7 +139,8 @@ impl ToleranceOverrides {
 
 /// Reads a sidecar: [`ToleranceOverrides::parse`] of its JSON, applied to `base`.
 pub fn read_sidecar(path: &std::path::Path, base: Tolerance) -> Result<Tolerance, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text =
+        crate::files::read_input_text(path).map_err(|e| format!("{}: {e}", path.display()))?;
     parse_sidecar(&text, base).map_err(|e| format!("{}: {e}", path.display()))
 }
 

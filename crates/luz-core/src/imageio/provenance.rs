@@ -243,7 +243,7 @@ pub fn svg_with_metadata(svg: &str, meta: &Provenance) -> String {
 
 /// The provenance [`svg_with_metadata`] wrote into an SVG file (empty when it has none).
 pub fn read_svg(path: &Path) -> Result<Provenance, std::io::Error> {
-    let text = std::fs::read_to_string(path)?;
+    let text = crate::files::read_input_text(path)?;
     let mut out = Provenance::default();
     let open = format!("<metadata id=\"{SVG_METADATA_ID}\">");
     let Some(start) = text.find(&open).map(|i| i + open.len()) else {

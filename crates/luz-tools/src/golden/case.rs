@@ -35,7 +35,8 @@ impl CaseFile {
     /// Reads and checks `path`; every message names the file and the field.
     pub fn read(path: &Path) -> Result<Self, String> {
         let at = |field: &str, reason: String| format!("{}: {field}: {reason}", path.display());
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text =
+            crate::files::read_input_text(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let mut value: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| format!("{}: not valid JSON: {e}", path.display()))?;
         let obj = value
@@ -116,7 +117,7 @@ impl CaseFile {
 /// Whether `path` is a case file: a sidecar with a `scene` field (read loosely; a broken one is
 /// reported when its case runs).
 pub fn names_a_scene(path: &Path) -> bool {
-    std::fs::read_to_string(path)
+    crate::files::read_input_text(path)
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .is_some_and(|v| v.get("scene").is_some())
