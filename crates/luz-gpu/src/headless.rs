@@ -485,14 +485,7 @@ impl Headless {
         self.forward.prepare_extent(self.target.extent())?;
         // SAFETY: `cmd` was allocated from `self.pool` (created with RESET_COMMAND_BUFFER) and is
         // not pending: the previous `render` waited for its fence before returning.
-        unsafe {
-            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
-            d.begin_command_buffer(
-                cmd,
-                &vk::CommandBufferBeginInfo::default()
-                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-            )?;
-        }
+        unsafe { crate::vk::cmd::restart(&d, cmd) }?;
         if let Some(t) = &mut self.timer {
             t.reset(cmd);
         }

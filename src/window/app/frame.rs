@@ -2,6 +2,7 @@
 //! into the swapchain image, presenting, and screenshots.
 
 use super::*;
+use crate::vk::cmd::Load;
 use crate::window::ui::compare::MAP_SCOPE;
 
 impl Viewer {
@@ -268,14 +269,7 @@ impl Viewer {
         let cmd = self.frames[slot].cmd;
         // SAFETY: the slot's command buffer is not pending (its fence was waited for above) and comes
         // from a pool created with RESET_COMMAND_BUFFER.
-        unsafe {
-            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
-            d.begin_command_buffer(
-                cmd,
-                &vk::CommandBufferBeginInfo::default()
-                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-            )?;
-        }
+        unsafe { crate::vk::cmd::restart(&d, cmd) }?;
         let screenshot = self.pending_screenshot.take();
         let output = self.frame_output(screenshot.as_deref());
         self.forward.prepare(output)?;
@@ -481,7 +475,7 @@ impl Viewer {
             pass.record(move |rc| {
                 let view = rc.image(swap)?.view;
                 rc.image(a.output())?;
-                render_to(rc, view, sc, vk::AttachmentLoadOp::DONT_CARE, |cmd| {
+                render_to(rc, view, sc, Load::DontCare, |cmd| {
                     lab::record_display(cmd, (slot, area, format), (display, scene), lab)
                 })
             });
@@ -493,7 +487,7 @@ impl Viewer {
                 .side_effect()
                 .record(move |rc| {
                     let view = rc.image(swap)?.view;
-                    render_to(rc, view, sc, vk::AttachmentLoadOp::LOAD, |cmd| {
+                    render_to(rc, view, sc, Load::Keep, |cmd| {
                         if let Some(r) = renderer {
                             r.cmd_draw(cmd, sc, pixels_per_point, primitives)
                                 .map_err(|e| anyhow!("egui: {e}"))?;
@@ -611,22 +605,16 @@ fn render_to(
     rc: &mut crate::graph::RecordContext<'_>,
     view: vk::ImageView,
     extent: vk::Extent2D,
-    load: vk::AttachmentLoadOp,
+    load: Load,
     draw: impl FnOnce(vk::CommandBuffer) -> Result<()>,
 ) -> Result<(), crate::graph::PassError> {
     let (d, cmd) = (rc.device(), rc.cmd());
-    let colors = [vk::RenderingAttachmentInfo::default()
-        .image_view(view)
-        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-        .load_op(load)
-        .store_op(vk::AttachmentStoreOp::STORE)];
-    let info = vk::RenderingInfo::default()
-        .render_area(vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        })
-        .layer_count(1)
-        .color_attachments(&colors);
+    let colors = [crate::vk::cmd::color_attachment(view, load, true)];
+    let area = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
+    let info = crate::vk::cmd::rendering_info(area, &colors, None);
     // SAFETY: `cmd` is recording outside a rendering instance (the graph records one pass at a
     // time) and the image behind `view` is in COLOR_ATTACHMENT_OPTIMAL (the pass's declared
     // access); `info` outlives the call.

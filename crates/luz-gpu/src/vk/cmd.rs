@@ -358,3 +358,20 @@ pub fn rendering_info<'a>(
         None => info,
     }
 }
+
+/// Resets `cmd` and begins it for one submission.
+///
+/// # Safety
+/// `cmd` must come from a pool created with RESET_COMMAND_BUFFER and must not be pending (its
+/// last submission's fence was waited for).
+pub unsafe fn restart(device: &ash::Device, cmd: vk::CommandBuffer) -> Result<(), vk::Result> {
+    // SAFETY: the caller's contract.
+    unsafe {
+        device.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+        device.begin_command_buffer(
+            cmd,
+            &vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+        )
+    }
+}
