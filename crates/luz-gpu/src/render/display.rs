@@ -146,9 +146,10 @@ impl DisplayPass {
             exposure_scale: exposure_scale(exposure_ev),
         };
         // SAFETY: `pipeline` is this pass's prepared pipeline for (`tonemap`, `format`) (looked up
-        // above) with viewport, scissor and cull mode dynamic, built with `self.single`'s layout. The caller's part, documented above: `cmd` is recording inside a dynamic
-        // rendering instance on one attachment of `format`, and the source image is in the layout
-        // given at creation and readable by fragment shaders.
+        // above) with viewport, scissor and cull mode dynamic, built with `self.single`'s layout.
+        // The caller's part, documented above: `cmd` is recording inside a dynamic rendering
+        // instance on one attachment of `format`, and the source image is in the layout given at
+        // creation and readable by fragment shaders.
         unsafe {
             draw_fullscreen(
                 cmd,
