@@ -44,6 +44,18 @@ fn render_writes_the_frame_graph_as_dot_and_svg() {
     for resource in ["hdr color", "depth", "readback"] {
         assert!(text.contains(resource), "{resource} missing:\n{text}");
     }
+    // The frame's images are the graph's transients (issue 32): the HDR colour and depth live
+    // for one frame; only the readback buffer is imported.
+    for image in ["headless hdr color", "headless depth"] {
+        let node = text
+            .lines()
+            .find(|l| l.contains(image) && l.contains("shape=ellipse"))
+            .unwrap_or_else(|| panic!("no node for {image}:\n{text}"));
+        assert!(
+            node.contains("transient"),
+            "{image} is not transient: {node}"
+        );
+    }
     assert!(
         text.contains("TransferSrc"),
         "edges name their access:\n{text}"

@@ -463,12 +463,7 @@ fn display_pass_matches_cpu_bytes() {
             ImageDesc::color_target(rig.width, rig.height, FORMAT),
         )
         .unwrap();
-        let mut pass = DisplayPass::new(
-            &ctx,
-            rig.source.view,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )
-        .unwrap();
+        let mut pass = DisplayPass::new(&ctx, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL).unwrap();
         let attachment = (
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
@@ -510,7 +505,8 @@ fn display_pass_matches_cpu_bytes() {
                         // SAFETY: `cmd` is recording and the swapchain-like target image was
                         // transitioned to COLOR_ATTACHMENT_OPTIMAL above; `info` outlives the call.
                         unsafe { d.cmd_begin_rendering(cmd, &info) };
-                        pass.record(cmd, op, FORMAT, ev, rig.extent()).unwrap();
+                        pass.record(cmd, rig.source.view, (op, FORMAT), ev, rig.extent())
+                            .unwrap();
                         // SAFETY: closes the rendering begun above in the same command buffer.
                         unsafe { d.cmd_end_rendering(cmd) };
                         rig.read_back(cmd, &target, attachment);

@@ -239,7 +239,7 @@ impl Headless {
             .check_render_size(&scene.display_name(), width, height, target_pixel, 16)?;
         let samples = sample_flags(ctx, scene)?;
         let pool = CommandPool::new(ctx, "headless commands")?;
-        let target = HdrTarget::new(ctx, "headless", vk::Extent2D { width, height }, samples)?;
+        let target = HdrTarget::new("headless", vk::Extent2D { width, height }, samples);
         let bytes = width as u64 * height as u64 * 16;
         let readback = Buffer::new(
             ctx,
@@ -270,7 +270,7 @@ impl Headless {
             ibl.as_ref(),
             options.pass_options(),
         )?;
-        let saturate = SaturatePass::for_scene(ctx, scene, &target.color)?;
+        let saturate = SaturatePass::for_scene(ctx, scene)?;
         let timer = GpuTimer::new(ctx, 8)?;
         let cmd = pool.allocate(1)?[0];
         // SAFETY: `ctx.device` is a live device; the default create info is valid, and the fence is
@@ -482,7 +482,7 @@ impl Headless {
         let d = self.ctx.device.clone();
         let cmd = self.cmd;
         self.forward.prepare(output)?;
-        self.forward.prepare_extent(self.target.extent())?;
+        self.forward.prepare_extent(self.target.extent());
         // SAFETY: `cmd` was allocated from `self.pool` (created with RESET_COMMAND_BUFFER) and is
         // not pending: the previous `render` waited for its fence before returning.
         unsafe { crate::vk::cmd::restart(&d, cmd) }?;
@@ -618,9 +618,7 @@ fn frame_graph<'a>(
         }
     };
     add_readback(&mut g, "readback", source, readback, extent);
-    let graph = g.compile()?;
-    target.remember(graph.plan(), &scene);
-    Ok(graph)
+    Ok(g.compile()?)
 }
 
 /// The widest equirectangular image (2:1, RGBA32F on the GPU) the device takes: at most

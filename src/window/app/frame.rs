@@ -262,8 +262,7 @@ impl Viewer {
         self.forward.update(slot, &self.scene, aspect)?;
         self.note_lod(slot);
         self.sync_b(slot)?;
-        self.lab
-            .error_tick(&self.scene, self.targets.color.extent());
+        self.lab.error_tick(&self.scene, self.targets.extent());
 
         // 5. Record.
         let cmd = self.frames[slot].cmd;
@@ -273,7 +272,7 @@ impl Viewer {
         let screenshot = self.pending_screenshot.take();
         let output = self.frame_output(screenshot.as_deref());
         self.forward.prepare(output)?;
-        self.forward.prepare_extent(self.swapchain.extent)?;
+        self.forward.prepare_extent(self.swapchain.extent);
         let readback = self.record(
             cmd,
             slot,
@@ -380,7 +379,7 @@ impl Viewer {
             t.reset(cmd);
         }
         let sc = self.swapchain.extent;
-        let hdr_extent = self.targets.color.extent();
+        let hdr_extent = self.targets.extent();
         let direct = matches!(output, Output::Display { .. });
         // The host buffers this frame's copies write, made before the graph borrows them.
         let shot = match screenshot {
@@ -474,9 +473,19 @@ impl Viewer {
             };
             pass.record(move |rc| {
                 let view = rc.image(swap)?.view;
-                rc.image(a.output())?;
+                let views = lab::ShownViews {
+                    a: rc.image(a.output())?.view,
+                    b: match b_target {
+                        Some(bt) => Some(rc.image(bt.output())?.view),
+                        None => None,
+                    },
+                    map: match shown_map {
+                        Some(m) => Some(rc.image(m.map)?.view),
+                        None => None,
+                    },
+                };
                 render_to(rc, view, sc, Load::DontCare, |cmd| {
-                    lab::record_display(cmd, (slot, area, format), (display, scene), lab)
+                    lab::record_display(cmd, (slot, area, format), (display, scene), lab, views)
                 })
             });
         }
@@ -500,10 +509,6 @@ impl Viewer {
             add_readback(&mut g, "screenshot", swap, &shot.buffer, sc);
         }
         let graph = g.compile()?;
-        self.targets.remember(graph.plan(), &a);
-        if let (Some(b), Some(bt)) = (&self.lab.b, &b_target) {
-            b.remember(graph.plan(), bt);
-        }
         self.transients
             .execute(&self.ctx, graph, cmd, timer.as_mut())?;
         self.frames[slot].timer = timer;

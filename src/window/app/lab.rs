@@ -43,7 +43,7 @@ impl Side {
     /// Builds B's passes for `scene`, reusing `ibl` when given (same environment).
     fn new(env: &SideEnv, scene: Scene, ibl: Option<Option<Ibl>>) -> Result<Self> {
         let samples = sample_flags(scene.output.msaa);
-        let targets = HdrTarget::new(env.ctx, "viewer B", nonzero(env.extent), samples)?;
+        let targets = HdrTarget::new("viewer B", nonzero(env.extent), samples);
         let ibl = match ibl {
             Some(i) => i,
             None => scene_ibl(env.ctx, env.pool, &scene, env.options)?,
@@ -57,8 +57,8 @@ impl Side {
             env.extent,
             pass_options(env.settings, (Output::Hdr, env.path)),
         )?;
-        let saturate = SaturatePass::for_scene(env.ctx, &scene, &targets.color)?;
-        let display = DisplayPass::new(env.ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
+        let saturate = SaturatePass::for_scene(env.ctx, &scene)?;
+        let display = DisplayPass::new(env.ctx, vk::ImageLayout::GENERAL)?;
         Ok(Self {
             structure: Structure::of(&scene, env.settings),
             built_scene: scene.clone(),
@@ -83,7 +83,7 @@ impl Side {
         let Some(b) = side else { return Ok(None) };
         let mut message = None;
         let changed = Structure::of(&b.scene, env.settings) != b.structure;
-        if changed || nonzero(env.extent) != b.targets.color.extent() {
+        if changed || nonzero(env.extent) != b.targets.extent() {
             message = Some(String::new());
             // SAFETY: the device is live and only this thread submits; afterwards nothing B's
             // old passes recorded is pending.
@@ -103,7 +103,7 @@ impl Side {
         let aspect = env.extent.width as f32 / env.extent.height.max(1) as f32;
         b.forward.update(slot, &b.scene, aspect)?;
         b.forward.prepare(Output::Hdr)?;
-        b.forward.prepare_extent(env.extent)?;
+        b.forward.prepare_extent(env.extent);
         b.display.prepare(b.scene.output.tonemap, format)?;
         Ok(message)
     }
@@ -603,16 +603,10 @@ impl Viewer {
             .sum::<f64>();
         self.lab.read_map(slot, map_ms)?;
         let kind = map_kind(self.lab.settings.mode).filter(|_| self.lab.b.is_some());
-        if let (Some(kind), Some(b)) = (kind, &self.lab.b) {
+        if let Some(kind) = kind {
             if self.lab.gpu.is_none() {
-                let views = (self.targets.color.view, b.targets.color.view);
-                let extent = self.targets.color.extent();
-                self.lab.gpu = Some(ComparePass::new(
-                    &self.ctx,
-                    views,
-                    extent,
-                    FRAMES_IN_FLIGHT,
-                )?);
+                let extent = self.targets.extent();
+                self.lab.gpu = Some(ComparePass::new(&self.ctx, extent, FRAMES_IN_FLIGHT)?);
             }
             let pass = self.lab.gpu.as_mut().expect("built above");
             let output = self.scene.output;
@@ -660,11 +654,11 @@ pub(super) fn add_b_passes<'a>(
     Ok(target)
 }
 
-impl Side {
-    /// Keeps the state this frame's graph leaves B's colour image in.
-    pub(super) fn remember(&self, plan: &crate::graph::Plan, target: &SceneTarget) {
-        self.targets.remember(plan, target);
-    }
+/// This frame's views of what the display pass reads: A's and B's HDR colour and the A/B map.
+pub(super) struct ShownViews {
+    pub a: vk::ImageView,
+    pub b: Option<vk::ImageView>,
+    pub map: Option<vk::ImageView>,
 }
 
 /// Draws the window's scene image: A, or A and B as the comparison mode shows them (the
@@ -674,6 +668,7 @@ pub(super) fn record_display(
     (slot, area, format): (usize, vk::Extent2D, vk::Format),
     a: (&DisplayPass, &Scene),
     lab: &Lab,
+    views: ShownViews,
 ) -> Result<()> {
     let lab_b = &lab.b;
     let rect = |x0: u32, x1: u32| vk::Rect2D {
@@ -683,36 +678,37 @@ pub(super) fn record_display(
             height: area.height,
         },
     };
-    let draw = |(pass, scene): (&DisplayPass, &Scene), clip: vk::Rect2D| {
+    let draw = |(pass, scene): (&DisplayPass, &Scene), view, clip: vk::Rect2D| {
         pass.record_clipped(
             cmd,
+            view,
             (scene.output.tonemap, format),
             scene.output.exposure,
-            area,
-            clip,
+            (area, clip),
         )
     };
-    let Some(b) = lab_b else {
-        return Ok(draw(a, rect(0, area.width))?);
+    let (Some(b), Some(b_view)) = (lab_b, views.b) else {
+        return Ok(draw(a, views.a, rect(0, area.width))?);
     };
     let b = (&b.display, &b.scene);
     match (lab.settings.mode, &lab.gpu) {
         (CompareMode::Split, _) => {
             let x = ((lab.settings.split * area.width as f32).round() as u32).min(area.width);
             if x > 0 {
-                draw(a, rect(0, x))?;
+                draw(a, views.a, rect(0, x))?;
             }
             if x < area.width {
-                draw(b, rect(x, area.width))?;
+                draw(b, b_view, rect(x, area.width))?;
             }
         }
-        (CompareMode::Toggle, _) if lab.settings.show_b => draw(b, rect(0, area.width))?,
+        (CompareMode::Toggle, _) if lab.settings.show_b => draw(b, b_view, rect(0, area.width))?,
         (CompareMode::Difference | CompareMode::Flip, Some(pass))
-            if lab.recorded[slot].is_some() =>
+            if lab.recorded[slot].is_some() && views.map.is_some() =>
         {
-            pass.record_show(cmd, slot, format, area, rect(0, area.width))?
+            let map = views.map.expect("checked in the guard");
+            pass.record_show(cmd, (slot, map), format, area, rect(0, area.width))?
         }
-        _ => draw(a, rect(0, area.width))?,
+        _ => draw(a, views.a, rect(0, area.width))?,
     }
     Ok(())
 }

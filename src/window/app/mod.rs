@@ -499,7 +499,7 @@ impl Viewer {
         };
         let samples = sample_flags(scene.output.msaa);
         let extent = swapchain.extent;
-        let targets = HdrTarget::new(&ctx, "viewer", nonzero(extent), samples)?;
+        let targets = HdrTarget::new("viewer", nonzero(extent), samples);
         let ibl = scene_ibl(&ctx, &pool, &scene, &render_options)?;
         let forward = make_forward(
             &ctx,
@@ -516,8 +516,8 @@ impl Viewer {
                 ),
             ),
         )?;
-        let saturate = SaturatePass::for_scene(&ctx, &scene, &targets.color)?;
-        let display = DisplayPass::new(&ctx, targets.color.view, vk::ImageLayout::GENERAL)?;
+        let saturate = SaturatePass::for_scene(&ctx, &scene)?;
+        let display = DisplayPass::new(&ctx, vk::ImageLayout::GENERAL)?;
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),

@@ -106,11 +106,10 @@ impl Viewer {
         let samples = sample_flags(self.scene.output.msaa);
         let targets = if samples != self.samples {
             Some(HdrTarget::new(
-                &self.ctx,
                 "viewer",
                 nonzero(self.swapchain.extent),
                 samples,
-            )?)
+            ))
         } else {
             None
         };
@@ -138,8 +137,7 @@ impl Viewer {
                 ),
             ),
         )?;
-        let color = targets.as_ref().unwrap_or(&self.targets);
-        let saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &color.color)?;
+        let saturate = SaturatePass::for_scene(&self.ctx, &self.scene)?;
         // Everything is built: replace (the old passes are dropped after the new ones exist).
         self.forward = forward;
         self.saturate = saturate;
@@ -149,7 +147,6 @@ impl Viewer {
         if let Some(t) = targets {
             self.targets = t;
             self.samples = samples;
-            self.display.set_source(self.targets.color.view)?;
             self.lab.drop_gpu();
         }
         self.structure = Structure::of(&self.scene, &self.settings);
@@ -188,11 +185,9 @@ impl Viewer {
             }
         }
         let extent = nonzero(self.swapchain.extent);
-        if extent != self.targets.color.extent() {
-            self.targets = self.targets.resized(&self.ctx, extent)?;
-            self.display.set_source(self.targets.color.view)?;
+        if extent != self.targets.extent() {
+            self.targets = self.targets.resized(extent);
             self.lab.drop_gpu();
-            self.saturate = SaturatePass::for_scene(&self.ctx, &self.scene, &self.targets.color)?;
         }
         self.swapchain_dirty = false;
         Ok(())

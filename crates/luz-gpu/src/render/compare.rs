@@ -28,7 +28,7 @@ use crate::vk::image::ImageDesc;
 use crate::vk::interface::keys_with_prefix;
 use crate::vk::pipeline::{GraphicsDesc, Pipeline};
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Buffer, Context, Image, SingleSet, VkError};
+use crate::vk::{Buffer, Context, Image, PushSet, VkError};
 
 use crate::glsl::compare_comp as cc;
 use crate::glsl::compare_show_frag as cs;
@@ -212,21 +212,6 @@ struct ComparePush {
     exposure_scale: f32,
 }
 
-/// How the map is left for the display pass (`record_show`), a copy, or the next frame's kernels.
-const MAP_READ: Access = Access::Custom {
-    name: "MapRead",
-    layout: vk::ImageLayout::GENERAL,
-    stages: vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw()
-            | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
-    ),
-    access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
-            | vk::AccessFlags2::SHADER_SAMPLED_READ.as_raw(),
-    ),
-    writes: false,
-};
-
 /// The map and its figures as a frame graph declared them ([`ComparePass::add_pass`]): a pass
 /// that shows the map ([`ComparePass::record_show`]) reads both ([`MAP_SHOW_READ`],
 /// `FragmentStorageBufferRead`).
@@ -240,62 +225,56 @@ pub struct MapHandles {
 /// stage.
 pub const MAP_SHOW_READ: Access = Access::FragmentStorageRead;
 
-/// The maps of two HDR images (views in GENERAL layout, SAMPLED usage) of one size.
+/// The maps of two HDR images (SAMPLED usage, read in GENERAL layout) of one size. The map and
+/// the work images are transients of the frame graph; every image is pushed at record time.
 pub struct ComparePass {
     extent: vk::Extent2D,
-    map: Image,
-    /// YCxCz of A and B, then the horizontal passes' results (colour, features) of A and B.
-    work: Vec<Image>,
     stats: Vec<Buffer>,
-    _weights: Buffer,
-    _srgb_table: Buffer,
-    _palette: Buffer,
-    /// The kernels' layout and a set per frame slot.
-    single: SingleSet,
-    /// The map display's layout and a set per frame slot.
-    show: SingleSet,
+    weights: Buffer,
+    srgb_table: Buffer,
+    palette: Buffer,
+    /// The kernels' layout.
+    kernels_layout: PushSet,
+    /// The map display's layout.
+    show: PushSet,
     radii: (u32, u32),
     kernels: Vec<((CompareKind, Tonemap), Vec<Pipeline>)>,
     shows: Vec<(vk::Format, Pipeline)>,
-    /// Whether the work images were put in GENERAL layout yet.
-    initialised: std::cell::Cell<bool>,
     ctx: Arc<Context>,
 }
 
+/// The work images' names: YCxCz of A and B, then the horizontal passes' results (colour,
+/// features) of A and B, in the order of [`WORK_BINDINGS`].
+const WORK_NAMES: [&str; 6] = [
+    "compare YCxCz A",
+    "compare YCxCz B",
+    "compare colour A",
+    "compare features A",
+    "compare colour B",
+    "compare features B",
+];
+const WORK_BINDINGS: [u32; 6] = [
+    cc::BINDING_YCC_A as u32,
+    cc::BINDING_YCC_B as u32,
+    cc::BINDING_H0_A as u32,
+    cc::BINDING_H1_A as u32,
+    cc::BINDING_H0_B as u32,
+    cc::BINDING_H1_B as u32,
+];
+
+/// The usage of the map and the work images (stated, so the pooled images' descriptions do not
+/// depend on whether a frame copies the map).
+const STORAGE_USAGE: vk::ImageUsageFlags = vk::ImageUsageFlags::from_raw(
+    vk::ImageUsageFlags::STORAGE.as_raw() | vk::ImageUsageFlags::TRANSFER_SRC.as_raw(),
+);
+
 impl ComparePass {
-    /// A pass comparing `a` with `b` (both `extent`), with a stats buffer for each of `slots`
-    /// frames in flight.
-    pub fn new(
-        ctx: &Arc<Context>,
-        (a, b): (vk::ImageView, vk::ImageView),
-        extent: vk::Extent2D,
-        slots: usize,
-    ) -> Result<Self, VkError> {
+    /// A pass comparing images of `extent`, with a figures buffer for each of `slots` frames in
+    /// flight.
+    pub fn new(ctx: &Arc<Context>, extent: vk::Extent2D, slots: usize) -> Result<Self, VkError> {
         let kernels: Vec<&str> = keys_with_prefix("compare.comp:").collect();
-        let single = SingleSet::with_copies(ctx, "compare", &kernels, slots)?;
-        let show = SingleSet::with_copies(
-            ctx,
-            "compare show",
-            &["display.vert", "compare_show.frag"],
-            slots,
-        )?;
-        let storage = |name: &str, format| {
-            let mut desc = ImageDesc::color_target(extent.width, extent.height, format);
-            desc.usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
-            Image::new(ctx, name, desc)
-        };
-        let map = storage("compare map", MAP_FORMAT)?;
-        let work = [
-            "compare YCxCz A",
-            "compare YCxCz B",
-            "compare colour A",
-            "compare features A",
-            "compare colour B",
-            "compare features B",
-        ]
-        .iter()
-        .map(|n| storage(n, WORK_FORMAT))
-        .collect::<Result<Vec<_>, _>>()?;
+        let kernels_layout = PushSet::new(ctx, "compare", &kernels)?;
+        let show = PushSet::new(ctx, "compare show", &["display.vert", "compare_show.frag"])?;
         let groups = u64::from(extent.width.div_ceil(16) * extent.height.div_ceil(16));
         let stats = (0..slots)
             .map(|i| {
@@ -325,56 +304,17 @@ impl ComparePass {
             palette.as_slice(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let work_bindings = [
-            cc::BINDING_YCC_A,
-            cc::BINDING_YCC_B,
-            cc::BINDING_H0_A,
-            cc::BINDING_H1_A,
-            cc::BINDING_H0_B,
-            cc::BINDING_H1_B,
-        ];
-        let general = vk::ImageLayout::GENERAL;
-        for (i, s) in stats.iter().enumerate() {
-            let mut writes = single
-                .writes_to(i)
-                .buffer(cc::BINDING_SRGB_TABLE as u32, srgb_table.raw)
-                .buffer(cc::BINDING_WEIGHTS as u32, weights.raw)
-                .buffer(cc::BINDING_STATS as u32, s.raw);
-            writes = writes
-                .view(cc::BINDING_A as u32, a, general)
-                .view(cc::BINDING_B as u32, b, general)
-                .view(cc::BINDING_MAP as u32, map.view, general);
-            for (binding, w) in work_bindings.iter().zip(&work) {
-                writes = writes.view(*binding as u32, w.view, general);
-            }
-            let show_writes = show
-                .writes_to(i)
-                .view(cs::BINDING_MAP as u32, map.view, general)
-                .buffer(cs::BINDING_STATS as u32, s.raw)
-                .buffer(cs::BINDING_PALETTE as u32, palette.raw);
-            // SAFETY: the sets were just allocated and no command buffer has used them. The views
-            // are live: `a` and `b` are the caller's (SAMPLED usage, GENERAL layout while this
-            // pass is used, the contract of `new`), the others this pass's own, kept as long as
-            // the sets, as are the buffers (STORAGE_BUFFER usage).
-            unsafe {
-                writes.apply(ctx)?;
-                show_writes.apply(ctx)?;
-            }
-        }
         Ok(Self {
             extent,
-            map,
-            work,
             stats,
-            _weights: weights,
-            _srgb_table: srgb_table,
-            _palette: palette,
-            single,
+            weights,
+            srgb_table,
+            palette,
+            kernels_layout,
             show,
             radii: flip_radii(crate::diff::DEFAULT_PIXELS_PER_DEGREE),
             kernels: Vec::new(),
             shows: Vec::new(),
-            initialised: std::cell::Cell::new(false),
             ctx: ctx.clone(),
         })
     }
@@ -417,7 +357,7 @@ impl ComparePass {
                 .iter()
                 .map(|k| {
                     let module = ShaderModule::new(&self.ctx, k)?;
-                    Pipeline::compute(&self.ctx, &self.single.layout, k, &module, &spec)
+                    Pipeline::compute(&self.ctx, &self.kernels_layout.layout, k, &module, &spec)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             self.kernels.push(((kind, tonemap), pipelines));
@@ -474,20 +414,19 @@ impl ComparePass {
             .find(|(k, _)| *k == (kind, tonemap))
             .map(|(_, p)| p.iter().map(|p| p.raw).collect())
             .ok_or_else(|| VkError::Setup("compare: the kernels were not prepared".into()))?;
-        // The work images and the map hold nothing between frames; after the first frame they
-        // stay in GENERAL.
-        let before = if self.initialised.replace(true) {
-            ImageStateBefore::Discard(MAP_READ)
-        } else {
-            ImageStateBefore::Undefined
+        // The work images and the map hold nothing between frames: transients.
+        let (w, h) = (self.extent.width, self.extent.height);
+        let storage = |g: &mut FrameGraph<'a>, name: &str, format| {
+            g.create_image(
+                name,
+                luz_graph::ImageDesc::color(w, h, format).usage(STORAGE_USAGE),
+            )
         };
-        let work: Vec<ImageHandle> = self
-            .work
+        let work: Vec<ImageHandle> = WORK_NAMES
             .iter()
-            .map(|w| frame::import(g, "compare work", w, before))
+            .map(|n| storage(g, n, WORK_FORMAT))
             .collect();
-        let map = frame::import(g, "compare map", &self.map, before);
-        g.image_after(map, MAP_READ);
+        let map = storage(g, "compare map", MAP_FORMAT);
         let stats = &self.stats[slot];
         let figures = g.import_buffer("compare figures", stats.raw, stats.size, None);
         g.buffer_after(figures, Access::HostRead);
@@ -508,8 +447,18 @@ impl ComparePass {
             self.extent.height.div_ceil(16),
         );
         pass.record(move |rc| {
-            for h in [a, b, map] {
-                rc.image(h)?;
+            let general = vk::ImageLayout::GENERAL;
+            let mut writes = self
+                .kernels_layout
+                .writes()
+                .buffer(cc::BINDING_SRGB_TABLE as u32, self.srgb_table.raw)
+                .buffer(cc::BINDING_WEIGHTS as u32, self.weights.raw)
+                .buffer(cc::BINDING_STATS as u32, stats.raw)
+                .view(cc::BINDING_A as u32, rc.image(a)?.view, general)
+                .view(cc::BINDING_B as u32, rc.image(b)?.view, general)
+                .view(cc::BINDING_MAP as u32, rc.image(map)?.view, general);
+            for (binding, h) in WORK_BINDINGS.iter().zip(&work) {
+                writes = writes.view(*binding, rc.image(*h)?.view, general);
             }
             rc.buffer(figures)?;
             let (d, cmd) = (&self.ctx.device, rc.cmd());
@@ -517,14 +466,16 @@ impl ComparePass {
             // recording outside a render pass (the graph records one pass at a time).
             unsafe { d.cmd_fill_buffer(cmd, stats.raw, 0, STATS_HEADER, 0) };
             rc.memory_barrier(TRANSFER_FILL, Access::ComputeStorageReadWrite);
-            // SAFETY: every pipeline was built with `self.single.layout`, whose set 0 the slot's
-            // set matches, and the push bytes are a `ComparePush`, its push range. The graph put
-            // the work images and the map in GENERAL and made A and B readable in GENERAL (the
+            // SAFETY: every pipeline was built with `self.kernels_layout.layout`, whose set 0
+            // `writes` fills, and the push bytes are a `ComparePush`, its push range. The views
+            // are the graph's images for this frame (live until it completes); the graph put the
+            // work images and the map in GENERAL and made A and B readable in GENERAL (the
             // accesses declared above); each kernel is ordered after the one before by the
-            // barrier between them.
+            // barrier between them. The buffers are the pass's own.
             unsafe {
-                self.single.bind(cmd, vk::PipelineBindPoint::COMPUTE, slot);
-                self.single.layout.push(cmd, &push)?;
+                self.kernels_layout
+                    .push(cmd, vk::PipelineBindPoint::COMPUTE, writes)?;
+                self.kernels_layout.layout.push(cmd, &push)?;
             }
             let last = pipelines.len() - 1;
             for (i, p) in pipelines.iter().enumerate() {
@@ -549,12 +500,13 @@ impl ComparePass {
         Ok(MapHandles { map, figures })
     }
 
-    /// Draws the map of slot `slot` through the palette over `extent`, only inside `clip`
-    /// (inside a rendering instance on an attachment of `format`, prepared).
+    /// Draws `map` (the view of [`MapHandles::map`] this frame) with slot `slot`'s figures
+    /// through the palette over `extent`, only inside `clip` (inside a rendering instance on an
+    /// attachment of `format`, prepared).
     pub fn record_show(
         &self,
         cmd: vk::CommandBuffer,
-        slot: usize,
+        (slot, map): (usize, vk::ImageView),
         format: vk::Format,
         extent: vk::Extent2D,
         clip: vk::Rect2D,
@@ -562,14 +514,21 @@ impl ComparePass {
         let pipeline = super::prepared(&self.shows, &format, || {
             format!("compare: the display pipeline for {format:?}")
         })?;
+        let writes = self
+            .show
+            .writes()
+            .view(cs::BINDING_MAP as u32, map, vk::ImageLayout::GENERAL)
+            .buffer(cs::BINDING_STATS as u32, self.stats[slot].raw)
+            .buffer(cs::BINDING_PALETTE as u32, self.palette.raw);
         // SAFETY: `pipeline` was built with `self.show.layout` for attachments of `format`, with
-        // viewport, scissor and cull mode dynamic (no push constants). The map is in GENERAL and readable by fragment shaders after `record` (its
-        // closing barrier). The caller's part: `cmd` records inside a rendering instance on one
+        // viewport, scissor and cull mode dynamic (no push constants). The caller's part: `map`
+        // is this frame's map, in GENERAL and readable by fragment shaders after `add_pass`'s
+        // kernels ([`MAP_SHOW_READ`]), and `cmd` records inside a rendering instance on one
         // attachment of `format`.
         unsafe {
             crate::render::display::draw_fullscreen(
                 cmd,
-                (pipeline, &self.show, slot),
+                (pipeline, &self.show, writes),
                 (extent, clip),
                 &[],
             )
@@ -584,11 +543,6 @@ impl ComparePass {
             bytes,
             (self.extent.width, self.extent.height),
         ))
-    }
-
-    /// The map image (R32_SFLOAT, GENERAL layout) for a copy after [`ComparePass::record`].
-    pub fn map_image(&self) -> &Image {
-        &self.map
     }
 }
 
@@ -633,7 +587,7 @@ pub fn compare_images(
         Ok(image)
     };
     let (ia, ib) = (upload("compare input A", a)?, upload("compare input B", b)?);
-    let mut pass = ComparePass::new(ctx, (ia.view, ib.view), extent, 1)?;
+    let mut pass = ComparePass::new(ctx, extent, 1)?;
     pass.prepare(kind, tonemap, vk::Format::R8G8B8A8_UNORM)?;
     let out = Buffer::new(
         ctx,
@@ -642,6 +596,8 @@ pub fn compare_images(
         vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuToCpu,
     )?;
+    // The map and the work images are transients: their pool outlives the submission.
+    let mut transients = frame::Transients::new(ctx);
     pool.one_shot(|cmd| {
         let mut g = FrameGraph::new();
         let uploaded = ImageStateBefore::Keep(HDR_COMPARE_READ);
@@ -656,7 +612,7 @@ pub fn compare_images(
         )?;
         frame::add_readback(&mut g, "compare map read-back", map.map, &out, extent);
         let graph = g.compile()?;
-        frame::Transients::new(ctx).execute(ctx, graph, cmd, None)?;
+        transients.execute(ctx, graph, cmd, None)?;
         Ok(())
     })?;
     let n = a.pixels.len();

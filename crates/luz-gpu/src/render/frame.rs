@@ -148,7 +148,9 @@ impl Transients {
         }
     }
 
-    /// Records `graph` into `cmd` (timed on `timer`, which the caller reset).
+    /// Records `graph` into `cmd` (timed on `timer`, which the caller reset). The pool owns the
+    /// graph's transient images: keep it alive until the submission of `cmd` has completed (a
+    /// pool made and dropped inside a one-shot recording frees them before the GPU runs).
     pub fn execute(
         &mut self,
         ctx: &Context,

@@ -13,7 +13,7 @@ use crate::render::frame::TRANSFER_FILL;
 use crate::scene::{Saturation, Scene};
 use crate::vk::pipeline::Pipeline;
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Buffer, Context, Image, SingleSet, VkError};
+use crate::vk::{Buffer, Context, PushSet, VkError};
 
 /// Bindings of `saturate.comp` (its `BINDING_*`).
 const BINDING_HDR: u32 = crate::glsl::saturate_comp::BINDING_HDR as u32;
@@ -23,26 +23,22 @@ pub struct SaturatePass {
     mode: Saturation,
     pipelines: Vec<Pipeline>,
     reduction: Buffer,
-    single: SingleSet,
-    groups: (u32, u32),
-    image: vk::Image,
+    /// The kernels' layout; the image (a transient of the frame graph) and the reduction buffer
+    /// are pushed at record time.
+    push: PushSet,
     ctx: Arc<Context>,
 }
 
 impl SaturatePass {
     /// The pass the scene asks for, or None (no saturation: no pipeline is built).
-    pub fn for_scene(
-        ctx: &Arc<Context>,
-        scene: &Scene,
-        target: &Image,
-    ) -> Result<Option<Self>, VkError> {
+    pub fn for_scene(ctx: &Arc<Context>, scene: &Scene) -> Result<Option<Self>, VkError> {
         let mode = scene.saturation;
         let kernels: &[&str] = match mode {
             Saturation::None => return Ok(None),
             Saturation::Clamp => &["saturate.comp:clamp"],
             Saturation::Normalize => &["saturate.comp:reduce", "saturate.comp:normalize"],
         };
-        let single = SingleSet::new(ctx, "saturate", kernels)?;
+        let push = PushSet::new(ctx, "saturate", kernels)?;
         let reduction = Buffer::new(
             ctx,
             "saturation max",
@@ -50,31 +46,18 @@ impl SaturatePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let mut writes = single
-            .writes()
-            .view(BINDING_HDR, target.view, vk::ImageLayout::GENERAL);
-        if mode == Saturation::Normalize {
-            writes = writes.buffer(BINDING_REDUCTION, reduction.raw);
-        }
-        // SAFETY: `single.set` was just allocated and no command buffer has used it.
-        // `target.view` is a live view of a colour target with STORAGE usage, and `reduction` a
-        // STORAGE_BUFFER that the pass keeps as long as the set.
-        unsafe { writes.apply(ctx) }?;
         let pipelines = kernels
             .iter()
             .map(|k| {
                 let module = ShaderModule::new(ctx, k)?;
-                Pipeline::compute(ctx, &single.layout, k, &module, &[])
+                Pipeline::compute(ctx, &push.layout, k, &module, &[])
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let e = target.extent();
         Ok(Some(Self {
             mode,
             pipelines,
             reduction,
-            single,
-            groups: (e.width.div_ceil(16), e.height.div_ceil(16)),
-            image: target.raw,
+            push,
             ctx: ctx.clone(),
         }))
     }
@@ -86,16 +69,23 @@ impl SaturatePass {
         }
     }
 
-    /// Declares the pass (named `name`, [`SaturatePass::name`] for the main scene) on `color`,
-    /// the image it was made for, read and written in place by the compute kernels.
+    /// Declares the pass (named `name`, [`SaturatePass::name`] for the main scene) on `color`
+    /// (an RGBA32F image), read and written in place by the compute kernels.
     pub fn add_pass<'a>(&'a self, g: &mut FrameGraph<'a>, color: ImageHandle, name: &'static str) {
         g.pass(name)
             .read_write(color, Access::ComputeStorageReadWrite)
             .record(move |rc| {
-                if rc.image(color)?.image != self.image {
-                    return Err(
-                        format!("{}: not the image the pass was made for", self.name()).into(),
-                    );
+                let image = rc.image(color)?;
+                let groups = (
+                    image.extent.width.div_ceil(16),
+                    image.extent.height.div_ceil(16),
+                );
+                let mut writes =
+                    self.push
+                        .writes()
+                        .view(BINDING_HDR, image.view, vk::ImageLayout::GENERAL);
+                if self.mode == Saturation::Normalize {
+                    writes = writes.buffer(BINDING_REDUCTION, self.reduction.raw);
                 }
                 let d = &self.ctx.device;
                 let cmd = rc.cmd();
@@ -107,6 +97,13 @@ impl SaturatePass {
                     // depending on their version, so wait on every transfer stage.
                     rc.memory_barrier(TRANSFER_FILL, Access::ComputeStorageReadWrite);
                 }
+                // SAFETY: `cmd` is recording; the view is the graph's image for this frame (live
+                // until the frame completes, in GENERAL when the kernels run) and the reduction
+                // buffer the pass's own, both with STORAGE usage.
+                unsafe {
+                    self.push
+                        .push(cmd, vk::PipelineBindPoint::COMPUTE, writes)?
+                };
                 for (i, p) in self.pipelines.iter().enumerate() {
                     if i > 0 {
                         // The image and the reduction buffer: every kernel reads the last's writes.
@@ -115,13 +112,13 @@ impl SaturatePass {
                             Access::ComputeStorageReadWrite,
                         );
                     }
-                    // SAFETY: each pipeline was built with `self.single.layout`, whose set 0 is
-                    // the one bound; the graph put the target in GENERAL for the storage accesses
-                    // and the barriers above order each kernel after the one before.
+                    // SAFETY: each pipeline was built with `self.push.layout`; the graph put the
+                    // image (a live STORAGE view while the frame runs) in GENERAL for the storage
+                    // accesses, the reduction buffer is the pass's own, and the barriers above
+                    // order each kernel after the one before.
                     unsafe {
-                        self.single.bind(cmd, vk::PipelineBindPoint::COMPUTE, 0);
                         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, p.raw);
-                        d.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1);
+                        d.cmd_dispatch(cmd, groups.0, groups.1, 1);
                     }
                 }
                 Ok(())

@@ -1,65 +1,55 @@
-//! The HDR render target every frame draws into, headless or in a window: the single-sample
-//! colour image (what the saturate, tone-map and display passes and the readback use), and the
-//! declaration of the frame's scene target in the frame graph (depth and the multisampled colour
-//! are the graph's transients).
-
-use std::sync::Arc;
+//! The HDR render target every frame draws into, headless or in a window: the declaration of
+//! the frame's scene target in the frame graph. The single-sample colour (what the saturate,
+//! tone-map and display passes and the readback use), depth and the multisampled colour are all
+//! the graph's transients, pooled by description across frames.
 
 use ash::vk;
 
-use luz_graph::{FrameGraph, ImageDesc as GraphDesc, Plan};
+use luz_graph::{FrameGraph, ImageDesc as GraphDesc};
 
 use super::forward::TargetFormat;
-use super::frame::{self, Carried, SceneTarget};
-use crate::vk::image::ImageDesc;
-use crate::vk::{Context, Image, VkError};
+use super::frame::SceneTarget;
 
 /// The HDR colour format: full float so the EXR and the analytic tests see exact radiance.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The HDR colour image a frame's scene passes write (through the MSAA image when `msaa` > 1),
-/// kept by its owner across frames because later passes bind it in descriptor sets (saturation,
-/// display, the A/B maps); depth and the MSAA colour are the graph's transients, pooled by
-/// description ([`HdrTarget::add_to`]).
+/// The usage of the HDR colour: drawn (or resolved) into, stored and read by the saturation
+/// kernels, sampled by the display and A/B passes, copied by read-backs. Stated in full so the
+/// pooled image's description is the same whatever passes a frame has.
+pub const COLOR_USAGE: vk::ImageUsageFlags = vk::ImageUsageFlags::from_raw(
+    vk::ImageUsageFlags::COLOR_ATTACHMENT.as_raw()
+        | vk::ImageUsageFlags::TRANSFER_SRC.as_raw()
+        | vk::ImageUsageFlags::STORAGE.as_raw()
+        | vk::ImageUsageFlags::SAMPLED.as_raw(),
+);
+
+/// The HDR scene target of a frame: its size, sample count and debug name. The images are the
+/// frame graph's transients ([`HdrTarget::add_to`]).
+#[derive(Debug, Clone)]
 pub struct HdrTarget {
-    /// Single-sample colour (the resolve target when multisampled).
-    pub color: Image,
-    /// Its last use in the previous frame (the first use of the next waits for it).
-    last_use: Carried,
+    extent: vk::Extent2D,
     samples: vk::SampleCountFlags,
     label: String,
 }
 
 impl HdrTarget {
-    /// Allocates the colour image; `label` prefixes the debug names.
-    pub fn new(
-        ctx: &Arc<Context>,
-        label: &str,
-        extent: vk::Extent2D,
-        samples: vk::SampleCountFlags,
-    ) -> Result<Self, VkError> {
-        let (w, h) = (extent.width, extent.height);
-        Ok(Self {
-            color: Image::new(
-                ctx,
-                &format!("{label} hdr color"),
-                ImageDesc::color_target(w, h, COLOR_FORMAT),
-            )?,
-            last_use: Carried::default(),
+    /// A target of `extent`; `label` prefixes the debug names.
+    pub fn new(label: &str, extent: vk::Extent2D, samples: vk::SampleCountFlags) -> Self {
+        Self {
+            extent,
             samples,
             label: label.to_string(),
-        })
+        }
     }
 
-    /// The same target at another size (after a resize); the old image is dropped by the caller
-    /// once no frame uses it.
-    pub fn resized(&self, ctx: &Arc<Context>, extent: vk::Extent2D) -> Result<Self, VkError> {
-        Self::new(ctx, &self.label, extent, self.samples)
+    /// The same target at another size (after a resize).
+    pub fn resized(&self, extent: vk::Extent2D) -> Self {
+        Self::new(&self.label, extent, self.samples)
     }
 
     pub fn extent(&self) -> vk::Extent2D {
-        self.color.extent()
+        self.extent
     }
 
     pub fn samples(&self) -> vk::SampleCountFlags {
@@ -75,18 +65,15 @@ impl HdrTarget {
         }
     }
 
-    /// Declares this frame's scene target in `g`: the colour image imported (its contents
-    /// discarded, after the previous frame's last use), depth and — when multisampled — the MSAA
-    /// colour as transients.
+    /// Declares this frame's scene target in `g`: the single-sample colour, depth and — when
+    /// multisampled — the MSAA colour, all transients (contents discarded between frames).
     pub fn add_to(&self, g: &mut FrameGraph<'_>) -> SceneTarget {
-        let extent = self.extent();
+        let extent = self.extent;
         let (w, h) = (extent.width, extent.height);
         let label = &self.label;
-        let color = frame::import(
-            g,
+        let color = g.create_image(
             &format!("{label} hdr color"),
-            &self.color,
-            self.last_use.discard(),
+            GraphDesc::color(w, h, COLOR_FORMAT).usage(COLOR_USAGE),
         );
         let depth = g.create_image(
             &format!("{label} depth"),
@@ -110,11 +97,5 @@ impl HdrTarget {
             depth,
             extent,
         }
-    }
-
-    /// Keeps the state `plan` leaves the colour image in, for the next frame (call after
-    /// compiling the graph `target` was declared in).
-    pub fn remember(&self, plan: &Plan, target: &SceneTarget) {
-        self.last_use.remember(plan, target.output());
     }
 }

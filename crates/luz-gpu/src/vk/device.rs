@@ -97,6 +97,9 @@ pub struct Context {
     pub queue_family: u32,
     pub allocator: ManuallyDrop<Mutex<Allocator>>,
     pub debug_utils: Option<ash::ext::debug_utils::Device>,
+    /// `vkCmdPushDescriptorSetKHR`: the passes that read the frame graph's transient images
+    /// write their descriptors into the command buffer at record time ([`super::PushSet`]).
+    pub push_descriptor: ash::khr::push_descriptor::Device,
     /// Serialises queue submissions (the queue is externally synchronised).
     pub queue_lock: Mutex<()>,
     /// The limits resources are checked against: the device's, or tighter ones set by
@@ -105,6 +108,12 @@ pub struct Context {
     // Last: destroyed after the device.
     pub instance: Instance,
 }
+
+/// Device extensions luz needs on every device: push descriptors, so that a pass binds the
+/// frame graph's transient images (which may change from frame to frame) without rewriting a
+/// descriptor set a pending frame uses. Every desktop driver and lavapipe has it; it is core in
+/// Vulkan 1.4.
+pub const REQUIRED_EXTENSIONS: [&CStr; 1] = [ash::khr::push_descriptor::NAME];
 
 struct Candidate {
     physical: vk::PhysicalDevice,
@@ -144,6 +153,17 @@ impl Context {
                 rejected.push(format!("{name} (no graphics+compute queue)"));
                 continue;
             };
+            // SAFETY: `p` was enumerated from `inst` above; ash sizes the output from the count query.
+            let extensions = unsafe { inst.enumerate_device_extension_properties(p) }?;
+            let has = |want: &CStr| {
+                extensions
+                    .iter()
+                    .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == want))
+            };
+            if let Some(missing) = REQUIRED_EXTENSIONS.iter().find(|e| !has(e)) {
+                rejected.push(format!("{name} (no {})", missing.to_string_lossy()));
+                continue;
+            }
             candidates.push(Candidate {
                 physical: p,
                 name,
@@ -261,7 +281,11 @@ impl Context {
         let queue_infos = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
             .queue_priorities(&priorities)];
-        let ext_names: Vec<*const i8> = desc.device_extensions.iter().map(|e| e.as_ptr()).collect();
+        let ext_names: Vec<*const i8> = REQUIRED_EXTENSIONS
+            .iter()
+            .chain(&desc.device_extensions)
+            .map(|e| e.as_ptr())
+            .collect();
         let device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_infos)
             .enabled_extension_names(&ext_names)
@@ -300,7 +324,9 @@ impl Context {
             .as_ref()
             .map(|_| ash::ext::debug_utils::Device::new(inst, &device));
         let limits = RwLock::new(info.resource_limits);
+        let push_descriptor = ash::khr::push_descriptor::Device::new(inst, &device);
         let ctx = Arc::new(Self {
+            push_descriptor,
             info,
             physical,
             device,

@@ -126,6 +126,17 @@ impl Interface {
         Ok(self)
     }
 
+    /// Refuses an interface with a set other than 0.
+    fn only_set_0(&self) -> Result<(), VkError> {
+        match self.sets.keys().find(|s| **s != 0) {
+            Some(s) => Err(VkError::Setup(format!(
+                "{}: set {s} declared; one set expected",
+                self.name
+            ))),
+            None => Ok(()),
+        }
+    }
+
     /// The bindings of set `set` (empty if no module declares it).
     pub fn bindings(&self, set: u32) -> &[LayoutBinding] {
         self.sets.get(&set).map(Vec::as_slice).unwrap_or(&[])
@@ -157,6 +168,20 @@ impl Interface {
             ctx,
             &format!("{} set {set} layout", self.name),
             self.bindings(set).to_vec(),
+        )
+    }
+
+    /// The layout of set `set` for push descriptors ([`SetWrites::push`]).
+    pub fn push_set_layout(
+        &self,
+        ctx: &Arc<Context>,
+        set: u32,
+    ) -> Result<DescriptorSetLayout, VkError> {
+        DescriptorSetLayout::create(
+            ctx,
+            &format!("{} set {set} layout (pushed)", self.name),
+            self.bindings(set).to_vec(),
+            true,
         )
     }
 
@@ -268,14 +293,10 @@ impl<'a> SetWrites<'a> {
         self
     }
 
-    /// Writes every descriptor given. Refuses a binding the layout lacks or a resource of the
-    /// wrong kind for it (an image for a buffer binding or the reverse).
-    ///
-    /// # Safety
-    /// No pending command buffer may use the set (VUID-vkUpdateDescriptorSets-None-03047), and
-    /// every view, sampler and buffer given must be live, with the usage its binding's type
-    /// needs, for as long as the set is used.
-    pub unsafe fn apply(self, ctx: &Context) -> Result<(), VkError> {
+    /// The writes, each binding's type checked against the layout: refuses a binding the
+    /// layout lacks or a resource of the wrong kind for it (an image for a buffer binding or the
+    /// reverse). The writes point into `self`.
+    fn checked(&self) -> Result<Vec<vk::WriteDescriptorSet<'_>>, VkError> {
         let ty_of = |binding: u32, image: bool| -> Result<vk::DescriptorType, VkError> {
             let b = self
                 .layout
@@ -317,11 +338,101 @@ impl<'a> SetWrites<'a> {
         for (binding, info) in &self.buffers {
             writes.push(write(*binding, false)?.buffer_info(std::slice::from_ref(info)));
         }
+        Ok(writes)
+    }
+
+    /// Writes every descriptor given into the set ([`SetWrites::checked`]'s checks).
+    ///
+    /// # Safety
+    /// No pending command buffer may use the set (VUID-vkUpdateDescriptorSets-None-03047), and
+    /// every view, sampler and buffer given must be live, with the usage its binding's type
+    /// needs, for as long as the set is used.
+    pub unsafe fn apply(self, ctx: &Context) -> Result<(), VkError> {
+        if self.layout.is_pushed() {
+            return Err(VkError::Setup(format!(
+                "{}: a push-descriptor layout has no set to write",
+                self.layout.name()
+            )));
+        }
+        let writes = self.checked()?;
         // SAFETY: `writes` and the infos they point to (in `self`) outlive the call; each write's
         // type is its binding's in the set's layout (checked above). The caller's part is in the
         // function's contract: the set is not in use and the resources are live and fit.
         unsafe { ctx.device.update_descriptor_sets(&writes, &[]) };
         Ok(())
+    }
+
+    /// Records the descriptors given into `cmd` as set `set` of `layout` at `bind_point`
+    /// (`vkCmdPushDescriptorSetKHR`), with [`SetWrites::checked`]'s checks. The set layout must
+    /// be a push layout ([`Interface::push_set_layout`]), set `set` of `layout`.
+    ///
+    /// # Safety
+    /// `cmd` must be recording; every view, sampler and buffer given must be live, with the
+    /// usage its binding's type needs, until the commands that use them have completed, and in
+    /// the layouts given when they execute.
+    pub unsafe fn push(
+        self,
+        cmd: vk::CommandBuffer,
+        bind_point: vk::PipelineBindPoint,
+        layout: &PipelineLayout,
+        set: u32,
+    ) -> Result<(), VkError> {
+        if !self.layout.is_pushed() {
+            return Err(VkError::Setup(format!(
+                "{}: not a push-descriptor layout",
+                self.layout.name()
+            )));
+        }
+        let writes = self.checked()?;
+        // SAFETY: `writes` and the infos they point to outlive the call; each write's type is its
+        // binding's in the push layout, which is set `set` of `layout` (the caller's part, with
+        // the resources' liveness and layouts). The device has VK_KHR_push_descriptor
+        // (`device::REQUIRED_EXTENSIONS`).
+        unsafe {
+            layout
+                .context()
+                .push_descriptor
+                .cmd_push_descriptor_set(cmd, bind_point, layout.raw, set, &writes)
+        };
+        Ok(())
+    }
+}
+
+/// A pipeline layout over one push-descriptor set (set 0): the shape of the passes that read
+/// the frame graph's transient images, whose views are known only at record time
+/// ([`SetWrites::push`]).
+pub struct PushSet {
+    pub layout: PipelineLayout,
+    pub set_layout: DescriptorSetLayout,
+}
+
+impl PushSet {
+    /// The layout of the modules `keys` (named `name`), which may declare set 0 only.
+    pub fn new(ctx: &Arc<Context>, name: &str, keys: &[&str]) -> Result<Self, VkError> {
+        let interface = Interface::of(name, keys)?;
+        interface.only_set_0()?;
+        let set_layout = interface.push_set_layout(ctx, 0)?;
+        let layout = interface.pipeline_layout(ctx, &[&set_layout])?;
+        Ok(Self { layout, set_layout })
+    }
+
+    /// Descriptors to push as set 0 ([`PushSet::push`]).
+    pub fn writes(&self) -> SetWrites<'_> {
+        SetWrites::new(&self.set_layout, vk::DescriptorSet::null())
+    }
+
+    /// Records `writes` (from [`PushSet::writes`]) as set 0 at `bind_point`.
+    ///
+    /// # Safety
+    /// As [`SetWrites::push`].
+    pub unsafe fn push(
+        &self,
+        cmd: vk::CommandBuffer,
+        bind_point: vk::PipelineBindPoint,
+        writes: SetWrites<'_>,
+    ) -> Result<(), VkError> {
+        // SAFETY: the caller's contract; `writes` are for `self.set_layout`, set 0 of `self.layout`.
+        unsafe { writes.push(cmd, bind_point, &self.layout, 0) }
     }
 }
 
@@ -350,11 +461,7 @@ impl SingleSet {
         copies: usize,
     ) -> Result<Self, VkError> {
         let interface = Interface::of(name, keys)?;
-        if let Some(s) = interface.sets.keys().find(|s| **s != 0) {
-            return Err(VkError::Setup(format!(
-                "{name}: set {s} declared; one set expected"
-            )));
-        }
+        interface.only_set_0()?;
         let set_layout = interface.set_layout(ctx, 0)?;
         let layout = interface.pipeline_layout(ctx, &[&set_layout])?;
         let pool = DescriptorPool::for_sets(

@@ -17,7 +17,7 @@ pub use buffer::Buffer;
 pub use device::{Context, ContextDesc, DeviceInfo};
 pub use image::Image;
 pub use instance::{InstanceDesc, ValidationLog};
-pub use interface::{Interface, SetWrites, SingleSet};
+pub use interface::{Interface, PushSet, SetWrites, SingleSet};
 pub use limits::Limits;
 
 use ash::vk;

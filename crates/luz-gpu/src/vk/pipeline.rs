@@ -26,6 +26,8 @@ pub struct DescriptorSetLayout {
     pub raw: vk::DescriptorSetLayout,
     bindings: Vec<LayoutBinding>,
     name: String,
+    /// Made for push descriptors (`VK_KHR_push_descriptor`): no set is allocated from it.
+    pushed: bool,
     ctx: Arc<Context>,
 }
 
@@ -34,6 +36,17 @@ impl DescriptorSetLayout {
         ctx: &Arc<Context>,
         name: &str,
         bindings: Vec<LayoutBinding>,
+    ) -> Result<Self, VkError> {
+        Self::create(ctx, name, bindings, false)
+    }
+
+    /// A layout of `bindings`; `pushed`: for descriptors pushed into the command buffer
+    /// ([`super::interface::PushSet`]), no set is allocated from it.
+    pub(super) fn create(
+        ctx: &Arc<Context>,
+        name: &str,
+        bindings: Vec<LayoutBinding>,
+        pushed: bool,
     ) -> Result<Self, VkError> {
         let raw_bindings: Vec<_> = bindings
             .iter()
@@ -45,15 +58,24 @@ impl DescriptorSetLayout {
                     .stage_flags(b.stages)
             })
             .collect();
-        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&raw_bindings);
+        let flags = if pushed {
+            vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR
+        } else {
+            vk::DescriptorSetLayoutCreateFlags::empty()
+        };
+        let info = vk::DescriptorSetLayoutCreateInfo::default()
+            .flags(flags)
+            .bindings(&raw_bindings);
         // SAFETY: `info` and the `raw_bindings` slice it points to outlive the call; the device is
-        // alive while `ctx` is.
+        // alive while `ctx` is, and was created with VK_KHR_push_descriptor (the flag's
+        // extension: `device::REQUIRED_EXTENSIONS`).
         let raw = unsafe { ctx.device.create_descriptor_set_layout(&info, None) }?;
         ctx.set_name(raw, name);
         Ok(Self {
             raw,
             bindings,
             name: name.to_string(),
+            pushed,
             ctx: ctx.clone(),
         })
     }
@@ -71,6 +93,11 @@ impl DescriptorSetLayout {
     /// The debug name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// Whether the layout is for push descriptors.
+    pub fn is_pushed(&self) -> bool {
+        self.pushed
     }
 }
 
@@ -207,6 +234,11 @@ impl PipelineLayout {
     /// The device the layout belongs to.
     pub fn device(&self) -> &ash::Device {
         &self.ctx.device
+    }
+
+    /// The context the layout was made on.
+    pub(super) fn context(&self) -> &Context {
+        &self.ctx
     }
 
     /// Records `vkCmdPushConstants` of `value` with this layout's range and stages.

@@ -16,17 +16,14 @@ use ash::vk;
 use super::variant::{variant_spec, vertex_input, ShadingKey};
 use super::{DebugView, Output, TargetFormat, TermsKey, VariantKey};
 use crate::render::gpu;
-use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
+use luz_graph::{Access, FrameGraph, ImageDesc as GraphDesc, ImageHandle};
 
 use crate::render::frame::SceneTarget;
 use crate::render::shadow::SHADOW_READ;
 use crate::vk::cmd::{color_attachment, depth_attachment, rendering_info, Load};
-use crate::vk::image::ImageDesc;
-use crate::vk::pipeline::{
-    DescriptorPool, DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout,
-};
+use crate::vk::pipeline::{DescriptorSetLayout, GraphicsDesc, Pipeline, PipelineLayout};
 use crate::vk::shaders::ShaderModule;
-use crate::vk::{Context, Image, Interface, SetWrites, VkError};
+use crate::vk::{Context, Interface, SetWrites, VkError};
 
 /// The G-buffer: octahedral normal (2 × f32 bits), view depth (f32 bits), object slot.
 pub const GBUFFER_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
@@ -71,10 +68,9 @@ pub(super) struct Deferred {
     light_layout: PipelineLayout,
     light_vertex: ShaderModule,
     light_fragment: ShaderModule,
-    set: vk::DescriptorSet,
-    _pool: DescriptorPool,
+    /// Set 1 of the lighting layout, pushed at record time: the G-buffer is a transient of the
+    /// frame graph.
     set_layout: DescriptorSetLayout,
-    gbuffer: Option<Image>,
     ctx: Arc<Context>,
 }
 
@@ -93,13 +89,11 @@ impl Deferred {
         const _: () = assert!(crate::render::shadow::SET_SHADOW == 3);
         let interface =
             Interface::of("deferred lighting", &["skybox.vert", "deferred_light.frag"])?;
-        let set_layout = interface.set_layout(ctx, SET_GBUFFER)?;
+        let set_layout = interface.push_set_layout(ctx, SET_GBUFFER)?;
         let light_layout = interface.pipeline_layout(
             ctx,
             &[frameset_layout, &set_layout, empty_layout, shadow_layout],
         )?;
-        let pool = DescriptorPool::for_sets(ctx, "deferred pool", &[(&set_layout, 1)])?;
-        let set = pool.allocate(&set_layout)?;
         let vs = ShaderModule::new(ctx, "forward.vert:gbuffer")?;
         let fs = ShaderModule::new(ctx, "deferred_gbuffer.frag")?;
         let (bindings, attributes) = vertex_input(variant);
@@ -132,10 +126,7 @@ impl Deferred {
             light_layout,
             light_vertex: ShaderModule::new(ctx, "skybox.vert")?,
             light_fragment: ShaderModule::new(ctx, "deferred_light.frag")?,
-            set,
-            _pool: pool,
             set_layout,
-            gbuffer: None,
             ctx: ctx.clone(),
         })
     }
@@ -203,35 +194,11 @@ impl Deferred {
         Ok(())
     }
 
-    /// (Re)allocates the G-buffer at `extent`. No command buffer that drew with the old one may
-    /// still be pending (the viewer waits for the device before it resizes).
-    pub(super) fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
-        if self.gbuffer.as_ref().is_some_and(|g| g.extent() == extent) {
-            return Ok(());
-        }
-        let mut desc = ImageDesc::color_target(extent.width, extent.height, GBUFFER_FORMAT);
-        desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-        let image = Image::new(&self.ctx, "deferred G-buffer", desc)?;
-        let writes = SetWrites::new(&self.set_layout, self.set).view(
-            BINDING_GBUFFER,
-            image.view,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        );
-        // SAFETY: `image.view` is a live view with SAMPLED usage, kept in `self.gbuffer` as long
-        // as the set refers to it. No pending command buffer uses the set (the contract above),
-        // and `&mut self` gives this call sole access to it.
-        unsafe { writes.apply(&self.ctx) }?;
-        self.gbuffer = Some(image);
-        Ok(())
-    }
-
-    /// The G-buffer matches `extent` and the lighting pipeline for `output` is built.
-    pub(super) fn ready(&self, output: Output, extent: vk::Extent2D) -> bool {
-        self.gbuffer.as_ref().is_some_and(|g| g.extent() == extent)
-            && self
-                .lit_variants()
-                .iter()
-                .all(|v| self.light_pipelines.contains_key(&(*v, output)))
+    /// The lighting pipelines for `output` are built.
+    pub(super) fn ready(&self, output: Output) -> bool {
+        self.lit_variants()
+            .iter()
+            .all(|v| self.light_pipelines.contains_key(&(*v, output)))
     }
 
     /// Declares both passes in `g`: "gbuffer" (the geometry of `draw_geometry`, which records the
@@ -253,8 +220,7 @@ impl Deferred {
     ) {
         let (lit, shadow_area) = self.lit;
         let pipeline = |v: VariantKey| self.light_pipelines.get(&(v, output)).map(|p| p.raw);
-        let (Some(gbuffer), Some(light), Some(unshadowed)) = (
-            &self.gbuffer,
+        let (Some(light), Some(unshadowed)) = (
             pipeline(lit),
             pipeline(if shadow_area.is_some() {
                 lit.unshadowed()
@@ -268,12 +234,12 @@ impl Deferred {
             offset: vk::Offset2D::default(),
             extent: target.extent,
         };
-        // Each frame's lighting is the G-buffer's last use; its contents are discarded.
-        let gb = crate::render::frame::import(
-            g,
+        // Written and read within the frame: a transient.
+        let (w, h) = (target.extent.width, target.extent.height);
+        let gb = g.create_image(
             "g-buffer",
-            gbuffer,
-            ImageStateBefore::Discard(Access::FragmentSampled),
+            GraphDesc::color(w, h, GBUFFER_FORMAT)
+                .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED),
         );
         let mut pass = g
             .pass(names.gbuffer)
@@ -313,7 +279,11 @@ impl Deferred {
             pass = pass.read(s, SHADOW_READ);
         }
         pass.record(move |rc| {
-            rc.image(gb)?;
+            let gbuffer = SetWrites::new(&self.set_layout, vk::DescriptorSet::null()).view(
+                BINDING_GBUFFER,
+                rc.image(gb)?.view,
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            );
             let color_view = rc.image(target.color)?.view;
             let depth_view = rc.image(target.depth)?.view;
             let (d, cmd) = (rc.device(), rc.cmd());
@@ -323,10 +293,10 @@ impl Deferred {
             // SAFETY: as above: the graph put the output in COLOR_ATTACHMENT_OPTIMAL, depth in
             // DEPTH_ATTACHMENT_OPTIMAL after the geometry's writes and the G-buffer in
             // SHADER_READ_ONLY_OPTIMAL. The lighting pipeline belongs to this pass, its layout's
-            // set 0 is the frame set layout `frame_set` was allocated with, set 1 is `self.set`
-            // and set 3 the shadow set layout `shadow_set` was allocated with; it has no vertex
-            // input and no push constants. Viewport, scissor and cull mode (dynamic) are set
-            // before the draw.
+            // set 0 is the frame set layout `frame_set` was allocated with, set 1 the push layout
+            // `self.set_layout` (the G-buffer's view, live while the frame runs) and set 3 the
+            // shadow set layout `shadow_set` was allocated with; it has no vertex input and no
+            // push constants. Viewport, scissor and cull mode (dynamic) are set before the draw.
             unsafe {
                 d.cmd_begin_rendering(cmd, &info);
                 set_viewport(d, cmd, area);
@@ -336,9 +306,15 @@ impl Deferred {
                     vk::PipelineBindPoint::GRAPHICS,
                     self.light_layout.raw,
                     0,
-                    &[frame_set, self.set],
+                    &[frame_set],
                     &[],
                 );
+                gbuffer.push(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    &self.light_layout,
+                    SET_GBUFFER,
+                )?;
                 d.cmd_bind_descriptor_sets(
                     cmd,
                     vk::PipelineBindPoint::GRAPHICS,

@@ -587,14 +587,10 @@ impl ForwardPass {
         Ok(())
     }
 
-    /// Allocates what drawing at `extent` needs beyond the caller's target (the deferred path's
-    /// G-buffer). No frame recorded at another extent may still be pending.
-    pub fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
+    /// Sets the size of the target the next frames draw into (the LOD choice projects errors
+    /// onto its height).
+    pub fn prepare_extent(&mut self, extent: vk::Extent2D) {
         self.target_height = Some(extent.height);
-        match &mut self.deferred {
-            Some(d) => d.prepare_extent(extent),
-            None => Ok(()),
-        }
     }
 
     /// "deferred" or "forward": how this pass draws.
@@ -830,11 +826,9 @@ impl ForwardPass {
             },
         };
         if let Some(def) = &self.deferred {
-            if !def.ready(output, target.extent) || target.resolve.is_some() {
+            if !def.ready(output) || target.resolve.is_some() {
                 return Err(VkError::Setup(format!(
-                    "forward (deferred): not prepared for {output:?} at {}x{} \
-                     (call prepare and prepare_extent first)",
-                    target.extent.width, target.extent.height
+                    "forward (deferred): not prepared for {output:?} (call prepare first)"
                 )));
             }
             let full = vk::Rect2D {
