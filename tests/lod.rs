@@ -797,3 +797,50 @@ fn simplifier_and_cache_problems_under_a_memory_ceiling() {
         ran.stderr
     );
 }
+
+/// Issue 38, item 6 (a full disk) through the binary under [`GPU_MEMORY_CEILING`]: with every
+/// file the run writes limited to 64 KiB and SIGXFSZ ignored, the cache writes fail half way
+/// (EFBIG, as ENOSPC would); the run still draws its image (a small PNG), warns once per cache
+/// that cannot be written, saying what it costs, and leaves no temporary file behind.
+#[test]
+fn a_full_disk_leaves_no_temporary_file_and_one_warning() {
+    let dir = scratch("lod-full-disk");
+    let scene = grid_scene(&dir, 48);
+    let out = dir.join("out.png");
+    let cache = dir.join("cache");
+    let args = [
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--ibl-quality",
+        "fast",
+    ];
+    let mut cmd = luz_command(args);
+    cmd.env("LUZ_CACHE_DIR", &cache);
+    with_limits(&mut cmd, GPU_MEMORY_CEILING, Some(64 << 10));
+    as_if_the_disk_were_full(&mut cmd);
+    let ran = run_within(&mut cmd, std::time::Duration::from_secs(300));
+    assert_ran_clean(ran.code, &ran.stdout, &ran.stderr);
+    assert!(out.is_file());
+    let w = warnings(&ran.stderr);
+    assert!(!w.is_empty(), "{}", ran.stderr);
+    assert!(
+        w.iter().all(|l| l.contains("cannot write")
+            && (l.contains("simplified again on every run") || l.contains("every run"))),
+        "{}",
+        ran.stderr
+    );
+    assert!(
+        w.iter().any(|l| l.contains("cannot write LOD cache files")),
+        "{}",
+        ran.stderr
+    );
+    let left: Vec<std::path::PathBuf> = ["", "lod"]
+        .iter()
+        .flat_map(|s| std::fs::read_dir(cache.join(s)).into_iter().flatten())
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}

@@ -173,6 +173,21 @@ pub fn with_limits(cmd: &mut Command, bytes: u64, file_bytes: Option<u64>) -> &m
     }
 }
 
+/// `cmd` with SIGXFSZ ignored (inherited through `exec`): with [`with_limits`]' largest file, a
+/// write beyond it then fails with EFBIG instead of killing the child, as a full disk would.
+pub fn as_if_the_disk_were_full(cmd: &mut Command) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: signal() is async-signal-safe, and the closure touches nothing else.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::signal(libc::SIGXFSZ, libc::SIG_IGN) == libc::SIG_ERR {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        })
+    }
+}
+
 /// Runs `cmd` like [`run`], killed (and the test failed) after `timeout`: for inputs that once
 /// never finished. Its output is read while it runs, so a talkative child cannot block.
 pub fn run_within(cmd: &mut Command, timeout: std::time::Duration) -> Ran {
