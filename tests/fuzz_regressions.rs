@@ -261,3 +261,176 @@ fn scene_fuzz_target_time_per_megabyte_is_flat() {
         }
     }
 }
+
+/// A PNG that declares `w × h` RGBA8 pixels and holds one empty compressed block (69 bytes).
+fn declared_png(w: u32, h: u32) -> Vec<u8> {
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut c = 0xFFFF_FFFFu32;
+        for &b in bytes {
+            c ^= u32::from(b);
+            for _ in 0..8 {
+                c = if c & 1 != 0 {
+                    0xEDB8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+    let chunk = |ty: &[u8], data: &[u8]| {
+        let mut body = ty.to_vec();
+        body.extend_from_slice(data);
+        let mut c = (data.len() as u32).to_be_bytes().to_vec();
+        c.extend_from_slice(&body);
+        c.extend_from_slice(&crc32(&body).to_be_bytes());
+        c
+    };
+    let mut ihdr = w.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(chunk(b"IHDR", &ihdr));
+    png.extend(chunk(
+        b"IDAT",
+        &[0x78, 0x01, 0x01, 0, 0, 0xff, 0xff, 0, 0, 0, 1],
+    ));
+    png.extend(chunk(b"IEND", &[]));
+    png
+}
+
+/// The size-amplifying inputs of [`size_amplifying_inputs_stay_within_a_memory_ceiling`], made
+/// here (never stored): small files that declare huge counts, and a few megabytes that expand.
+fn amplifying_inputs() -> Vec<(&'static str, Target, Vec<u8>)> {
+    use base64::Engine as _;
+    let b64 = |b: &[u8]| base64::engine::general_purpose::STANDARD.encode(b);
+    let tri: Vec<u8> = [0f32, 0., 0., 1., 0., 0., 0., 1., 0.]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let buffer = format!(
+        r#""buffers": [{{"uri": "data:application/octet-stream;base64,{}", "byteLength": 36}}],
+ "bufferViews": [{{"buffer": 0, "byteLength": 36}}]"#,
+        b64(&tri)
+    );
+    let scene_tail = r#""nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0"#;
+    // Accessors of 2^31 elements over 36 bytes (positions, indices, and one without a view).
+    let accessor_count = format!(
+        r#"{{"asset": {{"version": "2.0"}}, {buffer},
+ "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 2147483648, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}},
+               {{"bufferView": 0, "componentType": 5125, "count": 2147483648, "type": "SCALAR"}},
+               {{"componentType": 5126, "count": 2147483647, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}}],
+ "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1}}, {{"attributes": {{"POSITION": 2}}}}]}}],
+ {scene_tail}}}"#
+    );
+    // An embedded PNG declaring 65535² RGBA8 (16 GiB decoded) as a base colour map.
+    let png = declared_png(65535, 65535);
+    let png_header = format!(
+        r#"{{"asset": {{"version": "2.0"}}, {buffer},
+ "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}}],
+ "images": [{{"uri": "data:image/png;base64,{}"}}], "textures": [{{"source": 0}}],
+ "materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}}}}}],
+ "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "material": 0}}]}}],
+ {scene_tail}}}"#,
+        b64(&png)
+    );
+    // 200,000 nodes placing one mesh in a 6 MB file (the loader caps instances at 10,000).
+    let nodes: Vec<String> = (0..200_000)
+        .map(|i| format!(r#"{{"mesh": 0, "translation": [{}, 0, 0]}}"#, i % 100))
+        .collect();
+    let roots: Vec<String> = (0..200_000).map(|i| i.to_string()).collect();
+    let instances = format!(
+        r#"{{"asset": {{"version": "2.0"}}, {buffer},
+ "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}}],
+ "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}}}]}}],
+ "nodes": [{}], "scenes": [{{"nodes": [{}]}}], "scene": 0}}"#,
+        nodes.join(","),
+        roots.join(",")
+    );
+    // One OBJ face of 20 million corners (40 MB, one line): beyond the 2^24 triangles.
+    let mut face = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+    face.push_str(&" 1 2".repeat(10_000_000));
+    face.push('\n');
+    // A scene whose JSON holds a 2-million-element array (4 MB), and one of 1,000 spheres of
+    // 4096 × 4096 segments declared in 90 KB.
+    let mut array = String::from(r#"{"ambient": ["#);
+    array.push_str(&"0,".repeat(2_000_000));
+    array.push_str("0]}");
+    let spheres: Vec<&str> = (0..1000)
+        .map(|_| r#"{"mesh": {"type": "sphere", "segments": 4096, "rings": 4096}}"#)
+        .collect();
+    let spheres = format!(r#"{{"objects": [{}]}}"#, spheres.join(","));
+    let mut image = vec![0u8];
+    image.extend_from_slice(&png);
+    vec![
+        (
+            "gltf accessor count 2^31",
+            luz::fuzzing::gltf as Target,
+            accessor_count.into_bytes(),
+        ),
+        (
+            "gltf PNG header 65535²",
+            luz::fuzzing::gltf,
+            png_header.into_bytes(),
+        ),
+        (
+            "gltf 200,000 instances",
+            luz::fuzzing::gltf,
+            instances.into_bytes(),
+        ),
+        ("image PNG header 65535²", luz::fuzzing::image, image),
+        (
+            "OBJ face of 20M corners",
+            luz::fuzzing::obj_mtl,
+            face.into_bytes(),
+        ),
+        (
+            "scene array of 2M numbers",
+            luz::fuzzing::scene,
+            array.into_bytes(),
+        ),
+        (
+            "scene 1,000 huge spheres",
+            luz::fuzzing::scene,
+            spheres.into_bytes(),
+        ),
+    ]
+}
+
+/// Issue 38 ("the fuzz targets include size-amplifying inputs"): inputs that declare far more
+/// than they hold go through the fuzz entry points in a child process (this test binary again,
+/// this test alone) under a 1 GiB address-space ceiling (`RLIMIT_AS`): each returns (no panic,
+/// no abort on a failed allocation), and the child reports every one done.
+#[test]
+fn size_amplifying_inputs_stay_within_a_memory_ceiling() {
+    const NAME: &str = "size_amplifying_inputs_stay_within_a_memory_ceiling";
+    if std::env::var_os("LUZ_TEST_AMPLIFY_CHILD").is_some() {
+        for (what, f, bytes) in amplifying_inputs() {
+            let t = Instant::now();
+            f(&bytes);
+            println!(
+                "amplified: {what} ({} bytes) done in {:.2} s",
+                bytes.len(),
+                t.elapsed().as_secs_f64()
+            );
+        }
+        println!("amplified: all done");
+        return;
+    }
+    let mut cmd = std::process::Command::new(std::env::current_exe().unwrap());
+    cmd.args([NAME, "--exact", "--nocapture", "--test-threads", "1"])
+        .env("LUZ_TEST_AMPLIFY_CHILD", "1");
+    let ran = common::run(common::with_memory_ceiling(&mut cmd, 1 << 30));
+    assert_eq!(
+        ran.code, 0,
+        "stdout: {}\nstderr: {}",
+        ran.stdout, ran.stderr
+    );
+    assert!(ran.stdout.contains("amplified: all done"), "{}", ran.stdout);
+    assert_eq!(
+        ran.stdout.matches("amplified: ").count(),
+        8,
+        "{}",
+        ran.stdout
+    );
+}

@@ -637,6 +637,7 @@ fn argument_errors_exit_2_as_documented() {
     for flag in [
         "--max-file-mb",
         "--max-texture-mpix",
+        "--max-texture-mpix-total",
         "--max-instances",
         "--max-triangles",
         "--allow-outside-uris",
@@ -704,4 +705,110 @@ fn golden_bless_killed_mid_write_keeps_the_old_golden() {
     // The stale temporary file of the killed run is gone too.
     let left = std::fs::read_dir(&goldens).unwrap().count();
     assert_eq!(left, 1, "only ball.png stays in {}", goldens.display());
+}
+
+/// A scene of one sphere per texture of `textures`, each its own material's base colour map.
+fn many_textures_scene(textures: &[&str]) -> String {
+    let materials: Vec<String> = textures
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            format!(r#""m{i}": {{"model": "metal_rough", "textures": {{"base_color": "{t}"}}}}"#)
+        })
+        .collect();
+    let objects: Vec<String> = (0..textures.len())
+        .map(|i| {
+            format!(
+                r#"{{"mesh": {{"type": "sphere", "segments": 8, "rings": 4}}, "material": "m{i}", "position": [{i}, 0, 0]}}"#
+            )
+        })
+        .collect();
+    format!(
+        r#"{{"output": {{"width": 8, "height": 8, "msaa": 1}},
+ "materials": {{{}}},
+ "objects": [{}]}}"#,
+        materials.join(", "),
+        objects.join(", ")
+    )
+}
+
+/// Issue 38: all a scene's textures together within the budget (`--max-texture-mpix-total`,
+/// default 256 Mpix), counted from their headers when the scene is loaded, before any is
+/// decoded: five 8192² PNGs (64 Mpix each, each within the per-texture limit; decoded they would
+/// take about 10 GiB) are refused at the fifth under a 1 GiB ceiling, naming it and the budget.
+/// An image used by several materials counts once.
+#[test]
+fn a_scenes_textures_together_are_capped_from_their_headers() {
+    let dir = scratch("budget-texture-total");
+    let names: Vec<String> = (0..5).map(|i| format!("t{i}.png")).collect();
+    for n in &names {
+        std::fs::write(dir.join(n), declared_png(8192, 8192)).unwrap();
+    }
+    let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    std::fs::write(dir.join("five.json"), many_textures_scene(&refs)).unwrap();
+    render_fails(
+        &dir.join("five.json"),
+        &[],
+        &[
+            "five.json: material \"m4\": ",
+            "t4.png: its 64.0 Mpix bring the scene's textures to 320.0 Mpix, beyond the input \
+             budget's total of 256 Mpix",
+            "--max-texture-mpix-total",
+        ],
+    );
+    // The flag moves it: under a total of 200 Mpix the fourth is refused.
+    std::fs::write(dir.join("four.json"), many_textures_scene(&refs[..4])).unwrap();
+    render_fails(
+        &dir.join("four.json"),
+        &["--max-texture-mpix-total", "200"],
+        &["t3.png: its 64.0 Mpix", "total of 200 Mpix"],
+    );
+    // 2 Mpix used by three materials is 2 Mpix, not 6: within a total of 3 (and then found
+    // truncated when decoded, on the GPU's side: it holds no pixel data).
+    std::fs::write(dir.join("two.png"), declared_png(2048, 1024)).unwrap();
+    std::fs::write(
+        dir.join("shared.json"),
+        many_textures_scene(&["two.png", "two.png", "two.png"]),
+    )
+    .unwrap();
+    let err = render_fails_on_gpu(
+        &dir.join("shared.json"),
+        &["--max-texture-mpix-total", "3"],
+        &["two.png"],
+    );
+    assert!(!err.contains("--max-texture-mpix-total"), "{err}");
+}
+
+/// Issue 38: an OBJ's triangles are counted while its text is checked, before tobj builds any
+/// (n − 2 per face of n corners), and refused beyond `--max-triangles` with the file and line:
+/// a generated 4.8 MB OBJ of 600,000 faces under `--max-triangles 500000`, and one face of 17
+/// million corners (34 MB, one line) under the default 2^24; each under a 1 GiB ceiling.
+#[test]
+fn obj_triangles_are_counted_before_they_are_built() {
+    let dir = scratch("budget-obj-triangles");
+    let mut many = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    many.push_str(&"f 1 2 3\n".repeat(600_000));
+    std::fs::write(dir.join("many.obj"), &many).unwrap();
+    std::fs::write(dir.join("many.json"), obj_scene("many.obj")).unwrap();
+    render_fails(
+        &dir.join("many.json"),
+        &["--max-triangles", "500000"],
+        &[
+            "many.obj:500004: the file expands into more than 500000 triangles",
+            "--max-triangles",
+        ],
+    );
+    let mut fan = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+    fan.push_str(&" 1 2".repeat(8_500_000));
+    fan.push('\n');
+    std::fs::write(dir.join("fan.obj"), &fan).unwrap();
+    std::fs::write(dir.join("fan.json"), obj_scene("fan.obj")).unwrap();
+    render_fails(
+        &dir.join("fan.json"),
+        &[],
+        &[
+            "fan.obj:4: the file expands into more than 16777216 triangles",
+            "--max-triangles",
+        ],
+    );
 }

@@ -434,7 +434,7 @@ fn warnings(stderr: &str) -> Vec<&str> {
 /// Cache problems through the binary, each with one warning saying what it costs (issue 38):
 /// `LUZ_CACHE_DIR` naming a file, a folder that cannot be written, a zeroed cache file. A usable
 /// folder loses its stale temporary files and keeps the `--cache-max-mb` cap (oldest first), and
-/// a second run reads the chain back.
+/// a second run reads the chain back. Every run under [`GPU_MEMORY_CEILING`].
 #[test]
 fn the_cache_folder_is_checked_tidied_and_capped() {
     let dir = scratch("lod-cache-dir");
@@ -451,7 +451,9 @@ fn the_cache_folder_is_checked_tidied_and_capped() {
             "--verbose",
         ];
         args.extend_from_slice(extra);
-        run(luz_command(&args).env("LUZ_CACHE_DIR", cache)).parts()
+        let mut cmd = luz_command(&args);
+        cmd.env("LUZ_CACHE_DIR", cache);
+        run(with_memory_ceiling(&mut cmd, GPU_MEMORY_CEILING)).parts()
     };
     // A file, and a folder that cannot be written (/proc, even for root): one warning, a render.
     let file = dir.join("not-a-folder");
@@ -524,4 +526,321 @@ fn the_cache_folder_is_checked_tidied_and_capped() {
     assert_eq!(w.len(), 1, "{stderr}");
     assert!(w[0].contains("is damaged"), "{stderr}");
     assert!(stdout.contains("LOD chains: 1 built"), "{stdout}");
+}
+
+/// A glTF file `instances.gltf` (with `grid.bin`) in `dir`: one mesh, a gently waved grid of
+/// `n`×`n` quads (2n² triangles, normals in the file), placed by `nodes` nodes translated along
+/// a row of rows in front of the camera, each also turned about y. Returns the scene that draws it.
+fn instances_scene(dir: &std::path::Path, n: usize, nodes: usize) -> std::path::PathBuf {
+    let mut bin: Vec<u8> = Vec::new();
+    let put = |v: f32, bin: &mut Vec<u8>| bin.extend_from_slice(&v.to_le_bytes());
+    let verts = (n + 1) * (n + 1);
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
+            let y = 0.1 * (9.0 * x).sin() * (7.0 * z).cos();
+            for v in [x, y, z] {
+                put(v, &mut bin);
+            }
+        }
+    }
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
+            let (dx, dz) = (
+                0.9 * (9.0 * x).cos() * (7.0 * z).cos(),
+                -0.7 * (9.0 * x).sin() * (7.0 * z).sin(),
+            );
+            let len = (dx * dx + 1.0 + dz * dz).sqrt();
+            for v in [-dx / len, 1.0 / len, -dz / len] {
+                put(v, &mut bin);
+            }
+        }
+    }
+    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            for v in [a, d, c, a, c, b] {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    let (pos_len, idx_len) = (verts * 12, n * n * 6 * 4);
+    std::fs::write(dir.join("grid.bin"), &bin).unwrap();
+    let node_list: Vec<String> = (0..nodes)
+        .map(|k| {
+            let (x, z) = ((k % 40) as f32 * 1.2 - 24.0, -((k / 40) as f32) * 1.2 - 2.0);
+            let angle = (k as f32 * 0.37).sin() * 0.5;
+            format!(
+                r#"{{"mesh": 0, "translation": [{x}, 0, {z}], "rotation": [0, {}, 0, {}]}}"#,
+                angle.sin(),
+                angle.cos()
+            )
+        })
+        .collect();
+    let roots: Vec<String> = (0..nodes).map(|k| k.to_string()).collect();
+    let gltf = format!(
+        r#"{{"asset": {{"version": "2.0"}},
+ "buffers": [{{"uri": "grid.bin", "byteLength": {}}}],
+ "bufferViews": [{{"buffer": 0, "byteLength": {pos_len}}},
+                 {{"buffer": 0, "byteOffset": {pos_len}, "byteLength": {pos_len}}},
+                 {{"buffer": 0, "byteOffset": {}, "byteLength": {idx_len}}}],
+ "accessors": [{{"bufferView": 0, "componentType": 5126, "count": {verts}, "type": "VEC3",
+                 "min": [-0.5, -0.1, -0.5], "max": [0.5, 0.1, 0.5]}},
+               {{"bufferView": 1, "componentType": 5126, "count": {verts}, "type": "VEC3"}},
+               {{"bufferView": 2, "componentType": 5125, "count": {}, "type": "SCALAR"}}],
+ "meshes": [{{"name": "grid", "primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 1}}, "indices": 2}}]}}],
+ "nodes": [{}],
+ "scenes": [{{"nodes": [{}]}}], "scene": 0}}"#,
+        bin.len(),
+        2 * pos_len,
+        n * n * 6,
+        node_list.join(", "),
+        roots.join(", ")
+    );
+    std::fs::write(dir.join("instances.gltf"), gltf).unwrap();
+    let scene = dir.join("instances.json");
+    std::fs::write(
+        &scene,
+        r#"{
+        "camera": {"position": [0, 3, 4], "target": [0, 0, -10], "up": [0, 1, 0], "fov_y_deg": 60, "near": 0.1, "far": 100},
+        "output": {"width": 96, "height": 64, "msaa": 1},
+        "lights": [{"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2}],
+        "ambient": [0.1, 0.1, 0.1],
+        "materials": {"m": {"model": "lambert", "albedo": [0.7, 0.5, 0.4]}},
+        "objects": [{"mesh": {"type": "gltf", "path": "instances.gltf"}, "material": "m"}]
+    }"#,
+    )
+    .unwrap();
+    scene
+}
+
+/// Issue 38, item 5: 1,000 nodes placing one mesh (translated and turned) leave one LOD cache
+/// file, not 1,000: the chain is keyed on the mesh's local form and carried through each node's
+/// transform. The first run builds it once and reads it 999 times; a second run reads it 1,000
+/// times and draws the same pixels. Both under [`GPU_MEMORY_CEILING`].
+#[test]
+fn nodes_placing_one_mesh_share_one_cache_file() {
+    let dir = scratch("lod-instances");
+    let scene = instances_scene(&dir, 16, 1000);
+    let cache = dir.join("cache");
+    let render = |out: &str| {
+        let out = dir.join(out);
+        let args = [
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--ibl-quality",
+            "fast",
+            "--verbose",
+        ];
+        let mut cmd = luz_command(args);
+        cmd.env("LUZ_CACHE_DIR", &cache);
+        let (code, stdout, stderr) = run(with_memory_ceiling(&mut cmd, GPU_MEMORY_CEILING)).parts();
+        assert_ran_clean(code, &stdout, &stderr);
+        // The pixels (the file's provenance holds the run's own figures).
+        let image = luz::imageio::load(&out).unwrap();
+        (stdout, (image.width, image.height, image.display))
+    };
+    let (first, image) = render("a.png");
+    assert!(
+        first.contains("LOD chains: 1 built, 999 read from the cache"),
+        "{first}"
+    );
+    let lod: Vec<_> = std::fs::read_dir(cache.join("lod"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(lod.len(), 1, "{lod:?}");
+    let (second, again) = render("b.png");
+    assert!(
+        second.contains("LOD chains: 0 built, 1000 read from the cache"),
+        "{second}"
+    );
+    assert!(image == again, "the image from cached chains differs");
+    // Drawn at several levels (not all whole, not all coarsest).
+    assert!(first.contains("automatic LOD (budget"), "{first}");
+    assert_eq!(std::fs::read_dir(cache.join("lod")).unwrap().count(), 1);
+}
+
+/// Issue 38, items 2, 6 and 10 through the binary, each run under [`GPU_MEMORY_CEILING`] and a
+/// time limit (these inputs once never finished):
+/// - a generated 4.5 MB OBJ of 500,000 zero-area triangles and a 40,000-triangle polygon fan are
+///   drawn whole, reported in one summary line, and their failures are cached (the second run
+///   simplifies nothing);
+/// - a run killed mid-write (SIGXFSZ from a 4 KiB largest-file limit, as a crash or `kill -9`
+///   would) leaves its temporary file; the next run removes it and writes the cache whole;
+/// - a folder in place of a cache entry gives one warning that says what it costs.
+#[test]
+fn simplifier_and_cache_problems_under_a_memory_ceiling() {
+    let dir = scratch("lod-ceiling");
+    // 2,000 vertices on one line, 500,000 triangles between them: no triangle has an area.
+    let mut obj = String::new();
+    for i in 0..2000 {
+        obj += &format!("v {} {} 0\n", i as f32 * 0.001, i as f32 * 0.002);
+    }
+    for k in 0..500_000u64 {
+        let a = k % 1997 + 1;
+        obj += &format!("f {} {} {}\n", a, a + 1, a + 3);
+    }
+    assert!(obj.len() > 4 << 20, "{}", obj.len());
+    std::fs::write(dir.join("degenerate.obj"), &obj).unwrap();
+    // A disc of 40,000 triangles fanned around its centre (one polygon, valence 40,000).
+    let mut fan = String::from("v 0 0 0\n");
+    let n = 40_000;
+    for i in 0..=n {
+        let a = std::f32::consts::TAU * i as f32 / n as f32;
+        fan += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    for i in 0..n {
+        fan += &format!("f 1 {} {}\n", i + 2, i + 3);
+    }
+    std::fs::write(dir.join("fan.obj"), &fan).unwrap();
+    let scene = dir.join("problems.json");
+    std::fs::write(
+        &scene,
+        r#"{
+        "camera": {"position": [0, 0, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 50, "near": 0.1, "far": 20},
+        "output": {"width": 64, "height": 48, "msaa": 1},
+        "lights": [{"type": "directional", "direction": [-0.4, -1, -0.5], "intensity": 2}],
+        "materials": {"m": {"model": "lambert", "albedo": [0.7, 0.5, 0.4]}},
+        "objects": [{"mesh": {"type": "obj", "path": "degenerate.obj"}, "material": "m"},
+                    {"mesh": {"type": "obj", "path": "fan.obj"}, "material": "m", "position": [0.5, 0, 0]}]
+    }"#,
+    )
+    .unwrap();
+    let out = dir.join("out.png");
+    let cache = dir.join("cache");
+    let render = |scene: &std::path::Path, file_limit: Option<u64>| {
+        let args = [
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--ibl-quality",
+            "fast",
+            "--verbose",
+        ];
+        let mut cmd = luz_command(args);
+        cmd.env("LUZ_CACHE_DIR", &cache);
+        with_limits(&mut cmd, GPU_MEMORY_CEILING, file_limit);
+        run_within(&mut cmd, std::time::Duration::from_secs(300))
+    };
+    let ran = render(&scene, None);
+    assert_ran_clean(ran.code, &ran.stdout, &ran.stderr);
+    let w = warnings(&ran.stderr);
+    assert_eq!(w.len(), 1, "{}", ran.stderr);
+    assert!(
+        w[0].contains(
+            "automatic LOD: 2 mesh(es) drawn at full detail because their simplification failed"
+        ) && w[0].contains("all 500000 triangles are degenerate")
+            && w[0].contains("and 1 more"),
+        "{}",
+        ran.stderr
+    );
+    assert!(
+        ran.stdout
+            .contains("LOD chains: 0 built, 0 read from the cache, 2 failed"),
+        "{}",
+        ran.stdout
+    );
+    let ran = render(&scene, None);
+    assert_ran_clean(ran.code, &ran.stdout, &ran.stderr);
+    assert!(
+        ran.stdout
+            .contains("LOD chains: 0 built, 2 read from the cache, 2 failed"),
+        "{}",
+        ran.stdout
+    );
+    // Killed mid-write: a grid whose chain file is larger than the 4 KiB limit.
+    let grid = grid_scene(&dir, 48);
+    std::fs::remove_dir_all(&cache).unwrap();
+    let killed = render(&grid, Some(4096));
+    use std::os::unix::process::ExitStatusExt;
+    assert_eq!(
+        killed.status.signal(),
+        Some(libc::SIGXFSZ),
+        "{:?}: {}",
+        killed.status,
+        killed.stderr
+    );
+    let temps = |d: &std::path::Path| -> Vec<std::path::PathBuf> {
+        ["", "lod"]
+            .iter()
+            .flat_map(|s| std::fs::read_dir(d.join(s)).into_iter().flatten())
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.to_string_lossy().ends_with(".tmp"))
+            .collect()
+    };
+    assert!(!temps(&cache).is_empty(), "the kill left no temporary file");
+    let ran = render(&grid, None);
+    assert_ran_clean(ran.code, &ran.stdout, &ran.stderr);
+    assert!(warnings(&ran.stderr).is_empty(), "{}", ran.stderr);
+    assert!(temps(&cache).is_empty(), "{:?}", temps(&cache));
+    let lod: Vec<_> = std::fs::read_dir(cache.join("lod"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(lod.len(), 1, "{lod:?}");
+    // A folder in place of the entry: one warning with its cost, the image still drawn.
+    std::fs::remove_file(&lod[0]).unwrap();
+    std::fs::create_dir(&lod[0]).unwrap();
+    let ran = render(&grid, None);
+    assert_ran_clean(ran.code, &ran.stdout, &ran.stderr);
+    let w = warnings(&ran.stderr);
+    assert_eq!(w.len(), 1, "{}", ran.stderr);
+    assert!(
+        w[0].contains("a folder is in its place") && w[0].contains("simplified again on every run"),
+        "{}",
+        ran.stderr
+    );
+}
+
+/// Issue 38, item 6 (a full disk) through the binary under [`GPU_MEMORY_CEILING`]: with every
+/// file the run writes limited to 64 KiB and SIGXFSZ ignored, the cache writes fail half way
+/// (EFBIG, as ENOSPC would); the run still draws its image (a small PNG), warns once per cache
+/// that cannot be written, saying what it costs, and leaves no temporary file behind.
+#[test]
+fn a_full_disk_leaves_no_temporary_file_and_one_warning() {
+    let dir = scratch("lod-full-disk");
+    let scene = grid_scene(&dir, 48);
+    let out = dir.join("out.png");
+    let cache = dir.join("cache");
+    let args = [
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--ibl-quality",
+        "fast",
+    ];
+    let mut cmd = luz_command(args);
+    cmd.env("LUZ_CACHE_DIR", &cache);
+    with_limits(&mut cmd, GPU_MEMORY_CEILING, Some(64 << 10));
+    as_if_the_disk_were_full(&mut cmd);
+    let ran = run_within(&mut cmd, std::time::Duration::from_secs(300));
+    assert_ran_clean(ran.code, &ran.stdout, &ran.stderr);
+    assert!(out.is_file());
+    let w = warnings(&ran.stderr);
+    assert!(!w.is_empty(), "{}", ran.stderr);
+    assert!(
+        w.iter().all(|l| l.contains("cannot write")
+            && (l.contains("simplified again on every run") || l.contains("every run"))),
+        "{}",
+        ran.stderr
+    );
+    assert!(
+        w.iter().any(|l| l.contains("cannot write LOD cache files")),
+        "{}",
+        ran.stderr
+    );
+    let left: Vec<std::path::PathBuf> = ["", "lod"]
+        .iter()
+        .flat_map(|s| std::fs::read_dir(cache.join(s)).into_iter().flatten())
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }

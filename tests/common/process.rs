@@ -138,3 +138,96 @@ pub fn assert_ran_clean(code: i32, out: &str, err: &str) {
         "validation must be silent: {err}"
     );
 }
+
+/// `cmd` run under an address-space ceiling of `bytes` (`RLIMIT_AS`, set in the child before
+/// `exec`, as `prlimit --as` does): an allocation beyond it fails in the child, which aborts or
+/// reports it, and the test sees a non-zero exit instead of a machine out of memory.
+pub fn with_memory_ceiling(cmd: &mut Command, bytes: u64) -> &mut Command {
+    with_limits(cmd, bytes, None)
+}
+
+/// [`with_memory_ceiling`] and, with `file_bytes`, a largest file the child may write
+/// (`RLIMIT_FSIZE`): a write beyond it kills the child with SIGXFSZ mid-write, as a crash or
+/// `kill -9` would.
+pub fn with_limits(cmd: &mut Command, bytes: u64, file_bytes: Option<u64>) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: setrlimit is async-signal-safe, and the closure touches nothing else.
+    unsafe {
+        cmd.pre_exec(move || {
+            let set = |resource, value: u64| {
+                let lim = libc::rlimit {
+                    rlim_cur: value,
+                    rlim_max: value,
+                };
+                if libc::setrlimit(resource, &lim) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            };
+            set(libc::RLIMIT_AS, bytes)?;
+            if let Some(f) = file_bytes {
+                set(libc::RLIMIT_FSIZE, f)?;
+            }
+            Ok(())
+        })
+    }
+}
+
+/// `cmd` with SIGXFSZ ignored (inherited through `exec`): with [`with_limits`]' largest file, a
+/// write beyond it then fails with EFBIG instead of killing the child, as a full disk would.
+pub fn as_if_the_disk_were_full(cmd: &mut Command) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: signal() is async-signal-safe, and the closure touches nothing else.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::signal(libc::SIGXFSZ, libc::SIG_IGN) == libc::SIG_ERR {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        })
+    }
+}
+
+/// Runs `cmd` like [`run`], killed (and the test failed) after `timeout`: for inputs that once
+/// never finished. Its output is read while it runs, so a talkative child cannot block.
+pub fn run_within(cmd: &mut Command, timeout: std::time::Duration) -> Ran {
+    use std::io::Read;
+    let what = format!("{cmd:?}");
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot run {what}: {e}"));
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().unwrap()));
+    let err = drain(Box::new(child.stderr.take().unwrap()));
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if t0.elapsed() > timeout {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what} still running after {timeout:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let output = Output {
+        status,
+        stdout: out.join().unwrap(),
+        stderr: err.join().unwrap(),
+    };
+    Ran::from_output(&what, output)
+}
+
+/// The ceiling of a run that starts Vulkan (lavapipe and LLVM reserve address space): enough
+/// for a small render, far below what the unbounded cases of issue 38 took (gigabytes).
+pub const GPU_MEMORY_CEILING: u64 = 2048 << 20;

@@ -92,7 +92,7 @@ pub mod cache_dir;
 /// The input budget: the most any one input may cost, checked *before* reading or allocating,
 /// from file metadata, image headers and declared sizes. One process-wide value
 /// ([`InputBudget::current`]), set once by the command line (`--max-file-mb`,
-/// `--max-texture-mpix`, `--max-instances`, `--max-triangles`, `--allow-outside-uris`) and read by
+/// `--max-texture-mpix`, `--max-texture-mpix-total`, `--max-instances`, `--max-triangles`, `--allow-outside-uris`) and read by
 /// every loader. docs/reliability.md ("Input budget") lists each limit with its default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct InputBudget {
@@ -102,9 +102,15 @@ pub struct InputBudget {
     /// Most pixels of one decoded texture (width × height from its header); decoding costs
     /// about 34 bytes a pixel with the mip chain.
     pub max_texture_pixels: u64,
+    /// Most pixels of all a scene's textures together (each distinct file or embedded image
+    /// once, width × height from its header, summed before any is decoded): what the decoded
+    /// textures keep resident, about 5 bytes a pixel (8-bit, with mips) to 21 (float).
+    pub max_texture_pixels_total: u64,
     /// Most mesh instances of one model file (glTF nodes with a mesh, once per primitive).
     pub max_instances: usize,
-    /// Most triangles one model file may expand into (meshes baked once per instance).
+    /// Most triangles one model file may expand into: a glTF's meshes baked once per instance,
+    /// an OBJ's faces (n − 2 for a face of n corners, counted while its text is checked, before
+    /// any triangle is built).
     pub max_triangles: usize,
     /// Whether a glTF URI may name a file outside the model's folder.
     pub allow_outside_uris: bool,
@@ -116,11 +122,12 @@ pub const MIB: u64 = 1 << 20;
 pub const MPIX: u64 = 1 << 20;
 
 impl InputBudget {
-    /// 256 MiB files, 64 Mpix textures (8192 × 8192), 10,000 instances, 16 Mi triangles
-    /// (2^24), URIs inside the model's folder.
+    /// 256 MiB files, 64 Mpix textures (8192 × 8192), 256 Mpix of textures in a scene, 10,000
+    /// instances, 16 Mi triangles (2^24), URIs inside the model's folder.
     pub const DEFAULT: InputBudget = InputBudget {
         max_file_bytes: 256 * MIB,
         max_texture_pixels: 64 * MPIX,
+        max_texture_pixels_total: 256 * MPIX,
         max_instances: 10_000,
         max_triangles: 1 << 24,
         allow_outside_uris: false,

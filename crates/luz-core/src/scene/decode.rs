@@ -170,6 +170,11 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
              range so that the clustered light loop can skip them where they do not reach"
         ));
     }
+    // Every material is known now (the scene's, then the MTL and glTF files'): their textures
+    // together within the input budget, from the images' headers, before any is decoded.
+    if let Err((material, reason)) = super::textures::check_total_pixels(&scene.materials) {
+        return Err(Invalid::new(&format!("material \"{material}\""), reason));
+    }
     tessellation::resolve(&mut scene);
     Ok(scene)
 }

@@ -43,6 +43,21 @@ pub struct Mesh {
     pub indices: Vec<u32>,
     pub colors: Vec<Vec4>,
     pub tangents: Vec<Vec4>,
+    /// For a mesh placed by a glTF node (its transform baked into the vertices above): the same
+    /// primitive before that transform, shared by every node that places it, and the transform.
+    /// Automatic LOD keys and simplifies this one ([`super::lod::chain_for`]), so that a mesh
+    /// placed by many nodes has one cache entry, not one per node (issue 38). None when the mesh
+    /// is its own local form (OBJ, primitives, a glTF node with the identity transform).
+    pub placed: Option<std::sync::Arc<Placed>>,
+}
+
+/// A mesh's form before the transform that placed it ([`Mesh::placed`]): `local` has the same
+/// vertex count, order and indices (winding already swapped for a mirroring transform) and
+/// `transform` maps it to the placed mesh's positions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Placed {
+    pub local: std::sync::Arc<Mesh>,
+    pub transform: glam::Mat4,
 }
 
 impl Mesh {
@@ -585,8 +600,7 @@ mod tests {
             normals: vec![],
             uvs: vec![],
             indices: vec![0, 1, 2],
-            colors: vec![],
-            tangents: vec![],
+            ..Mesh::default()
         };
         assert_eq!(degenerate.flat_plane(), None);
         let broken = Mesh {

@@ -610,6 +610,8 @@ fn check_obj(text: &str) -> Result<Vec<(usize, String)>, LineError> {
     let mut coloured: Option<bool> = None;
     let mut mtllibs = Vec::new();
     let mut faces = 0usize;
+    let mut triangles = 0usize;
+    let max_triangles = crate::files::InputBudget::current().max_triangles;
     for (k, line) in text.lines().enumerate() {
         let no = k + 1;
         let fail = |reason: String| (no, reason);
@@ -718,6 +720,17 @@ fn check_obj(text: &str) -> Result<Vec<(usize, String)>, LineError> {
                         )));
                     }
                     faces += 1;
+                    // A face of n corners is n − 2 triangles (a fan): counted here, before tobj
+                    // builds any of them, so that a file's triangles stay within the budget
+                    // whatever its size (one `f` line of millions of corners too).
+                    triangles = triangles.saturating_add(corners - 2);
+                    if triangles > max_triangles {
+                        return Err(fail(format!(
+                            "the file expands into more than {max_triangles} triangles (faces \
+                             up to this line, n − 2 for a face of n corners; raise the input \
+                             budget with --max-triangles)"
+                        )));
+                    }
                 }
             }
             Some("usemtl") => {

@@ -333,3 +333,70 @@ pub fn slots_for_model(model: crate::brdf::ModelKind) -> &'static [TextureSlot] 
         K::Lambert | K::OrenNayar => &[BaseColor, Normal, Occlusion, Emissive],
     }
 }
+
+/// Width × height that the header of `r`'s image declares (PNG, JPEG, EXR, HDR), read without
+/// decoding a pixel; None when the header cannot be read (decoding reports that later, naming
+/// the file).
+pub fn declared_pixels(r: &TextureRef) -> Option<u64> {
+    use image::ImageReader;
+    let (w, h) = match &r.embedded {
+        Some(bytes) => ImageReader::new(std::io::Cursor::new(&bytes[..]))
+            .with_guessed_format()
+            .ok()?
+            .into_dimensions()
+            .ok()?,
+        None => {
+            let file = crate::files::open_input(&r.path).ok()?;
+            ImageReader::new(std::io::BufReader::new(file))
+                .with_guessed_format()
+                .ok()?
+                .into_dimensions()
+                .ok()?
+        }
+    };
+    Some(u64::from(w) * u64::from(h))
+}
+
+/// The scene's textures against the input budget's total
+/// ([`crate::files::InputBudget::max_texture_pixels_total`]): each distinct image (a file by
+/// path, an embedded image by its bytes) counted once from its header, before any is decoded.
+/// `Err((material, reason))` names the material and the image that passes the budget.
+pub fn check_total_pixels(materials: &[super::NamedMaterial]) -> Result<u64, (String, String)> {
+    let budget = crate::files::InputBudget::current().max_texture_pixels_total;
+    let mut seen = std::collections::HashSet::new();
+    let mut total = 0u64;
+    for m in materials {
+        for slot in TextureSlot::ALL {
+            let Some(r) = m.textures.get(slot) else {
+                continue;
+            };
+            let id = match &r.embedded {
+                Some(bytes) => (PathBuf::new(), bytes.as_ptr() as usize),
+                None => (r.path.clone(), 0),
+            };
+            if !seen.insert(id) {
+                continue;
+            }
+            let Some(pixels) = declared_pixels(r) else {
+                continue;
+            };
+            total = total.saturating_add(pixels);
+            if total > budget {
+                let mpix = |p: u64| p as f64 / crate::files::MPIX as f64;
+                return Err((
+                    m.name.clone(),
+                    format!(
+                        "{}: its {:.1} Mpix bring the scene's textures to {:.1} Mpix, beyond \
+                         the input budget's total of {:.0} Mpix (1 Mpix = 1024 × 1024 pixels; \
+                         raise it with --max-texture-mpix-total)",
+                        r.path.display(),
+                        mpix(pixels),
+                        mpix(total),
+                        mpix(budget)
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(total)
+}

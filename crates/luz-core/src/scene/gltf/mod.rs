@@ -4,7 +4,9 @@
 //! The `gltf` crate parses the JSON and the GLB container and checks every index; this module
 //! reads buffers and accessors itself, with every byte range checked, so that no file makes it
 //! panic. Node transforms are baked into the meshes (one mesh per node and primitive), so a part
-//! needs no transform of its own: the scene object's transform goes on top.
+//! needs no transform of its own: the scene object's transform goes on top. Each placed mesh
+//! keeps its primitive's local form (built once per primitive, shared by the nodes that place
+//! it: [`crate::scene::mesh::Placed`]), on which automatic LOD keys its cache and simplifies.
 
 mod accessor;
 mod material;
@@ -384,6 +386,9 @@ struct Builder<'a> {
     /// A node with a skin, a primitive with morph targets (one warning at the end).
     skinned: bool,
     morphed: bool,
+    /// Each primitive before any node transform, by (mesh, primitive, mirrored): built once and
+    /// shared by every node that places it ([`crate::scene::mesh::Placed`]).
+    local: HashMap<(usize, usize, bool), Option<std::sync::Arc<Mesh>>>,
 }
 
 impl<'a> Builder<'a> {
@@ -411,6 +416,7 @@ impl<'a> Builder<'a> {
             max_instances: crate::files::InputBudget::current().max_instances,
             skinned: false,
             morphed: false,
+            local: HashMap::new(),
         })
     }
 
@@ -586,10 +592,11 @@ impl<'a> Builder<'a> {
                 }
             })?;
             match built {
-                primitive::Built::Mesh(m) => {
+                primitive::Built::Mesh(mut m) => {
                     if m.indices.is_empty() {
                         continue;
                     }
+                    m.placed = self.placed(&p, mesh.index(), world, uv, &where_, &m);
                     let name = if count == 1 {
                         format!("{node_name}/{mesh_name}")
                     } else {
@@ -614,6 +621,50 @@ impl<'a> Builder<'a> {
             }
         }
         Ok(())
+    }
+
+    /// The local form of primitive `p` (of mesh `mesh`) placed by `world` as `placed`, for
+    /// automatic LOD's cache key: None when `world` is the identity (`placed` is its own local
+    /// form) or when the local form does not match `placed` vertex for vertex.
+    fn placed(
+        &mut self,
+        p: &gltf::Primitive,
+        mesh: usize,
+        world: Mat4,
+        uv: primitive::UvChoice,
+        where_: &str,
+        placed: &Mesh,
+    ) -> Option<std::sync::Arc<crate::scene::mesh::Placed>> {
+        if world == Mat4::IDENTITY {
+            return None;
+        }
+        let mirrored = glam::Mat3::from_mat4(world).determinant() < 0.0;
+        let buffers = self.buffers;
+        let local = self
+            .local
+            .entry((mesh, p.index(), mirrored))
+            .or_insert_with(|| {
+                let Ok(primitive::Built::Mesh(mut m)) =
+                    primitive::build(p, buffers, Mat4::IDENTITY, uv, where_)
+                else {
+                    return None;
+                };
+                if mirrored {
+                    m.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+                }
+                Some(std::sync::Arc::new(m))
+            })
+            .clone()?;
+        let same = local.positions.len() == placed.positions.len()
+            && local.normals.len() == placed.normals.len()
+            && local.uvs.len() == placed.uvs.len()
+            && local.indices == placed.indices;
+        same.then(|| {
+            std::sync::Arc::new(crate::scene::mesh::Placed {
+                local,
+                transform: world,
+            })
+        })
     }
 
     fn default_material(&mut self) -> usize {

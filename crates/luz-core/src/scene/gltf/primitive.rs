@@ -159,7 +159,7 @@ pub fn build(
         uvs,
         indices,
         colors,
-        tangents: Vec::new(),
+        ..Mesh::default()
     };
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(format!(

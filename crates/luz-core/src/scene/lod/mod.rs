@@ -58,7 +58,10 @@
 //! in one line.
 //!
 //! **Cache.** Chains are kept on disk ([`cache`]) under the IBL cache directory, keyed by a hash
-//! of the mesh's contents and the simplifier settings, with a CRC-32 over the file checked on
+//! of the mesh's contents and the simplifier settings (for a mesh placed by a glTF node, of its
+//! local form: [`super::mesh::Placed`]; the chain is simplified there and its vertices and errors
+//! are then carried through the node's transform, so that 1,000 nodes placing one mesh share one
+//! file), with a CRC-32 over the file checked on
 //! load: a damaged (also empty or zeroed) file gives one warning and is rebuilt. Failures are
 //! cached too. The folder's size cap, temporary files and warnings: `files::cache_dir`.
 
@@ -538,6 +541,12 @@ pub fn chain_for(
     stats: &mut ChainStats,
     warn: &mut dyn FnMut(String),
 ) -> Arc<LodChain> {
+    if let Some(placed) = &mesh.placed {
+        let local = chain_for(&placed.local, name, cache_dir, stats, warn);
+        if let Some(chain) = place(&local, placed.transform) {
+            return Arc::new(chain);
+        }
+    }
     let key = cache::key(mesh);
     // Still in vertex cache order where its indices are valid: drawn whole every frame.
     let whole = || {
@@ -596,6 +605,42 @@ pub fn chain_for(
             whole()
         }
     }
+}
+
+/// The chain of a mesh's local form (`local`, [`super::mesh::Placed`]) for the mesh `transform`
+/// placed: the same indices (the placed mesh has the local form's vertices in the same order),
+/// the moved vertices through `transform` (normals through its normal matrix, renormalised) and
+/// the errors scaled by its largest axis scale. None when a moved vertex leaves the finite
+/// range (the caller then builds the placed mesh's own chain).
+fn place(local: &LodChain, transform: glam::Mat4) -> Option<LodChain> {
+    let mut chain = local.clone();
+    if chain.levels.len() == 1 && chain.moved.is_empty() {
+        return Some(chain);
+    }
+    let linear = glam::Mat3::from_mat4(transform);
+    let scale = linear
+        .x_axis
+        .length()
+        .max(linear.y_axis.length())
+        .max(linear.z_axis.length());
+    let normal = linear.inverse().transpose();
+    if !scale.is_finite() || !normal.is_finite() {
+        return None;
+    }
+    let m = &mut chain.moved;
+    for p in &mut m.positions {
+        *p = transform.transform_point3(*p);
+    }
+    for n in &mut m.normals {
+        *n = (normal * *n).try_normalize().unwrap_or(*n);
+    }
+    if m.positions.iter().any(|p| !p.is_finite()) {
+        return None;
+    }
+    for l in &mut chain.levels[1..] {
+        l.error *= scale;
+    }
+    Some(chain)
 }
 
 /// Pixels per world unit at distance 1 on an image `height_px` tall: (height / 2) / tan(fov_y / 2);

@@ -655,3 +655,69 @@ fn each_cache_problem_warns_once_with_its_cost() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A mesh placed by a transform ([`crate::scene::mesh::Placed`]) gets its local form's chain
+/// carried through the transform: one cache file for every placement, moved vertices where the
+/// transform puts the local ones, errors scaled by its largest axis scale, and levels like those
+/// of the placed mesh simplified on its own (the first five levels' triangles within 5 % and
+/// errors within 15 %, the chain's length within one level).
+#[test]
+fn placed_meshes_share_their_local_chain() {
+    let dir = temp_dir("placed");
+    let local = std::sync::Arc::new(sphere());
+    let place = |t: glam::Mat4| {
+        let mut m = (*local).clone();
+        m.positions
+            .iter_mut()
+            .for_each(|p| *p = t.transform_point3(*p));
+        let nm = glam::Mat3::from_mat4(t).inverse().transpose();
+        m.normals
+            .iter_mut()
+            .for_each(|n| *n = (nm * *n).normalize());
+        m.placed = Some(std::sync::Arc::new(crate::scene::mesh::Placed {
+            local: local.clone(),
+            transform: t,
+        }));
+        m
+    };
+    let mut stats = ChainStats::default();
+    let own = chain_for(&local, "l", None, &mut stats, &mut |_| {});
+    for k in 0..20 {
+        let t = glam::Mat4::from_scale_rotation_translation(
+            glam::Vec3::splat(2.0),
+            glam::Quat::from_rotation_y(k as f32 * 0.3),
+            glam::Vec3::new(k as f32 * 3.0, 1.5, -7.25 * k as f32),
+        );
+        let mesh = place(t);
+        let chain = chain_for(&mesh, "m", Some(&dir), &mut stats, &mut |w| panic!("{w}"));
+        assert_eq!(chain.indices, own.indices);
+        for (a, b) in chain.moved.positions.iter().zip(&own.moved.positions) {
+            assert!((*a - t.transform_point3(*b)).length() < 1e-4, "{a} {b}");
+        }
+        for (a, b) in chain.levels.iter().zip(&own.levels) {
+            assert!((a.error - 2.0 * b.error).abs() <= 1e-6 * a.error.max(1.0));
+        }
+        if k == 3 {
+            // The placed mesh simplified on its own (what the cache keyed before).
+            let mut alone = mesh.clone();
+            alone.placed = None;
+            let direct = build(&alone).unwrap();
+            // Rounding in other coordinates may end a chain a level earlier or later.
+            assert!(direct.levels.len().abs_diff(chain.levels.len()) <= 1);
+            for (a, b) in direct.levels.iter().zip(&chain.levels).take(5) {
+                let (ta, tb) = (a.triangles() as f32, b.triangles() as f32);
+                assert!((ta - tb).abs() <= 0.05 * ta, "{ta} {tb}");
+                // meshopt weighs the attributes against positions in the mesh's own extent,
+                // so other coordinates move an error by a few per cent (6.5 % seen).
+                assert!(
+                    (a.error - b.error).abs() <= 0.15 * a.error.max(1e-4),
+                    "{a:?} {b:?}"
+                );
+            }
+        }
+    }
+    assert_eq!(stats.built, 2, "{stats:?}");
+    assert_eq!(stats.loaded, 19, "{stats:?}");
+    assert_eq!(std::fs::read_dir(dir.join("lod")).unwrap().count(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
