@@ -47,7 +47,8 @@ pub struct Mesh {
     /// primitive before that transform, shared by every node that places it, and the transform.
     /// Automatic LOD keys and simplifies this one ([`super::lod::chain_for`]), so that a mesh
     /// placed by many nodes has one cache entry, not one per node (issue 38). None when the mesh
-    /// is its own local form (OBJ, primitives, a glTF node with the identity transform).
+    /// is its own local form (OBJ, primitives, a glTF node with the identity transform) or its
+    /// glTF mesh is named by one node only.
     pub placed: Option<std::sync::Arc<Placed>>,
 }
 

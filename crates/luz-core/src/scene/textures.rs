@@ -360,9 +360,11 @@ pub fn declared_pixels(r: &TextureRef) -> Option<u64> {
 /// The scene's textures against the input budget's total
 /// ([`crate::files::InputBudget::max_texture_pixels_total`]): each distinct image (a file by
 /// path, an embedded image by its bytes) counted once from its header, before any is decoded.
+/// Images beyond the one-texture limit are left to the decoder (its message names that limit).
 /// `Err((material, reason))` names the material and the image that passes the budget.
 pub fn check_total_pixels(materials: &[super::NamedMaterial]) -> Result<u64, (String, String)> {
-    let budget = crate::files::InputBudget::current().max_texture_pixels_total;
+    let budget = crate::files::InputBudget::current();
+    let (one, all) = (budget.max_texture_pixels, budget.max_texture_pixels_total);
     let mut seen = std::collections::HashSet::new();
     let mut total = 0u64;
     for m in materials {
@@ -377,11 +379,13 @@ pub fn check_total_pixels(materials: &[super::NamedMaterial]) -> Result<u64, (St
             if !seen.insert(id) {
                 continue;
             }
-            let Some(pixels) = declared_pixels(r) else {
+            // An image beyond the one-texture limit is refused by the decoder, with its own
+            // message and flag.
+            let Some(pixels) = declared_pixels(r).filter(|&p| p <= one) else {
                 continue;
             };
             total = total.saturating_add(pixels);
-            if total > budget {
+            if total > all {
                 let mpix = |p: u64| p as f64 / crate::files::MPIX as f64;
                 return Err((
                     m.name.clone(),
@@ -392,7 +396,7 @@ pub fn check_total_pixels(materials: &[super::NamedMaterial]) -> Result<u64, (St
                         r.path.display(),
                         mpix(pixels),
                         mpix(total),
-                        mpix(budget)
+                        mpix(all)
                     ),
                 ));
             }

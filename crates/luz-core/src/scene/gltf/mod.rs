@@ -6,7 +6,8 @@
 //! panic. Node transforms are baked into the meshes (one mesh per node and primitive), so a part
 //! needs no transform of its own: the scene object's transform goes on top. Each placed mesh
 //! keeps its primitive's local form (built once per primitive, shared by the nodes that place
-//! it: [`crate::scene::mesh::Placed`]), on which automatic LOD keys its cache and simplifies.
+//! it: [`crate::scene::mesh::Placed`]) when several nodes name its mesh; automatic LOD keys its
+//! cache and simplifies on that form.
 
 mod accessor;
 mod material;
@@ -389,6 +390,9 @@ struct Builder<'a> {
     /// Each primitive before any node transform, by (mesh, primitive, mirrored): built once and
     /// shared by every node that places it ([`crate::scene::mesh::Placed`]).
     local: HashMap<(usize, usize, bool), Option<std::sync::Arc<Mesh>>>,
+    /// Per mesh, how many nodes name it: a mesh named by one node keeps no local form (nothing
+    /// to share, and no second copy of it in memory).
+    uses: Vec<u32>,
 }
 
 impl<'a> Builder<'a> {
@@ -417,6 +421,13 @@ impl<'a> Builder<'a> {
             skinned: false,
             morphed: false,
             local: HashMap::new(),
+            uses: {
+                let mut uses = vec![0u32; doc.meshes().len()];
+                for m in doc.nodes().filter_map(|n| n.mesh()) {
+                    uses[m.index()] = uses[m.index()].saturating_add(1);
+                }
+                uses
+            },
         })
     }
 
@@ -625,7 +636,8 @@ impl<'a> Builder<'a> {
 
     /// The local form of primitive `p` (of mesh `mesh`) placed by `world` as `placed`, for
     /// automatic LOD's cache key: None when `world` is the identity (`placed` is its own local
-    /// form) or when the local form does not match `placed` vertex for vertex.
+    /// form), when only one node names the mesh (its placed form is keyed as it is, as many
+    /// files either way) or when the local form does not match `placed` vertex for vertex.
     fn placed(
         &mut self,
         p: &gltf::Primitive,
@@ -635,7 +647,7 @@ impl<'a> Builder<'a> {
         where_: &str,
         placed: &Mesh,
     ) -> Option<std::sync::Arc<crate::scene::mesh::Placed>> {
-        if world == Mat4::IDENTITY {
+        if world == Mat4::IDENTITY || self.uses.get(mesh).is_none_or(|&n| n < 2) {
             return None;
         }
         let mirrored = glam::Mat3::from_mat4(world).determinant() < 0.0;
