@@ -4,7 +4,7 @@
 //! * [`color_delta`]: the squared YIQ distance of Kotsarenko and Ramos ("Measuring perceived color
 //!   difference using YIQ NTSC transmission color space in mobile applications"), as pixelmatch
 //!   computes it (semi-transparent colours blended with white first); at most
-//!   [`MAX_COLOR_DISTANCE`] (black against white).
+//!   [`MAX_COLOR_DISTANCE`] (pixelmatch's bound).
 //! * [`antialiased`]: pixelmatch's reading of V. Vysniauskas's "Anti-aliased pixel and intensity
 //!   slope detector" (2009): a pixel is anti-aliasing when, among its 8 neighbours, at most 2 equal
 //!   it, some are darker and some brighter, and the darkest or the brightest of them sits in a flat
@@ -16,7 +16,8 @@
 //!
 //! Images are 8-bit RGBA, row-major.
 
-/// The largest value [`color_delta`] takes (black against white).
+/// The bound pixelmatch and model-viewer give for [`color_delta`] (black against white is
+/// 0.5053 · 255² ≈ 32857).
 pub const MAX_COLOR_DISTANCE: f64 = 35215.0;
 
 /// model-viewer's `FIDELITY_TEST_THRESHOLD`: a render whose score is above −22 dB fails.
@@ -194,8 +195,19 @@ mod tests {
     fn delta_extremes_and_blending() {
         let (black, white) = ([0, 0, 0, 255], [255, 255, 255, 255]);
         assert_eq!(color_delta(black, black), 0.0);
+        // Black against white: 0.5053 · 255² (I and Q cancel); no pair exceeds the maximum.
         let d = color_delta(black, white);
-        assert!((d - MAX_COLOR_DISTANCE).abs() < 1.0, "{d}");
+        assert!((d - 0.5053 * 255.0 * 255.0).abs() < 1.0, "{d}");
+        for p in [[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255], white] {
+            for q in [
+                black,
+                [0, 255, 255, 255],
+                [255, 0, 255, 255],
+                [255, 255, 0, 255],
+            ] {
+                assert!(color_delta(p, q) <= MAX_COLOR_DISTANCE, "{p:?} {q:?}");
+            }
+        }
         // Fully transparent black is white once blended.
         assert_eq!(color_delta([0, 0, 0, 0], white), 0.0);
     }
