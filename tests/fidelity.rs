@@ -233,6 +233,10 @@ fn bad_scenarios_name_the_json_path() {
             format!(r#"{{"scenario": {{"model": "{}", "lighting": "{}"}}}}"#, s(&model), s(&hdr)),
             "outputFile: missing",
         ),
+        (
+            format!(r#"{{"scenario": {{"model": "{}", "lighting": "{}"}}, "outputFile": "{}"}}"#, s(&model), s(&model), s(&out)),
+            "scenario.lighting: ",
+        ),
         (r#"{"scenario": {}, "output": "x.png"}"#.to_string(), "output: unknown field (known: scenario, outputFile)"),
         ("{\"scenario\": ".to_string(), "not valid JSON"),
     ];

@@ -178,6 +178,16 @@ pub fn parse(text: &str, root: &Path) -> Result<Scenario, String> {
             }
         ));
     }
+    let ext = lighting
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    if !matches!(ext.as_str(), "hdr" | "exr") {
+        return Err(format!(
+            "scenario.lighting: {}: luz reads Radiance .hdr and OpenEXR .exr environments only",
+            lighting.display()
+        ));
+    }
     let empty = Map::new();
     let sub = |key: &str| -> Result<&Map<String, Value>, String> {
         match s.get(key) {

@@ -962,6 +962,63 @@ mod tests {
         }
     }
 
+    /// `ignore_antialiasing`: an anti-aliased edge drawn with another grey passes, a dot in a
+    /// flat area still fails; without the option both fail.
+    #[test]
+    fn antialiased_edges_are_forgiven_and_real_changes_are_not() {
+        let dir = std::env::temp_dir().join(format!("luz-golden-aa-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let (w, h) = (24u32, 16u32);
+        let edge = |grey: u8| -> Vec<u8> {
+            (0..w * h)
+                .flat_map(|i| match i % w {
+                    0..=9 => [0, 0, 0],
+                    10 => [grey; 3],
+                    _ => [255, 255, 255],
+                })
+                .collect()
+        };
+        let save = |name: &str, rgb: &[u8]| {
+            let p = dir.join(name);
+            crate::imageio::save_png_rgb8(&p, w, h, rgb).unwrap();
+            p
+        };
+        let golden = save("golden.png", &edge(128));
+        let moved = crate::imageio::load(&save("moved.png", &edge(80))).unwrap();
+        let mut dotted_rgb = edge(128);
+        dotted_rgb[(5 * w + 3) as usize * 3] = 200;
+        let dotted = crate::imageio::load(&save("dotted.png", &dotted_rgb)).unwrap();
+        let aa = Masking {
+            ignore_antialiasing: true,
+            ..Masking::default()
+        };
+        let strict = Tolerance {
+            max_abs: Some(8.0),
+            max_bad_pixels: Some(0),
+            ..Tolerance::golden()
+        };
+        let plain = compare_with_golden(&golden, 0, moved.clone(), strict);
+        assert!(!plain.failures.is_empty(), "the moved edge differs");
+        let forgiven = compare_with_golden_masked(&golden, 0, moved, strict, &aa);
+        assert!(forgiven.failures.is_empty(), "{:?}", forgiven.failures);
+        let ignored = forgiven.ignored.unwrap();
+        assert_eq!(
+            ignored.antialiased_pixels(),
+            u64::from(h),
+            "the whole grey column"
+        );
+        assert_eq!(forgiven.report.unwrap().ignored_pixels, u64::from(h));
+        let dot = compare_with_golden_masked(&golden, 0, dotted, strict, &aa);
+        assert!(
+            dot.failures.iter().any(|f| f.contains("max-abs 8")),
+            "{:?}",
+            dot.failures
+        );
+        assert_eq!(dot.ignored.unwrap().antialiased_pixels(), 0);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
     #[test]
     fn shards_cover_every_case_once_and_balance() {
         for total in 0..40usize {
