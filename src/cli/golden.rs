@@ -32,7 +32,8 @@ pub struct GoldenArgs {
     /// Write (or replace) the goldens instead of checking them, and say what changed.
     #[arg(long)]
     pub bless: bool,
-    /// Write index.html, junit.xml and summary.md (and the images) into this folder.
+    /// Write index.html, junit.xml, summary.md and cases.json (and the images) into this
+    /// folder; `luz golden merge` joins the folders of a sharded run.
     #[arg(long, value_name = "OUT")]
     pub report: Option<PathBuf>,
     /// Scenes rendered at once.
