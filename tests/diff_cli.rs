@@ -224,3 +224,121 @@ fn provenance_in_renders_info_and_diff() {
     assert_eq!(code, 1);
     assert!(err.contains("missing.png: no such file"), "{err}");
 }
+
+/// The fidelity site's score written out from the formula (pixelmatch's YIQ colour delta,
+/// model-viewer's `ImageComparator.analyze` and `toDecibel`), independently of luz's code.
+fn khronos_db_by_the_formula(candidate: &[[u8; 4]], golden: &[[u8; 4]]) -> f64 {
+    fn yiq(p: [u8; 4]) -> [f64; 3] {
+        let a = f64::from(p[3]) / 255.0;
+        let [r, g, b] = [p[0], p[1], p[2]].map(|c| 255.0 + (f64::from(c) - 255.0) * a);
+        [
+            r * 0.29889531 + g * 0.58662247 + b * 0.11448223,
+            r * 0.59597799 - g * 0.27417610 - b * 0.32180189,
+            r * 0.21147017 - g * 0.52261711 + b * 0.31114694,
+        ]
+    }
+    let (mut sum, mut n) = (0.0, 0.0);
+    for (c, g) in candidate.iter().zip(golden) {
+        if c[3] == 0 {
+            continue;
+        }
+        let (p, q) = (yiq(*c), yiq(*g));
+        let (y, i, qq) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+        let delta = 0.5053 * y * y + 0.299 * i * i + 0.1957 * qq * qq;
+        sum += delta * delta;
+        n += 1.0;
+    }
+    10.0 * ((sum / n).sqrt() / 35215.0).log10()
+}
+
+fn save_rgba(path: &Path, w: u32, h: u32, px: &[[u8; 4]]) {
+    let bytes: Vec<u8> = px.iter().flatten().copied().collect();
+    image::save_buffer(path, &bytes, w, h, image::ColorType::Rgba8).unwrap();
+}
+
+fn printed_db(out: &str) -> f64 {
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("khronos-db  "))
+        .unwrap_or_else(|| panic!("{out}"));
+    line["khronos-db  ".len()..]
+        .split(" dB")
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// `luz diff --metric khronos-db` equals the formula (transparent candidate pixels skipped,
+/// semi-transparent ones blended with white) and fails above model-viewer's −22 dB.
+#[test]
+fn khronos_db_matches_the_formula_and_the_threshold() {
+    let dir = scratch("khronos-db");
+    let (w, h) = (40u32, 30u32);
+    let golden: Vec<[u8; 4]> = (0..w * h)
+        .map(|i| [(i % w * 6) as u8, (i / w * 8) as u8, 90, 255])
+        .collect();
+    // A small change: a few pixels shifted, one semi-transparent, two transparent (skipped).
+    let mut near = golden.clone();
+    for i in (0..near.len()).step_by(7) {
+        near[i][0] = near[i][0].saturating_add(12);
+    }
+    near[5][3] = 250;
+    near[6] = [0, 0, 0, 0];
+    near[9] = [255, 0, 0, 0];
+    // A large change: the colours inverted.
+    let far: Vec<[u8; 4]> = golden
+        .iter()
+        .map(|p| [255 - p[0], 255 - p[1], 255 - p[2], 255])
+        .collect();
+    let g = dir.join("golden.png");
+    save_rgba(&g, w, h, &golden);
+    for (name, img, passes) in [("near", &near, true), ("far", &far, false)] {
+        let c = dir.join(format!("{name}.png"));
+        save_rgba(&c, w, h, img);
+        let (code, out, err) = luz(&["diff", s(&g), s(&c), "--metric", "khronos-db"]);
+        let want = khronos_db_by_the_formula(img, &golden);
+        let got = printed_db(&out);
+        assert!(
+            (got - want).abs() < 1e-3,
+            "{name}: printed {got}, formula {want}\n{out}"
+        );
+        assert!(out.contains("checks   khronos-db ≤ -22 dB"), "{out}");
+        assert_eq!(
+            code,
+            if passes { 0 } else { 1 },
+            "{name} ({want} dB): {out}\n{err}"
+        );
+        assert_eq!(want < -22.0, passes, "{name}: {want}");
+    }
+    // The transparent pixels were skipped: 1200 − 2 counted.
+    let c = dir.join("near.png");
+    let (_, out, _) = luz(&["diff", s(&g), s(&c), "--metric", "khronos-db"]);
+    assert!(out.contains("over 1198 non-transparent pixels"), "{out}");
+    // Identical: −∞; a threshold of one's own; FLIP options are refused with this metric.
+    let (code, out, _) = luz(&["diff", s(&g), s(&g), "--metric", "khronos-db"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("-inf dB (identical)"), "{out}");
+    let (code, out, _) = luz(&[
+        "diff",
+        s(&g),
+        s(&c),
+        "--metric",
+        "khronos-db",
+        "--max-db",
+        "-60",
+    ]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("above --max-db -60"), "{out}");
+    let (code, _, err) = luz(&[
+        "diff",
+        s(&g),
+        s(&c),
+        "--metric",
+        "khronos-db",
+        "--max-abs",
+        "3",
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--max-db"), "{err}");
+}

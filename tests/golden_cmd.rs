@@ -454,3 +454,340 @@ fn scene_tolerances_and_exr_goldens() {
         "{out}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Issue 39: shards and merged reports, masks, regions.
+
+fn cases_of(report: &Path) -> Vec<serde_json::Value> {
+    let text = std::fs::read_to_string(report.join("cases.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["cases"].as_array().unwrap().clone()
+}
+
+/// What a case shows, without where its images are (those are renamed by a merge) nor its time.
+fn shown(c: &serde_json::Value) -> String {
+    let mut c = c.clone();
+    let o = c.as_object_mut().unwrap();
+    for k in ["expected", "actual", "flip", "mask", "millis"] {
+        o.remove(k);
+    }
+    c.to_string()
+}
+
+/// `--shard K/N` runs a contiguous 1/N of the sorted cases; the N shards' union is the
+/// unsharded run (the same cases, verdicts and figures, each once), and `luz golden merge`
+/// writes one report of them in the run's order, as one job would (checked in Chromium).
+#[test]
+fn shards_union_is_the_unsharded_run_and_merge_lists_each_case_once() {
+    let dir = scratch("golden-shards");
+    let scenes = dir.join("scenes");
+    let goldens = dir.join("goldens");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let names = ["a1", "b2", "c3", "d4", "e5", "f6", "g7"];
+    for (i, n) in names.iter().enumerate() {
+        let t = i as f32 / 7.0;
+        write(
+            &scenes.join(format!("{n}.json")),
+            &scene([t, 0.5, 1.0 - t], 24, 16),
+        );
+    }
+    let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens), "--bless"]);
+    assert_eq!(code, 0, "{out}");
+    // d4 changes: one failure to carry through.
+    write(&scenes.join("d4.json"), &scene([0.9, 0.9, 0.1], 24, 16));
+
+    let full = dir.join("full");
+    let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens), "--report", s(&full)]);
+    assert_eq!(code, 1, "{out}");
+    let full_cases = cases_of(&full);
+    assert_eq!(full_cases.len(), 7);
+
+    let n = 3;
+    let mut union: Vec<String> = Vec::new();
+    let mut sizes = Vec::new();
+    let mut shard_dirs = Vec::new();
+    for k in 1..=n {
+        let rep = dir.join(format!("shard{k}"));
+        let (code, out, _) = golden(&[
+            s(&scenes),
+            "--goldens",
+            s(&goldens),
+            "--shard",
+            &format!("{k}/{n}"),
+            "--report",
+            s(&rep),
+        ]);
+        let cases = cases_of(&rep);
+        let has_d4 = cases.iter().any(|c| c["name"] == "d4");
+        assert_eq!(code, i32::from(has_d4), "{out}");
+        assert!(
+            out.contains(&format!("shard {k}/{n}: {} of 7 cases", cases.len())),
+            "{out}"
+        );
+        sizes.push(cases.len());
+        union.extend(
+            cases
+                .iter()
+                .map(|c| c["name"].as_str().unwrap().to_string()),
+        );
+        shard_dirs.push(rep);
+    }
+    // Balanced, and every case in exactly one shard.
+    assert_eq!(sizes, [2, 2, 3]);
+    let mut sorted = union.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), union.len(), "a case ran twice: {union:?}");
+    assert_eq!(union, names, "the shards in order are the whole run");
+
+    // Merged (given in any order): exactly the unsharded run's cases, as shown.
+    let merged = dir.join("merged");
+    let dirs: Vec<&str> = [2, 0, 1].iter().map(|&i| s(&shard_dirs[i])).collect();
+    let mut args = vec!["golden", "merge"];
+    args.extend(&dirs);
+    args.extend(["--report", s(&merged)]);
+    let (code, out, err) = luz(&args);
+    assert_eq!(code, 1, "one case failed: {out}\n{err}");
+    assert!(
+        out.contains("luz golden merge: 3 reports, 6 passed, 1 failed, 7 scenes"),
+        "{out}"
+    );
+    let merged_cases = cases_of(&merged);
+    let a: Vec<String> = full_cases.iter().map(shown).collect();
+    let b: Vec<String> = merged_cases.iter().map(shown).collect();
+    assert_eq!(a, b);
+    let junit = std::fs::read_to_string(merged.join("junit.xml")).unwrap();
+    assert!(junit.contains("tests=\"7\" failures=\"1\""), "{junit}");
+    assert_eq!(junit.matches("<testcase ").count(), 7, "{junit}");
+    for n in names {
+        assert_eq!(
+            junit.matches(&format!("name=\"{n}\"")).count(),
+            1,
+            "{n}: {junit}"
+        );
+    }
+    let md = std::fs::read_to_string(merged.join("summary.md")).unwrap();
+    assert!(md.contains("luz golden: 6 of 7 passed"), "{md}");
+    assert_eq!(
+        md.matches("| PASS |").count() + md.matches("| FAIL |").count(),
+        7
+    );
+
+    // A missing shard, a shard given twice, a folder that is no report: errors naming them.
+    let bad_out = dir.join("bad");
+    let bad = |dirs: &[&str], needle: &str| {
+        let mut args = vec!["golden", "merge"];
+        args.extend(dirs);
+        args.extend(["--report", s(&bad_out)]);
+        let (code, out, err) = luz(&args[..]);
+        assert_eq!(code, 1, "{out}\n{err}");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(err.contains(needle), "expected {needle:?}: {err}");
+    };
+    bad(&[dirs[0], dirs[1]], "shard 2/3 missing");
+    bad(&[dirs[0], dirs[1], dirs[1], dirs[2]], "given twice");
+    bad(&[s(&scenes)], "cases.json");
+
+    // The merged page in a browser: 7 sections, every image loads (expected, actual, FLIP and
+    // the fade pair per case).
+    let Some(browser) = chromium() else { return };
+    let dom = dump_dom(&browser, &merged.join("index.html"), &dir.join("profile"));
+    assert!(dom.contains("data-images-loaded=\"35/35\""), "{dom}");
+    assert_eq!(dom.matches("<section ").count(), 7);
+    assert!(dom.contains("1 of 7 failed"), "{dom}");
+    for n in names {
+        assert_eq!(dom.matches(&format!("<h2>{n} ")).count(), 1, "{n}");
+    }
+}
+
+/// Paints the rectangle `[x, y, w, h]` of a PNG golden with `f(old)` (what a changed render
+/// would show there), keeping its size.
+fn paint(png: &Path, [x0, y0, w, h]: [u32; 4], f: impl Fn([u8; 3]) -> [u8; 3]) {
+    let mut img = image::open(png).unwrap().to_rgb8();
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            let p = img.get_pixel_mut(x, y);
+            p.0 = f(p.0);
+        }
+    }
+    img.save(png).unwrap();
+}
+
+/// A mask PNG of `w × h`, white in `rect`.
+fn mask(path: &Path, w: u32, h: u32, [x0, y0, rw, rh]: [u32; 4]) {
+    let img = image::GrayImage::from_fn(w, h, |x, y| {
+        let inside = x >= x0 && x < x0 + rw && y >= y0 && y < y0 + rh;
+        image::Luma([if inside { 255 } else { 0 }])
+    });
+    img.save(path).unwrap();
+}
+
+/// A golden changed in one patch: the case fails; with a mask over the patch it passes, with
+/// the mask elsewhere it fails; the report hatches the masked pixels (Chromium loads the overlay).
+#[test]
+fn a_masked_change_passes_and_the_same_change_unmasked_fails() {
+    let dir = scratch("golden-mask");
+    let scenes = dir.join("scenes");
+    let goldens = dir.join("goldens");
+    std::fs::create_dir_all(&scenes).unwrap();
+    write(&scenes.join("ball.json"), &scene(RED, 64, 48));
+    let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens), "--bless"]);
+    assert_eq!(code, 0, "{out}");
+    let patch = [20, 14, 12, 10];
+    paint(&goldens.join("ball.png"), patch, |_| [255, 0, 255]);
+    let check = |report: Option<&Path>| {
+        let mut args = vec![s(&scenes), "--goldens", s(&goldens)];
+        if let Some(r) = report {
+            args.extend(["--report", s(r)]);
+        }
+        golden(&args)
+    };
+    // Unmasked: the change fails.
+    let (code, out, _) = check(None);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("FAIL ball") && out.contains("exceeds max-abs 8"),
+        "{out}"
+    );
+    // Masked (the mask a little larger than the patch): it passes, byte-exact elsewhere.
+    mask(&goldens.join("ball.mask.png"), 64, 48, [18, 12, 16, 14]);
+    write(
+        &goldens.join("ball.golden.json"),
+        r#"{"mask": "ball.mask.png"}"#,
+    );
+    let report = dir.join("report");
+    let (code, out, _) = check(Some(&report));
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("PASS ball  FLIP mean 0.000000, max abs 0"),
+        "{out}"
+    );
+    // The same mask elsewhere: the change is seen again.
+    mask(&goldens.join("ball.mask.png"), 64, 48, [40, 0, 16, 14]);
+    let (code, out, _) = check(None);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("exceeds max-abs 8"), "{out}");
+    // A mask of another size or a missing one: the case fails naming the file and field.
+    mask(&goldens.join("ball.mask.png"), 32, 48, [0, 0, 1, 1]);
+    let (code, out, _) = check(None);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("ball.golden.json: mask:")
+            && out.contains("the mask is 32×48, the golden 64×48"),
+        "{out}"
+    );
+    write(&goldens.join("ball.golden.json"), r#"{"mask": 3}"#);
+    let (code, out, _) = check(None);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("ball.golden.json: mask: must be a PNG file name"),
+        "{out}"
+    );
+
+    // The report of the passing run: the mask's 16×14 white pixels hatched.
+    let cases = cases_of(&report);
+    assert_eq!(
+        cases[0]["ignored"],
+        "left out: 224 masked pixels (hatched), 0 pixels forgiven as anti-aliasing (yellow)"
+    );
+    let overlay = image::open(report.join(cases[0]["mask"].as_str().unwrap()))
+        .unwrap()
+        .to_rgba8();
+    assert!(overlay.get_pixel(20, 14).0[3] > 0, "masked: drawn");
+    assert_eq!(overlay.get_pixel(5, 5).0[3], 0, "not masked: transparent");
+    let Some(browser) = chromium() else { return };
+    let dom = dump_dom(&browser, &report.join("index.html"), &dir.join("profile"));
+    // expected, actual, FLIP, the hatching over expected and actual, the fade pair.
+    assert!(dom.contains("data-images-loaded=\"7/7\""), "{dom}");
+    assert_eq!(dom.matches("class=\"top hatch\"").count(), 2, "{dom}");
+    assert!(dom.contains("224 masked pixels"), "{dom}");
+}
+
+/// A region's tolerances apply inside it only: a lenient region over a large change passes
+/// while the same region elsewhere fails; a strict region over a small change (within the
+/// case's tolerances) fails while the same region elsewhere passes.
+#[test]
+fn a_region_tolerance_applies_only_inside_its_region() {
+    let dir = scratch("golden-region");
+    let scenes = dir.join("scenes");
+    let goldens = dir.join("goldens");
+    std::fs::create_dir_all(&scenes).unwrap();
+    write(&scenes.join("ball.json"), &scene(BLUE, 64, 48));
+    let (code, out, _) = golden(&[s(&scenes), "--goldens", s(&goldens), "--bless"]);
+    assert_eq!(code, 0, "{out}");
+    let pristine = std::fs::read(goldens.join("ball.png")).unwrap();
+    let sidecar = goldens.join("ball.golden.json");
+    let run = || golden(&[s(&scenes), "--goldens", s(&goldens)]);
+
+    // A large change at the patch.
+    let patch = [24, 16, 10, 8];
+    paint(&goldens.join("ball.png"), patch, |_| [0, 255, 0]);
+    let lenient = |rect: [u32; 4]| {
+        format!(
+            r#"{{"regions": [{{"name": "label", "rect": [{}, {}, {}, {}], "max_abs": null, "max_flip_mean": null, "max_bad_pixels": null}}]}}"#,
+            rect[0], rect[1], rect[2], rect[3]
+        )
+    };
+    write(&sidecar, &lenient(patch));
+    let (code, out, _) = run();
+    assert_eq!(code, 0, "lenient region over the change: {out}");
+    assert!(
+        out.contains("PASS ball  FLIP mean 0.000000, max abs 0"),
+        "{out}"
+    );
+    write(&sidecar, &lenient([0, 0, 10, 8]));
+    let (code, out, _) = run();
+    assert_eq!(code, 1, "lenient region elsewhere: {out}");
+    assert!(out.contains("exceeds max-abs 8"), "{out}");
+    assert!(
+        !out.contains("region label:"),
+        "the region itself passes: {out}"
+    );
+
+    // A small change (2 steps, within the case's tolerances) at the patch.
+    std::fs::write(goldens.join("ball.png"), &pristine).unwrap();
+    paint(&goldens.join("ball.png"), patch, |p| {
+        p.map(|c| c.saturating_add(2))
+    });
+    std::fs::remove_file(&sidecar).unwrap();
+    let (code, out, _) = run();
+    assert_eq!(code, 0, "within the case's tolerances: {out}");
+    let strict = |rect: [u32; 4]| {
+        format!(
+            r#"{{"regions": [{{"name": "strict", "rect": [{}, {}, {}, {}], "max_abs": 0}}]}}"#,
+            rect[0], rect[1], rect[2], rect[3]
+        )
+    };
+    write(&sidecar, &strict([20, 12, 20, 16]));
+    let (code, out, _) = run();
+    assert_eq!(code, 1, "strict region over the change: {out}");
+    assert!(
+        out.contains("region strict: max abs difference 2 exceeds max-abs 0"),
+        "{out}"
+    );
+    write(&sidecar, &strict([0, 0, 16, 12]));
+    let (code, out, _) = run();
+    assert_eq!(code, 0, "strict region elsewhere: {out}");
+
+    // Bad regions name the field.
+    for (bad, needle) in [
+        (
+            r#"{"regions": [{"rect": [0, 0, 0, 4]}]}"#,
+            "regions[0].rect: must be [x, y, width, height]",
+        ),
+        (
+            r#"{"regions": [{"rect": [0, 0, 4, 4], "max_abs": -1}]}"#,
+            "regions[0].max_abs: must be a number",
+        ),
+        (r#"{"regions": [{}]}"#, "regions[0]: needs a rect or a mask"),
+        (r#"{"regions": {}}"#, "regions: must be a list"),
+    ] {
+        write(&sidecar, bad);
+        let (code, out, _) = run();
+        assert_eq!(code, 1, "{bad}: {out}");
+        assert!(
+            out.contains(&format!("ball.golden.json: {needle}")),
+            "{bad}: {out}"
+        );
+    }
+}

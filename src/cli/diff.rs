@@ -38,9 +38,90 @@ pub struct DiffArgs {
     /// image included).
     #[arg(long)]
     pub report_only: bool,
+    /// What to measure: flip (FLIP, max abs, differing pixels: the golden-image checks) or
+    /// khronos-db (the glTF Render Fidelity score: RMS of pixelmatch's YIQ colour distance over
+    /// the actual image's non-transparent pixels, divided by its maximum 35215, in dB).
+    #[arg(long, value_enum, default_value_t = Metric::Flip)]
+    pub metric: Metric,
+    /// With --metric khronos-db: fail when the score is above this many dB (less negative is
+    /// further apart) [default: -22, model-viewer's fidelity test threshold].
+    #[arg(long, value_name = "DB", allow_negative_numbers = true)]
+    pub max_db: Option<f64>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Metric {
+    Flip,
+    KhronosDb,
+}
+
+fn khronos_db(a: &DiffArgs) -> Result<ExitCode> {
+    use luz::diff::pixelmatch;
+    let expected = luz::imageio::load(&a.expected)?;
+    let actual = luz::imageio::load(&a.actual)?;
+    if (expected.width, expected.height) != (actual.width, actual.height) {
+        anyhow::bail!(
+            "image sizes differ: expected {} is {}×{}, actual {} is {}×{}",
+            a.expected.display(),
+            expected.width,
+            expected.height,
+            a.actual.display(),
+            actual.width,
+            actual.height
+        );
+    }
+    if a.max_flip_mean.is_some() || a.max_abs.is_some() || a.max_bad_pixels.is_some() {
+        anyhow::bail!("--max-flip-mean, --max-abs and --max-bad-pixels go with --metric flip; --metric khronos-db checks --max-db");
+    }
+    let max_db = a.max_db.unwrap_or(pixelmatch::MODEL_VIEWER_THRESHOLD_DB);
+    if !max_db.is_finite() {
+        anyhow::bail!("--max-db: must be a finite number of dB, not {max_db}");
+    }
+    let (e, c) = (
+        luz::diff::display_rgba8(&expected),
+        luz::diff::display_rgba8(&actual),
+    );
+    let counted = c.iter().filter(|p| p[3] > 0).count();
+    let score = pixelmatch::khronos_db(&c, &e);
+    println!("size     {}×{}", expected.width, expected.height);
+    let shown = match score {
+        Some(db) if db == f64::NEG_INFINITY => "-inf dB (identical)".to_string(),
+        Some(db) => format!("{db:.4} dB"),
+        None => "none (every pixel of the actual image is transparent)".to_string(),
+    };
+    println!(
+        "khronos-db  {shown}: RMS of pixelmatch's YIQ distance / 35215, 10·log10, over {counted} \
+         non-transparent pixels of the actual image"
+    );
+    if a.report_only {
+        println!("checks   none (report only: nothing is checked)");
+        println!("PASS");
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("checks   khronos-db ≤ {max_db} dB");
+    match score {
+        Some(db) if db > max_db => {
+            println!("FAIL: khronos-db {db:.4} dB is above --max-db {max_db}");
+            Ok(ExitCode::from(1))
+        }
+        None => {
+            println!("FAIL: no pixel to compare");
+            Ok(ExitCode::from(1))
+        }
+        Some(_) => {
+            println!("PASS");
+            Ok(ExitCode::SUCCESS)
+        }
+    }
 }
 
 pub fn run(a: DiffArgs) -> Result<ExitCode> {
+    if a.metric == Metric::KhronosDb {
+        return khronos_db(&a);
+    }
+    if a.max_db.is_some() {
+        anyhow::bail!("--max-db goes with --metric khronos-db");
+    }
     let expected = luz::imageio::load(&a.expected)?;
     let actual = luz::imageio::load(&a.actual)?;
     let base = if a.report_only {

@@ -7,24 +7,33 @@ use std::process::ExitCode;
 use anyhow::Result;
 use clap::Args;
 
-use luz::golden::{self, report, BlessChange, GoldenOptions, Verdict};
+use luz::golden::{self, report, BlessChange, GoldenOptions, Shard, Verdict};
 use luz::render::forward::DebugView;
 
 use super::common::{context, validation_exit, Bar, GpuArgs, IblQuality};
 
 #[derive(Args, Debug)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct GoldenArgs {
+    #[command(subcommand)]
+    pub action: Option<GoldenAction>,
     /// Scene files (.json) or folders of them.
     #[arg(required = true)]
     pub scenes: Vec<PathBuf>,
     /// The folder of goldens: <name>.png for the scene <name>.json, tolerances in an optional
     /// <name>.golden.json (else beside the scene).
-    #[arg(long)]
-    pub goldens: PathBuf,
+    #[arg(long, required = true)]
+    pub goldens: Option<PathBuf>,
+    /// Run shard K of N only: a deterministic contiguous 1/N of the sorted cases (sizes differ
+    /// by at most one); shards 1..N together run every case once. Merge their reports with
+    /// `luz golden merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
     /// Write (or replace) the goldens instead of checking them, and say what changed.
     #[arg(long)]
     pub bless: bool,
-    /// Write index.html, junit.xml and summary.md (and the images) into this folder.
+    /// Write index.html, junit.xml, summary.md and cases.json (and the images) into this
+    /// folder; `luz golden merge` joins the folders of a sharded run.
     #[arg(long, value_name = "OUT")]
     pub report: Option<PathBuf>,
     /// Scenes rendered at once.
@@ -44,6 +53,47 @@ pub struct GoldenArgs {
     pub gpu: GpuArgs,
 }
 
+#[derive(clap::Subcommand, Debug)]
+pub enum GoldenAction {
+    /// Merge the report folders of a sharded run (`--shard K/N --report DIR`) into one HTML
+    /// page, JUnit file and summary, as if one job had run every case. Exit 1 when a case
+    /// failed, or (with an error naming it) when a shard is missing or given twice.
+    Merge(MergeArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The shards' report folders (each holds cases.json).
+    #[arg(required = true, value_name = "DIR")]
+    pub dirs: Vec<PathBuf>,
+    /// Write the merged index.html, junit.xml, summary.md and cases.json here.
+    #[arg(long, value_name = "OUT")]
+    pub report: PathBuf,
+}
+
+fn merge(a: MergeArgs) -> Result<ExitCode> {
+    report::merge(&a.dirs, &a.report)?;
+    let text = luz::files::read_input_text(&a.report.join("cases.json"))?;
+    let run: report::RunRecord = serde_json::from_str(&text)?;
+    let failed = run.cases.iter().filter(|c| !c.passed).count();
+    let width = run.cases.iter().map(|c| c.name.len()).max().unwrap_or(0);
+    for c in &run.cases {
+        println!("{} {:width$}  {}", c.status, c.name, c.figures);
+    }
+    println!("report: {}", a.report.join("index.html").display());
+    println!(
+        "luz golden merge: {} reports, {} passed, {failed} failed, {} scenes",
+        a.dirs.len(),
+        run.cases.len() - failed,
+        run.cases.len()
+    );
+    Ok(if failed > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GoldenFormat {
     Png,
@@ -51,17 +101,28 @@ pub enum GoldenFormat {
 }
 
 pub fn run(a: GoldenArgs) -> Result<ExitCode> {
+    if let Some(GoldenAction::Merge(m)) = a.action {
+        return merge(m);
+    }
+    let goldens = a.goldens.clone().expect("clap requires --goldens");
     // Bad input for the whole run fails before any rendering.
     let scenes = golden::collect_scenes(&a.scenes)?;
-    golden::check_goldens_dir(&a.goldens, a.bless)?;
+    let selected = match a.shard {
+        Some(s) => s.range(scenes.len()),
+        None => 0..scenes.len(),
+    };
+    golden::check_goldens_dir(&goldens, a.bless)?;
     if let Some(out) = &a.report {
         report::prepare(out)?;
     }
     let ctx = context(&a.gpu)?;
     let device = ctx.info.summary();
     println!("device: {device}");
+    if let Some(s) = a.shard {
+        println!("shard {s}: {} of {} cases", selected.len(), scenes.len());
+    }
     let mut opts = GoldenOptions::new(
-        &a.goldens,
+        &goldens,
         luz::headless::RenderOptions::new(a.ibl_quality.settings(), a.no_cache, DebugView::None),
     );
     opts.bless = a.bless;
@@ -73,7 +134,7 @@ pub fn run(a: GoldenArgs) -> Result<ExitCode> {
     opts.progress = Some(luz::progress::ProgressSink::new(Bar::new(
         "golden {bar:30} {pos}/{len} {msg} {elapsed}",
     )));
-    let cases = golden::run(&ctx, &scenes, &opts);
+    let cases = golden::run_some(&ctx, &scenes, selected, &opts);
 
     let width = cases.iter().map(|c| c.name.len()).max().unwrap_or(0);
     for c in &cases {
@@ -120,8 +181,10 @@ pub fn run(a: GoldenArgs) -> Result<ExitCode> {
     if let Some(out) = &a.report {
         let info = report::RunInfo {
             device,
-            goldens: a.goldens.clone(),
+            goldens: goldens.clone(),
             luz: format!("luz {}", env!("CARGO_PKG_VERSION")),
+            shard: a.shard,
+            total: scenes.len(),
         };
         report::write(out, &cases, &info)?;
         println!("report: {}", out.join("index.html").display());

@@ -8,6 +8,7 @@ mod budget;
 mod common;
 mod devices;
 mod diff;
+mod fidelity;
 mod golden;
 mod info;
 mod lab;
@@ -34,6 +35,7 @@ luz render scene.json -o out.exr      linear float radiance, no tone mapping\n  
 luz bench scene.json --frames 100     frame-time statistics\n  \
 luz diff expected.png actual.png      FLIP, max abs difference, NaN count; exit 1 beyond tolerances\n  \
 luz golden scenes/ --goldens goldens/ each scene against its golden; --bless, --report out/\n  \
+luz fidelity '{\"scenario\": …}'     a glTF Render Fidelity scenario to its PNG\n  \
 luz view scene.json                   interactive viewer (H lists the keys)\n  \
 luz reference scene.json -o ref.exr   the CPU reference answer\n  \
 luz lab scene.json --out lab/         every method variant: GPU ms against error, chart\n  \
@@ -63,6 +65,9 @@ pub enum Command {
     /// Render scenes and check each against its golden image (exit 1 when any fails), or bless
     /// the goldens; --report writes an HTML page, JUnit XML and a Markdown summary.
     Golden(golden::GoldenArgs),
+    /// Render a Khronos glTF Render Fidelity scenario (the generator's offline-renderer contract:
+    /// one JSON argument {"scenario": {…}, "outputFile": "….png"}) to its PNG.
+    Fidelity(fidelity::FidelityArgs),
     /// Print an image's size, format and provenance (luz version and commit, device, driver,
     /// scene and its hash, tone map, exposure, frame times).
     Info(info::InfoArgs),
@@ -107,6 +112,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Bench(a) => bench::run(a),
         Command::Diff(a) => diff::run(a),
         Command::Golden(a) => golden::run(a),
+        Command::Fidelity(a) => fidelity::run(a),
         Command::Info(a) => info::run(a),
         Command::Brdf(a) => brdf::run(a),
         Command::Devices(a) => devices::run(a),

@@ -28,6 +28,7 @@ use serde::Serialize;
 use crate::imageio::{self, FileFormat, ImageError, LoadedImage};
 
 mod overrides;
+pub mod pixelmatch;
 pub use overrides::{
     parse_sidecar, read_sidecar, OverrideError, ToleranceOverrides, FIELDS as OVERRIDE_FIELDS,
 };
@@ -189,6 +190,9 @@ pub struct DiffReport {
     pub nan_inf_expected: u64,
     /// Pixels holding NaN or Inf in the actual image (always a violation).
     pub nan_inf_actual: u64,
+    /// Pixels left out of every figure ([`compare_masked`]: a golden's mask, other regions,
+    /// forgiven anti-aliasing); 0 for a plain comparison.
+    pub ignored_pixels: u64,
 }
 
 /// A per-pixel FLIP error map, row-major, values in [0, 1].
@@ -378,8 +382,73 @@ pub fn compare_detailed(
         bad_pixel_threshold: threshold,
         nan_inf_expected: expected.non_finite_pixels(),
         nan_inf_actual: actual.non_finite_pixels(),
+        ignored_pixels: 0,
     };
     Ok((report, map))
+}
+
+/// [`compare_detailed`] leaving out the pixels where `ignored` is true (row-major, one entry per
+/// pixel): the actual image takes the expected one's values there before comparing, so they
+/// neither count nor leak into their neighbours through FLIP's filters, and the FLIP statistics
+/// are taken over the other pixels only (the map is 0 at ignored pixels).
+pub fn compare_masked(
+    expected: &LoadedImage,
+    actual: &LoadedImage,
+    opts: &DiffOptions,
+    ignored: &[bool],
+) -> Result<(DiffReport, FlipMap), DiffError> {
+    if (expected.width, expected.height) != (actual.width, actual.height) {
+        return compare_detailed(expected, actual, opts);
+    }
+    assert_eq!(
+        ignored.len(),
+        expected.display.len(),
+        "one mask entry per pixel"
+    );
+    let mut a = actual.clone();
+    let same_format = expected.format == actual.format;
+    for (i, _) in ignored.iter().enumerate().filter(|(_, &x)| x) {
+        a.display[i] = expected.display[i];
+        a.linear[i] = expected.linear[i];
+        // Mixed PNG and EXR compare the linear values: the encoding stays as it is.
+        if same_format {
+            a.encoded[i] =
+                expected.encoded[i].map(|c| c * actual.encoded_max / expected.encoded_max);
+        }
+    }
+    let (mut report, mut map) = compare_detailed(expected, &a, opts)?;
+    let mut kept = Vec::with_capacity(map.values.len());
+    for (v, &skip) in map.values.iter_mut().zip(ignored) {
+        if skip {
+            *v = 0.0;
+        } else {
+            kept.push(*v);
+        }
+    }
+    let stats = FlipStats::of(&kept);
+    report.flip_mean = stats.mean;
+    report.flip_p50 = stats.p50;
+    report.flip_p95 = stats.p95;
+    report.flip_p99 = stats.p99;
+    report.flip_max = stats.max;
+    report.ignored_pixels = ignored.iter().filter(|&&x| x).count() as u64;
+    Ok((report, map))
+}
+
+/// The image as 8-bit RGBA as a display shows it ([`LoadedImage::display`], with the file's
+/// alpha scaled to 0..=255; 255 for EXR).
+pub fn display_rgba8(img: &LoadedImage) -> Vec<[u8; 4]> {
+    img.display
+        .iter()
+        .zip(&img.encoded)
+        .map(|(d, e)| {
+            let a = match img.format {
+                FileFormat::Png => (e[3] / img.encoded_max * 255.0).round().clamp(0.0, 255.0) as u8,
+                FileFormat::Exr => 255,
+            };
+            [d[0], d[1], d[2], a]
+        })
+        .collect()
 }
 
 /// LDR FLIP between two 8-bit sRGB RGB images of `width × height` (row-major, top-left first).
@@ -522,7 +591,11 @@ impl fmt::Display for DiffReport {
             f,
             "NaN/Inf  expected {}, actual {}",
             self.nan_inf_expected, self.nan_inf_actual
-        )
+        )?;
+        if self.ignored_pixels > 0 {
+            write!(f, "\nignored  {} pixels (masked)", self.ignored_pixels)?;
+        }
+        Ok(())
     }
 }
 

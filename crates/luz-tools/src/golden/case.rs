@@ -7,7 +7,14 @@
 //! * `scene`: the scene file or model (relative to the case file's folder);
 //! * `width`, `height`: the output size, set on the loaded scene as it is (its automatic
 //!   tessellation stays the one of the size the scene file gives);
-//! * `ibl`: `"full"` or `"fast"`, the image-based lighting sizes of this case (else the run's).
+//! * `ibl`: `"full"` or `"fast"`, the image-based lighting sizes of this case (else the run's);
+//! * `mask`: a PNG of the golden's size (relative to the case file's folder) whose white pixels
+//!   (grey value ≥ 128) are ignored by every check;
+//! * `regions`: a list of areas with their own tolerances, each `{"name": …, "rect": [x, y, w, h]}`
+//!   or `{"name": …, "mask": "FILE.png"}` (white = inside) plus any tolerance field; a pixel in
+//!   several regions belongs to the first, and a region's pixels leave the case's own check;
+//! * `ignore_antialiasing`: `true` forgives pixels that differ where either image is
+//!   anti-aliasing (pixelmatch's detector, [`crate::diff::pixelmatch::antialiased`]).
 
 use std::path::{Path, PathBuf};
 
@@ -15,7 +22,53 @@ use crate::diff::ToleranceOverrides;
 use crate::scene::Scene;
 
 /// The case fields luz reads from a sidecar besides the tolerances.
-pub const CASE_FIELDS: &[&str] = &["scene", "width", "height", "ibl"];
+pub const CASE_FIELDS: &[&str] = &[
+    "scene",
+    "width",
+    "height",
+    "ibl",
+    "mask",
+    "regions",
+    "ignore_antialiasing",
+];
+
+/// Where a region is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RegionArea {
+    /// `[x, y, width, height]` in pixels from the top-left corner.
+    Rect([u32; 4]),
+    /// A PNG whose white pixels are the region (resolved against the case file's folder).
+    Mask(PathBuf),
+}
+
+/// A region of a case file: an area with its own tolerances.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Region {
+    /// Its `name`, else `regions[i]`.
+    pub name: String,
+    /// `regions[i]` (for messages).
+    pub field: String,
+    pub area: RegionArea,
+    /// Applied to the case's tolerances inside the region.
+    pub tolerance: ToleranceOverrides,
+}
+
+/// What a case leaves out of its check or checks apart: its mask, its regions and whether
+/// anti-aliased differences are forgiven.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Masking {
+    /// The case file (for messages).
+    pub case_file: PathBuf,
+    pub mask: Option<PathBuf>,
+    pub regions: Vec<Region>,
+    pub ignore_antialiasing: bool,
+}
+
+impl Masking {
+    pub fn is_empty(&self) -> bool {
+        self.mask.is_none() && self.regions.is_empty() && !self.ignore_antialiasing
+    }
+}
 
 /// A case file read.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +82,8 @@ pub struct CaseFile {
     /// `Some(true)`: the fast IBL sizes; `Some(false)`: the full ones.
     pub fast_ibl: Option<bool>,
     pub tolerance: ToleranceOverrides,
+    /// The mask, regions and anti-aliasing option.
+    pub masking: Masking,
 }
 
 impl CaseFile {
@@ -75,6 +130,35 @@ impl CaseFile {
                 _ => return Err(at("ibl", format!("must be \"full\" or \"fast\", not {v}"))),
             },
         };
+        let mut masking = Masking {
+            case_file: path.to_path_buf(),
+            ..Masking::default()
+        };
+        masking.mask = match obj.remove("mask") {
+            None => None,
+            Some(serde_json::Value::String(s)) if !s.is_empty() => Some(dir.join(s)),
+            Some(v) => return Err(at("mask", format!("must be a PNG file name, not {v}"))),
+        };
+        masking.ignore_antialiasing = match obj.remove("ignore_antialiasing") {
+            None => false,
+            Some(serde_json::Value::Bool(b)) => b,
+            Some(v) => {
+                return Err(at(
+                    "ignore_antialiasing",
+                    format!("must be true or false, not {v}"),
+                ))
+            }
+        };
+        if let Some(v) = obj.remove("regions") {
+            let list = v
+                .as_array()
+                .ok_or_else(|| at("regions", format!("must be a list of regions, not {v}")))?;
+            for (i, r) in list.iter().enumerate() {
+                masking
+                    .regions
+                    .push(parse_region(r, i, dir).map_err(|(f, reason)| at(&f, reason))?);
+            }
+        }
         if scene.is_none() && (width.is_some() || height.is_some() || fast_ibl.is_some()) {
             return Err(at(
                 "scene",
@@ -92,6 +176,7 @@ impl CaseFile {
             height,
             fast_ibl,
             tolerance,
+            masking,
         })
     }
 
@@ -112,6 +197,89 @@ impl CaseFile {
         }
         Ok(scene)
     }
+}
+
+/// One entry of `regions`; errors are (field path, reason).
+fn parse_region(v: &serde_json::Value, i: usize, dir: &Path) -> Result<Region, (String, String)> {
+    let field = format!("regions[{i}]");
+    let mut obj = v
+        .as_object()
+        .ok_or_else(|| (field.clone(), format!("must be an object, not {v}")))?
+        .clone();
+    let name = match obj.remove("name") {
+        None => field.clone(),
+        Some(serde_json::Value::String(s)) if !s.is_empty() => s,
+        Some(v) => {
+            return Err((
+                format!("{field}.name"),
+                format!("must be a string, not {v}"),
+            ))
+        }
+    };
+    let rect = obj.remove("rect");
+    let mask = obj.remove("mask");
+    let area = match (rect, mask) {
+        (Some(r), None) => {
+            let nums: Option<Vec<u32>> = r.as_array().and_then(|a| {
+                a.iter()
+                    .map(|x| x.as_u64().and_then(|n| u32::try_from(n).ok()))
+                    .collect()
+            });
+            match nums.as_deref() {
+                Some(&[x, y, w, h]) if w > 0 && h > 0 => RegionArea::Rect([x, y, w, h]),
+                _ => {
+                    return Err((
+                        format!("{field}.rect"),
+                        format!("must be [x, y, width, height] in whole pixels (width, height ≥ 1), not {r}"),
+                    ))
+                }
+            }
+        }
+        (None, Some(serde_json::Value::String(s))) if !s.is_empty() => {
+            RegionArea::Mask(dir.join(s))
+        }
+        (None, Some(m)) => {
+            return Err((
+                format!("{field}.mask"),
+                format!("must be a PNG file name, not {m}"),
+            ))
+        }
+        (Some(_), Some(_)) => {
+            return Err((field, "has both rect and mask: give one".into()));
+        }
+        (None, None) => return Err((field, "needs a rect or a mask".into())),
+    };
+    let tolerance = ToleranceOverrides::parse(&serde_json::Value::Object(obj)).map_err(|e| {
+        let f = if e.field.is_empty() {
+            field.clone()
+        } else {
+            format!("{field}.{}", e.field)
+        };
+        (f, e.reason)
+    })?;
+    Ok(Region {
+        name,
+        field,
+        area,
+        tolerance,
+    })
+}
+
+/// Pixels of a mask PNG that are white (grey value ≥ 128), row-major; the PNG must be
+/// `width × height`. Errors name the file.
+pub fn read_mask(path: &Path, width: u32, height: u32) -> Result<Vec<bool>, String> {
+    let bytes = crate::files::read_input(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
+        .map_err(|e| format!("{}: not a readable PNG: {e}", path.display()))?;
+    if (img.width(), img.height()) != (width, height) {
+        return Err(format!(
+            "{}: the mask is {}×{}, the golden {width}×{height}",
+            path.display(),
+            img.width(),
+            img.height()
+        ));
+    }
+    Ok(img.to_luma8().pixels().map(|p| p.0[0] >= 128).collect())
 }
 
 /// Whether `path` is a case file: a sidecar with a `scene` field (read loosely; a broken one is

@@ -15,7 +15,7 @@ mod case;
 pub mod report;
 
 pub use crate::diff::{parse_sidecar, read_sidecar, OverrideError, ToleranceOverrides};
-pub use case::{CaseFile, CASE_FIELDS};
+pub use case::{read_mask, CaseFile, Masking, Region, RegionArea, CASE_FIELDS};
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -286,6 +286,8 @@ pub struct CaseImages {
 /// One scene's result.
 #[derive(Debug, Clone)]
 pub struct Case {
+    /// The case's place in the whole run (all shards): its index in the scene list.
+    pub order: usize,
     pub name: String,
     pub scene: PathBuf,
     pub golden: PathBuf,
@@ -304,6 +306,42 @@ pub struct Case {
     pub expected_provenance: Option<Provenance>,
     /// Where the actual image came from (this run's device, the scene and its hash).
     pub actual_provenance: Option<Provenance>,
+    /// The case file's regions, each checked with its own tolerances.
+    pub regions: Vec<RegionOutcome>,
+    /// What the check left out (a mask, forgiven anti-aliasing), for the report's hatching.
+    pub ignored: Option<Ignored>,
+}
+
+/// One region's check.
+#[derive(Debug, Clone)]
+pub struct RegionOutcome {
+    pub name: String,
+    /// Pixels of the region that were compared (not masked, not in an earlier region).
+    pub pixels: u64,
+    pub tolerance: Tolerance,
+    pub report: DiffReport,
+    /// Each violated tolerance (empty: the region passes).
+    pub failures: Vec<String>,
+}
+
+/// The pixels a comparison left out.
+#[derive(Debug, Clone)]
+pub struct Ignored {
+    pub width: u32,
+    pub height: u32,
+    /// White in the case's mask.
+    pub masked: Vec<bool>,
+    /// Differences forgiven as anti-aliasing (outside the mask).
+    pub antialiased: Vec<bool>,
+}
+
+impl Ignored {
+    pub fn masked_pixels(&self) -> u64 {
+        self.masked.iter().filter(|&&x| x).count() as u64
+    }
+    pub fn antialiased_pixels(&self) -> u64 {
+        self.antialiased.iter().filter(|&&x| x).count() as u64
+    }
 }
 
 impl Case {
@@ -341,6 +379,7 @@ impl Case {
         reason: String,
     ) -> Self {
         Case {
+            order: 0,
             name,
             scene: scene.to_path_buf(),
             golden,
@@ -353,14 +392,69 @@ impl Case {
             millis: 0.0,
             expected_provenance: None,
             actual_provenance: None,
+            regions: Vec::new(),
+            ignored: None,
         }
+    }
+}
+
+/// One shard of a run: `index` of `count` (1-based), `--shard K/N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub index: u32,
+    pub count: u32,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("expected K/N with 1 ≤ K ≤ N (e.g. 2/4), not {s:?}");
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            k.trim().parse::<u32>().map_err(|_| bad())?,
+            n.trim().parse::<u32>().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl Shard {
+    /// The indices of this shard's cases among `total`: a contiguous run of the whole list (as
+    /// Playwright's `--shard`), the shards' sizes differing by at most one. Shards 1..=N cover
+    /// 0..total, each index once, and depend only on `total` (the case list is sorted:
+    /// [`collect_scenes`]).
+    pub fn range(&self, total: usize) -> std::ops::Range<usize> {
+        let (k, n) = (self.index as usize, self.count as usize);
+        (k - 1) * total / n..k * total / n
     }
 }
 
 /// Renders and checks (or blesses) every scene, `opts.jobs` at a time on `ctx`. Never fails as a
 /// whole: each case carries its own failure. Cases come back in the order of `scenes`.
 pub fn run(ctx: &Arc<Context>, scenes: &[PathBuf], opts: &GoldenOptions) -> Vec<Case> {
-    let names: Vec<String> = scenes.iter().map(|s| case_name(s)).collect();
+    run_some(ctx, scenes, 0..scenes.len(), opts)
+}
+
+/// [`run`] of the cases `selected` of `scenes` only (a shard), each case's `order` its index in
+/// `scenes`; a name used by an earlier scene of the whole list fails as in a full run.
+pub fn run_some(
+    ctx: &Arc<Context>,
+    all: &[PathBuf],
+    selected: std::ops::Range<usize>,
+    opts: &GoldenOptions,
+) -> Vec<Case> {
+    let names: Vec<String> = all.iter().map(|s| case_name(s)).collect();
+    let first = selected.start;
+    let scenes = &all[selected];
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Case>>> = Mutex::new(vec![None; scenes.len()]);
@@ -371,27 +465,30 @@ pub fn run(ctx: &Arc<Context>, scenes: &[PathBuf], opts: &GoldenOptions) -> Vec<
     std::thread::scope(|s| {
         for _ in 0..jobs {
             s.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                if i >= scenes.len() {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                if k >= scenes.len() {
                     break;
                 }
+                let i = first + k;
                 let duplicate = names[..i].iter().position(|n| *n == names[i]);
                 let case = match duplicate {
                     Some(j) => Case::failed(
                         names[i].clone(),
-                        &scenes[i],
+                        &all[i],
                         golden_path(opts, &names[i]),
                         opts.tolerance,
                         format!(
                             "another scene has the name {:?} ({}); each scene's golden is \
                              <name>.png, so names must differ",
                             names[i],
-                            scenes[j].display()
+                            all[j].display()
                         ),
                     ),
-                    None => run_case(ctx, &scenes[i], &names[i], opts),
+                    None => run_case(ctx, &all[i], &names[i], opts),
                 };
-                results.lock().unwrap()[i] = Some(case);
+                let mut case = case;
+                case.order = i;
+                results.lock().unwrap()[k] = Some(case);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 progress.update(&names[i], n as u64, total);
             });
@@ -484,9 +581,13 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         .into_iter()
         .find(|p| p.is_file()),
     };
+    let mut masking = Masking::default();
     if let Some(p) = &sidecar {
         match CaseFile::read(p) {
-            Ok(c) => tolerance = c.tolerance.apply(tolerance),
+            Ok(c) => {
+                tolerance = c.tolerance.apply(tolerance);
+                masking = c.masking;
+            }
             Err(e) => return fail(e),
         }
         tolerance_source = if scene.output.golden.is_empty() {
@@ -524,6 +625,7 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         scene.output.tonemap,
     );
     let mut case = Case {
+        order: 0,
         name: name.to_string(),
         scene: scene_path.to_path_buf(),
         golden: golden.clone(),
@@ -536,6 +638,8 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         millis: 0.0,
         expected_provenance: None,
         actual_provenance: Some(crate::provenance::of_render(&ctx.info, &scene, None)),
+        regions: Vec::new(),
+        ignored: None,
     };
 
     if opts.bless {
@@ -591,7 +695,9 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         return case;
     }
 
-    let cmp = compare_with_golden(&golden, nan, actual, tolerance);
+    let cmp = compare_with_golden_masked(&golden, nan, actual, tolerance, &masking);
+    case.regions = cmp.regions;
+    case.ignored = cmp.ignored;
     case.failures = cmp.failures;
     case.report = cmp.report;
     case.expected_provenance = cmp.expected_provenance;
@@ -618,6 +724,10 @@ pub struct Comparison {
     pub actual: LoadedImage,
     pub flip: Option<FlipMap>,
     pub expected_provenance: Option<Provenance>,
+    /// The regions' checks ([`compare_with_golden_masked`]).
+    pub regions: Vec<RegionOutcome>,
+    /// What was left out.
+    pub ignored: Option<Ignored>,
 }
 
 /// Compares `actual` (a rendered frame as its PNG or EXR holds it, e.g.
@@ -631,6 +741,22 @@ pub fn compare_with_golden(
     actual: LoadedImage,
     tolerance: Tolerance,
 ) -> Comparison {
+    compare_with_golden_masked(golden, nan, actual, tolerance, &Masking::default())
+}
+
+/// [`compare_with_golden`] with a case file's mask, regions and anti-aliasing option: masked
+/// pixels (and, with `ignore_antialiasing`, differences where either image is anti-aliasing) are
+/// left out of every check; each region's pixels are checked with the region's tolerances (the
+/// case's, overridden field by field) and left out of the case's own check. A violation in a
+/// region reads `region NAME: …`. A mask that cannot be read or has another size is a failure
+/// naming the file.
+pub fn compare_with_golden_masked(
+    golden: &Path,
+    nan: u64,
+    actual: LoadedImage,
+    tolerance: Tolerance,
+    masking: &Masking,
+) -> Comparison {
     let mut out = Comparison {
         failures: Vec::new(),
         report: None,
@@ -638,6 +764,8 @@ pub fn compare_with_golden(
         actual,
         flip: None,
         expected_provenance: None,
+        regions: Vec::new(),
+        ignored: None,
     };
     if nan > 0 {
         out.failures.push(format!(
@@ -669,7 +797,7 @@ pub fn compare_with_golden(
             actual.width,
             actual.height
         ));
-    } else {
+    } else if masking.is_empty() {
         let dopts = tolerance.options_for(&exp, actual);
         match crate::diff::compare_detailed(&exp, actual, &dopts) {
             Ok((report, map)) => {
@@ -679,9 +807,128 @@ pub fn compare_with_golden(
             }
             Err(e) => out.failures.push(e.to_string()),
         }
+    } else {
+        let actual = out.actual.clone();
+        if let Err(e) = compare_masked_case(&exp, &actual, tolerance, masking, &mut out) {
+            out.failures.push(e);
+        }
     }
     out.expected = Some(exp);
     out
+}
+
+/// The masked and regional part of [`compare_with_golden_masked`] (both images of one size).
+fn compare_masked_case(
+    exp: &LoadedImage,
+    actual: &LoadedImage,
+    tolerance: Tolerance,
+    masking: &Masking,
+    out: &mut Comparison,
+) -> Result<(), String> {
+    let (w, h) = (exp.width, exp.height);
+    let n = exp.display.len();
+    let masked = match &masking.mask {
+        Some(p) => {
+            read_mask(p, w, h).map_err(|e| format!("{}: mask: {e}", masking.case_file.display()))?
+        }
+        None => vec![false; n],
+    };
+    let antialiased: Vec<bool> = if masking.ignore_antialiasing {
+        let (e, a) = (
+            crate::diff::display_rgba8(exp),
+            crate::diff::display_rgba8(actual),
+        );
+        let img = |p| crate::diff::pixelmatch::Rgba8 {
+            width: w,
+            height: h,
+            pixels: p,
+        };
+        crate::diff::pixelmatch::antialiased_differences(img(&e), img(&a))
+            .into_iter()
+            .zip(&masked)
+            .map(|(aa, &m)| aa && !m)
+            .collect()
+    } else {
+        vec![false; n]
+    };
+    let left_out: Vec<bool> = masked
+        .iter()
+        .zip(&antialiased)
+        .map(|(m, a)| *m || *a)
+        .collect();
+    // Each region's own pixels: inside, not left out, not claimed by an earlier region.
+    let mut claimed = vec![false; n];
+    let mut members = Vec::with_capacity(masking.regions.len());
+    for r in &masking.regions {
+        let inside: Vec<bool> = match &r.area {
+            RegionArea::Rect([x, y, rw, rh]) => (0..n)
+                .map(|i| {
+                    let (px, py) = (
+                        (i as u64 % u64::from(w)) as u32,
+                        (i as u64 / u64::from(w)) as u32,
+                    );
+                    px >= *x
+                        && py >= *y
+                        && u64::from(px) < u64::from(*x) + u64::from(*rw)
+                        && u64::from(py) < u64::from(*y) + u64::from(*rh)
+                })
+                .collect(),
+            RegionArea::Mask(p) => read_mask(p, w, h)
+                .map_err(|e| format!("{}: {}.mask: {e}", masking.case_file.display(), r.field))?,
+        };
+        let mine: Vec<bool> = (0..n)
+            .map(|i| inside[i] && !left_out[i] && !claimed[i])
+            .collect();
+        for (c, m) in claimed.iter_mut().zip(&mine) {
+            *c |= *m;
+        }
+        members.push(mine);
+    }
+    // The case's own check: everything but the left-out pixels and the regions'.
+    let ignored: Vec<bool> = left_out
+        .iter()
+        .zip(&claimed)
+        .map(|(a, b)| *a || *b)
+        .collect();
+    let dopts = tolerance.options_for(exp, actual);
+    let (report, mut map) =
+        crate::diff::compare_masked(exp, actual, &dopts, &ignored).map_err(|e| e.to_string())?;
+    out.failures.extend(report.violations(&dopts));
+    for (r, mine) in masking.regions.iter().zip(&members) {
+        let rt = r.tolerance.apply(tolerance);
+        let ropts = rt.options_for(exp, actual);
+        let outside: Vec<bool> = mine.iter().map(|m| !m).collect();
+        let (rreport, rmap) = crate::diff::compare_masked(exp, actual, &ropts, &outside)
+            .map_err(|e| e.to_string())?;
+        // The heat map shows each pixel's error under the check it belongs to.
+        for (i, m) in mine.iter().enumerate() {
+            if *m {
+                map.values[i] = rmap.values[i];
+            }
+        }
+        let failures: Vec<String> = rreport
+            .violations(&ropts)
+            .into_iter()
+            .map(|v| format!("region {}: {v}", r.name))
+            .collect();
+        out.failures.extend(failures.iter().cloned());
+        out.regions.push(RegionOutcome {
+            name: r.name.clone(),
+            pixels: mine.iter().filter(|&&m| m).count() as u64,
+            tolerance: rt,
+            report: rreport,
+            failures,
+        });
+    }
+    out.report = Some(report);
+    out.flip = Some(map);
+    out.ignored = Some(Ignored {
+        width: w,
+        height: h,
+        masked,
+        antialiased,
+    });
+    Ok(())
 }
 
 #[cfg(test)]
@@ -712,6 +959,88 @@ mod tests {
         ] {
             let e = parse_sidecar(bad, base).unwrap_err();
             assert!(e.contains(needle), "{bad}: {e}");
+        }
+    }
+
+    /// `ignore_antialiasing`: an anti-aliased edge drawn with another grey passes, a dot in a
+    /// flat area still fails; without the option both fail.
+    #[test]
+    fn antialiased_edges_are_forgiven_and_real_changes_are_not() {
+        let dir = std::env::temp_dir().join(format!("luz-golden-aa-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let (w, h) = (24u32, 16u32);
+        let edge = |grey: u8| -> Vec<u8> {
+            (0..w * h)
+                .flat_map(|i| match i % w {
+                    0..=9 => [0, 0, 0],
+                    10 => [grey; 3],
+                    _ => [255, 255, 255],
+                })
+                .collect()
+        };
+        let save = |name: &str, rgb: &[u8]| {
+            let p = dir.join(name);
+            crate::imageio::save_png_rgb8(&p, w, h, rgb).unwrap();
+            p
+        };
+        let golden = save("golden.png", &edge(128));
+        let moved = crate::imageio::load(&save("moved.png", &edge(80))).unwrap();
+        let mut dotted_rgb = edge(128);
+        dotted_rgb[(5 * w + 3) as usize * 3] = 200;
+        let dotted = crate::imageio::load(&save("dotted.png", &dotted_rgb)).unwrap();
+        let aa = Masking {
+            ignore_antialiasing: true,
+            ..Masking::default()
+        };
+        let strict = Tolerance {
+            max_abs: Some(8.0),
+            max_bad_pixels: Some(0),
+            ..Tolerance::golden()
+        };
+        let plain = compare_with_golden(&golden, 0, moved.clone(), strict);
+        assert!(!plain.failures.is_empty(), "the moved edge differs");
+        let forgiven = compare_with_golden_masked(&golden, 0, moved, strict, &aa);
+        assert!(forgiven.failures.is_empty(), "{:?}", forgiven.failures);
+        let ignored = forgiven.ignored.unwrap();
+        assert_eq!(
+            ignored.antialiased_pixels(),
+            u64::from(h),
+            "the whole grey column"
+        );
+        assert_eq!(forgiven.report.unwrap().ignored_pixels, u64::from(h));
+        let dot = compare_with_golden_masked(&golden, 0, dotted, strict, &aa);
+        assert!(
+            dot.failures.iter().any(|f| f.contains("max-abs 8")),
+            "{:?}",
+            dot.failures
+        );
+        assert_eq!(dot.ignored.unwrap().antialiased_pixels(), 0);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn shards_cover_every_case_once_and_balance() {
+        for total in 0..40usize {
+            for n in 1..=9u32 {
+                let mut seen = vec![0; total];
+                let mut sizes = Vec::new();
+                for k in 1..=n {
+                    let r = Shard { index: k, count: n }.range(total);
+                    sizes.push(r.len());
+                    for i in r {
+                        seen[i] += 1;
+                    }
+                }
+                assert!(seen.iter().all(|&c| c == 1), "{total} in {n}");
+                let (lo, hi) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
+                assert!(hi - lo <= 1, "{total} in {n}: {sizes:?}");
+            }
+        }
+        assert_eq!("2/4".parse::<Shard>(), Ok(Shard { index: 2, count: 4 }));
+        for bad in ["0/3", "4/3", "1", "a/b", "1/0"] {
+            let e = bad.parse::<Shard>().unwrap_err();
+            assert!(e.contains("K/N"), "{bad}: {e}");
         }
     }
 

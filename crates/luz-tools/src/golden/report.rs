@@ -6,11 +6,18 @@
 //!   script drive the slider, nothing is fetched from the network.
 //! * `junit.xml`: one `testcase` per scene; a failing case has a `failure` with the figures.
 //! * `summary.md`: a Markdown table for pull-request comments.
+//! * `cases.json`: the same as data ([`RunRecord`]), which [`merge`] reads to join the reports of
+//!   a sharded run (`luz golden … --shard K/N`) into one, as if one job had run every case.
+//!
+//! Masked pixels (a case file's `mask`) are drawn hatched over the expected and actual images
+//! (an overlay `images/<case>.mask.png`), differences forgiven as anti-aliasing in yellow.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::{BlessChange, Case, GoldenError, Verdict};
+use serde::{Deserialize, Serialize};
+
+use super::{BlessChange, Case, GoldenError, Shard, Verdict};
 use crate::diff;
 
 /// What the report says about the run as a whole.
@@ -22,6 +29,63 @@ pub struct RunInfo {
     pub goldens: PathBuf,
     /// luz's version (and commit when known).
     pub luz: String,
+    /// The shard this run was (`None`: every case).
+    pub shard: Option<Shard>,
+    /// Cases of the whole run, all shards together.
+    pub total: usize,
+}
+
+/// The version of `cases.json` this luz writes and reads.
+pub const RECORD_FORMAT: u32 = 1;
+
+/// `cases.json`: a report as data.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RunRecord {
+    pub format: u32,
+    pub device: String,
+    pub goldens: String,
+    pub luz: String,
+    /// `[K, N]` for shard K of N.
+    pub shard: Option<[u32; 2]>,
+    /// Cases of the whole run (every shard).
+    pub total: usize,
+    pub cases: Vec<CaseRecord>,
+}
+
+/// One case of a report, as shown.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CaseRecord {
+    /// The case's place in the whole run's order.
+    pub order: usize,
+    pub name: String,
+    pub scene: String,
+    pub golden: String,
+    /// `PASS`, `FAIL`, `BLESSED (…)`.
+    pub status: String,
+    /// `pass`, `fail` or `blessed`.
+    pub class: String,
+    pub passed: bool,
+    pub figures: String,
+    pub tolerances: String,
+    pub failures: Vec<String>,
+    pub provenance_differences: Vec<String>,
+    /// `golden: device, driver` and `actual: …` lines.
+    pub devices: Vec<String>,
+    /// FLIP mean, max abs, differing pixels as the tables show them.
+    pub table: Option<[String; 3]>,
+    pub millis: f64,
+    /// One line per region: its pixels, figures and tolerances.
+    pub regions: Vec<String>,
+    /// What was left out (masked, forgiven as anti-aliasing).
+    pub ignored: Option<String>,
+    /// Paths of the images, relative to the report folder.
+    pub expected: Option<String>,
+    pub actual: Option<String>,
+    pub flip: Option<String>,
+    /// The hatched overlay of the ignored pixels.
+    pub mask: Option<String>,
 }
 
 /// Creates `dir` (and its `images/` folder) and checks it can be written, before any rendering.
@@ -52,15 +116,36 @@ pub fn write(dir: &Path, cases: &[Case], info: &RunInfo) -> Result<Vec<PathBuf>,
         path: path.to_path_buf(),
         reason,
     };
-    let mut files = Vec::new();
-    let mut shown: Vec<Images> = Vec::with_capacity(cases.len());
+    let mut records = Vec::with_capacity(cases.len());
     for (i, case) in cases.iter().enumerate() {
-        shown.push(write_images(dir, i, case).map_err(|e| werr(dir, e))?);
+        let shown = write_images(dir, i, case).map_err(|e| werr(dir, e))?;
+        records.push(record(case, shown));
     }
+    let run = RunRecord {
+        format: RECORD_FORMAT,
+        device: info.device.clone(),
+        goldens: info.goldens.display().to_string(),
+        luz: info.luz.clone(),
+        shard: info.shard.map(|s| [s.index, s.count]),
+        total: info.total.max(cases.len()),
+        cases: records,
+    };
+    write_all(dir, &run)
+}
+
+/// Writes the HTML page, JUnit XML, Markdown summary and `cases.json` of `run` into `dir`.
+fn write_all(dir: &Path, run: &RunRecord) -> Result<Vec<PathBuf>, GoldenError> {
+    let werr = |path: &Path, reason: String| GoldenError::Report {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let mut files = Vec::new();
+    let json = serde_json::to_string_pretty(run).map_err(|e| werr(dir, e.to_string()))?;
     for (name, text) in [
-        ("index.html", html(cases, &shown, info)),
-        ("junit.xml", junit(cases, info)),
-        ("summary.md", markdown(cases, info)),
+        ("index.html", html(run)),
+        ("junit.xml", junit(run)),
+        ("summary.md", markdown(run)),
+        ("cases.json", json),
     ] {
         let path = dir.join(name);
         std::fs::write(&path, text).map_err(|e| werr(&path, e.to_string()))?;
@@ -69,12 +154,260 @@ pub fn write(dir: &Path, cases: &[Case], info: &RunInfo) -> Result<Vec<PathBuf>,
     Ok(files)
 }
 
+/// A case as the report shows it.
+fn record(c: &Case, img: Images) -> CaseRecord {
+    let table = c.report.as_ref().map(|r| {
+        [
+            format!("{:.6}", r.flip_mean),
+            r.max_abs.to_string(),
+            r.differing_pixels.to_string(),
+        ]
+    });
+    let mut devices = Vec::new();
+    for (side, p) in [
+        ("golden", &c.expected_provenance),
+        ("actual", &c.actual_provenance),
+    ] {
+        if let Some(p) = p {
+            let device = [
+                p.get("luz.device"),
+                p.get("luz.driver"),
+                p.get("luz.vulkan"),
+            ]
+            .iter()
+            .flatten()
+            .copied()
+            .collect::<Vec<_>>()
+            .join(", ");
+            if !device.is_empty() {
+                devices.push(format!("{side}: {device}"));
+            }
+        }
+    }
+    let regions = c
+        .regions
+        .iter()
+        .map(|r| {
+            format!(
+                "region {}: {} pixels, FLIP mean {:.6}, max abs {}, {} pixels beyond {}; \
+                 tolerances {}{}",
+                r.name,
+                r.pixels,
+                r.report.flip_mean,
+                r.report.max_abs,
+                r.report.differing_pixels,
+                r.report.bad_pixel_threshold,
+                limits(&r.tolerance),
+                if r.failures.is_empty() {
+                    "; passes"
+                } else {
+                    "; FAILS"
+                }
+            )
+        })
+        .collect();
+    let ignored = c.ignored.as_ref().map(|g| {
+        format!(
+            "left out: {} masked pixels (hatched), {} pixels forgiven as anti-aliasing (yellow)",
+            g.masked_pixels(),
+            g.antialiased_pixels()
+        )
+    });
+    CaseRecord {
+        order: c.order,
+        name: c.name.clone(),
+        scene: c.scene.display().to_string(),
+        golden: c.golden.display().to_string(),
+        status: status_word(c),
+        class: match c.verdict {
+            Verdict::Pass => "pass",
+            Verdict::Fail => "fail",
+            Verdict::Blessed(_) => "blessed",
+        }
+        .into(),
+        passed: c.passed(),
+        figures: figures(c),
+        tolerances: tolerance_text(c),
+        failures: c.failures.clone(),
+        provenance_differences: c.provenance_differences(),
+        devices,
+        table,
+        millis: c.millis,
+        regions,
+        ignored,
+        expected: img.expected,
+        actual: img.actual,
+        flip: img.flip,
+        mask: img.mask,
+    }
+}
+
+/// Why `luz golden merge` cannot merge: every message names the folder or file.
+#[derive(Debug, thiserror::Error)]
+pub enum MergeError {
+    #[error("{}: {reason}", .path.display())]
+    Input { path: PathBuf, reason: String },
+    #[error("{0}")]
+    Shards(String),
+    #[error(transparent)]
+    Output(#[from] GoldenError),
+}
+
+/// Merges the report folders of a sharded run (`dirs`, each written by [`write`]) into `out`:
+/// one page, one JUnit file, one summary and one `cases.json`, the cases in the whole run's
+/// order, as if one job had run them all. Every shard 1..=N must be there exactly once (when the
+/// reports are shards) and each case name once. Returns the cases merged.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<usize, MergeError> {
+    let mut runs: Vec<(PathBuf, RunRecord)> = Vec::new();
+    for d in dirs {
+        let path = d.join("cases.json");
+        let input = |reason: String| MergeError::Input {
+            path: path.clone(),
+            reason,
+        };
+        let text = crate::files::read_input_text(&path).map_err(|e| {
+            input(format!(
+                "{e} (is {} a report folder of luz golden --report?)",
+                d.display()
+            ))
+        })?;
+        let run: RunRecord = serde_json::from_str(&text)
+            .map_err(|e| input(format!("not a luz golden report: {e}")))?;
+        if run.format != RECORD_FORMAT {
+            return Err(input(format!(
+                "format {} (this luz reads format {RECORD_FORMAT})",
+                run.format
+            )));
+        }
+        runs.push((d.clone(), run));
+    }
+    if runs.is_empty() {
+        return Err(MergeError::Shards("no report folders given".into()));
+    }
+    // Shards: one N, every K once, one total.
+    let sharded: Vec<_> = runs
+        .iter()
+        .filter_map(|(d, r)| r.shard.map(|s| (d, s)))
+        .collect();
+    if !sharded.is_empty() {
+        if sharded.len() != runs.len() {
+            return Err(MergeError::Shards(
+                "some reports are shards (--shard) and some are not".into(),
+            ));
+        }
+        let n = sharded[0].1[1];
+        let mut seen: Vec<Option<&PathBuf>> = vec![None; n as usize];
+        for (d, [k, count]) in &sharded {
+            if *count != n {
+                return Err(MergeError::Shards(format!(
+                    "{} is shard {k}/{count}, {} is shard {}/{n}: one run has one shard count",
+                    d.display(),
+                    sharded[0].0.display(),
+                    sharded[0].1[0]
+                )));
+            }
+            let slot = &mut seen[(*k - 1) as usize];
+            if let Some(other) = slot {
+                return Err(MergeError::Shards(format!(
+                    "shard {k}/{n} is given twice: {} and {}",
+                    other.display(),
+                    d.display()
+                )));
+            }
+            *slot = Some(d);
+        }
+        let missing: Vec<String> = seen
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.is_none())
+            .map(|(i, _)| format!("{}/{n}", i + 1))
+            .collect();
+        if !missing.is_empty() {
+            return Err(MergeError::Shards(format!(
+                "shard {} missing: the merged report would not hold every case",
+                missing.join(", ")
+            )));
+        }
+        let total = runs[0].1.total;
+        if let Some((d, r)) = runs.iter().find(|(_, r)| r.total != total) {
+            return Err(MergeError::Shards(format!(
+                "{} belongs to a run of {} cases, {} to one of {total}: shards of different runs",
+                d.display(),
+                r.total,
+                runs[0].0.display()
+            )));
+        }
+    }
+    // Each case once.
+    let mut cases: Vec<(&PathBuf, &CaseRecord)> = runs
+        .iter()
+        .flat_map(|(d, r)| r.cases.iter().map(move |c| (d, c)))
+        .collect();
+    cases.sort_by(|a, b| a.1.order.cmp(&b.1.order).then(a.1.name.cmp(&b.1.name)));
+    for w in cases.windows(2) {
+        if w[0].1.name == w[1].1.name {
+            return Err(MergeError::Shards(format!(
+                "the case {:?} is in {} and in {}",
+                w[0].1.name,
+                w[0].0.display(),
+                w[1].0.display()
+            )));
+        }
+    }
+    prepare(out)?;
+    let mut merged = Vec::with_capacity(cases.len());
+    for (i, (d, c)) in cases.iter().enumerate() {
+        let stem = file_stem(i, &c.name);
+        let mut c = (*c).clone();
+        for (suffix, slot) in [
+            ("expected", &mut c.expected),
+            ("actual", &mut c.actual),
+            ("flip", &mut c.flip),
+            ("mask", &mut c.mask),
+        ] {
+            if let Some(rel) = slot.as_ref() {
+                let from = d.join(rel);
+                let to_rel = format!("images/{stem}.{suffix}.png");
+                std::fs::copy(&from, out.join(&to_rel)).map_err(|e| MergeError::Input {
+                    path: from.clone(),
+                    reason: format!("cannot copy it into {}: {e}", out.display()),
+                })?;
+                *slot = Some(to_rel);
+            }
+        }
+        merged.push(c);
+    }
+    let mut devices: Vec<&str> = Vec::new();
+    let mut goldens: Vec<&str> = Vec::new();
+    for (_, r) in &runs {
+        if !devices.contains(&r.device.as_str()) {
+            devices.push(&r.device);
+        }
+        if !goldens.contains(&r.goldens.as_str()) {
+            goldens.push(&r.goldens);
+        }
+    }
+    let n = merged.len();
+    let run = RunRecord {
+        format: RECORD_FORMAT,
+        device: devices.join("; "),
+        goldens: goldens.join("; "),
+        luz: runs[0].1.luz.clone(),
+        shard: None,
+        total: n,
+        cases: merged,
+    };
+    write_all(out, &run)?;
+    Ok(n)
+}
+
 /// Relative paths (from the report folder) of a case's images, when it has them.
 #[derive(Default)]
 struct Images {
     expected: Option<String>,
     actual: Option<String>,
     flip: Option<String>,
+    mask: Option<String>,
 }
 
 /// A file name made of the case's index and the safe characters of its name.
@@ -105,7 +438,42 @@ fn write_images(dir: &Path, i: usize, case: &Case) -> Result<Images, String> {
         diff::write_heatmap(&dir.join(&rel), map).map_err(|e| e.to_string())?;
         out.flip = Some(rel);
     }
+    if let Some(g) = &case.ignored {
+        let rel = format!("images/{stem}.mask.png");
+        write_hatching(&dir.join(&rel), g)?;
+        out.mask = Some(rel);
+    }
     Ok(out)
+}
+
+/// The overlay of the left-out pixels: masked ones hatched (diagonal magenta stripes over a
+/// light veil), forgiven anti-aliasing yellow, the rest transparent.
+fn write_hatching(path: &Path, g: &super::Ignored) -> Result<(), String> {
+    let mut rgba = Vec::with_capacity(g.masked.len() * 4);
+    for (i, (&m, &aa)) in g.masked.iter().zip(&g.antialiased).enumerate() {
+        let (x, y) = (i as u32 % g.width, i as u32 / g.width);
+        let px = if m {
+            if (x + y) % 6 < 2 {
+                [200, 0, 200, 230]
+            } else {
+                [255, 255, 255, 90]
+            }
+        } else if aa {
+            [255, 230, 0, 200]
+        } else {
+            [0, 0, 0, 0]
+        };
+        rgba.extend_from_slice(&px);
+    }
+    image::save_buffer_with_format(
+        path,
+        &rgba,
+        g.width,
+        g.height,
+        image::ExtendedColorType::Rgba8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 /// `PASS`, `FAIL` or what blessing did.
@@ -134,18 +502,20 @@ pub fn figures(case: &Case) -> String {
     }
 }
 
-fn tolerance_text(case: &Case) -> String {
-    let t = &case.tolerance;
+fn limits(t: &diff::Tolerance) -> String {
     let show = |v: Option<f32>| v.map_or("off".to_string(), |v| v.to_string());
     format!(
-        "FLIP mean ≤ {}, max abs ≤ {} steps, ≤ {} pixels beyond {} steps ({})",
+        "FLIP mean ≤ {}, max abs ≤ {} steps, ≤ {} pixels beyond {} steps",
         show(t.max_flip_mean),
         show(t.max_abs),
         t.max_bad_pixels
             .map_or("off".to_string(), |v| v.to_string()),
         t.bad_pixel_threshold,
-        case.tolerance_source
     )
+}
+
+fn tolerance_text(case: &Case) -> String {
+    format!("{} ({})", limits(&case.tolerance), case.tolerance_source)
 }
 
 /// Escapes text for HTML and XML (element content and quoted attributes).
@@ -187,8 +557,9 @@ for(var i=0;i<im.length;i++){var ok=im[i].complete&&im[i].naturalWidth>0;if(ok)n
 im[i].setAttribute('data-loaded',ok?'true':'false');if(!ok)im[i].style.outline='4px dashed red';}
 document.body.setAttribute('data-images-loaded',n+'/'+im.length);});";
 
-fn html(cases: &[Case], shown: &[Images], info: &RunInfo) -> String {
-    let failed = cases.iter().filter(|c| !c.passed()).count();
+fn html(run: &RunRecord) -> String {
+    let cases = &run.cases;
+    let failed = cases.iter().filter(|c| !c.passed).count();
     let mut h = String::new();
     let _ = write!(
         h,
@@ -201,77 +572,66 @@ fn html(cases: &[Case], shown: &[Images], info: &RunInfo) -> String {
         cases.len(),
         failed,
         cases.len(),
-        escape(&info.device),
-        escape(&info.luz),
-        escape(&info.goldens.display().to_string())
+        escape(&run.device),
+        escape(&run.luz),
+        escape(&run.goldens)
     );
+    if let Some([k, n]) = run.shard {
+        let _ = writeln!(
+            h,
+            "<p id=\"shard\">Shard {k} of {n}: {} of the run's {} cases.</p>",
+            cases.len(),
+            run.total
+        );
+    }
     h.push_str(
         "<table class=\"summary\"><tr><th>scene</th><th>result</th><th>FLIP mean</th>\
          <th>max abs</th><th>differing pixels</th></tr>\n",
     );
     for (i, c) in cases.iter().enumerate() {
-        let (flip, abs, bad) = match &c.report {
-            Some(r) => (
-                format!("{:.6}", r.flip_mean),
-                r.max_abs.to_string(),
-                r.differing_pixels.to_string(),
-            ),
-            None => Default::default(),
-        };
+        let [flip, abs, bad] = c.table.clone().unwrap_or_default();
         let _ = writeln!(
             h,
             "<tr><td><a href=\"#case-{i}\">{}</a></td><td>{}</td><td>{flip}</td><td>{abs}</td>\
              <td>{bad}</td></tr>",
             escape(&c.name),
-            escape(&status_word(c))
+            escape(&c.status)
         );
     }
     h.push_str("</table>\n");
-    for (i, (c, img)) in cases.iter().zip(shown).enumerate() {
-        let class = match c.verdict {
-            Verdict::Pass => "pass",
-            Verdict::Fail => "fail",
-            Verdict::Blessed(_) => "blessed",
-        };
+    for (i, c) in cases.iter().enumerate() {
+        let class = &c.class;
         let _ = write!(
             h,
             "<section class=\"case {class}\" id=\"case-{i}\" data-status=\"{class}\">\n\
              <h2>{} <span class=\"badge\">{}</span></h2>\n\
              <p>scene <code>{}</code>, golden <code>{}</code><br>tolerances: {}<br>{}</p>\n",
             escape(&c.name),
-            escape(&status_word(c)),
-            escape(&c.scene.display().to_string()),
-            escape(&c.golden.display().to_string()),
-            escape(&tolerance_text(c)),
-            escape(&figures(c))
+            escape(&c.status),
+            escape(&c.scene),
+            escape(&c.golden),
+            escape(&c.tolerances),
+            escape(&c.figures)
         );
-        let prov = c.provenance_differences();
-        if !prov.is_empty() {
+        if !c.regions.is_empty() {
+            h.push_str("<ul class=\"regions\">");
+            for r in &c.regions {
+                let _ = write!(h, "<li>{}</li>", escape(r));
+            }
+            h.push_str("</ul>\n");
+        }
+        if let Some(g) = &c.ignored {
+            let _ = writeln!(h, "<p class=\"ignored\">{}</p>", escape(g));
+        }
+        if !c.provenance_differences.is_empty() {
             h.push_str("<p>provenance differs:</p><ul class=\"provenance\">");
-            for d in &prov {
+            for d in &c.provenance_differences {
                 let _ = write!(h, "<li>{}</li>", escape(d));
             }
             h.push_str("</ul>\n");
         }
-        for (side, p) in [
-            ("golden", &c.expected_provenance),
-            ("actual", &c.actual_provenance),
-        ] {
-            if let Some(p) = p {
-                let device = [
-                    p.get("luz.device"),
-                    p.get("luz.driver"),
-                    p.get("luz.vulkan"),
-                ]
-                .iter()
-                .flatten()
-                .copied()
-                .collect::<Vec<_>>()
-                .join(", ");
-                if !device.is_empty() {
-                    let _ = writeln!(h, "<p>{side}: {}</p>", escape(&device));
-                }
-            }
+        for d in &c.devices {
+            let _ = writeln!(h, "<p>{}</p>", escape(d));
         }
         if !c.failures.is_empty() {
             h.push_str("<ul class=\"reasons\">");
@@ -281,20 +641,28 @@ fn html(cases: &[Case], shown: &[Images], info: &RunInfo) -> String {
             h.push_str("</ul>\n");
         }
         h.push_str("<div class=\"row\">");
-        let fig = |h: &mut String, src: &Option<String>, caption: &str| {
+        let fig = |h: &mut String, src: &Option<String>, caption: &str, hatch: bool| {
             if let Some(src) = src {
+                let over = match (&c.mask, hatch) {
+                    (Some(m), true) => format!(
+                        "<img class=\"top hatch\" src=\"{}\" alt=\"left out ({caption})\">",
+                        escape(m)
+                    ),
+                    _ => String::new(),
+                };
                 let _ = write!(
                     h,
-                    "<figure><img src=\"{}\" alt=\"{caption}\"><figcaption>{caption}</figcaption></figure>",
+                    "<figure><div class=\"stack\"><img src=\"{}\" alt=\"{caption}\">{over}</div>\
+                     <figcaption>{caption}</figcaption></figure>",
                     escape(src)
                 );
             }
         };
-        fig(&mut h, &img.expected, "expected");
-        fig(&mut h, &img.actual, "actual");
-        fig(&mut h, &img.flip, "FLIP error");
+        fig(&mut h, &c.expected, "expected", true);
+        fig(&mut h, &c.actual, "actual", true);
+        fig(&mut h, &c.flip, "FLIP error", false);
         h.push_str("</div>\n");
-        if let (Some(e), Some(a)) = (&img.expected, &img.actual) {
+        if let (Some(e), Some(a)) = (&c.expected, &c.actual) {
             let id = format!("fade-{i}");
             let _ = writeln!(
                 h,
@@ -313,8 +681,9 @@ fn html(cases: &[Case], shown: &[Images], info: &RunInfo) -> String {
     h
 }
 
-fn junit(cases: &[Case], info: &RunInfo) -> String {
-    let failed = cases.iter().filter(|c| !c.passed()).count();
+fn junit(run: &RunRecord) -> String {
+    let cases = &run.cases;
+    let failed = cases.iter().filter(|c| !c.passed).count();
     let total_s: f64 = cases.iter().map(|c| c.millis).sum::<f64>() / 1e3;
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
@@ -330,34 +699,38 @@ fn junit(cases: &[Case], info: &RunInfo) -> String {
     let _ = writeln!(
         x,
         "    <properties><property name=\"device\" value=\"{}\"/><property name=\"goldens\" value=\"{}\"/></properties>",
-        escape(&info.device),
-        escape(&info.goldens.display().to_string())
+        escape(&run.device),
+        escape(&run.goldens)
     );
     for c in cases {
         let _ = write!(
             x,
             "    <testcase classname=\"luz.golden\" name=\"{}\" file=\"{}\" time=\"{:.3}\"",
             escape(&c.name),
-            escape(&c.scene.display().to_string()),
+            escape(&c.scene),
             c.millis / 1e3
         );
-        if c.passed() {
+        if c.passed {
             let _ = writeln!(
                 x,
                 "><system-out>{}</system-out></testcase>",
-                escape(&format!("{}; {}", status_word(c), figures(c)))
+                escape(&format!("{}; {}", c.status, c.figures))
             );
         } else {
             let message = c.failures.first().cloned().unwrap_or_default();
             let mut body = format!(
                 "{}\n{}\ntolerances: {}",
                 c.failures.join("\n"),
-                figures(c),
-                tolerance_text(c)
+                c.figures,
+                c.tolerances
             );
-            for d in c.provenance_differences() {
+            for r in &c.regions {
+                body.push('\n');
+                body.push_str(r);
+            }
+            for d in &c.provenance_differences {
                 body.push_str("\nprovenance differs: ");
-                body.push_str(&d);
+                body.push_str(d);
             }
             let _ = writeln!(
                 x,
@@ -375,8 +748,9 @@ fn md_cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
 
-fn markdown(cases: &[Case], info: &RunInfo) -> String {
-    let failed = cases.iter().filter(|c| !c.passed()).count();
+fn markdown(run: &RunRecord) -> String {
+    let cases = &run.cases;
+    let failed = cases.iter().filter(|c| !c.passed).count();
     let mut m = String::new();
     let _ = writeln!(
         m,
@@ -385,23 +759,27 @@ fn markdown(cases: &[Case], info: &RunInfo) -> String {
         cases.len(),
         if failed > 0 { " ❌" } else { " ✅" }
     );
-    let _ = writeln!(m, "Rendered on {}.\n", md_cell(&info.device));
+    let _ = writeln!(m, "Rendered on {}.\n", md_cell(&run.device));
+    if let Some([k, n]) = run.shard {
+        let _ = writeln!(
+            m,
+            "Shard {k} of {n}: {} of the run's {} cases.\n",
+            cases.len(),
+            run.total
+        );
+    }
     m.push_str("| scene | result | FLIP mean | max abs | differing pixels | reason |\n");
     m.push_str("|---|---|---|---|---|---|\n");
     for c in cases {
-        let (flip, abs, bad) = match &c.report {
-            Some(r) => (
-                format!("{:.6}", r.flip_mean),
-                r.max_abs.to_string(),
-                r.differing_pixels.to_string(),
-            ),
-            None => ("–".into(), "–".into(), "–".into()),
-        };
+        let [flip, abs, bad] = c
+            .table
+            .clone()
+            .unwrap_or_else(|| ["–".into(), "–".into(), "–".into()]);
         let _ = writeln!(
             m,
             "| {} | {} | {flip} | {abs} | {bad} | {} |",
             md_cell(&c.name),
-            status_word(c),
+            c.status,
             md_cell(&c.failures.join("; "))
         );
     }

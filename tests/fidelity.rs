@@ -1,0 +1,261 @@
+//! `luz fidelity` (issue 39): the Khronos glTF Render Fidelity generator's offline-renderer
+//! contract. Hand-written scenarios for the models in ../shared/gltf render to their PNG (the
+//! camera, size, background and environment as docs/fidelity.md says); the output equals
+//! `luz render` of the equivalent luz scene, hand-written here; bad scenarios are errors naming
+//! the JSON path, exit 1, never a panic.
+
+mod common;
+
+use std::path::Path;
+
+use common::{luz, scratch, shared_dir};
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn fidelity(args: &[&str]) -> (i32, String, String) {
+    let mut all = vec!["fidelity"];
+    all.extend_from_slice(args);
+    let (code, out, err) = luz(&all);
+    assert!(!err.contains("panicked"), "{err}");
+    (code, out, err)
+}
+
+fn pixels(p: &Path) -> (u32, u32, Vec<[u8; 3]>) {
+    let img = luz::imageio::load(p).unwrap_or_else(|e| panic!("{e}"));
+    (img.width, img.height, img.display)
+}
+
+/// One scenario per model of ../shared/gltf, written by hand as the generator's config.json
+/// would hold it (orbit in degrees, radius in the model's units), at a small size: each writes
+/// its PNG at twice the size (the device pixel ratio), with the model in the middle and, without
+/// a skybox, a white background; with a skybox the corners show the environment.
+#[test]
+fn scenarios_for_the_shared_models_write_their_png() {
+    let Some(gltf) = shared_dir("gltf") else {
+        return;
+    };
+    let Some(envs) = shared_dir("environments") else {
+        return;
+    };
+    let hdr = envs.join("newport_loft.hdr");
+    let dir = scratch("fidelity-models");
+    let cases = [
+        (
+            "cesiumman",
+            "CesiumMan/glTF-Binary/CesiumMan.glb",
+            r#""target": {"y": 0.75}, "orbit": {"radius": 2}"#,
+        ),
+        (
+            "teapots",
+            "color_teapot_spheres.gltf",
+            r#""orbit": {"radius": 1.8, "theta": 20, "phi": 70}"#,
+        ),
+        (
+            "deer",
+            "deer.gltf",
+            r#""orbit": {"radius": 3.5, "theta": -30, "phi": 80}"#,
+        ),
+        (
+            "retroufo",
+            "retroufo.glb",
+            r#""orbit": {"radius": 200, "theta": 35, "phi": 65}"#,
+        ),
+        (
+            "venus",
+            "venus.gltf",
+            r#""orbit": {"radius": 2.5, "theta": 0, "phi": 90}"#,
+        ),
+    ];
+    for (name, model, view) in cases {
+        let out = dir.join(format!("{name}.png"));
+        let config = format!(
+            r#"{{"scenario": {{"name": "{name}", "model": "{}", "lighting": "{}",
+                "dimensions": {{"width": 40, "height": 30}}, {view}}},
+                "outputFile": "{}"}}"#,
+            s(&gltf.join(model)),
+            s(&hdr),
+            s(&out)
+        );
+        let (code, stdout, err) = fidelity(&[&config, "--ibl-quality", "fast"]);
+        assert_eq!(code, 0, "{name}: {stdout}\n{err}");
+        assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+        assert!(
+            stdout.contains(&format!("wrote {} (80×60)", out.display())),
+            "{stdout}"
+        );
+        let (w, h, px) = pixels(&out);
+        assert_eq!((w, h), (80, 60), "{name}");
+        let white = [255u8; 3];
+        assert_eq!(
+            px[0], white,
+            "{name}: the background without a skybox is white"
+        );
+        let covered = px.iter().filter(|p| **p != white).count();
+        assert!(
+            covered > 80 * 60 / 50,
+            "{name}: the model covers {covered} pixels"
+        );
+    }
+    // renderSkybox: the environment is the background.
+    let out = dir.join("sky.png");
+    let config = format!(
+        r#"{{"scenario": {{"model": "{}", "lighting": "{}", "renderSkybox": true,
+            "dimensions": {{"width": 40, "height": 30}}, "target": {{"y": 0.75}}, "orbit": {{"radius": 2}}}},
+            "outputFile": "{}"}}"#,
+        s(&gltf.join("CesiumMan/glTF-Binary/CesiumMan.glb")),
+        s(&hdr),
+        s(&out)
+    );
+    let (code, stdout, err) = fidelity(&[&config, "--ibl-quality", "fast"]);
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let (_, _, px) = pixels(&out);
+    assert_ne!(px[0], [255; 3], "the corner shows the environment");
+}
+
+/// `luz fidelity` equals `luz render` of the equivalent luz scene written by hand from
+/// docs/fidelity.md: the scenario {target y 0.75, orbit radius 2 (theta 0, phi 90), 40×30,
+/// verticalFoV 45} is a camera at (0, 0.75, 2) looking along −z with +y up, 80×60 pixels, ACES at
+/// +0.4618 EV, the HDR at intensity 1 without background, a background of 64 (display white),
+/// the model with its lights. The scene `--scene-out` writes renders the same pixels too.
+#[test]
+fn fidelity_equals_luz_render_of_the_equivalent_scene() {
+    let Some(gltf) = shared_dir("gltf") else {
+        return;
+    };
+    let Some(envs) = shared_dir("environments") else {
+        return;
+    };
+    let model = gltf.join("CesiumMan/glTF-Binary/CesiumMan.glb");
+    let hdr = envs.join("newport_loft.hdr");
+    let dir = scratch("fidelity-equal");
+    let out = dir.join("fidelity.png");
+    let config = format!(
+        r#"{{"scenario": {{"model": "{}", "lighting": "{}", "dimensions": {{"width": 40, "height": 30}},
+            "target": {{"y": 0.75}}, "orbit": {{"radius": 2}}}}, "outputFile": "{}"}}"#,
+        s(&model),
+        s(&hdr),
+        s(&out)
+    );
+    let written = dir.join("written.json");
+    let (code, stdout, err) =
+        fidelity(&[&config, "--ibl-quality", "fast", "--scene-out", s(&written)]);
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let by_hand = format!(
+        r#"{{
+  "camera": {{"position": [0, 0.75, 2], "target": [0, 0.75, 1], "up": [0, 1, 0],
+              "fov_y_deg": 45, "near": 0.004, "far": 400}},
+  "output": {{"width": 80, "height": 60, "exposure": 0.4618, "tonemap": "aces", "msaa": 4,
+              "background": [64, 64, 64]}},
+  "ambient": [0, 0, 0],
+  "environment": {{"hdr": "{}", "intensity": 1, "rotation_deg": 0, "show_background": false}},
+  "objects": [{{"mesh": {{"type": "gltf", "path": "{}", "lights": true}}}}]
+}}"#,
+        s(&hdr),
+        s(&model)
+    );
+    let hand = dir.join("hand.json");
+    std::fs::write(&hand, by_hand).unwrap();
+    let reference = pixels(&out);
+    for scene in [&hand, &written] {
+        let rendered = dir.join("render.png");
+        let (code, stdout, err) = luz(&[
+            "render",
+            s(scene),
+            "-o",
+            s(&rendered),
+            "--ibl-quality",
+            "fast",
+        ]);
+        assert_eq!(code, 0, "{stdout}\n{err}");
+        assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
+        let got = pixels(&rendered);
+        assert_eq!((got.0, got.1), (reference.0, reference.1));
+        let differing = got
+            .2
+            .iter()
+            .zip(&reference.2)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            differing,
+            0,
+            "{}: {differing} pixels differ",
+            scene.display()
+        );
+    }
+}
+
+/// Bad scenarios: one line naming the JSON path, exit 1, no panic, nothing rendered.
+#[test]
+fn bad_scenarios_name_the_json_path() {
+    let dir = scratch("fidelity-bad");
+    let model = dir.join("m.gltf");
+    let hdr = dir.join("env.hdr");
+    std::fs::write(&model, "{}").unwrap();
+    std::fs::write(&hdr, "").unwrap();
+    let out = dir.join("out.png");
+    let with = |scenario: &str| {
+        format!(
+            r#"{{"scenario": {{"model": "{}", "lighting": "{}"{scenario}}}, "outputFile": "{}"}}"#,
+            s(&model),
+            s(&hdr),
+            s(&out)
+        )
+    };
+    let cases = [
+        (with(r#", "orbit": {"radius": -1}"#), "scenario.orbit.radius: must be ≥ 0, not -1"),
+        (with(r#", "colour": 1"#), "scenario.colour: unknown field (known: name, model,"),
+        (with(r#", "orbit": {"rho": 1}"#), "scenario.orbit.rho: unknown field (known: theta, phi, radius)"),
+        (with(r#", "orbit": {"theta": "left"}"#), "scenario.orbit.theta: must be a finite number"),
+        (with(r#", "dimensions": {"width": 0}"#), "scenario.dimensions.width: must be a whole number"),
+        (with(r#", "target": [0, 1, 0]"#), "scenario.target: must be a JSON object"),
+        (with(r#", "verticalFoV": 180"#), "scenario.verticalFoV: must be in (0, 180)"),
+        (with(r#", "renderSkybox": "yes""#), "scenario.renderSkybox: must be true or false"),
+        (
+            format!(r#"{{"scenario": {{"lighting": "{}"}}, "outputFile": "{}"}}"#, s(&hdr), s(&out)),
+            "scenario.model: missing",
+        ),
+        (
+            format!(r#"{{"scenario": {{"model": "{}/nope.glb"}}, "outputFile": "{}"}}"#, s(&dir), s(&out)),
+            "scenario.model: ",
+        ),
+        (
+            format!(r#"{{"scenario": {{"model": "{}"}}, "outputFile": "{}"}}"#, s(&model), s(&out)),
+            "scenario.lighting: ./../../../environments/lightroom_14b.hdr: no such file (the generator's default",
+        ),
+        (
+            format!(r#"{{"scenario": {{"model": "{}", "lighting": "{}"}}, "outputFile": "x.jpg"}}"#, s(&model), s(&hdr)),
+            "outputFile: must name a .png file",
+        ),
+        (
+            format!(r#"{{"scenario": {{"model": "{}", "lighting": "{}"}}}}"#, s(&model), s(&hdr)),
+            "outputFile: missing",
+        ),
+        (
+            format!(r#"{{"scenario": {{"model": "{}", "lighting": "{}"}}, "outputFile": "{}"}}"#, s(&model), s(&model), s(&out)),
+            "scenario.lighting: ",
+        ),
+        (r#"{"scenario": {}, "output": "x.png"}"#.to_string(), "output: unknown field (known: scenario, outputFile)"),
+        ("{\"scenario\": ".to_string(), "not valid JSON"),
+    ];
+    for (config, needle) in cases {
+        let (code, stdout, err) = fidelity(&[&config]);
+        assert_eq!(code, 1, "{config}: {stdout}\n{err}");
+        assert!(
+            err.contains(&format!("luz: error: luz fidelity: {needle}")),
+            "{config}: expected {needle:?} in {err}"
+        );
+        assert!(!stdout.contains("device:"), "nothing is rendered: {stdout}");
+        assert!(!out.exists());
+    }
+    // The missing model's message names the file.
+    let config = format!(
+        r#"{{"scenario": {{"model": "{}/nope.glb"}}, "outputFile": "{}"}}"#,
+        s(&dir),
+        s(&out)
+    );
+    let (_, _, err) = fidelity(&[&config]);
+    assert!(err.contains("nope.glb: no such file"), "{err}");
+}
