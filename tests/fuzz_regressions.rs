@@ -10,7 +10,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use common::root;
+use common::{declared_png, root};
 
 /// A fuzz entry point.
 type Target = fn(&[u8]);
@@ -260,43 +260,6 @@ fn scene_fuzz_target_time_per_megabyte_is_flat() {
             );
         }
     }
-}
-
-/// A PNG that declares `w × h` RGBA8 pixels and holds one empty compressed block (69 bytes).
-fn declared_png(w: u32, h: u32) -> Vec<u8> {
-    fn crc32(bytes: &[u8]) -> u32 {
-        let mut c = 0xFFFF_FFFFu32;
-        for &b in bytes {
-            c ^= u32::from(b);
-            for _ in 0..8 {
-                c = if c & 1 != 0 {
-                    0xEDB8_8320 ^ (c >> 1)
-                } else {
-                    c >> 1
-                };
-            }
-        }
-        !c
-    }
-    let chunk = |ty: &[u8], data: &[u8]| {
-        let mut body = ty.to_vec();
-        body.extend_from_slice(data);
-        let mut c = (data.len() as u32).to_be_bytes().to_vec();
-        c.extend_from_slice(&body);
-        c.extend_from_slice(&crc32(&body).to_be_bytes());
-        c
-    };
-    let mut ihdr = w.to_be_bytes().to_vec();
-    ihdr.extend_from_slice(&h.to_be_bytes());
-    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
-    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
-    png.extend(chunk(b"IHDR", &ihdr));
-    png.extend(chunk(
-        b"IDAT",
-        &[0x78, 0x01, 0x01, 0, 0, 0xff, 0xff, 0, 0, 0, 1],
-    ));
-    png.extend(chunk(b"IEND", &[]));
-    png
 }
 
 /// The size-amplifying inputs of [`size_amplifying_inputs_stay_within_a_memory_ceiling`], made

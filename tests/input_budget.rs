@@ -6,12 +6,11 @@
 
 mod common;
 
-use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::{scratch, Ran, LUZ};
+use common::{declared_png, scratch, Ran, LUZ};
 
 const MIB: u64 = 1 << 20;
 
@@ -33,26 +32,7 @@ fn luz_limited(args: &[&str], ceiling: u64, fsize: Option<u64>, timeout: Duratio
         .env("MESA_SHADER_CACHE_DISABLE", "true")
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped());
-    // SAFETY: setrlimit is async-signal-safe, and the closure touches nothing else.
-    unsafe {
-        cmd.pre_exec(move || {
-            let set = |resource, value: u64| {
-                let lim = libc::rlimit {
-                    rlim_cur: value,
-                    rlim_max: value,
-                };
-                if libc::setrlimit(resource, &lim) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            };
-            set(libc::RLIMIT_AS, ceiling)?;
-            if let Some(f) = fsize {
-                set(libc::RLIMIT_FSIZE, f)?;
-            }
-            Ok(())
-        });
-    }
+    common::with_limits(&mut cmd, ceiling, fsize);
     let mut child = cmd.spawn().expect("cannot start luz");
     let t0 = Instant::now();
     loop {
@@ -288,47 +268,6 @@ fn a_fifo_as_any_input_is_refused_at_once() {
         &[],
         &["buf.gltf: buffers[0].uri", "pipe.bin", "FIFO"],
     );
-}
-
-/// CRC-32 (PNG's, reflected 0xEDB88320) of `bytes`.
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = !0u32;
-    for &b in bytes {
-        c ^= u32::from(b);
-        for _ in 0..8 {
-            c = if c & 1 != 0 {
-                (c >> 1) ^ 0xEDB8_8320
-            } else {
-                c >> 1
-            };
-        }
-    }
-    !c
-}
-
-/// A PNG that declares `w × h` RGBA8 pixels and holds a single empty compressed block: a few
-/// dozen bytes whose full decoding would need w · h · 4 bytes and more.
-fn declared_png(w: u32, h: u32) -> Vec<u8> {
-    let chunk = |ty: &[u8], data: &[u8]| {
-        let mut c = (data.len() as u32).to_be_bytes().to_vec();
-        let mut body = ty.to_vec();
-        body.extend_from_slice(data);
-        c.extend_from_slice(&body);
-        c.extend_from_slice(&crc32(&body).to_be_bytes());
-        c
-    };
-    let mut ihdr = w.to_be_bytes().to_vec();
-    ihdr.extend_from_slice(&h.to_be_bytes());
-    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
-    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
-    png.extend(chunk(b"IHDR", &ihdr));
-    // zlib header, one empty stored final block, Adler-32 of nothing.
-    png.extend(chunk(
-        b"IDAT",
-        &[0x78, 0x01, 0x01, 0, 0, 0xff, 0xff, 0, 0, 0, 1],
-    ));
-    png.extend(chunk(b"IEND", &[]));
-    png
 }
 
 #[test]

@@ -94,3 +94,44 @@ impl Drop for Scratch {
         }
     }
 }
+
+/// CRC-32 (PNG's, reflected 0xEDB88320) of `bytes`.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = !0u32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                (c >> 1) ^ 0xEDB8_8320
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+/// A PNG that declares `w × h` RGBA8 pixels and holds a single empty compressed block: a few
+/// dozen bytes whose full decoding would need w · h · 4 bytes and more.
+pub fn declared_png(w: u32, h: u32) -> Vec<u8> {
+    let chunk = |ty: &[u8], data: &[u8]| {
+        let mut c = (data.len() as u32).to_be_bytes().to_vec();
+        let mut body = ty.to_vec();
+        body.extend_from_slice(data);
+        c.extend_from_slice(&body);
+        c.extend_from_slice(&crc32(&body).to_be_bytes());
+        c
+    };
+    let mut ihdr = w.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(chunk(b"IHDR", &ihdr));
+    // zlib header, one empty stored final block, Adler-32 of nothing.
+    png.extend(chunk(
+        b"IDAT",
+        &[0x78, 0x01, 0x01, 0, 0, 0xff, 0xff, 0, 0, 0, 1],
+    ));
+    png.extend(chunk(b"IEND", &[]));
+    png
+}
