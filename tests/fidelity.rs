@@ -22,9 +22,13 @@ fn fidelity(args: &[&str]) -> (i32, String, String) {
     (code, out, err)
 }
 
-fn pixels(p: &Path) -> (u32, u32, Vec<[u8; 3]>) {
-    let img = luz::imageio::load(p).unwrap_or_else(|e| panic!("{e}"));
-    (img.width, img.height, img.display)
+/// The PNG's 8-bit RGBA bytes, and whether the file has an alpha channel.
+fn rgba(p: &Path) -> (u32, u32, Vec<[u8; 4]>, bool) {
+    let img = image::open(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    let alpha = img.color().has_alpha();
+    let img = img.to_rgba8();
+    let px = img.pixels().map(|p| p.0).collect();
+    (img.width(), img.height(), px, alpha)
 }
 
 /// One scenario per model of ../shared/gltf, written by hand as the generator's config.json
@@ -85,17 +89,22 @@ fn scenarios_for_the_shared_models_write_their_png() {
             stdout.contains(&format!("wrote {} (80×60)", out.display())),
             "{stdout}"
         );
-        let (w, h, px) = pixels(&out);
+        let (w, h, px, has_alpha) = rgba(&out);
         assert_eq!((w, h), (80, 60), "{name}");
-        let white = [255u8; 3];
+        assert!(has_alpha, "{name}: without a skybox the PNG is RGBA");
         assert_eq!(
-            px[0], white,
-            "{name}: the background without a skybox is white"
+            px[0], [0; 4],
+            "{name}: the background without a skybox is transparent"
         );
-        let covered = px.iter().filter(|p| **p != white).count();
+        let covered = px.iter().filter(|p| p[3] == 255).count();
+        let edges = px.iter().filter(|p| p[3] > 0 && p[3] < 255).count();
         assert!(
             covered > 80 * 60 / 50,
             "{name}: the model covers {covered} pixels"
+        );
+        assert!(
+            edges > 0 && edges < covered,
+            "{name}: {edges} anti-aliased edge pixels have a fractional alpha ({covered} opaque)"
         );
     }
     // renderSkybox: the environment is the background.
@@ -110,15 +119,17 @@ fn scenarios_for_the_shared_models_write_their_png() {
     );
     let (code, stdout, err) = fidelity(&[&config, "--ibl-quality", "fast"]);
     assert_eq!(code, 0, "{stdout}\n{err}");
-    let (_, _, px) = pixels(&out);
-    assert_ne!(px[0], [255; 3], "the corner shows the environment");
+    let (_, _, px, has_alpha) = rgba(&out);
+    assert!(!has_alpha, "with a skybox the PNG is opaque RGB");
+    assert_ne!(px[0], [255; 4], "the corner shows the environment");
 }
 
 /// `luz fidelity` equals `luz render` of the equivalent luz scene written by hand from
 /// docs/fidelity.md: the scenario {target y 0.75, orbit radius 2 (theta 0, phi 90), 40×30,
 /// verticalFoV 45} is a camera at (0, 0.75, 2) looking along −z with +y up, 80×60 pixels, ACES at
-/// +0.4618 EV, the HDR at intensity 1 without background, a background of 64 (display white),
-/// the model with its lights. The scene `--scene-out` writes renders the same pixels too.
+/// +0.4618 EV, the HDR at intensity 1 turned by −90° without background, a transparent
+/// background, the model with its lights. The scene `--scene-out` writes renders the same
+/// pixels (and alpha) too.
 #[test]
 fn fidelity_equals_luz_render_of_the_equivalent_scene() {
     let Some(gltf) = shared_dir("gltf") else {
@@ -147,9 +158,9 @@ fn fidelity_equals_luz_render_of_the_equivalent_scene() {
   "camera": {{"position": [0, 0.75, 2], "target": [0, 0.75, 1], "up": [0, 1, 0],
               "fov_y_deg": 45, "near": 0.004, "far": 400}},
   "output": {{"width": 80, "height": 60, "exposure": 0.4618, "tonemap": "aces", "msaa": 4,
-              "background": [64, 64, 64]}},
+              "background": [0, 0, 0], "transparent": true}},
   "ambient": [0, 0, 0],
-  "environment": {{"hdr": "{}", "intensity": 1, "rotation_deg": 0, "show_background": false}},
+  "environment": {{"hdr": "{}", "intensity": 1, "rotation_deg": -90, "show_background": false}},
   "objects": [{{"mesh": {{"type": "gltf", "path": "{}", "lights": true}}}}]
 }}"#,
         s(&hdr),
@@ -157,7 +168,7 @@ fn fidelity_equals_luz_render_of_the_equivalent_scene() {
     );
     let hand = dir.join("hand.json");
     std::fs::write(&hand, by_hand).unwrap();
-    let reference = pixels(&out);
+    let reference = rgba(&out);
     for scene in [&hand, &written] {
         let rendered = dir.join("render.png");
         let (code, stdout, err) = luz(&[
@@ -170,8 +181,8 @@ fn fidelity_equals_luz_render_of_the_equivalent_scene() {
         ]);
         assert_eq!(code, 0, "{stdout}\n{err}");
         assert!(err.contains("validation: 0 errors, 0 warnings"), "{err}");
-        let got = pixels(&rendered);
-        assert_eq!((got.0, got.1), (reference.0, reference.1));
+        let got = rgba(&rendered);
+        assert_eq!((got.0, got.1, got.3), (reference.0, reference.1, true));
         let differing = got
             .2
             .iter()
@@ -184,6 +195,71 @@ fn fidelity_equals_luz_render_of_the_equivalent_scene() {
             "{}: {differing} pixels differ",
             scene.display()
         );
+    }
+}
+
+/// The environment lies where three.js, the Sample Viewer and the generator's Blender script put
+/// it: an equirectangular image of four colour quarters in u (red, green, blue, grey), seen as
+/// the skybox from four orbits, shows at each corner of the picture the quarter three.js's
+/// `equirectUv` (u = 0.5 + atan2(z, x)/2π, v = 0 up) gives for that corner's view ray. The model
+/// (CesiumMan, 20 m away) stays in the middle.
+#[test]
+fn environment_orientation_is_three_js_equirect() {
+    let Some(gltf) = shared_dir("gltf") else {
+        return;
+    };
+    let dir = scratch("fidelity-orientation");
+    let hdr = dir.join("quarters.hdr");
+    const QUARTERS: [[f32; 3]; 4] = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.5, 0.5, 0.5],
+    ];
+    image::Rgb32FImage::from_fn(256, 128, |x, _| image::Rgb(QUARTERS[(x / 64) as usize]))
+        .save(&hdr)
+        .unwrap();
+    let model = gltf.join("CesiumMan/glTF-Binary/CesiumMan.glb");
+    let (w, h) = (32u32, 32u32);
+    for theta in [-90.0f64, 0.0, 90.0, 180.0] {
+        let out = dir.join(format!("theta{theta}.png"));
+        let config = format!(
+            r#"{{"scenario": {{"model": "{}", "lighting": "{}", "renderSkybox": true,
+                "dimensions": {{"width": {}, "height": {}}}, "orbit": {{"radius": 20, "theta": {theta}}}}},
+                "outputFile": "{}"}}"#,
+            s(&model),
+            s(&hdr),
+            w / 2,
+            h / 2,
+            s(&out)
+        );
+        let (code, stdout, err) = fidelity(&[&config, "--ibl-quality", "fast"]);
+        assert_eq!(code, 0, "{stdout}\n{err}");
+        let (_, _, px, _) = rgba(&out);
+        // The camera at r·(sin θ, 0, cos θ) looks along −that; right = forward × up.
+        let t = theta.to_radians();
+        let forward = [-t.sin(), 0.0, -t.cos()];
+        let right = [-forward[2], 0.0, forward[0]];
+        let half = (22.5f64).to_radians().tan();
+        for (cx, cy) in [(1u32, 1u32), (w - 2, 1), (1, h - 2), (w - 2, h - 2)] {
+            let nx = ((cx as f64 + 0.5) / w as f64) * 2.0 - 1.0;
+            let ny = 1.0 - ((cy as f64 + 0.5) / h as f64) * 2.0;
+            let d: Vec<f64> = (0..3)
+                .map(|i| forward[i] + nx * half * right[i] + ny * half * [0.0, 1.0, 0.0][i])
+                .collect();
+            let u = 0.5 + d[2].atan2(d[0]) / std::f64::consts::TAU;
+            let quarter = ((u * 4.0).floor() as usize).min(3);
+            let p = px[(cy * w + cx) as usize];
+            let got = if p[0].abs_diff(p[1]) < 8 && p[1].abs_diff(p[2]) < 8 {
+                3
+            } else {
+                (0..3).max_by_key(|&c| p[c]).unwrap()
+            };
+            assert_eq!(
+                got, quarter,
+                "theta {theta}: pixel ({cx}, {cy}) is {p:?}, three.js's u there is {u:.3}"
+            );
+        }
     }
 }
 

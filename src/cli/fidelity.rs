@@ -56,9 +56,13 @@ pub const DEVICE_PIXEL_RATIO: u32 = 2;
 /// three.js's `ACESFilmicToneMapping` (Hill's fit of input / 0.6), the tone map of three.js, the
 /// Sample Viewer and the generator's Blender script, within 0.011 over [0.05, 4] (docs/fidelity.md).
 pub const EXPOSURE_EV: f64 = 0.4618;
-/// Without a skybox: a background so bright luz's ACES clamps it to display white, what
-/// pixelmatch makes of the reference renderers' transparent background (blended with white).
-pub const BACKGROUND: f64 = 64.0;
+/// The environment's turn about +y that puts the equirectangular image where three.js
+/// (`equirectUv`: u = 0.5 + atan2(z, x)/2π), the Sample Viewer (`dirToUV`, the same) and the
+/// generator's Blender script (Blender's `direction_to_equirectangular` after the glTF importer's
+/// y-up to z-up turn: the same again) put it: the image's centre at +x, u = 0.75 at +z. luz's own
+/// mapping puts the centre at −z and u = 0.75 at +x (docs/scene-format.md), so the image turns
+/// by −90°: luz's u_env = u_world + rotation/360 = u_world − 0.25, which is three.js's u.
+pub const ENV_ROTATION_DEG: f64 = -90.0;
 
 /// A scenario read and checked.
 #[derive(Debug, Clone, PartialEq)]
@@ -288,7 +292,6 @@ impl Scenario {
         // Blender's script: clip 2r/1000 to 2r with r the larger of radius and the model's
         // bounding sphere; luz does not know the sphere before loading, so far reaches 1e5 × near.
         let near = 2.0 * self.radius.max(1e-4) / 1000.0;
-        let bg = if self.skybox { 0.0 } else { BACKGROUND };
         json!({
             "camera": {
                 "position": position, "target": target, "up": up,
@@ -298,11 +301,11 @@ impl Scenario {
                 "width": self.width * DEVICE_PIXEL_RATIO,
                 "height": self.height * DEVICE_PIXEL_RATIO,
                 "exposure": EXPOSURE_EV, "tonemap": "aces", "msaa": 4,
-                "background": [bg, bg, bg]
+                "background": [0, 0, 0], "transparent": !self.skybox
             },
             "ambient": [0, 0, 0],
             "environment": {
-                "hdr": absolute(&self.lighting), "intensity": 1, "rotation_deg": 0,
+                "hdr": absolute(&self.lighting), "intensity": 1, "rotation_deg": ENV_ROTATION_DEG,
                 "show_background": self.skybox
             },
             "objects": [
@@ -350,11 +353,10 @@ pub fn run(a: FidelityArgs) -> Result<ExitCode> {
         std::fs::create_dir_all(dir)
             .map_err(|e| anyhow!("outputFile: cannot create {}: {e}", dir.display()))?;
     }
-    luz::imageio::save_with(
+    luz::imageio::save_render(
         &scenario.output,
         &image,
-        scene.output.exposure,
-        scene.output.tonemap,
+        &scene.output,
         &luz::provenance::of_render(&ctx.info, &scene, Some(&timing)),
     )
     .map_err(|e| anyhow!("outputFile: {e}"))?;

@@ -152,17 +152,11 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     }
     let image = renderer.image()?;
     let timing = TimingReport::of(&frames);
-    luz::imageio::save_with(
-        &a.output,
-        &image,
-        scene.output.exposure,
-        scene.output.tonemap,
-        &{
-            let mut p = luz::provenance::of_render(&ctx.info, &scene, Some(&timing));
-            luz::provenance::add_switches(&mut p, &a.switches.switches());
-            p
-        },
-    )?;
+    luz::imageio::save_render(&a.output, &image, &scene.output, &{
+        let mut p = luz::provenance::of_render(&ctx.info, &scene, Some(&timing));
+        luz::provenance::add_switches(&mut p, &a.switches.switches());
+        p
+    })?;
     let nan = luz::imageio::count_non_finite(&image.pixels);
     println!(
         "scene: {} ({}x{}, msaa {})",

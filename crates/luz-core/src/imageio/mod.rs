@@ -4,7 +4,8 @@
 //!
 //! * **PNG** is written as 8-bit sRGB **RGB** (no alpha channel): exposure → tone map → clamp →
 //!   sRGB encode ([`crate::color::to_display_rgba8`]); the renderer's alpha is not stored because
-//!   the display pipeline makes every pixel opaque. PNGs are read as 8- or 16-bit, grey or colour,
+//!   the display pipeline makes every pixel opaque. A scene with a transparent background
+//!   ([`save_render`]) is written RGBA with straight alpha, its coverage. PNGs are read as 8- or 16-bit, grey or colour,
 //!   with or without alpha, and are always interpreted as sRGB (gAMA/iCCP chunks are ignored).
 //! * **EXR** is written as linear 32-bit float RGBA, untouched: no exposure, no tone map, no clamp,
 //!   NaN and Inf preserved. EXRs are read as linear float RGB(A) (alpha 1 when absent).
@@ -327,6 +328,58 @@ pub fn save_with(
     tonemap: Tonemap,
     meta: &Provenance,
 ) -> Result<(), ImageError> {
+    save_as(path, img, (exposure_ev, tonemap, false), meta)
+}
+
+/// Saves a render of a scene with that scene's `output` settings: its exposure and tone map,
+/// and, when its background is transparent ([`crate::scene::Output::transparent`]), its alpha,
+/// which is then its coverage (0 where no object is, fractional on anti-aliased edges, the
+/// colour premultiplied by it). PNG: 8-bit sRGB **RGBA** with straight alpha, each colour
+/// divided by its alpha before exposure and tone map ([`to_straight_rgba8`]: an edge pixel
+/// composited over white shows the object's colour blended with white, as a browser shows it);
+/// EXR: linear RGBA as rendered (premultiplied, as OpenEXR defines it).
+pub fn save_render(
+    path: &Path,
+    img: &LinearImage,
+    output: &crate::scene::Output,
+    meta: &Provenance,
+) -> Result<(), ImageError> {
+    save_as(
+        path,
+        img,
+        (output.exposure, output.tonemap, output.transparent),
+        meta,
+    )
+}
+
+/// The straight-alpha display codes of premultiplied linear pixels: colour / alpha tone-mapped,
+/// alpha clamped to [0, 1] and rounded to 8 bits; alpha 0 is (0, 0, 0, 0).
+pub fn to_straight_rgba8(pixels: &[[f32; 4]], exposure_ev: f32, tonemap: Tonemap) -> Vec<u8> {
+    let straight: Vec<[f32; 4]> = pixels
+        .iter()
+        .map(|p| {
+            let a = if p[3].is_nan() {
+                0.0
+            } else {
+                p[3].clamp(0.0, 1.0)
+            };
+            let inv = if a > 0.0 { 1.0 / a } else { 0.0 };
+            [p[0] * inv, p[1] * inv, p[2] * inv, a]
+        })
+        .collect();
+    let mut codes = to_display_rgba8(&straight, exposure_ev, tonemap);
+    for (c, p) in codes.chunks_exact_mut(4).zip(&straight) {
+        c[3] = (p[3] * 255.0).round() as u8;
+    }
+    codes
+}
+
+fn save_as(
+    path: &Path,
+    img: &LinearImage,
+    (exposure_ev, tonemap, transparent): (f32, Tonemap, bool),
+    meta: &Provenance,
+) -> Result<(), ImageError> {
     let format = FileFormat::from_path(path)?;
     check_buffer(path, img.width, img.height, img.pixels.len())?;
     let mut meta = complete(meta, img.width, img.height);
@@ -335,6 +388,12 @@ pub fn save_with(
             meta.set_default("luz.encoding", "8-bit sRGB, exposed and tone-mapped");
             meta.set_default("luz.tonemap", tonemap.name());
             meta.set_default("luz.exposure_ev", exposure_ev.to_string());
+            if transparent {
+                meta.set_default("luz.alpha", "coverage, straight (colour not premultiplied)");
+                let rgba = to_straight_rgba8(&img.pixels, exposure_ev, tonemap);
+                let size = (img.width, img.height, png::ColorType::Rgba);
+                return write_with_meta(path, |w| provenance::write_png_as(w, size, &rgba, &meta));
+            }
             let rgba = to_display_rgba8(&img.pixels, exposure_ev, tonemap);
             let rgb: Vec<u8> = rgba
                 .chunks_exact(4)

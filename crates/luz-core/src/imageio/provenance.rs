@@ -112,8 +112,18 @@ pub(super) fn write_png(
     rgb: &[u8],
     meta: &Provenance,
 ) -> Result<(), String> {
+    write_png_as(w, (width, height, png::ColorType::Rgb), rgb, meta)
+}
+
+/// [`write_png`] of 8-bit `bytes` in colour type `color` (RGB or RGBA).
+pub(super) fn write_png_as(
+    w: &mut BufWriter<File>,
+    (width, height, color): (u32, u32, png::ColorType),
+    bytes: &[u8],
+    meta: &Provenance,
+) -> Result<(), String> {
     let mut enc = png::Encoder::new(&mut *w, width, height);
-    enc.set_color(png::ColorType::Rgb);
+    enc.set_color(color);
     enc.set_depth(png::BitDepth::Eight);
     enc.set_compression(png::Compression::Balanced);
     enc.set_filter(png::Filter::Adaptive);
@@ -122,7 +132,7 @@ pub(super) fn write_png(
             .map_err(|e| e.to_string())?;
     }
     let mut writer = enc.write_header().map_err(|e| e.to_string())?;
-    writer.write_image_data(rgb).map_err(|e| e.to_string())?;
+    writer.write_image_data(bytes).map_err(|e| e.to_string())?;
     writer.finish().map_err(|e| e.to_string())?;
     w.flush().map_err(|e| e.to_string())
 }

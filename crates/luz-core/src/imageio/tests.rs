@@ -326,3 +326,50 @@ fn png_applies_exposure_and_tonemap() {
         [0.2, 0.5, 0.8].map(crate::color::srgb_encode_u8)
     );
 }
+
+/// A transparent render is written RGBA with straight alpha: a pixel of coverage a and
+/// premultiplied colour a·c reads back as colour c (within half an LSB in encoded units) and
+/// alpha round(255·a); coverage 0 is (0, 0, 0, 0). The file says so in its provenance.
+#[test]
+fn transparent_png_has_straight_coverage_alpha() {
+    let dir = scratch_dir("png-alpha");
+    let straight = [0.2f32, 0.5, 0.8];
+    let coverages = [0.0f32, 0.25, 0.5, 1.0];
+    let img = LinearImage {
+        width: 4,
+        height: 1,
+        pixels: coverages
+            .iter()
+            .map(|&a| [straight[0] * a, straight[1] * a, straight[2] * a, a])
+            .collect(),
+    };
+    let mut output = crate::scene::default_scene().output;
+    output.exposure = 0.0;
+    output.tonemap = Tonemap::None;
+    output.transparent = true;
+    let path = dir.join("alpha.png");
+    save_render(&path, &img, &output, &Provenance::base()).unwrap();
+    let bytes = fs::read(&path).unwrap();
+    let decoded = image::load_from_memory(&bytes).unwrap();
+    assert!(decoded.color().has_alpha(), "RGBA");
+    let rgba = decoded.to_rgba8();
+    assert_eq!(rgba.get_pixel(0, 0).0, [0, 0, 0, 0]);
+    for (x, &a) in coverages.iter().enumerate().skip(1) {
+        let p = rgba.get_pixel(x as u32, 0).0;
+        assert_eq!(p[3], (a * 255.0).round() as u8, "alpha at coverage {a}");
+        for c in 0..3 {
+            let want = crate::color::srgb_encode(straight[c]) * 255.0;
+            assert!(
+                (p[c] as f32 - want).abs() <= 0.5 + 1e-3,
+                "coverage {a}: channel {c} is {} (straight {want})",
+                p[c]
+            );
+        }
+    }
+    assert!(String::from_utf8_lossy(&bytes).contains("luz.alpha"));
+    // The same image with an opaque output is RGB, as before.
+    output.transparent = false;
+    save_render(&path, &img, &output, &Provenance::base()).unwrap();
+    assert!(!image::open(&path).unwrap().color().has_alpha());
+    fs::remove_dir_all(dir).unwrap();
+}

@@ -280,6 +280,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
             "width",
             "height",
             "background",
+            "transparent",
             "exposure",
             "tonemap",
             "msaa",
@@ -291,6 +292,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
     let width = f.int("width", 1280, 1, MAX_IMAGE_SIZE)?;
     let height = f.int("height", 720, 1, MAX_IMAGE_SIZE)?;
     let background = f.color("background", Vec3::ZERO)?;
+    let transparent = f.boolean("transparent", false)?;
     let exposure = f.num("exposure", 0.0, Check::In(-64.0, 64.0))?;
     let tonemap = match f.get("tonemap") {
         None => Tonemap::default(),
@@ -332,6 +334,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
         width,
         height,
         background,
+        transparent,
         exposure,
         tonemap,
         msaa,

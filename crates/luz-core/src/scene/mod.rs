@@ -247,6 +247,10 @@ pub struct Output {
     pub height: u32,
     /// Linear RGB shown where no object is.
     pub background: Vec3,
+    /// Where no object (and no environment background) is, the image is transparent: the HDR
+    /// image's alpha is the coverage (0 there, fractional on anti-aliased edges) and PNGs are
+    /// written RGBA with straight alpha. The Khronos fidelity renderers' `renderSkybox: false`.
+    pub transparent: bool,
     /// Exposure in EV: linear colour is multiplied by 2^exposure before tone mapping.
     pub exposure: f32,
     pub tonemap: crate::color::Tonemap,

@@ -570,6 +570,19 @@ fn error_messages() {
 }
 
 #[test]
+fn transparent_output_is_a_boolean() {
+    assert!(!parse_str("{}").unwrap().output.transparent);
+    assert!(
+        parse_str(r#"{"output": {"transparent": true}}"#)
+            .unwrap()
+            .output
+            .transparent
+    );
+    let e = parse_str(r#"{"output": {"transparent": "yes"}}"#).unwrap_err();
+    assert_eq!(e.json_path(), "output.transparent");
+}
+
+#[test]
 fn error_accessors() {
     let e = parse_str(r#"{"output": {"msaa": 3}}"#).unwrap_err();
     assert_eq!(e.file(), Path::new("scenes/a.json"));

@@ -190,6 +190,9 @@ impl Encoder<'_> {
             .with("tonemap", s.output.tonemap.name())
             .with("msaa", s.output.msaa)
             .with("tessellation_error_px", s.output.tessellation_error_px);
+        if s.output.transparent {
+            output.put("transparent", true);
+        }
         if !s.output.golden.is_empty() {
             output.put("golden", golden_tolerances(&s.output.golden));
         }

@@ -246,15 +246,17 @@ impl Output {
         }
     }
 
-    /// The clear colour of the background `rgb` in this output: the radiance, or the display
+    /// The clear colour of the background `rgba` in this output (alpha 0: a transparent
+    /// background, [`luz_core::scene::Output::transparent`]): the radiance, or the display
     /// codes (as UNORM floats) the shader would write for it at `exposure_ev`.
-    pub fn clear_color(self, rgb: glam::Vec3, exposure_ev: f32) -> [f32; 4] {
+    pub fn clear_color(self, rgba: glam::Vec4, exposure_ev: f32) -> [f32; 4] {
         match self {
-            Output::Hdr => rgb.extend(1.0).to_array(),
+            Output::Hdr => rgba.to_array(),
             Output::Display { tonemap, clamp, .. } => {
+                let rgb = rgba.truncate();
                 let c = if clamp { rgb.min(glam::Vec3::ONE) } else { rgb };
                 let codes = crate::color::to_display_rgba8(
-                    &[c.extend(1.0).to_array()],
+                    &[c.extend(rgba.w).to_array()],
                     exposure_ev,
                     tonemap,
                 );
@@ -309,7 +311,8 @@ pub struct ForwardPass {
     _pool: DescriptorPool,
     layout: PipelineLayout,
     set_layout: DescriptorSetLayout,
-    background: glam::Vec3,
+    /// Linear RGB and alpha where no object is (alpha 0 when the output is transparent).
+    background: glam::Vec4,
     exposure: f32,
     light_count: u32,
     /// The fragment stage culls lights by clusters; the last assignment's figures.
@@ -345,6 +348,14 @@ pub struct ForwardPass {
     receivers_culled: bool,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
+}
+
+/// The clear value where no object is: the scene's background, alpha 0 when the output is
+/// transparent (the coverage then accumulates in alpha: MSAA resolves it, blending adds it).
+fn background(output: &crate::scene::Output) -> glam::Vec4 {
+    output
+        .background
+        .extend(if output.transparent { 0.0 } else { 1.0 })
 }
 
 /// The interface of the modules drawn in the forward layout: the forward variants, the skybox
@@ -523,7 +534,7 @@ impl ForwardPass {
             _pool: desc_pool,
             layout,
             set_layout,
-            background: scene.output.background,
+            background: background(&scene.output),
             exposure: scene.output.exposure,
             light_count: lights.len() as u32,
             clustered,
@@ -647,7 +658,7 @@ impl ForwardPass {
                 )?;
             }
         }
-        self.background = scene.output.background;
+        self.background = background(&scene.output);
         self.exposure = scene.output.exposure;
         let visible = self.visibility(scene, aspect);
         let levels = self.lod_levels(scene);
