@@ -11,7 +11,8 @@
 //! * **Max abs** per channel in the files' *encoded units*: 8-bit code values for 8-bit PNGs,
 //!   16-bit code values for 16-bit PNGs, linear radiance for EXRs. An 8-bit PNG against a 16-bit
 //!   PNG is compared in 8-bit units (16-bit values scaled by 255/65535). A PNG against an EXR is
-//!   compared in linear float, RGB only (luz's PNGs carry no alpha unless the scene is transparent), and the report's `units` says so.
+//!   compared in linear float, RGB only (luz's PNGs carry no alpha unless the scene is
+//!   transparent), and the report's `units` says so.
 //! * **Differing pixels**: pixels where any compared channel differs by more than
 //!   [`DiffOptions::bad_pixel_threshold`] (same units as max abs).
 //!
