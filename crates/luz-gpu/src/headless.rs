@@ -13,6 +13,7 @@ use crate::render::frame::{add_readback, SceneTarget, Transients};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::render::target::HdrTarget;
+use crate::render::world::Change;
 use crate::scene::Scene;
 use crate::stats::Summary;
 use crate::vk::cmd::CommandPool;
@@ -393,6 +394,83 @@ impl Headless {
     pub fn update_scene(&mut self, scene: &Scene) -> Result<(), VkError> {
         let aspect = self.width as f32 / self.height as f32;
         self.forward.update(0, scene, aspect)
+    }
+
+    /// Takes an edited `scene` for the next frames and says what it cost
+    /// ([`crate::render::world::Change`], answered by the shape the passes were built for):
+    /// per-frame data in place, new pipelines, or a rebuild of the passes (and of the
+    /// image-based lighting when the environment changed, and of the targets when the sample
+    /// count did). The output size must stay: a new size is a new `Headless`. On an error the
+    /// renderer keeps drawing the scene it had.
+    pub fn apply(&mut self, scene: &Scene) -> Result<Change, VkError> {
+        if (scene.output.width, scene.output.height) != (self.width, self.height) {
+            return Err(VkError::Setup(format!(
+                "{}: output size {}×{} differs from the renderer's {}×{}; make a new renderer",
+                scene.display_name(),
+                scene.output.width,
+                scene.output.height,
+                self.width,
+                self.height
+            )));
+        }
+        let change = self
+            .forward
+            .shape()
+            .change_to(scene, self.options.debug_view);
+        if change == Change::InPlace {
+            self.update_scene(scene)?;
+            return Ok(change);
+        }
+        // SAFETY: the device is live and only this thread submits to its queue; afterwards
+        // nothing the rebuild replaces is in use.
+        unsafe { self.ctx.device.device_wait_idle()? };
+        let ibl = match (change, &scene.environment) {
+            (Change::Rebuild { environment: true }, Some(env)) => Some(Some(build_ibl(
+                &self.ctx,
+                &self.pool,
+                scene,
+                env,
+                &self.options.ibl,
+                self.options.cache_dir.as_deref(),
+                self.options.progress.as_deref(),
+            )?)),
+            (Change::Rebuild { environment: true }, None) => Some(None),
+            _ => None,
+        };
+        let samples = sample_flags(&self.ctx, scene)?;
+        let target = (samples != self.target.samples()).then(|| {
+            HdrTarget::new(
+                "headless",
+                vk::Extent2D {
+                    width: self.width,
+                    height: self.height,
+                },
+                samples,
+            )
+        });
+        let forward = ForwardPass::in_flight(
+            &self.ctx,
+            &self.pool,
+            scene,
+            target.as_ref().unwrap_or(&self.target).format(),
+            self.width as f32 / self.height as f32,
+            match &ibl {
+                Some(new) => new.as_ref(),
+                None => self.ibl.as_ref(),
+            },
+            self.options.pass_options(),
+        )?;
+        let saturate = SaturatePass::for_scene(&self.ctx, scene)?;
+        // Everything is built: replace.
+        self.forward = forward;
+        self.saturate = saturate;
+        if let Some(ibl) = ibl {
+            self.ibl = ibl;
+        }
+        if let Some(t) = target {
+            self.target = t;
+        }
+        Ok(change)
     }
 
     /// Draw calls per frame (an instanced draw counts once) and the objects they draw.

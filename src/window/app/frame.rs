@@ -230,8 +230,13 @@ impl Viewer {
         self.view_changed |= actions.iter().any(lod::ui_changes_view) || !lab_actions.is_empty();
         self.apply_actions(actions)?;
         self.apply_lab_actions(lab_actions);
-        if Structure::of(&self.scene, &self.settings) != self.structure {
-            let env = self.structure.environment != self.scene.environment;
+        // The forward pass answers what the edits cost it (render::world).
+        let change = self
+            .forward
+            .shape()
+            .change_to(&self.scene, self.settings.debug_view);
+        if change != Change::InPlace {
+            let env = change == (Change::Rebuild { environment: true });
             if let Err(e) = self.rebuild(env) {
                 // The passes still fit the last scene that built: go back to it, so the next
                 // frame's update matches them.

@@ -21,7 +21,6 @@ pub(super) struct Side {
     pub scene: Scene,
     /// The scene the passes were built for.
     built_scene: Scene,
-    structure: Structure,
     forward: ForwardPass,
     ibl: Option<Ibl>,
     targets: HdrTarget,
@@ -60,7 +59,6 @@ impl Side {
         let saturate = SaturatePass::for_scene(env.ctx, &scene)?;
         let display = DisplayPass::new(env.ctx, vk::ImageLayout::GENERAL)?;
         Ok(Self {
-            structure: Structure::of(&scene, env.settings),
             built_scene: scene.clone(),
             scene,
             forward,
@@ -82,13 +80,17 @@ impl Side {
     ) -> Result<Option<String>> {
         let Some(b) = side else { return Ok(None) };
         let mut message = None;
-        let changed = Structure::of(&b.scene, env.settings) != b.structure;
+        let change = b
+            .forward
+            .shape()
+            .change_to(&b.scene, env.settings.debug_view);
+        let changed = change != Change::InPlace;
         if changed || nonzero(env.extent) != b.targets.extent() {
             message = Some(String::new());
             // SAFETY: the device is live and only this thread submits; afterwards nothing B's
             // old passes recorded is pending.
             unsafe { env.ctx.device.device_wait_idle()? };
-            let same_env = b.structure.environment == b.scene.environment;
+            let same_env = change != (Change::Rebuild { environment: true });
             let ibl = same_env.then(|| b.ibl.take());
             match Side::new(env, b.scene.clone(), ibl) {
                 Ok(new) => *b = new,

@@ -37,6 +37,7 @@ use crate::render::frame::{add_readback, SceneTarget, Transients, HDR_DISPLAY_RE
 use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
 use crate::render::target::{HdrTarget, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::render::world::Change;
 use crate::scene::Scene;
 use crate::vk::cmd::CommandPool;
 use crate::vk::timing::GpuTimer;
@@ -261,66 +262,6 @@ struct Shot {
     extent: vk::Extent2D,
 }
 
-/// (mesh identity, shading, material index, (model, BRDF selectors), map bits) of an object.
-type ObjectStructure = (
-    usize,
-    crate::scene::Shading,
-    usize,
-    (crate::brdf::ModelKind, crate::render::forward::TermsKey),
-    u32,
-);
-
-/// What, when it changes, needs the passes rebuilt rather than new per-frame data.
-#[derive(Debug, Clone, PartialEq)]
-struct Structure {
-    objects: Vec<ObjectStructure>,
-    lights: usize,
-    light_kinds: u32,
-    /// Per light: the shadow's method, resolution and layers.
-    shadows: Vec<Option<(crate::scene::ShadowMethod, u32, u32)>>,
-    /// The forward pass's fixed shadow slots (the PCF kernel is one of their fields).
-    shadow_slots: [u32; 4],
-    fog: bool,
-    saturation: crate::scene::Saturation,
-    msaa: u32,
-    debug: crate::render::forward::DebugView,
-    environment: Option<crate::scene::Environment>,
-}
-
-impl Structure {
-    fn of(scene: &Scene, settings: &ViewSettings) -> Self {
-        Self {
-            objects: scene
-                .objects
-                .iter()
-                .map(|o| {
-                    let m = &scene.materials[o.material];
-                    (
-                        Arc::as_ptr(&o.mesh) as usize,
-                        o.shading,
-                        o.material,
-                        crate::render::forward::material_key(&m.material),
-                        crate::render::material::map_bits(&m.textures),
-                    )
-                })
-                .collect(),
-            lights: scene.lights.len(),
-            light_kinds: crate::render::gpu::light_kinds(&scene.lights),
-            shadows: scene
-                .lights
-                .iter()
-                .map(crate::render::shadow::structure_of)
-                .collect(),
-            shadow_slots: crate::render::shadow::fixed_slots(&scene.lights),
-            fog: scene.fog.is_some(),
-            saturation: scene.saturation,
-            msaa: scene.output.msaa,
-            debug: settings.debug_view,
-            environment: scene.environment.clone(),
-        }
-    }
-}
-
 /// Frames an input event keeps the viewer drawing at rest (egui's hover and click feedback).
 const AWAKE_FRAMES: u32 = 3;
 
@@ -363,7 +304,6 @@ struct Viewer {
     swapchain: Swapchain,
     surface: Surface,
     swapchain_dirty: bool,
-    structure: Structure,
     /// The scene the current passes were built for ([`App::rebuild`]).
     built_scene: Scene,
     scene: Scene,
@@ -544,7 +484,6 @@ impl Viewer {
         )
         .map_err(|e| anyhow!("egui renderer: {e}"))?;
         let orbit = OrbitCamera::from_camera(&scene.camera);
-        let structure = Structure::of(&scene, &settings);
         Ok(Self {
             egui_renderer: Some(egui_renderer),
             egui_state,
@@ -575,7 +514,6 @@ impl Viewer {
             swapchain,
             surface,
             swapchain_dirty: false,
-            structure,
             built_scene: scene.clone(),
             scene,
             initial_camera: orbit,

@@ -149,7 +149,6 @@ impl Viewer {
             self.samples = samples;
             self.lab.drop_gpu();
         }
-        self.structure = Structure::of(&self.scene, &self.settings);
         self.built_scene = self.scene.clone();
         Ok(())
     }

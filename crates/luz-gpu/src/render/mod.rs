@@ -18,6 +18,8 @@ pub mod sets;
 pub mod shadow;
 pub mod target;
 pub mod tonemap;
+/// The shape of a scene the passes are built for, and what an edit costs them.
+pub mod world;
 
 use ash::vk;
 

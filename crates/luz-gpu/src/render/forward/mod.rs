@@ -16,6 +16,7 @@ use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
 use super::shadow::{self, ShadowMaps};
+use super::world::{Change, Shape};
 use crate::color::Tonemap;
 use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
@@ -319,6 +320,8 @@ pub struct ForwardPass {
     clustered: bool,
     cluster_stats: Option<ClusterStats>,
     variant_debug: DebugView,
+    /// The scene shape the pass was built for ([`Shape`]).
+    shape: Shape,
     /// The environment is drawn as the background: one pipeline per output.
     has_skybox: bool,
     skyboxes: BTreeMap<Output, Pipeline>,
@@ -540,6 +543,7 @@ impl ForwardPass {
             clustered,
             cluster_stats: None,
             variant_debug: debug,
+            shape: Shape::of(scene, debug),
             has_skybox,
             skyboxes: BTreeMap::new(),
             _srgb_table: srgb_table,
@@ -618,27 +622,25 @@ impl ForwardPass {
         self.slots.len()
     }
 
+    /// The scene shape the pass was built for: [`Shape::change_to`] says what drawing another
+    /// scene costs it.
+    pub fn shape(&self) -> &Shape {
+        &self.shape
+    }
+
     /// Rewrites slot `slot`'s per-frame data from `scene`: camera, ambient, fog, background,
     /// lights, object transforms and material parameters. `scene` must have the structure the
     /// pass was built for ([`Structure::of`] equal); the slot must not be in use by the GPU.
     pub fn update(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<(), VkError> {
-        // The lights and objects buffers are sized when the pass is built.
-        if scene.lights.len() != self.light_count as usize {
+        // Buffers, pipelines and sets are built for the pass's shape: only per-frame data moves.
+        let shape = Shape::of(scene, self.variant_debug);
+        let change = self.shape.change(&shape);
+        if change != Change::InPlace {
             return Err(VkError::Setup(format!(
-                "{}: {} lights, but the forward pass's lights buffer was sized for {}; \
-                 rebuild the pass when lights are added or removed",
+                "{}: the forward pass was built for another scene ({}): that needs {change:?} \
+                 (Headless::apply rebuilds what it needs)",
                 scene.display_name(),
-                scene.lights.len(),
-                self.light_count
-            )));
-        }
-        if scene.objects.len() != self.object_slots.len() {
-            return Err(VkError::Setup(format!(
-                "{}: {} objects, but the forward pass was built for {}; rebuild the pass when \
-                 objects are added or removed",
-                scene.display_name(),
-                scene.objects.len(),
-                self.object_slots.len()
+                self.shape.describe_change(&shape),
             )));
         }
         let s = self
