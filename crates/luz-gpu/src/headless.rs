@@ -8,12 +8,13 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
-use crate::render::forward::{DebugView, ForwardPass, Output, PassNames};
+use crate::render::forward::{prepare_for, DebugView, ForwardPass, Output, PassNames};
 use crate::render::frame::{add_readback, SceneTarget, Transients};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::render::target::HdrTarget;
 use crate::render::world::Change;
+use crate::scene::prepare::PreparedScene;
 use crate::scene::Scene;
 use crate::stats::Summary;
 use crate::vk::cmd::CommandPool;
@@ -148,6 +149,9 @@ pub struct Headless {
     /// The frame's one-frame images (depth, MSAA colour, the display output's 8-bit target),
     /// pooled across frames.
     transients: Transients,
+    /// The scene's LOD chains, kept for the next [`Headless::apply`] (its maps are dropped once
+    /// uploaded).
+    prepared: PreparedScene,
     /// The last frame's graph.
     plan: Option<luz_graph::Plan>,
     /// What the last frame wrote into the readback buffer.
@@ -262,15 +266,22 @@ impl Headless {
             )?),
             None => None,
         };
-        let forward = ForwardPass::in_flight(
+        let mut prepared = prepare_for(
+            ctx,
+            scene,
+            (options.cache_dir.clone(), options.progress.as_deref()),
+            None,
+        )?;
+        let forward = ForwardPass::prepared(
             ctx,
             &pool,
-            scene,
+            (scene, &prepared),
             target.format(),
             aspect,
             ibl.as_ref(),
             options.pass_options(),
         )?;
+        prepared.forget_textures();
         let saturate = SaturatePass::for_scene(ctx, scene)?;
         let timer = GpuTimer::new(ctx, 8)?;
         let cmd = pool.allocate(1)?[0];
@@ -283,6 +294,7 @@ impl Headless {
         ctx.set_name(fence, "headless frame fence");
         Ok(Self {
             forward,
+            prepared,
             transients: Transients::new(ctx),
             plan: None,
             last_output: Output::Hdr,
@@ -400,7 +412,8 @@ impl Headless {
     /// ([`crate::render::world::Change`], answered by the shape the passes were built for):
     /// per-frame data in place, new pipelines, or a rebuild of the passes (and of the
     /// image-based lighting when the environment changed, and of the targets when the sample
-    /// count did). The output size must stay: a new size is a new `Headless`. On an error the
+    /// count did). The LOD chains of meshes the scene still uses are kept from the last build
+    /// ([`crate::scene::prepare::prepare_again`]). The output size must stay: a new size is a new `Headless`. On an error the
     /// renderer keeps drawing the scene it had.
     pub fn apply(&mut self, scene: &Scene) -> Result<Change, VkError> {
         if (scene.output.width, scene.output.height) != (self.width, self.height) {
@@ -448,10 +461,19 @@ impl Headless {
                 samples,
             )
         });
-        let forward = ForwardPass::in_flight(
+        let mut prepared = prepare_for(
+            &self.ctx,
+            scene,
+            (
+                self.options.cache_dir.clone(),
+                self.options.progress.as_deref(),
+            ),
+            Some(std::mem::take(&mut self.prepared)),
+        )?;
+        let forward = ForwardPass::prepared(
             &self.ctx,
             &self.pool,
-            scene,
+            (scene, &prepared),
             target.as_ref().unwrap_or(&self.target).format(),
             self.width as f32 / self.height as f32,
             match &ibl {
@@ -460,9 +482,11 @@ impl Headless {
             },
             self.options.pass_options(),
         )?;
+        prepared.forget_textures();
         let saturate = SaturatePass::for_scene(&self.ctx, scene)?;
         // Everything is built: replace.
         self.forward = forward;
+        self.prepared = prepared;
         self.saturate = saturate;
         if let Some(ibl) = ibl {
             self.ibl = ibl;

@@ -18,6 +18,8 @@ pub mod mesh;
 mod mesh_cache;
 pub mod model;
 pub mod obj;
+/// The CPU work of a scene before any GPU object exists: LOD chains and decoded maps.
+pub mod prepare;
 pub mod shadow;
 pub mod tessellation;
 mod textures;

@@ -152,12 +152,13 @@ fn neutral(texel: [u8; 4]) -> TextureData {
 }
 
 impl MaterialSets {
-    /// Loads and uploads every map the scene's materials name. Warnings (downscaled textures)
-    /// go to `warn`.
+    /// Uploads every map the scene's materials name, decoded by `prepared` (a map it lacks, or
+    /// decoded under another size limit, is loaded here; warnings such as downscaled textures
+    /// go to `warn`).
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
-        scene: &Scene,
+        (scene, prepared): (&Scene, &crate::scene::prepare::PreparedScene),
         warn: &mut dyn FnMut(String),
     ) -> Result<Self, VkError> {
         let set_layout = crate::render::sets::scene_interface()?.set_layout(ctx, SET_MATERIAL)?;
@@ -206,10 +207,20 @@ impl MaterialSets {
             let mut present = 0u32;
             for (i, slot) in TextureSlot::ALL.iter().enumerate().take(SLOT_COUNT) {
                 let Some(r) = t.get(*slot) else { continue };
-                let data =
-                    crate::texture::load_texture(r, ColorSpace::for_slot(*slot), max_dim, warn)
-                        .map_err(|e| VkError::Setup(format!("material \"{}\": {e}", m.name)))?;
-                let image = upload(ctx, pool, &format!("{} {:?} map", m.name, slot), &data)?;
+                let loaded;
+                let data = match prepared
+                    .texture(r, *slot)
+                    .filter(|_| prepared.max_texture_dimension() == max_dim)
+                {
+                    Some(d) => d.as_ref(),
+                    None => {
+                        let space = ColorSpace::for_slot(*slot);
+                        loaded = crate::texture::load_texture(r, space, max_dim, warn)
+                            .map_err(|e| VkError::Setup(format!("material \"{}\": {e}", m.name)))?;
+                        &loaded
+                    }
+                };
+                let image = upload(ctx, pool, &format!("{} {:?} map", m.name, slot), data)?;
                 let s = &r.sampler;
                 let mut info = vk::SamplerCreateInfo::default()
                     .mag_filter(filter(s.mag))

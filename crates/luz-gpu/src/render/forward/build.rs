@@ -47,7 +47,11 @@ pub(super) fn build_draws(
     (ibl, ibl_key): (Option<&Ibl>, Option<IblKey>),
     debug: DebugView,
     (generic, clustered): (bool, bool),
-    (limits, lod_cache): (&crate::vk::Limits, Option<&std::path::Path>),
+    (limits, lod_cache, prepared): (
+        &crate::vk::Limits,
+        Option<&std::path::Path>,
+        &crate::scene::prepare::PreparedScene,
+    ),
     uploader: &mut Uploader,
 ) -> Result<Draws, VkError> {
     use crate::scene::MeshDesc;
@@ -55,7 +59,8 @@ pub(super) fn build_draws(
     // Meshes: one GPU copy per (mesh, smooth/flat) pair, one LOD chain per mesh.
     let mut mesh_cache: HashMap<(usize, bool), usize> = HashMap::new();
     let mut chains: HashMap<usize, Arc<crate::scene::lod::LodChain>> = HashMap::new();
-    let mut lod_stats = crate::scene::lod::ChainStats::default();
+    // The prepared scene's chains; a mesh it lacks gets its chain here.
+    let mut lod_stats = prepared.lod_stats.clone();
     let mut meshes = Vec::new();
     let mut objects = Vec::new();
     let mut draws = Vec::new();
@@ -86,6 +91,9 @@ pub(super) fn build_draws(
                 )?;
                 let simplified = matches!(obj.desc, MeshDesc::Obj { .. } | MeshDesc::Gltf { .. });
                 let chain = simplified.then(|| {
+                    if let Some(c) = prepared.chain(&obj.mesh) {
+                        return c.clone();
+                    }
                     chains
                         .entry(key.0)
                         .or_insert_with(|| {

@@ -18,6 +18,7 @@ use super::mesh;
 use super::shadow::{self, ShadowMaps};
 use super::world::{Change, Shape};
 use crate::color::Tonemap;
+use crate::scene::prepare::{PrepareOptions, PreparedScene};
 use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
 use crate::vk::cmd::{color_attachment, depth_attachment, rendering_info, CommandPool, Load};
@@ -353,6 +354,30 @@ pub struct ForwardPass {
     ctx: Arc<Context>,
 }
 
+/// Prepares `scene` for `ctx`'s device (textures within its 2D image limit), reusing what `old`
+/// holds ([`crate::scene::prepare::prepare_again`]); its warnings are logged.
+pub fn prepare_for(
+    ctx: &Context,
+    scene: &Scene,
+    (lod_cache, progress): (
+        Option<std::path::PathBuf>,
+        Option<&dyn crate::progress::Progress>,
+    ),
+    old: Option<PreparedScene>,
+) -> Result<PreparedScene, VkError> {
+    let options = PrepareOptions {
+        lod_cache,
+        max_texture_dimension: ctx.limits().max_image_dimension_2d,
+    };
+    let prepared =
+        crate::scene::prepare::prepare_again(old.unwrap_or_default(), scene, &options, progress)
+            .map_err(|e| VkError::Setup(e.to_string()))?;
+    for w in &prepared.warnings {
+        log::warn!("{w}");
+    }
+    Ok(prepared)
+}
+
 /// The clear value where no object is: the scene's background, alpha 0 when the output is
 /// transparent (the coverage then accumulates in alpha: MSAA resolves it, blending adds it).
 fn background(output: &crate::scene::Output) -> glam::Vec4 {
@@ -401,11 +426,25 @@ impl ForwardPass {
 
     /// A pass with `slots` copies of its per-frame data (camera, lights, transforms), one per
     /// frame in flight: [`ForwardPass::update`] writes a slot, [`ForwardPass::record_slot`] draws
-    /// with it.
+    /// with it. Prepares the scene first ([`crate::scene::prepare`]; its warnings are logged).
     pub fn in_flight(
         ctx: &Arc<Context>,
         pool: &CommandPool,
         scene: &Scene,
+        target: TargetFormat,
+        aspect: f32,
+        ibl: Option<&Ibl>,
+        options: PassOptions,
+    ) -> Result<Self, VkError> {
+        let prepared = prepare_for(ctx, scene, (options.lod_cache.clone(), None), None)?;
+        Self::prepared(ctx, pool, (scene, &prepared), target, aspect, ibl, options)
+    }
+
+    /// [`ForwardPass::in_flight`] of a scene already prepared: only uploads and GPU objects.
+    pub fn prepared(
+        ctx: &Arc<Context>,
+        pool: &CommandPool,
+        (scene, prepared): (&Scene, &PreparedScene),
         target: TargetFormat,
         aspect: f32,
         ibl: Option<&Ibl>,
@@ -428,7 +467,8 @@ impl ForwardPass {
             _ => None,
         };
         let set_layout = frame_set_layout(ctx)?;
-        let materials = MaterialSets::new(ctx, pool, scene, &mut |w| log::warn!("{w}"))?;
+        let materials =
+            MaterialSets::new(ctx, pool, (scene, prepared), &mut |w| log::warn!("{w}"))?;
         let shadows = ShadowMaps::new(
             ctx,
             pool,
@@ -476,7 +516,7 @@ impl ForwardPass {
             (ibl, ibl_key),
             debug,
             (generic, clustered),
-            (&limits, lod_cache.as_deref()),
+            (&limits, lod_cache.as_deref(), prepared),
             &mut uploader,
         )?;
         uploader.flush(pool)?;
