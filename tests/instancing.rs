@@ -1,10 +1,8 @@
 //! Instancing (issue 17) on lavapipe with validation on: objects sharing mesh, LOD level,
 //! pipeline and material are one instanced draw, and the image is the same, bit for bit, as one
-//! draw per object (`Switches::instancing` off, `--no-instancing`), on the forward path (flat, Gouraud and Phong shading, a
-//! shadowed sun, meshes with and without LOD chains) and on the deferred path.
-//!
-//! The switch is an environment variable read when a pass is built, so this file holds a single
-//! test (tests of one binary share the process's environment).
+//! draw per object (`Switches::instancing` off, `--no-instancing`), on the forward path (flat,
+//! Gouraud and Phong shading, a shadowed sun, meshes with and without LOD chains) and on the
+//! deferred path. The switch is a render option, so both renders run in one process.
 
 mod common;
 
