@@ -12,8 +12,8 @@ use luz::vk::Context;
 
 use super::common::{
     context, debug_view_parser, light_loop_line, load_scene, print_timing, render_options,
-    report_tessellation, validation_exit, Bar, GpuArgs, IblQuality, LightLoopArg, RenderPathArg,
-    SwitchArgs, ViewOverrides,
+    report_tessellation, validation_exit, Bar, GpuArgs, IblArgs, LightLoopArg, RenderPathArg,
+    SwitchArgs, TimingFiles, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -26,25 +26,12 @@ pub struct BenchArgs {
     /// Frames rendered first and not timed.
     #[arg(long, default_value_t = 3)]
     pub warmup: u32,
-    /// Write one line per frame: frame, cpu_ms, then GPU ms of each pass.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
-    /// Write the summary as JSON.
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Write the timed frames as a Chrome/Perfetto trace (JSON; open it in ui.perfetto.dev or
-    /// chrome://tracing): per frame, the CPU's "record" (the frame graph declared, compiled and
-    /// recorded) and "submit + wait" spans, and each pass's GPU span from the graph's timers.
-    #[arg(long, value_name = "FILE.json")]
-    pub trace: Option<PathBuf>,
+    #[command(flatten)]
+    pub files: TimingFiles,
     #[command(flatten)]
     pub view: ViewOverrides,
-    /// Recompute image-based lighting data instead of reading it from the cache.
-    #[arg(long)]
-    pub no_cache: bool,
-    /// Sizes of the image-based lighting data (see `luz render --help`).
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
+    #[command(flatten)]
+    pub ibl: IblArgs,
     /// Show one quantity instead of the shaded radiance (see `luz render --help`);
     /// `base_color` is the unlit floor: the same geometry and pixels with no lighting.
     #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
@@ -125,7 +112,10 @@ fn memory_sample(ctx: &Context, frame: u64) -> MemorySample {
 pub fn run(a: BenchArgs) -> Result<ExitCode> {
     let mut scene = load_scene(a.scene.as_deref(), None)?;
     a.view.apply(&mut scene)?;
-    for p in [&a.csv, &a.json, &a.trace].into_iter().flatten() {
+    for p in [&a.files.csv, &a.files.json, &a.files.trace]
+        .into_iter()
+        .flatten()
+    {
         std::fs::write(p, b"").with_context(|| format!("cannot write {}", p.display()))?;
     }
     let ctx = context(&a.gpu)?;
@@ -135,7 +125,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         render_path: a.render_path.path(),
         light_loop: a.light_loop.light_loop(),
         switches: a.switches.switches(),
-        ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
+        ..render_options(&a.ibl, a.debug_view)
     };
     let mut renderer = Headless::with_options(&ctx, &scene, &options)?;
     let mut compared = match a.compare_budget {
@@ -183,7 +173,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         }
     }
     bar.finish_and_clear();
-    if let Some(path) = &a.trace {
+    if let Some(path) = &a.files.trace {
         write_trace(path, &frames, &starts)?;
     }
     println!(
@@ -271,7 +261,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         }
         _ => None,
     };
-    if let Some(p) = &a.csv {
+    if let Some(p) = &a.files.csv {
         let mut out = String::from("frame,cpu_ms");
         for (n, _) in &report.passes {
             out.push_str(&format!(",gpu_{n}_ms"));
@@ -288,7 +278,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode> {
         std::fs::write(p, out).with_context(|| format!("cannot write {}", p.display()))?;
         println!("wrote {}", p.display());
     }
-    if let Some(p) = &a.json {
+    if let Some(p) = &a.files.json {
         let passes: serde_json::Map<String, serde_json::Value> = report
             .passes
             .iter()

@@ -3,6 +3,7 @@
 //! messages.
 
 use std::path::Path;
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -51,6 +52,37 @@ impl ViewOverrides {
         scene.override_size(self.width, self.height);
         Ok(())
     }
+}
+
+/// `--csv`, `--json` and `--trace`: where a timed run (`luz bench`, `luz view --bench`) writes
+/// its frames.
+#[derive(Args, Debug, Clone)]
+pub struct TimingFiles {
+    /// Write one CSV line per timed frame: its CPU ms and each pass's GPU ms (`luz view` adds
+    /// the frame time, the LOD budget and the triangles drawn).
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Write the summary as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Write the timed frames as a Chrome/Perfetto trace (JSON; open it in ui.perfetto.dev or
+    /// chrome://tracing): per frame, the CPU's recording (the frame graph declared, compiled and
+    /// recorded) and the rest of the frame, and each pass's GPU span from the graph's timers.
+    #[arg(long, value_name = "FILE.json")]
+    pub trace: Option<PathBuf>,
+}
+
+/// `--ibl-quality` and `--no-cache`: the image-based lighting data of every command that renders.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct IblArgs {
+    /// Sizes of the image-based lighting data: "full" (512² cubes, 512² LUT at 1024 samples) or
+    /// "fast" (128² cubes and LUT, for previews).
+    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
+    pub ibl_quality: IblQuality,
+    /// Recompute image-based lighting data instead of reading it from the cache, and do not
+    /// write it there ($LUZ_CACHE_DIR, else $XDG_CACHE_HOME/luz, else ~/.cache/luz).
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 /// Presets of `render::ibl::IblSettings`.
@@ -204,12 +236,12 @@ impl SwitchArgs {
 
 /// The renderer options the `render` and `bench` flags ask for, with a progress bar for the IBL
 /// precomputation.
-pub fn render_options(no_cache: bool, quality: IblQuality, debug_view: DebugView) -> RenderOptions {
+pub fn render_options(ibl: &IblArgs, debug_view: DebugView) -> RenderOptions {
     RenderOptions {
         progress: Some(luz::progress::ProgressSink::new(Bar::new(
             "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
         ))),
-        ..RenderOptions::new(quality.settings(), no_cache, debug_view)
+        ..RenderOptions::new(ibl.ibl_quality.settings(), ibl.no_cache, debug_view)
     }
 }
 

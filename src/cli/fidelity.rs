@@ -18,7 +18,7 @@ use serde_json::{json, Map, Value};
 use luz::headless::Headless;
 use luz::render::forward::DebugView;
 
-use super::common::{context, render_options, validation_exit, GpuArgs, IblQuality};
+use super::common::{context, render_options, validation_exit, GpuArgs, IblArgs};
 
 #[derive(Args, Debug)]
 pub struct FidelityArgs {
@@ -35,12 +35,8 @@ pub struct FidelityArgs {
     /// Also write the equivalent luz scene file here (`luz render` of it gives the same pixels).
     #[arg(long, value_name = "FILE")]
     pub scene_out: Option<PathBuf>,
-    /// Sizes of the image-based lighting data (see `luz render --help`).
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
-    /// Recompute image-based lighting data instead of reading it from the cache.
-    #[arg(long)]
-    pub no_cache: bool,
+    #[command(flatten)]
+    pub ibl: IblArgs,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -337,11 +333,8 @@ pub fn run(a: FidelityArgs) -> Result<ExitCode> {
     }
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let mut renderer = Headless::with_options(
-        &ctx,
-        &scene,
-        &render_options(a.no_cache, a.ibl_quality, DebugView::None),
-    )?;
+    let mut renderer =
+        Headless::with_options(&ctx, &scene, &render_options(&a.ibl, DebugView::None))?;
     let frame = renderer.render()?;
     let image = renderer.image()?;
     let timing = luz::headless::TimingReport::of(&[frame]);

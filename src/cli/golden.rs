@@ -10,7 +10,7 @@ use clap::Args;
 use luz::golden::{self, report, BlessChange, GoldenOptions, Shard, Verdict};
 use luz::render::forward::DebugView;
 
-use super::common::{context, validation_exit, Bar, GpuArgs, IblQuality};
+use super::common::{context, validation_exit, Bar, GpuArgs, IblArgs};
 
 #[derive(Args, Debug)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
@@ -39,12 +39,8 @@ pub struct GoldenArgs {
     /// Scenes rendered at once.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub jobs: u32,
-    /// Sizes of the image-based lighting data (see `luz render --help`).
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
-    /// Recompute image-based lighting data instead of reading it from the cache.
-    #[arg(long)]
-    pub no_cache: bool,
+    #[command(flatten)]
+    pub ibl: IblArgs,
     /// The goldens' format: png (<name>.png, the display encoding) or exr (<name>.exr, the
     /// linear float radiance, compared in linear float; tolerance steps are 1/255 of radiance).
     #[arg(long, value_enum, default_value_t = GoldenFormat::Png)]
@@ -123,7 +119,11 @@ pub fn run(a: GoldenArgs) -> Result<ExitCode> {
     }
     let mut opts = GoldenOptions::new(
         &goldens,
-        luz::headless::RenderOptions::new(a.ibl_quality.settings(), a.no_cache, DebugView::None),
+        luz::headless::RenderOptions::new(
+            a.ibl.ibl_quality.settings(),
+            a.ibl.no_cache,
+            DebugView::None,
+        ),
     );
     opts.bless = a.bless;
     opts.jobs = a.jobs as usize;

@@ -9,8 +9,8 @@ use clap::Args;
 use luz::lab::{measure, variants, write_outputs, LabOptions};
 
 use super::common::{
-    context, render_options, report_tessellation, validation_exit, Bar, GpuArgs, IblQuality,
-    SwitchArgs, ViewOverrides,
+    context, render_options, report_tessellation, validation_exit, Bar, GpuArgs, IblArgs,
+    IblQuality, SwitchArgs, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -105,7 +105,13 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
         render: luz::headless::RenderOptions {
             progress: None,
             switches: a.switches.switches(),
-            ..render_options(false, a.ibl_quality, Default::default())
+            ..render_options(
+                &IblArgs {
+                    ibl_quality: a.ibl_quality,
+                    no_cache: false,
+                },
+                Default::default(),
+            )
         },
     };
     let bar = Bar::new("{bar:40} {pos}/{len} variants {elapsed} {msg}");

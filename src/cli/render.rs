@@ -13,7 +13,7 @@ use luz::render::forward::DebugView;
 use super::common::{
     check_output, context, debug_view_parser, light_loop_line, load_scene, print_timing,
     render_options, report_lod, report_tessellation, report_written, validation_exit, GpuArgs,
-    IblQuality, LightLoopArg, SwitchArgs, ViewOverrides,
+    IblArgs, LightLoopArg, SwitchArgs, ViewOverrides,
 };
 
 #[derive(Args, Debug)]
@@ -31,14 +31,8 @@ pub struct RenderArgs {
     /// List the pipeline variants built and more detail.
     #[arg(short, long)]
     pub verbose: bool,
-    /// Recompute image-based lighting data instead of reading it from the cache
-    /// ($LUZ_CACHE_DIR, else $XDG_CACHE_HOME/luz, else ~/.cache/luz).
-    #[arg(long)]
-    pub no_cache: bool,
-    /// Sizes of the image-based lighting data: "full" (512² cubes, 512² LUT at 1024 samples) or
-    /// "fast" (128² cubes and LUT, for previews).
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
+    #[command(flatten)]
+    pub ibl: IblArgs,
     /// Show one quantity instead of the shaded radiance (BRDF terms are for the first light).
     #[arg(long, value_parser = debug_view_parser(), default_value = "none")]
     pub debug_view: DebugView,
@@ -75,7 +69,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
         &luz::headless::RenderOptions {
             light_loop: a.light_loop.light_loop(),
             switches: a.switches.switches(),
-            ..render_options(a.no_cache, a.ibl_quality, a.debug_view)
+            ..render_options(&a.ibl, a.debug_view)
         },
     )?;
     if a.verbose {

@@ -9,7 +9,8 @@ use clap::Args;
 use luz::window::ViewOptions;
 
 use super::common::{
-    sync_validation_requested, validation_exit_counts, Bar, GpuArgs, IblQuality, RenderPathArg,
+    sync_validation_requested, validation_exit_counts, Bar, GpuArgs, IblArgs, RenderPathArg,
+    TimingFiles, ViewOverrides,
 };
 
 /// `luz view`: the interactive viewer.
@@ -51,38 +52,18 @@ pub struct ViewArgs {
     /// Frames excluded from --bench statistics (pipeline warm-up, first presents).
     #[arg(long, default_value_t = 10)]
     pub warmup: u64,
-    /// With --bench: per-frame times as CSV.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
-    /// With --bench: a JSON summary.
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// With --bench: the measured frames as a Chrome/Perfetto trace (as `luz bench --trace`):
-    /// the CPU's frame and its recording span, and each pass's GPU span from the frame graph's
-    /// timers.
-    #[arg(long, value_name = "FILE.json")]
-    pub trace: Option<PathBuf>,
-    /// Window width in pixels (default: the scene's output width).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub width: Option<u32>,
-    /// Window height in pixels (default: the scene's output height).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16384))]
-    pub height: Option<u32>,
-    /// Use camera N of the model's glTF file (0 = the first) instead of the scene's camera.
-    #[arg(long, value_name = "N")]
-    pub camera: Option<usize>,
+    #[command(flatten)]
+    pub files: TimingFiles,
+    #[command(flatten)]
+    pub view: ViewOverrides,
     /// Start with vsync off (V toggles it).
     #[arg(long)]
     pub no_vsync: bool,
     /// Hide the panels at start (Tab toggles them).
     #[arg(long)]
     pub no_panels: bool,
-    /// Sizes of the image-based lighting data.
-    #[arg(long, value_enum, default_value_t = IblQuality::Full)]
-    pub ibl_quality: IblQuality,
-    /// Do not read or write the IBL cache.
-    #[arg(long)]
-    pub no_cache: bool,
+    #[command(flatten)]
+    pub ibl: IblArgs,
     /// How frames reach the window: "auto" shades, tone-maps and encodes straight into the
     /// window's image when the frame needs no whole-image operation (normalize saturation, MSAA,
     /// an EXR screenshot take the float path); "hdr" always renders the float image first and
@@ -146,7 +127,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
     let outcome = luz::window::run(ViewOptions {
         scene: a.scene,
         compare: a.compare,
-        camera: a.camera,
+        camera: a.view.camera,
         validate: a.gpu.validate,
         sync_validation: sync_validation_requested(),
         device: a.gpu.device,
@@ -155,15 +136,15 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
         script: a.script,
         bench: a.bench,
         warmup: a.warmup,
-        csv: a.csv,
-        json: a.json,
-        trace: a.trace,
-        width: a.width,
-        height: a.height,
+        csv: a.files.csv,
+        json: a.files.json,
+        trace: a.files.trace,
+        width: a.view.width,
+        height: a.view.height,
         no_vsync: a.no_vsync,
         no_panels: a.no_panels,
-        ibl: a.ibl_quality.settings(),
-        no_cache: a.no_cache,
+        ibl: a.ibl.ibl_quality.settings(),
+        no_cache: a.ibl.no_cache,
         display_path: match a.display_path {
             DisplayPathArg::Auto => luz::window::DisplayPath::Auto,
             DisplayPathArg::Hdr => luz::window::DisplayPath::Hdr,

@@ -488,6 +488,16 @@ fn write_with_meta(
     result
 }
 
+/// The reason in `image`'s decoding error: its messages read "Format error decoding Png:
+/// <reason>"; the reason is kept (the caller names the file and format).
+pub(crate) fn corrupt_reason(e: &image::ImageError) -> String {
+    let text = e.to_string();
+    match text.split_once(": ") {
+        Some((head, rest)) if head.starts_with("Format error") => rest.to_string(),
+        _ => text,
+    }
+}
+
 fn check_buffer(path: &Path, width: u32, height: u32, pixels: usize) -> Result<(), ImageError> {
     let reason = if width == 0 || height == 0 {
         format!("image is empty ({width}×{height})")
@@ -720,19 +730,11 @@ fn decode_error(
             format,
             reason: u.to_string(),
         },
-        other => {
-            // image's decoding errors read "Format error decoding Png: <reason>"; keep the reason.
-            let text = other.to_string();
-            let reason = match text.split_once(": ") {
-                Some((head, rest)) if head.starts_with("Format error") => rest.to_string(),
-                _ => text,
-            };
-            ImageError::Corrupt {
-                path: path_buf,
-                format,
-                reason,
-            }
-        }
+        other => ImageError::Corrupt {
+            path: path_buf,
+            format,
+            reason: corrupt_reason(&other),
+        },
     }
 }
 

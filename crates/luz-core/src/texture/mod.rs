@@ -408,19 +408,11 @@ fn decode_error(path: &Path, kind: FileKind, e: image::ImageError) -> TextureErr
             format,
             reason: u.to_string(),
         },
-        other => {
-            // image's messages read "Format error decoding Png: <reason>"; keep the reason.
-            let text = other.to_string();
-            let reason = match text.split_once(": ") {
-                Some((head, rest)) if head.starts_with("Format error") => rest.to_string(),
-                _ => text,
-            };
-            TextureError::Corrupt {
-                path,
-                format,
-                reason,
-            }
-        }
+        other => TextureError::Corrupt {
+            path,
+            format,
+            reason: crate::imageio::corrupt_reason(&other),
+        },
     }
 }
 
