@@ -239,7 +239,7 @@ impl SwitchArgs {
 pub fn render_options(ibl: &IblArgs, debug_view: DebugView) -> RenderOptions {
     RenderOptions {
         progress: Some(luz::progress::ProgressSink::new(Bar::new(
-            "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
+            "setup {bar:30} {pos}/{len} {msg} {elapsed}",
         ))),
         ..RenderOptions::new(ibl.ibl_quality.settings(), ibl.no_cache, debug_view)
     }

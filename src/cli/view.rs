@@ -153,7 +153,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
         target_ms: (a.target_ms > 0.0).then_some(a.target_ms),
         turntable: a.turntable,
         progress: Some(luz::progress::ProgressSink::new(Bar::new(
-            "IBL {bar:30} {pos}/{len} {msg} {elapsed}",
+            "setup {bar:30} {pos}/{len} {msg} {elapsed}",
         ))),
     })?;
     Ok(validation_exit_counts(

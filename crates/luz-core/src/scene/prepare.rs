@@ -163,7 +163,7 @@ pub fn prepare_again(
         report.update(stage, n, total);
     };
     if total > 0 {
-        report.update("preparing the scene", 0, total);
+        report.update("scene: LOD chains and textures", 0, total);
     }
     let lod_cache = options.lod_cache.as_deref();
     let chains: Vec<_> = new_meshes
@@ -173,7 +173,7 @@ pub fn prepare_again(
             let mut warnings = Vec::new();
             let chain =
                 lod::chain_for(mesh, name, lod_cache, &mut stats, &mut |w| warnings.push(w));
-            step("LOD chains");
+            step("scene: LOD chains");
             (*key, Arc::clone(mesh), chain, stats, warnings)
         })
         .collect();
@@ -187,7 +187,7 @@ pub fn prepare_again(
                     slot: *slot,
                     reason: e.to_string(),
                 });
-            step("textures");
+            step("scene: textures");
             (key.clone(), r.embedded.clone(), data, warnings)
         })
         .collect();
