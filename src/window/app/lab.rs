@@ -47,10 +47,10 @@ impl Side {
             Some(i) => i,
             None => scene_ibl(env.ctx, env.pool, &scene, env.options)?,
         };
-        let forward = make_forward(
+        let (forward, _) = make_forward(
             env.ctx,
             env.pool,
-            &scene,
+            (&scene, None),
             samples,
             ibl.as_ref(),
             env.extent,

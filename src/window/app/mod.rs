@@ -38,6 +38,7 @@ use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
 use crate::render::target::{HdrTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::render::world::Change;
+use crate::scene::prepare::PreparedScene;
 use crate::scene::Scene;
 use crate::vk::cmd::CommandPool;
 use crate::vk::timing::GpuTimer;
@@ -295,6 +296,9 @@ struct Viewer {
     display: DisplayPass,
     saturate: Option<SaturatePass>,
     forward: ForwardPass,
+    /// The scene's LOD chains, kept so a rebuild after an edit builds or reads only the chains
+    /// of meshes the edit brought ([`crate::scene::prepare::prepare_again`]).
+    prepared: PreparedScene,
     ibl: Option<Ibl>,
     targets: HdrTarget,
     /// The frame graph's one-frame images (depth, MSAA colour), pooled across frames.
@@ -441,10 +445,10 @@ impl Viewer {
         let extent = swapchain.extent;
         let targets = HdrTarget::new("viewer", nonzero(extent), samples);
         let ibl = scene_ibl(&ctx, &pool, &scene, &render_options)?;
-        let forward = make_forward(
+        let (forward, prepared) = make_forward(
             &ctx,
             &pool,
-            &scene,
+            (&scene, None),
             samples,
             ibl.as_ref(),
             extent,
@@ -506,6 +510,7 @@ impl Viewer {
             display,
             saturate,
             forward,
+            prepared,
             ibl,
             targets,
             transients: Transients::new(&ctx),
@@ -647,16 +652,18 @@ fn scene_ibl(
 fn make_forward(
     ctx: &Arc<Context>,
     pool: &CommandPool,
-    scene: &Scene,
+    (scene, reuse): (&Scene, Option<PreparedScene>),
     samples: vk::SampleCountFlags,
     ibl: Option<&Ibl>,
     extent: vk::Extent2D,
     options: crate::render::forward::PassOptions,
-) -> Result<ForwardPass, VkError> {
-    ForwardPass::in_flight(
+) -> Result<(ForwardPass, PreparedScene), VkError> {
+    let mut prepared =
+        crate::render::forward::prepare_for(ctx, scene, (options.lod_cache.clone(), None), reuse)?;
+    let pass = ForwardPass::prepared(
         ctx,
         pool,
-        scene,
+        (scene, &prepared),
         TargetFormat {
             color: COLOR_FORMAT,
             depth: DEPTH_FORMAT,
@@ -665,7 +672,10 @@ fn make_forward(
         extent.width as f32 / extent.height.max(1) as f32,
         ibl,
         options,
-    )
+    )?;
+    // The maps are on the GPU now: no second copy stays in memory.
+    prepared.forget_textures();
+    Ok((pass, prepared))
 }
 
 /// The viewer's forward-pass options: its debug view, one slot per frame in flight, specialised

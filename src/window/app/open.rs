@@ -114,10 +114,10 @@ impl Viewer {
             None
         };
         self.scene.camera = self.orbit.to_camera();
-        let forward = make_forward(
+        let (forward, prepared) = make_forward(
             &self.ctx,
             &self.pool,
-            &self.scene,
+            (&self.scene, Some(std::mem::take(&mut self.prepared))),
             samples,
             match &ibl {
                 Some(new) => new.as_ref(),
@@ -140,6 +140,7 @@ impl Viewer {
         let saturate = SaturatePass::for_scene(&self.ctx, &self.scene)?;
         // Everything is built: replace (the old passes are dropped after the new ones exist).
         self.forward = forward;
+        self.prepared = prepared;
         self.saturate = saturate;
         if let Some(ibl) = ibl {
             self.ibl = ibl;
