@@ -138,6 +138,13 @@ pub fn sync_validation_requested() -> bool {
     std::env::var_os("LUZ_SYNC_VALIDATION").is_some_and(|v| !v.is_empty() && v != "0")
 }
 
+/// `LUZ_MALLOC_TUNING=0` (or off, false, no) keeps glibc's malloc defaults on a CPU device
+/// (`luz::vk::host`); the library reads no environment for it.
+pub fn malloc_tuning_requested() -> bool {
+    use luz::vk::host::{disabled_by, ENV_DISABLE};
+    !disabled_by(std::env::var(ENV_DISABLE).ok().as_deref())
+}
+
 pub fn context(gpu: &GpuArgs) -> Result<Arc<Context>> {
     let ctx = Context::new(&ContextDesc {
         instance: InstanceDesc {
@@ -147,6 +154,7 @@ pub fn context(gpu: &GpuArgs) -> Result<Arc<Context>> {
         },
         device_name: gpu.device.clone(),
         device_extensions: Vec::new(),
+        malloc_tuning: malloc_tuning_requested(),
     })?;
     Ok(ctx)
 }

@@ -130,6 +130,7 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
         camera: a.view.camera,
         validate: a.gpu.validate,
         sync_validation: sync_validation_requested(),
+        malloc_tuning: super::common::malloc_tuning_requested(),
         device: a.gpu.device,
         frames: a.frames,
         screenshot: a.screenshot,

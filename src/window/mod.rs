@@ -28,6 +28,8 @@ pub struct ViewOptions {
     pub validate: bool,
     /// Also enable its synchronization validation.
     pub sync_validation: bool,
+    /// Raise glibc's malloc trim threshold on a CPU device (`LUZ_MALLOC_TUNING`, read by the CLI).
+    pub malloc_tuning: bool,
     /// Use the device whose name contains this text instead of the best one.
     pub device: Option<String>,
     /// Quit after this many frames.

@@ -28,6 +28,7 @@ pub fn gpu_with(sync_validation: bool) -> Arc<Context> {
         },
         device_name: None,
         device_extensions: Vec::new(),
+        malloc_tuning: true,
     })
     .expect("a Vulkan device with the validation layer (run scripts/setup.sh)")
 }

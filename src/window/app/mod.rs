@@ -371,6 +371,7 @@ impl Viewer {
             },
             device_name: args.device.clone(),
             device_extensions: vec![ash::khr::swapchain::NAME],
+            malloc_tuning: args.malloc_tuning,
         })?;
         log::info!("device: {}", ctx.info.summary());
         for line in crate::scene::tessellation::summary(&scene, false) {

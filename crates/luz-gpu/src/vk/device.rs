@@ -20,6 +20,9 @@ pub struct ContextDesc {
     pub device_name: Option<String>,
     /// Device extensions beyond the core (e.g. the swapchain's).
     pub device_extensions: Vec<&'static CStr>,
+    /// On a CPU device, raise glibc's malloc trim threshold ([`super::host`]). The library reads
+    /// no environment for it: the binary sets it from `LUZ_MALLOC_TUNING`.
+    pub malloc_tuning: bool,
 }
 
 /// What luz reports about the device it runs on.
@@ -241,7 +244,7 @@ impl Context {
             resource_limits: Limits::from_properties(&props.limits, &maintenance3, &maintenance4),
             sampler_anisotropy: false,
             malloc_tuning: (props.device_type == vk::PhysicalDeviceType::CPU)
-                .then(super::host::tune_for_cpu_device),
+                .then(|| super::host::tune_for_cpu_device(desc.malloc_tuning)),
         };
 
         // Features: Vulkan 1.3 dynamic rendering + synchronization2; optional extras when present.

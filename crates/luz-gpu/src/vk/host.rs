@@ -67,10 +67,10 @@ pub fn disabled_by(value: Option<&str>) -> bool {
     matches!(value.map(str::trim), Some("0" | "off" | "false" | "no"))
 }
 
-/// Raises glibc's malloc trim threshold for the whole process (see the module comment), unless
-/// `LUZ_MALLOC_TUNING=0`.
-pub fn tune_for_cpu_device() -> MallocTuning {
-    if disabled_by(std::env::var(ENV_DISABLE).ok().as_deref()) {
+/// Raises glibc's malloc trim threshold for the whole process (see the module comment) when
+/// `enabled`.
+pub fn tune_for_cpu_device(enabled: bool) -> MallocTuning {
+    if !enabled {
         return MallocTuning::Disabled;
     }
     set_trim_threshold()
