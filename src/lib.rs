@@ -12,7 +12,8 @@
 
 pub use luz_tools::{
     brdf, color, compare, diff, env, files, fuzzing, glsl, golden, graph, headless, imageio, lab,
-    plot, profiler, progress, provenance, reference, render, scene, stability, stats, texture, vk,
+    plot, prepare, profiler, progress, provenance, reference, render, scene, stability, stats,
+    texture, vk,
 };
 
 #[cfg(feature = "window")]

@@ -349,7 +349,7 @@ pub fn run(a: FidelityArgs) -> Result<ExitCode> {
     luz::imageio::save_render(
         &scenario.output,
         &image,
-        &scene.output,
+        scene.output.encoding(),
         &luz::provenance::of_render(&ctx.info, &scene, Some(&timing)),
     )
     .map_err(|e| anyhow!("outputFile: {e}"))?;

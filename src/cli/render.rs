@@ -146,7 +146,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     }
     let image = renderer.image()?;
     let timing = TimingReport::of(&frames);
-    luz::imageio::save_render(&a.output, &image, &scene.output, &{
+    luz::imageio::save_render(&a.output, &image, scene.output.encoding(), &{
         let mut p = luz::provenance::of_render(&ctx.info, &scene, Some(&timing));
         luz::provenance::add_switches(&mut p, &a.switches.switches());
         p

@@ -20,6 +20,8 @@ pub mod glsl {
 }
 pub mod imageio;
 pub mod plot;
+/// The CPU work of a scene before any GPU object exists: LOD chains and decoded maps.
+pub mod prepare;
 pub mod profiler;
 /// Progress reports of long library work (the binary draws them).
 pub mod progress;

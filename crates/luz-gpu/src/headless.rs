@@ -8,13 +8,13 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::imageio::LinearImage;
+use crate::prepare::PreparedScene;
 use crate::render::forward::{prepare_for, DebugView, ForwardPass, Output, PassNames};
 use crate::render::frame::{add_readback, SceneTarget, Transients};
 use crate::render::ibl::{EquirectView, Ibl, IblInputs, IblSettings, IblTimes};
 use crate::render::saturate::SaturatePass;
 use crate::render::target::HdrTarget;
 use crate::render::world::Change;
-use crate::scene::prepare::PreparedScene;
 use crate::scene::Scene;
 use crate::stats::Summary;
 use crate::vk::cmd::CommandPool;
@@ -413,7 +413,7 @@ impl Headless {
     /// per-frame data in place, new pipelines, or a rebuild of the passes (and of the
     /// image-based lighting when the environment changed, and of the targets when the sample
     /// count did). The LOD chains of meshes the scene still uses are kept from the last build
-    /// ([`crate::scene::prepare::prepare_again`]). The output size must stay: a new size is a new `Headless`. On an error the
+    /// ([`crate::prepare::prepare_again`]). The output size must stay: a new size is a new `Headless`. On an error the
     /// renderer keeps drawing the scene it had.
     pub fn apply(&mut self, scene: &Scene) -> Result<Change, VkError> {
         if (scene.output.width, scene.output.height) != (self.width, self.height) {

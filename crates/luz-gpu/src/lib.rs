@@ -5,8 +5,8 @@
 //! `luz_core::scene` are one module.
 
 pub use luz_core::{
-    brdf, color, compare, diff, env, files, glsl, imageio, plot, profiler, progress, scene, stats,
-    texture,
+    brdf, color, compare, diff, env, files, glsl, imageio, plot, prepare, profiler, progress,
+    scene, stats, texture,
 };
 /// The frame graph: passes, resources, barriers, timers ([`luz_graph`]).
 pub use luz_graph as graph;

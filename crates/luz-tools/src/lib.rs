@@ -4,8 +4,8 @@
 //! that one path names one module.
 
 pub use luz_gpu::{
-    brdf, color, compare, diff, env, files, glsl, graph, headless, imageio, plot, profiler,
-    progress, provenance, render, scene, stats, texture, vk,
+    brdf, color, compare, diff, env, files, glsl, graph, headless, imageio, plot, prepare,
+    profiler, progress, provenance, render, scene, stats, texture, vk,
 };
 
 /// Entry points shared by the fuzz targets (`fuzz/`) and `tests/fuzz_regressions.rs`.

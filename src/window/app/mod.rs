@@ -30,6 +30,7 @@ use super::{DisplayPath, ViewOptions, ViewOutcome};
 use crate::graph::{Access, FrameGraph, ImageStateBefore, ImportedImage};
 use crate::headless::{build_ibl, RenderOptions};
 use crate::imageio::LinearImage;
+use crate::prepare::PreparedScene;
 use crate::profiler::{FrameSample, Profiler};
 use crate::render::display::DisplayPass;
 use crate::render::forward::{ForwardPass, Output, PassNames, TargetFormat};
@@ -38,7 +39,6 @@ use crate::render::ibl::Ibl;
 use crate::render::saturate::SaturatePass;
 use crate::render::target::{HdrTarget, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::render::world::Change;
-use crate::scene::prepare::PreparedScene;
 use crate::scene::Scene;
 use crate::vk::cmd::CommandPool;
 use crate::vk::timing::GpuTimer;
@@ -297,7 +297,7 @@ struct Viewer {
     saturate: Option<SaturatePass>,
     forward: ForwardPass,
     /// The scene's LOD chains, kept so a rebuild after an edit builds or reads only the chains
-    /// of meshes the edit brought ([`crate::scene::prepare::prepare_again`]).
+    /// of meshes the edit brought ([`crate::prepare::prepare_again`]).
     prepared: PreparedScene,
     ibl: Option<Ibl>,
     targets: HdrTarget,

@@ -331,8 +331,18 @@ pub fn save_with(
     save_as(path, img, (exposure_ev, tonemap, false), meta)
 }
 
-/// Saves a render of a scene with that scene's `output` settings: its exposure and tone map,
-/// and, when its background is transparent ([`crate::scene::Output::transparent`]), its alpha,
+/// How a render becomes display codes: the scene's `output` settings
+/// ([`crate::scene::Output::encoding`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Encoding {
+    pub exposure_ev: f32,
+    pub tonemap: Tonemap,
+    /// Keep the alpha (the coverage) in PNGs: a transparent background.
+    pub transparent: bool,
+}
+
+/// Saves a render with its scene's encoding: its exposure and tone map, and, when its
+/// background is transparent ([`crate::scene::Output::transparent`]), its alpha,
 /// which is then its coverage (0 where no object is, fractional on anti-aliased edges, the
 /// colour premultiplied by it). PNG: 8-bit sRGB **RGBA** with straight alpha, each colour
 /// divided by its alpha before exposure and tone map ([`to_straight_rgba8`]: an edge pixel
@@ -341,15 +351,15 @@ pub fn save_with(
 pub fn save_render(
     path: &Path,
     img: &LinearImage,
-    output: &crate::scene::Output,
+    encoding: Encoding,
     meta: &Provenance,
 ) -> Result<(), ImageError> {
-    save_as(
-        path,
-        img,
-        (output.exposure, output.tonemap, output.transparent),
-        meta,
-    )
+    let Encoding {
+        exposure_ev,
+        tonemap,
+        transparent,
+    } = encoding;
+    save_as(path, img, (exposure_ev, tonemap, transparent), meta)
 }
 
 /// The straight-alpha display codes of premultiplied linear pixels: colour / alpha tone-mapped,

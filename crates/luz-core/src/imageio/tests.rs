@@ -343,12 +343,13 @@ fn transparent_png_has_straight_coverage_alpha() {
             .map(|&a| [straight[0] * a, straight[1] * a, straight[2] * a, a])
             .collect(),
     };
-    let mut output = crate::scene::default_scene().output;
-    output.exposure = 0.0;
-    output.tonemap = Tonemap::None;
-    output.transparent = true;
+    let mut output = Encoding {
+        exposure_ev: 0.0,
+        tonemap: Tonemap::None,
+        transparent: true,
+    };
     let path = dir.join("alpha.png");
-    save_render(&path, &img, &output, &Provenance::base()).unwrap();
+    save_render(&path, &img, output, &Provenance::base()).unwrap();
     let bytes = fs::read(&path).unwrap();
     let decoded = image::load_from_memory(&bytes).unwrap();
     assert!(decoded.color().has_alpha(), "RGBA");
@@ -369,7 +370,7 @@ fn transparent_png_has_straight_coverage_alpha() {
     assert!(String::from_utf8_lossy(&bytes).contains("luz.alpha"));
     // The same image with an opaque output is RGB, as before.
     output.transparent = false;
-    save_render(&path, &img, &output, &Provenance::base()).unwrap();
+    save_render(&path, &img, output, &Provenance::base()).unwrap();
     assert!(!image::open(&path).unwrap().color().has_alpha());
     fs::remove_dir_all(dir).unwrap();
 }

@@ -18,8 +18,6 @@ pub mod mesh;
 mod mesh_cache;
 pub mod model;
 pub mod obj;
-/// The CPU work of a scene before any GPU object exists: LOD chains and decoded maps.
-pub mod prepare;
 pub mod shadow;
 pub mod tessellation;
 mod textures;
@@ -267,6 +265,15 @@ pub struct Output {
 }
 
 impl Output {
+    /// How a render of this output becomes display codes (exposure, tone map, alpha).
+    pub fn encoding(&self) -> crate::imageio::Encoding {
+        crate::imageio::Encoding {
+            exposure_ev: self.exposure,
+            tonemap: self.tonemap,
+            transparent: self.transparent,
+        }
+    }
+
     /// width / height.
     pub fn aspect(&self) -> f32 {
         self.width as f32 / self.height as f32

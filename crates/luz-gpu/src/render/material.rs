@@ -158,7 +158,7 @@ impl MaterialSets {
     pub fn new(
         ctx: &Arc<Context>,
         pool: &CommandPool,
-        (scene, prepared): (&Scene, &crate::scene::prepare::PreparedScene),
+        (scene, prepared): (&Scene, &crate::prepare::PreparedScene),
         warn: &mut dyn FnMut(String),
     ) -> Result<Self, VkError> {
         let set_layout = crate::render::sets::scene_interface()?.set_layout(ctx, SET_MATERIAL)?;

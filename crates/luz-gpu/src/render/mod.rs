@@ -18,8 +18,9 @@ pub mod sets;
 pub mod shadow;
 pub mod target;
 pub mod tonemap;
-/// The shape of a scene the passes are built for, and what an edit costs them.
-pub mod world;
+/// The shape of a scene the passes are built for, and what an edit costs them (kept by the
+/// forward pass, whose variant keys it is made of).
+pub use forward::world;
 
 use ash::vk;
 

@@ -669,7 +669,8 @@ pub fn run_case(ctx: &Arc<Context>, scene_path: &Path, name: &str, opts: &Golden
         if change != BlessChange::Unchanged {
             let meta = case.actual_provenance.clone().unwrap_or_default();
             let saved = replace_atomically(&golden, |tmp| {
-                imageio::save_render(tmp, &image, &scene.output, &meta).map_err(|e| e.to_string())
+                imageio::save_render(tmp, &image, scene.output.encoding(), &meta)
+                    .map_err(|e| e.to_string())
             });
             if let Err(e) = saved {
                 case.verdict = Verdict::Fail;

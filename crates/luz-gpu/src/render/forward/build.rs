@@ -50,7 +50,7 @@ pub(super) fn build_draws(
     (limits, lod_cache, prepared): (
         &crate::vk::Limits,
         Option<&std::path::Path>,
-        &crate::scene::prepare::PreparedScene,
+        &crate::prepare::PreparedScene,
     ),
     uploader: &mut Uploader,
 ) -> Result<Draws, VkError> {

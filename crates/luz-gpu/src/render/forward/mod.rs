@@ -16,14 +16,14 @@ use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
 use super::mesh;
 use super::shadow::{self, ShadowMaps};
-use super::world::{Change, Shape};
 use crate::color::Tonemap;
-use crate::scene::prepare::{PrepareOptions, PreparedScene};
+use crate::prepare::{PrepareOptions, PreparedScene};
 use crate::scene::{Saturation, Scene, Shading};
 use crate::vk::buffer::Uploader;
 use crate::vk::cmd::{color_attachment, depth_attachment, rendering_info, CommandPool, Load};
 use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout, Pipeline, PipelineLayout};
 use crate::vk::{Buffer, Context, SetWrites, VkError};
+use world::{Change, Shape};
 
 mod build;
 pub mod clusters;
@@ -33,6 +33,7 @@ mod lod;
 mod per_frame;
 mod record;
 mod variant;
+pub mod world;
 
 use build::{build_draws, draw_order, frame_set_layout, storage_fits, Draws};
 pub use build::{lut_geometries, lut_geometry};
@@ -355,7 +356,7 @@ pub struct ForwardPass {
 }
 
 /// Prepares `scene` for `ctx`'s device (textures within its 2D image limit), reusing what `old`
-/// holds ([`crate::scene::prepare::prepare_again`]); its warnings are logged.
+/// holds ([`crate::prepare::prepare_again`]); its warnings are logged.
 pub fn prepare_for(
     ctx: &Context,
     scene: &Scene,
@@ -370,7 +371,7 @@ pub fn prepare_for(
         max_texture_dimension: ctx.limits().max_image_dimension_2d,
     };
     let prepared =
-        crate::scene::prepare::prepare_again(old.unwrap_or_default(), scene, &options, progress)
+        crate::prepare::prepare_again(old.unwrap_or_default(), scene, &options, progress)
             .map_err(|e| VkError::Setup(e.to_string()))?;
     for w in &prepared.warnings {
         log::warn!("{w}");
@@ -426,7 +427,7 @@ impl ForwardPass {
 
     /// A pass with `slots` copies of its per-frame data (camera, lights, transforms), one per
     /// frame in flight: [`ForwardPass::update`] writes a slot, [`ForwardPass::record_slot`] draws
-    /// with it. Prepares the scene first ([`crate::scene::prepare`]; its warnings are logged).
+    /// with it. Prepares the scene first ([`crate::prepare`]; its warnings are logged).
     pub fn in_flight(
         ctx: &Arc<Context>,
         pool: &CommandPool,

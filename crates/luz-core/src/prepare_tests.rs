@@ -1,4 +1,4 @@
-//! `scene::prepare` without a GPU: each OBJ mesh's LOD chain and each map once, in parallel;
+//! `prepare` without a GPU: each OBJ mesh's LOD chain and each map once, in parallel;
 //! reuse across edits; a map that cannot be decoded names its material and file.
 
 use std::path::{Path, PathBuf};

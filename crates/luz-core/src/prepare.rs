@@ -13,10 +13,10 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::lod::{self, ChainStats, LodChain};
-use super::mesh::Mesh;
-use super::{MeshDesc, Scene, TextureRef, TextureSlot};
 use crate::progress::{Progress, Reporting};
+use crate::scene::lod::{self, ChainStats, LodChain};
+use crate::scene::mesh::Mesh;
+use crate::scene::{MeshDesc, Scene, TextureRef, TextureSlot};
 use crate::texture::{ColorSpace, TextureData};
 
 /// What preparation needs to know besides the scene.

@@ -11,7 +11,7 @@
 //! [`Shape::change_to`] answers what a changed scene costs ([`Change`]). The viewer asks it after
 //! every edit; [`crate::headless::Headless::apply`] asks it and acts on the answer.
 
-use crate::render::forward::{material_key, DebugView, TermsKey};
+use super::variant::{material_key, DebugView, TermsKey};
 use crate::scene::{Environment, Saturation, Scene, Shading, ShadowMethod};
 
 /// What a changed scene costs the renderer, cheapest first.
