@@ -173,6 +173,54 @@ fn brdf_lut_against_numerical_integration() {
     assert_no_validation_messages(&ctx);
 }
 
+/// The LUT shipped with luz (512², 1024 samples, correlated Smith GGX: `luz::env::shipped_lut`)
+/// against the same table computed by the GPU kernel: the kernel sums in f32, the generator in
+/// f64, so they agree to 2e-5 (the images do not change).
+#[test]
+fn shipped_lut_matches_the_gpu() {
+    let ctx = gpu();
+    let scene = sphere_scene(
+        r#"{"model": "metal_rough", "roughness": 0.5}"#,
+        r#"{"uniform": [1, 1, 1]}"#,
+    );
+    let lut = |shipped_lut: bool| {
+        let settings = IblSettings {
+            shipped_lut,
+            ..IblSettings::fast()
+        };
+        let settings = IblSettings {
+            lut_size: 512,
+            lut_samples: 1024,
+            ..settings
+        };
+        let r = Headless::with_ibl_settings(&ctx, &scene, &settings).unwrap();
+        let layers = r.lut().unwrap().expect("an IBL scene has a LUT");
+        assert_eq!(layers.len(), 1);
+        assert_eq!(
+            layers[0].0,
+            luz::env::SHIPPED_LUT_GEOMETRY as i32,
+            "the default material's geometry term is the shipped one"
+        );
+        layers[0].1.clone()
+    };
+    let (shipped, computed) = (lut(true), lut(false));
+    assert_eq!(shipped.len(), 512 * 512);
+    let mut worst = (0.0f32, 0usize);
+    for (i, (s, c)) in shipped.iter().zip(&computed).enumerate() {
+        assert_eq!((s[2], s[3]), (0.0, 1.0));
+        let d = (s[0] - c[0]).abs().max((s[1] - c[1]).abs());
+        if d > worst.0 {
+            worst = (d, i);
+        }
+    }
+    eprintln!(
+        "shipped LUT vs GPU: largest difference {:.2e} at texel {}",
+        worst.0, worst.1
+    );
+    assert!(worst.0 < 2e-5, "shipped LUT vs GPU: {worst:?}");
+    assert_no_validation_messages(&ctx);
+}
+
 /// Split sum against importance sampling with N = 1024 on the real environment in ../shared:
 /// the error per roughness is printed and bounded.
 #[test]

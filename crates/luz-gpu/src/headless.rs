@@ -238,6 +238,10 @@ impl Headless {
         ctx.limits()
             .check_render_size(&scene.display_name(), width, height, target_pixel, 16)?;
         let samples = sample_flags(ctx, scene)?;
+        // The pipelines of earlier runs on this device (saved when this renderer is dropped).
+        if let Some(dir) = cache_dir {
+            ctx.load_pipeline_cache(&dir.join(crate::vk::pipeline_cache::PIPELINE_CACHE_FILE));
+        }
         let pool = CommandPool::new(ctx, "headless commands")?;
         let target = HdrTarget::new("headless", vk::Extent2D { width, height }, samples);
         let bytes = width as u64 * height as u64 * 16;
@@ -582,6 +586,11 @@ impl Drop for Headless {
         }
         // The remaining fields free themselves; the command pool frees `cmd`.
         let _ = &self.pool;
+        // The end of a run: keep the pipelines compiled in it for the next one.
+        if let Some(dir) = &self.options.cache_dir {
+            self.ctx
+                .save_pipeline_cache(&dir.join(crate::vk::pipeline_cache::PIPELINE_CACHE_FILE));
+        }
     }
 }
 

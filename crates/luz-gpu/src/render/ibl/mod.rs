@@ -39,6 +39,10 @@ pub struct IblSettings {
     pub prefilter_samples: u32,
     pub lut_size: u32,
     pub lut_samples: u32,
+    /// Use the table shipped with luz when the LUT's size, samples and geometry term are the
+    /// shipped ones (`crate::env::shipped_lut`); false computes it on the GPU (tests compare the
+    /// two).
+    pub shipped_lut: bool,
 }
 
 impl Default for IblSettings {
@@ -54,6 +58,7 @@ impl Default for IblSettings {
             prefilter_samples: 64,
             lut_size: 512,
             lut_samples: 1024,
+            shipped_lut: true,
         }
     }
 }
@@ -70,6 +75,7 @@ impl IblSettings {
             prefilter_samples: 32,
             lut_size: 128,
             lut_samples: 512,
+            shipped_lut: true,
         }
     }
 
@@ -294,6 +300,20 @@ impl Images {
         let layer_bytes = (s.lut_size as usize).pow(2) * 16;
         let mut computed = Vec::new();
         for (layer, g) in lut_layers.iter().enumerate() {
+            // The default settings' table for the default geometry term ships with luz.
+            let shipped = s
+                .shipped_lut
+                .then(|| crate::env::shipped_lut(s.lut_size, s.lut_samples, *g));
+            if let Some(pairs) = shipped.flatten() {
+                let bytes: Vec<u8> = pairs
+                    .iter()
+                    .flat_map(|&[a, b]| [a, b, 0.0, 1.0])
+                    .flat_map(f32::to_ne_bytes)
+                    .collect();
+                write_lut_layer(ctx, pool, lut, layer as u32, &bytes)?;
+                tick("brdf lut (shipped)");
+                continue;
+            }
             let cached = lut_file(*g).and_then(|f| read_blobs(&f, &[layer_bytes as u64]).hit(&f));
             if let Some(bytes) = cached.as_ref().and_then(|blobs| blobs.first()) {
                 write_lut_layer(ctx, pool, lut, layer as u32, bytes)?;
