@@ -7,6 +7,8 @@
 # every round and, at the end, the medians and the median of the per-round ratios cold / warm.
 #
 # Usage: scripts/cold_start.sh [ROUNDS (default 5)] [extra `luz render` arguments…]
+# MESA_COLD=0 keeps one Mesa shader cache for every run (warmed before the first round): the
+# cold runs then miss only luz's own caches.
 # The binary is target/release/luz (build it first: cargo build --release --bin luz), or $LUZ.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -26,9 +28,14 @@ ttff() {
 
 date -u '+%Y-%m-%d %H:%M UTC'
 echo "$("$luz" --version 2>/dev/null || echo luz), $(git rev-parse --short HEAD 2>/dev/null || echo '?'), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+mesa_cold="${MESA_COLD:-1}"
+echo "cold: empty LUZ_CACHE_DIR$([ "$mesa_cold" = 1 ] && echo " and empty Mesa shader cache" || echo ", Mesa shader cache kept warm")"
+mkdir -p "$work/mesa"
+[ "$mesa_cold" = 1 ] || { mkdir -p "$work/warmup"; ttff "$work/warmup" "$work/mesa" "$@" >/dev/null; }
 cold_all=() warm_all=() ratios=()
 for i in $(seq 1 "$rounds"); do
-    rm -rf "$work/luz" "$work/mesa"
+    rm -rf "$work/luz"
+    [ "$mesa_cold" = 1 ] && rm -rf "$work/mesa"
     mkdir -p "$work/luz" "$work/mesa"
     cold="$(ttff "$work/luz" "$work/mesa" "$@")"
     warm="$(ttff "$work/luz" "$work/mesa" "$@")"

@@ -183,9 +183,9 @@ fn shipped_lut_matches_the_gpu() {
         r#"{"model": "metal_rough", "roughness": 0.5}"#,
         r#"{"uniform": [1, 1, 1]}"#,
     );
-    let lut = |shipped_lut: bool| {
+    let lut = |shipped: bool| {
         let settings = IblSettings {
-            shipped_lut,
+            shipped,
             ..IblSettings::fast()
         };
         let settings = IblSettings {
@@ -218,6 +218,67 @@ fn shipped_lut_matches_the_gpu() {
         worst.0, worst.1
     );
     assert!(worst.0 < 2e-5, "shipped LUT vs GPU: {worst:?}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// The default scene's environment shipped with luz (`render::ibl::shipped`) is what the GPU
+/// bakes, every byte (on lavapipe, where it was made), and a start with an empty cache folder
+/// takes it: no bake, the cache entry written, the pixels of a start that bakes.
+#[test]
+fn shipped_default_environment_regenerates() {
+    use luz::render::ibl::shipped;
+    let ctx = gpu();
+    let (name, baked) = shipped::generate(&ctx).unwrap();
+    let regenerate = "regenerate it: cargo run --release -p luz-gpu --example default_env";
+    assert_eq!(name, shipped::DEFAULT_ENV_FILE, "{regenerate}");
+    let shipped_bytes = shipped::shipped_bytes().expect("the shipped data inflates");
+    assert_eq!(baked.len(), shipped_bytes.len(), "{regenerate}");
+    let differing = baked
+        .iter()
+        .zip(&shipped_bytes)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differing, 0, "{differing} bytes differ; {regenerate}");
+
+    let tmp = scratch("shipped-env");
+    let dir = tmp.join("cache");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut scene = luz::scene::default_scene();
+    scene.output.width = 160;
+    scene.output.height = 90;
+    let render = |cache_dir: Option<std::path::PathBuf>| {
+        let options = luz::headless::RenderOptions {
+            cache_dir,
+            ..Default::default()
+        };
+        let mut r = Headless::with_options(&ctx, &scene, &options).expect("renderer");
+        r.render().unwrap();
+        let stages: Vec<String> = r
+            .ibl_times()
+            .unwrap()
+            .stages
+            .iter()
+            .map(|(n, _)| n.to_string())
+            .collect();
+        (r.image().unwrap(), stages)
+    };
+    let (cold, stages) = render(Some(dir.clone()));
+    assert!(
+        stages.iter().any(|s| s == "environment shipped")
+            && !stages.iter().any(|s| s == "prefiltered cube"),
+        "{stages:?}"
+    );
+    let written = std::fs::read(dir.join(shipped::DEFAULT_ENV_FILE)).unwrap();
+    assert!(
+        written == shipped_bytes,
+        "the cache entry is the shipped file"
+    );
+    let (baking, stages) = render(None);
+    assert!(stages.iter().any(|s| s == "prefiltered cube"), "{stages:?}");
+    assert!(
+        cold.pixels == baking.pixels,
+        "the shipped environment renders differently"
+    );
     assert_no_validation_messages(&ctx);
 }
 
