@@ -10,7 +10,7 @@ use luz_gpu::vk::{Context, ContextDesc};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ctx = Context::new(&ContextDesc::default())?;
     println!("{}", ctx.info.summary());
-    let (name, bytes) = shipped::generate(&ctx)?;
+    let (name, bytes) = luz_gpu::headless::bake_default_environment(&ctx)?;
     if name != shipped::DEFAULT_ENV_FILE {
         return Err(format!(
             "the default environment's cache file is now {name}: set DEFAULT_ENV_FILE to it"

@@ -682,6 +682,34 @@ pub fn build_ibl(
     })
 }
 
+/// Bakes the default scene's environment at the default settings on `ctx`, without the shipped
+/// data, into a temporary cache folder: the cache file's name and bytes (what
+/// `render::ibl::shipped` ships).
+pub fn bake_default_environment(ctx: &Arc<Context>) -> Result<(String, Vec<u8>), VkError> {
+    let scene = crate::scene::default_scene();
+    let env = scene
+        .environment
+        .as_ref()
+        .ok_or_else(|| VkError::Setup("the default scene has no environment".into()))?;
+    let dir = std::env::temp_dir().join(format!("luz-default-env-{}", std::process::id()));
+    let io = |e: std::io::Error| VkError::Setup(format!("{}: {e}", dir.display()));
+    std::fs::create_dir_all(&dir).map_err(io)?;
+    let settings = IblSettings {
+        shipped: false,
+        ..Default::default()
+    };
+    let pool = CommandPool::new(ctx, "default environment bake")?;
+    let ibl = build_ibl(ctx, &pool, &scene, env, &settings, Some(&dir), None);
+    let name = format!(
+        "{}-{}.ibl",
+        crate::env::cache_key(env, &settings.describe()),
+        settings.describe().replace(' ', "_")
+    );
+    let bytes = ibl.and_then(|_| std::fs::read(dir.join(&name)).map_err(io));
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok((name, bytes?))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

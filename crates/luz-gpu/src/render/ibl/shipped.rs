@@ -6,16 +6,13 @@
 //! the shipped bytes instead of computed.
 //!
 //! The bytes are made on lavapipe by `cargo run --release -p luz-gpu --example default_env`
-//! ([`generate`] then [`deflate`]); the test `tests/ibl.rs::shipped_default_environment_regenerates`
+//! (`headless::bake_default_environment`, then [`deflate`]); the test `tests/ibl.rs::shipped_default_environment_regenerates`
 //! bakes it again and compares every byte. Another device's bake differs by rounding: there the
 //! shipped data stands in for it as the cache would.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use super::IblSettings;
-use crate::vk::cmd::CommandPool;
-use crate::vk::{Context, VkError};
 
 /// The cache file name of the shipped bake: the default scene's environment key at the default
 /// settings.
@@ -52,31 +49,4 @@ pub fn shipped_bytes() -> Option<Vec<u8>> {
 /// Deflates a cache file's bytes as they are shipped.
 pub fn deflate(bytes: &[u8]) -> Vec<u8> {
     miniz_oxide::deflate::compress_to_vec(bytes, 6)
-}
-
-/// Bakes the default scene's environment at the default settings on `ctx`, without the shipped
-/// data, into a temporary cache folder: the cache file's name and bytes.
-pub fn generate(ctx: &Arc<Context>) -> Result<(String, Vec<u8>), VkError> {
-    let scene = crate::scene::default_scene();
-    let env = scene
-        .environment
-        .as_ref()
-        .ok_or_else(|| VkError::Setup("the default scene has no environment".into()))?;
-    let dir = std::env::temp_dir().join(format!("luz-default-env-{}", std::process::id()));
-    let io = |e: std::io::Error| VkError::Setup(format!("{}: {e}", dir.display()));
-    std::fs::create_dir_all(&dir).map_err(io)?;
-    let settings = IblSettings {
-        shipped: false,
-        ..Default::default()
-    };
-    let pool = CommandPool::new(ctx, "default environment bake")?;
-    let ibl = crate::headless::build_ibl(ctx, &pool, &scene, env, &settings, Some(&dir), None);
-    let name = format!(
-        "{}-{}.ibl",
-        crate::env::cache_key(env, &settings.describe()),
-        settings.describe().replace(' ', "_")
-    );
-    let bytes = ibl.and_then(|_| std::fs::read(dir.join(&name)).map_err(io));
-    let _ = std::fs::remove_dir_all(&dir);
-    Ok((name, bytes?))
 }
