@@ -8,7 +8,9 @@
 //! it gives the same bytes (`shipped_lut_regenerates`). It is the GPU kernel's computation
 //! (`shaders_glsl/ibl/brdf_lut.comp`: the same Hammersley points, GGX samples and geometry
 //! terms) with the sums in f64 instead of f32; `tests/ibl.rs` (`shipped_lut_matches_the_gpu`)
-//! bounds the difference.
+//! bounds the difference. The generation is deterministic (rayon splits texels, never a sum);
+//! `sin`/`cos` come from the platform's libm, so another libm may differ in a last bit, which
+//! the regeneration test would report with the command to run.
 
 use super::split_sum_lut_table;
 use crate::brdf::Geometry;
