@@ -173,6 +173,115 @@ fn brdf_lut_against_numerical_integration() {
     assert_no_validation_messages(&ctx);
 }
 
+/// The LUT shipped with luz (512², 1024 samples, correlated Smith GGX: `luz::env::shipped_lut`)
+/// against the same table computed by the GPU kernel: the kernel sums in f32, the generator in
+/// f64, so they agree to 2e-5 (the images do not change).
+#[test]
+fn shipped_lut_matches_the_gpu() {
+    let ctx = gpu();
+    let scene = sphere_scene(
+        r#"{"model": "metal_rough", "roughness": 0.5}"#,
+        r#"{"uniform": [1, 1, 1]}"#,
+    );
+    let lut = |shipped: bool| {
+        let settings = IblSettings {
+            shipped,
+            ..IblSettings::fast()
+        };
+        let settings = IblSettings {
+            lut_size: 512,
+            lut_samples: 1024,
+            ..settings
+        };
+        let r = Headless::with_ibl_settings(&ctx, &scene, &settings).unwrap();
+        let layers = r.lut().unwrap().expect("an IBL scene has a LUT");
+        assert_eq!(layers.len(), 1);
+        assert_eq!(
+            layers[0].0,
+            luz::env::SHIPPED_LUT_GEOMETRY as i32,
+            "the default material's geometry term is the shipped one"
+        );
+        layers[0].1.clone()
+    };
+    let (shipped, computed) = (lut(true), lut(false));
+    assert_eq!(shipped.len(), 512 * 512);
+    let mut worst = (0.0f32, 0usize);
+    for (i, (s, c)) in shipped.iter().zip(&computed).enumerate() {
+        assert_eq!((s[2], s[3]), (0.0, 1.0));
+        let d = (s[0] - c[0]).abs().max((s[1] - c[1]).abs());
+        if d > worst.0 {
+            worst = (d, i);
+        }
+    }
+    eprintln!(
+        "shipped LUT vs GPU: largest difference {:.2e} at texel {}",
+        worst.0, worst.1
+    );
+    assert!(worst.0 < 2e-5, "shipped LUT vs GPU: {worst:?}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// The default scene's environment shipped with luz (`render::ibl::shipped`) is what the GPU
+/// bakes, every byte (on lavapipe, where it was made), and a start with an empty cache folder
+/// takes it: no bake, the cache entry written, the pixels of a start that bakes.
+#[test]
+fn shipped_default_environment_regenerates() {
+    use luz::render::ibl::shipped;
+    let ctx = gpu();
+    let (name, baked) = luz::headless::bake_default_environment(&ctx).unwrap();
+    let regenerate = "regenerate it: cargo run --release -p luz-gpu --example default_env";
+    assert_eq!(name, shipped::DEFAULT_ENV_FILE, "{regenerate}");
+    let shipped_bytes = shipped::shipped_bytes().expect("the shipped data inflates");
+    assert_eq!(baked.len(), shipped_bytes.len(), "{regenerate}");
+    let differing = baked
+        .iter()
+        .zip(&shipped_bytes)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differing, 0, "{differing} bytes differ; {regenerate}");
+
+    let tmp = scratch("shipped-env");
+    let dir = tmp.join("cache");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut scene = luz::scene::default_scene();
+    scene.output.width = 160;
+    scene.output.height = 90;
+    let render = |cache_dir: Option<std::path::PathBuf>| {
+        let options = luz::headless::RenderOptions {
+            cache_dir,
+            ..Default::default()
+        };
+        let mut r = Headless::with_options(&ctx, &scene, &options).expect("renderer");
+        r.render().unwrap();
+        let stages: Vec<String> = r
+            .ibl_times()
+            .unwrap()
+            .stages
+            .iter()
+            .map(|(n, _)| n.to_string())
+            .collect();
+        (r.image().unwrap(), stages)
+    };
+    let (cold, stages) = render(Some(dir.clone()));
+    assert!(
+        stages.iter().any(|s| s == "environment shipped")
+            && !stages.iter().any(|s| s == "prefiltered cube"),
+        "{stages:?}"
+    );
+    let written = std::fs::read(dir.join(shipped::DEFAULT_ENV_FILE)).unwrap();
+    assert!(
+        written == shipped_bytes,
+        "the cache entry is the shipped file"
+    );
+    let (baking, stages) = render(None);
+    assert!(stages.iter().any(|s| s == "prefiltered cube"), "{stages:?}");
+    assert!(
+        cold.pixels == baking.pixels,
+        "the shipped environment renders differently"
+    );
+    assert_no_validation_messages(&ctx);
+}
+
 /// Split sum against importance sampling with N = 1024 on the real environment in ../shared:
 /// the error per roughness is printed and bounded.
 #[test]

@@ -243,6 +243,10 @@ impl Headless {
         ctx.limits()
             .check_render_size(&scene.display_name(), width, height, target_pixel, 16)?;
         let samples = sample_flags(ctx, scene)?;
+        // The pipelines of earlier runs on this device (saved when this renderer is dropped).
+        if let Some(dir) = cache_dir {
+            ctx.load_pipeline_cache(&dir.join(crate::vk::pipeline_cache::PIPELINE_CACHE_FILE));
+        }
         let pool = CommandPool::new(ctx, "headless commands")?;
         let target = HdrTarget::new("headless", vk::Extent2D { width, height }, samples);
         let bytes = width as u64 * height as u64 * 16;
@@ -684,6 +688,11 @@ impl Drop for Headless {
         }
         // The remaining fields free themselves; the command pool frees `cmd`.
         let _ = &self.pool;
+        // The end of a run: keep the pipelines compiled in it for the next one.
+        if let Some(dir) = &self.options.cache_dir {
+            self.ctx
+                .save_pipeline_cache(&dir.join(crate::vk::pipeline_cache::PIPELINE_CACHE_FILE));
+        }
     }
 }
 
@@ -773,6 +782,34 @@ pub fn build_ibl(
     Ibl::new(ctx, pool, &inputs, settings, |name, step, total| {
         reporting.update(name, step, total)
     })
+}
+
+/// Bakes the default scene's environment at the default settings on `ctx`, without the shipped
+/// data, into a temporary cache folder: the cache file's name and bytes (what
+/// `render::ibl::shipped` ships).
+pub fn bake_default_environment(ctx: &Arc<Context>) -> Result<(String, Vec<u8>), VkError> {
+    let scene = crate::scene::default_scene();
+    let env = scene
+        .environment
+        .as_ref()
+        .ok_or_else(|| VkError::Setup("the default scene has no environment".into()))?;
+    let dir = std::env::temp_dir().join(format!("luz-default-env-{}", std::process::id()));
+    let io = |e: std::io::Error| VkError::Setup(format!("{}: {e}", dir.display()));
+    std::fs::create_dir_all(&dir).map_err(io)?;
+    let settings = IblSettings {
+        shipped: false,
+        ..Default::default()
+    };
+    let pool = CommandPool::new(ctx, "default environment bake")?;
+    let ibl = build_ibl(ctx, &pool, &scene, env, &settings, Some(&dir), None);
+    let name = format!(
+        "{}-{}.ibl",
+        crate::env::cache_key(env, &settings.describe()),
+        settings.describe().replace(' ', "_")
+    );
+    let bytes = ibl.and_then(|_| std::fs::read(dir.join(&name)).map_err(io));
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok((name, bytes?))
 }
 
 #[cfg(test)]

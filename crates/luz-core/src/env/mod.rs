@@ -18,6 +18,7 @@ mod equirect;
 mod procedural;
 mod reference;
 mod sh;
+mod shipped_lut;
 
 #[cfg(test)]
 mod tests;
@@ -40,6 +41,10 @@ pub use reference::{
 pub use sh::{
     sh9_basis, sh9_eval, sh9_irradiance, sh9_irradiance_coeffs, sh9_project, SH_C0, SH_C1, SH_C2,
     SH_C3, SH_C4, SH_IRRADIANCE_FACTORS,
+};
+pub use shipped_lut::{
+    generate_shipped_lut, shipped_lut, shipped_lut_bytes, SHIPPED_LUT_FILE, SHIPPED_LUT_GEOMETRY,
+    SHIPPED_LUT_SAMPLES, SHIPPED_LUT_SIZE,
 };
 
 use crate::imageio::{self, ImageError};

@@ -108,6 +108,8 @@ pub struct Context {
     /// The limits resources are checked against: the device's, or tighter ones set by
     /// [`Context::tighten_limits`].
     limits: RwLock<Limits>,
+    /// The one pipeline cache every pipeline is created with ([`super::pipeline_cache`]).
+    pub(super) pipelines: super::pipeline_cache::PipelineCache,
     // Last: destroyed after the device.
     pub instance: Instance,
 }
@@ -328,7 +330,11 @@ impl Context {
             .map(|_| ash::ext::debug_utils::Device::new(inst, &device));
         let limits = RwLock::new(info.resource_limits);
         let push_descriptor = ash::khr::push_descriptor::Device::new(inst, &device);
+        // SAFETY: `physical` was enumerated from `inst`, which is alive.
+        let props = unsafe { inst.get_physical_device_properties(physical) };
+        let pipelines = super::pipeline_cache::PipelineCache::new(&device, &props);
         let ctx = Arc::new(Self {
+            pipelines,
             push_descriptor,
             info,
             physical,
@@ -449,7 +455,9 @@ impl Drop for Context {
         // Then the device has no children left (VUID-vkDestroyDevice-device-00378): every object
         // created from it is owned by a wrapper holding an `Arc<Context>`, so all of them were
         // dropped before this `drop` could run, and the idle wait above finished all their work.
+        // The pipeline cache is a child of the device like the rest, owned by the context itself.
         unsafe {
+            self.pipelines.destroy(&self.device);
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
         }

@@ -10,6 +10,7 @@ pub mod instance;
 pub mod interface;
 pub mod limits;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod shaders;
 pub mod timing;
 

@@ -505,6 +505,7 @@ impl Pipeline {
             .dynamic_state(&dynamic)
             .layout(layout.raw)
             .push_next(&mut rendering);
+        let (_cache_lock, cache) = ctx.pipeline_cache();
         // SAFETY: `info` and everything it points to (`stages` with `spec`, `e` and `d`, the state
         // structs, `blend_attachments`, `dynamic_states`, `rendering` with the colour formats) are
         // locals or borrows of `state` that outlive the call. The shader modules and `layout` are
@@ -513,12 +514,9 @@ impl Pipeline {
         // stage (or with one that writes no colour) and without colour attachments is valid. Each
         // specialization entry reads 4 bytes at `4 * i` of `d`, which holds 4 bytes per entry.
         // That the layout matches the shaders' interface is the caller's part (each pass builds
-        // both together).
-        let raw = unsafe {
-            ctx.device
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-        }
-        .map_err(|(_, e)| e)?[0];
+        // both together). `cache` is this device's pipeline cache (or null), its read lock held.
+        let raw = unsafe { ctx.device.create_graphics_pipelines(cache, &[info], None) }
+            .map_err(|(_, e)| e)?[0];
         Ok(Self::named(ctx, raw, state.name))
     }
 
@@ -535,21 +533,21 @@ impl Pipeline {
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.raw);
+        let (_cache_lock, cache) = ctx.pipeline_cache();
         // SAFETY: `info` and what it points to (`stage` with `spec`, `e`, `d` and the `'static`
         // entry name) outlive the call; `module` and `layout` are live objects of this device
         // (borrowed). Each specialization entry reads 4 bytes at `4 * i` of `d`, which holds 4
         // bytes per entry. That the layout matches the shader's interface is the caller's part
-        // (each pass builds both together).
-        let raw = unsafe {
-            ctx.device
-                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
-        }
-        .map_err(|(_, e)| e)?[0];
+        // (each pass builds both together). `cache` is this device's pipeline cache (or null), its
+        // read lock held.
+        let raw = unsafe { ctx.device.create_compute_pipelines(cache, &[info], None) }
+            .map_err(|(_, e)| e)?[0];
         Ok(Self::named(ctx, raw, name))
     }
 
     /// Owns `raw`, a pipeline just created on `ctx`'s device, and gives it its debug name.
     fn named(ctx: &Arc<Context>, raw: vk::Pipeline, name: &str) -> Self {
+        ctx.pipeline_created();
         ctx.set_name(raw, name);
         Self {
             raw,

@@ -15,25 +15,38 @@ use crate::vk::{Buffer, Context, Image, Interface, SetWrites, VkError};
 
 use super::{EquirectView, IblSettings};
 
+/// A compute kernel: its layouts at once, its pipeline when a stage first needs it (a start
+/// that finds every stage in the cache or shipped compiles none: docs/performance.md,
+/// "Cold start").
 struct Kernel {
-    pipeline: Pipeline,
+    key: &'static str,
+    pipeline: std::cell::OnceCell<Pipeline>,
     layout: PipelineLayout,
     set_layout: DescriptorSetLayout,
 }
 
 impl Kernel {
     /// The kernel `key` in a layout made from its interface.
-    fn new(ctx: &Arc<Context>, key: &str) -> Result<Self, VkError> {
+    fn new(ctx: &Arc<Context>, key: &'static str) -> Result<Self, VkError> {
         let interface = Interface::of(key, &[key])?;
         let set_layout = interface.set_layout(ctx, 0)?;
         let layout = interface.pipeline_layout(ctx, &[&set_layout])?;
-        let module = ShaderModule::new(ctx, key)?;
-        let pipeline = Pipeline::compute(ctx, &layout, key, &module, &[])?;
         Ok(Self {
-            pipeline,
+            key,
+            pipeline: std::cell::OnceCell::new(),
             layout,
             set_layout,
         })
+    }
+
+    /// The pipeline, built on first use.
+    fn pipeline(&self, ctx: &Arc<Context>) -> Result<vk::Pipeline, VkError> {
+        if let Some(p) = self.pipeline.get() {
+            return Ok(p.raw);
+        }
+        let module = ShaderModule::new(ctx, self.key)?;
+        let pipeline = Pipeline::compute(ctx, &self.layout, self.key, &module, &[])?;
+        Ok(self.pipeline.get_or_init(|| pipeline).raw)
     }
 
     /// A set for one dispatch from `pool`, binding `binds` in binding order.
@@ -122,7 +135,7 @@ fn groups(n: u32) -> u32 {
 fn dispatch(
     d: &ash::Device,
     cmd: vk::CommandBuffer,
-    k: &Kernel,
+    (k, pipeline): (&Kernel, vk::Pipeline),
     set: vk::DescriptorSet,
     push: &[u8],
     x: u32,
@@ -133,7 +146,7 @@ fn dispatch(
     // layout and `set` are live and outlive the submission (`one_shot` waits); `push` must fill
     // the layout's push-constant range (`push_bytes` checks).
     unsafe {
-        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, k.pipeline.raw);
+        d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
         d.cmd_bind_descriptor_sets(
             cmd,
             vk::PipelineBindPoint::COMPUTE,
@@ -263,10 +276,12 @@ impl<'a> Baker<'a> {
     ) -> Result<(), VkError> {
         let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_cube, k_down, work_pool) = (&self.k_cube, &self.k_down, &self.work_pool);
+        let k_cube = (k_cube, k_cube.pipeline(ctx)?);
+        let k_down = (k_down, k_down.pipeline(ctx)?);
         let env_views: Vec<vk::ImageView> = (0..env_mips)
             .map(|m| env.mip_view(m))
             .collect::<Result<_, _>>()?;
-        let set = k_cube.set(
+        let set = k_cube.0.set(
             ctx,
             work_pool,
             &[
@@ -277,7 +292,7 @@ impl<'a> Baker<'a> {
         let down_sets: Vec<vk::DescriptorSet> = (1..env_mips as usize)
             .map(|m| {
                 let binds = [Bind::Storage(env_views[m - 1]), Bind::Storage(env_views[m])];
-                k_down.set(ctx, work_pool, &binds)
+                k_down.0.set(ctx, work_pool, &binds)
             })
             .collect::<Result<_, VkError>>()?;
         let env: &Image = env;
@@ -374,8 +389,9 @@ impl<'a> Baker<'a> {
     ) -> Result<(), VkError> {
         let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_irr, work_pool) = (&self.k_irr, &self.work_pool);
+        let k_irr = (k_irr, k_irr.pipeline(ctx)?);
         let irr_view = irradiance.mip_view(0)?;
-        let set = k_irr.set(
+        let set = k_irr.0.set(
             ctx,
             work_pool,
             &[
@@ -438,10 +454,11 @@ impl<'a> Baker<'a> {
     ) -> Result<(), VkError> {
         let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_pre, work_pool) = (&self.k_pre, &self.work_pool);
+        let k_pre = (k_pre, k_pre.pipeline(ctx)?);
         self.to_general(prefiltered)?;
         for m in 0..pre_mips {
             let view = prefiltered.mip_view(m)?;
-            let set = k_pre.set(
+            let set = k_pre.0.set(
                 ctx,
                 work_pool,
                 &[Bind::Sampled(env.view, sampler.raw), Bind::Storage(view)],
@@ -492,7 +509,8 @@ impl<'a> Baker<'a> {
     pub fn brdf_lut_layer(&self, lut: &Image, g: i32, layer: u32) -> Result<(), VkError> {
         let (ctx, s, d) = (self.ctx, self.s, &self.ctx.device);
         let (k_lut, work_pool) = (&self.k_lut, &self.work_pool);
-        let set = k_lut.set(ctx, work_pool, &[Bind::Storage(lut.view)])?;
+        let k_lut = (k_lut, k_lut.pipeline(ctx)?);
+        let set = k_lut.0.set(ctx, work_pool, &[Bind::Storage(lut.view)])?;
         let push: [u32; 4] = [s.lut_size, s.lut_samples, g as u32, layer];
         self.run_graph(|graph| {
             let lut_h = import(graph, "brdf lut", lut, ImageStateBefore::Keep(BAKED));

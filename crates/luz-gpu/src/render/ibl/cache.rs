@@ -304,12 +304,29 @@ pub(super) fn read_blob(path: &std::path::Path, images: &[&Image]) -> Option<Vec
     read_blobs(path, &expected).hit(path)
 }
 
+/// The blobs of a whole cache file's bytes `data` holding `images`, if its checksum holds and
+/// every size matches.
+pub(super) fn blobs_of(data: &[u8], images: &[&Image]) -> Option<Vec<Vec<u8>>> {
+    let expected: Vec<u64> = images
+        .iter()
+        .map(|image| image_bytes(image).iter().map(|(_, n)| n).sum())
+        .collect();
+    match parse_blobs(data, &expected) {
+        Cached::Hit(blobs) => Some(blobs),
+        _ => None,
+    }
+}
+
 /// Writes a cache file holding `blobs` (atomically: a temporary file and a rename). A write that
 /// fails gives one warning per folder and problem (a folder in the file's place, one per entry),
 /// saying what it costs.
 pub(super) fn write_blob(path: &std::path::Path, blobs: &[&[u8]]) {
-    let data = blob_file(blobs);
-    match crate::files::try_write_file_atomically(path, &data) {
+    write_file(path, &blob_file(blobs));
+}
+
+/// Writes the bytes of a whole cache file, as [`write_blob`].
+pub(super) fn write_file(path: &std::path::Path, data: &[u8]) {
+    match crate::files::try_write_file_atomically(path, data) {
         Ok(()) => crate::files::cache_dir::written(path, data.len() as u64),
         Err(e) => {
             let (key, at) = if path.is_dir() {

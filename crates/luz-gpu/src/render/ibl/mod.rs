@@ -6,6 +6,7 @@
 mod bake;
 mod cache;
 mod set;
+pub mod shipped;
 
 pub use cache::default_cache_dir;
 
@@ -21,7 +22,10 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, VkError};
 
 use bake::{mip_count, Baker, Equirect};
-use cache::{read_blob, read_blobs, read_image, write_blob, write_image, write_lut_layer};
+use cache::{
+    blobs_of, read_blob, read_blobs, read_image, write_blob, write_file, write_image,
+    write_lut_layer,
+};
 use set::EnvSet;
 
 pub const CUBE_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
@@ -39,6 +43,11 @@ pub struct IblSettings {
     pub prefilter_samples: u32,
     pub lut_size: u32,
     pub lut_samples: u32,
+    /// Use the data shipped with luz where it applies: the BRDF table when the LUT's size,
+    /// samples and geometry term are the shipped ones (`crate::env::shipped_lut`), and the
+    /// default scene's environment at the default sizes in place of a missing cache entry
+    /// ([`shipped`]). False computes everything on the GPU (tests compare the two).
+    pub shipped: bool,
 }
 
 impl Default for IblSettings {
@@ -54,6 +63,7 @@ impl Default for IblSettings {
             prefilter_samples: 64,
             lut_size: 512,
             lut_samples: 1024,
+            shipped: true,
         }
     }
 }
@@ -70,6 +80,7 @@ impl IblSettings {
             prefilter_samples: 32,
             lut_size: 128,
             lut_samples: 512,
+            shipped: true,
         }
     }
 
@@ -215,19 +226,27 @@ impl Images {
         tick: &mut dyn FnMut(&str),
     ) -> Result<(), VkError> {
         let (ctx, pool) = (baker.ctx, baker.pool);
-        let cached =
-            env_file.and_then(|f| read_blob(f, &[&self.env, &self.irradiance, &self.prefiltered]));
+        let images = [&self.env, &self.irradiance, &self.prefiltered];
+        let t = Instant::now();
+        let mut from = "environment from cache";
+        let cached = env_file.and_then(|f| {
+            read_blob(f, &images).or_else(|| {
+                from = "environment shipped";
+                // The default scene's environment ships with luz: a cache entry filled at once.
+                let file = shipped::environment(f, baker.s)?;
+                let blobs = blobs_of(&file, &images)?;
+                write_file(f, &file);
+                Some(blobs)
+            })
+        });
         if let Some(blobs) = cached {
-            let t = Instant::now();
             for (image, bytes) in [&self.env, &self.irradiance, &self.prefiltered]
                 .into_iter()
                 .zip(&blobs)
             {
                 write_image(ctx, pool, image, bytes)?;
             }
-            times
-                .stages
-                .push(("environment from cache", t.elapsed().as_secs_f64() * 1e3));
+            times.stages.push((from, t.elapsed().as_secs_f64() * 1e3));
             tick("environment (cached)");
         } else {
             // Stage 1: upload, equirect → cube level 0, then the mip chain.
@@ -294,6 +313,20 @@ impl Images {
         let layer_bytes = (s.lut_size as usize).pow(2) * 16;
         let mut computed = Vec::new();
         for (layer, g) in lut_layers.iter().enumerate() {
+            // The default settings' table for the default geometry term ships with luz.
+            let shipped = s
+                .shipped
+                .then(|| crate::env::shipped_lut(s.lut_size, s.lut_samples, *g));
+            if let Some(pairs) = shipped.flatten() {
+                let bytes: Vec<u8> = pairs
+                    .iter()
+                    .flat_map(|&[a, b]| [a, b, 0.0, 1.0])
+                    .flat_map(f32::to_ne_bytes)
+                    .collect();
+                write_lut_layer(ctx, pool, lut, layer as u32, &bytes)?;
+                tick("brdf lut (shipped)");
+                continue;
+            }
             let cached = lut_file(*g).and_then(|f| read_blobs(&f, &[layer_bytes as u64]).hit(&f));
             if let Some(bytes) = cached.as_ref().and_then(|blobs| blobs.first()) {
                 write_lut_layer(ctx, pool, lut, layer as u32, bytes)?;
