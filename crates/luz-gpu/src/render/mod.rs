@@ -3,6 +3,8 @@
 
 pub mod compare;
 pub mod display;
+/// One draw list for every pass: culling, LOD, instancing, receiver splits and sort keys (CPU).
+pub mod draws;
 pub mod forward;
 /// The frame as a graph: the glue to luz-graph and the building blocks of every frame.
 pub mod frame;

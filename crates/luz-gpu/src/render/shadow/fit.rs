@@ -10,12 +10,7 @@ use glam::{Mat4, Vec3, Vec4};
 use crate::scene::shadow::WIDE_SPOT_DEG;
 use crate::scene::{Camera, Light, LightKind, Shadow, ShadowMethod};
 
-/// A world-space bounding sphere.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sphere {
-    pub center: Vec3,
-    pub radius: f32,
-}
+pub use crate::render::frustum::Sphere;
 
 /// One map layer: its projection and what the shader needs to offset and compare.
 #[derive(Debug, Clone, Copy, PartialEq)]

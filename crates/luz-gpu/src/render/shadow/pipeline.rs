@@ -9,7 +9,8 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
-use super::{LayerDraw, MeshRef, FORMAT, VERTEX_STRIDE};
+use super::{MeshRef, FORMAT, VERTEX_STRIDE};
+use crate::render::draws::DepthDraw;
 use crate::render::gpu::glsl::include_shadow_mask as m;
 use crate::vk::cmd::{depth_attachment, rendering_info, Load};
 use crate::vk::interface::keys_with_prefix;
@@ -183,7 +184,7 @@ impl DepthPipeline {
         cmd: vk::CommandBuffer,
         view: vk::ImageView,
         (resolution, slope_bias): (u32, f32),
-        (draws, meshes): (&[LayerDraw], &[MeshRef]),
+        (draws, meshes): (&[DepthDraw], &[MeshRef]),
         masked: Option<(&MaskPipelines, &[vk::DescriptorSet])>,
     ) {
         let d = &self.ctx.device;
@@ -197,7 +198,7 @@ impl DepthPipeline {
         let depth = depth_attachment(view, Load::depth(0.0), true);
         let info = rendering_info(area, &[], Some(&depth));
         // A draw's mesh, when it has indices to draw.
-        let mesh_of = |draw: &LayerDraw| {
+        let mesh_of = |draw: &DepthDraw| {
             let (_, count) = draw.range;
             meshes.get(draw.mesh).filter(|_| count > 0)
         };
