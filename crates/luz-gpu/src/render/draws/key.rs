@@ -86,3 +86,8 @@ pub fn depth(alpha_material: Option<usize>, depth: f32) -> Key {
 pub fn phase(key: Key) -> u64 {
     key >> 62
 }
+
+/// Where the second phase (a colour view's blended draws) starts in sorted `keys`.
+pub fn second_phase(keys: &[Key]) -> usize {
+    keys.partition_point(|&k| phase(k) == PHASE_OPAQUE)
+}

@@ -84,18 +84,6 @@ pub struct Eye<'a> {
     pub budget: f32,
 }
 
-/// A colour view's commands: the visible items in recording order (opaque, then from
-/// `blended` on the blended ones), and every item's LOD level (culled ones too).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ColorView {
-    pub order: Vec<usize>,
-    /// The key of each entry of `order`.
-    pub keys: Vec<Key>,
-    pub levels: Vec<u8>,
-    /// Where the blended draws start in `order`.
-    pub blended: usize,
-}
-
 /// A depth-only view (one shadow layer): its projection, and what its LOD choice needs (the
 /// texel size, absolute or per metre from `origin` when `perspective`), and its view axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -206,15 +194,10 @@ impl DrawList {
             })
             .collect();
         commands.sort_by_key(|c| c.0);
-        let blended = commands
-            .iter()
-            .position(|c| key::phase(c.0) == key::PHASE_SECOND)
-            .unwrap_or(commands.len());
         ColorView {
             order: commands.iter().map(|c| c.1).collect(),
             keys: commands.iter().map(|c| c.0).collect(),
             levels,
-            blended,
         }
     }
 
@@ -290,4 +273,13 @@ pub fn runs(
         }
     }
     runs
+}
+
+/// A colour view: the visible items in recording `order` (opaque ones, then blended ones) with
+/// their `keys`, and every item's LOD level (culled items too).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ColorView {
+    pub order: Vec<usize>,
+    pub keys: Vec<Key>,
+    pub levels: Vec<u8>,
 }

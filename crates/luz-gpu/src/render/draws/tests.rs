@@ -106,7 +106,7 @@ fn colour_views_group_by_pipeline_and_material_then_blend_back_to_front() {
     // Pipeline 0: material 0, unculled (4) before culled, mesh 0 (7) before 1 (1); pipeline 1:
     // material 1 (3), then 2 (0, 8 in list order); blended 5 (farther) before 2.
     assert_eq!(view.order, vec![4, 7, 1, 3, 0, 8, 5, 2]);
-    assert_eq!(view.blended, 6);
+    assert_eq!(key::second_phase(&view.keys), 6);
     assert!(view.keys.windows(2).all(|k| k[0] <= k[1]));
     assert!(view.keys[..6]
         .iter()

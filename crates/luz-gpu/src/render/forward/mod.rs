@@ -439,14 +439,7 @@ impl ForwardPass {
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
         let mut uploader = Uploader::new(ctx);
 
-        let Draws {
-            meshes,
-            list,
-            objects,
-            draws,
-            object_slots,
-            lod_stats,
-        } = build_draws(
+        let built: Draws = build_draws(
             scene,
             (ibl, ibl_key),
             debug,
@@ -455,6 +448,15 @@ impl ForwardPass {
             &mut uploader,
         )?;
         uploader.flush(pool)?;
+        let Draws {
+            meshes,
+            list,
+            draws,
+            object_slots,
+            lod_stats,
+            ..
+        } = built;
+        let objects = built.objects;
         // Only Phong-shaded draws loop per fragment: without one, no clusters to build.
         let clustered = draws.iter().any(|d| d.variant.clustered);
         let light_count = lights.len().max(1);
@@ -899,7 +901,7 @@ impl ForwardPass {
                 crate::vk::cmd::set_viewport(d, cmd, target.extent, area);
             }
             // Opaque draws, the skybox behind them, then blended draws over both.
-            let blended = view.blended;
+            let blended = draws::key::second_phase(&view.keys);
             self.record_draws(
                 cmd,
                 (set, shadow_set, (&order[..blended], levels, 0)),
