@@ -53,6 +53,19 @@ struct GpuMesh {
     index_count: u32,
 }
 
+impl GpuMesh {
+    /// The buffers' handles, as the passes record them.
+    fn raw(&self) -> super::MeshRef {
+        super::MeshRef {
+            vertices: self.vertices.raw,
+            centroids: self.centroids.as_ref().map(|c| c.raw),
+            colors: self.colors.as_ref().map(|c| c.raw),
+            indices: self.indices.raw,
+            index_count: self.index_count,
+        }
+    }
+}
+
 /// What the forward pass adds to a draw-list item (same index): its pipeline variant and push
 /// constants, and where its shadow lookups are needed.
 struct Draw {
@@ -779,16 +792,7 @@ impl ForwardPass {
         output: Output,
         target: SceneTarget,
     ) -> Result<(), VkError> {
-        let meshes: Vec<shadow::MeshRef> = self
-            .meshes
-            .iter()
-            .map(|m| shadow::MeshRef {
-                vertices: m.vertices.raw,
-                indices: m.indices.raw,
-                index_count: m.index_count,
-                colors: m.colors.as_ref().map(|c| c.raw),
-            })
-            .collect();
+        let meshes: Vec<super::MeshRef> = self.meshes.iter().map(GpuMesh::raw).collect();
         let shadow_image = self.shadows.add_pass(
             g,
             (slot, names.shadows),

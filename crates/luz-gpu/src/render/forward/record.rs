@@ -90,26 +90,9 @@ impl ForwardPass {
                     bound_material = Some(item.material);
                 }
 
-                let m = &self.meshes[item.shape];
-                // Objects sharing a mesh (grid49's 49 spheres) bind its buffers once.
-                if bound_mesh != Some(item.shape) {
-                    d.cmd_bind_vertex_buffers(cmd, 0, &[m.vertices.raw], &[0]);
-                    if let Some(c) = &m.centroids {
-                        d.cmd_bind_vertex_buffers(cmd, 1, &[c.raw], &[0]);
-                    }
-                    if let Some(c) = &m.colors {
-                        d.cmd_bind_vertex_buffers(cmd, 2, &[c.raw], &[0]);
-                    }
-                    d.cmd_bind_index_buffer(cmd, m.indices.raw, 0, vk::IndexType::UINT32);
-                    bound_mesh = Some(item.shape);
-                }
-                d.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    self.layout.push_stages(),
-                    0,
-                    bytemuck::bytes_of(&draw.push),
-                );
+                let mesh = self.meshes[item.shape].raw();
+                mesh.bind((d, cmd), (true, true), (&mut bound_mesh, item.shape));
+                crate::render::push_constants(d, cmd, &self.layout, bytemuck::bytes_of(&draw.push));
                 let level = self.list.shapes[item.shape].levels
                     [levels.get(i).copied().unwrap_or(0) as usize];
                 let parts = match draw.shadow_area {

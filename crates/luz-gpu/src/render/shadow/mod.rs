@@ -113,15 +113,7 @@ pub const SHADOW_READ: Access = Access::Custom {
     writes: false,
 };
 
-/// A mesh's buffers, as the pass records them.
-#[derive(Debug, Clone, Copy)]
-pub struct MeshRef {
-    pub vertices: vk::Buffer,
-    pub indices: vk::Buffer,
-    pub index_count: u32,
-    /// Vertex colours (binding 2), for meshes that have them (alpha-tested casters read them).
-    pub colors: Option<vk::Buffer>,
-}
+pub use crate::render::MeshRef;
 
 struct Slot {
     set: vk::DescriptorSet,
