@@ -89,7 +89,7 @@ fn colour_views_group_by_pipeline_and_material_then_blend_back_to_front() {
         ],
     };
     let at = |z: f32| placed_at(Vec3::new(0.0, 0.0, z));
-    let placed = vec![
+    let placed = [
         at(0.0),
         at(0.0),
         at(2.0),
@@ -237,11 +237,14 @@ fn lod_levels_coarsen_with_distance() {
         "zero budget: full detail"
     );
     // The levels the colour view records, and the triangles they hold.
-    let placed = vec![far, placed_at(Vec3::ZERO)];
+    let placed = [far, placed_at(Vec3::ZERO)];
     let view = list.color_view(&placed, &eye(&c), &[0, 0]);
     assert_eq!(view.levels, vec![3, 0]);
     assert_eq!(list.triangles(&view.order, &view.levels), 30 + 10);
 }
+
+/// A caster as a layer draws it: its item, index range and alpha test.
+type Drawn = (usize, (u32, u32), Option<(usize, f32)>);
 
 /// A shadow layer's view holds the casters, levels and matrices the shadow pass drew before the
 /// draw list (each caster whose sphere meets the layer's volume, at `layer_level`), for random
@@ -261,7 +264,7 @@ fn layer_views_cull_to_the_casters_drawn_before() {
         level(420, 30, 0.2),
     ];
     let list = DrawList {
-        shapes: vec![shape(levels.clone()), shape(vec![level(0, 36, 0.0)])],
+        shapes: vec![shape(levels), shape(vec![level(0, 36, 0.0)])],
         items: (0..200).map(|i| item(i % 2, i % 3, true, false)).collect(),
     };
     let casters: Vec<Caster> = (0..200)
@@ -311,7 +314,7 @@ fn layer_views_cull_to_the_casters_drawn_before() {
     for (k, eye) in eyes.iter().enumerate() {
         // The shadow pass's culling before the draw list (render/shadow/mod.rs).
         let planes = frustum::planes(eye.view_proj);
-        let before: Vec<(usize, (u32, u32), Option<(usize, f32)>)> = casters
+        let before: Vec<Drawn> = casters
             .iter()
             .filter(|c| frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius))
             .map(|c| {
@@ -322,7 +325,7 @@ fn layer_views_cull_to_the_casters_drawn_before() {
             })
             .collect();
         let draws = list.layer_view(&refs, eye, 1.0);
-        let mut now: Vec<(usize, (u32, u32), Option<(usize, f32)>)> = draws
+        let mut now: Vec<Drawn> = draws
             .iter()
             .map(|d| {
                 let c = casters
