@@ -66,6 +66,31 @@ pub fn sphere_visible(planes: &[Vec4; 6], centre: Vec3, radius: f32) -> bool {
     visible(planes, Mat4::IDENTITY, (centre, radius))
 }
 
+/// A world-space bounding sphere.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+/// The eight corners of object-space bounds `(lo, hi)` under `model`.
+pub fn box_corners(model: Mat4, (lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        let pick = |bit: usize, a: f32, b: f32| if k & bit == 0 { a } else { b };
+        model.transform_point3(Vec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        ))
+    })
+}
+
+/// An object-space plane (point, unit normal) under `model`, in world space.
+pub fn world_plane(model: Mat4, point: Vec3, normal: Vec3) -> (Vec3, Vec3) {
+    let n = model.inverse().transpose().transform_vector3(normal);
+    (model.transform_point3(point), n.normalize_or(normal))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,6 +3,8 @@
 
 pub mod compare;
 pub mod display;
+/// One draw list for every pass: culling, LOD, instancing, receiver splits and sort keys (CPU).
+pub mod draws;
 pub mod forward;
 /// The frame as a graph: the glue to luz-graph and the building blocks of every frame.
 pub mod frame;
@@ -50,4 +52,63 @@ pub(crate) fn srgb_table(ctx: &std::sync::Arc<Context>, name: &str) -> Result<Bu
         crate::color::srgb_encode_table().as_slice(),
         vk::BufferUsageFlags::STORAGE_BUFFER,
     )
+}
+
+/// Pushes `bytes` at offset 0 of `layout`'s push-constant range, with its stages.
+///
+/// # Safety
+/// `cmd` is recording on `d`'s device, and `bytes` is the block `layout`'s range declares.
+pub(crate) unsafe fn push_constants(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    layout: &crate::vk::pipeline::PipelineLayout,
+    bytes: &[u8],
+) {
+    // SAFETY: the caller's contract.
+    unsafe { d.cmd_push_constants(cmd, layout.raw, layout.push_stages(), 0, bytes) }
+}
+
+/// A mesh's buffers, as the passes record them (the forward pass owns them).
+#[derive(Debug, Clone, Copy)]
+pub struct MeshRef {
+    pub vertices: vk::Buffer,
+    /// Flat shading's triangle centroids (binding 1), for meshes drawn flat.
+    pub centroids: Option<vk::Buffer>,
+    /// Vertex colours (binding 2), for meshes that have them (alpha-tested casters read them).
+    pub colors: Option<vk::Buffer>,
+    pub indices: vk::Buffer,
+    pub index_count: u32,
+}
+
+impl MeshRef {
+    /// Binds the vertices (binding 0) and 32-bit indices, and the optional streams the pipeline
+    /// reads: centroids (binding 1) and colours (binding 2) when `(centroids, colors)` ask and
+    /// the mesh has them; nothing when `bound` already names this mesh (`index`), which it
+    /// names afterwards: draws sharing a mesh (grid49's 49 spheres) bind its buffers once.
+    ///
+    /// # Safety
+    /// `cmd` is recording on `d`'s device, and the buffers outlive its execution.
+    pub unsafe fn bind(
+        &self,
+        (d, cmd): (&ash::Device, vk::CommandBuffer),
+        (centroids, colors): (bool, bool),
+        (bound, index): (&mut Option<usize>, usize),
+    ) {
+        if *bound == Some(index) {
+            return;
+        }
+        *bound = Some(index);
+        // SAFETY: the caller's contract; the buffers were made with VERTEX_BUFFER and
+        // INDEX_BUFFER usage by the forward pass's uploader.
+        unsafe {
+            d.cmd_bind_vertex_buffers(cmd, 0, &[self.vertices], &[0]);
+            let streams = [(1, self.centroids, centroids), (2, self.colors, colors)];
+            for (binding, stream, wanted) in streams {
+                if let (Some(b), true) = (stream, wanted) {
+                    d.cmd_bind_vertex_buffers(cmd, binding, &[b], &[0]);
+                }
+            }
+            d.cmd_bind_index_buffer(cmd, self.indices, 0, vk::IndexType::UINT32);
+        }
+    }
 }

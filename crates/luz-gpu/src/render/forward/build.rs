@@ -31,6 +31,8 @@ pub(super) fn frame_set_layout(ctx: &Arc<Context>) -> Result<DescriptorSetLayout
 /// drawn object.
 pub(super) struct Draws {
     pub(super) meshes: Vec<GpuMesh>,
+    /// One item per drawn object, one shape per mesh.
+    pub(super) list: DrawList,
     pub(super) objects: Vec<gpu::ObjectData>,
     pub(super) draws: Vec<Draw>,
     /// Each scene object's index in `objects` (`None`: nothing to draw).
@@ -62,6 +64,7 @@ pub(super) fn build_draws(
     // The prepared scene's chains; a mesh it lacks gets its chain here.
     let mut lod_stats = prepared.lod_stats.clone();
     let mut meshes = Vec::new();
+    let mut list = DrawList::default();
     let mut objects = Vec::new();
     let mut draws = Vec::new();
     let mut object_slots = vec![None; scene.objects.len()];
@@ -157,12 +160,14 @@ pub(super) fn build_draws(
                     .collect();
                 let bounds = crate::scene::mesh::bounds_of(&positions);
                 let tight = tight_sphere(&positions, bounds);
-                meshes.push(GpuMesh {
-                    sphere: frustum::sphere(bounds),
+                list.shapes.push(draws::Shape {
+                    sphere: super::super::frustum::sphere(bounds),
                     tight,
                     bounds,
                     plane: obj.mesh.flat_plane(),
                     levels: levels.into(),
+                });
+                meshes.push(GpuMesh {
                     vertices,
                     centroids,
                     colors,
@@ -213,11 +218,14 @@ pub(super) fn build_draws(
             alpha,
             vertex_color,
         };
-        draws.push(Draw {
-            mesh: mesh_index,
+        list.items.push(draws::Item {
+            shape: mesh_index,
             object,
             material: obj.material,
             cull: culls(named.textures.sides, closed) && positive,
+            blend: alpha == AlphaKey::Blend,
+        });
+        draws.push(Draw {
             variant: if generic {
                 generic_key
             } else {
@@ -239,6 +247,7 @@ pub(super) fn build_draws(
     }
     Ok(Draws {
         meshes,
+        list,
         objects,
         draws,
         object_slots,
@@ -381,46 +390,6 @@ fn culls(sides: Sides, closed: bool) -> bool {
     }
 }
 
-/// The draws to record, given each draw's visibility and LOD level (`levels`, by draw): the
-/// visible opaque (and masked) draws sorted by pipeline variant, material, culling, mesh and level
-/// (ties in build order), so that draws one instanced draw can record are adjacent
-/// ([`super::instances`]; the depth test makes their order immaterial), then the visible blended draws back to front by the view depth of their bounding
-/// sphere's centre (farthest first; ties in build order). Sorting is per draw (one glTF
-/// primitive, or one object): overlapping blended surfaces within one draw, or draws that
-/// interpenetrate, blend in an order that can be wrong (docs/gltf.md).
-pub(super) fn draw_order(
-    draws: &[Draw],
-    meshes: &[GpuMesh],
-    scene: &Scene,
-    (visible, levels): (&[bool], &[u8]),
-) -> Vec<usize> {
-    let shown = |i: &usize| visible.get(*i).copied().unwrap_or(true);
-    let blended = |d: &Draw| d.variant.alpha == AlphaKey::Blend;
-    let mut order: Vec<usize> = (0..draws.len())
-        .filter(shown)
-        .filter(|&i| !blended(&draws[i]))
-        .collect();
-    let level = |i: usize| levels.get(i).copied().unwrap_or(0);
-    order.sort_by_key(|&i| {
-        let d = &draws[i];
-        (d.variant, d.material, d.cull, d.mesh, level(i), i)
-    });
-    let view = scene.camera.view();
-    let mut back: Vec<(f32, usize)> = (0..draws.len())
-        .filter(shown)
-        .filter(|&i| blended(&draws[i]))
-        .map(|i| {
-            let d = &draws[i];
-            let model = scene.objects[d.object].transform.matrix();
-            let c = model.transform_point3(meshes[d.mesh].sphere.0);
-            (-view.transform_point3(c).z, i)
-        })
-        .collect();
-    back.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    order.extend(back.into_iter().map(|(_, i)| i));
-    order
-}
-
 /// The geometry term whose split-sum LUT layer a material reads (BRDF_G_*).
 pub fn lut_geometry(m: &crate::brdf::Model) -> i32 {
     use crate::brdf::{Geometry, Model};
@@ -525,8 +494,7 @@ impl Slot {
             cluster_lights,
             instances,
             set,
-            order: Vec::new(),
-            levels: Vec::new(),
+            view: ColorView::default(),
         })
     }
 

@@ -326,7 +326,7 @@ impl Deferred {
                 // With the lookups limited to a rectangle: shadowed inside, unshadowed around it
                 // (the parts tile the target: each pixel is lit once).
                 let parts = match shadow_area {
-                    Some(ndc) => super::record::split(ndc, area),
+                    Some(ndc) => crate::render::draws::split::split(ndc, area),
                     None => vec![(area, true)],
                 };
                 for (scissor, shadowed) in parts {

@@ -6,61 +6,45 @@
 //! object beyond the material, which the instances share; the deferred path's G-buffer names the
 //! first instance's material slot, whose data every instance's slot repeats.
 
-use super::{gpu::MaterialPush, Draw, ForwardPass};
+use super::{draws::ColorView, gpu::MaterialPush, ForwardPass};
 use crate::vk::VkError;
 
-/// Whether `b` (at LOD level `lb`) can be another instance of the draw recording `a` (at `la`).
-fn same_draw((a, la): (&Draw, u8), (b, lb): (&Draw, u8)) -> bool {
-    let material = |d: &Draw| MaterialPush {
-        object_index: 0,
-        ..d.push
-    };
-    a.mesh == b.mesh
-        && la == lb
-        && a.shadow_area.is_none()
-        && b.shadow_area.is_none()
-        && a.variant == b.variant
-        && a.material == b.material
-        && a.cull == b.cull
-        && material(a) == material(b)
-}
-
-/// The draws to record for `order` (draw indices, `levels` by draw): runs `(start, count)` of
-/// `order`, each one instanced draw; one run per entry when `instancing` is off.
-pub(super) fn runs(
-    draws: &[Draw],
-    (order, levels): (&[usize], &[u8]),
-    instancing: bool,
-) -> Vec<(usize, usize)> {
-    let level = |i: usize| levels.get(i).copied().unwrap_or(0);
-    let mut runs: Vec<(usize, usize)> = Vec::new();
-    for (k, &i) in order.iter().enumerate() {
-        match runs.last_mut() {
-            Some((start, count))
-                if instancing
-                    && same_draw(
-                        (&draws[order[*start]], level(order[*start])),
-                        (&draws[i], level(i)),
-                    ) =>
-            {
-                *count += 1
-            }
-            _ => runs.push((k, 1)),
-        }
-    }
-    runs
-}
-
 impl ForwardPass {
-    /// Sets slot `slot`'s draw order and LOD levels and writes the object of each entry of the
-    /// order into its instance buffer.
-    pub(super) fn set_order(
-        &mut self,
-        slot: usize,
-        order: Vec<usize>,
-        levels: Vec<u8>,
-    ) -> Result<(), VkError> {
-        let objects: Vec<u32> = order
+    /// Whether item `b` (at LOD level `lb`) can be another instance of the draw recording item
+    /// `a` (at `la`): same mesh, level, variant, material, culling and push constants but for
+    /// the object, and neither split by where shadows fall.
+    fn same_draw(&self, (a, la): (usize, u8), (b, lb): (usize, u8)) -> bool {
+        let material = |i: usize| MaterialPush {
+            object_index: 0,
+            ..self.draws[i].push
+        };
+        let (da, db) = (&self.draws[a], &self.draws[b]);
+        let (ia, ib) = (&self.list.items[a], &self.list.items[b]);
+        ia.shape == ib.shape
+            && la == lb
+            && da.shadow_area.is_none()
+            && db.shadow_area.is_none()
+            && da.variant == db.variant
+            && ia.material == ib.material
+            && ia.cull == ib.cull
+            && material(a) == material(b)
+    }
+
+    /// The draws to record for `order` (item indices, `levels` by item): runs `(start, count)`
+    /// of `order`, each one instanced draw ([`crate::render::draws::runs`]); one run per entry
+    /// when instancing is off.
+    pub(super) fn runs(&self, order: &[usize], levels: &[u8]) -> Vec<(usize, usize)> {
+        let level = |i: usize| levels.get(i).copied().unwrap_or(0);
+        crate::render::draws::runs(order, self.instancing, |a, b| {
+            self.same_draw((a, level(a)), (b, level(b)))
+        })
+    }
+
+    /// Sets slot `slot`'s colour view and writes the object of each entry of its order into
+    /// the slot's instance buffer.
+    pub(super) fn set_view(&mut self, slot: usize, view: ColorView) -> Result<(), VkError> {
+        let objects: Vec<u32> = view
+            .order
             .iter()
             .map(|&i| self.draws[i].push.object_index)
             .collect();
@@ -68,8 +52,7 @@ impl ForwardPass {
         if !objects.is_empty() {
             s.instances.write(0, bytemuck::cast_slice(&objects))?;
         }
-        s.order = order;
-        s.levels = levels;
+        s.view = view;
         Ok(())
     }
 
@@ -77,7 +60,7 @@ impl ForwardPass {
     /// objects they draw.
     pub fn draw_calls(&self, slot: usize) -> (usize, usize) {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
-        let runs = runs(&self.draws, (&s.order, &s.levels), self.instancing);
-        (runs.len(), s.order.len())
+        let runs = self.runs(&s.view.order, &s.view.levels);
+        (runs.len(), s.view.order.len())
     }
 }

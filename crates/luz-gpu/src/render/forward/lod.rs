@@ -1,39 +1,43 @@
 //! The per-frame LOD choice of the forward pass ([`crate::scene::lod`]): a level per draw and
 //! slot, what it draws and why.
 
-use super::{frustum, ForwardPass};
+use super::draws::{ColorView, Eye, Placed};
+use super::{ForwardPass, VariantKey};
 use crate::scene::Scene;
 
 impl ForwardPass {
-    /// Per draw: the coarsest LOD level of its mesh whose error, projected at the object's
-    /// distance from `scene`'s camera onto the output height, stays within the budget
-    /// ([`crate::scene::lod::choose`]).
-    /// The levels are chosen for the target's height (the viewer's window) or the scene's, at
-    /// the budget asked for ([`ForwardPass::set_lod_budget`]) or the scene's.
-    pub(super) fn lod_levels(&mut self, scene: &Scene) -> Vec<u8> {
+    /// The draw list's colour view of `scene`'s camera at `aspect` (items `placed`): frustum
+    /// culling, a LOD level per item and the recording order. The levels are the coarsest whose
+    /// error, projected at the object's distance from the camera onto the output height, stays
+    /// within the budget ([`crate::scene::lod::choose`]): for the target's height (the viewer's
+    /// window) or the scene's, at the budget asked for ([`ForwardPass::set_lod_budget`]) or the
+    /// scene's.
+    pub(super) fn color_view(
+        &mut self,
+        scene: &Scene,
+        aspect: f32,
+        placed: &[Placed],
+    ) -> ColorView {
         self.lod_height = self.target_height.unwrap_or(scene.output.height);
         self.lod_budget = self
             .lod_override
             .unwrap_or(scene.output.tessellation_error_px);
-        let f = crate::scene::lod::focal_px(&scene.camera, self.lod_height);
-        self.draws
+        let eye = Eye {
+            camera: &scene.camera,
+            view_proj: scene.camera.projection(aspect) * scene.camera.view(),
+            focal_px: crate::scene::lod::focal_px(&scene.camera, self.lod_height),
+            budget: self.lod_budget,
+        };
+        // Pipelines grouped in variant order: each draw's rank among the variants in use.
+        let mut variants: Vec<VariantKey> = self.draws.iter().map(|d| d.variant).collect();
+        variants.sort_unstable();
+        variants.dedup();
+        let ranks: Vec<u32> = self
+            .draws
             .iter()
-            .map(|d| {
-                let levels = &self.meshes[d.mesh].levels;
-                if levels.len() < 2 {
-                    return 0;
-                }
-                let model = scene.objects[d.object].transform.matrix();
-                let (c, r) = self.meshes[d.mesh].sphere;
-                let scale = frustum::max_scale(model);
-                let distance = crate::scene::lod::camera_distance(
-                    &scene.camera,
-                    model.transform_point3(c),
-                    r * scale,
-                );
-                crate::scene::lod::choose(levels, scale, f, distance, self.lod_budget) as u8
-            })
-            .collect()
+            .map(|d| variants.binary_search(&d.variant).unwrap_or(0) as u32)
+            .collect();
+        self.list.color_view(placed, &eye, &ranks)
     }
 
     /// The LOD level each simplified mesh's object draws with slot `slot`'s camera, and why
@@ -42,33 +46,34 @@ impl ForwardPass {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
         // Drawn: the slot's draw order (frustum-culled draws are not in it).
         let mut shown = vec![false; self.draws.len()];
-        for &i in &s.order {
+        for &i in &s.view.order {
             shown[i] = true;
         }
         let f = crate::scene::lod::focal_px(&scene.camera, self.lod_height);
-        self.draws
+        let placed = self.list.place(scene);
+        self.list
+            .items
             .iter()
             .enumerate()
-            .filter(|(_, d)| self.meshes[d.mesh].levels.len() > 1)
-            .map(|(i, d)| {
-                let m = &self.meshes[d.mesh];
-                let level = s.levels.get(i).copied().unwrap_or(0) as usize;
-                let model = scene.objects[d.object].transform.matrix();
-                let scale = frustum::max_scale(model);
+            .filter(|(_, it)| self.list.shapes[it.shape].levels.len() > 1)
+            .map(|(i, it)| {
+                let levels = &self.list.shapes[it.shape].levels;
+                let level = s.view.levels.get(i).copied().unwrap_or(0) as usize;
+                let p = &placed[i];
                 let distance = crate::scene::lod::camera_distance(
                     &scene.camera,
-                    model.transform_point3(m.sphere.0),
-                    m.sphere.1 * scale,
+                    p.sphere.center,
+                    p.sphere.radius,
                 );
                 crate::scene::lod::LodChoice {
-                    object: d.object,
+                    object: it.object,
                     level,
-                    levels: m.levels.len(),
-                    triangles: m.levels[level].triangles(),
-                    full_triangles: m.levels[0].triangles(),
+                    levels: levels.len(),
+                    triangles: levels[level].triangles(),
+                    full_triangles: levels[0].triangles(),
                     error_px: crate::scene::lod::projected_error_px(
-                        m.levels[level].error,
-                        scale,
+                        levels[level].error,
+                        p.scale,
                         f,
                         distance,
                     ),
@@ -94,9 +99,10 @@ impl ForwardPass {
 
     /// Whether any drawn mesh has simplified levels (a budget changes what is drawn).
     pub fn has_lod_levels(&self) -> bool {
-        self.draws
+        self.list
+            .items
             .iter()
-            .any(|d| self.meshes[d.mesh].levels.len() > 1)
+            .any(|it| self.list.shapes[it.shape].levels.len() > 1)
     }
 
     /// What building the LOD chains did: chains built, read from the disk cache, failed.
@@ -113,19 +119,6 @@ impl ForwardPass {
     /// Triangles recorded for slot `slot`'s camera: the drawn objects at their LOD levels.
     pub fn triangles_drawn(&self, slot: usize) -> u64 {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
-        // Drawn: the slot's draw order (frustum-culled draws are not in it).
-        let mut shown = vec![false; self.draws.len()];
-        for &i in &s.order {
-            shown[i] = true;
-        }
-        self.draws
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| shown[i])
-            .map(|(i, d)| {
-                let level = s.levels.get(i).copied().unwrap_or(0) as usize;
-                self.meshes[d.mesh].levels[level].triangles()
-            })
-            .sum()
+        self.list.triangles(&s.view.order, &s.view.levels)
     }
 }

@@ -9,8 +9,8 @@ use gpu_allocator::MemoryLocation;
 
 use luz_graph::{Access, FrameGraph};
 
+use super::draws::{self, ColorView, DrawList};
 use super::frame::SceneTarget;
-use super::frustum;
 use super::gpu::{self, GpuLight, MaterialPush, Vertex};
 use super::ibl::Ibl;
 use super::material::{MaterialSets, SET_MATERIAL};
@@ -35,7 +35,7 @@ mod record;
 mod variant;
 pub mod world;
 
-use build::{build_draws, draw_order, frame_set_layout, storage_fits, Draws};
+use build::{build_draws, frame_set_layout, storage_fits, Draws};
 pub use build::{lut_geometries, lut_geometry};
 pub use clusters::{ClusterStats, LightLoop};
 
@@ -45,38 +45,37 @@ pub use per_frame::ReceiverStats;
 use variant::{create_pipeline, create_skybox, Modules};
 pub use variant::{material_key, AlphaKey, DebugView, IblKey, ShadingKey, TermsKey, VariantKey};
 
+/// A mesh's buffers (its bounds and LOD levels are the draw list's [`draws::Shape`]).
 struct GpuMesh {
-    /// Object-space bounding sphere (frustum culling, [`frustum`]).
-    sphere: (glam::Vec3, f32),
-    /// The bounds' centre and the farthest vertex from it (where shadows can fall).
-    tight: (glam::Vec3, f32),
-    /// Object-space bounds (the shadow passes' receivers).
-    bounds: (glam::Vec3, glam::Vec3),
-    /// Object-space plane of a flat mesh (point, unit normal): `scene::Mesh::flat_plane`.
-    plane: Option<(glam::Vec3, glam::Vec3)>,
-    /// Ranges of `indices` from full detail (level 0, the first `index_count` indices) to the
-    /// coarsest ([`crate::scene::lod`]); one level for meshes that are not simplified.
-    levels: Arc<[crate::scene::lod::LodLevel]>,
     vertices: Buffer,
     centroids: Option<Buffer>,
     /// Vertex colours (binding 2), for meshes that have them.
     colors: Option<Buffer>,
     indices: Buffer,
+    /// Indices of the full-detail level (the first ones of `indices`).
     index_count: u32,
 }
 
+impl GpuMesh {
+    /// The buffers' handles, as the passes record them.
+    fn raw(&self) -> super::MeshRef {
+        super::MeshRef {
+            vertices: self.vertices.raw,
+            centroids: self.centroids.as_ref().map(|c| c.raw),
+            colors: self.colors.as_ref().map(|c| c.raw),
+            indices: self.indices.raw,
+            index_count: self.index_count,
+        }
+    }
+}
+
+/// What the forward pass adds to a draw-list item (same index): its pipeline variant and push
+/// constants, and where its shadow lookups are needed.
 struct Draw {
-    mesh: usize,
-    /// Index into the scene's objects (and the objects buffer's slot).
-    object: usize,
-    material: usize,
-    /// Back faces are culled: a closed primitive (outward CCW winding) with positive scale, or a
-    /// single-sided material (`build::culls`).
-    cull: bool,
     variant: VariantKey,
     push: MaterialPush,
     /// Where (NDC x0, y0, x1, y1) the shadow lookups of `variant` are needed; elsewhere the
-    /// draw is recorded with [`VariantKey::unshadowed`] (`record::split`). `None`: everywhere.
+    /// draw is recorded with [`VariantKey::unshadowed`] ([`draws::split`]). `None`: everywhere.
     shadow_area: Option<[f32; 4]>,
 }
 
@@ -293,11 +292,9 @@ struct Slot {
     /// from here ([`instances`]).
     instances: Buffer,
     set: vk::DescriptorSet,
-    /// The draws to record for the slot's camera: those whose bounding sphere meets its view
-    /// volume, opaque ones first, then blended ones back to front ([`draw_order`]).
-    order: Vec<usize>,
-    /// Per draw: the LOD level of its mesh for the slot's camera ([`ForwardPass::lod_levels`]).
-    levels: Vec<u8>,
+    /// The draws to record for the slot's camera and their LOD levels: the draw list's colour
+    /// view ([`DrawList::color_view`]).
+    view: ColorView,
 }
 
 pub struct ForwardPass {
@@ -305,7 +302,11 @@ pub struct ForwardPass {
     pipelines: BTreeMap<(VariantKey, Output), Pipeline>,
     modules: Modules,
     target: TargetFormat,
+    /// The scene's drawn objects, every pass's (and the shadow layers').
+    list: DrawList,
+    /// Per item of `list`: its variant and push constants.
     draws: Vec<Draw>,
+    /// Per shape of `list`: its buffers.
     meshes: Vec<GpuMesh>,
     slots: Vec<Slot>,
     /// Scene object index → index into the objects buffer (`None`: the object draws nothing).
@@ -506,13 +507,7 @@ impl ForwardPass {
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
         let mut uploader = Uploader::new(ctx);
 
-        let Draws {
-            meshes,
-            objects,
-            draws,
-            object_slots,
-            lod_stats,
-        } = build_draws(
+        let built: Draws = build_draws(
             scene,
             (ibl, ibl_key),
             debug,
@@ -521,6 +516,15 @@ impl ForwardPass {
             &mut uploader,
         )?;
         uploader.flush(pool)?;
+        let Draws {
+            meshes,
+            list,
+            draws,
+            object_slots,
+            lod_stats,
+            ..
+        } = built;
+        let objects = built.objects;
         // Only Phong-shaded draws loop per fragment: without one, no clusters to build.
         let clustered = draws.iter().any(|d| d.variant.clustered);
         let light_count = lights.len().max(1);
@@ -570,6 +574,7 @@ impl ForwardPass {
             pipelines: BTreeMap::new(),
             modules: Modules::default(),
             target,
+            list,
             draws,
             meshes,
             slots,
@@ -703,18 +708,17 @@ impl ForwardPass {
         }
         self.background = background(&scene.output);
         self.exposure = scene.output.exposure;
-        let visible = self.visibility(scene, aspect);
-        let levels = self.lod_levels(scene);
-        let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
-        self.set_order(slot, order, levels)?;
-        self.update_shadows(slot, scene, aspect)?;
+        let placed = self.list.place(scene);
+        let view = self.color_view(scene, aspect, &placed);
+        self.set_view(slot, view)?;
+        self.update_shadows(slot, scene, aspect, &placed)?;
         self.write_clusters(slot, scene, aspect)?;
         let (light_kinds, shadow_slots) = (
             gpu::light_kinds(&scene.lights),
             crate::render::shadow::fixed_slots(&scene.lights),
         );
-        for draw in &mut self.draws {
-            let obj = &scene.objects[draw.object];
+        for (draw, item) in self.draws.iter_mut().zip(&self.list.items) {
+            let obj = &scene.objects[item.object];
             let material = &scene.materials[obj.material].material;
             let mut push = gpu::material_push(material);
             let (model, terms) = material_key(material);
@@ -746,8 +750,8 @@ impl ForwardPass {
         }
         if self.deferred.is_some() {
             let s = &mut self.slots[slot];
-            for draw in &self.draws {
-                let textures = &scene.materials[scene.objects[draw.object].material].textures;
+            for (draw, item) in self.draws.iter().zip(&self.list.items) {
+                let textures = &scene.materials[scene.objects[item.object].material].textures;
                 let data = gpu::DeferredMaterial {
                     push: draw.push,
                     extra: super::material::MaterialExtra::without_maps(textures),
@@ -765,17 +769,16 @@ impl ForwardPass {
     /// Rewrites the per-frame uniforms (camera, ambient, fog) of every slot.
     pub fn update_camera(&mut self, scene: &Scene, aspect: f32) -> Result<(), VkError> {
         let data = gpu::frame_data(scene, aspect, self.light_count);
-        let visible = self.visibility(scene, aspect);
-        let levels = self.lod_levels(scene);
-        let order = draw_order(&self.draws, &self.meshes, scene, (&visible, &levels));
+        let placed = self.list.place(scene);
+        let view = self.color_view(scene, aspect, &placed);
         for slot in 0..self.slots.len() {
-            self.set_order(slot, order.clone(), levels.clone())?;
+            self.set_view(slot, view.clone())?;
             self.slots[slot]
                 .frame_ubo
                 .write(0, bytemuck::bytes_of(&data))?;
         }
         for slot in 0..self.slots.len() {
-            self.update_shadows(slot, scene, aspect)?;
+            self.update_shadows(slot, scene, aspect, &placed)?;
             self.write_clusters(slot, scene, aspect)?;
         }
         Ok(())
@@ -817,29 +820,17 @@ impl ForwardPass {
         v
     }
 
-    /// Per draw: whether its object's bounding sphere meets the view volume of `scene`'s camera
-    /// at `aspect` ([`frustum`]).
-    fn visibility(&self, scene: &Scene, aspect: f32) -> Vec<bool> {
-        let planes = frustum::planes(scene.camera.projection(aspect) * scene.camera.view());
-        self.draws
-            .iter()
-            .map(|d| {
-                let model = scene.objects[d.object].transform.matrix();
-                frustum::visible(&planes, model, self.meshes[d.mesh].sphere)
-            })
-            .collect()
-    }
-
     /// Objects (draws) recorded for slot `slot`'s camera after frustum culling, and all of them.
     pub fn drawn_objects(&self, slot: usize) -> (usize, usize) {
         let s = &self.slots[slot.min(self.slots.len() - 1)];
-        (s.order.len(), self.draws.len())
+        (s.view.order.len(), self.draws.len())
     }
 
     pub fn triangle_count(&self) -> u64 {
-        self.draws
+        self.list
+            .items
             .iter()
-            .map(|d| self.meshes[d.mesh].index_count as u64 / 3)
+            .map(|it| self.meshes[it.shape].index_count as u64 / 3)
             .sum()
     }
 
@@ -855,16 +846,7 @@ impl ForwardPass {
         output: Output,
         target: SceneTarget,
     ) -> Result<(), VkError> {
-        let meshes: Vec<shadow::MeshRef> = self
-            .meshes
-            .iter()
-            .map(|m| shadow::MeshRef {
-                vertices: m.vertices.raw,
-                indices: m.indices.raw,
-                index_count: m.index_count,
-                colors: m.colors.as_ref().map(|c| c.raw),
-            })
-            .collect();
+        let meshes: Vec<super::MeshRef> = self.meshes.iter().map(GpuMesh::raw).collect();
         let shadow_image = self.shadows.add_pass(
             g,
             (slot, names.shadows),
@@ -873,7 +855,8 @@ impl ForwardPass {
         let shadow_set = self.shadows.set(slot);
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
-        let (order, levels) = (slot.order.as_slice(), slot.levels.as_slice());
+        let view = &slot.view;
+        let (order, levels) = (view.order.as_slice(), view.levels.as_slice());
         let clear = vk::ClearValue {
             color: vk::ClearColorValue {
                 float32: output.clear_color(self.background, self.exposure),
@@ -976,10 +959,7 @@ impl ForwardPass {
                 crate::vk::cmd::set_viewport(d, cmd, target.extent, area);
             }
             // Opaque draws, the skybox behind them, then blended draws over both.
-            let blended = order
-                .iter()
-                .position(|&i| self.draws[i].variant.alpha == AlphaKey::Blend)
-                .unwrap_or(order.len());
+            let blended = draws::key::second_phase(&view.keys);
             self.record_draws(
                 cmd,
                 (set, shadow_set, (&order[..blended], levels, 0)),

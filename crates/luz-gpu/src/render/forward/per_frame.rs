@@ -1,75 +1,68 @@
 //! What the forward pass refreshes per frame and slot besides the frame data: the shadow maps'
 //! fit and casters, and the light clusters.
 
-use super::{clusters, frustum, Draw, ForwardPass, TermsKey};
+use super::draws::{self, Caster, Placed};
+use super::{clusters, ForwardPass, TermsKey};
 use crate::render::shadow;
 use crate::scene::Scene;
 use crate::vk::VkError;
 
 impl ForwardPass {
-    /// Refits the shadow maps of slot `slot` to `scene`'s camera and objects.
+    /// Refits the shadow maps of slot `slot` to `scene`'s camera and objects (the draw list's
+    /// items `placed` this frame): the casters and receivers, and each layer's view.
     pub(super) fn update_shadows(
         &mut self,
         slot: usize,
         scene: &Scene,
         aspect: f32,
+        placed: &[Placed],
     ) -> Result<(), VkError> {
         if !self.shadows.active() {
             return Ok(());
         }
-        let world = |d: &Draw| {
-            let model = scene.objects[d.object].transform.matrix();
-            let (c, r) = self.meshes[d.mesh].sphere;
-            let sphere = shadow::Sphere {
-                center: model.transform_point3(c),
-                radius: r * frustum::max_scale(model),
-            };
-            (model, sphere)
-        };
         let mut casters = Vec::new();
         let mut receivers = Vec::new();
         let mut draw_receivers = Vec::with_capacity(self.draws.len());
-        for d in &self.draws {
-            let obj = &scene.objects[d.object];
-            let (model, sphere) = world(d);
-            let mesh = &self.meshes[d.mesh];
-            let tight = shadow::Sphere {
-                center: model.transform_point3(mesh.tight.0),
-                radius: mesh.tight.1 * frustum::max_scale(model),
-            };
+        for (i, (it, p)) in self.list.items.iter().zip(placed).enumerate() {
+            let obj = &scene.objects[it.object];
+            let shape = &self.list.shapes[it.shape];
             let receiver = obj.shadow.receive.then(|| {
                 receivers.push(shadow::Receiver {
-                    sphere,
-                    corners: shadow::box_corners(model, mesh.bounds),
-                    tight,
-                    convex: convex(&obj.desc, d),
+                    sphere: p.sphere,
+                    corners: shadow::box_corners(p.model, shape.bounds),
+                    tight: p.tight,
+                    convex: convex(&obj.desc, it.cull && self.opaque(i)),
                 });
                 receivers.len() - 1
             });
             draw_receivers.push(receiver);
             if obj.shadow.cast {
-                casters.push(shadow::Caster {
-                    mesh: d.mesh,
-                    levels: mesh.levels.clone(),
-                    scale: frustum::max_scale(model),
-                    model,
-                    sphere,
-                    tight,
-                    plane: mesh.plane.map(|(p, n)| shadow::world_plane(model, p, n)),
+                casters.push(Caster {
+                    item: i,
+                    scale: p.scale,
+                    model: p.model,
+                    sphere: p.sphere,
+                    tight: p.tight,
+                    plane: shape.plane.map(|(q, n)| shadow::world_plane(p.model, q, n)),
                     receiver,
                     alpha: scene
                         .materials
-                        .get(d.material)
+                        .get(it.material)
                         .and_then(|m| m.textures.alpha_mode.shadow_cutoff())
-                        .map(|cutoff| (d.material, cutoff)),
+                        .map(|cutoff| (it.material, cutoff)),
                 });
             }
         }
         self.shadows
-            .update(slot, scene, aspect, &casters, &receivers)?;
+            .update(slot, scene, aspect, (&self.list, &casters), &receivers)?;
         let view_proj = crate::render::gpu::projection(&scene.camera, aspect) * scene.camera.view();
         self.receive_slots(slot, &draw_receivers, view_proj);
         Ok(())
+    }
+
+    /// Whether item `i` draws opaque (neither alpha-tested nor blended).
+    fn opaque(&self, i: usize) -> bool {
+        self.draws[i].variant.alpha == super::AlphaKey::Opaque
     }
 
     /// Marks, in each forward draw's variant, the fixed shadow slots whose light cannot darken
@@ -78,8 +71,8 @@ impl ForwardPass {
     /// every pixel off (docs/shadows.md#cost). Draws that could be instances of one draw
     /// (same mesh, material, culling and variant but for these marks) share the union of
     /// their lights, so that instancing still joins them. A flat draw (a floor, a wall) of at
-    /// most [`SPLIT_TRIANGLES`] triangles lit per pixel also gets the screen rectangle
-    /// (`view_proj`) of the part of its box that shadows can reach ([`Draw::shadow_area`]): it
+    /// most [`draws::split::SPLIT_TRIANGLES`] triangles lit per pixel also gets the screen rectangle
+    /// (`view_proj`) of the part of its box that shadows can reach (`shadow_area`): it
     /// is drawn unshadowed around it. `draw_receivers`: each draw's receiver index in the last
     /// update of slot `slot`. Pipelines for new combinations are built by the next
     /// [`ForwardPass::prepare`]; the deferred path and generic pipelines keep theirs.
@@ -109,7 +102,7 @@ impl ForwardPass {
                     f32::NEG_INFINITY,
                 ],
                 |u, b| {
-                    ndc_rect(b, view_proj).map(|r| {
+                    draws::split::ndc_rect(b, view_proj).map(|r| {
                         [
                             u[0].min(r[0]),
                             u[1].min(r[1]),
@@ -123,30 +116,29 @@ impl ForwardPass {
             return;
         }
         // The union of the lights over each group of would-be instances.
-        let group = |d: &Draw| (d.mesh, d.material, d.cull, d.variant.unshadowed());
+        let items = &self.list.items;
+        let group = |(d, it): (&super::Draw, &draws::Item)| {
+            (it.shape, it.material, it.cull, d.variant.unshadowed())
+        };
         let mut lights: std::collections::HashMap<_, u32> = std::collections::HashMap::new();
-        for (d, r) in self.draws.iter().zip(&reached) {
-            *lights.entry(group(d)).or_default() |= r.lights;
+        for ((d, it), r) in self.draws.iter().zip(items).zip(&reached) {
+            *lights.entry(group((d, it))).or_default() |= r.lights;
         }
-        for (d, r) in self.draws.iter_mut().zip(&reached) {
+        for ((d, it), r) in self.draws.iter_mut().zip(items).zip(&reached) {
             if d.variant.terms == TermsKey::Generic {
                 continue;
             }
             let bits = if self.instancing {
-                lights.get(&group(d)).copied().unwrap_or(r.lights)
+                lights.get(&group((d, it))).copied().unwrap_or(r.lights)
             } else {
                 r.lights
             };
             d.variant = d.variant.receiving(bits);
-            // Flat and Gouraud light in the vertex stage: a triangle across the rectangle's edge
-            // carries its vertices' shadows beyond it, so they are not split.
-            let mesh = &self.meshes[d.mesh];
-            let split = mesh.plane.is_some()
-                && mesh.levels[0].index_count / 3 <= SPLIT_TRIANGLES
-                && d.variant.shading == super::ShadingKey::Phong;
+            let phong = d.variant.shading == super::ShadingKey::Phong;
+            let split = draws::split::splits(&self.list.shapes[it.shape], phong);
             d.shadow_area = match r.area {
                 Some(area) if split && d.variant.unshadowed() != d.variant => {
-                    ndc_rect(area, view_proj)
+                    draws::split::ndc_rect(area, view_proj)
                 }
                 _ => None,
             };
@@ -198,8 +190,8 @@ impl ForwardPass {
 
 /// Whether an object cannot shadow itself beyond its terminator (where n·l ≤ 0 leaves it
 /// unlit anyway): a plane, or a closed convex primitive drawn opaque with its back faces culled
-/// (so that no inside can be seen through it or from within).
-fn convex(desc: &crate::scene::MeshDesc, d: &Draw) -> bool {
+/// (`culled_opaque`, so that no inside can be seen through it or from within).
+fn convex(desc: &crate::scene::MeshDesc, culled_opaque: bool) -> bool {
     use crate::scene::MeshDesc as M;
     match desc {
         M::Plane { .. } => true,
@@ -207,7 +199,7 @@ fn convex(desc: &crate::scene::MeshDesc, d: &Draw) -> bool {
         | M::Icosphere { .. }
         | M::Cube { .. }
         | M::Cone { .. }
-        | M::Cylinder { .. } => d.cull && d.variant.alpha == super::AlphaKey::Opaque,
+        | M::Cylinder { .. } => culled_opaque,
         _ => false,
     }
 }
@@ -224,30 +216,4 @@ pub struct ReceiverStats {
     /// The deferred path: one lighting pass, whose fixed slots `pairs` and `skipped` count and
     /// which `split` (0 or 1) limits to the rectangle.
     pub deferred: bool,
-}
-
-/// Flat draws of at most this many triangles are split where shadows can fall on them
-/// ([`ForwardPass::receive_slots`]): each part runs the vertex stage again, which a floor of a
-/// few hundred triangles repays many times over in fragments that skip the lookups, a mesh of
-/// millions would not.
-pub(super) const SPLIT_TRIANGLES: u32 = 4096;
-
-/// The NDC rectangle (x0, y0, x1, y1) that world box `(lo, hi)` covers under `view_proj`
-/// (empty when it is off screen); `None` when a corner is behind the eye (the whole screen).
-fn ndc_rect((lo, hi): (glam::Vec3, glam::Vec3), view_proj: glam::Mat4) -> Option<[f32; 4]> {
-    let mut r = [
-        f32::INFINITY,
-        f32::INFINITY,
-        f32::NEG_INFINITY,
-        f32::NEG_INFINITY,
-    ];
-    for p in shadow::box_corners(glam::Mat4::IDENTITY, (lo, hi)) {
-        let c = view_proj * p.extend(1.0);
-        if c.w.is_nan() || c.w <= 1e-6 {
-            return None;
-        }
-        let (x, y) = (c.x / c.w, c.y / c.w);
-        r = [r[0].min(x), r[1].min(y), r[2].max(x), r[3].max(y)];
-    }
-    Some([r[0].max(-1.0), r[1].max(-1.0), r[2].min(1.0), r[3].min(1.0)])
 }

@@ -5,6 +5,7 @@
 use glam::{Mat4, Vec3};
 
 use super::fit::Sphere;
+pub use crate::render::frustum::{box_corners, world_plane};
 use crate::scene::{Light, LightKind};
 
 /// Something the maps are looked up for: its world bounding sphere (the maps' fit) and the
@@ -143,24 +144,6 @@ pub fn shadow_box(
         .max(c1 + Vec3::splat(r1))
         .min(bounds.1);
     (lo.cmple(hi).all()).then_some((lo, hi))
-}
-
-/// The eight corners of object-space bounds `(lo, hi)` under `model`.
-pub fn box_corners(model: Mat4, (lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
-    std::array::from_fn(|k| {
-        let pick = |bit: usize, a: f32, b: f32| if k & bit == 0 { a } else { b };
-        model.transform_point3(Vec3::new(
-            pick(1, lo.x, hi.x),
-            pick(2, lo.y, hi.y),
-            pick(4, lo.z, hi.z),
-        ))
-    })
-}
-
-/// An object-space plane (point, unit normal) under `model`, in world space.
-pub fn world_plane(model: Mat4, point: Vec3, normal: Vec3) -> (Vec3, Vec3) {
-    let n = model.inverse().transpose().transform_vector3(normal);
-    (model.transform_point3(point), n.normalize_or(normal))
 }
 
 /// Whether a flat caster (world plane `(point, normal)`) can shadow none of `receivers` (but the

@@ -10,12 +10,7 @@ use glam::{Mat4, Vec3, Vec4};
 use crate::scene::shadow::WIDE_SPOT_DEG;
 use crate::scene::{Camera, Light, LightKind, Shadow, ShadowMethod};
 
-/// A world-space bounding sphere.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sphere {
-    pub center: Vec3,
-    pub radius: f32,
-}
+pub use crate::render::frustum::Sphere;
 
 /// One map layer: its projection and what the shader needs to offset and compare.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -286,6 +281,20 @@ pub(super) mod tests {
 
     /// Every receiver point in view lands inside its cascade's map, with reversed depth that
     /// falls with distance from the light; casters above lie nearer the light.
+    /// A view of `camera` whose only receiver is a ball of radius 10 at the origin.
+    fn around_origin(camera: &Camera) -> View<'_> {
+        const BALL: [Sphere; 1] = [Sphere {
+            center: Vec3::ZERO,
+            radius: 10.0,
+        }];
+        View {
+            camera,
+            aspect: 1.0,
+            casters: &[],
+            receivers: &BALL,
+        }
+    }
+
     #[test]
     fn cascades_cover_the_view_and_the_casters() {
         let cam = camera();
@@ -346,15 +355,7 @@ pub(super) mod tests {
             180.0,
         );
         let s = Shadow::default_for(LightKind::Point);
-        let v = View {
-            camera: &cam,
-            aspect: 1.0,
-            casters: &[],
-            receivers: &[Sphere {
-                center: Vec3::ZERO,
-                radius: 10.0,
-            }],
-        };
+        let v = around_origin(&cam);
         let f = fit(&l, &s, &v);
         assert_eq!(f.layers.len(), 6);
         for (layer, axis) in f.layers.iter().zip(CUBE_AXES) {
@@ -374,15 +375,7 @@ pub(super) mod tests {
         let dir = Vec3::new(0.0, -1.0, -0.5).normalize();
         let l = light(LightKind::Spot, Vec3::new(0.0, 5.0, 0.0), dir, 40.0);
         let s = Shadow::default_for(LightKind::Spot);
-        let v = View {
-            camera: &cam,
-            aspect: 1.0,
-            casters: &[],
-            receivers: &[Sphere {
-                center: Vec3::ZERO,
-                radius: 10.0,
-            }],
-        };
+        let v = around_origin(&cam);
         let f = fit(&l, &s, &v);
         assert_eq!(f.layers.len(), 1);
         // A direction at 39° from the axis lands inside the map; its edge is past 40°.

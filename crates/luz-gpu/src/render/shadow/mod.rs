@@ -11,10 +11,9 @@ use std::sync::Arc;
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec4};
 use gpu_allocator::MemoryLocation;
 
-use crate::render::frustum;
 use crate::render::gpu::{glsl, Vertex};
 use crate::scene::{Scene, Shadow, ShadowMethod};
 use luz_graph::{Access, FrameGraph, ImageHandle, ImageStateBefore};
@@ -74,59 +73,8 @@ pub struct LightMaps {
     pub shadow: Shadow,
 }
 
-/// Something drawn into the maps: a draw's mesh and model matrix, and its world bounds.
-#[derive(Debug, Clone)]
-pub struct Caster {
-    pub mesh: usize,
-    /// The mesh's LOD levels (level 0 the full mesh; [`crate::scene::lod`]): each layer draws
-    /// the coarsest whose error, projected onto the layer's texels, stays within the scene's
-    /// budget (`output.tessellation_error_px`, in shadow map texels).
-    pub levels: std::sync::Arc<[crate::scene::lod::LodLevel]>,
-    /// The model matrix's largest scale factor (object-space errors to the world).
-    pub scale: f32,
-    pub model: Mat4,
-    pub sphere: Sphere,
-    /// A bounding sphere as tight as the mesh's box allows (where its shadows can fall).
-    pub tight: Sphere,
-    /// World plane (point, unit normal) when the mesh is flat: see [`cull::hides_nothing`].
-    pub plane: Option<(Vec3, Vec3)>,
-    /// Its own index among the receivers, when it receives too.
-    pub receiver: Option<usize>,
-    /// For an alpha-tested caster (a MASK or BLEND material): its material (the index of its
-    /// set in the forward pass's material sets) and the alpha below which it casts nothing
-    /// ([`crate::scene::AlphaMode::shadow_cutoff`]). `None`: opaque, the vertex-only pipeline.
-    pub alpha: Option<(usize, f32)>,
-}
-
-/// One caster drawn into one layer.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct LayerDraw {
-    mesh: usize,
-    /// The LOD level's index range: first, count.
-    range: (u32, u32),
-    clip: Mat4,
-    /// [`Caster::alpha`].
-    alpha: Option<(usize, f32)>,
-}
-
-/// The level of `levels` (object-space errors, × `scale`) a caster whose bounding sphere is
-/// `sphere` draws into `layer` at `budget` texels ([`crate::scene::lod::choose`]): the error over
-/// the layer's texel size, absolute (orthographic) or at the sphere's nearest distance from the
-/// light (perspective).
-pub fn caster_level(
-    levels: &[crate::scene::lod::LodLevel],
-    scale: f32,
-    sphere: Sphere,
-    layer: &fit::Layer,
-    budget: f32,
-) -> usize {
-    let distance = if layer.perspective {
-        crate::scene::lod::sphere_distance(layer.origin, sphere.center, sphere.radius)
-    } else {
-        1.0
-    };
-    crate::scene::lod::choose(levels, scale, 1.0 / layer.texel, distance, budget)
-}
+pub use crate::render::draws::Caster;
+use crate::render::draws::{DepthDraw, DepthEye, DrawList};
 
 impl ShadowMaps {
     /// Frames recorded so far with the maps drawn, and with them reused (nothing they see had
@@ -165,22 +113,15 @@ pub const SHADOW_READ: Access = Access::Custom {
     writes: false,
 };
 
-/// A mesh's buffers, as the pass records them.
-#[derive(Debug, Clone, Copy)]
-pub struct MeshRef {
-    pub vertices: vk::Buffer,
-    pub indices: vk::Buffer,
-    pub index_count: u32,
-    /// Vertex colours (binding 2), for meshes that have them (alpha-tested casters read them).
-    pub colors: Option<vk::Buffer>,
-}
+pub use crate::render::MeshRef;
 
 struct Slot {
     set: vk::DescriptorSet,
     lights: Buffer,
     layers: Buffer,
-    /// Per layer: the casters that may reach it (mesh, its LOD level, clip-from-object matrix).
-    draws: Vec<Vec<LayerDraw>>,
+    /// Per layer: the draw list's depth view of it (the casters that may reach it, each at its
+    /// LOD level, with its clip-from-object matrix).
+    draws: Vec<Vec<DepthDraw>>,
     /// The layer records of the slot's last update (what its maps are drawn with).
     records: Vec<GpuShadowLayer>,
     /// Per receiver of the slot's last update: where the maps may darken it.
@@ -190,7 +131,7 @@ struct Slot {
 /// What one layer of the image holds: the layer record and draws it was last drawn with. A frame
 /// whose record and draws for the layer are the same (nothing moved that the layer sees) reuses
 /// it: a point light's faces stay while the camera orbits, a static scene draws its maps once.
-type Drawn = (GpuShadowLayer, Vec<LayerDraw>);
+type Drawn = (GpuShadowLayer, Vec<DepthDraw>);
 
 /// What `luz render --verbose` says about one light's maps.
 #[derive(Debug, Clone, PartialEq)]
@@ -491,7 +432,7 @@ impl ShadowMaps {
         slot: usize,
         scene: &Scene,
         aspect: f32,
-        casters: &[Caster],
+        (list, casters): (&DrawList, &[Caster]),
         receivers: &[Receiver],
     ) -> Result<(), VkError> {
         if !self.active() {
@@ -592,21 +533,15 @@ impl ShadowMaps {
                     origin: layer.origin.extend(1.0),
                     axis: layer.axis.extend(0.0),
                 };
-                let planes = frustum::planes(layer.view_proj);
+                let eye = DepthEye {
+                    view_proj: layer.view_proj,
+                    texel: layer.texel,
+                    perspective: layer.perspective,
+                    origin: layer.origin,
+                    axis: layer.axis,
+                };
                 let budget = scene.output.tessellation_error_px;
-                let reached: Vec<&&Caster> = drawn
-                    .iter()
-                    .filter(|c| frustum::sphere_visible(&planes, c.sphere.center, c.sphere.radius))
-                    .collect();
-                s.draws[index].extend(reached.iter().map(|c| {
-                    let l = c.levels[caster_level(&c.levels, c.scale, c.sphere, layer, budget)];
-                    LayerDraw {
-                        mesh: c.mesh,
-                        range: (l.first_index, l.index_count),
-                        clip: layer.view_proj * c.model,
-                        alpha: c.alpha,
-                    }
-                }));
+                s.draws[index] = list.layer_view(&drawn, &eye, budget);
             }
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;

@@ -9,7 +9,8 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
-use super::{LayerDraw, MeshRef, FORMAT, VERTEX_STRIDE};
+use super::{MeshRef, FORMAT, VERTEX_STRIDE};
+use crate::render::draws::DepthDraw;
 use crate::render::gpu::glsl::include_shadow_mask as m;
 use crate::vk::cmd::{depth_attachment, rendering_info, Load};
 use crate::vk::interface::keys_with_prefix;
@@ -183,7 +184,7 @@ impl DepthPipeline {
         cmd: vk::CommandBuffer,
         view: vk::ImageView,
         (resolution, slope_bias): (u32, f32),
-        (draws, meshes): (&[LayerDraw], &[MeshRef]),
+        (draws, meshes): (&[DepthDraw], &[MeshRef]),
         masked: Option<(&MaskPipelines, &[vk::DescriptorSet])>,
     ) {
         let d = &self.ctx.device;
@@ -197,7 +198,7 @@ impl DepthPipeline {
         let depth = depth_attachment(view, Load::depth(0.0), true);
         let info = rendering_info(area, &[], Some(&depth));
         // A draw's mesh, when it has indices to draw.
-        let mesh_of = |draw: &LayerDraw| {
+        let mesh_of = |draw: &DepthDraw| {
             let (_, count) = draw.range;
             meshes.get(draw.mesh).filter(|_| count > 0)
         };
@@ -222,18 +223,8 @@ impl DepthPipeline {
             let mut bound = None;
             for draw in draws.iter().filter(|dr| dr.alpha.is_none()) {
                 let Some(mr) = mesh_of(draw) else { continue };
-                if bound != Some(draw.mesh) {
-                    d.cmd_bind_vertex_buffers(cmd, 0, &[mr.vertices], &[0]);
-                    d.cmd_bind_index_buffer(cmd, mr.indices, 0, vk::IndexType::UINT32);
-                    bound = Some(draw.mesh);
-                }
-                d.cmd_push_constants(
-                    cmd,
-                    self.layout.raw,
-                    self.layout.push_stages(),
-                    0,
-                    bytemuck::bytes_of(&draw.clip),
-                );
+                mr.bind((d, cmd), (false, false), (&mut bound, draw.mesh));
+                crate::render::push_constants(d, cmd, &self.layout, bytemuck::bytes_of(&draw.clip));
                 d.cmd_draw_indexed(cmd, draw.range.1, 1, draw.range.0, 0, 0);
             }
             if let Some((mask, sets)) = masked {
@@ -246,8 +237,8 @@ impl DepthPipeline {
                         continue;
                     };
                     let (pipeline, colors) = match (&mask.color, mr.colors) {
-                        (Some(p), Some(c)) => (p.raw, Some(c)),
-                        _ => (mask.plain.raw, None),
+                        (Some(p), Some(_)) => (p.raw, true),
+                        _ => (mask.plain.raw, false),
                     };
                     if bound_pipeline != Some(pipeline) {
                         d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
@@ -264,25 +255,12 @@ impl DepthPipeline {
                         );
                         bound_set = Some(set);
                     }
-                    if bound_mesh != Some(draw.mesh) {
-                        d.cmd_bind_vertex_buffers(cmd, 0, &[mr.vertices], &[0]);
-                        if let Some(c) = colors {
-                            d.cmd_bind_vertex_buffers(cmd, 2, &[c], &[0]);
-                        }
-                        d.cmd_bind_index_buffer(cmd, mr.indices, 0, vk::IndexType::UINT32);
-                        bound_mesh = Some(draw.mesh);
-                    }
+                    mr.bind((d, cmd), (false, colors), (&mut bound_mesh, draw.mesh));
                     let push = MaskPush {
                         clip_from_object: draw.clip,
                         params: Vec4::new(cutoff, 0.0, 0.0, 0.0),
                     };
-                    d.cmd_push_constants(
-                        cmd,
-                        mask.layout.raw,
-                        mask.layout.push_stages(),
-                        0,
-                        bytemuck::bytes_of(&push),
-                    );
+                    crate::render::push_constants(d, cmd, &mask.layout, bytemuck::bytes_of(&push));
                     d.cmd_draw_indexed(cmd, draw.range.1, 1, draw.range.0, 0, 0);
                 }
             }
