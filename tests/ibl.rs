@@ -233,12 +233,11 @@ fn shipped_default_environment_regenerates() {
     assert_eq!(name, shipped::DEFAULT_ENV_FILE, "{regenerate}");
     let shipped_bytes = shipped::shipped_bytes().expect("the shipped data inflates");
     assert_eq!(baked.len(), shipped_bytes.len(), "{regenerate}");
-    let differing = baked
-        .iter()
-        .zip(&shipped_bytes)
-        .filter(|(a, b)| a != b)
-        .count();
-    assert_eq!(differing, 0, "{differing} bytes differ; {regenerate}");
+    // Byte for byte on the machine that made it; another CPU's lavapipe rounds differently, so
+    // every texel within 1e-2 of the shipped one (relative above 1; f16 keeps 11 bits).
+    let worst = shipped::max_difference(&baked, &shipped_bytes).expect("same layout");
+    eprintln!("shipped environment against a fresh bake: largest difference {worst:e}");
+    assert!(worst <= 1e-2, "a texel differs by {worst}; {regenerate}");
 
     let tmp = scratch("shipped-env");
     let dir = tmp.join("cache");
@@ -275,9 +274,16 @@ fn shipped_default_environment_regenerates() {
     );
     let (baking, stages) = render(None);
     assert!(stages.iter().any(|s| s == "prefiltered cube"), "{stages:?}");
+    let worst = cold
+        .pixels
+        .iter()
+        .zip(&baking.pixels)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs() / b[c].abs().max(1.0)))
+        .fold(0f32, f32::max);
+    // Identical on the machine that made the data; within the bake's tolerance elsewhere.
     assert!(
-        cold.pixels == baking.pixels,
-        "the shipped environment renders differently"
+        worst <= 1e-2,
+        "the shipped environment renders differently: {worst}"
     );
     assert_no_validation_messages(&ctx);
 }
