@@ -166,17 +166,33 @@ pub fn prepare_again(
         report.update("scene: LOD chains and textures", 0, total);
     }
     let lod_cache = options.lod_cache.as_deref();
-    let chains: Vec<_> = new_meshes
-        .par_iter()
-        .map(|(key, mesh, name)| {
-            let mut stats = ChainStats::default();
-            let mut warnings = Vec::new();
-            let chain =
-                lod::chain_for(mesh, name, lod_cache, &mut stats, &mut |w| warnings.push(w));
-            step("scene: LOD chains");
-            (*key, Arc::clone(mesh), chain, stats, warnings)
-        })
-        .collect();
+    let chain_of = |(key, mesh, name): &(usize, &Arc<Mesh>, String)| {
+        let mut stats = ChainStats::default();
+        let mut warnings = Vec::new();
+        let chain = lod::chain_for(mesh, name, lod_cache, &mut stats, &mut |w| warnings.push(w));
+        step("scene: LOD chains");
+        (*key, Arc::clone(*mesh), chain, stats, warnings)
+    };
+    // Meshes placed by nodes share one local form and so one cache entry: the first of each local
+    // form is simplified first (in parallel with the other local forms), then the rest read it
+    // from the cache, as one after the other would (the stats say "1 built, 999 read").
+    let local_of = |mesh: &Arc<Mesh>| match &mesh.placed {
+        Some(placed) => Arc::as_ptr(&placed.local) as usize,
+        None => Arc::as_ptr(mesh) as usize,
+    };
+    let mut seen = std::collections::HashSet::new();
+    let (first, rest): (Vec<_>, Vec<_>) = new_meshes
+        .into_iter()
+        .enumerate()
+        .partition(|(_, (_, mesh, _))| seen.insert(local_of(mesh)));
+    let mut chains: Vec<_> = first.par_iter().map(|(i, m)| (*i, chain_of(m))).collect();
+    chains.extend(
+        rest.par_iter()
+            .map(|(i, m)| (*i, chain_of(m)))
+            .collect::<Vec<_>>(),
+    );
+    chains.sort_by_key(|(i, _)| *i);
+    let chains = chains.into_iter().map(|(_, c)| c);
     let textures: Vec<_> = new_maps
         .par_iter()
         .map(|(key, r, space, material, slot)| {

@@ -3,7 +3,7 @@
 //! ([`DEFAULT_MAX_MB`], `--cache-max-mb`) kept by removing the least recently used cache files,
 //! and one warning per problem that says what it costs ([`warn_once`]).
 //!
-//! Every cache file is written through a temporary file next to it (`.NAME.PID.tmp`,
+//! Every cache file is written through a temporary file next to it (`.NAME.SEQ.PID.tmp`,
 //! [`temp_path`]) and a rename, so a killed run or a full disk never leaves a partial cache file;
 //! the temporary file of a run that was killed is removed by the next run's [`open`].
 
@@ -50,10 +50,14 @@ pub fn warn_once(key: &str, message: String, warn: &mut dyn FnMut(String)) {
     }
 }
 
-/// The temporary file a write of `path` goes through: `.NAME.PID.tmp` in its folder.
+/// The temporary file a write of `path` goes through: `.NAME.SEQ.PID.tmp` in its folder, `SEQ`
+/// unique within the process (threads preparing a scene in parallel may write one entry at once;
+/// each writes its own temporary file and the last rename wins, with the same bytes).
 pub fn temp_path(path: &Path) -> PathBuf {
+    static SEQ: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let seq = SEQ.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let name = path.file_name().unwrap_or_default().to_string_lossy();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+    path.with_file_name(format!(".{name}.{seq}.{}.tmp", std::process::id()))
 }
 
 /// What [`open`] did to the folder.
