@@ -154,9 +154,39 @@ vec3 ibl_specular_importance(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, float
     return sum / float(IBL_SAMPLES);
 }
 
+// Energy compensation of the metal-rough model (brdf::energy, energy_scale): the specular lobe
+// scaled by 1 + F0 (1 − E)/E (Fdez-Agüera 2019), the diffuse by 1 − E_ms, what the specular
+// leaves (1 with diffuse_fresnel_weight, which already weights it per direction). The same
+// factors multiply every light's terms (lighting.glsl) and the environment's.
+struct EnergyScale {
+    vec3 specular;
+    vec3 diffuse;
+};
+
+bool energy_compensated(BrdfParams p) {
+    return ENERGY_COMPENSATION && MODEL == BRDF_MODEL_METAL_ROUGH;
+}
+
+EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
+    EnergyScale es;
+    es.specular = vec3(1.0);
+    es.diffuse = vec3(1.0);
+    if (!energy_compensated(p)) {
+        return es;
+    }
+    vec3 f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
+    float n_v = clamp(dot(n, v), 1e-4, 1.0);
+    vec2 ab = textureLod(brdf_lut, vec3(n_v, p.color.w, float(material.flags)), 0.0).rg;
+    float e = max(ab.x + ab.y, 1e-4);
+    es.specular = vec3(1.0) + f0 * ((1.0 - e) / e);
+    vec3 e_ms = (f0 * ab.x + ab.y) * es.specular;
+    es.diffuse = p.p0.x != 0.0 ? vec3(1.0) : max(vec3(1.0) - e_ms, vec3(0.0));
+    return es;
+}
+
 // Environment lighting at a point: diffuse from irradiance, specular by the chosen method.
-vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y) {
-    vec3 result = ibl_diffuse_albedo(p) * env_irradiance(n) / M_PI;
+vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
+    vec3 result = ibl_diffuse_albedo(p) * env_irradiance(n) / M_PI * es.diffuse;
     SplitSumInputs s = split_sum_inputs(p);
     if (!s.ok) {
         return result;
@@ -178,12 +208,12 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y) {
         vec3 pre = textureLod(prefiltered_cube, r, lod).rgb;
         spec = s.weight * pre * (s.f0 * ab.x + ab.y);
     }
-    if (ENERGY_COMPENSATION) {
-        // Fdez-Agüera 2019: scale single scattering by 1 + F0 (1 − E)/E, E = A + B.
+    if (ENERGY_COMPENSATION && !energy_compensated(p)) {
+        // Other models: only the specular's multi-scatter factor 1 + F0 (1 − E)/E, E = A + B.
         float e = max(ab.x + ab.y, 1e-4);
         spec *= 1.0 + s.f0 * (1.0 - e) / e;
     }
-    return result + spec;
+    return result + spec * es.specular;
 }
 
 #endif

@@ -292,6 +292,9 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         return debug_value(s, P, V);
     }
     vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);
+#ifdef IBL
+    EnergyScale es = energy_scale(p, s.n, V);
+#endif
     uvec2 cluster = light_list(P);
     // Fixed shadow slots (shadows.glsl): each shadowed light's visibility once, before the loop.
     bool fixed_shadows = (LIGHT_KINDS & SHADOW_KINDS) != 0u && SHADOW_FIXED_0 != 0u;
@@ -320,10 +323,18 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         if (shadowed) {
             E *= shadow_visibility(i, P, N, l);
         }
+#ifdef IBL
+        if (energy_compensated(p)) {
+            BrdfTerms t = brdf_metal_rough_terms_unit(p, s.n, l, V);
+            result += (t.diffuse * es.diffuse + t.specular * es.specular) * E
+                * clamp(dot(s.n, l), 0.0, 1.0);
+            continue;
+        }
+#endif
         result += brdf_radiance_unit(p, s.n, l, V, s.x, s.y, E);
     }
 #ifdef IBL
-    result += s.occlusion * ibl_shade(p, s.n, V, s.x, s.y);
+    result += s.occlusion * ibl_shade(p, s.n, V, s.x, s.y, es);
 #endif
     return result + s.emission;
 }

@@ -18,11 +18,14 @@
 //! * parameters are sanitised (non-finite → default, unit-range parameters clamped to [0, 1]).
 
 mod albedo;
+mod energy;
 mod gpu;
 mod models;
 mod names;
 mod presets;
 mod sampling;
+mod shipped_lut;
+mod split_sum;
 mod terms;
 
 #[cfg(test)]
@@ -31,6 +34,7 @@ mod tests;
 pub use albedo::{
     directional_albedo, directional_albedo_dir, integrate_hemisphere, sampling_lobes, Lobe,
 };
+pub use energy::{energy_scale, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
 pub use models::{
     blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,
@@ -49,4 +53,9 @@ pub use sampling::{
     sample_cosine_hemisphere, sample_ggx_aniso_h, sample_gtr1_h, sample_power_cosine,
     sample_uniform_hemisphere,
 };
+pub use shipped_lut::{
+    generate_shipped_lut, shipped_lut, shipped_lut_bytes, SHIPPED_LUT_FILE, SHIPPED_LUT_GEOMETRY,
+    SHIPPED_LUT_SAMPLES, SHIPPED_LUT_SIZE,
+};
+pub use split_sum::{g_ibl, split_sum_lut_reference, split_sum_lut_table};
 pub use terms::*;

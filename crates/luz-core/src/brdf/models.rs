@@ -377,6 +377,10 @@ pub struct MetalRoughParams {
     /// glTF's core); KHR_materials_ior and KHR_materials_specular set it
     /// (`src/scene/gltf/material.rs`).
     pub dielectric_f0: Vec3,
+    /// Multi-scatter energy compensation and the diffuse weighted by what the specular leaves
+    /// ([`super::energy`]). Default false. Scenes set it for every metal-rough material from
+    /// their environment's `energy_compensation`, not per material.
+    pub energy_compensation: bool,
 }
 
 impl Default for MetalRoughParams {
@@ -391,6 +395,7 @@ impl Default for MetalRoughParams {
             diffuse_fresnel_weight: false,
             diffuse: Diffuse::Lambert,
             dielectric_f0: Vec3::splat(0.04),
+            energy_compensation: false,
         }
     }
 }
@@ -797,13 +802,28 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
     } else {
         Vec3::ONE
     };
+    let energy = if p.energy_compensation {
+        super::energy_scale(p.geometry, f0, s.n_v, p.roughness)
+    } else {
+        super::EnergyScale::NONE
+    };
+    // With `diffuse_fresnel_weight` the diffuse is already weighted per direction.
+    let diffuse_energy = if p.diffuse_fresnel_weight {
+        Vec3::ONE
+    } else {
+        energy.diffuse
+    };
     Terms {
         d,
         g,
         f,
         // l·h = v·h (h is the half vector); Burley takes the perceptual roughness.
-        diffuse: c_diff * INV_PI * p.diffuse.factor(s.n_l, s.n_v, v_h, p.roughness) * weight,
-        specular: f * (d * g / (4.0 * s.n_l * s.n_v)),
+        diffuse: c_diff
+            * INV_PI
+            * p.diffuse.factor(s.n_l, s.n_v, v_h, p.roughness)
+            * weight
+            * diffuse_energy,
+        specular: f * (d * g / (4.0 * s.n_l * s.n_v)) * energy.specular,
     }
 }
 

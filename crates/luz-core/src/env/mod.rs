@@ -18,7 +18,6 @@ mod equirect;
 mod procedural;
 mod reference;
 mod sh;
-mod shipped_lut;
 
 #[cfg(test)]
 mod tests;
@@ -34,17 +33,19 @@ pub use procedural::{
     STUDIO_WIDTH, SUN_COLOR, SUN_GLOW_FRACTION, SUN_GLOW_SIGMA_DEG, SUN_RADIUS_DEG,
 };
 pub use reference::{
-    diffuse_ibl_reference, g_ibl, irradiance_quadrature, irradiance_reference,
-    prefiltered_reference, specular_dominant_direction, specular_ibl_reference,
-    split_sum_lut_reference, split_sum_lut_table, split_sum_specular,
+    diffuse_ibl_reference, irradiance_quadrature, irradiance_reference, prefiltered_reference,
+    specular_dominant_direction, specular_ibl_reference, split_sum_specular,
+};
+// The split-sum table is the BRDF's directional albedo: it lives in `brdf` (energy compensation
+// reads it too); these names stay where users found them.
+pub use crate::brdf::{
+    g_ibl, generate_shipped_lut, shipped_lut, shipped_lut_bytes, split_sum_lut_reference,
+    split_sum_lut_table, SHIPPED_LUT_FILE, SHIPPED_LUT_GEOMETRY, SHIPPED_LUT_SAMPLES,
+    SHIPPED_LUT_SIZE,
 };
 pub use sh::{
     sh9_basis, sh9_eval, sh9_irradiance, sh9_irradiance_coeffs, sh9_project, SH_C0, SH_C1, SH_C2,
     SH_C3, SH_C4, SH_IRRADIANCE_FACTORS,
-};
-pub use shipped_lut::{
-    generate_shipped_lut, shipped_lut, shipped_lut_bytes, SHIPPED_LUT_FILE, SHIPPED_LUT_GEOMETRY,
-    SHIPPED_LUT_SAMPLES, SHIPPED_LUT_SIZE,
 };
 
 use crate::imageio::{self, ImageError};

@@ -397,6 +397,7 @@ fn metal_rough_every_field() {
             diffuse_fresnel_weight: true,
             diffuse: Diffuse::Burley,
             dielectric_f0: Vec3::splat(0.04),
+            energy_compensation: false,
         }
     );
     // Any Fresnel works (the exact forms take η from F0).

@@ -122,8 +122,17 @@ impl Prepared {
                 };
                 maps.insert(slot, Arc::new(CpuTexture::new(data, r)));
             }
+            let mut model = m.material.sanitized();
+            // The environment's energy compensation is the metal-rough model's (brdf::energy),
+            // for its light as for every light, as on the GPU.
+            if let Model::MetalRough(p) = &mut model {
+                p.energy_compensation = scene
+                    .environment
+                    .as_ref()
+                    .is_some_and(|e| e.energy_compensation);
+            }
             materials.push(RefMaterial {
-                model: m.material.sanitized(),
+                model,
                 maps,
                 normal_scale: m.textures.normal_scale,
                 occlusion_strength: m.textures.occlusion_strength,

@@ -296,6 +296,8 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
         diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,
         dielectric_f0: d.dielectric_f0,
+        // The environment's switch, applied where the scene is rendered.
+        energy_compensation: false,
     }))
 }
 
