@@ -177,15 +177,17 @@ fn cook_torrance_every_term_combination() {
             Geometry::SmithGgx,
             Geometry::SmithGgxCorrelated,
             Geometry::SchlickGgx,
+            Geometry::SmithBeckmann,
         ] {
             for fresnel in [
                 Fresnel::Schlick,
                 Fresnel::SchlickSg,
                 Fresnel::Dielectric,
                 Fresnel::Conductor,
+                Fresnel::ConductorExact,
             ] {
                 let specular = match fresnel {
-                    Fresnel::Conductor => SpecularSource::Complex(gold),
+                    Fresnel::Conductor | Fresnel::ConductorExact => SpecularSource::Complex(gold),
                     _ => SpecularSource::Ior(1.5),
                 };
                 for roughness in [0.0, 0.3, 1.0] {

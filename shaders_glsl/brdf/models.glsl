@@ -23,11 +23,13 @@
 #define BRDF_G_SMITH_GGX 1
 #define BRDF_G_SMITH_GGX_CORRELATED 2
 #define BRDF_G_SCHLICK_GGX 3
+#define BRDF_G_SMITH_BECKMANN 4
 // sel.w: fresnel
 #define BRDF_F_SCHLICK 0
 #define BRDF_F_SCHLICK_SG 1
 #define BRDF_F_DIELECTRIC 2
 #define BRDF_F_CONDUCTOR 3
+#define BRDF_F_CONDUCTOR_EXACT 4
 // p0.y (Cook-Torrance, metal-rough): diffuse, as a float
 #define BRDF_DIFFUSE_LAMBERT 0
 #define BRDF_DIFFUSE_BURLEY 1
@@ -81,6 +83,9 @@ float brdf_geometry(int sel, float n_h, float n_v, float n_l, float v_h, float a
     if (sel == BRDF_G_SMITH_GGX_CORRELATED) {
         return g_smith_ggx_correlated(n_l, n_v, a);
     }
+    if (sel == BRDF_G_SMITH_BECKMANN) {
+        return g_smith_beckmann(n_l, n_v, a);
+    }
     return g_schlick_ggx(n_l, n_v, k_punctual(roughness));
 }
 
@@ -94,6 +99,9 @@ vec3 brdf_fresnel(int sel, vec3 spec, vec3 kappa, float v_h) {
     }
     if (sel == BRDF_F_DIELECTRIC) {
         return vec3(f_dielectric(v_h, spec.x), f_dielectric(v_h, spec.y), f_dielectric(v_h, spec.z));
+    }
+    if (sel == BRDF_F_CONDUCTOR_EXACT) {
+        return f_conductor_exact(v_h, spec, kappa);
     }
     return f_conductor(v_h, spec, kappa);
 }

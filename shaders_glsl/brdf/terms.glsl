@@ -198,6 +198,27 @@ float g_smith_ggx_correlated(float n_l, float n_v, float alpha) {
     return 2.0 * cl * cv / (lambda_v + lambda_l);
 }
 
+// Smith Beckmann, Walter et al. 2007's rational approximation (g1_smith_beckmann in terms.rs).
+float g1_smith_beckmann(float n_v, float m) {
+    if (n_v <= 0.0) {
+        return 0.0;
+    }
+    float c = brdf_clamp_cos(n_v);
+    float s = sqrt(max(1.0 - c * c, 0.0));
+    if (s <= 0.0) {
+        return 1.0;
+    }
+    float a = c / (max(m, BRDF_ALPHA_MIN) * s);
+    if (a >= 1.6) {
+        return 1.0;
+    }
+    return (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a);
+}
+
+float g_smith_beckmann(float n_l, float n_v, float m) {
+    return g1_smith_beckmann(n_l, m) * g1_smith_beckmann(n_v, m);
+}
+
 // Schlick-GGX (UE4): G1 = (n·v) / ((n·v)(1 − k) + k).
 float g_schlick_ggx(float n_l, float n_v, float k) {
     if (n_l <= 0.0 || n_v <= 0.0) {
@@ -294,6 +315,31 @@ vec3 f_conductor(float cos_i, vec3 eta, vec3 k) {
     return vec3(f_conductor_1(cos_i, eta.x, k.x),
                 f_conductor_1(cos_i, eta.y, k.y),
                 f_conductor_1(cos_i, eta.z, k.z));
+}
+
+// Exact complex-index Fresnel (f_conductor_exact_1 in terms.rs).
+float f_conductor_exact_1(float cos_i, float eta, float k) {
+    float c = brdf_saturate(cos_i);
+    float e = clamp(eta, 0.0, BRDF_IOR_MAX);
+    float kk = min(abs(k), BRDF_IOR_MAX);
+    float c2 = c * c;
+    float s2 = max(1.0 - c2, 0.0);
+    float t0 = e * e - kk * kk - s2;
+    float a2pb2 = sqrt(max(t0 * t0 + 4.0 * e * e * kk * kk, 0.0));
+    float a = sqrt(max(0.5 * (a2pb2 + t0), 0.0));
+    float t1 = a2pb2 + c2;
+    float t2 = 2.0 * c * a;
+    float rs = (t1 - t2) / max(t1 + t2, 1e-12);
+    float t3 = c2 * a2pb2 + s2 * s2;
+    float t4 = t2 * s2;
+    float rp = rs * (t3 - t4) / max(t3 + t4, 1e-12);
+    return clamp(0.5 * (rs + rp), 0.0, 1.0);
+}
+
+vec3 f_conductor_exact(float cos_i, vec3 eta, vec3 k) {
+    return vec3(f_conductor_exact_1(cos_i, eta.x, k.x),
+                f_conductor_exact_1(cos_i, eta.y, k.y),
+                f_conductor_exact_1(cos_i, eta.z, k.z));
 }
 
 // ------------------------------------------------------------------------------------------------

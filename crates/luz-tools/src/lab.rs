@@ -194,7 +194,7 @@ fn with_terms(scene: &Scene, d: Distribution, g: Geometry, f: Fresnel) -> Option
     for m in &mut s.materials {
         match &mut m.material {
             Material::MetalRough(p) => {
-                if matches!(f, Fresnel::Conductor) {
+                if matches!(f, Fresnel::Conductor | Fresnel::ConductorExact) {
                     continue;
                 }
                 p.distribution = d;
@@ -214,7 +214,9 @@ fn with_terms(scene: &Scene, d: Distribution, g: Geometry, f: Fresnel) -> Option
     // Cook-Torrance's Fresnel source must suit the form (F0 vs η/κ): keep only valid scenes.
     let valid = s.materials.iter().all(|m| match &m.material {
         Material::CookTorrance(p) => match p.fresnel {
-            Fresnel::Conductor => matches!(p.specular, SpecularSource::Complex(_)),
+            Fresnel::Conductor | Fresnel::ConductorExact => {
+                matches!(p.specular, SpecularSource::Complex(_))
+            }
             Fresnel::Dielectric => !matches!(p.specular, SpecularSource::Complex(_)),
             _ => true,
         },
@@ -330,13 +332,24 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
     // and LUT), so without lights they would all measure the same image.
     if want("brdf") && !scene.lights.is_empty() {
         for d in [Distribution::Beckmann, Distribution::Ggx] {
+            // Beckmann's own Smith term beside the GGX forms at its width (issue 34).
+            let beckmann = (d == Distribution::Beckmann).then_some(Geometry::SmithBeckmann);
             for g in [
                 Geometry::CookTorrance,
                 Geometry::SmithGgx,
                 Geometry::SmithGgxCorrelated,
                 Geometry::SchlickGgx,
-            ] {
-                for f in [Fresnel::Schlick, Fresnel::Dielectric, Fresnel::Conductor] {
+            ]
+            .into_iter()
+            .chain(beckmann)
+            {
+                // The conductor Fresnel's approximation beside the exact equations (issue 34).
+                for f in [
+                    Fresnel::Schlick,
+                    Fresnel::Dielectric,
+                    Fresnel::Conductor,
+                    Fresnel::ConductorExact,
+                ] {
                     if let Some(s) = with_terms(scene, d, g, f) {
                         out.push(Variant {
                             group: "brdf",

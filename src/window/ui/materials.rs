@@ -106,7 +106,7 @@ pub(super) const DIFFUSES: [(Diffuse, &str); 2] = [
     (Diffuse::Burley, "Burley (Disney)"),
 ];
 
-pub(super) const GEOMETRIES: [(Geometry, &str); 4] = [
+pub(super) const GEOMETRIES: [(Geometry, &str); 5] = [
     (Geometry::CookTorrance, "Cook-Torrance"),
     (Geometry::SmithGgx, "Smith GGX (separable)"),
     (
@@ -114,13 +114,15 @@ pub(super) const GEOMETRIES: [(Geometry, &str); 4] = [
         "Smith GGX (height-correlated)",
     ),
     (Geometry::SchlickGgx, "Schlick-GGX"),
+    (Geometry::SmithBeckmann, "Smith Beckmann (Walter 2007)"),
 ];
 
-pub(super) const FRESNELS: [(Fresnel, &str); 4] = [
+pub(super) const FRESNELS: [(Fresnel, &str); 5] = [
     (Fresnel::Schlick, "Schlick"),
     (Fresnel::SchlickSg, "Schlick (spherical Gaussian)"),
     (Fresnel::Dielectric, "dielectric (exact)"),
-    (Fresnel::Conductor, "conductor (complex index)"),
+    (Fresnel::Conductor, "conductor (complex index, approximate)"),
+    (Fresnel::ConductorExact, "conductor (complex index, exact)"),
 ];
 
 pub(super) fn material_ui(ui: &mut Ui, m: &mut Material) -> bool {
@@ -229,7 +231,7 @@ pub(super) fn cook_torrance_ui(ui: &mut Ui, p: &mut CookTorranceParams) -> bool 
         ]
         .into_iter()
         .filter(|(k, _)| match p.fresnel {
-            Fresnel::Conductor => *k == SourceKind::Complex,
+            Fresnel::Conductor | Fresnel::ConductorExact => *k == SourceKind::Complex,
             Fresnel::Dielectric => *k != SourceKind::Complex,
             _ => true,
         })
@@ -260,7 +262,7 @@ pub(super) fn cook_torrance_ui(ui: &mut Ui, p: &mut CookTorranceParams) -> bool 
                         }
                     }
                 }
-                if p.fresnel != Fresnel::Conductor {
+                if !matches!(p.fresnel, Fresnel::Conductor | Fresnel::ConductorExact) {
                     ui.separator();
                     for name in DIELECTRIC_NAMES {
                         if ui.selectable_label(false, name).clicked() {

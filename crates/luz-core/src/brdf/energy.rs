@@ -31,18 +31,12 @@ struct Table {
 }
 
 fn table(geometry: Geometry) -> &'static Table {
-    static TABLES: [OnceLock<Table>; 4] = [
-        OnceLock::new(),
-        OnceLock::new(),
-        OnceLock::new(),
-        OnceLock::new(),
-    ];
-    let slot = match geometry {
-        Geometry::CookTorrance => 0,
-        Geometry::SmithGgx => 1,
-        Geometry::SmithGgxCorrelated => 2,
-        Geometry::SchlickGgx => 3,
-    };
+    static TABLES: [OnceLock<Table>; Geometry::ALL.len()] =
+        [const { OnceLock::new() }; Geometry::ALL.len()];
+    let slot = Geometry::ALL
+        .iter()
+        .position(|g| *g == geometry)
+        .expect("every geometry is in ALL");
     TABLES[slot].get_or_init(|| {
         match shipped_lut(SHIPPED_LUT_SIZE, SHIPPED_LUT_SAMPLES, geometry as i32) {
             Some(ab) => Table {

@@ -39,6 +39,9 @@ pub enum Geometry {
     SmithGgxCorrelated = glsl::BRDF_G_SMITH_GGX_CORRELATED as isize,
     /// [`g_schlick_ggx`] with [`k_punctual`].
     SchlickGgx = glsl::BRDF_G_SCHLICK_GGX as isize,
+    /// [`g_smith_beckmann`]: the Beckmann distribution's own Smith term (the scene format's
+    /// default with `"distribution": "beckmann"` for metal_rough).
+    SmithBeckmann = glsl::BRDF_G_SMITH_BECKMANN as isize,
 }
 
 /// Fresnel selector. GPU code: `BRDF_F_*` in `models.glsl`.
@@ -51,8 +54,10 @@ pub enum Fresnel {
     SchlickSg = glsl::BRDF_F_SCHLICK_SG as isize,
     /// [`f_dielectric`] per channel (needs η).
     Dielectric = glsl::BRDF_F_DIELECTRIC as isize,
-    /// [`f_conductor`] (needs η and κ).
+    /// [`f_conductor`] (needs η and κ): the usual approximation.
     Conductor = glsl::BRDF_F_CONDUCTOR as isize,
+    /// [`f_conductor_exact`] (needs η and κ): the exact complex-index Fresnel equations.
+    ConductorExact = glsl::BRDF_F_CONDUCTOR_EXACT as isize,
 }
 
 /// Diffuse lobe selector of Cook-Torrance and metallic-roughness. GPU code: `BRDF_DIFFUSE_*`
@@ -93,6 +98,17 @@ impl Distribution {
 }
 
 impl Geometry {
+    /// The geometry term of the split sum's table for a lobe with this G: the environment's split
+    /// sum treats every lobe as GGX (a Beckmann lobe as the GGX lobe of the same width), so
+    /// Beckmann's own Smith term becomes the separable Smith GGX there (with GGX samples the
+    /// Beckmann G would not be a conserving pair: A + B reached 1.7 at grazing).
+    pub fn for_split_sum(self) -> Geometry {
+        match self {
+            Geometry::SmithBeckmann => Geometry::SmithGgx,
+            g => g,
+        }
+    }
+
     /// Evaluates the selected G. `a` is the width of the distribution (used by the Smith forms),
     /// `roughness` the perceptual roughness (used by Schlick-GGX's `k_punctual`).
     pub fn eval(self, n_h: f32, n_v: f32, n_l: f32, v_h: f32, a: f32, roughness: f32) -> f32 {
@@ -101,6 +117,7 @@ impl Geometry {
             Geometry::SmithGgx => g_smith_ggx_separable(n_l, n_v, a),
             Geometry::SmithGgxCorrelated => g_smith_ggx_correlated(n_l, n_v, a),
             Geometry::SchlickGgx => g_schlick_ggx(n_l, n_v, k_punctual(roughness)),
+            Geometry::SmithBeckmann => g_smith_beckmann(n_l, n_v, a),
         }
     }
 }
@@ -118,6 +135,7 @@ impl Fresnel {
                 f_dielectric(v_h, spec.z),
             ),
             Fresnel::Conductor => f_conductor(v_h, spec, kappa),
+            Fresnel::ConductorExact => f_conductor_exact(v_h, spec, kappa),
         }
     }
 
@@ -126,7 +144,7 @@ impl Fresnel {
     pub fn inputs_from_f0(self, f0: Vec3) -> (Vec3, Vec3) {
         match self {
             Fresnel::Schlick | Fresnel::SchlickSg => (f0, Vec3::ZERO),
-            Fresnel::Dielectric | Fresnel::Conductor => (
+            Fresnel::Dielectric | Fresnel::Conductor | Fresnel::ConductorExact => (
                 Vec3::new(ior_from_f0(f0.x), ior_from_f0(f0.y), ior_from_f0(f0.z)),
                 Vec3::ZERO,
             ),

@@ -36,12 +36,14 @@ selector_names!(Geometry {
     SmithGgx => "smith_ggx",
     SmithGgxCorrelated => "smith_ggx_correlated",
     SchlickGgx => "schlick_ggx",
+    SmithBeckmann => "smith_beckmann",
 });
 selector_names!(Fresnel {
     Schlick => "schlick",
     SchlickSg => "schlick_sg",
     Dielectric => "dielectric",
     Conductor => "conductor",
+    ConductorExact => "conductor_exact",
 });
 selector_names!(Diffuse { Lambert => "lambert", Burley => "burley" });
 

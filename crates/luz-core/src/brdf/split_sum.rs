@@ -12,9 +12,10 @@ use super::{
 
 /// The masking-shadowing G of the selector for image-based lighting: Schlick-GGX with
 /// [`k_ibl`] (`roughness²/2`) instead of `k_punctual`; the other selectors as for lights, with
-/// `α = roughness²` (at least `ALPHA_MIN`).
+/// `α = roughness²` (at least `ALPHA_MIN`); Beckmann's Smith term as the separable Smith GGX
+/// ([`Geometry::for_split_sum`]).
 pub fn g_ibl(geometry: Geometry, n_h: f32, n_v: f32, n_l: f32, v_h: f32, roughness: f32) -> f32 {
-    match geometry {
+    match geometry.for_split_sum() {
         Geometry::SchlickGgx => g_schlick_ggx(n_l, n_v, k_ibl(roughness)),
         g => g.eval(
             n_h,

@@ -300,7 +300,10 @@ pub fn set_material_model(material: &mut Material, textures: &mut MaterialTextur
 /// of a complex one).
 pub fn fix_cook_torrance(p: &mut CookTorranceParams) {
     match (p.fresnel, p.specular) {
-        (Fresnel::Conductor, SpecularSource::Ior(_) | SpecularSource::F0(_)) => {
+        (
+            Fresnel::Conductor | Fresnel::ConductorExact,
+            SpecularSource::Ior(_) | SpecularSource::F0(_),
+        ) => {
             if let Some(gold) = metal_preset("gold") {
                 p.specular = SpecularSource::Complex(gold);
             }

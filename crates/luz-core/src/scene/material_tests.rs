@@ -147,7 +147,7 @@ fn cook_torrance_every_field() {
         );
     }
     for (name, f) in FRESNELS {
-        let source = if *name == "conductor" {
+        let source = if name.starts_with("conductor") {
             r#", "preset": "gold""#
         } else {
             ""
@@ -777,4 +777,22 @@ fn brdf_scenes() {
     for s in [&spheres, &ct, &grid, &bg, &sc] {
         assert!(s.triangle_count() < 250_000, "{}", s.triangle_count());
     }
+}
+
+/// Issue 34: a metal-rough material with the Beckmann distribution gets Beckmann's own Smith term
+/// unless it names another geometry (the GGX form at the Beckmann width stays selectable).
+#[test]
+fn beckmann_defaults_to_its_own_smith_term() {
+    assert_eq!(
+        metal_rough(r#", "distribution": "beckmann""#).geometry,
+        Geometry::SmithBeckmann
+    );
+    assert_eq!(
+        metal_rough(r#", "distribution": "beckmann", "geometry": "smith_ggx_correlated""#).geometry,
+        Geometry::SmithGgxCorrelated
+    );
+    assert_eq!(
+        metal_rough(r#", "distribution": "ggx""#).geometry,
+        Geometry::SmithGgxCorrelated
+    );
 }

@@ -138,12 +138,13 @@ pub(super) fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
         None => "the default ior 1.5".to_string(),
     };
     match (fresnel, &source) {
-        (Fresnel::Conductor, Some((_, SpecularSource::Complex(_)))) => {}
-        (Fresnel::Conductor, s) => {
+        (Fresnel::Conductor | Fresnel::ConductorExact, Some((_, SpecularSource::Complex(_)))) => {}
+        (Fresnel::Conductor | Fresnel::ConductorExact, s) => {
             return Err(f.err(
                 "fresnel",
                 format!(
-                    "the \"conductor\" Fresnel needs a complex index of refraction (η and κ), got {}; give complex_ior {{\"eta\": [r, g, b], \"k\": [r, g, b]}} or a metal preset ({})",
+                    "the \"{}\" Fresnel needs a complex index of refraction (η and κ), got {}; give complex_ior {{\"eta\": [r, g, b], \"k\": [r, g, b]}} or a metal preset ({})",
+                    fresnel.name(),
                     name(s),
                     METAL_NAMES.join(", ")
                 ),
@@ -286,12 +287,19 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             (c.f0(), 1.0)
         }
     };
+    let distribution = f.select("distribution", DISTRIBUTIONS, d.distribution)?;
+    // Beckmann's own Smith term is its default (issue 34: the GGX forms at the Beckmann width
+    // were 1.4 % RMSE from Mitsuba, 5.9 % at grazing); "smith_ggx_correlated" keeps the old one.
+    let default_geometry = match distribution {
+        Distribution::Beckmann => Geometry::SmithBeckmann,
+        Distribution::Ggx => d.geometry,
+    };
     Ok(Material::MetalRough(MetalRoughParams {
         base_color,
         metallic,
         roughness: f.num("roughness", d.roughness, UNIT)?,
-        distribution: f.select("distribution", DISTRIBUTIONS, d.distribution)?,
-        geometry: f.select("geometry", GEOMETRIES, d.geometry)?,
+        distribution,
+        geometry: f.select("geometry", GEOMETRIES, default_geometry)?,
         fresnel: f.select("fresnel", FRESNELS, d.fresnel)?,
         diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
         diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,

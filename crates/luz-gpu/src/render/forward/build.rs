@@ -394,8 +394,8 @@ fn culls(sides: Sides, closed: bool) -> bool {
 pub fn lut_geometry(m: &crate::brdf::Model) -> i32 {
     use crate::brdf::{Geometry, Model};
     match m {
-        Model::CookTorrance(p) => p.geometry as i32,
-        Model::MetalRough(p) => p.geometry as i32,
+        Model::CookTorrance(p) => p.geometry.for_split_sum() as i32,
+        Model::MetalRough(p) => p.geometry.for_split_sum() as i32,
         // Principled's Gs is the separable Smith GGX (in visibility form).
         Model::Principled(_) => Geometry::SmithGgx as i32,
         _ => Geometry::SmithGgxCorrelated as i32,
