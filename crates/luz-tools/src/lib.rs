@@ -1,6 +1,6 @@
 //! luz's measuring tools, on top of the GPU layer: golden-image runs (`golden`), the
 //! speed-against-accuracy lab (`lab`), the BRDF stability sweep (`stability`), the CPU reference
-//! renderer (`reference`) and the fuzz entry points (`fuzzing`). Re-exports the layers below so
+//! renderer (`reference`), scene export to other renderers (`export`) and the fuzz entry points (`fuzzing`). Re-exports the layers below so
 //! that one path names one module.
 
 pub use luz_gpu::{
@@ -10,6 +10,7 @@ pub use luz_gpu::{
 
 /// Entry points shared by the fuzz targets (`fuzz/`) and `tests/fuzz_regressions.rs`.
 pub mod fuzzing;
+pub mod export;
 pub mod golden;
 pub mod lab;
 pub mod reference;
