@@ -26,7 +26,8 @@ pub enum IntegratorArg {
 
 /// `luz export`.
 #[derive(Args, Debug)]
-#[command(after_help = "Writes DIR/scene.xml with the meshes as binary PLY (DIR/meshes/), the \
+#[command(
+    after_help = "Writes DIR/scene.xml with the meshes as binary PLY (DIR/meshes/), the \
 textures (DIR/textures/) and the environment (DIR/env/) beside it: the camera, spheres as exact \
 spheres, every other mesh as PLY, directional/point/spot lights with their units, the environment \
 (turned by 180° about y: Mitsuba's equirectangular origin is luz's opposite) and the materials with \
@@ -37,7 +38,8 @@ Render the result with Mitsuba 3 (scripts/setup.sh installs it into .deps/mitsub
 mi.Bitmap(mi.render(mi.load_file('DIR/scene.xml'))).write('mitsuba.exr')\"\n\n\
 Examples:\n  luz export scene.json --format mitsuba --out mts/              direct illumination\n  \
 luz export scene.json --format mitsuba --out mts/ --max-depth 8  path tracing, 8 bounces\n  \
-luz export scene.json --format mitsuba --out mts/ --spp 1024 --width 320 --height 240")]
+luz export scene.json --format mitsuba --out mts/ --spp 1024 --width 320 --height 240"
+)]
 pub struct ExportArgs {
     /// Scene file (JSON) or model (.obj, .gltf, .glb); the embedded default scene when omitted.
     pub scene: Option<PathBuf>,

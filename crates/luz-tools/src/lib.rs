@@ -8,9 +8,9 @@ pub use luz_gpu::{
     profiler, progress, provenance, render, scene, stats, texture, vk,
 };
 
+pub mod export;
 /// Entry points shared by the fuzz targets (`fuzz/`) and `tests/fuzz_regressions.rs`.
 pub mod fuzzing;
-pub mod export;
 pub mod golden;
 pub mod lab;
 pub mod reference;

@@ -41,7 +41,8 @@ pub fn export(
     };
     w.document(scene, opts)?;
     let path = w.report.scene_file.clone();
-    std::fs::write(&path, &w.xml).map_err(|e| ExportError::new(&path, format!("cannot write: {e}")))?;
+    std::fs::write(&path, &w.xml)
+        .map_err(|e| ExportError::new(&path, format!("cannot write: {e}")))?;
     w.report.files.insert(0, path);
     Ok(w.report)
 }
@@ -79,6 +80,19 @@ fn comment(s: &str) -> String {
 
 fn v3(v: Vec3) -> String {
     format!("{}, {}, {}", v.x, v.y, v.z)
+}
+
+/// A reflectance parameter: `<rgb>`, or above 1 (the doubled halves of a sum, see
+/// `metal_rough`) an unbounded `srgb` texture (Mitsuba refuses `<rgb>` reflectances above 1).
+fn reflectance(name: &str, v: Vec3) -> String {
+    if v.max_element() > 1.0 {
+        format!(
+            "<texture type=\"srgb\" name=\"{name}\"><rgb name=\"color\" value=\"{}\"/><boolean name=\"unbounded\" value=\"true\"/></texture>",
+            v3(v)
+        )
+    } else {
+        format!("<rgb name=\"{name}\" value=\"{}\"/>", v3(v))
+    }
 }
 
 fn xyz(v: Vec3) -> String {
@@ -203,7 +217,10 @@ impl Writer {
             Projection::Perspective => {
                 self.line(1, "<sensor type=\"perspective\">");
                 self.line(2, "<string name=\"fov_axis\" value=\"y\"/>");
-                self.line(2, &format!("<float name=\"fov\" value=\"{}\"/>", c.fov_y_deg));
+                self.line(
+                    2,
+                    &format!("<float name=\"fov\" value=\"{}\"/>", c.fov_y_deg),
+                );
                 self.line(2, "<transform name=\"to_world\">");
                 self.line(3, &lookat);
             }
@@ -218,17 +235,32 @@ impl Writer {
             }
         }
         self.line(2, "</transform>");
-        self.line(2, &format!("<float name=\"near_clip\" value=\"{}\"/>", c.near));
-        self.line(2, &format!("<float name=\"far_clip\" value=\"{}\"/>", c.far));
+        self.line(
+            2,
+            &format!("<float name=\"near_clip\" value=\"{}\"/>", c.near),
+        );
+        self.line(
+            2,
+            &format!("<float name=\"far_clip\" value=\"{}\"/>", c.far),
+        );
         self.line(2, "<sampler type=\"multijitter\">");
         self.line(
             3,
-            &format!("<integer name=\"sample_count\" value=\"{}\"/>", opts.spp.max(1)),
+            &format!(
+                "<integer name=\"sample_count\" value=\"{}\"/>",
+                opts.spp.max(1)
+            ),
         );
         self.line(2, "</sampler>");
         self.line(2, "<film type=\"hdrfilm\">");
-        self.line(3, &format!("<integer name=\"width\" value=\"{}\"/>", o.width));
-        self.line(3, &format!("<integer name=\"height\" value=\"{}\"/>", o.height));
+        self.line(
+            3,
+            &format!("<integer name=\"width\" value=\"{}\"/>", o.width),
+        );
+        self.line(
+            3,
+            &format!("<integer name=\"height\" value=\"{}\"/>", o.height),
+        );
         self.line(3, "<string name=\"pixel_format\" value=\"rgb\"/>");
         self.line(3, "<rfilter type=\"box\"/>");
         self.line(2, "</film>");
@@ -288,12 +320,19 @@ impl Writer {
                     .map(|n| n.to_string_lossy().into_owned())
                     .unwrap_or_else(|| "environment.hdr".into());
                 let rel = format!("env/{name}");
-                let bytes = std::fs::read(path)
-                    .map_err(|e| ExportError::new(path, format!("cannot read the environment: {e}")))?;
+                let bytes = std::fs::read(path).map_err(|e| {
+                    ExportError::new(path, format!("cannot read the environment: {e}"))
+                })?;
                 self.write_file(&rel, &bytes)?;
                 self.line(1, "<emitter type=\"envmap\">");
-                self.line(2, &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)));
-                self.line(2, &format!("<float name=\"scale\" value=\"{}\"/>", env.intensity));
+                self.line(
+                    2,
+                    &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)),
+                );
+                self.line(
+                    2,
+                    &format!("<float name=\"scale\" value=\"{}\"/>", env.intensity),
+                );
                 self.line(2, &rotate);
                 self.line(1, "</emitter>");
             }
@@ -308,13 +347,17 @@ impl Writer {
                 };
                 let rel = format!("env/{}.exr", env.source.kind_name());
                 let path = self.out.join(&rel);
-                std::fs::create_dir_all(self.out.join("env"))
-                    .map_err(|e| ExportError::new(&self.out.join("env"), format!("cannot create: {e}")))?;
+                std::fs::create_dir_all(self.out.join("env")).map_err(|e| {
+                    ExportError::new(&self.out.join("env"), format!("cannot create: {e}"))
+                })?;
                 crate::imageio::save(&path, &img, 0.0, Tonemap::None)
                     .map_err(|e| ExportError::new(&path, e))?;
                 self.report.files.push(path);
                 self.line(1, "<emitter type=\"envmap\">");
-                self.line(2, &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)));
+                self.line(
+                    2,
+                    &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)),
+                );
                 self.line(2, &rotate);
                 self.line(1, "</emitter>");
             }
@@ -344,18 +387,29 @@ impl Writer {
                     )),
                 }
                 if l.range.is_some() {
-                    self.note(format!("lights[{i}]: the range window (Mitsuba's lights reach everywhere)"));
+                    self.note(format!(
+                        "lights[{i}]: the range window (Mitsuba's lights reach everywhere)"
+                    ));
                 }
             }
             match l.kind {
                 LightKind::Directional => {
                     self.line(1, "<emitter type=\"directional\">");
-                    self.line(2, &format!("<vector name=\"direction\" {}/>", xyz(l.direction)));
-                    self.line(2, &format!("<rgb name=\"irradiance\" value=\"{}\"/>", v3(e)));
+                    self.line(
+                        2,
+                        &format!("<vector name=\"direction\" {}/>", xyz(l.direction)),
+                    );
+                    self.line(
+                        2,
+                        &format!("<rgb name=\"irradiance\" value=\"{}\"/>", v3(e)),
+                    );
                 }
                 LightKind::Point => {
                     self.line(1, "<emitter type=\"point\">");
-                    self.line(2, &format!("<point name=\"position\" {}/>", xyz(l.position)));
+                    self.line(
+                        2,
+                        &format!("<point name=\"position\" {}/>", xyz(l.position)),
+                    );
                     self.line(2, &format!("<rgb name=\"intensity\" value=\"{}\"/>", v3(e)));
                 }
                 LightKind::Spot => {
@@ -390,7 +444,10 @@ impl Writer {
                     );
                     self.line(2, "</transform>");
                     self.line(2, &format!("<rgb name=\"intensity\" value=\"{}\"/>", v3(e)));
-                    self.line(2, &format!("<float name=\"cutoff_angle\" value=\"{}\"/>", l.umbra_deg));
+                    self.line(
+                        2,
+                        &format!("<float name=\"cutoff_angle\" value=\"{}\"/>", l.umbra_deg),
+                    );
                     self.line(2, &format!("<float name=\"beam_width\" value=\"{beam}\"/>"));
                 }
             }
@@ -430,7 +487,13 @@ impl Writer {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default()
             .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
             .collect();
         let rel = format!("textures/t{}_{stem}.{ext}", self.textures.len());
         self.write_file(&rel, &bytes)?;
@@ -447,7 +510,7 @@ impl Writer {
         material: &str,
     ) -> Result<String, ExportError> {
         let Some(t) = map else {
-            return Ok(format!("<rgb name=\"{name}\" value=\"{}\"/>", v3(value)));
+            return Ok(reflectance(name, value));
         };
         if value != Vec3::ONE {
             self.note(format!(
@@ -461,7 +524,9 @@ impl Writer {
             Wrap::Mirror => "mirror",
         };
         if t.sampler.wrap_u != t.sampler.wrap_v {
-            self.note(format!("material '{material}': different wrap modes in u and v"));
+            self.note(format!(
+                "material '{material}': different wrap modes in u and v"
+            ));
         }
         let filter = match t.sampler.mag {
             Filter::Linear => "bilinear",
@@ -491,9 +556,15 @@ impl Writer {
             }
             let inner = self.bsdf(&m.name, &m.material, &m.textures)?;
             self.line(1, &format!("<!-- material {} -->", comment(&m.name)));
-            self.line(1, &inner.replacen("<bsdf ", &format!("<bsdf id=\"m{i}\" "), 1));
+            self.line(
+                1,
+                &inner.replacen("<bsdf ", &format!("<bsdf id=\"m{i}\" "), 1),
+            );
             if two_sided[i] {
-                self.line(1, &format!("<bsdf type=\"twosided\" id=\"m{i}_2s\">{inner}</bsdf>"));
+                self.line(
+                    1,
+                    &format!("<bsdf type=\"twosided\" id=\"m{i}_2s\">{inner}</bsdf>"),
+                );
             }
             let t = &m.textures;
             let mut dropped = Vec::new();
@@ -526,7 +597,10 @@ impl Writer {
                 ));
             }
             if t.alpha_mode != AlphaMode::Opaque {
-                self.note(format!("material '{}': alpha {:?} (exported opaque)", m.name, t.alpha_mode));
+                self.note(format!(
+                    "material '{}': alpha {:?} (exported opaque)",
+                    m.name, t.alpha_mode
+                ));
             }
         }
         Ok(used)
@@ -586,7 +660,9 @@ impl Writer {
             )),
         }
         if diffuse == Diffuse::Burley {
-            self.note(format!("material '{name}': Burley diffuse (exported as Lambert)"));
+            self.note(format!(
+                "material '{name}': Burley diffuse (exported as Lambert)"
+            ));
         }
     }
 
@@ -601,7 +677,7 @@ impl Writer {
             v3(k)
         );
         if scale != 1.0 {
-            let _ = write!(s, "<rgb name=\"specular_reflectance\" value=\"{}\"/>", v3(Vec3::splat(scale)));
+            s.push_str(&reflectance("specular_reflectance", Vec3::splat(scale)));
         }
         s.push_str("</bsdf>");
         s
@@ -614,8 +690,8 @@ impl Writer {
             Distribution::Beckmann => "beckmann",
         };
         format!(
-            "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"{dist}\"/><float name=\"alpha\" value=\"{alpha}\"/><string name=\"material\" value=\"none\"/><rgb name=\"specular_reflectance\" value=\"{}\"/></bsdf>",
-            v3(f0)
+            "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"{dist}\"/><float name=\"alpha\" value=\"{alpha}\"/><string name=\"material\" value=\"none\"/>{}</bsdf>",
+            reflectance("specular_reflectance", f0)
         )
     }
 
@@ -638,7 +714,9 @@ impl Writer {
                     ));
                 }
                 if matches!(p.specular, SpecularSource::Complex(_)) {
-                    self.note(format!("material '{name}': κ dropped by the dielectric Fresnel"));
+                    self.note(format!(
+                        "material '{name}': κ dropped by the dielectric Fresnel"
+                    ));
                 }
                 self.conductor(p.distribution, alpha, spec, Vec3::ZERO, 1.0)
             }
@@ -721,7 +799,9 @@ impl Writer {
             ));
         }
         if p.clearcoat > 0.0 {
-            self.note(format!("material '{name}': Principled clearcoat (not cross-checked)"));
+            self.note(format!(
+                "material '{name}': Principled clearcoat (not cross-checked)"
+            ));
         }
         if p.anisotropic > 0.0 {
             self.note(format!(
@@ -756,7 +836,10 @@ impl Writer {
                 format!("<ref id=\"m{}\"/>", o.material)
             };
             if o.shading == Shading::Gouraud {
-                self.note(format!("objects[{i}] '{}': Gouraud shading (exported smooth, lit per pixel)", o.name));
+                self.note(format!(
+                    "objects[{i}] '{}': Gouraud shading (exported smooth, lit per pixel)",
+                    o.name
+                ));
             }
             if !o.shadow.cast || !o.shadow.receive {
                 self.note(format!(
@@ -765,7 +848,10 @@ impl Writer {
                 ));
             }
             if !o.mesh.colors.is_empty() {
-                self.note(format!("objects[{i}] '{}': vertex colours left out", o.name));
+                self.note(format!(
+                    "objects[{i}] '{}': vertex colours left out",
+                    o.name
+                ));
             }
             self.line(1, &format!("<!-- objects[{i}]: {} -->", comment(&o.name)));
             // Exact spheres (luz's reference intersects them exactly too) when the scale is
@@ -774,13 +860,18 @@ impl Writer {
             let uniform = (t.scale.x - t.scale.y).abs() <= 1e-6 * t.scale.x
                 && (t.scale.x - t.scale.z).abs() <= 1e-6 * t.scale.x;
             let radius = match o.desc {
-                MeshDesc::Sphere { radius, .. } | MeshDesc::Icosphere { radius, .. } => Some(radius),
+                MeshDesc::Sphere { radius, .. } | MeshDesc::Icosphere { radius, .. } => {
+                    Some(radius)
+                }
                 _ => None,
             };
             if let (Some(r), true, false) = (radius, uniform, has_maps(&m.textures)) {
                 self.line(1, "<shape type=\"sphere\">");
                 self.line(2, &format!("<point name=\"center\" {}/>", xyz(t.position)));
-                self.line(2, &format!("<float name=\"radius\" value=\"{}\"/>", r * t.scale.x));
+                self.line(
+                    2,
+                    &format!("<float name=\"radius\" value=\"{}\"/>", r * t.scale.x),
+                );
                 self.line(2, &bsdf);
                 self.line(1, "</shape>");
                 continue;
@@ -796,7 +887,10 @@ impl Writer {
                 }
             };
             self.line(1, "<shape type=\"ply\">");
-            self.line(2, &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)));
+            self.line(
+                2,
+                &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)),
+            );
             self.line(
                 2,
                 &format!(

@@ -12,7 +12,8 @@ pub fn ply_bytes(mesh: &Mesh) -> Vec<u8> {
     let normals = mesh.normals.len() == mesh.positions.len();
     let tris = mesh.indices.len() / 3;
     let mut out = Vec::with_capacity(256 + mesh.positions.len() * 32 + tris * 13);
-    let mut header = String::from("ply\nformat binary_little_endian 1.0\ncomment written by luz export\n");
+    let mut header =
+        String::from("ply\nformat binary_little_endian 1.0\ncomment written by luz export\n");
     header += &format!("element vertex {}\n", mesh.positions.len());
     header += "property float x\nproperty float y\nproperty float z\n";
     if normals {
@@ -65,6 +66,9 @@ mod tests {
         assert!(header.contains("property float u"));
         let per_vertex = 8 * 4;
         let tris = m.indices.len() / 3;
-        assert_eq!(b.len() - text_end, m.positions.len() * per_vertex + tris * 13);
+        assert_eq!(
+            b.len() - text_end,
+            m.positions.len() * per_vertex + tris * 13
+        );
     }
 }
