@@ -38,8 +38,20 @@ pub fn export(
         },
         textures: HashMap::new(),
         meshes: HashMap::new(),
+        notes: Vec::new(),
     };
     w.document(scene, opts)?;
+    w.report.approximations = w
+        .notes
+        .iter()
+        .map(|(what, whos)| {
+            if whos.is_empty() {
+                what.clone()
+            } else {
+                format!("{what}: {}", whos.join(", "))
+            }
+        })
+        .collect();
     let path = w.report.scene_file.clone();
     std::fs::write(&path, &w.xml)
         .map_err(|e| ExportError::new(&path, format!("cannot write: {e}")))?;
@@ -55,6 +67,8 @@ struct Writer {
     textures: HashMap<PathBuf, String>,
     /// Mesh (by address: objects share an `Arc<Mesh>`) → path relative to `out`.
     meshes: HashMap<usize, String>,
+    /// Approximations: what, and whom it concerns (empty: the scene).
+    notes: Vec<(String, Vec<String>)>,
 }
 
 /// XML attribute text: `&`, `<`, `>`, `"` and `'` escaped.
@@ -129,10 +143,21 @@ pub fn environment_rotation_deg(rotation_deg: f32) -> f32 {
 }
 
 impl Writer {
+    /// Records an approximation. "material 'x': what", "lights[i]: what" and
+    /// "objects[i] 'x': what" are grouped by what, so that the warning reads "what: material
+    /// 'a', material 'b'" once.
     fn note(&mut self, s: impl Into<String>) {
         let s = s.into();
-        if !self.report.approximations.contains(&s) {
-            self.report.approximations.push(s);
+        let subject = ["material '", "lights[", "objects["]
+            .iter()
+            .any(|p| s.starts_with(p));
+        let (what, who) = match s.split_once(": ") {
+            Some((who, what)) if subject => (what.to_string(), Some(who.to_string())),
+            _ => (s, None),
+        };
+        match self.notes.iter_mut().find(|(w, _)| *w == what) {
+            Some((_, whos)) => whos.extend(who),
+            None => self.notes.push((what, who.into_iter().collect())),
         }
     }
 
@@ -271,8 +296,9 @@ impl Writer {
         let o = &scene.output;
         if o.tonemap != Tonemap::None || o.exposure != 0.0 {
             self.note(format!(
-                "tone mapping ({:?}) and exposure ({} EV): Mitsuba writes linear radiance",
-                o.tonemap, o.exposure
+                "tone mapping ({}) and exposure ({} EV): Mitsuba writes linear radiance",
+                o.tonemap.name(),
+                o.exposure
             ));
         }
         match scene.saturation {
