@@ -649,3 +649,36 @@ fn every_shipped_scene_exports_and_mitsuba_loads_it() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A plane (a PLY mesh, two-sided) with an asymmetric base colour map (a gradient in u and v, a
+/// bright corner) seen by an orthographic camera: the PLY's UVs, the bitmap's orientation and
+/// sRGB decoding, and the orthographic view rectangle.
+#[test]
+fn textured_plane_orthographic() {
+    let tex_dir = scratch("texture");
+    let (w, h) = (64u32, 32u32);
+    let mut rgb = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let corner = x < 8 && y < 8;
+            rgb.extend([
+                (255 * x / (w - 1)) as u8,
+                (255 * y / (h - 1)) as u8,
+                if corner { 255 } else { 26 },
+            ]);
+        }
+    }
+    let png = tex_dir.join("gradient.png");
+    luz::imageio::save_png_rgb8(&png, w, h, &rgb).unwrap();
+    let json = format!(
+        r#"{{
+  "camera": {{"position": [0, 3, 3], "target": [0, 0, 0], "projection": "orthographic", "ortho_half_height": 1.2, "near": 0.1, "far": 100}},
+  "output": {{"width": 128, "height": 96, "msaa": 4, "tonemap": "none"}},
+  "lights": [{{"type": "directional", "direction": [0.3, -1, -0.2], "intensity": 2}}],
+  "materials": {{"m": {{"model": "lambert", "albedo": 1, "textures": {{"base_color": {}}}}}}},
+  "objects": [{{"mesh": {{"type": "plane", "size": [3, 2]}}, "material": "m", "rotation_deg": [0, 20, 0], "position": [0.2, 0, 0]}}]
+}}"#,
+        serde_json::to_string(&png).unwrap()
+    );
+    run_case(direct("textured_plane_orthographic", json));
+}
