@@ -40,3 +40,16 @@ if [ ! -s "$archive" ]; then
   ranlib "$archive.tmp"
   mv "$archive.tmp" "$archive"
 fi
+
+# Mitsuba 3 (issue 37's cross-check, tests/crosscheck.rs, scripts/crosscheck.sh) from PyPI into a
+# venv of its own. Only its `scalar_rgb` variant is used (`llvm_ad_rgb` aborts on some CPUs with
+# "LLVM ERROR: Cannot select fmaximum"). Without network the install fails: one line, and the
+# cross-check group then skips visibly.
+venv="$root/.deps/mitsuba-venv"
+if ! "$venv/bin/python" -c "import mitsuba" 2>/dev/null; then
+  mkdir -p "$root/.deps"
+  echo "setup: installing Mitsuba 3 into $venv"
+  if ! { python3 -m venv "$venv" && "$venv/bin/pip" install -q --disable-pip-version-check mitsuba; } >"$root/.deps/mitsuba-install.log" 2>&1; then
+    echo "setup: Mitsuba 3 not installed (see .deps/mitsuba-install.log); the cross-check tests will skip"
+  fi
+fi

@@ -11,9 +11,9 @@
 //! is `luz_core::scene`.
 
 pub use luz_tools::{
-    brdf, color, compare, diff, env, files, fuzzing, glsl, golden, graph, headless, imageio, lab,
-    plot, prepare, profiler, progress, provenance, reference, render, scene, stability, stats,
-    texture, vk,
+    brdf, color, compare, diff, env, export, files, fuzzing, glsl, golden, graph, headless,
+    imageio, lab, plot, prepare, profiler, progress, provenance, reference, render, scene,
+    stability, stats, texture, vk,
 };
 
 #[cfg(feature = "window")]

@@ -209,3 +209,118 @@ fn model_files_on_the_command_line() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+/// `luz export --format mitsuba`: scene.xml, PLY meshes and one warning listing what has no
+/// like-for-like counterpart (the cross-check itself is tests/crosscheck.rs).
+#[test]
+fn export_writes_mitsuba_xml_meshes_and_one_warning() {
+    let dir = scratch("export");
+    let scene = dir.join("s.json");
+    std::fs::write(
+        &scene,
+        r#"{
+  "lights": [{"type": "point", "position": [0, 3, 0], "intensity": 5, "falloff": "none"}],
+  "materials": {"red": {"model": "blinn_phong"}, "chalk": {"model": "lambert"}},
+  "objects": [{"mesh": {"type": "plane"}, "material": "chalk"},
+              {"mesh": {"type": "sphere"}, "material": "red", "position": [0, 1, 0]}],
+  "fog": {"z_a": 1, "z_b": 10}
+}"#,
+    )
+    .unwrap();
+    let out = dir.join("mts");
+    let (code, stdout, err) = luz(&[
+        "export",
+        scene.to_str().unwrap(),
+        "--format",
+        "mitsuba",
+        "--out",
+        out.to_str().unwrap(),
+        "--max-depth",
+        "4",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(stdout.contains("scene.xml"), "{stdout}");
+    let xml = std::fs::read_to_string(out.join("scene.xml")).unwrap();
+    assert!(xml.contains("<scene version=\"3.0.0\">"), "{xml}");
+    assert!(
+        xml.contains("<integrator type=\"path\">") && xml.contains("\"max_depth\" value=\"4\"")
+    );
+    assert!(xml.contains("<shape type=\"sphere\">") && xml.contains("meshes/mesh0.ply"));
+    let ply = std::fs::read(out.join("meshes/mesh0.ply")).unwrap();
+    assert!(ply.starts_with(b"ply\nformat binary_little_endian 1.0\n"));
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(warnings.len(), 1, "one warning: {err}");
+    for what in [
+        "Blinn-Phong",
+        "depth cueing",
+        "lights without shadow",
+        "falloff",
+    ] {
+        assert!(
+            warnings[0].contains(what),
+            "the warning lists {what}: {err}"
+        );
+    }
+}
+
+#[test]
+fn export_bad_inputs_are_clear_errors() {
+    let dir = scratch("export-bad");
+    // The output folder cannot be made: its parent is a file.
+    let file = dir.join("file");
+    std::fs::write(&file, "x").unwrap();
+    let blocked = file.join("sub");
+    let (code, _, err) = luz(&["export", "--out", blocked.to_str().unwrap()]);
+    assert_clean_failure(code, &err, blocked.to_str().unwrap());
+    // A scene that does not load is named.
+    let bad = root().join("tests/bad_scenes/absurd_segments.json");
+    let (code, _, err) = luz(&[
+        "export",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_clean_failure(code, &err, "absurd_segments.json");
+    let missing = dir.join("missing.json");
+    let (code, _, err) = luz(&[
+        "export",
+        missing.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_clean_failure(code, &err, "missing.json");
+    // --max-depth is the path tracer's.
+    let (code, _, err) = luz(&[
+        "export",
+        "--out",
+        dir.join("o").to_str().unwrap(),
+        "--integrator",
+        "direct",
+        "--max-depth",
+        "3",
+    ]);
+    assert_clean_failure(code, &err, "--max-depth");
+    // Without --out clap refuses, naming it.
+    let (code, _, err) = luz(&["export"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("--out") && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn export_help_answers() {
+    let (code, stdout, _) = luz(&["export", "--help"]);
+    assert_eq!(code, 0);
+    for what in [
+        "--format",
+        "mitsuba",
+        "--out",
+        "--max-depth",
+        "--spp",
+        "docs/export.md",
+        "scalar_rgb",
+    ] {
+        assert!(stdout.contains(what), "--help mentions {what}: {stdout}");
+    }
+    let (_, top, _) = luz(&["--help"]);
+    assert!(top.contains("export"), "{top}");
+}

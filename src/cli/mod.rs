@@ -8,6 +8,7 @@ mod budget;
 mod common;
 mod devices;
 mod diff;
+mod export;
 mod fidelity;
 mod golden;
 mod info;
@@ -38,6 +39,7 @@ luz golden scenes/ --goldens goldens/ each scene against its golden; --bless, --
 luz fidelity '{\"scenario\": …}'     a glTF Render Fidelity scenario to its PNG\n  \
 luz view scene.json                   interactive viewer (H lists the keys)\n  \
 luz reference scene.json -o ref.exr   the CPU reference answer\n  \
+luz export scene.json --out mts/      Mitsuba 3 XML + PLY, to cross-check with an independent renderer\n  \
 luz lab scene.json --out lab/         every method variant: GPU ms against error, chart\n  \
 luz stability                         BRDFs at the edges of their domain, CPU and GPU"
 )]
@@ -68,6 +70,9 @@ pub enum Command {
     /// Render a Khronos glTF Render Fidelity scenario (the generator's offline-renderer contract:
     /// one JSON argument {"scenario": {…}, "outputFile": "….png"}) to its PNG.
     Fidelity(fidelity::FidelityArgs),
+    /// Export a scene to another renderer (Mitsuba 3 XML with PLY meshes) for cross-checks;
+    /// whatever has no like-for-like counterpart is listed in one warning.
+    Export(export::ExportArgs),
     /// Print an image's size, format and provenance (luz version and commit, device, driver,
     /// scene and its hash, tone map, exposure, frame times).
     Info(info::InfoArgs),
@@ -113,6 +118,7 @@ fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Diff(a) => diff::run(a),
         Command::Golden(a) => golden::run(a),
         Command::Fidelity(a) => fidelity::run(a),
+        Command::Export(a) => export::run(a),
         Command::Info(a) => info::run(a),
         Command::Brdf(a) => brdf::run(a),
         Command::Devices(a) => devices::run(a),

@@ -1,6 +1,6 @@
 //! luz's measuring tools, on top of the GPU layer: golden-image runs (`golden`), the
 //! speed-against-accuracy lab (`lab`), the BRDF stability sweep (`stability`), the CPU reference
-//! renderer (`reference`) and the fuzz entry points (`fuzzing`). Re-exports the layers below so
+//! renderer (`reference`), scene export to other renderers (`export`) and the fuzz entry points (`fuzzing`). Re-exports the layers below so
 //! that one path names one module.
 
 pub use luz_gpu::{
@@ -8,6 +8,7 @@ pub use luz_gpu::{
     profiler, progress, provenance, render, scene, stats, texture, vk,
 };
 
+pub mod export;
 /// Entry points shared by the fuzz targets (`fuzz/`) and `tests/fuzz_regressions.rs`.
 pub mod fuzzing;
 pub mod golden;
