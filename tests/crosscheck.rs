@@ -391,11 +391,11 @@ const POINT: &str =
     r#"{"type": "point", "position": [-2, 2, 3], "intensity": 20, "color": [1, 0.95, 0.9]}"#;
 const SPOT: &str = r#"{"type": "spot", "position": [0, 3, 3], "target": [0.3, 0.1, 0], "intensity": 30, "umbra_deg": 12}"#;
 
-/// Cook-Torrance with GGX, separable Smith G and the conductor Fresnel of gold: Mitsuba's
+/// Cook-Torrance with GGX, separable Smith G and the exact conductor Fresnel of gold: Mitsuba's
 /// `roughconductor` term for term. α = roughness².
 fn gold_ggx(alpha: f32) -> String {
     format!(
-        r#"{{"model": "cook_torrance", "kd": 0, "roughness": {}, "distribution": "ggx", "geometry": "smith_ggx", "fresnel": "conductor", "preset": "gold"}}"#,
+        r#"{{"model": "cook_torrance", "kd": 0, "roughness": {}, "distribution": "ggx", "geometry": "smith_ggx", "fresnel": "conductor_exact", "preset": "gold"}}"#,
         alpha.sqrt()
     )
 }
@@ -470,14 +470,13 @@ fn principled_metal_point() {
 
 #[test]
 fn gold_beckmann_point() {
-    // luz's Beckmann takes m = roughness in Cook-Torrance with the V-cavity G ("cook_torrance"),
-    // Mitsuba's its own Smith G: not the same model (see docs/accuracy.md for the figure).
-    let m = r#"{"model": "cook_torrance", "kd": 0, "roughness": 0.3, "distribution": "beckmann", "geometry": "cook_torrance", "fresnel": "conductor", "preset": "gold"}"#;
-    run_case(Case {
-        ref_tolerance: 0.05,
-        gpu_tolerance: 0.05,
-        ..direct("gold_beckmann_m0.3_point", sphere_scene(m, POINT, ""))
-    });
+    // Beckmann (m = roughness in Cook-Torrance) with its own Smith G (Walter's rational G1, within
+    // 0.31 % of Mitsuba's exact one) and the exact conductor Fresnel: the same model (issue 34).
+    let m = r#"{"model": "cook_torrance", "kd": 0, "roughness": 0.3, "distribution": "beckmann", "geometry": "smith_beckmann", "fresnel": "conductor_exact", "preset": "gold"}"#;
+    run_case(direct(
+        "gold_beckmann_m0.3_point",
+        sphere_scene(m, POINT, ""),
+    ));
 }
 
 #[test]
