@@ -133,9 +133,10 @@ impl fmt::Display for FileFormat {
     }
 }
 
-/// Everything that can go wrong reading or writing an image file. Every message names the file.
+/// An image file that could not be opened or read: what [`ImageError`] and
+/// [`crate::texture::TextureError`] share. Every message names the file.
 #[derive(Debug, thiserror::Error)]
-pub enum ImageError {
+pub enum FileError {
     #[error("{}: no such file", .path.display())]
     NotFound { path: PathBuf },
     #[error("{}: is a directory, not an image file", .path.display())]
@@ -146,6 +147,51 @@ pub enum ImageError {
         #[source]
         source: io::Error,
     },
+}
+
+impl FileError {
+    /// The error of reading `path`: [`FileError::NotFound`] for a missing file, else
+    /// [`FileError::Read`].
+    pub fn read(path: &Path, e: io::Error) -> Self {
+        if e.kind() == io::ErrorKind::NotFound {
+            FileError::NotFound {
+                path: path.to_path_buf(),
+            }
+        } else {
+            FileError::Read {
+                path: path.to_path_buf(),
+                source: e,
+            }
+        }
+    }
+
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            FileError::NotFound { path }
+            | FileError::IsDirectory { path }
+            | FileError::Read { path, .. } => path,
+        }
+    }
+}
+
+/// Opens an image file for reading (within the input budget, [`crate::files::open_input`]); a
+/// directory or a missing file is reported as such.
+pub fn open_image_file(path: &Path) -> Result<File, FileError> {
+    let meta = fs::metadata(path).map_err(|e| FileError::read(path, e))?;
+    if meta.is_dir() {
+        return Err(FileError::IsDirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    crate::files::open_input(path).map_err(|e| FileError::read(path, e))
+}
+
+/// Everything that can go wrong reading or writing an image file. Every message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error(transparent)]
+    File(#[from] FileError),
     #[error(
         "{}: unsupported image file extension (supported: {})",
         .path.display(),
@@ -585,7 +631,7 @@ pub fn exceeds_decode_limits(width: u32, height: u32, bytes: u64) -> bool {
 /// from the extension; content that does not match it is reported as corrupt.
 pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
     let format = FileFormat::from_path(path)?;
-    let file = open_file(path)?;
+    let file = open_image_file(path)?;
     load_from(
         BufReader::new(file),
         path,
@@ -608,16 +654,6 @@ pub fn load_bytes(
     })
 }
 
-/// Opens an image file for reading; a directory or a missing file is reported as such.
-fn open_file(path: &Path) -> Result<File, ImageError> {
-    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
-    if meta.is_dir() {
-        return Err(ImageError::IsDirectory {
-            path: path.to_path_buf(),
-        });
-    }
-    crate::files::open_input(path).map_err(|e| read_error(path, e))
-}
 
 /// The decoding shared by [`load`] and [`load_bytes`]; `declared` reads the size the file
 /// declares (for the message when a limit is hit inside the decoder).
@@ -697,19 +733,6 @@ fn load_from<R: BufRead + Seek>(
     })
 }
 
-fn read_error(path: &Path, e: io::Error) -> ImageError {
-    if e.kind() == io::ErrorKind::NotFound {
-        ImageError::NotFound {
-            path: path.to_path_buf(),
-        }
-    } else {
-        ImageError::Read {
-            path: path.to_path_buf(),
-            source: e,
-        }
-    }
-}
-
 fn decode_error(
     path: &Path,
     format: FileFormat,
@@ -725,10 +748,11 @@ fn decode_error(
                 reason: "file is truncated".into(),
             }
         }
-        image::ImageError::IoError(source) => ImageError::Read {
+        image::ImageError::IoError(source) => FileError::Read {
             path: path_buf,
             source,
-        },
+        }
+        .into(),
         image::ImageError::Limits(_) => ImageError::TooLarge {
             declared: declared()
                 .map(|(w, h)| format!("declared {w}×{h}"))

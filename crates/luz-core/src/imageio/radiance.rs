@@ -20,7 +20,7 @@ pub fn load_radiance(path: &Path) -> Result<LinearImage, ImageError> {
             })
         }
         RadianceKind::Hdr => {
-            let file = open_file(path)?;
+            let file = open_image_file(path)?;
             load_hdr(BufReader::new(file), path, &SizeLimits::DEFAULT)
         }
     }
@@ -78,10 +78,11 @@ pub(super) fn load_hdr<R: BufRead + Seek>(
         image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
             corrupt("file is truncated".into())
         }
-        image::ImageError::IoError(source) => ImageError::Read {
+        image::ImageError::IoError(source) => super::FileError::Read {
             path: path.to_path_buf(),
             source,
-        },
+        }
+        .into(),
         image::ImageError::Limits(_) => ImageError::TooLarge {
             path: path.to_path_buf(),
             declared: "declared size over the limits".into(),

@@ -27,7 +27,6 @@
 //!
 //! Also: procedural images for tests ([`checker`], [`noise_normal_map`]).
 
-use std::fs;
 use std::io::{self, BufReader};
 use std::path::{Path, PathBuf};
 
@@ -36,7 +35,7 @@ use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader};
 use rayon::prelude::*;
 
 use crate::color::{srgb_decode, srgb_decode_table};
-use crate::imageio::MAX_DIMENSION;
+use crate::imageio::{open_image_file, FileError, MAX_DIMENSION};
 use crate::scene::{TextureRef, TextureSlot};
 
 /// How a texture's texels are encoded.
@@ -158,16 +157,8 @@ pub fn mip_extent(width: u32, height: u32, level: u32) -> (u32, u32) {
 /// Why a texture could not be loaded. Every message names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum TextureError {
-    #[error("{}: no such file", .path.display())]
-    NotFound { path: PathBuf },
-    #[error("{}: is a directory, not an image file", .path.display())]
-    IsDirectory { path: PathBuf },
-    #[error("cannot read {}: {source}", .path.display())]
-    Read {
-        path: PathBuf,
-        #[source]
-        source: io::Error,
-    },
+    #[error(transparent)]
+    File(#[from] FileError),
     #[error("{}: unsupported texture file extension (supported: .png, .jpg, .exr, .hdr)", .path.display())]
     UnsupportedExtension { path: PathBuf },
     #[error("{}: not a valid {format} file: {reason}", .path.display())]
@@ -196,10 +187,8 @@ impl TextureError {
     /// The file the error is about.
     pub fn path(&self) -> &Path {
         match self {
-            TextureError::NotFound { path }
-            | TextureError::IsDirectory { path }
-            | TextureError::Read { path, .. }
-            | TextureError::UnsupportedExtension { path }
+            TextureError::File(e) => e.path(),
+            TextureError::UnsupportedExtension { path }
             | TextureError::Corrupt { path, .. }
             | TextureError::Unsupported { path, .. }
             | TextureError::TooLarge { path, .. } => path,
@@ -286,13 +275,7 @@ pub fn texture_limits() -> crate::imageio::SizeLimits {
 /// within the input budget).
 pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
     let kind = file_kind(path)?;
-    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
-    if meta.is_dir() {
-        return Err(TextureError::IsDirectory {
-            path: path.to_path_buf(),
-        });
-    }
-    let file = crate::files::open_input(path).map_err(|e| read_error(path, e))?;
+    let file = open_image_file(path)?;
     decode_from(BufReader::new(file), path, kind, &texture_limits())
 }
 
@@ -374,19 +357,6 @@ fn decode_from<R: io::BufRead + io::Seek>(
     DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, kind, e))
 }
 
-fn read_error(path: &Path, e: io::Error) -> TextureError {
-    if e.kind() == io::ErrorKind::NotFound {
-        TextureError::NotFound {
-            path: path.to_path_buf(),
-        }
-    } else {
-        TextureError::Read {
-            path: path.to_path_buf(),
-            source: e,
-        }
-    }
-}
-
 fn decode_error(path: &Path, kind: FileKind, e: image::ImageError) -> TextureError {
     let path = path.to_path_buf();
     let format = kind.name();
@@ -398,7 +368,7 @@ fn decode_error(path: &Path, kind: FileKind, e: image::ImageError) -> TextureErr
                 reason: "file is truncated".into(),
             }
         }
-        image::ImageError::IoError(source) => TextureError::Read { path, source },
+        image::ImageError::IoError(source) => FileError::Read { path, source }.into(),
         image::ImageError::Limits(l) => TextureError::TooLarge {
             path,
             declared: l.to_string(),
