@@ -212,7 +212,11 @@ fn mip_chain_tracks_each_mip() {
     assert_eq!(f.len(), 2);
     assert_eq!(f[0].range, Some(SubresourceRange::new(0, 2, 0, 6)));
     assert_eq!(
-        (f[0].old_layout, f[0].scopes.src_stages, f[0].scopes.src_access),
+        (
+            f[0].old_layout,
+            f[0].scopes.src_stages,
+            f[0].scopes.src_access
+        ),
         (L::SHADER_READ_ONLY_OPTIMAL, S::COMPUTE_SHADER, A::NONE)
     );
     assert_eq!(f[1].range, Some(SubresourceRange::new(2, 1, 0, 6)));

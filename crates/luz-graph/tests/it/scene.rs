@@ -344,7 +344,10 @@ fn transient_first_use_waits_for_previous_frame() {
     let b = image_barrier(forward, hdr_image);
     assert_eq!(b.old_layout, L::UNDEFINED);
     assert_eq!(b.new_layout, L::COLOR_ATTACHMENT_OPTIMAL);
-    assert_eq!((b.scopes.src_stages, b.scopes.src_access), (S::COPY, A::NONE));
+    assert_eq!(
+        (b.scopes.src_stages, b.scopes.src_access),
+        (S::COPY, A::NONE)
+    );
     let depth_image = pool
         .images()
         .find(|(d, _)| d.format == vk::Format::D32_SFLOAT)
