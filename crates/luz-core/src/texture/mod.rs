@@ -31,11 +31,11 @@ use std::io::{self, BufReader};
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader};
+use image::{DynamicImage, ImageFormat};
 use rayon::prelude::*;
 
 use crate::color::{srgb_decode, srgb_decode_table};
-use crate::imageio::{open_image_file, FileError, MAX_DIMENSION};
+use crate::imageio::{decode_checked, open_image_file, DecodeProblem, FileError, MAX_DIMENSION};
 use crate::scene::{TextureRef, TextureSlot};
 
 /// How a texture's texels are encoded.
@@ -206,8 +206,7 @@ enum FileKind {
 
 impl FileKind {
     fn from_path(path: &Path) -> Option<FileKind> {
-        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-        match ext.as_str() {
+        match crate::files::lowercase_extension(path)?.as_str() {
             "png" => Some(FileKind::Png),
             "exr" => Some(FileKind::Exr),
             "hdr" => Some(FileKind::Hdr),
@@ -319,71 +318,32 @@ fn file_kind(path: &Path) -> Result<FileKind, TextureError> {
 
 /// The decoding shared by [`decode_file`] and [`decode_bytes`].
 fn decode_from<R: io::BufRead + io::Seek>(
-    mut reader: R,
+    reader: R,
     path: &Path,
     kind: FileKind,
     limits: &crate::imageio::SizeLimits,
 ) -> Result<DynamicImage, TextureError> {
-    // Scanned first, reported after the decoder has read (and validated) the header.
-    let exr_too_large = match kind {
-        FileKind::Exr => crate::imageio::exr_header_exceeds(&mut reader, limits),
-        FileKind::Png | FileKind::Hdr | FileKind::Jpeg => None,
-    };
-    let mut reader = ImageReader::with_format(reader, kind.image_format());
-    reader.limits(limits.image_limits());
-    let decoder = reader
-        .into_decoder()
-        .map_err(|e| decode_error(path, kind, e))?;
-    if let Some(declared) = exr_too_large {
-        return Err(TextureError::TooLarge {
-            path: path.to_path_buf(),
-            declared,
-        });
-    }
-    let (width, height) = decoder.dimensions();
-    if limits.exceeded(width, height, decoder.total_bytes()) {
-        return Err(TextureError::TooLarge {
-            path: path.to_path_buf(),
-            declared: format!("declared {width}×{height}"),
-        });
-    }
-    if width == 0 || height == 0 {
-        return Err(TextureError::Corrupt {
-            path: path.to_path_buf(),
-            format: kind.name(),
-            reason: format!("empty image ({width}×{height})"),
-        });
-    }
-    DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, kind, e))
-}
-
-fn decode_error(path: &Path, kind: FileKind, e: image::ImageError) -> TextureError {
-    let path = path.to_path_buf();
-    let format = kind.name();
-    match e {
-        image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
-            TextureError::Corrupt {
+    decode_checked(reader, kind.image_format(), limits, None).map_err(|p| {
+        let (path, format) = (path.to_path_buf(), kind.name());
+        match p {
+            DecodeProblem::Read(source) => FileError::Read { path, source }.into(),
+            DecodeProblem::TooLarge(declared) => TextureError::TooLarge { path, declared },
+            DecodeProblem::Limits(l) => TextureError::TooLarge {
+                path,
+                declared: l.to_string(),
+            },
+            DecodeProblem::Unsupported(reason) => TextureError::Unsupported {
                 path,
                 format,
-                reason: "file is truncated".into(),
-            }
+                reason,
+            },
+            DecodeProblem::Corrupt(reason) => TextureError::Corrupt {
+                path,
+                format,
+                reason,
+            },
         }
-        image::ImageError::IoError(source) => FileError::Read { path, source }.into(),
-        image::ImageError::Limits(l) => TextureError::TooLarge {
-            path,
-            declared: l.to_string(),
-        },
-        image::ImageError::Unsupported(u) => TextureError::Unsupported {
-            path,
-            format,
-            reason: u.to_string(),
-        },
-        other => TextureError::Corrupt {
-            path,
-            format,
-            reason: crate::imageio::corrupt_reason(&other),
-        },
-    }
+    })
 }
 
 /// The texels as the pipeline sees them: the file's 8-bit codes (kept exactly for level 0) or
