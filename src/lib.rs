@@ -16,5 +16,6 @@ pub use luz_tools::{
     stability, stats, texture, vk,
 };
 
+pub mod timing;
 #[cfg(feature = "window")]
 pub mod window;

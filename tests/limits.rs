@@ -10,7 +10,7 @@ use std::path::Path;
 
 use ash::vk;
 use luz::headless::{Headless, DEPTH_FORMAT};
-use luz::render::forward::{DebugView, ForwardPass, TargetFormat};
+use luz::render::forward::{ForwardPass, PassOptions, TargetFormat};
 use luz::render::gpu::{GpuLight, ObjectData};
 use luz::vk::cmd::CommandPool;
 use luz::vk::image::ImageDesc;
@@ -60,8 +60,16 @@ fn update_with_more_or_fewer_lights_than_the_buffer_holds_is_an_error() {
         depth: DEPTH_FORMAT,
         samples: vk::SampleCountFlags::TYPE_1,
     };
-    let mut pass =
-        ForwardPass::new(&ctx, &pool, &scene, target, 1.0, None, DebugView::None).unwrap();
+    let mut pass = ForwardPass::in_flight(
+        &ctx,
+        &pool,
+        &scene,
+        target,
+        1.0,
+        None,
+        PassOptions::default(),
+    )
+    .unwrap();
     pass.update(0, &scene, 1.0).unwrap();
     for n in [3, 1, 0] {
         let other = parse(&scene_json(16, 16, n, CUBE, "phong"));
@@ -181,9 +189,17 @@ fn vertex_buffers_beyond_the_allocation_limit_are_an_error_naming_the_object() {
         depth: DEPTH_FORMAT,
         samples: vk::SampleCountFlags::TYPE_1,
     };
-    let e = ForwardPass::new(&ctx, &pool, &scene, target, 1.0, None, DebugView::None)
-        .err()
-        .expect("the cube does not fit");
+    let e = ForwardPass::in_flight(
+        &ctx,
+        &pool,
+        &scene,
+        target,
+        1.0,
+        None,
+        PassOptions::default(),
+    )
+    .err()
+    .expect("the cube does not fit");
     assert_eq!(limit_of(&e), "maxMemoryAllocationSize");
     assert!(
         e.to_string()

@@ -142,14 +142,11 @@ impl Rig {
             ImageDesc::texture(W, height, vk::Format::R32G32B32A32_SFLOAT, 1, 1),
         )
         .unwrap();
-        let destination = Image::new(
-            ctx,
-            "tonemap test destination",
-            ImageDesc {
-                usage: vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC,
-                ..ImageDesc::color_target(W, height, DESTINATION_FORMAT)
-            },
-        )
+        let destination = Image::new(ctx, "tonemap test destination", {
+            let mut desc = ImageDesc::color_target(W, height, DESTINATION_FORMAT);
+            desc.usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+            desc
+        })
         .unwrap();
         let readback = Buffer::new(
             ctx,

@@ -3,7 +3,6 @@
 //! messages.
 
 use std::path::Path;
-use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -54,23 +53,8 @@ impl ViewOverrides {
     }
 }
 
-/// `--csv`, `--json` and `--trace`: where a timed run (`luz bench`, `luz view --bench`) writes
-/// its frames.
-#[derive(Args, Debug, Clone)]
-pub struct TimingFiles {
-    /// Write one CSV line per timed frame: its CPU ms and each pass's GPU ms (`luz view` adds
-    /// the frame time, the LOD budget and the triangles drawn).
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
-    /// Write the summary as JSON.
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Write the timed frames as a Chrome/Perfetto trace (JSON; open it in ui.perfetto.dev or
-    /// chrome://tracing): per frame, the CPU's recording (the frame graph declared, compiled and
-    /// recorded) and the rest of the frame, and each pass's GPU span from the graph's timers.
-    #[arg(long, value_name = "FILE.json")]
-    pub trace: Option<PathBuf>,
-}
+/// `--csv`, `--json` and `--trace` (the viewer's options hold the same).
+pub use luz::timing::TimingFiles;
 
 /// `--ibl-quality` and `--no-cache`: the image-based lighting data of every command that renders.
 #[derive(Args, Debug, Clone, Copy)]
@@ -145,17 +129,25 @@ pub fn malloc_tuning_requested() -> bool {
     !disabled_by(std::env::var(ENV_DISABLE).ok().as_deref())
 }
 
+impl GpuArgs {
+    /// The context these options ask for (with `LUZ_SYNC_VALIDATION` and `LUZ_MALLOC_TUNING`
+    /// from the environment), without extensions: what `context` builds and the viewer extends.
+    pub fn context_desc(&self) -> ContextDesc {
+        ContextDesc {
+            instance: InstanceDesc {
+                validation: self.validate,
+                sync_validation: sync_validation_requested(),
+                ..Default::default()
+            },
+            device_name: self.device.clone(),
+            device_extensions: Vec::new(),
+            malloc_tuning: malloc_tuning_requested(),
+        }
+    }
+}
+
 pub fn context(gpu: &GpuArgs) -> Result<Arc<Context>> {
-    let ctx = Context::new(&ContextDesc {
-        instance: InstanceDesc {
-            validation: gpu.validate,
-            sync_validation: sync_validation_requested(),
-            ..Default::default()
-        },
-        device_name: gpu.device.clone(),
-        device_extensions: Vec::new(),
-        malloc_tuning: malloc_tuning_requested(),
-    })?;
+    let ctx = Context::new(&gpu.context_desc())?;
     Ok(ctx)
 }
 

@@ -9,8 +9,7 @@ use clap::Args;
 use luz::window::ViewOptions;
 
 use super::common::{
-    sync_validation_requested, validation_exit_counts, Bar, GpuArgs, IblArgs, RenderPathArg,
-    TimingFiles, ViewOverrides,
+    validation_exit_counts, Bar, GpuArgs, IblArgs, RenderPathArg, TimingFiles, ViewOverrides,
 };
 
 /// `luz view`: the interactive viewer.
@@ -128,18 +127,13 @@ pub fn run(a: ViewArgs) -> Result<ExitCode> {
         scene: a.scene,
         compare: a.compare,
         camera: a.view.camera,
-        validate: a.gpu.validate,
-        sync_validation: sync_validation_requested(),
-        malloc_tuning: super::common::malloc_tuning_requested(),
-        device: a.gpu.device,
+        gpu: a.gpu.context_desc(),
         frames: a.frames,
         screenshot: a.screenshot,
         script: a.script,
         bench: a.bench,
         warmup: a.warmup,
-        csv: a.files.csv,
-        json: a.files.json,
-        trace: a.files.trace,
+        files: a.files,
         width: a.view.width,
         height: a.view.height,
         no_vsync: a.no_vsync,

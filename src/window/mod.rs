@@ -24,14 +24,9 @@ pub struct ViewOptions {
     pub compare: Option<PathBuf>,
     /// Camera N of the scene's glTF files instead of the scene's camera (`--camera`).
     pub camera: Option<usize>,
-    /// Enable the Khronos validation layer.
-    pub validate: bool,
-    /// Also enable its synchronization validation.
-    pub sync_validation: bool,
-    /// Raise glibc's malloc trim threshold on a CPU device (`LUZ_MALLOC_TUNING`, read by the CLI).
-    pub malloc_tuning: bool,
-    /// Use the device whose name contains this text instead of the best one.
-    pub device: Option<String>,
+    /// The device to use, validation and malloc tuning: what every command that touches the GPU
+    /// builds its context from (the viewer adds its window's extensions).
+    pub gpu: crate::vk::ContextDesc,
     /// Quit after this many frames.
     pub frames: Option<u64>,
     /// Write a screenshot of the last frame, UI included (.png), or the linear radiance (.exr).
@@ -42,12 +37,9 @@ pub struct ViewOptions {
     pub bench: bool,
     /// Frames excluded from the benchmark's statistics.
     pub warmup: u64,
-    /// With `bench`: per-frame times as CSV.
-    pub csv: Option<PathBuf>,
-    /// With `bench`: a JSON summary.
-    pub json: Option<PathBuf>,
-    /// With `bench`: the measured frames as a Chrome/Perfetto trace.
-    pub trace: Option<PathBuf>,
+    /// With `bench`: where the per-frame times (CSV), the summary (JSON) and the measured frames
+    /// (a Chrome/Perfetto trace) go.
+    pub files: crate::timing::TimingFiles,
     /// Window width (default: the scene's output width).
     pub width: Option<u32>,
     /// Window height (default: the scene's output height).

@@ -152,6 +152,14 @@ impl Default for InputBudget {
 
 static BUDGET: std::sync::RwLock<InputBudget> = std::sync::RwLock::new(InputBudget::DEFAULT);
 
+/// The extension of `path` in lower case (`None` without one, or when it is not UTF-8): how
+/// every reader tells file kinds apart (case-insensitive).
+pub fn lowercase_extension(path: &std::path::Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
 /// `bytes` for a message: `"312 MiB"`, `"4.0 KiB"`, `"17 bytes"`.
 pub fn human_bytes(bytes: u64) -> String {
     if bytes >= MIB {

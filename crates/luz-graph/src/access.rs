@@ -6,6 +6,20 @@ use vk::AccessFlags2 as A;
 use vk::ImageLayout as L;
 use vk::PipelineStageFlags2 as S;
 
+/// A global memory barrier: a source and a destination scope, as every barrier has them (the
+/// `scopes` of [`crate::ImageBarrier`], [`crate::BufferBarrier`] and [`crate::BarrierInfo`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MemoryBarrier {
+    /// Source stages.
+    pub src_stages: vk::PipelineStageFlags2,
+    /// Source accesses.
+    pub src_access: vk::AccessFlags2,
+    /// Destination stages.
+    pub dst_stages: vk::PipelineStageFlags2,
+    /// Destination accesses.
+    pub dst_access: vk::AccessFlags2,
+}
+
 /// Which resources an [`Access`] applies to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AppliesTo {

@@ -14,7 +14,7 @@ use std::collections::{BTreeMap, HashSet};
 
 use ash::vk;
 
-use crate::access::{Access, AppliesTo, WRITE_ACCESS};
+use crate::access::{Access, AppliesTo, MemoryBarrier, WRITE_ACCESS};
 use crate::error::GraphError;
 use crate::exec::CompiledGraph;
 use crate::graph::{resource_name, BufferEntry, FrameGraph, ImageEntry};
@@ -29,10 +29,7 @@ use crate::resource::{
 struct Key {
     old: vk::ImageLayout,
     new: vk::ImageLayout,
-    src_stages: vk::PipelineStageFlags2,
-    src_access: vk::AccessFlags2,
-    dst_stages: vk::PipelineStageFlags2,
-    dst_access: vk::AccessFlags2,
+    scopes: MemoryBarrier,
     pool: bool,
 }
 
@@ -107,10 +104,12 @@ fn apply(cell: &mut Cell, m: &Merged) -> Option<Key> {
         return Some(Key {
             old: cell.layout,
             new: m.layout,
-            src_stages: ws,
-            src_access: wa,
-            dst_stages: m.stages,
-            dst_access: m.access,
+            scopes: MemoryBarrier {
+                src_stages: ws,
+                src_access: wa,
+                dst_stages: m.stages,
+                dst_access: m.access,
+            },
             pool: false,
         });
     }
@@ -121,10 +120,12 @@ fn apply(cell: &mut Cell, m: &Merged) -> Option<Key> {
         Some(Key {
             old: cell.layout,
             new: m.layout,
-            src_stages,
-            src_access,
-            dst_stages: m.stages,
-            dst_access: m.access,
+            scopes: MemoryBarrier {
+                src_stages,
+                src_access,
+                dst_stages: m.stages,
+                dst_access: m.access,
+            },
             pool: cell.fresh,
         })
     };
@@ -190,10 +191,7 @@ fn info(name: &str, handle: Resource, range: Option<SubresourceRange>, k: Key) -
         handle,
         old_layout: k.old,
         new_layout: k.new,
-        src_stages: k.src_stages,
-        src_access: k.src_access,
-        dst_stages: k.dst_stages,
-        dst_access: k.dst_access,
+        scopes: k.scopes,
         range,
         after_pool_use: k.pool,
     }

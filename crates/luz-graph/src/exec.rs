@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use crate::access::{Access, WRITE_ACCESS};
+use crate::access::{Access, MemoryBarrier, WRITE_ACCESS};
 use crate::error::{GraphError, PassError};
 use crate::plan::{BarrierInfo, BufferInfo, ImageInfo, Plan};
 use crate::pool::{ImageFactory, PooledImage, TransientPool};
@@ -23,14 +23,8 @@ pub struct ImageBarrier {
     pub old_layout: vk::ImageLayout,
     /// Layout after.
     pub new_layout: vk::ImageLayout,
-    /// Source stages.
-    pub src_stages: vk::PipelineStageFlags2,
-    /// Source accesses.
-    pub src_access: vk::AccessFlags2,
-    /// Destination stages.
-    pub dst_stages: vk::PipelineStageFlags2,
-    /// Destination accesses.
-    pub dst_access: vk::AccessFlags2,
+    /// Its source and destination scopes.
+    pub scopes: MemoryBarrier,
 }
 
 /// A buffer barrier ready to record (the whole buffer).
@@ -38,27 +32,8 @@ pub struct ImageBarrier {
 pub struct BufferBarrier {
     /// The buffer.
     pub buffer: vk::Buffer,
-    /// Source stages.
-    pub src_stages: vk::PipelineStageFlags2,
-    /// Source accesses.
-    pub src_access: vk::AccessFlags2,
-    /// Destination stages.
-    pub dst_stages: vk::PipelineStageFlags2,
-    /// Destination accesses.
-    pub dst_access: vk::AccessFlags2,
-}
-
-/// A global memory barrier.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct MemoryBarrier {
-    /// Source stages.
-    pub src_stages: vk::PipelineStageFlags2,
-    /// Source accesses.
-    pub src_access: vk::AccessFlags2,
-    /// Destination stages.
-    pub dst_stages: vk::PipelineStageFlags2,
-    /// Destination accesses.
-    pub dst_access: vk::AccessFlags2,
+    /// Its source and destination scopes.
+    pub scopes: MemoryBarrier,
 }
 
 /// Everything one `vkCmdPipelineBarrier2` records.
@@ -110,8 +85,7 @@ impl Recorder for AshRecorder<'_> {
     }
 }
 
-/// Sets a synchronization2 barrier's four scope masks from one of ours (anything with
-/// `src_stages`, `src_access`, `dst_stages` and `dst_access`).
+/// Sets a synchronization2 barrier's four scope masks from a [`MemoryBarrier`].
 macro_rules! with_scopes {
     ($barrier:expr, $b:expr) => {
         $barrier
@@ -136,7 +110,7 @@ impl BufferBarrier {
             .buffer(self.buffer)
             .offset(0)
             .size(vk::WHOLE_SIZE);
-        with_scopes!(whole, self)
+        with_scopes!(whole, self.scopes)
             .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
             .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
     }
@@ -156,7 +130,7 @@ impl ImageBarrier {
             })
             .old_layout(self.old_layout)
             .new_layout(self.new_layout);
-        with_scopes!(transition, self)
+        with_scopes!(transition, self.scopes)
             .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
             .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
     }
@@ -397,8 +371,12 @@ impl<'r> RecordContext<'r> {
     /// Records one barrier between two of this pass's own uses on `what`: the source scope is
     /// `from`'s stages and writes, the destination scope `to`'s stages and accesses.
     fn own_barrier(&mut self, what: Own, from: Access, to: Access) {
-        let (src_stages, src_access) = (from.stages(), from.access() & WRITE_ACCESS);
-        let (dst_stages, dst_access) = (to.stages(), to.access());
+        let scopes = MemoryBarrier {
+            src_stages: from.stages(),
+            src_access: from.access() & WRITE_ACCESS,
+            dst_stages: to.stages(),
+            dst_access: to.access(),
+        };
         let mut batch = BarrierBatch::default();
         match what {
             Own::Image(res, range) => batch.images.push(ImageBarrier {
@@ -407,24 +385,10 @@ impl<'r> RecordContext<'r> {
                 range: res.offset(range),
                 old_layout: from.layout(),
                 new_layout: to.layout(),
-                src_stages,
-                src_access,
-                dst_stages,
-                dst_access,
+                scopes,
             }),
-            Own::Buffer(buffer) => batch.buffers.push(BufferBarrier {
-                buffer,
-                src_stages,
-                src_access,
-                dst_stages,
-                dst_access,
-            }),
-            Own::Memory => batch.memory.push(MemoryBarrier {
-                src_stages,
-                src_access,
-                dst_stages,
-                dst_access,
-            }),
+            Own::Buffer(buffer) => batch.buffers.push(BufferBarrier { buffer, scopes }),
+            Own::Memory => batch.memory.push(scopes),
         }
         self.recorder.pipeline_barrier(self.cmd, &batch);
     }
@@ -471,11 +435,11 @@ fn resolve_batch(
                 let Some(res) = resolved[h.index()] else {
                     continue;
                 };
-                let (mut src_stages, mut src_access) = (b.src_stages, b.src_access);
+                let mut scopes = b.scopes;
                 if b.after_pool_use {
                     let (s, a) = pool_scopes[h.index()];
-                    src_stages |= s;
-                    src_access |= a;
+                    scopes.src_stages |= s;
+                    scopes.src_access |= a;
                 }
                 batch.images.push(ImageBarrier {
                     image: res.image,
@@ -483,18 +447,12 @@ fn resolve_batch(
                     range: res.offset(b.range.unwrap_or(SubresourceRange::new(0, 1, 0, 1))),
                     old_layout: b.old_layout,
                     new_layout: b.new_layout,
-                    src_stages,
-                    src_access,
-                    dst_stages: b.dst_stages,
-                    dst_access: b.dst_access,
+                    scopes,
                 });
             }
             Resource::Buffer(h) => batch.buffers.push(BufferBarrier {
                 buffer: buffers[h.index()].buffer,
-                src_stages: b.src_stages,
-                src_access: b.src_access,
-                dst_stages: b.dst_stages,
-                dst_access: b.dst_access,
+                scopes: b.scopes,
             }),
         }
     }

@@ -17,11 +17,11 @@ mod resource;
 mod svg;
 pub mod trace;
 
-pub use access::{Access, AccessInfo, AppliesTo, WRITE_ACCESS};
+pub use access::{Access, AccessInfo, AppliesTo, MemoryBarrier, WRITE_ACCESS};
 pub use error::{GraphError, PassError};
 pub use exec::{
     AshRecorder, BarrierBatch, BufferBarrier, BufferRef, CompiledGraph, ExecReport, ImageBarrier,
-    ImageRef, MemoryBarrier, PassTimer, RecordContext, RecordFn, Recorder,
+    ImageRef, PassTimer, RecordContext, RecordFn, Recorder,
 };
 pub use graph::{FrameGraph, PassBuilder};
 pub use plan::{BarrierInfo, BufferInfo, ImageInfo, PassPlan, Plan};

@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use crate::access::Access;
+use crate::access::{Access, MemoryBarrier};
 use crate::resource::{
     ImageDesc, ImageHandle, ImageSource, ImageStateBefore, Resource, SubresourceRange, Use,
 };
@@ -19,14 +19,8 @@ pub struct BarrierInfo {
     pub old_layout: vk::ImageLayout,
     /// Layout after (`UNDEFINED` for buffers).
     pub new_layout: vk::ImageLayout,
-    /// Source stages.
-    pub src_stages: vk::PipelineStageFlags2,
-    /// Source accesses.
-    pub src_access: vk::AccessFlags2,
-    /// Destination stages.
-    pub dst_stages: vk::PipelineStageFlags2,
-    /// Destination accesses.
-    pub dst_access: vk::AccessFlags2,
+    /// Its source and destination scopes.
+    pub scopes: MemoryBarrier,
     /// The part of an image (relative to the managed range); `None` for buffers.
     pub range: Option<SubresourceRange>,
     /// The first use of a transient this frame: at execution the source scope also gets the

@@ -411,10 +411,7 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
                     scene: s,
                 });
             };
-            for (diffuse, dn) in [
-                (DiffuseMethod::Sh9, "sh9"),
-                (DiffuseMethod::Cubemap, "cubemap"),
-            ] {
+            for (dn, diffuse) in DiffuseMethod::NAMED {
                 for ec in [false, true] {
                     push(
                         format!("split sum, {dn}{}", if ec { ", energy comp." } else { "" }),

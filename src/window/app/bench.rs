@@ -118,7 +118,7 @@ impl Viewer {
             );
             passes.insert(n.to_string(), serde_json::to_value(s)?);
         }
-        if let Some(p) = &args.csv {
+        if let Some(p) = &args.files.csv {
             let mut out = String::from("frame,frame_ms,cpu_ms,lod_budget_px,triangles_drawn");
             for n in &names {
                 out.push_str(&format!(",gpu_{n}_ms"));
@@ -139,7 +139,7 @@ impl Viewer {
             std::fs::write(p, out).with_context(|| format!("cannot write {}", p.display()))?;
             log::info!("wrote {}", p.display());
         }
-        if let Some(p) = &args.trace {
+        if let Some(p) = &args.files.trace {
             // Frames back to back on the CPU track (each its wall time, the recording inside
             // it); a frame's GPU passes start where its recording ends, or where the previous
             // frame's end on the GPU.
@@ -160,7 +160,7 @@ impl Viewer {
                 .with_context(|| format!("cannot write {}", p.display()))?;
             log::info!("wrote {}", p.display());
         }
-        if let Some(p) = &args.json {
+        if let Some(p) = &args.files.json {
             let json = serde_json::json!({
                 "device": self.ctx.info.summary(),
                 "mode": "view --bench (windowed, presenting)",

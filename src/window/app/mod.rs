@@ -42,7 +42,7 @@ use crate::render::world::Change;
 use crate::scene::Scene;
 use crate::vk::cmd::CommandPool;
 use crate::vk::timing::GpuTimer;
-use crate::vk::{Buffer, Context, ContextDesc, InstanceDesc, VkError};
+use crate::vk::{Buffer, Context, VkError};
 
 /// Frames the CPU may record ahead of the GPU.
 mod bench;
@@ -358,21 +358,14 @@ impl Viewer {
         )?;
         let display = window.display_handle()?.as_raw();
         let required = ash_window::enumerate_required_extensions(display)?;
+        let mut desc = args.gpu.clone();
         // SAFETY: ash-window returns pointers to static, NUL-terminated extension names.
         let extensions = required
             .iter()
-            .map(|&p| unsafe { std::ffi::CStr::from_ptr(p) })
-            .collect();
-        let ctx = Context::new(&ContextDesc {
-            instance: InstanceDesc {
-                validation: args.validate,
-                sync_validation: args.sync_validation,
-                extensions,
-            },
-            device_name: args.device.clone(),
-            device_extensions: vec![ash::khr::swapchain::NAME],
-            malloc_tuning: args.malloc_tuning,
-        })?;
+            .map(|&p| unsafe { std::ffi::CStr::from_ptr(p) });
+        desc.instance.extensions.extend(extensions);
+        desc.device_extensions.push(ash::khr::swapchain::NAME);
+        let ctx = Context::new(&desc)?;
         log::info!("device: {}", ctx.info.summary());
         for line in crate::scene::tessellation::summary(&scene, false) {
             log::info!("{line}");

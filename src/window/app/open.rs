@@ -21,11 +21,7 @@ impl Viewer {
     }
 
     pub(super) fn try_open(&mut self, path: &Path) -> Result<String> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .unwrap_or_default();
+        let ext = crate::files::lowercase_extension(path).unwrap_or_default();
         match ext.as_str() {
             "json" => {
                 let scene = crate::scene::load(path)?;

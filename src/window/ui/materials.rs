@@ -196,6 +196,19 @@ pub(super) enum SourceKind {
     Complex,
 }
 
+/// The D and G rows of the models with selectable terms (Cook-Torrance, metallic-roughness);
+/// `ids` are their combo boxes' ids.
+fn distribution_rows(
+    ui: &mut Ui,
+    [d_id, g_id]: [&str; 2],
+    distribution: &mut Distribution,
+    geometry: &mut Geometry,
+) -> bool {
+    let mut c = row(ui, "D", |ui| combo(ui, d_id, distribution, &DISTRIBUTIONS));
+    c |= row(ui, "G", |ui| combo(ui, g_id, geometry, &GEOMETRIES));
+    c
+}
+
 pub(super) fn cook_torrance_ui(ui: &mut Ui, p: &mut CookTorranceParams) -> bool {
     let mut c = false;
     c |= row(ui, "Colour", |ui| color(ui, &mut p.color, 1.0));
@@ -204,12 +217,7 @@ pub(super) fn cook_torrance_ui(ui: &mut Ui, p: &mut CookTorranceParams) -> bool 
     c |= row(ui, "Diffuse", |ui| {
         combo(ui, "ct_diffuse", &mut p.diffuse, &DIFFUSES)
     });
-    c |= row(ui, "D", |ui| {
-        combo(ui, "ct_d", &mut p.distribution, &DISTRIBUTIONS)
-    });
-    c |= row(ui, "G", |ui| {
-        combo(ui, "ct_g", &mut p.geometry, &GEOMETRIES)
-    });
+    c |= distribution_rows(ui, ["ct_d", "ct_g"], &mut p.distribution, &mut p.geometry);
     c |= row(ui, "F", |ui| {
         let changed = combo(ui, "ct_f", &mut p.fresnel, &FRESNELS);
         if changed {
@@ -325,12 +333,7 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
             None => false,
         }
     });
-    c |= row(ui, "D", |ui| {
-        combo(ui, "mr_d", &mut p.distribution, &DISTRIBUTIONS)
-    });
-    c |= row(ui, "G", |ui| {
-        combo(ui, "mr_g", &mut p.geometry, &GEOMETRIES)
-    });
+    c |= distribution_rows(ui, ["mr_d", "mr_g"], &mut p.distribution, &mut p.geometry);
     c |= row(ui, "F", |ui| combo(ui, "mr_f", &mut p.fresnel, &FRESNELS));
     c |= row(ui, "Diffuse", |ui| {
         combo(ui, "mr_diffuse", &mut p.diffuse, &DIFFUSES)

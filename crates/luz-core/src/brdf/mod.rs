@@ -43,6 +43,7 @@ pub use models::{
     Fresnel, Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
     PrincipledParams, SpecularSource, Terms,
 };
+pub(crate) use names::selector_names;
 pub use names::ModelKind;
 pub use presets::{
     dielectric_ior, f0_from_ior, ior_from_f0, metal_preset, ComplexIor, DIELECTRIC_NAMES,

@@ -6,7 +6,7 @@ use super::models::{Diffuse, Distribution, Fresnel, Geometry, Model};
 
 /// `ALL`, `name()`, `NAMED` and `from_name()` of a selector enum from one list of (variant, name):
 /// the one source of the names the scene format, the CLI, the stability sweep and pipeline-variant
-/// names use (equal to the serde names; tested).
+/// names use (equal to the serde names; tested). The scene's environment methods use it too.
 macro_rules! selector_names {
     ($t:ident { $($v:ident => $n:literal),+ $(,)? }) => {
         impl $t {
@@ -15,7 +15,8 @@ macro_rules! selector_names {
             /// (name, value) of every value, in code order.
             pub const NAMED: [(&'static str, $t); [$($n),+].len()] = [$(($n, $t::$v)),+];
 
-            /// The name in scene files, on the command line and in reports (the serde name).
+            /// The name in scene files, on the command line and in reports (the serde name, where
+            /// there is one).
             pub const fn name(self) -> &'static str {
                 match self {
                     $($t::$v => $n),+
@@ -29,6 +30,8 @@ macro_rules! selector_names {
         }
     };
 }
+
+pub(crate) use selector_names;
 
 selector_names!(Distribution { Beckmann => "beckmann", Ggx => "ggx" });
 selector_names!(Geometry {

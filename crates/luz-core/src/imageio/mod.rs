@@ -95,11 +95,7 @@ impl FileFormat {
 
     /// The format named by the path's extension, case-insensitive.
     pub fn from_path(path: &Path) -> Result<Self, ImageError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
+        match crate::files::lowercase_extension(path).as_deref() {
             Some("png") => Ok(FileFormat::Png),
             Some("exr") => Ok(FileFormat::Exr),
             _ => Err(ImageError::UnsupportedExtension {
@@ -133,9 +129,10 @@ impl fmt::Display for FileFormat {
     }
 }
 
-/// Everything that can go wrong reading or writing an image file. Every message names the file.
+/// An image file that could not be opened or read: what [`ImageError`] and
+/// [`crate::texture::TextureError`] share. Every message names the file.
 #[derive(Debug, thiserror::Error)]
-pub enum ImageError {
+pub enum FileError {
     #[error("{}: no such file", .path.display())]
     NotFound { path: PathBuf },
     #[error("{}: is a directory, not an image file", .path.display())]
@@ -146,6 +143,51 @@ pub enum ImageError {
         #[source]
         source: io::Error,
     },
+}
+
+impl FileError {
+    /// The error of reading `path`: [`FileError::NotFound`] for a missing file, else
+    /// [`FileError::Read`].
+    pub fn read(path: &Path, e: io::Error) -> Self {
+        if e.kind() == io::ErrorKind::NotFound {
+            FileError::NotFound {
+                path: path.to_path_buf(),
+            }
+        } else {
+            FileError::Read {
+                path: path.to_path_buf(),
+                source: e,
+            }
+        }
+    }
+
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            FileError::NotFound { path }
+            | FileError::IsDirectory { path }
+            | FileError::Read { path, .. } => path,
+        }
+    }
+}
+
+/// Opens an image file for reading (within the input budget, [`crate::files::open_input`]); a
+/// directory or a missing file is reported as such.
+pub fn open_image_file(path: &Path) -> Result<File, FileError> {
+    let meta = fs::metadata(path).map_err(|e| FileError::read(path, e))?;
+    if meta.is_dir() {
+        return Err(FileError::IsDirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    crate::files::open_input(path).map_err(|e| FileError::read(path, e))
+}
+
+/// Everything that can go wrong reading or writing an image file. Every message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    #[error(transparent)]
+    File(#[from] FileError),
     #[error(
         "{}: unsupported image file extension (supported: {})",
         .path.display(),
@@ -585,7 +627,7 @@ pub fn exceeds_decode_limits(width: u32, height: u32, bytes: u64) -> bool {
 /// from the extension; content that does not match it is reported as corrupt.
 pub fn load(path: &Path) -> Result<LoadedImage, ImageError> {
     let format = FileFormat::from_path(path)?;
-    let file = open_file(path)?;
+    let file = open_image_file(path)?;
     load_from(
         BufReader::new(file),
         path,
@@ -608,60 +650,18 @@ pub fn load_bytes(
     })
 }
 
-/// Opens an image file for reading; a directory or a missing file is reported as such.
-fn open_file(path: &Path) -> Result<File, ImageError> {
-    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
-    if meta.is_dir() {
-        return Err(ImageError::IsDirectory {
-            path: path.to_path_buf(),
-        });
-    }
-    crate::files::open_input(path).map_err(|e| read_error(path, e))
-}
-
 /// The decoding shared by [`load`] and [`load_bytes`]; `declared` reads the size the file
 /// declares (for the message when a limit is hit inside the decoder).
 fn load_from<R: BufRead + Seek>(
-    mut reader: R,
+    reader: R,
     path: &Path,
     format: FileFormat,
     limits: &SizeLimits,
     declared: impl Fn() -> Option<(u32, u32)>,
 ) -> Result<LoadedImage, ImageError> {
-    // Scanned first, reported after the decoder has read (and validated) the header.
-    let exr_too_large = match format {
-        FileFormat::Exr => exr_header_exceeds(&mut reader, limits),
-        FileFormat::Png => None,
-    };
-    let mut reader = ImageReader::with_format(reader, format.image_format());
-    reader.limits(limits.image_limits());
-
-    let decoder = reader
-        .into_decoder()
-        .map_err(|e| decode_error(path, format, e, &declared))?;
-    if let Some(declared) = exr_too_large {
-        return Err(ImageError::TooLarge {
-            path: path.to_path_buf(),
-            declared,
-        });
-    }
-    let (width, height) = decoder.dimensions();
-    let too_large = limits.exceeded(width, height, decoder.total_bytes());
-    if too_large {
-        return Err(ImageError::TooLarge {
-            path: path.to_path_buf(),
-            declared: format!("declared {width}×{height}"),
-        });
-    }
-    if width == 0 || height == 0 {
-        return Err(ImageError::Corrupt {
-            path: path.to_path_buf(),
-            format,
-            reason: format!("empty image ({width}×{height})"),
-        });
-    }
-    let img = DynamicImage::from_decoder(decoder)
-        .map_err(|e| decode_error(path, format, e, &declared))?;
+    let img = decode_checked(reader, format.image_format(), limits, None)
+        .map_err(|p| p.image_error(path, format, &declared))?;
+    let (width, height) = (img.width(), img.height());
 
     Ok(match (format, img) {
         (FileFormat::Exr, img) => {
@@ -697,55 +697,106 @@ fn load_from<R: BufRead + Seek>(
     })
 }
 
-fn read_error(path: &Path, e: io::Error) -> ImageError {
-    if e.kind() == io::ErrorKind::NotFound {
-        ImageError::NotFound {
-            path: path.to_path_buf(),
-        }
-    } else {
-        ImageError::Read {
-            path: path.to_path_buf(),
-            source: e,
+/// Why an image could not be decoded, before the caller words it as its own error (the
+/// file's path and format are the caller's): what [`decode_checked`] finds.
+pub(crate) enum DecodeProblem {
+    /// Reading the file failed.
+    Read(io::Error),
+    /// Over the size limits: what the file declares, found before the decoder allocates.
+    TooLarge(String),
+    /// Over the decoder's own limits.
+    Limits(image::error::LimitError),
+    /// A kind of file the decoder does not support.
+    Unsupported(String),
+    /// Not a valid file: why.
+    Corrupt(String),
+}
+
+impl From<image::ImageError> for DecodeProblem {
+    fn from(e: image::ImageError) -> Self {
+        match e {
+            image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
+                DecodeProblem::Corrupt("file is truncated".into())
+            }
+            image::ImageError::IoError(source) => DecodeProblem::Read(source),
+            image::ImageError::Limits(l) => DecodeProblem::Limits(l),
+            image::ImageError::Unsupported(u) => DecodeProblem::Unsupported(u.to_string()),
+            other => DecodeProblem::Corrupt(corrupt_reason(&other)),
         }
     }
 }
 
-fn decode_error(
-    path: &Path,
-    format: FileFormat,
-    e: image::ImageError,
-    declared: &dyn Fn() -> Option<(u32, u32)>,
-) -> ImageError {
-    let path_buf = path.to_path_buf();
-    match e {
-        image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
-            ImageError::Corrupt {
-                path: path_buf,
+impl DecodeProblem {
+    /// As an [`ImageError`]; `declared` reads the size the file declares (for the message when
+    /// a limit is hit inside the decoder).
+    fn image_error(
+        self,
+        path: &Path,
+        format: FileFormat,
+        declared: &dyn Fn() -> Option<(u32, u32)>,
+    ) -> ImageError {
+        let path = path.to_path_buf();
+        match self {
+            DecodeProblem::Read(source) => FileError::Read { path, source }.into(),
+            DecodeProblem::TooLarge(declared) => ImageError::TooLarge { path, declared },
+            DecodeProblem::Limits(_) => ImageError::TooLarge {
+                declared: declared()
+                    .map(|(w, h)| format!("declared {w}×{h}"))
+                    .unwrap_or_else(|| "declared size over the limits".into()),
+                path,
+            },
+            DecodeProblem::Unsupported(reason) => ImageError::Unsupported {
+                path,
                 format,
-                reason: "file is truncated".into(),
-            }
+                reason,
+            },
+            DecodeProblem::Corrupt(reason) => ImageError::Corrupt {
+                path,
+                format,
+                reason,
+            },
         }
-        image::ImageError::IoError(source) => ImageError::Read {
-            path: path_buf,
-            source,
-        },
-        image::ImageError::Limits(_) => ImageError::TooLarge {
-            declared: declared()
-                .map(|(w, h)| format!("declared {w}×{h}"))
-                .unwrap_or_else(|| "declared size over the limits".into()),
-            path: path_buf,
-        },
-        image::ImageError::Unsupported(u) => ImageError::Unsupported {
-            path: path_buf,
-            format,
-            reason: u.to_string(),
-        },
-        other => ImageError::Corrupt {
-            path: path_buf,
-            format,
-            reason: corrupt_reason(&other),
-        },
     }
+}
+
+/// Decodes an image of `format` from `reader` under `limits`, refusing an image over them before
+/// any pixel memory is allocated (an EXR's headers scanned first, reported after the decoder has
+/// read and validated the header; then the size the decoder reads, at `pixel_bytes` per pixel
+/// when the caller widens the pixels, else the decoder's own) and an empty one: the decoding of
+/// image files ([`load`]), environment images ([`load_radiance`]) and textures
+/// ([`crate::texture`]).
+pub(crate) fn decode_checked<R: BufRead + Seek>(
+    mut reader: R,
+    format: ImageFormat,
+    limits: &SizeLimits,
+    pixel_bytes: Option<u64>,
+) -> Result<DynamicImage, DecodeProblem> {
+    let exr_too_large = match format {
+        ImageFormat::OpenExr => exr_header_exceeds(&mut reader, limits),
+        _ => None,
+    };
+    let mut reader = ImageReader::with_format(reader, format);
+    reader.limits(limits.image_limits());
+    let decoder = reader.into_decoder()?;
+    if let Some(declared) = exr_too_large {
+        return Err(DecodeProblem::TooLarge(declared));
+    }
+    let (width, height) = decoder.dimensions();
+    let bytes = match pixel_bytes {
+        Some(b) => u64::from(width) * u64::from(height) * b,
+        None => decoder.total_bytes(),
+    };
+    if limits.exceeded(width, height, bytes) {
+        return Err(DecodeProblem::TooLarge(format!(
+            "declared {width}×{height}"
+        )));
+    }
+    if width == 0 || height == 0 {
+        return Err(DecodeProblem::Corrupt(format!(
+            "empty image ({width}×{height})"
+        )));
+    }
+    Ok(DynamicImage::from_decoder(decoder)?)
 }
 
 /// The size a file declares, read from its header without decoding (for error messages).

@@ -172,7 +172,7 @@ pub(super) fn write_exr(
 /// The provenance stored in a PNG or EXR file (empty when it has none).
 pub fn read(path: &Path) -> Result<Provenance, ImageError> {
     let format = FileFormat::from_path(path)?;
-    let file = super::open_file(path)?;
+    let file = super::open_image_file(path)?;
     let corrupt = |reason: String| ImageError::Corrupt {
         path: path.to_path_buf(),
         format,

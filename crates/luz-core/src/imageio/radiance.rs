@@ -20,7 +20,7 @@ pub fn load_radiance(path: &Path) -> Result<LinearImage, ImageError> {
             })
         }
         RadianceKind::Hdr => {
-            let file = open_file(path)?;
+            let file = open_image_file(path)?;
             load_hdr(BufReader::new(file), path, &SizeLimits::DEFAULT)
         }
     }
@@ -52,11 +52,7 @@ pub(super) enum RadianceKind {
 }
 
 pub(super) fn radiance_kind(path: &Path) -> Result<RadianceKind, ImageError> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
+    match crate::files::lowercase_extension(path).as_deref() {
         Some("exr") => Ok(RadianceKind::Exr),
         Some("hdr") => Ok(RadianceKind::Hdr),
         _ => Err(ImageError::NotRadiance {
@@ -70,46 +66,30 @@ pub(super) fn load_hdr<R: BufRead + Seek>(
     path: &Path,
     limits: &SizeLimits,
 ) -> Result<LinearImage, ImageError> {
-    let corrupt = |reason: String| ImageError::CorruptHdr {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let hdr_error = |e: image::ImageError| match e {
-        image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
-            corrupt("file is truncated".into())
-        }
-        image::ImageError::IoError(source) => ImageError::Read {
-            path: path.to_path_buf(),
+    let path_buf = path.to_path_buf();
+    // Decoded as RGB f32 here, then widened to RGBA f32: 16 bytes per pixel in the end.
+    let img = decode_checked(reader, ImageFormat::Hdr, limits, Some(16)).map_err(|p| match p {
+        DecodeProblem::Read(source) => FileError::Read {
+            path: path_buf,
             source,
+        }
+        .into(),
+        DecodeProblem::TooLarge(declared) => ImageError::TooLarge {
+            path: path_buf,
+            declared,
         },
-        image::ImageError::Limits(_) => ImageError::TooLarge {
-            path: path.to_path_buf(),
+        DecodeProblem::Limits(_) => ImageError::TooLarge {
+            path: path_buf,
             declared: "declared size over the limits".into(),
         },
-        other => {
-            let text = other.to_string();
-            corrupt(match text.split_once(": ") {
-                Some((head, rest)) if head.starts_with("Format error") => rest.to_string(),
-                _ => text,
-            })
+        DecodeProblem::Unsupported(reason) | DecodeProblem::Corrupt(reason) => {
+            ImageError::CorruptHdr {
+                path: path_buf,
+                reason,
+            }
         }
-    };
-    let mut reader = ImageReader::with_format(reader, ImageFormat::Hdr);
-    reader.limits(limits.image_limits());
-    let decoder = reader.into_decoder().map_err(hdr_error)?;
-    let (width, height) = decoder.dimensions();
-    // Decoded as RGB f32 here, then widened to RGBA f32: 16 bytes per pixel in the end.
-    let too_large = limits.exceeded(width, height, u64::from(width) * u64::from(height) * 16);
-    if too_large {
-        return Err(ImageError::TooLarge {
-            path: path.to_path_buf(),
-            declared: format!("declared {width}×{height}"),
-        });
-    }
-    if width == 0 || height == 0 {
-        return Err(corrupt(format!("empty image ({width}×{height})")));
-    }
-    let img = DynamicImage::from_decoder(decoder).map_err(hdr_error)?;
+    })?;
+    let (width, height) = (img.width(), img.height());
     let pixels = img
         .into_rgb32f()
         .into_raw()

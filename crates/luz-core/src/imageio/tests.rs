@@ -46,7 +46,10 @@ fn radiance_hdr_loads_and_fails_clearly() {
     assert_eq!(img.pixels[1], [0.0, 0.0, 0.0, 1.0]);
 
     let err = load_radiance(&dir.join("missing.hdr")).unwrap_err();
-    assert!(matches!(err, ImageError::NotFound { .. }), "{err}");
+    assert!(
+        matches!(err, ImageError::File(FileError::NotFound { .. })),
+        "{err}"
+    );
     assert!(err.to_string().contains("missing.hdr"));
     let garbage = dir.join("garbage.hdr");
     fs::write(
@@ -178,13 +181,16 @@ fn load_errors_name_the_file() {
     let dir = scratch_dir("errors");
     let missing = dir.join("missing.png");
     let err = load(&missing).unwrap_err();
-    assert!(matches!(err, ImageError::NotFound { .. }));
+    assert!(matches!(err, ImageError::File(FileError::NotFound { .. })));
     assert!(err.to_string().contains("missing.png"));
 
     let as_dir = dir.join("folder.exr");
     fs::create_dir(&as_dir).unwrap();
     let err = load(&as_dir).unwrap_err();
-    assert!(matches!(err, ImageError::IsDirectory { .. }), "{err}");
+    assert!(
+        matches!(err, ImageError::File(FileError::IsDirectory { .. })),
+        "{err}"
+    );
     assert!(err.to_string().contains("folder.exr"));
 
     let garbage = dir.join("garbage.png");

@@ -282,12 +282,7 @@ pub enum Format {
 impl Format {
     /// From a file extension (`png`, `svg`, case-insensitive).
     pub fn from_path(path: &Path) -> Result<Format> {
-        match path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
+        match crate::files::lowercase_extension(path).as_deref() {
             Some("png") => Ok(Format::Png),
             Some("svg") => Ok(Format::Svg),
             _ => bail!("{}: chart files must end in .png or .svg", path.display()),

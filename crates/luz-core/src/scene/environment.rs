@@ -109,15 +109,10 @@ pub enum SpecularMethod {
     SplitSum,
 }
 
-impl SpecularMethod {
-    /// The scene-format name.
-    pub fn name(self) -> &'static str {
-        match self {
-            SpecularMethod::Importance => "importance",
-            SpecularMethod::SplitSum => "split_sum",
-        }
-    }
-}
+crate::brdf::selector_names!(SpecularMethod {
+    Importance => "importance",
+    SplitSum => "split_sum",
+});
 
 /// Diffuse image-based lighting.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -129,12 +124,4 @@ pub enum DiffuseMethod {
     Cubemap,
 }
 
-impl DiffuseMethod {
-    /// The scene-format name.
-    pub fn name(self) -> &'static str {
-        match self {
-            DiffuseMethod::Sh9 => "sh9",
-            DiffuseMethod::Cubemap => "cubemap",
-        }
-    }
-}
+crate::brdf::selector_names!(DiffuseMethod { Sh9 => "sh9", Cubemap => "cubemap" });

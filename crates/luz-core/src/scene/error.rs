@@ -50,34 +50,33 @@ impl fmt::Display for Located<'_> {
 }
 
 impl SceneError {
+    /// The scene file, the JSON path and the reason: what every variant has.
+    fn parts(&self) -> (&Path, &str, &str) {
+        match self {
+            SceneError::Read { file, reason } => (file, "(root)", reason),
+            SceneError::Syntax {
+                file, path, reason, ..
+            }
+            | SceneError::Invalid { file, path, reason }
+            | SceneError::Mesh {
+                file, path, reason, ..
+            } => (file, path, reason),
+        }
+    }
+
     /// The scene file the error is about.
     pub fn file(&self) -> &Path {
-        match self {
-            SceneError::Read { file, .. }
-            | SceneError::Syntax { file, .. }
-            | SceneError::Invalid { file, .. }
-            | SceneError::Mesh { file, .. } => file,
-        }
+        self.parts().0
     }
 
     /// The JSON path of the offending value, e.g. `lights[2].intensity`.
     pub fn json_path(&self) -> &str {
-        match self {
-            SceneError::Read { .. } => "(root)",
-            SceneError::Syntax { path, .. }
-            | SceneError::Invalid { path, .. }
-            | SceneError::Mesh { path, .. } => path,
-        }
+        self.parts().1
     }
 
     /// The reason alone, without file and path.
     pub fn reason(&self) -> &str {
-        match self {
-            SceneError::Read { reason, .. }
-            | SceneError::Syntax { reason, .. }
-            | SceneError::Invalid { reason, .. }
-            | SceneError::Mesh { reason, .. } => reason,
-        }
+        self.parts().2
     }
 }
 

@@ -288,11 +288,7 @@ impl Parser<'_> {
         let int_start = i;
         let n = digits(&mut i);
         if n == 0 {
-            self.pos = i;
-            return Err(self.error(format!(
-                "malformed number: expected a digit, found {}",
-                self.describe_here()
-            )));
+            return Err(self.malformed_number(i, "expected a digit"));
         }
         if n > 1 && bytes[int_start] == b'0' {
             self.pos = int_start;
@@ -301,11 +297,7 @@ impl Parser<'_> {
         if bytes.get(i) == Some(&b'.') {
             i += 1;
             if digits(&mut i) == 0 {
-                self.pos = i;
-                return Err(self.error(format!(
-                    "malformed number: expected a digit after '.', found {}",
-                    self.describe_here()
-                )));
+                return Err(self.malformed_number(i, "expected a digit after '.'"));
             }
         }
         if matches!(bytes.get(i), Some(b'e' | b'E')) {
@@ -314,11 +306,7 @@ impl Parser<'_> {
                 i += 1;
             }
             if digits(&mut i) == 0 {
-                self.pos = i;
-                return Err(self.error(format!(
-                    "malformed number: expected a digit in the exponent, found {}",
-                    self.describe_here()
-                )));
+                return Err(self.malformed_number(i, "expected a digit in the exponent"));
             }
         }
         if matches!(bytes.get(i), Some(b) if b.is_ascii_alphanumeric() || *b == b'.' || *b == b'_')
@@ -335,6 +323,16 @@ impl Parser<'_> {
         // with the path of the field.
         let value = raw.parse::<f64>().unwrap_or(f64::NAN);
         Ok(Kind::Number { value, raw })
+    }
+
+    /// The error of a number that is malformed at byte `i`: what was `expected` there and what
+    /// was found.
+    fn malformed_number(&mut self, i: usize, expected: &str) -> SyntaxError {
+        self.pos = i;
+        self.error(format!(
+            "malformed number: {expected}, found {}",
+            self.describe_here()
+        ))
     }
 
     fn hex4(&mut self) -> Result<u32, SyntaxError> {
@@ -438,9 +436,7 @@ impl Parser<'_> {
     fn array(&mut self, depth: usize) -> Result<Kind, SyntaxError> {
         self.pos += 1; // '['
         let mut items = Vec::new();
-        self.skip_ws();
-        if self.peek() == Some(b']') {
-            self.pos += 1;
+        if self.empty_until(b']') {
             return Ok(Kind::Array(items));
         }
         loop {
@@ -448,28 +444,8 @@ impl Parser<'_> {
             let v = self.value(depth + 1)?;
             self.path.pop();
             items.push(v);
-            self.skip_ws();
-            match self.peek() {
-                Some(b',') => {
-                    self.pos += 1;
-                    self.skip_ws();
-                    if self.peek() == Some(b']') {
-                        return Err(self.error("trailing comma before ']'"));
-                    }
-                }
-                Some(b']') => {
-                    self.pos += 1;
-                    return Ok(Kind::Array(items));
-                }
-                None => {
-                    return Err(self.error("unexpected end of file inside an array (missing ']')"))
-                }
-                Some(_) => {
-                    return Err(self.error(format!(
-                        "expected ',' or ']' in an array, found {}",
-                        self.describe_here()
-                    )))
-                }
+            if self.after_item(b']', "an array")? {
+                return Ok(Kind::Array(items));
             }
         }
     }
@@ -480,9 +456,7 @@ impl Parser<'_> {
         // Hashes of the keys, once the object is large enough for a linear search per key to
         // matter (a hash seen before is then checked by a search).
         let mut hashes: Option<(RandomState, HashSet<u64>)> = None;
-        self.skip_ws();
-        if self.peek() == Some(b'}') {
-            self.pos += 1;
+        if self.empty_until(b'}') {
             return Ok(Kind::Object(fields));
         }
         loop {
@@ -537,29 +511,47 @@ impl Parser<'_> {
                 unreachable!("the path ends with this field's key")
             };
             fields.push((key, v));
-            self.skip_ws();
-            match self.peek() {
-                Some(b',') => {
-                    self.pos += 1;
-                    self.skip_ws();
-                    if self.peek() == Some(b'}') {
-                        return Err(self.error("trailing comma before '}'"));
-                    }
-                }
-                Some(b'}') => {
-                    self.pos += 1;
-                    return Ok(Kind::Object(fields));
-                }
-                None => {
-                    return Err(self.error("unexpected end of file inside an object (missing '}')"))
-                }
-                Some(_) => {
-                    return Err(self.error(format!(
-                        "expected ',' or '}}' in an object, found {}",
-                        self.describe_here()
-                    )))
-                }
+            if self.after_item(b'}', "an object")? {
+                return Ok(Kind::Object(fields));
             }
+        }
+    }
+
+    /// At the start of an array or an object: whether it ends at once (`close` consumed).
+    fn empty_until(&mut self, close: u8) -> bool {
+        self.skip_ws();
+        let empty = self.peek() == Some(close);
+        if empty {
+            self.pos += 1;
+        }
+        empty
+    }
+
+    /// After an array's item or an object's field: `Ok(true)` at the container's end `close`,
+    /// `Ok(false)` after a comma with more to come (both consumed).
+    fn after_item(&mut self, close: u8, what: &str) -> Result<bool, SyntaxError> {
+        let close_char = close as char;
+        self.skip_ws();
+        match self.peek() {
+            Some(b',') => {
+                self.pos += 1;
+                self.skip_ws();
+                if self.peek() == Some(close) {
+                    return Err(self.error(format!("trailing comma before '{close_char}'")));
+                }
+                Ok(false)
+            }
+            Some(c) if c == close => {
+                self.pos += 1;
+                Ok(true)
+            }
+            None => Err(self.error(format!(
+                "unexpected end of file inside {what} (missing '{close_char}')"
+            ))),
+            Some(_) => Err(self.error(format!(
+                "expected ',' or '{close_char}' in {what}, found {}",
+                self.describe_here()
+            ))),
         }
     }
 }

@@ -114,15 +114,7 @@ impl Scene {
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut out: Option<(Vec3, Vec3)> = None;
         for o in &self.objects {
-            let (lo, hi) = o.mesh.bounds();
-            let m = o.transform.matrix();
-            for i in 0..8 {
-                let c = Vec3::new(
-                    if i & 1 == 0 { lo.x } else { hi.x },
-                    if i & 2 == 0 { lo.y } else { hi.y },
-                    if i & 4 == 0 { lo.z } else { hi.z },
-                );
-                let p = m.transform_point3(c);
+            for p in box_corners(o.transform.matrix(), o.mesh.bounds()) {
                 out = Some(match out {
                     None => (p, p),
                     Some((a, b)) => (a.min(p), b.max(p)),
@@ -131,6 +123,18 @@ impl Scene {
         }
         out
     }
+}
+
+/// The eight corners of object-space bounds `(lo, hi)` under `model`.
+pub fn box_corners(model: Mat4, (lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        let pick = |bit: usize, a: f32, b: f32| if k & bit == 0 { a } else { b };
+        model.transform_point3(Vec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        ))
+    })
 }
 
 /// How a camera projects: perspective (rays from the eye point, `fov_y_deg`) or orthographic

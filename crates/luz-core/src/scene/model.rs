@@ -21,13 +21,7 @@ pub const MODEL_EXTENSIONS: &[&str] = &["obj", "gltf", "glb"];
 
 /// Whether `path` names a model file ([`MODEL_EXTENSIONS`]) by its extension.
 pub fn is_model(path: &Path) -> bool {
-    extension(path).is_some_and(|e| MODEL_EXTENSIONS.contains(&e.as_str()))
-}
-
-fn extension(path: &Path) -> Option<String> {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
+    crate::files::lowercase_extension(path).is_some_and(|e| MODEL_EXTENSIONS.contains(&e.as_str()))
 }
 
 /// The scene of a model file: the model, the default rig and a camera that frames it. A glTF
@@ -192,12 +186,7 @@ mod tests {
             let cam = framing((lo, hi), aspect, 40.0);
             let vp = cam.projection(aspect) * cam.view();
             let mut extent = 0.0f32;
-            for i in 0..8 {
-                let c = Vec3::new(
-                    if i & 1 == 0 { lo.x } else { hi.x },
-                    if i & 2 == 0 { lo.y } else { hi.y },
-                    if i & 4 == 0 { lo.z } else { hi.z },
-                );
+            for c in crate::scene::box_corners(glam::Mat4::IDENTITY, (lo, hi)) {
                 let p = vp.project_point3(c);
                 assert!(
                     p.x.abs() <= 1.0 && p.y.abs() <= 1.0,

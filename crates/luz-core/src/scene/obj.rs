@@ -388,11 +388,7 @@ fn mtl_extras(text: &str, mtl: &Path) -> Result<(Vec<MtlExtra>, Vec<String>), Li
                     continue;
                 };
                 let path = dir.join(file.replace('\\', "/"));
-                let ext = path
-                    .extension()
-                    .and_then(|e| e.to_str())
-                    .map(str::to_ascii_lowercase)
-                    .unwrap_or_default();
+                let ext = crate::files::lowercase_extension(&path).unwrap_or_default();
                 if !TEXTURE_EXTENSIONS.contains(&ext.as_str()) {
                     return Err((
                         no,

@@ -27,16 +27,15 @@
 //!
 //! Also: procedural images for tests ([`checker`], [`noise_normal_map`]).
 
-use std::fs;
 use std::io::{self, BufReader};
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader};
+use image::{DynamicImage, ImageFormat};
 use rayon::prelude::*;
 
 use crate::color::{srgb_decode, srgb_decode_table};
-use crate::imageio::MAX_DIMENSION;
+use crate::imageio::{decode_checked, open_image_file, DecodeProblem, FileError, MAX_DIMENSION};
 use crate::scene::{TextureRef, TextureSlot};
 
 /// How a texture's texels are encoded.
@@ -158,16 +157,8 @@ pub fn mip_extent(width: u32, height: u32, level: u32) -> (u32, u32) {
 /// Why a texture could not be loaded. Every message names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum TextureError {
-    #[error("{}: no such file", .path.display())]
-    NotFound { path: PathBuf },
-    #[error("{}: is a directory, not an image file", .path.display())]
-    IsDirectory { path: PathBuf },
-    #[error("cannot read {}: {source}", .path.display())]
-    Read {
-        path: PathBuf,
-        #[source]
-        source: io::Error,
-    },
+    #[error(transparent)]
+    File(#[from] FileError),
     #[error("{}: unsupported texture file extension (supported: .png, .jpg, .exr, .hdr)", .path.display())]
     UnsupportedExtension { path: PathBuf },
     #[error("{}: not a valid {format} file: {reason}", .path.display())]
@@ -196,10 +187,8 @@ impl TextureError {
     /// The file the error is about.
     pub fn path(&self) -> &Path {
         match self {
-            TextureError::NotFound { path }
-            | TextureError::IsDirectory { path }
-            | TextureError::Read { path, .. }
-            | TextureError::UnsupportedExtension { path }
+            TextureError::File(e) => e.path(),
+            TextureError::UnsupportedExtension { path }
             | TextureError::Corrupt { path, .. }
             | TextureError::Unsupported { path, .. }
             | TextureError::TooLarge { path, .. } => path,
@@ -217,8 +206,7 @@ enum FileKind {
 
 impl FileKind {
     fn from_path(path: &Path) -> Option<FileKind> {
-        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-        match ext.as_str() {
+        match crate::files::lowercase_extension(path)?.as_str() {
             "png" => Some(FileKind::Png),
             "exr" => Some(FileKind::Exr),
             "hdr" => Some(FileKind::Hdr),
@@ -286,13 +274,7 @@ pub fn texture_limits() -> crate::imageio::SizeLimits {
 /// within the input budget).
 pub fn decode_file(path: &Path) -> Result<DynamicImage, TextureError> {
     let kind = file_kind(path)?;
-    let meta = fs::metadata(path).map_err(|e| read_error(path, e))?;
-    if meta.is_dir() {
-        return Err(TextureError::IsDirectory {
-            path: path.to_path_buf(),
-        });
-    }
-    let file = crate::files::open_input(path).map_err(|e| read_error(path, e))?;
+    let file = open_image_file(path)?;
     decode_from(BufReader::new(file), path, kind, &texture_limits())
 }
 
@@ -336,84 +318,32 @@ fn file_kind(path: &Path) -> Result<FileKind, TextureError> {
 
 /// The decoding shared by [`decode_file`] and [`decode_bytes`].
 fn decode_from<R: io::BufRead + io::Seek>(
-    mut reader: R,
+    reader: R,
     path: &Path,
     kind: FileKind,
     limits: &crate::imageio::SizeLimits,
 ) -> Result<DynamicImage, TextureError> {
-    // Scanned first, reported after the decoder has read (and validated) the header.
-    let exr_too_large = match kind {
-        FileKind::Exr => crate::imageio::exr_header_exceeds(&mut reader, limits),
-        FileKind::Png | FileKind::Hdr | FileKind::Jpeg => None,
-    };
-    let mut reader = ImageReader::with_format(reader, kind.image_format());
-    reader.limits(limits.image_limits());
-    let decoder = reader
-        .into_decoder()
-        .map_err(|e| decode_error(path, kind, e))?;
-    if let Some(declared) = exr_too_large {
-        return Err(TextureError::TooLarge {
-            path: path.to_path_buf(),
-            declared,
-        });
-    }
-    let (width, height) = decoder.dimensions();
-    if limits.exceeded(width, height, decoder.total_bytes()) {
-        return Err(TextureError::TooLarge {
-            path: path.to_path_buf(),
-            declared: format!("declared {width}×{height}"),
-        });
-    }
-    if width == 0 || height == 0 {
-        return Err(TextureError::Corrupt {
-            path: path.to_path_buf(),
-            format: kind.name(),
-            reason: format!("empty image ({width}×{height})"),
-        });
-    }
-    DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, kind, e))
-}
-
-fn read_error(path: &Path, e: io::Error) -> TextureError {
-    if e.kind() == io::ErrorKind::NotFound {
-        TextureError::NotFound {
-            path: path.to_path_buf(),
-        }
-    } else {
-        TextureError::Read {
-            path: path.to_path_buf(),
-            source: e,
-        }
-    }
-}
-
-fn decode_error(path: &Path, kind: FileKind, e: image::ImageError) -> TextureError {
-    let path = path.to_path_buf();
-    let format = kind.name();
-    match e {
-        image::ImageError::IoError(source) if source.kind() == io::ErrorKind::UnexpectedEof => {
-            TextureError::Corrupt {
+    decode_checked(reader, kind.image_format(), limits, None).map_err(|p| {
+        let (path, format) = (path.to_path_buf(), kind.name());
+        match p {
+            DecodeProblem::Read(source) => FileError::Read { path, source }.into(),
+            DecodeProblem::TooLarge(declared) => TextureError::TooLarge { path, declared },
+            DecodeProblem::Limits(l) => TextureError::TooLarge {
+                path,
+                declared: l.to_string(),
+            },
+            DecodeProblem::Unsupported(reason) => TextureError::Unsupported {
                 path,
                 format,
-                reason: "file is truncated".into(),
-            }
+                reason,
+            },
+            DecodeProblem::Corrupt(reason) => TextureError::Corrupt {
+                path,
+                format,
+                reason,
+            },
         }
-        image::ImageError::IoError(source) => TextureError::Read { path, source },
-        image::ImageError::Limits(l) => TextureError::TooLarge {
-            path,
-            declared: l.to_string(),
-        },
-        image::ImageError::Unsupported(u) => TextureError::Unsupported {
-            path,
-            format,
-            reason: u.to_string(),
-        },
-        other => TextureError::Corrupt {
-            path,
-            format,
-            reason: crate::imageio::corrupt_reason(&other),
-        },
-    }
+    })
 }
 
 /// The texels as the pipeline sees them: the file's 8-bit codes (kept exactly for level 0) or

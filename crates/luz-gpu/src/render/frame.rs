@@ -62,7 +62,7 @@ impl ImageFactory for Factory {
     type Error = VkError;
 
     fn create(&mut self, name: &str, desc: &ImageDesc) -> Result<Image, VkError> {
-        Image::new(&self.ctx, name, vk_desc(desc))
+        Image::new(&self.ctx, name, crate::vk::image::ImageDesc::of_graph(desc))
     }
 }
 
@@ -73,36 +73,6 @@ impl PooledImage for Image {
 
     fn view(&self) -> vk::ImageView {
         self.view
-    }
-}
-
-/// A graph description as a luz image description (2D, one view of every mip and layer).
-pub fn vk_desc(d: &ImageDesc) -> crate::vk::image::ImageDesc {
-    crate::vk::image::ImageDesc {
-        width: d.width,
-        height: d.height,
-        format: d.format,
-        usage: d.usage,
-        samples: d.samples,
-        mip_levels: d.mip_levels,
-        aspect: d.aspect,
-        layers: d.layers,
-        cube: false,
-        array: d.layers > 1,
-    }
-}
-
-/// A luz image's description for the graph.
-pub fn graph_desc(d: &crate::vk::image::ImageDesc) -> ImageDesc {
-    ImageDesc {
-        width: d.width,
-        height: d.height,
-        format: d.format,
-        usage: d.usage,
-        samples: d.samples,
-        mip_levels: d.mip_levels,
-        layers: d.layers,
-        aspect: d.aspect,
     }
 }
 
@@ -214,7 +184,7 @@ pub fn import(
 ) -> ImageHandle {
     g.import_image(
         name,
-        ImportedImage::new(image.raw, image.view, graph_desc(&image.desc))
+        ImportedImage::new(image.raw, image.view, image.desc.image)
             .range(image.subresource_range())
             .before(before),
     )

@@ -73,17 +73,8 @@ pub struct Sphere {
     pub radius: f32,
 }
 
-/// The eight corners of object-space bounds `(lo, hi)` under `model`.
-pub fn box_corners(model: Mat4, (lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
-    std::array::from_fn(|k| {
-        let pick = |bit: usize, a: f32, b: f32| if k & bit == 0 { a } else { b };
-        model.transform_point3(Vec3::new(
-            pick(1, lo.x, hi.x),
-            pick(2, lo.y, hi.y),
-            pick(4, lo.z, hi.z),
-        ))
-    })
-}
+/// The eight corners of object-space bounds under a model matrix (the scene's own, shared).
+pub use crate::scene::box_corners;
 
 /// An object-space plane (point, unit normal) under `model`, in world space.
 pub fn world_plane(model: Mat4, point: Vec3, normal: Vec3) -> (Vec3, Vec3) {

@@ -8,42 +8,37 @@ use gpu_allocator::MemoryLocation;
 
 use super::{Context, VkError};
 
-/// What to create.
+/// What to create: the frame graph's description of an image (size, format, usage, samples,
+/// mips, layers, aspect; its fields read through this one) and how the image is viewed.
 #[derive(Debug, Clone, Copy)]
 pub struct ImageDesc {
-    pub width: u32,
-    pub height: u32,
-    pub format: vk::Format,
-    pub usage: vk::ImageUsageFlags,
-    pub samples: vk::SampleCountFlags,
-    pub mip_levels: u32,
-    pub aspect: vk::ImageAspectFlags,
-    /// Array layers (6 for a cube).
-    pub layers: u32,
+    pub image: luz_graph::ImageDesc,
     /// A cube map (6 layers, viewed as a cube).
     pub cube: bool,
     /// Viewed as a 2D array even with one layer.
     pub array: bool,
 }
 
+impl std::ops::Deref for ImageDesc {
+    type Target = luz_graph::ImageDesc;
+
+    fn deref(&self) -> &luz_graph::ImageDesc {
+        &self.image
+    }
+}
+
+impl std::ops::DerefMut for ImageDesc {
+    fn deref_mut(&mut self) -> &mut luz_graph::ImageDesc {
+        &mut self.image
+    }
+}
+
 impl ImageDesc {
-    /// A 2D image of one mip level, one layer and one sample: what the constructors start from.
-    fn single(
-        width: u32,
-        height: u32,
-        format: vk::Format,
-        usage: vk::ImageUsageFlags,
-        aspect: vk::ImageAspectFlags,
-    ) -> Self {
+    /// An image of the graph's description `image`, viewed as 2D: what the constructors start
+    /// from.
+    fn viewed_2d(image: luz_graph::ImageDesc) -> Self {
         Self {
-            width,
-            height,
-            format,
-            usage,
-            samples: vk::SampleCountFlags::TYPE_1,
-            mip_levels: 1,
-            aspect,
-            layers: 1,
+            image,
             cube: false,
             array: false,
         }
@@ -55,11 +50,10 @@ impl ImageDesc {
             | vk::ImageUsageFlags::STORAGE
             | vk::ImageUsageFlags::TRANSFER_SRC
             | vk::ImageUsageFlags::TRANSFER_DST;
+        let image = luz_graph::ImageDesc::color(size, size, format).usage(usage);
         Self {
-            mip_levels: mips,
-            layers: 6,
             cube: true,
-            ..Self::single(size, size, format, usage, vk::ImageAspectFlags::COLOR)
+            ..Self::viewed_2d(image.mips(mips).layers(6))
         }
     }
     /// A sampled texture (2D, or a 2D array when `layers` > 1) filled by copies or storage writes.
@@ -67,13 +61,19 @@ impl ImageDesc {
         let usage = vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::TRANSFER_DST
             | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = luz_graph::ImageDesc::color(width, height, format).usage(usage);
+        Self::of_graph(&image.mips(mips).layers(layers))
+    }
+
+    /// A graph description as a luz image description: 2D, or a 2D array when it has more than
+    /// one layer.
+    pub fn of_graph(image: &luz_graph::ImageDesc) -> Self {
         Self {
-            mip_levels: mips,
-            layers,
-            array: layers > 1,
-            ..Self::single(width, height, format, usage, vk::ImageAspectFlags::COLOR)
+            array: image.layers > 1,
+            ..Self::viewed_2d(*image)
         }
     }
+
     fn view_type(&self) -> vk::ImageViewType {
         if self.cube {
             vk::ImageViewType::CUBE
@@ -90,7 +90,7 @@ impl ImageDesc {
             | vk::ImageUsageFlags::TRANSFER_SRC
             | vk::ImageUsageFlags::STORAGE
             | vk::ImageUsageFlags::SAMPLED;
-        Self::single(width, height, format, usage, vk::ImageAspectFlags::COLOR)
+        Self::viewed_2d(luz_graph::ImageDesc::color(width, height, format).usage(usage))
     }
     /// A multisampled colour target resolved into a single-sample one.
     pub fn msaa_color(
@@ -101,10 +101,8 @@ impl ImageDesc {
     ) -> Self {
         let usage =
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
-        Self {
-            samples,
-            ..Self::single(width, height, format, usage, vk::ImageAspectFlags::COLOR)
-        }
+        let image = luz_graph::ImageDesc::color(width, height, format).usage(usage);
+        Self::viewed_2d(image.samples(samples))
     }
     pub fn depth(
         width: u32,
@@ -113,10 +111,8 @@ impl ImageDesc {
         samples: vk::SampleCountFlags,
     ) -> Self {
         let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        Self {
-            samples,
-            ..Self::single(width, height, format, usage, vk::ImageAspectFlags::DEPTH)
-        }
+        let image = luz_graph::ImageDesc::depth(width, height, format).usage(usage);
+        Self::viewed_2d(image.samples(samples))
     }
 
     /// Mips `base_mip_level ..+ level_count` of layers `base_array_layer ..+ layer_count`.
@@ -277,15 +273,11 @@ impl Image {
     }
 
     pub fn extent(&self) -> vk::Extent2D {
-        vk::Extent2D {
-            width: self.desc.width,
-            height: self.desc.height,
-        }
+        self.desc.extent()
     }
 
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        self.desc
-            .range((0, self.desc.mip_levels), (0, self.desc.layers))
+        self.desc.full_range()
     }
 
     /// An extra view of one mip level (all layers; a cube stays a cube), owned by the image.

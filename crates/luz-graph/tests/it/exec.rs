@@ -186,10 +186,12 @@ fn intra_pass_barriers_use_the_declared_range() {
             range: SubresourceRange::new(1, 2, 0, 1),
             old_layout: L::GENERAL,
             new_layout: L::GENERAL,
-            src_stages: S::COMPUTE_SHADER,
-            src_access: A::SHADER_STORAGE_WRITE,
-            dst_stages: S::COMPUTE_SHADER,
-            dst_access: A::SHADER_STORAGE_READ,
+            scopes: MemoryBarrier {
+                src_stages: S::COMPUTE_SHADER,
+                src_access: A::SHADER_STORAGE_WRITE,
+                dst_stages: S::COMPUTE_SHADER,
+                dst_access: A::SHADER_STORAGE_READ,
+            },
         }
     );
     assert_eq!(

@@ -18,10 +18,10 @@ fn summary(plan: &Plan, pass: &str) -> Vec<(L, L, S, A, S, A)> {
             (
                 b.old_layout,
                 b.new_layout,
-                b.src_stages,
-                b.src_access,
-                b.dst_stages,
-                b.dst_access,
+                b.scopes.src_stages,
+                b.scopes.src_access,
+                b.scopes.dst_stages,
+                b.scopes.dst_access,
             )
         })
         .collect()
@@ -212,12 +212,16 @@ fn mip_chain_tracks_each_mip() {
     assert_eq!(f.len(), 2);
     assert_eq!(f[0].range, Some(SubresourceRange::new(0, 2, 0, 6)));
     assert_eq!(
-        (f[0].old_layout, f[0].src_stages, f[0].src_access),
+        (
+            f[0].old_layout,
+            f[0].scopes.src_stages,
+            f[0].scopes.src_access
+        ),
         (L::SHADER_READ_ONLY_OPTIMAL, S::COMPUTE_SHADER, A::NONE)
     );
     assert_eq!(f[1].range, Some(SubresourceRange::new(2, 1, 0, 6)));
     assert_eq!(
-        (f[1].old_layout, f[1].new_layout, f[1].src_access),
+        (f[1].old_layout, f[1].new_layout, f[1].scopes.src_access),
         (
             L::GENERAL,
             L::SHADER_READ_ONLY_OPTIMAL,

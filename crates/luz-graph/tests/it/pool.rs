@@ -38,7 +38,7 @@ fn non_overlapping_transients_share_an_image() {
     assert_eq!(first_b.old_layout, L::UNDEFINED);
     assert_eq!(first_b.new_layout, L::GENERAL);
     assert_eq!(
-        (first_b.src_stages, first_b.src_access),
+        (first_b.scopes.src_stages, first_b.scopes.src_access),
         (S::FRAGMENT_SHADER, A::NONE)
     );
 }
@@ -112,7 +112,7 @@ fn one_pool_serves_several_graphs() {
     assert_eq!(r.unwrap().images_reused, 1);
     let b = rec.batches[0].images[0];
     assert_eq!(
-        (b.src_stages, b.src_access),
+        (b.scopes.src_stages, b.scopes.src_access),
         (S::COMPUTE_SHADER, A::SHADER_STORAGE_WRITE)
     );
 }

@@ -102,10 +102,12 @@ fn bi(
         handle: handle.into(),
         old_layout: old,
         new_layout: new,
-        src_stages: src.0,
-        src_access: src.1,
-        dst_stages: dst.0,
-        dst_access: dst.1,
+        scopes: MemoryBarrier {
+            src_stages: src.0,
+            src_access: src.1,
+            dst_stages: dst.0,
+            dst_access: dst.1,
+        },
         range,
         after_pool_use: pool,
     }
@@ -326,7 +328,7 @@ fn transient_first_use_waits_for_previous_frame() {
         .unwrap();
     let b = image_barrier(&rec1.batches[1], hdr_image);
     assert_eq!(
-        (b.old_layout, b.src_stages, b.src_access),
+        (b.old_layout, b.scopes.src_stages, b.scopes.src_access),
         (L::UNDEFINED, S::NONE, A::NONE)
     );
 
@@ -342,7 +344,10 @@ fn transient_first_use_waits_for_previous_frame() {
     let b = image_barrier(forward, hdr_image);
     assert_eq!(b.old_layout, L::UNDEFINED);
     assert_eq!(b.new_layout, L::COLOR_ATTACHMENT_OPTIMAL);
-    assert_eq!((b.src_stages, b.src_access), (S::COPY, A::NONE));
+    assert_eq!(
+        (b.scopes.src_stages, b.scopes.src_access),
+        (S::COPY, A::NONE)
+    );
     let depth_image = pool
         .images()
         .find(|(d, _)| d.format == vk::Format::D32_SFLOAT)
@@ -351,7 +356,7 @@ fn transient_first_use_waits_for_previous_frame() {
     let b = image_barrier(forward, depth_image);
     assert_eq!(b.old_layout, L::UNDEFINED);
     assert_eq!(
-        (b.src_stages, b.src_access),
+        (b.scopes.src_stages, b.scopes.src_access),
         (TESTS, A::DEPTH_STENCIL_ATTACHMENT_WRITE)
     );
     // Imported images keep their handles and absolute ranges.
@@ -390,7 +395,7 @@ fn kept_import_is_never_transitioned_from_undefined() {
     assert_eq!(b.len(), 1);
     assert_eq!(b[0].old_layout, L::SHADER_READ_ONLY_OPTIMAL);
     assert_eq!(b[0].new_layout, L::GENERAL);
-    assert_eq!(b[0].src_stages, S::FRAGMENT_SHADER);
+    assert_eq!(b[0].scopes.src_stages, S::FRAGMENT_SHADER);
     assert_eq!(b[0].range, Some(SubresourceRange::new(0, 3, 0, 6)));
     for p in &plan.passes {
         for b in &p.barriers {

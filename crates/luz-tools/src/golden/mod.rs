@@ -180,10 +180,7 @@ pub fn check_goldens_dir(dir: &Path, bless: bool) -> Result<(), GoldenError> {
 }
 
 fn extension(path: &Path) -> String {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase()
+    crate::files::lowercase_extension(path).unwrap_or_default()
 }
 
 fn is_sidecar(path: &Path) -> bool {

@@ -518,6 +518,15 @@ fn tolerance_text(case: &Case) -> String {
     format!("{} ({})", limits(&case.tolerance), case.tolerance_source)
 }
 
+/// `items` (escaped) as an HTML list of class `class`, ending its line.
+fn push_list(h: &mut String, class: &str, items: &[String]) {
+    let _ = write!(h, "<ul class=\"{class}\">");
+    for item in items {
+        let _ = write!(h, "<li>{}</li>", escape(item));
+    }
+    h.push_str("</ul>\n");
+}
+
 /// Escapes text for HTML and XML (element content and quoted attributes).
 pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
@@ -614,31 +623,20 @@ fn html(run: &RunRecord) -> String {
             escape(&c.figures)
         );
         if !c.regions.is_empty() {
-            h.push_str("<ul class=\"regions\">");
-            for r in &c.regions {
-                let _ = write!(h, "<li>{}</li>", escape(r));
-            }
-            h.push_str("</ul>\n");
+            push_list(&mut h, "regions", &c.regions);
         }
         if let Some(g) = &c.ignored {
             let _ = writeln!(h, "<p class=\"ignored\">{}</p>", escape(g));
         }
         if !c.provenance_differences.is_empty() {
-            h.push_str("<p>provenance differs:</p><ul class=\"provenance\">");
-            for d in &c.provenance_differences {
-                let _ = write!(h, "<li>{}</li>", escape(d));
-            }
-            h.push_str("</ul>\n");
+            h.push_str("<p>provenance differs:</p>");
+            push_list(&mut h, "provenance", &c.provenance_differences);
         }
         for d in &c.devices {
             let _ = writeln!(h, "<p>{}</p>", escape(d));
         }
         if !c.failures.is_empty() {
-            h.push_str("<ul class=\"reasons\">");
-            for f in &c.failures {
-                let _ = write!(h, "<li>{}</li>", escape(f));
-            }
-            h.push_str("</ul>\n");
+            push_list(&mut h, "reasons", &c.failures);
         }
         h.push_str("<div class=\"row\">");
         let fig = |h: &mut String, src: &Option<String>, caption: &str, hatch: bool| {

@@ -26,11 +26,7 @@ const SKY_SETTINGS: &[&str] = &["sun_direction", "sun_intensity"];
 
 pub(super) fn environment(v: &Value, path: &str, base: &Path) -> Result<Environment> {
     let f = Fields::new(v, path)?;
-    let mut given = f
-        .fields
-        .iter()
-        .filter_map(|(k, _)| ENV_SOURCES.iter().find(|s| **s == k.as_str()).copied());
-    let Some(key) = given.next() else {
+    let Some(key) = f.exclusive(ENV_SOURCES, "the environment's source")? else {
         // Unknown fields first: a misspelt source ("hrd") reads better as "did you mean".
         let mut all: Vec<&str> = ENV_SOURCES.to_vec();
         all.extend(ENV_SETTINGS);
@@ -44,15 +40,6 @@ pub(super) fn environment(v: &Value, path: &str, base: &Path) -> Result<Environm
             ),
         ));
     };
-    if let Some(second) = given.next() {
-        return Err(f.err(
-            second,
-            format!(
-                "\"{key}\" and \"{second}\" both give the environment's source; keep exactly one of: {}",
-                ENV_SOURCES.join(", ")
-            ),
-        ));
-    }
     let kind = match key {
         "procedural" => choice(f.req(key)?, &f.path(key), PROCEDURALS)?,
         k => k,
@@ -114,21 +101,11 @@ pub(super) fn environment(v: &Value, path: &str, base: &Path) -> Result<Environm
     env.rotation_deg = f.num("rotation_deg", 0.0, Check::Any)?;
     env.specular_method = f.select(
         "specular_method",
-        &[
-            ("importance", SpecularMethod::Importance),
-            ("split_sum", SpecularMethod::SplitSum),
-        ],
+        &SpecularMethod::NAMED,
         SpecularMethod::SplitSum,
     )?;
     env.samples = f.int("samples", DEFAULT_ENV_SAMPLES, 1, MAX_ENV_SAMPLES)?;
-    env.diffuse_method = f.select(
-        "diffuse_method",
-        &[
-            ("sh9", DiffuseMethod::Sh9),
-            ("cubemap", DiffuseMethod::Cubemap),
-        ],
-        DiffuseMethod::Sh9,
-    )?;
+    env.diffuse_method = f.select("diffuse_method", &DiffuseMethod::NAMED, DiffuseMethod::Sh9)?;
     env.energy_compensation = f.boolean("energy_compensation", false)?;
     env.mip_filtered_samples = f.boolean("mip_filtered_samples", true)?;
     env.show_background = f.boolean("show_background", true)?;

@@ -135,6 +135,30 @@ impl<'a> Fields<'a> {
         Ok(())
     }
 
+    /// The one field of `keys` the object gives (`None`: none of them). Two are an error at the
+    /// second that names both, `what` they give and the keys to keep one of.
+    pub(super) fn exclusive(
+        &self,
+        keys: &[&'static str],
+        what: &str,
+    ) -> Result<Option<&'static str>> {
+        let mut given = self
+            .fields
+            .iter()
+            .filter_map(|(k, _)| keys.iter().find(|s| **s == k.as_str()).copied());
+        let first = given.next();
+        if let (Some(key), Some(second)) = (first, given.next()) {
+            return Err(self.err(
+                second,
+                format!(
+                    "\"{key}\" and \"{second}\" both give {what}; keep exactly one of: {}",
+                    keys.join(", ")
+                ),
+            ));
+        }
+        Ok(first)
+    }
+
     pub(super) fn get(&self, key: &str) -> Option<&'a Value> {
         self.fields.iter().find(|(k, _)| k == key).map(|(_, v)| v)
     }
@@ -378,10 +402,7 @@ pub(super) fn file_name(v: &Value, path: &str, base: &Path) -> Result<(PathBuf, 
         return Err(Invalid::new(path, "must not be empty"));
     }
     let file = base.join(p);
-    let ext = file
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let ext = crate::files::lowercase_extension(&file);
     Ok((file, ext))
 }
 

@@ -175,22 +175,9 @@ pub(super) fn cook_torrance(f: &Fields, model: &str) -> Result<Material> {
 
 /// The one specular source of a Cook-Torrance material (`None`: not given), with its key.
 pub(super) fn specular_source(f: &Fields) -> Result<Option<(&'static str, SpecularSource)>> {
-    let mut given = f
-        .fields
-        .iter()
-        .filter_map(|(k, _)| SPECULAR_SOURCES.iter().find(|s| **s == k.as_str()).copied());
-    let Some(key) = given.next() else {
+    let Some(key) = f.exclusive(SPECULAR_SOURCES, "the Fresnel reflectance")? else {
         return Ok(None);
     };
-    if let Some(second) = given.next() {
-        return Err(f.err(
-            second,
-            format!(
-                "\"{key}\" and \"{second}\" both give the Fresnel reflectance; keep exactly one of: {}",
-                SPECULAR_SOURCES.join(", ")
-            ),
-        ));
-    }
     let v = f.get(key).unwrap_or(&NULL);
     let path = f.path(key);
     let source = match key {

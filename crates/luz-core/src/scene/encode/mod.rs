@@ -41,7 +41,7 @@ use super::{
     EnvSource, Environment, Material, MaterialTextures, MeshDesc, Object, Saturation, Scene,
     Shading, TextureRef, TextureSlot,
 };
-use crate::brdf::SpecularSource;
+use crate::brdf::{Distribution, Fresnel, Geometry, SpecularSource};
 use crate::scene::{slots_for_model, SamplerDesc};
 
 /// The scene as JSON, with file paths relative to the folder of the file it was loaded from
@@ -255,12 +255,8 @@ impl Encoder<'_> {
                 n.put("albedo", *albedo);
             }
             Material::CookTorrance(p) => {
-                n.put("color", p.color)
-                    .put("kd", p.kd)
-                    .put("roughness", p.roughness)
-                    .put("distribution", select(DISTRIBUTIONS, p.distribution))
-                    .put("geometry", select(GEOMETRIES, p.geometry))
-                    .put("fresnel", select(FRESNELS, p.fresnel))
+                let n = n.put("color", p.color).put("kd", p.kd);
+                put_terms(n, p.roughness, (p.distribution, p.geometry, p.fresnel))
                     .put("diffuse", select(DIFFUSES, p.diffuse));
                 match p.specular {
                     SpecularSource::Ior(eta) => n.put("ior", eta),
@@ -271,12 +267,10 @@ impl Encoder<'_> {
                 };
             }
             Material::MetalRough(p) => {
-                n.put("base_color", p.base_color)
-                    .put("metallic", p.metallic)
-                    .put("roughness", p.roughness)
-                    .put("distribution", select(DISTRIBUTIONS, p.distribution))
-                    .put("geometry", select(GEOMETRIES, p.geometry))
-                    .put("fresnel", select(FRESNELS, p.fresnel))
+                let n = n
+                    .put("base_color", p.base_color)
+                    .put("metallic", p.metallic);
+                put_terms(n, p.roughness, (p.distribution, p.geometry, p.fresnel))
                     .put("diffuse_fresnel_weight", p.diffuse_fresnel_weight)
                     .put("diffuse", select(DIFFUSES, p.diffuse));
             }
@@ -712,6 +706,19 @@ impl Encoder<'_> {
 }
 #[cfg(test)]
 mod tests;
+
+/// The roughness and the D, G and F selectors of the models that have them (Cook-Torrance,
+/// metallic-roughness), in the scene format's order.
+fn put_terms(
+    n: &mut Node,
+    roughness: f32,
+    (distribution, geometry, fresnel): (Distribution, Geometry, Fresnel),
+) -> &mut Node {
+    n.put("roughness", roughness)
+        .put("distribution", select(DISTRIBUTIONS, distribution))
+        .put("geometry", select(GEOMETRIES, geometry))
+        .put("fresnel", select(FRESNELS, fresnel))
+}
 
 /// `output.golden`: the overridden checks, null for one turned off.
 fn golden_tolerances(o: &crate::diff::ToleranceOverrides) -> Node {

@@ -402,30 +402,6 @@ fn forward_interface() -> Result<crate::vk::Interface, VkError> {
 }
 
 impl ForwardPass {
-    /// A pass for one frame at a time (headless rendering).
-    pub fn new(
-        ctx: &Arc<Context>,
-        pool: &CommandPool,
-        scene: &Scene,
-        target: TargetFormat,
-        aspect: f32,
-        ibl: Option<&Ibl>,
-        debug: DebugView,
-    ) -> Result<Self, VkError> {
-        Self::in_flight(
-            ctx,
-            pool,
-            scene,
-            target,
-            aspect,
-            ibl,
-            PassOptions {
-                debug,
-                ..Default::default()
-            },
-        )
-    }
-
     /// A pass with `slots` copies of its per-frame data (camera, lights, transforms), one per
     /// frame in flight: [`ForwardPass::update`] writes a slot, [`ForwardPass::record_slot`] draws
     /// with it. Prepares the scene first ([`crate::prepare`]; its warnings are logged).

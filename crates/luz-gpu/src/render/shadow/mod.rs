@@ -242,19 +242,17 @@ impl ShadowMaps {
             ctx,
             "shadow maps",
             ImageDesc {
-                width: size,
-                height: size,
-                format: FORMAT,
-                // TRANSFER_SRC: read back for a look at the maps (view.rs).
-                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::SAMPLED
-                    | vk::ImageUsageFlags::TRANSFER_SRC,
-                samples: vk::SampleCountFlags::TYPE_1,
-                mip_levels: 1,
-                aspect: vk::ImageAspectFlags::DEPTH,
-                layers: layer_count,
-                cube: false,
                 array: true,
+                ..ImageDesc::of_graph(
+                    &luz_graph::ImageDesc::depth(size, size, FORMAT)
+                        // TRANSFER_SRC: read back for a look at the maps (view.rs).
+                        .usage(
+                            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                                | vk::ImageUsageFlags::SAMPLED
+                                | vk::ImageUsageFlags::TRANSFER_SRC,
+                        )
+                        .layers(layer_count),
+                )
             },
         )?;
         let mut layer_views = Vec::new();
