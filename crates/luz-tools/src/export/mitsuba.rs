@@ -169,6 +169,14 @@ impl Writer {
         self.xml.push('\n');
     }
 
+    /// A `<kind name="name" value="value"/>` line.
+    fn param(&mut self, depth: usize, kind: &str, name: &str, value: impl std::fmt::Display) {
+        self.line(
+            depth,
+            &format!("<{kind} name=\"{name}\" value=\"{value}\"/>"),
+        );
+    }
+
     fn write_file(&mut self, rel: &str, bytes: &[u8]) -> Result<(), ExportError> {
         let path = self.out.join(rel);
         if let Some(parent) = path.parent() {
@@ -242,10 +250,7 @@ impl Writer {
             Projection::Perspective => {
                 self.line(1, "<sensor type=\"perspective\">");
                 self.line(2, "<string name=\"fov_axis\" value=\"y\"/>");
-                self.line(
-                    2,
-                    &format!("<float name=\"fov\" value=\"{}\"/>", c.fov_y_deg),
-                );
+                self.param(2, "float", "fov", c.fov_y_deg);
                 self.line(2, "<transform name=\"to_world\">");
                 self.line(3, &lookat);
             }
@@ -260,32 +265,14 @@ impl Writer {
             }
         }
         self.line(2, "</transform>");
-        self.line(
-            2,
-            &format!("<float name=\"near_clip\" value=\"{}\"/>", c.near),
-        );
-        self.line(
-            2,
-            &format!("<float name=\"far_clip\" value=\"{}\"/>", c.far),
-        );
+        self.param(2, "float", "near_clip", c.near);
+        self.param(2, "float", "far_clip", c.far);
         self.line(2, "<sampler type=\"multijitter\">");
-        self.line(
-            3,
-            &format!(
-                "<integer name=\"sample_count\" value=\"{}\"/>",
-                opts.spp.max(1)
-            ),
-        );
+        self.param(3, "integer", "sample_count", opts.spp.max(1));
         self.line(2, "</sampler>");
         self.line(2, "<film type=\"hdrfilm\">");
-        self.line(
-            3,
-            &format!("<integer name=\"width\" value=\"{}\"/>", o.width),
-        );
-        self.line(
-            3,
-            &format!("<integer name=\"height\" value=\"{}\"/>", o.height),
-        );
+        self.param(3, "integer", "width", o.width);
+        self.param(3, "integer", "height", o.height);
         self.line(3, "<string name=\"pixel_format\" value=\"rgb\"/>");
         self.line(3, "<rfilter type=\"box\"/>");
         self.line(2, "</film>");
@@ -351,14 +338,8 @@ impl Writer {
                 })?;
                 self.write_file(&rel, &bytes)?;
                 self.line(1, "<emitter type=\"envmap\">");
-                self.line(
-                    2,
-                    &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)),
-                );
-                self.line(
-                    2,
-                    &format!("<float name=\"scale\" value=\"{}\"/>", env.intensity),
-                );
+                self.param(2, "string", "filename", escape(&rel));
+                self.param(2, "float", "scale", env.intensity);
                 self.line(2, &rotate);
                 self.line(1, "</emitter>");
             }
@@ -380,10 +361,7 @@ impl Writer {
                     .map_err(|e| ExportError::new(&path, e))?;
                 self.report.files.push(path);
                 self.line(1, "<emitter type=\"envmap\">");
-                self.line(
-                    2,
-                    &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)),
-                );
+                self.param(2, "string", "filename", escape(&rel));
                 self.line(2, &rotate);
                 self.line(1, "</emitter>");
             }
@@ -470,10 +448,7 @@ impl Writer {
                     );
                     self.line(2, "</transform>");
                     self.line(2, &format!("<rgb name=\"intensity\" value=\"{}\"/>", v3(e)));
-                    self.line(
-                        2,
-                        &format!("<float name=\"cutoff_angle\" value=\"{}\"/>", l.umbra_deg),
-                    );
+                    self.param(2, "float", "cutoff_angle", l.umbra_deg);
                     self.line(2, &format!("<float name=\"beam_width\" value=\"{beam}\"/>"));
                 }
             }
@@ -593,28 +568,21 @@ impl Writer {
                 );
             }
             let t = &m.textures;
-            let mut dropped = Vec::new();
-            if t.normal.is_some() {
-                dropped.push("normal");
-            }
-            if t.specular.is_some() {
-                dropped.push("specular");
-            }
-            if t.metallic.is_some() {
-                dropped.push("metallic");
-            }
-            if t.roughness.is_some() {
-                dropped.push("roughness");
-            }
-            if t.orm.is_some() {
-                dropped.push("orm");
-            }
-            if t.occlusion.is_some() {
-                dropped.push("occlusion");
-            }
-            if t.emissive.is_some() || t.emissive_factor != Vec3::ZERO {
-                dropped.push("emission");
-            }
+            let dropped: Vec<&str> = [
+                (t.normal.is_some(), "normal"),
+                (t.specular.is_some(), "specular"),
+                (t.metallic.is_some(), "metallic"),
+                (t.roughness.is_some(), "roughness"),
+                (t.orm.is_some(), "orm"),
+                (t.occlusion.is_some(), "occlusion"),
+                (
+                    t.emissive.is_some() || t.emissive_factor != Vec3::ZERO,
+                    "emission",
+                ),
+            ]
+            .into_iter()
+            .filter_map(|(present, name)| present.then_some(name))
+            .collect();
             if !dropped.is_empty() {
                 self.note(format!(
                     "material '{}': {} left out",
@@ -902,10 +870,7 @@ impl Writer {
             if let (Some(r), true, false) = (radius, uniform, has_maps(&m.textures)) {
                 self.line(1, "<shape type=\"sphere\">");
                 self.line(2, &format!("<point name=\"center\" {}/>", xyz(t.position)));
-                self.line(
-                    2,
-                    &format!("<float name=\"radius\" value=\"{}\"/>", r * t.scale.x),
-                );
+                self.param(2, "float", "radius", r * t.scale.x);
                 self.line(2, &bsdf);
                 self.line(1, "</shape>");
                 continue;
@@ -921,10 +886,7 @@ impl Writer {
                 }
             };
             self.line(1, "<shape type=\"ply\">");
-            self.line(
-                2,
-                &format!("<string name=\"filename\" value=\"{}\"/>", escape(&rel)),
-            );
+            self.param(2, "string", "filename", escape(&rel));
             self.line(
                 2,
                 &format!(

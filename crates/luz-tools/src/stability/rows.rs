@@ -142,148 +142,144 @@ fn mismatched(d: Distribution, g: Geometry) -> bool {
     d == Distribution::Ggx && g == Geometry::SmithBeckmann
 }
 
-/// Every (D, G, F) choice of the microfacet models, in row order.
-fn microfacet_choices() -> impl Iterator<Item = (Distribution, Geometry, Fresnel)> {
-    Distribution::ALL.into_iter().flat_map(|d| {
-        Geometry::ALL
-            .into_iter()
-            .flat_map(move |g| Fresnel::ALL.into_iter().map(move |f| (d, g, f)))
-    })
+/// One row per (D, G, F) choice of a microfacet model, in row order, with the parameter sets
+/// `sets_of` gives it; each row claims `claim` unless G belongs to another distribution
+/// ([`mismatched`]), then "no".
+fn microfacet_rows(
+    rows: &mut Vec<Row>,
+    model: &'static str,
+    claim: &'static str,
+    mut sets_of: impl FnMut(Distribution, Geometry, Fresnel) -> Vec<ParamSet>,
+) {
+    for d in Distribution::ALL {
+        for g in Geometry::ALL {
+            for f in Fresnel::ALL {
+                rows.push(Row {
+                    model,
+                    variant: format!("{} {} {}", d.name(), g.name(), f.name()),
+                    claim: if mismatched(d, g) { "no" } else { claim },
+                    sets: sets_of(d, g, f),
+                });
+            }
+        }
+    }
 }
 
 /// Cook-Torrance, one row per (D, G, F), swept over roughness, k_d and the Fresnel source.
 fn cook_torrance_rows(rows: &mut Vec<Row>, white: Vec3) {
     let gold = metal_preset("gold").expect("gold preset");
-    for (distribution, geometry, fresnel) in microfacet_choices() {
-        let mut sets = Vec::new();
-        for &roughness in &ROUGHNESS {
-            for kd in [0.0, 0.5, 1.0] {
-                for (sl, specular) in [
-                    ("F0=1", SpecularSource::F0(Vec3::ONE)),
-                    ("η=1.5", SpecularSource::Ior(1.5)),
-                    ("gold", SpecularSource::Complex(gold)),
-                    // Extremes of the Fresnel inputs: F0 = 0, the η floor, index
-                    // matching, and indices whose squares overflow f32.
-                    ("F0=0", SpecularSource::F0(Vec3::ZERO)),
-                    ("η=1e-4", SpecularSource::Ior(1e-4)),
-                    ("η=1", SpecularSource::Ior(1.0)),
-                    ("η=1e20", SpecularSource::Ior(1e20)),
-                    (
-                        "η+iκ=(1e20, 1+1e20i, 0)",
-                        SpecularSource::Complex(ComplexIor {
-                            eta: Vec3::new(1e20, 1.0, 0.0),
-                            k: Vec3::new(0.0, 1e20, 0.0),
-                        }),
-                    ),
-                ] {
-                    let model = |diffuse| {
-                        Model::CookTorrance(CookTorranceParams {
-                            color: white,
-                            kd,
-                            roughness,
-                            specular,
-                            distribution,
-                            geometry,
-                            fresnel,
-                            diffuse,
-                        })
-                    };
-                    sets.push(ParamSet {
-                        label: format!("r={roughness} k_d={kd} {sl}"),
-                        model: model(Diffuse::Lambert),
-                        // F ≤ 1 scales the specular down: F0 = 1 (and gold, whose η < 1
-                        // gives total reflection in the exact dielectric) bound η = 1.5.
-                        albedo: kd == 0.0 && (sl == "F0=1" || sl == "gold"),
-                        conserving: !mismatched(distribution, geometry),
-                    });
-                    // Burley's diffuse (its Fd exceeds 1 near grazing at high roughness:
-                    // measured and reported, not held to R ≤ 1).
-                    if kd > 0.0 && sl == "η=1.5" {
+    microfacet_rows(
+        rows,
+        "cook_torrance",
+        "yes",
+        |distribution, geometry, fresnel| {
+            let mut sets = Vec::new();
+            for &roughness in &ROUGHNESS {
+                for kd in [0.0, 0.5, 1.0] {
+                    for (sl, specular) in [
+                        ("F0=1", SpecularSource::F0(Vec3::ONE)),
+                        ("η=1.5", SpecularSource::Ior(1.5)),
+                        ("gold", SpecularSource::Complex(gold)),
+                        // Extremes of the Fresnel inputs: F0 = 0, the η floor, index
+                        // matching, and indices whose squares overflow f32.
+                        ("F0=0", SpecularSource::F0(Vec3::ZERO)),
+                        ("η=1e-4", SpecularSource::Ior(1e-4)),
+                        ("η=1", SpecularSource::Ior(1.0)),
+                        ("η=1e20", SpecularSource::Ior(1e20)),
+                        (
+                            "η+iκ=(1e20, 1+1e20i, 0)",
+                            SpecularSource::Complex(ComplexIor {
+                                eta: Vec3::new(1e20, 1.0, 0.0),
+                                k: Vec3::new(0.0, 1e20, 0.0),
+                            }),
+                        ),
+                    ] {
+                        let model = |diffuse| {
+                            Model::CookTorrance(CookTorranceParams {
+                                color: white,
+                                kd,
+                                roughness,
+                                specular,
+                                distribution,
+                                geometry,
+                                fresnel,
+                                diffuse,
+                            })
+                        };
                         sets.push(ParamSet {
-                            label: format!("r={roughness} k_d={kd} {sl} burley"),
-                            model: model(Diffuse::Burley),
-                            albedo: kd == 1.0,
-                            conserving: false,
+                            label: format!("r={roughness} k_d={kd} {sl}"),
+                            model: model(Diffuse::Lambert),
+                            // F ≤ 1 scales the specular down: F0 = 1 (and gold, whose η < 1
+                            // gives total reflection in the exact dielectric) bound η = 1.5.
+                            albedo: kd == 0.0 && (sl == "F0=1" || sl == "gold"),
+                            conserving: !mismatched(distribution, geometry),
                         });
+                        // Burley's diffuse (its Fd exceeds 1 near grazing at high roughness:
+                        // measured and reported, not held to R ≤ 1).
+                        if kd > 0.0 && sl == "η=1.5" {
+                            sets.push(ParamSet {
+                                label: format!("r={roughness} k_d={kd} {sl} burley"),
+                                model: model(Diffuse::Burley),
+                                albedo: kd == 1.0,
+                                conserving: false,
+                            });
+                        }
                     }
                 }
             }
-        }
-        rows.push(Row {
-            model: "cook_torrance",
-            variant: format!(
-                "{} {} {}",
-                distribution.name(),
-                geometry.name(),
-                fresnel.name()
-            ),
-            claim: if mismatched(distribution, geometry) {
-                "no"
-            } else {
-                "yes"
-            },
-            sets,
-        });
-    }
+            sets
+        },
+    );
 }
 
 /// glTF metallic-roughness, one row per (D, G, F), swept over roughness, metallic, the (1 − F)
 /// weight and the diffuse.
 fn metal_rough_rows(rows: &mut Vec<Row>, white: Vec3) {
-    for (distribution, geometry, fresnel) in microfacet_choices() {
-        let mut sets = Vec::new();
-        for &roughness in &ROUGHNESS {
-            for metallic in [0.0, 0.5, 1.0] {
-                for weight in [false, true] {
-                    for diffuse in Diffuse::ALL {
-                        let burley = diffuse == Diffuse::Burley;
-                        sets.push(ParamSet {
-                            label: format!(
-                                "r={roughness} metallic={metallic} (1−F)={weight}{}",
-                                if burley { " burley" } else { "" }
-                            ),
-                            model: Model::MetalRough(MetalRoughParams {
-                                base_color: white,
-                                metallic,
-                                roughness,
-                                distribution,
-                                geometry,
-                                fresnel,
-                                diffuse_fresnel_weight: weight,
-                                diffuse,
-                                ..MetalRoughParams::default()
-                            }),
-                            // Claimed: metallic 1 (the weight and the diffuse choice only
-                            // change the diffuse, which metallic 1 removes); metallic 0
-                            // without the weight for the report (Burley's too).
-                            albedo: !weight
-                                && if burley {
-                                    metallic == 0.0
-                                } else {
-                                    metallic != 0.5
-                                },
-                            conserving: metallic == 1.0 && !mismatched(distribution, geometry),
-                        });
+    microfacet_rows(
+        rows,
+        "metal_rough",
+        "metallic=1",
+        |distribution, geometry, fresnel| {
+            let mut sets = Vec::new();
+            for &roughness in &ROUGHNESS {
+                for metallic in [0.0, 0.5, 1.0] {
+                    for weight in [false, true] {
+                        for diffuse in Diffuse::ALL {
+                            let burley = diffuse == Diffuse::Burley;
+                            sets.push(ParamSet {
+                                label: format!(
+                                    "r={roughness} metallic={metallic} (1−F)={weight}{}",
+                                    if burley { " burley" } else { "" }
+                                ),
+                                model: Model::MetalRough(MetalRoughParams {
+                                    base_color: white,
+                                    metallic,
+                                    roughness,
+                                    distribution,
+                                    geometry,
+                                    fresnel,
+                                    diffuse_fresnel_weight: weight,
+                                    diffuse,
+                                    ..MetalRoughParams::default()
+                                }),
+                                // Claimed: metallic 1 (the weight and the diffuse choice only
+                                // change the diffuse, which metallic 1 removes); metallic 0
+                                // without the weight for the report (Burley's too).
+                                albedo: !weight
+                                    && if burley {
+                                        metallic == 0.0
+                                    } else {
+                                        metallic != 0.5
+                                    },
+                                conserving: metallic == 1.0 && !mismatched(distribution, geometry),
+                            });
+                        }
                     }
                 }
             }
-        }
-        rows.push(Row {
-            model: "metal_rough",
-            variant: format!(
-                "{} {} {}",
-                distribution.name(),
-                geometry.name(),
-                fresnel.name()
-            ),
-            claim: if mismatched(distribution, geometry) {
-                "no"
-            } else {
-                "metallic=1"
-            },
-            sets,
-        });
-    }
+            sets
+        },
+    );
 }
 
 /// Principled, one row per parameter choice, swept over roughness.
