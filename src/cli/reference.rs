@@ -14,8 +14,9 @@ use super::common::{check_output, report_written, Bar, ViewOverrides};
 #[command(
     after_help = "Exact primitives (an icosphere is a sphere), per-pixel shading with the CPU \
 BRDFs whatever the object's shading frequency, the environment's light converged by multiple importance \
-sampling; the same camera, lights, maps, fog, background and saturation as `luz render`, and no shadows \
-(as the GPU path). Compare it with a GPU frame with `luz diff`.\n\n\
+sampling; the same camera, lights, maps, fog, background and saturation as `luz render`; shadow rays \
+for lights with \"shadow\" (soft for lights with a size, --shadow-samples), no inter-reflections (as the GPU \
+path). Compare it with a GPU frame with `luz diff`.\n\n\
 Examples:\n  luz reference scene.json -o ref.exr              pixel centres (compare with msaa 1)\n  \
 luz reference scene.json -o ref.exr --spp 16      antialiased\n  \
 luz reference ibl.json -o ref.exr --samples 4096  a more converged environment integral"

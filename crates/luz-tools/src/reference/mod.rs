@@ -26,7 +26,8 @@
 //! * **Pixel sampling.** One primary ray through each pixel centre `(x + 0.5, y + 0.5)` by default
 //!   (compare with `msaa` 1 renders); `--spp N` averages N correlated multi-jittered rays.
 //!
-//! Like the GPU path it is local illumination: no shadows and no inter-reflections.
+//! Like the GPU path it is local illumination: shadow rays for the lights with `shadow` (soft ones
+//! for lights with a size), no inter-reflections.
 
 mod geometry;
 mod render;
