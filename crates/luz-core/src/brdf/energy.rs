@@ -56,7 +56,9 @@ fn table(geometry: Geometry) -> &'static Table {
 /// samples) for the correlated Smith term, a 128² table of 512 samples (computed once per
 /// process) for the others.
 pub fn split_sum_ab(geometry: Geometry, n_v: f32, roughness: f32) -> (f32, f32) {
-    let t = table(geometry);
+    // Geometry terms that share a table (Beckmann's Smith term reads the separable GGX one) share
+    // its computation too.
+    let t = table(geometry.for_split_sum());
     let size = t.size as usize;
     let coord = |x: f32| {
         let x = if x.is_finite() {
