@@ -466,7 +466,7 @@ fn gpu_maps_match_the_cpu_maps() {
     assert_eq!(s.scale, s.stats.p99);
     // FLIP: nv-flip's C++ on the CPU against the GLSL port, per pixel.
     let (map, s) = compare_images(&ctx, &pool, (&a, &b), CompareKind::Flip, display).unwrap();
-    let cpu = luz::compare::flip_map(&a.pixels, &b.pixels, (w, h), display.0, display.1);
+    let cpu = luz::compare::flip_map(&a.pixels, &b.pixels, (w, h), display);
     let diffs: Vec<f32> = map
         .values
         .iter()

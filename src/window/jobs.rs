@@ -217,7 +217,7 @@ fn error_result(
     let relative = map_image(MapKind::Relative, relative, started);
     let started = Instant::now();
     let flip = if (gpu.width, gpu.height) == (w, h) {
-        flip_map(&reference.pixels, &gpu.pixels, (w, h), exposure, tonemap)
+        flip_map(&reference.pixels, &gpu.pixels, (w, h), (exposure, tonemap))
     } else {
         ErrorMap {
             width: w,

@@ -122,14 +122,13 @@ pub fn relative_error_map(
     })
 }
 
-/// LDR FLIP of `test` against `reference` after `exposure_ev` and `tonemap` (the display the
-/// viewer shows), at `luz diff`'s default pixels per degree. Values in [0, 1].
+/// LDR FLIP of `test` against `reference` after the display's exposure (EV) and tone map (what
+/// the viewer shows), at `luz diff`'s default pixels per degree. Values in [0, 1].
 pub fn flip_map(
     reference: &[[f32; 4]],
     test: &[[f32; 4]],
     (width, height): (u32, u32),
-    exposure_ev: f32,
-    tonemap: Tonemap,
+    (exposure_ev, tonemap): (f32, Tonemap),
 ) -> ErrorMap {
     check(reference, test, width, height);
     let map = display_flip(reference, test, (width, height), exposure_ev, tonemap);
@@ -215,7 +214,7 @@ mod tests {
         assert!(d.values.iter().all(|&v| v == 0.0));
         let r = relative_error_map(&a, &a, 64, 32);
         assert!(r.values.iter().all(|&v| v == 0.0));
-        let f = flip_map(&a, &a, (64, 32), 0.0, Tonemap::KhronosNeutral);
+        let f = flip_map(&a, &a, (64, 32), (0.0, Tonemap::KhronosNeutral));
         assert!(
             f.values.iter().all(|&v| v == 0.0),
             "{:?}",
@@ -251,7 +250,7 @@ mod tests {
     fn flip_sees_a_colour_change_and_the_palette_spans_black_to_bright() {
         let red = image(48 * 48, |_| [0.8, 0.05, 0.05, 1.0]);
         let blue = image(48 * 48, |_| [0.05, 0.05, 0.8, 1.0]);
-        let f = flip_map(&red, &blue, (48, 48), 0.0, Tonemap::KhronosNeutral);
+        let f = flip_map(&red, &blue, (48, 48), (0.0, Tonemap::KhronosNeutral));
         assert!(MapStats::of(&f.values).mean > 0.3);
         assert_eq!(color_of(0.0, 1.0), palette()[0]);
         let top = color_of(1.0, 1.0);

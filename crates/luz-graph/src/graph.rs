@@ -174,19 +174,19 @@ impl<'a> PassBuilder<'_, 'a> {
         self
     }
 
-    /// Reads all of `image`.
-    pub fn read(self, image: ImageHandle, access: Access) -> Self {
-        self.add(image.into(), access, UseMode::Read, None)
+    /// Reads all of `resource` (an image or a buffer).
+    pub fn read(self, resource: impl Into<Resource>, access: Access) -> Self {
+        self.add(resource.into(), access, UseMode::Read, None)
     }
 
-    /// Overwrites all of `image` (previous contents not needed).
-    pub fn write(self, image: ImageHandle, access: Access) -> Self {
-        self.add(image.into(), access, UseMode::Write, None)
+    /// Overwrites all of `resource` (previous contents not needed).
+    pub fn write(self, resource: impl Into<Resource>, access: Access) -> Self {
+        self.add(resource.into(), access, UseMode::Write, None)
     }
 
-    /// Reads and writes all of `image`.
-    pub fn read_write(self, image: ImageHandle, access: Access) -> Self {
-        self.add(image.into(), access, UseMode::ReadWrite, None)
+    /// Reads and writes all of `resource`.
+    pub fn read_write(self, resource: impl Into<Resource>, access: Access) -> Self {
+        self.add(resource.into(), access, UseMode::ReadWrite, None)
     }
 
     /// Reads `range` of `image`.
@@ -207,21 +207,6 @@ impl<'a> PassBuilder<'_, 'a> {
         access: Access,
     ) -> Self {
         self.add(image.into(), access, UseMode::ReadWrite, Some(range))
-    }
-
-    /// Reads `buffer`.
-    pub fn read_buffer(self, buffer: BufferHandle, access: Access) -> Self {
-        self.add(buffer.into(), access, UseMode::Read, None)
-    }
-
-    /// Overwrites `buffer` (previous contents not needed).
-    pub fn write_buffer(self, buffer: BufferHandle, access: Access) -> Self {
-        self.add(buffer.into(), access, UseMode::Write, None)
-    }
-
-    /// Reads and writes `buffer`.
-    pub fn read_write_buffer(self, buffer: BufferHandle, access: Access) -> Self {
-        self.add(buffer.into(), access, UseMode::ReadWrite, None)
     }
 
     /// Marks the pass as needed even if nobody reads what it writes (readback, present, UI).

@@ -469,7 +469,7 @@ impl Viewer {
             if let Some(m) = shown_map {
                 pass = pass
                     .read(m.map, crate::render::compare::MAP_SHOW_READ)
-                    .read_buffer(m.figures, Access::FragmentStorageBufferRead);
+                    .read(m.figures, Access::FragmentStorageBufferRead);
             }
             let (display, scene, lab) = (&self.display, &self.scene, &self.lab);
             let area = vk::Extent2D {

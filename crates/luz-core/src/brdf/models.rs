@@ -17,61 +17,67 @@ use crate::glsl::brdf_models as glsl;
 // Their discriminants are the GLSL's codes (generated from shaders_glsl/brdf/models.glsl), so
 // `as i32` gives what the shaders compare `sel` with.
 
-/// Normal distribution selector. GPU code: `BRDF_D_*` in `models.glsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Distribution {
-    /// [`d_beckmann`].
-    Beckmann = glsl::BRDF_D_BECKMANN as isize,
-    /// [`d_ggx`] (GTR2).
-    Ggx = glsl::BRDF_D_GGX as isize,
+/// Declares a selector enum whose discriminants are the GLSL's codes (`glsl::BRDF_*`), with the
+/// derives and the snake_case serde names every selector has.
+macro_rules! selectors {
+    ($($(#[$meta:meta])* $name:ident { $($(#[$vmeta:meta])* $variant:ident = $code:ident,)* })*) => {$(
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum $name {
+            $($(#[$vmeta])* $variant = glsl::$code as isize,)*
+        }
+    )*};
 }
 
-/// Masking-shadowing selector. GPU code: `BRDF_G_*` in `models.glsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Geometry {
-    /// [`g_cook_torrance`].
-    CookTorrance = glsl::BRDF_G_COOK_TORRANCE as isize,
-    /// [`g_smith_ggx_separable`].
-    SmithGgx = glsl::BRDF_G_SMITH_GGX as isize,
-    /// [`g_smith_ggx_correlated`].
-    SmithGgxCorrelated = glsl::BRDF_G_SMITH_GGX_CORRELATED as isize,
-    /// [`g_schlick_ggx`] with [`k_punctual`].
-    SchlickGgx = glsl::BRDF_G_SCHLICK_GGX as isize,
-    /// [`g_smith_beckmann`]: the Beckmann distribution's own Smith term (the scene format's
-    /// default with `"distribution": "beckmann"` for metal_rough).
-    SmithBeckmann = glsl::BRDF_G_SMITH_BECKMANN as isize,
-}
+selectors! {
+    /// Normal distribution selector. GPU code: `BRDF_D_*` in `models.glsl`.
+    Distribution {
+        /// [`d_beckmann`].
+        Beckmann = BRDF_D_BECKMANN,
+        /// [`d_ggx`] (GTR2).
+        Ggx = BRDF_D_GGX,
+    }
 
-/// Fresnel selector. GPU code: `BRDF_F_*` in `models.glsl`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Fresnel {
-    /// [`f_schlick`] (needs F0).
-    Schlick = glsl::BRDF_F_SCHLICK as isize,
-    /// [`f_schlick_sg`] (needs F0).
-    SchlickSg = glsl::BRDF_F_SCHLICK_SG as isize,
-    /// [`f_dielectric`] per channel (needs η).
-    Dielectric = glsl::BRDF_F_DIELECTRIC as isize,
-    /// [`f_conductor`] (needs η and κ): the usual approximation.
-    Conductor = glsl::BRDF_F_CONDUCTOR as isize,
-    /// [`f_conductor_exact`] (needs η and κ): the exact complex-index Fresnel equations.
-    ConductorExact = glsl::BRDF_F_CONDUCTOR_EXACT as isize,
-}
+    /// Masking-shadowing selector. GPU code: `BRDF_G_*` in `models.glsl`.
+    Geometry {
+        /// [`g_cook_torrance`].
+        CookTorrance = BRDF_G_COOK_TORRANCE,
+        /// [`g_smith_ggx_separable`].
+        SmithGgx = BRDF_G_SMITH_GGX,
+        /// [`g_smith_ggx_correlated`].
+        SmithGgxCorrelated = BRDF_G_SMITH_GGX_CORRELATED,
+        /// [`g_schlick_ggx`] with [`k_punctual`].
+        SchlickGgx = BRDF_G_SCHLICK_GGX,
+        /// [`g_smith_beckmann`]: the Beckmann distribution's own Smith term (the scene format's
+        /// default with `"distribution": "beckmann"` for metal_rough).
+        SmithBeckmann = BRDF_G_SMITH_BECKMANN,
+    }
 
-/// Diffuse lobe selector of Cook-Torrance and metallic-roughness. GPU code: `BRDF_DIFFUSE_*`
-/// in `models.glsl` (packed in `p0.y`, specialization constant `SEL_DIFFUSE`).
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default, Serialize, Deserialize,
-)]
-#[serde(rename_all = "snake_case")]
-pub enum Diffuse {
-    /// [`diffuse_lambert`]: `albedo/π`.
-    #[default]
-    Lambert = glsl::BRDF_DIFFUSE_LAMBERT as isize,
-    /// [`diffuse_burley`]: `albedo/π · Fd` with the model's perceptual roughness (MODELS.md §5).
-    Burley = glsl::BRDF_DIFFUSE_BURLEY as isize,
+    /// Fresnel selector. GPU code: `BRDF_F_*` in `models.glsl`.
+    Fresnel {
+        /// [`f_schlick`] (needs F0).
+        Schlick = BRDF_F_SCHLICK,
+        /// [`f_schlick_sg`] (needs F0).
+        SchlickSg = BRDF_F_SCHLICK_SG,
+        /// [`f_dielectric`] per channel (needs η).
+        Dielectric = BRDF_F_DIELECTRIC,
+        /// [`f_conductor`] (needs η and κ): the usual approximation.
+        Conductor = BRDF_F_CONDUCTOR,
+        /// [`f_conductor_exact`] (needs η and κ): the exact complex-index Fresnel equations.
+        ConductorExact = BRDF_F_CONDUCTOR_EXACT,
+    }
+
+    /// Diffuse lobe selector of Cook-Torrance and metallic-roughness. GPU code: `BRDF_DIFFUSE_*`
+    /// in `models.glsl` (packed in `p0.y`, specialization constant `SEL_DIFFUSE`).
+    #[derive(Default)]
+    Diffuse {
+        /// [`diffuse_lambert`]: `albedo/π`.
+        #[default]
+        Lambert = BRDF_DIFFUSE_LAMBERT,
+        /// [`diffuse_burley`]: `albedo/π · Fd` with the model's perceptual roughness (MODELS.md §5).
+        Burley = BRDF_DIFFUSE_BURLEY,
+    }
 }
 
 impl Diffuse {

@@ -435,7 +435,7 @@ impl ComparePass {
             .read(a, HDR_COMPARE_READ)
             .read(b, HDR_COMPARE_READ)
             .write(map, Access::ComputeStorageReadWrite)
-            .write_buffer(figures, Access::ComputeStorageBufferReadWrite);
+            .write(figures, Access::ComputeStorageBufferReadWrite);
         for w in &work {
             pass = pass.write(*w, Access::ComputeStorageReadWrite);
         }

@@ -222,7 +222,7 @@ pub fn add_readback<'a>(
     g.buffer_after(out, Access::HostRead);
     g.pass(name)
         .read(source, Access::TransferSrc)
-        .write_buffer(out, Access::TransferDst)
+        .write(out, Access::TransferDst)
         .side_effect()
         .record(move |rc| {
             let image = rc.image(source)?.image;

@@ -276,7 +276,7 @@ fn present_and_readback_keep_their_producers() {
     g.pass("to swapchain")
         .read(hdr, Access::FragmentSampled)
         .write(swap, Access::ColorAttachmentWrite);
-    g.pass("copy").write_buffer(buf, Access::TransferDst);
+    g.pass("copy").write(buf, Access::TransferDst);
     g.pass("ui").write(ui_only, Access::ColorAttachmentWrite);
     g.pass("ui side effect")
         .write(ui_only, Access::ColorAttachmentWrite)

@@ -74,7 +74,7 @@ pub fn declare(g: &mut FrameGraph<'_>) -> Scene {
         .record(|_| Ok(()));
     g.pass("readback")
         .read(hdr, Access::TransferSrc)
-        .write_buffer(readback, Access::TransferDst)
+        .write(readback, Access::TransferDst)
         .side_effect()
         .record(|_| Ok(()));
     Scene {

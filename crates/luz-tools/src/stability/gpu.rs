@@ -141,7 +141,7 @@ impl GpuEvaluator {
             let out = g.import_buffer("brdf_eval results", results_raw.0, results_raw.1, None);
             g.buffer_after(out, crate::graph::Access::HostRead);
             g.pass("brdf_eval")
-                .write_buffer(out, crate::graph::Access::ComputeStorageBufferWrite)
+                .write(out, crate::graph::Access::ComputeStorageBufferWrite)
                 .record(move |rc| {
                     rc.buffer(out)?;
                     record(rc.cmd());

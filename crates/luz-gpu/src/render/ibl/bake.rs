@@ -305,7 +305,7 @@ impl<'a> Baker<'a> {
             let staged = g.import_buffer("equirect staging", staging.raw, staging.size, None);
             let (w, h) = (eq.width, eq.height);
             g.pass("ibl: upload")
-                .read_buffer(staged, Access::TransferSrc)
+                .read(staged, Access::TransferSrc)
                 .write(eq_h, Access::TransferDst)
                 .record(move |rc| {
                     let image = rc.image(eq_h)?.image;
