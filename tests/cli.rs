@@ -84,6 +84,32 @@ fn render_writes_png_and_exr_and_reports_timings() {
     }
 }
 
+/// A one-frame render does not cull shadow receivers (building the culled forward variants costs
+/// more than one frame's lookups); its report and the image's provenance say so.
+#[test]
+fn one_frame_render_does_not_cull_shadow_receivers() {
+    let dir = scratch("render-one-frame");
+    let out = dir.join("default.png");
+    let (code, stdout, err) = luz(&[
+        "render",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--verbose",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stdout: {stdout}\nstderr: {err}");
+    assert!(
+        stdout.contains("shadow receivers: not culled (one frame:"),
+        "{stdout}"
+    );
+    assert_eq!(stdout.matches("  forward[").count(), 1, "{stdout}");
+    let p = luz::imageio::provenance::read(&out).expect("provenance");
+    assert_eq!(p.get("luz.shadow_receivers"), Some("off"));
+}
+
 /// Every malformed scene in tests/bad_scenes/ fails through the binary too: exit 1, the file named,
 /// no panic and no Vulkan error (the scene is rejected before any device work).
 #[test]

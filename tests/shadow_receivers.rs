@@ -11,15 +11,18 @@ use common::*;
 use glam::Vec3;
 use luz::headless::Headless;
 
-/// Renders `scene` (a path) to PNG with the receiver test on and off; the `--verbose` report of
-/// the run with it on.
+/// Renders `scene` (a path) to PNG with the receiver test on (two frames) and off; the `--verbose`
+/// report of the run with it on.
 fn on_and_off(scene: &str, name: &str) -> (Vec<u8>, Vec<u8>, String) {
     let dir = scratch(name);
     let png = |tag: &str| dir.join(format!("{tag}.png"));
+    // Two frames: a one-frame render does not cull (its compile cost exceeds the frame's saving).
     let on = run(&mut luz_command([
         "render",
         scene,
         "--verbose",
+        "--frames",
+        "2",
         "-o",
         png("on").to_str().unwrap(),
     ]));
@@ -28,10 +31,17 @@ fn on_and_off(scene: &str, name: &str) -> (Vec<u8>, Vec<u8>, String) {
         "render",
         scene,
         "--no-shadow-receivers",
+        "--verbose",
         "-o",
         png("off").to_str().unwrap(),
     ]));
     assert_ran_clean(off.code, &off.stdout, &off.stderr);
+    assert!(
+        off.stdout
+            .contains("shadow receivers: not culled (--no-shadow-receivers;"),
+        "{}",
+        off.stdout
+    );
     // Each image says how it was made.
     for (tag, want) in [("on", "on"), ("off", "off")] {
         let p = luz::imageio::provenance::read(&png(tag)).expect("provenance");

@@ -56,6 +56,18 @@ pub struct RenderArgs {
     pub gpu: GpuArgs,
 }
 
+/// The switches asked for, with one change for a one-frame render: shadow receivers are not
+/// culled. Culling specialises the forward pass per (object, shadowed light), which on the default
+/// scene builds three forward variants instead of one; the driver's compiling them costs more than
+/// the one frame's lookups they save (time to first frame 1100 against 811 ms warm, 2119 against
+/// 1466 ms cold; docs/performance.md, "Cold start"). The image is the same either way
+/// (tests/shadow_receivers.rs).
+fn one_frame_switches(a: &RenderArgs) -> luz::render::forward::Switches {
+    let mut switches = a.switches.switches();
+    switches.shadow_receivers &= a.frames > 1;
+    switches
+}
+
 pub fn run(a: RenderArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let format = check_output(&a.output)?;
@@ -63,12 +75,13 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     a.view.apply(&mut scene)?;
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
+    let switches = one_frame_switches(&a);
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,
         &luz::headless::RenderOptions {
             light_loop: a.light_loop.light_loop(),
-            switches: a.switches.switches(),
+            switches,
             ..render_options(&a.ibl, a.debug_view)
         },
     )?;
@@ -96,7 +109,17 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                 println!("  {}", m.describe(kernel));
             }
             let r = renderer.shadow_receivers();
-            if r.deferred {
+            if !switches.shadow_receivers {
+                println!(
+                    "shadow receivers: not culled ({}; lookups everywhere)",
+                    if a.switches.no_shadow_receivers {
+                        "--no-shadow-receivers"
+                    } else {
+                        "one frame: compiling the culled variants costs more than it saves; \
+                         --frames 2 or more culls"
+                    }
+                );
+            } else if r.deferred {
                 println!(
                     "shadow receivers (deferred lighting pass): {} of {} shadowed lights' \
                      lookups compiled out (no caster can darken any object); lookups {} \
@@ -148,7 +171,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     let timing = TimingReport::of(&frames);
     luz::imageio::save_render(&a.output, &image, scene.output.encoding(), &{
         let mut p = luz::provenance::of_render(&ctx.info, &scene, Some(&timing));
-        luz::provenance::add_switches(&mut p, &a.switches.switches());
+        luz::provenance::add_switches(&mut p, &switches);
         p
     })?;
     let nan = luz::imageio::count_non_finite(&image.pixels);
