@@ -333,8 +333,11 @@ pub fn run(a: FidelityArgs) -> Result<ExitCode> {
     }
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let mut renderer =
-        Headless::with_options(&ctx, &scene, &render_options(&a.ibl, DebugView::None))?;
+    let options = luz::headless::RenderOptions {
+        switches: luz::render::forward::Switches::default().for_frames(1),
+        ..render_options(&a.ibl, DebugView::None)
+    };
+    let mut renderer = Headless::with_options(&ctx, &scene, &options)?;
     let frame = renderer.render()?;
     let image = renderer.image()?;
     let timing = luz::headless::TimingReport::of(&[frame]);

@@ -119,11 +119,15 @@ pub fn run(a: GoldenArgs) -> Result<ExitCode> {
     }
     let mut opts = GoldenOptions::new(
         &goldens,
-        luz::headless::RenderOptions::new(
-            a.ibl.ibl_quality.settings(),
-            a.ibl.no_cache,
-            DebugView::None,
-        ),
+        luz::headless::RenderOptions {
+            // One frame per case.
+            switches: luz::render::forward::Switches::default().for_frames(1),
+            ..luz::headless::RenderOptions::new(
+                a.ibl.ibl_quality.settings(),
+                a.ibl.no_cache,
+                DebugView::None,
+            )
+        },
     );
     opts.bless = a.bless;
     opts.jobs = a.jobs as usize;

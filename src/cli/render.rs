@@ -56,18 +56,6 @@ pub struct RenderArgs {
     pub gpu: GpuArgs,
 }
 
-/// The switches asked for, with one change for a one-frame render: shadow receivers are not
-/// culled. Culling specialises the forward pass per (object, shadowed light), which on the default
-/// scene builds three forward variants instead of one; the driver's compiling them costs more than
-/// the one frame's lookups they save (time to first frame 1100 against 811 ms warm, 2119 against
-/// 1466 ms cold; docs/performance.md, "Cold start"). The image is the same either way
-/// (tests/shadow_receivers.rs).
-fn one_frame_switches(a: &RenderArgs) -> luz::render::forward::Switches {
-    let mut switches = a.switches.switches();
-    switches.shadow_receivers &= a.frames > 1;
-    switches
-}
-
 pub fn run(a: RenderArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
     let format = check_output(&a.output)?;
@@ -75,7 +63,7 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
     a.view.apply(&mut scene)?;
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
-    let switches = one_frame_switches(&a);
+    let switches = a.switches.switches().for_frames(a.frames);
     let mut renderer = Headless::with_options(
         &ctx,
         &scene,

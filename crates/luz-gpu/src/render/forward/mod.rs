@@ -132,6 +132,17 @@ impl Default for Switches {
 }
 
 impl Switches {
+    /// These switches for a run of `frames` frames: shadow receivers are culled only when more
+    /// than one frame is drawn. Culling specialises the forward pass per (object, shadowed light),
+    /// three forward variants instead of one on the default scene, and the driver compiling them
+    /// costs more than one frame's lookups save (`luz render` time to first frame 2119 against
+    /// 1466 ms with an empty shader cache, 1101 against 811 ms with a warm one: docs/performance.md,
+    /// "Cold start"). The image is the same either way (`tests/shadow_receivers.rs`).
+    pub fn for_frames(mut self, frames: u32) -> Self {
+        self.shadow_receivers &= frames > 1;
+        self
+    }
+
     /// (name, on) of each switch, for provenance and reports.
     pub fn list(&self) -> [(&'static str, bool); 3] {
         [
