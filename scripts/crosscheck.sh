@@ -28,8 +28,8 @@ if ls "$out"/*/row.md >/dev/null 2>&1; then
   echo
   echo "Produced by \`scripts/crosscheck.sh\` on $(date -u +%Y-%m-%d) (${secs} s, $(git rev-parse --short HEAD 2>/dev/null || echo '?'), Mitsuba $(.deps/mitsuba-venv/bin/python -c 'import mitsuba; print(mitsuba.__version__)' 2>/dev/null || echo '?') scalar_rgb):"
   echo
-  echo "| scene | reference vs Mitsuba: rel. RMSE | max | GPU vs Mitsuba: rel. RMSE | max | pixels compared | judged on |"
-  echo "|---|---|---|---|---|---|---|"
+  echo "| scene | reference vs Mitsuba: rel. RMSE | max | FLIP | GPU vs Mitsuba: rel. RMSE | max | FLIP | pixels compared | judged on |"
+  echo "|---|---|---|---|---|---|---|---|---|"
   cat "$out"/*/row.md
 fi
 # cargo's status is what counts (grep's is not).

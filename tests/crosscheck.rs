@@ -228,6 +228,33 @@ struct Case {
     ref_tolerance: f64,
     /// Largest relative RMSE of the GPU against Mitsuba.
     gpu_tolerance: f64,
+    /// Other GPU methods on the same scene, a row each (reported, not asserted): the method's
+    /// name and how it changes the scene.
+    gpu_methods: Vec<GpuMethod>,
+}
+
+/// A GPU method other than the scene's own: its row label and the scene change that selects it.
+struct GpuMethod {
+    label: &'static str,
+    apply: fn(&mut Scene),
+}
+
+/// Mean LDR FLIP of `test` against `reference` over `mask`, both shown at exposure 0 through the
+/// Khronos PBR Neutral tone map (the scenes' radiance reaches above 1).
+fn mean_flip(reference: &[[f32; 4]], test: &[[f32; 4]], mask: &[bool], size: (u32, u32)) -> f64 {
+    let map = luz::compare::flip_map(
+        reference,
+        test,
+        size,
+        (0.0, luz::color::Tonemap::KhronosNeutral),
+    );
+    let (sum, n) = map
+        .values
+        .iter()
+        .zip(mask)
+        .filter(|(_, &m)| m)
+        .fold((0.0f64, 0usize), |(s, n), (&v, _)| (s + v as f64, n + 1));
+    sum / n.max(1) as f64
 }
 
 /// Where this run keeps its images: `LUZ_CROSSCHECK_OUT/<name>` (kept), else a scratch folder.
@@ -311,6 +338,34 @@ fn run_case(case: Case) {
     };
     let (ref_rmse, ref_max) = judge(&reference.pixels);
     let (gpu_rmse, gpu_max) = judge(&gpu_img.pixels);
+    let size = (scene.output.width, scene.output.height);
+    let flip = |img: &[[f32; 4]]| mean_flip(&mi.linear, img, &mask, size);
+    let judged_on = if case.bin == 1 {
+        "pixels".to_string()
+    } else {
+        format!("{0}×{0} means", case.bin)
+    };
+    // The other GPU methods' rows: the reference's columns are the scene's row's.
+    let mut method_rows = String::new();
+    for m in &case.gpu_methods {
+        let mut s = scene.clone();
+        (m.apply)(&mut s);
+        let img = render_on(&ctx, &s);
+        assert_no_validation_messages(&ctx);
+        save(
+            &img,
+            &format!("gpu_{}.exr", m.label.replace([' ', ','], "_")),
+        );
+        let (rmse, max) = judge(&img.pixels);
+        method_rows.push_str(&format!(
+            "| {} (GPU: {}) | | | | {:.3} % | {:.2} % | {:.4} | {covered} | {judged_on} |\n",
+            case.name,
+            m.label,
+            rmse * 100.0,
+            max * 100.0,
+            flip(&img.pixels)
+        ));
+    }
     let bg = case.background_tolerance.map(|tol| {
         let (rmse, _) = compare(&reference.pixels, &mi.linear, &background);
         eprintln!(
@@ -321,22 +376,20 @@ fn run_case(case: Case) {
         (rmse, tol)
     });
     let row = format!(
-        "| {} | {:.3} % | {:.2} % | {:.3} % | {:.2} % | {} | {} |",
+        "| {} | {:.3} % | {:.2} % | {:.4} | {:.3} % | {:.2} % | {:.4} | {covered} | {judged_on} |\n{method_rows}",
         case.name,
         ref_rmse * 100.0,
         ref_max * 100.0,
+        flip(&reference.pixels),
         gpu_rmse * 100.0,
         gpu_max * 100.0,
-        covered,
-        if case.bin == 1 {
-            "pixels".to_string()
-        } else {
-            format!("{0}×{0} means", case.bin)
-        }
+        flip(&gpu_img.pixels),
     );
-    eprintln!("crosscheck: {row}");
+    for line in row.lines() {
+        eprintln!("crosscheck: {line}");
+    }
     if let Out::Kept(p) = &out {
-        std::fs::write(p.join("row.md"), format!("{row}\n")).unwrap();
+        std::fs::write(p.join("row.md"), &row).unwrap();
         if let Some(w) = report.warning() {
             std::fs::write(p.join("export-warning.txt"), w).unwrap();
         }
@@ -414,6 +467,7 @@ fn direct(name: &'static str, json: String) -> Case {
         mitsuba_spp: 64,
         ref_tolerance: 0.01,
         gpu_tolerance: 0.02,
+        gpu_methods: Vec::new(),
     }
 }
 
@@ -524,12 +578,46 @@ fn environment(name: &'static str, material: &str) -> Option<Case> {
 
 #[test]
 fn lambert_hdr_environment() {
-    // The GPU's diffuse light is 9 spherical-harmonic coefficients.
+    // The GPU's diffuse light is 9 spherical-harmonic coefficients; the cosine-convolved cube is
+    // the other method's row.
     let Some(case) = environment("lambert_hdr_environment", LAMBERT) else {
         return;
     };
     run_case(Case {
         gpu_tolerance: 0.05,
+        gpu_methods: vec![GpuMethod {
+            label: "irradiance cube",
+            apply: |s| {
+                s.environment.as_mut().unwrap().diffuse_method = luz::scene::DiffuseMethod::Cubemap
+            },
+        }],
+        ..case
+    });
+}
+
+/// The GPU's specular methods on a gold sphere in the HDR environment: the split sum (the
+/// scene's own, the asserted row) and importance sampling at 16 and 64 samples per pixel.
+fn gold_environment(name: &'static str, alpha: f32, gpu_tolerance: f64) {
+    let Some(case) = environment(name, &gold_ggx(alpha)) else {
+        return;
+    };
+    fn importance(s: &mut Scene, samples: u32) {
+        let env = s.environment.as_mut().unwrap();
+        env.specular_method = luz::scene::SpecularMethod::Importance;
+        env.samples = samples;
+    }
+    run_case(Case {
+        gpu_tolerance,
+        gpu_methods: vec![
+            GpuMethod {
+                label: "importance, 16 samples",
+                apply: |s| importance(s, 16),
+            },
+            GpuMethod {
+                label: "importance, 64 samples",
+                apply: |s| importance(s, 64),
+            },
+        ],
         ..case
     });
 }
@@ -537,13 +625,17 @@ fn lambert_hdr_environment() {
 #[test]
 fn gold_ggx_alpha_0_3_hdr_environment() {
     // The GPU's specular light is the split sum (issue 37 measured 7.8 %).
-    let Some(case) = environment("gold_ggx_a0.3_hdr_environment", &gold_ggx(0.3)) else {
-        return;
-    };
-    run_case(Case {
-        gpu_tolerance: 0.15,
-        ..case
-    });
+    gold_environment("gold_ggx_a0.3_hdr_environment", 0.3, 0.15);
+}
+
+#[test]
+fn gold_ggx_alpha_0_1_hdr_environment() {
+    gold_environment("gold_ggx_a0.1_hdr_environment", 0.1, 0.15);
+}
+
+#[test]
+fn gold_ggx_alpha_0_6_hdr_environment() {
+    gold_environment("gold_ggx_a0.6_hdr_environment", 0.6, 0.15);
 }
 
 /// A glTF model of `../shared/gltf` under a white-ish Lambert material (the file's own
