@@ -235,8 +235,24 @@ struct Case {
 
 /// A GPU method other than the scene's own: its row label and the scene change that selects it.
 struct GpuMethod {
-    label: &'static str,
-    apply: fn(&mut Scene),
+    label: String,
+    apply: Box<dyn Fn(&mut Scene)>,
+}
+
+impl GpuMethod {
+    fn new(label: impl Into<String>, apply: impl Fn(&mut Scene) + 'static) -> Self {
+        Self {
+            label: label.into(),
+            apply: Box::new(apply),
+        }
+    }
+}
+
+/// What a case measured on the GPU: relative RMSE against Mitsuba of the scene's own method and
+/// of each [`GpuMethod`], in order ([`run_case`] returns none when Mitsuba is missing).
+struct GpuFigures {
+    own: f64,
+    methods: Vec<f64>,
 }
 
 /// Mean LDR FLIP of `test` against `reference` over `mask`, both shown at exposure 0 through the
@@ -272,8 +288,8 @@ impl Out {
     }
 }
 
-fn run_case(case: Case) {
-    let Some(py) = mitsuba_python() else { return };
+fn run_case(case: Case) -> Option<GpuFigures> {
+    let py = mitsuba_python()?;
     let scene = &case.scene;
     let out = match std::env::var_os("LUZ_CROSSCHECK_OUT") {
         Some(d) => {
@@ -347,6 +363,7 @@ fn run_case(case: Case) {
     };
     // The other GPU methods' rows: the reference's columns are the scene's row's.
     let mut method_rows = String::new();
+    let mut method_rmse = Vec::new();
     for m in &case.gpu_methods {
         let mut s = scene.clone();
         (m.apply)(&mut s);
@@ -357,6 +374,7 @@ fn run_case(case: Case) {
             &format!("gpu_{}.exr", m.label.replace([' ', ','], "_")),
         );
         let (rmse, max) = judge(&img.pixels);
+        method_rmse.push(rmse);
         method_rows.push_str(&format!(
             "| {} (GPU: {}) | | | | {:.3} % | {:.2} % | {:.4} | {covered} | {judged_on} |\n",
             case.name,
@@ -422,6 +440,10 @@ fn run_case(case: Case) {
     if let Out::Scratch(s) = out {
         drop(s);
     }
+    Some(GpuFigures {
+        own: gpu_rmse,
+        methods: method_rmse,
+    })
 }
 
 /// A sphere of radius 1 (a little right of the centre, so a mirrored image would show) seen from
@@ -479,9 +501,83 @@ fn lambert_directional() {
     ));
 }
 
+/// Tessellation budgets (px) the faceting chart measures besides the default 0.05 (the scenes'
+/// own rows); 0 is full detail (256 segments).
+const BUDGETS: [f32; 8] = [0.0, 0.01, 0.02, 0.1, 0.2, 0.5, 1.0, 2.0];
+
+/// `case` with a GPU row per budget of [`BUDGETS`].
+fn with_budgets(case: Case) -> Case {
+    Case {
+        gpu_methods: BUDGETS
+            .map(|b| {
+                GpuMethod::new(format!("tessellation {b} px"), move |s| {
+                    luz::scene::tessellation::make_automatic(s, b)
+                })
+            })
+            .into(),
+        ..case
+    }
+}
+
+/// Faceting (issue 37): the GPU's shading error against Mitsuba as the sphere's tessellation
+/// budget changes, on a Lambert sphere under a point light and on gold (α 0.3) under a
+/// directional light. The error falls with the budget and is smallest at full detail; with
+/// `LUZ_CROSSCHECK_OUT` set the chart is written there (`faceting.png`, `.svg`).
 #[test]
-fn lambert_point() {
-    run_case(direct("lambert_point", sphere_scene(LAMBERT, POINT, "")));
+fn lambert_point_and_gold_directional_against_the_tessellation_budget() {
+    let cases = [
+        direct("lambert_point", sphere_scene(LAMBERT, POINT, "")),
+        direct(
+            "gold_ggx_a0.3_directional",
+            sphere_scene(&gold_ggx(0.3), DIRECTIONAL, ""),
+        ),
+    ];
+    let mut series = Vec::new();
+    for (i, case) in cases.into_iter().enumerate() {
+        let name = case.name;
+        let Some(f) = run_case(with_budgets(case)) else {
+            return;
+        };
+        // Budget 0.05 (the default) is the scene's own row.
+        let mut points: Vec<(f64, f64)> = BUDGETS[1..]
+            .iter()
+            .zip(&f.methods[1..])
+            .map(|(&b, &e)| (b as f64, e * 100.0))
+            .chain([(0.05, f.own * 100.0)])
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let full = f.methods[0];
+        let coarse = f.methods[BUDGETS.len() - 1];
+        assert!(
+            full < f.own && f.own < coarse,
+            "{name}: the error should fall with the budget: full detail {full}, 0.05 px {}, 2 px {coarse}",
+            f.own
+        );
+        series.push(
+            luz::plot::Series::new(name, points)
+                .color(luz::plot::palette(i))
+                .markers(),
+        );
+        series.push(
+            luz::plot::Series::new(
+                format!("{name}, full detail"),
+                vec![(0.01, full * 100.0), (2.0, full * 100.0)],
+            )
+            .color(luz::plot::palette(i))
+            .dashed(),
+        );
+    }
+    if let Some(d) = std::env::var_os("LUZ_CROSSCHECK_OUT") {
+        let chart = luz::plot::Chart::Line(luz::plot::LineChart {
+            title: "GPU shading error against Mitsuba by tessellation budget".into(),
+            x: luz::plot::Axis::new("tessellation budget (px, output.tessellation_error_px)").log(),
+            y: luz::plot::Axis::new("relative RMSE against Mitsuba (%)").log(),
+            series,
+            ..Default::default()
+        });
+        luz::plot::save_png_svg(&chart, &PathBuf::from(d).join("faceting"), 800, 500)
+            .expect("faceting chart");
+    }
 }
 
 #[test]
@@ -506,14 +602,6 @@ fn gold_ggx_alpha_0_1_point() {
             sphere_scene(&gold_ggx(0.1), POINT, ""),
         )
     });
-}
-
-#[test]
-fn gold_ggx_alpha_0_3_directional() {
-    run_case(direct(
-        "gold_ggx_a0.3_directional",
-        sphere_scene(&gold_ggx(0.3), DIRECTIONAL, ""),
-    ));
 }
 
 #[test]
@@ -585,12 +673,9 @@ fn lambert_hdr_environment() {
     };
     run_case(Case {
         gpu_tolerance: 0.05,
-        gpu_methods: vec![GpuMethod {
-            label: "irradiance cube",
-            apply: |s| {
-                s.environment.as_mut().unwrap().diffuse_method = luz::scene::DiffuseMethod::Cubemap
-            },
-        }],
+        gpu_methods: vec![GpuMethod::new("irradiance cube", |s| {
+            s.environment.as_mut().unwrap().diffuse_method = luz::scene::DiffuseMethod::Cubemap
+        })],
         ..case
     });
 }
@@ -608,16 +693,13 @@ fn gold_environment(name: &'static str, alpha: f32, gpu_tolerance: f64) {
     }
     run_case(Case {
         gpu_tolerance,
-        gpu_methods: vec![
-            GpuMethod {
-                label: "importance, 16 samples",
-                apply: |s| importance(s, 16),
-            },
-            GpuMethod {
-                label: "importance, 64 samples",
-                apply: |s| importance(s, 64),
-            },
-        ],
+        gpu_methods: [16, 64]
+            .map(|n| {
+                GpuMethod::new(format!("importance, {n} samples"), move |s| {
+                    importance(s, n)
+                })
+            })
+            .into(),
         ..case
     });
 }
