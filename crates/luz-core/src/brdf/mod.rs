@@ -27,6 +27,7 @@ mod sampling;
 mod shipped_lut;
 mod split_sum;
 mod terms;
+mod transmission;
 
 #[cfg(test)]
 mod tests;
@@ -60,3 +61,6 @@ pub use shipped_lut::{
 };
 pub use split_sum::{g_ibl, split_sum_lut_reference, split_sum_lut_table};
 pub use terms::*;
+pub use transmission::{
+    attenuation_coefficient, beer_lambert, refract, DielectricSample, RoughDielectric,
+};
