@@ -179,6 +179,16 @@ impl RoughDielectric {
         if wo.z == 0.0 {
             return None;
         }
+        if (self.ior - 1.0).abs() < 1e-6 {
+            // Index matching: no interface, light goes straight on (a delta: eval and pdf are
+            // 0 for it, as for any specular lobe).
+            return Some(DielectricSample {
+                wi: -wo,
+                weight: 1.0,
+                pdf: f32::INFINITY,
+                transmitted: true,
+            });
+        }
         let hs = importance_sample_ggx(u.0, u.1, self.alpha());
         // The microfacet normal on wo's side.
         let h = if wo.z > 0.0 { hs } else { -hs };
@@ -352,8 +362,8 @@ mod tests {
         let ior = 1.5f32;
         let field = |w: Vec3| if w.z > 0.0 { 1.0 } else { ior * ior };
         let mut worst = (0.0f32, String::new());
-        for alpha in [0.01f32, 0.05, 0.1, 0.3] {
-            for theta in [0.0f32, 30.0, 60.0, 80.0] {
+        for alpha in [0.001f32, 0.01, 0.05, 0.1, 0.3] {
+            for theta in [0.0f32, 30.0, 41.0, 60.0, 80.0] {
                 for outside in [true, false] {
                     let bsdf = RoughDielectric { alpha, ior };
                     let wo = if outside {

@@ -30,6 +30,7 @@
 //! for lights with a size), no inter-reflections.
 
 mod geometry;
+pub mod glass;
 mod render;
 mod sampling;
 mod texture;
