@@ -26,11 +26,10 @@
 #   2. lays the assets out as the generator's checkout does: glTF-Sample-Assets/Models/… and
 #      environments/… at its root, the scenario paths relative (../../../…) like test/config.json;
 #   3. writes test/config.json with only the `luz` renderer and three 256-pixel scenarios;
-#   4. pass A: the renderer entry as docs/fidelity.md first gave it (args ["fidelity"]) —
-#      reported, not fatal: luz resolves the paths against the generator's working folder, the
-#      generator means them relative to test/renderers/<name>/ (see docs/fidelity.md);
-#   5. pass B: args ["fidelity", "--root", "test/renderers/luz"] — must write every PNG; prints
-#      the generator's output, each scenario's time (luz's "wrote … in N ms"), the PNG listing.
+#   4. runs render-goldens for luz with the entry docs/fidelity.md gives (args ["fidelity"]:
+#      luz resolves the scenario's paths against outputFile's folder, as the generator's Blender
+#      script does) — it must write every PNG; prints the generator's output, each scenario's
+#      time (luz's "wrote … in N ms") and the PNG listing.
 set -euo pipefail
 
 usage() { sed -n '8,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
@@ -143,35 +142,22 @@ config() { # $1: the renderer's args as a JSON array
 JSON
 }
 
-# 4. Pass A: the entry as docs/fidelity.md first gave it. `npm run render-goldens` already passes
+# 4. The run, with the entry of docs/fidelity.md. `npm run render-goldens` already passes
 # --config=./test/config.json, so the config goes there (adding `-c FILE` makes it an array).
 config '["fidelity"]' >test/config.json
 rm -rf test/goldens
 echo
-echo "== pass A: args [\"fidelity\"] (the renderer's working folder is $gen)"
-if npm run render-goldens -- -r luz >"$work/pass-a.log" 2>&1; then
-  echo "pass A: rendered (luz resolved the generator's paths itself)"
-else
-  echo "pass A: failed, as expected while luz resolves against the working folder:"
-  grep -E "failed:|Error" "$work/pass-a.log" | head -3
-fi
-
-# 5. Pass B: the same with --root test/renderers/luz (the folder the generator's own
-# render-goldens.ts resolves a renderer's MODEL and LIGHTING against).
-config '["fidelity", "--root", "test/renderers/luz"]' >test/config.json
-rm -rf test/goldens
-echo
-echo "== pass B: args [\"fidelity\", \"--root\", \"test/renderers/luz\"]"
+echo "== render-goldens, args [\"fidelity\"] (the renderer's working folder is $gen)"
 start=$(date +%s%N)
 set +e
-npm run render-goldens -- -r luz 2>&1 | tee "$work/pass-b.log"
+npm run render-goldens -- -r luz 2>&1 | tee "$work/run.log"
 status=${PIPESTATUS[0]}
 set -e
 end=$(date +%s%N)
 echo
 echo "render-goldens exit status $status, $(( (end - start) / 1000000 )) ms in all"
 echo "per scenario (luz's own count, parse to PNG written):"
-grep -E "^wrote .*luz-golden.png" "$work/pass-b.log" | sed 's/^/  /' || true
+grep -E "^wrote .*luz-golden.png" "$work/run.log" | sed 's/^/  /' || true
 echo "PNGs:"
 fail=0
 for s in luz-CesiumMan luz-color_teapot_spheres-skybox luz-retroufo; do

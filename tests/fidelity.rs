@@ -299,7 +299,14 @@ fn bad_scenarios_name_the_json_path() {
         ),
         (
             format!(r#"{{"scenario": {{"model": "{}"}}, "outputFile": "{}"}}"#, s(&model), s(&out)),
-            "scenario.lighting: ./../../../environments/lightroom_14b.hdr: no such file (the generator's default",
+            // Relative to outputFile's folder, as the generator's paths are.
+            &*Box::leak(
+                format!(
+                    "scenario.lighting: {}/../../../environments/lightroom_14b.hdr: no such file (the generator's default",
+                    s(&dir)
+                )
+                .into_boxed_str(),
+            ),
         ),
         (
             format!(r#"{{"scenario": {{"model": "{}", "lighting": "{}"}}, "outputFile": "x.jpg"}}"#, s(&model), s(&hdr)),
@@ -334,4 +341,45 @@ fn bad_scenarios_name_the_json_path() {
     );
     let (_, _, err) = fidelity(&[&config]);
     assert!(err.contains("nope.glb: no such file"), "{err}");
+}
+
+/// The real generator's layout (docs/fidelity.md, "Run through the real generator"): it runs
+/// luz in its checkout's root with an absolute `outputFile` in `test/goldens/<scenario>/` and
+/// `model`/`lighting` written `../../../…` for a folder two levels below `test/`. Without
+/// `--root`, luz resolves them against `outputFile`'s folder, from any working folder.
+#[test]
+fn generator_relative_paths_resolve_against_the_output_folder() {
+    let Some(gltf) = shared_dir("gltf") else {
+        return;
+    };
+    let Some(envs) = shared_dir("environments") else {
+        return;
+    };
+    let dir = scratch("fidelity-layout");
+    let goldens = dir.join("test/goldens/luz-CesiumMan");
+    std::fs::create_dir_all(&goldens).unwrap();
+    std::fs::create_dir_all(dir.join("assets")).unwrap();
+    std::fs::copy(
+        gltf.join("CesiumMan/glTF-Binary/CesiumMan.glb"),
+        dir.join("assets/CesiumMan.glb"),
+    )
+    .unwrap();
+    std::fs::copy(envs.join("newport_loft.hdr"), dir.join("assets/loft.hdr")).unwrap();
+    let out = goldens.join("luz-golden.png");
+    let config = format!(
+        r#"{{"scenario": {{"name": "luz-CesiumMan", "model": "../../../assets/CesiumMan.glb",
+            "lighting": "../../../assets/loft.hdr", "dimensions": {{"width": 24, "height": 24}},
+            "target": {{"y": 0.75}}, "orbit": {{"radius": 2}}, "exclude": ["vray"]}},
+            "outputFile": "{}"}}"#,
+        s(&out)
+    );
+    // The test runs in the crate's folder, where none of the relative paths exist.
+    let (code, stdout, err) = fidelity(&[&config, "--ibl-quality", "fast"]);
+    assert_eq!(code, 0, "{stdout}\n{err}");
+    let (w, h, _, alpha) = rgba(&out);
+    assert_eq!((w, h, alpha), (48, 48, true));
+    // --root still overrides: against the scratch folder itself the `../../../` leave it.
+    let (code, _, err) = fidelity(&[&config, "--ibl-quality", "fast", "--root", s(&dir)]);
+    assert_eq!(code, 1);
+    assert!(err.contains("scenario.model: "), "{err}");
 }

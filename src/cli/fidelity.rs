@@ -29,7 +29,9 @@ pub struct FidelityArgs {
     #[arg(value_name = "JSON")]
     pub config: String,
     /// Resolve the scenario's relative paths (model, lighting, outputFile) against this folder
-    /// [default: the current folder, the generator's working folder].
+    /// [default: outputFile against the current folder, model and lighting against outputFile's
+    /// folder, as the generator's Blender script does: its `../../../` paths are written for a
+    /// folder two levels below `test/`, and the generator passes `test/goldens/<scenario>/…`].
     #[arg(long, value_name = "DIR")]
     pub root: Option<PathBuf>,
     /// Also write the equivalent luz scene file here (`luz render` of it gives the same pixels).
@@ -140,14 +142,22 @@ fn file(
 }
 
 /// Reads the generator's argument. Every message starts with the JSON path of the field at
-/// fault (`scenario.orbit.radius: must be ≥ 0, not -1`).
-pub fn parse(text: &str, root: &Path) -> Result<Scenario, String> {
+/// fault (`scenario.orbit.radius: must be ≥ 0, not -1`). Relative paths are resolved against
+/// `root`; without one, `outputFile` against the current folder and `model` and `lighting`
+/// against `outputFile`'s folder (see `--root`).
+pub fn parse(text: &str, root: Option<&Path>) -> Result<Scenario, String> {
     let v: Value = serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
     let top = object(&v, "the argument")?;
     unknown(top, "", TOP_FIELDS)?;
     let s = object(top.get("scenario").ok_or("scenario: missing")?, "scenario")?;
     unknown(s, "scenario", SCENARIO_FIELDS)?;
-    let output = file(top.get("outputFile"), "outputFile", root, None)?;
+    let output = file(
+        top.get("outputFile"),
+        "outputFile",
+        root.unwrap_or(Path::new(".")),
+        None,
+    )?;
+    let root = root.unwrap_or(output.parent().unwrap_or(Path::new(".")));
     if !output
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"))
@@ -313,8 +323,7 @@ impl Scenario {
 
 pub fn run(a: FidelityArgs) -> Result<ExitCode> {
     let t0 = Instant::now();
-    let root = a.root.clone().unwrap_or_else(|| PathBuf::from("."));
-    let scenario = parse(&a.config, &root).map_err(|e| anyhow!("luz fidelity: {e}"))?;
+    let scenario = parse(&a.config, a.root.as_deref()).map_err(|e| anyhow!("luz fidelity: {e}"))?;
     let scene_json = serde_json::to_string_pretty(&scenario.luz_scene())?;
     // Parsed as if it were a file beside the output (the paths in it are absolute).
     let origin = scenario
