@@ -163,6 +163,26 @@ fn metal_rough_mirror_matches_d_g_f() {
     assert_eq!(j["material"]["distribution"], "ggx");
 }
 
+/// Issue 34: `--material` takes the scene file's KHR_materials_clearcoat object. At normal
+/// incidence (h = n, every cosine 1, G = 1) a coat of weight 1 and roughness 0.1 over a white
+/// dielectric of roughness 0.5 gives `(1 − 0.04) · (1/π + 0.04 D(0.25)/4) + 0.04 D(0.01)/4`.
+#[test]
+fn clearcoat_material_from_the_scene_syntax() {
+    let mat = r#"{"model":"metal_rough","metallic":0,"roughness":0.5,
+        "clearcoat":{"clearcoatFactor":1,"clearcoatRoughnessFactor":0.1}}"#;
+    let o = brdf(
+        &["--material", mat, "--theta-l", "0", "--theta-v", "0"],
+        None,
+    );
+    assert_ok(&o);
+    let f = text_field(o.stdout.trim(), "f");
+    let base = 1.0 / std::f32::consts::PI + 0.04 * brdf::d_ggx(1.0, 0.25) / 4.0;
+    let want = 0.96 * base + 0.04 * brdf::d_ggx(1.0, 0.01) / 4.0;
+    for c in f {
+        assert!((c - want).abs() <= 1e-5 * want, "{c} against {want}");
+    }
+}
+
 #[test]
 fn stdin_three_lines_give_three_json_lines() {
     let input = concat!(

@@ -1539,6 +1539,93 @@ fn file_tangents_ior_and_specular() {
     }
 }
 
+/// Issue 34, KHR_materials_clearcoat: the factors set the metal_rough coat (and equal the luz
+/// JSON material with the same fields), the coat's textures are named in one warning, and bad
+/// values or a missing texture are errors naming the file and the JSON path.
+#[test]
+fn clearcoat_factors_warnings_and_errors() {
+    let dir = scratch("gltf-clearcoat");
+    let write = |name: &str, ext: serde_json::Value, textures: bool| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "extensionsUsed": ["KHR_materials_clearcoat"],
+            "materials": [{"name": "coat", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.5},
+                           "extensions": {"KHR_materials_clearcoat": ext}}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(&dir, name, doc)
+    };
+    let f = load(&write(
+        "coat",
+        json!({"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.25}),
+        false,
+    ));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 0, "roughness": 0.5,
+            "clearcoat": {"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.25}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+    );
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+
+    let f = load(&write(
+        "coattex",
+        json!({"clearcoatFactor": 1, "clearcoatTexture": {"index": 0}, "clearcoatNormalTexture": {"index": 0}}),
+        true,
+    ));
+    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0].starts_with("coattex.gltf: KHR_materials_clearcoat's textures are not used")
+            && f.warnings[0].ends_with(r#"materials[0] ("coat")"#),
+        "{}",
+        f.warnings[0]
+    );
+    match &f.materials[0].material {
+        luz::scene::Material::MetalRough(p) => {
+            assert_eq!((p.clearcoat, p.clearcoat_roughness), (1.0, 0.0))
+        }
+        other => panic!("{other:?}"),
+    }
+
+    let at = "materials[0].extensions.KHR_materials_clearcoat";
+    for (name, ext, want) in [
+        (
+            "coat_big",
+            json!({"clearcoatFactor": 1.5}),
+            format!("{at}.clearcoatFactor: must be in [0, 1], got 1.5"),
+        ),
+        (
+            "coat_neg",
+            json!({"clearcoatRoughnessFactor": -0.5}),
+            format!("{at}.clearcoatRoughnessFactor: must be in [0, 1], got -0.5"),
+        ),
+        (
+            "coat_str",
+            json!({"clearcoatFactor": "1"}),
+            format!("{at}.clearcoatFactor: expected a number"),
+        ),
+        (
+            "coat_tex",
+            json!({"clearcoatTexture": {"index": 3}}),
+            format!("{at}.clearcoatTexture.index: texture 3 does not exist"),
+        ),
+        ("coat_notobj", json!(1), format!("{at}: expected an object")),
+    ] {
+        let e = gltf::load(&write(name, ext, false), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
+}
+
 /// Skins, morph targets and animations: the static pose, with one warning for the file.
 #[test]
 fn skins_and_animations_give_one_warning() {

@@ -33,6 +33,14 @@
 // p0.y (Cook-Torrance, metal-rough): diffuse, as a float
 #define BRDF_DIFFUSE_LAMBERT 0
 #define BRDF_DIFFUSE_BURLEY 1
+// The layers of the glTF PBR extensions on metal-rough (src/brdf/layers.rs), bits of BRDF_LOBES.
+#define BRDF_LOBE_CLEARCOAT 1u
+// The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
+// (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
+// (brdf_eval.comp) every lobe is compiled.
+#ifndef BRDF_LOBES
+#define BRDF_LOBES 0xFFFFFFFFu
+#endif
 
 // std430 / push-constant layout, 96 bytes. Slot use per model: docs/brdf.md.
 struct BrdfParams {
@@ -42,7 +50,8 @@ struct BrdfParams {
     vec4 p0;     // 48: Phong (k_s, n, k_a, -); Cook-Torrance (-, diffuse, -, -);
                  //     metal-rough ((1-F) weight, diffuse, -, -);
                  //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
-    vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss)
+    vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss);
+                 //     metal-rough (clearcoat, clearcoat_roughness, -, -)
     ivec4 sel;   // 80: model, distribution, geometry, fresnel
 };
 
@@ -225,8 +234,8 @@ BrdfTerms brdf_cook_torrance_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in
 }
 
 // glTF metallic-roughness: c_diff/π [1 − F] + D F G / (4 (n·l)(n·v)).
-// brdf_metal_rough_terms for unit n, l and v (no renormalisation).
-BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+// The metallic-roughness terms without layers, for unit n, l and v (metal_rough_base_terms).
+BrdfTerms brdf_metal_rough_base_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
     BrdfTerms t = brdf_terms_zero();
     float n_l_raw = dot(n, l);
     float n_v_raw = dot(n, v);
@@ -253,6 +262,59 @@ BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
     t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;
     t.specular = t.f * (t.d * t.g / (4.0 * n_l * n_v));
+    return t;
+}
+
+// KHR_materials_clearcoat (src/brdf/layers.rs): F0 of the coat, what it takes from the base and
+// gives its lobe at one view (albedo: the base is weighted by 1 − clearcoat · albedo; specular:
+// multiplies the coat's lobe), the extension's own Schlick form of it.
+#define CLEARCOAT_F0 0.04
+struct ClearcoatEnergy {
+    float albedo;
+    float specular;
+};
+
+ClearcoatEnergy clearcoat_energy_schlick(float n_v) {
+    ClearcoatEnergy e;
+    e.albedo = CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * brdf_schlick_weight(n_v);
+    e.specular = 1.0;
+    return e;
+}
+
+// The coat's lobe D G F / (4 (n·l)(n·v)) for unit n (the coat normal), l and v with n·l > 0 and
+// n·v > 0: the material's D and G at the width clearcoat_roughness², Schlick's F of F0 0.04.
+float clearcoat_specular(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+    float n_l = brdf_clamp_cos(dot(n, l));
+    float n_v = brdf_clamp_cos(dot(n, v));
+    float r = p.p1.y;
+    float a = max(r * r, BRDF_ALPHA_MIN);
+    vec3 h = brdf_safe_normalize(l + v);
+    float n_h = dot(n, h);
+    vec3 n_x_h = cross(n, h);
+    float sin2_h = dot(n_x_h, n_x_h);
+    float v_h = dot(v, h);
+    float d = brdf_distribution(p.sel.y, n_h, sin2_h, a);
+    float g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, r);
+    float f = CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * brdf_schlick_weight(v_h);
+    return f * (d * g / (4.0 * n_l * n_v));
+}
+
+// The base's terms t under the coat of p: weighted by 1 − clearcoat · e.albedo, plus
+// clearcoat · e.specular · clearcoat_specular in the specular.
+BrdfTerms clearcoat_layer(BrdfTerms t, BrdfParams p, vec3 n, vec3 l, vec3 v, ClearcoatEnergy e) {
+    float keep = 1.0 - p.p1.x * e.albedo;
+    float coat = p.p1.x * e.specular * clearcoat_specular(p, n, l, v);
+    t.diffuse *= keep;
+    t.specular = t.specular * keep + vec3(coat);
+    return t;
+}
+
+// metal_rough_terms for unit n, l and v (no renormalisation): the base, then its layers.
+BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+    BrdfTerms t = brdf_metal_rough_base_terms_unit(p, n, l, v);
+    if ((BRDF_LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
+        t = clearcoat_layer(t, p, n, l, v, clearcoat_energy_schlick(brdf_clamp_cos(dot(n, v))));
+    }
     return t;
 }
 

@@ -20,6 +20,10 @@
 #define FALLOFF_INVERSE_SQUARE 1u
 #define FALLOFF_CLASSIC 2u
 
+// The layers of the glTF PBR extensions the pipeline's material uses (BRDF_LOBE_* bits of
+// brdf/models.glsl; src/render/forward/variant.rs: VariantKey::lobes): the others compile out.
+layout(constant_id = 23) const uint LOBES = 0u;
+#define BRDF_LOBES LOBES
 #include "../brdf/models.glsl"
 
 layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {

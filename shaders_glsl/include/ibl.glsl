@@ -158,10 +158,29 @@ vec3 ibl_specular_importance(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, float
 // scaled by 1 + F0 (1 − E)/E (Fdez-Agüera 2019), the diffuse by 1 − E_ms, what the specular
 // leaves (1 with diffuse_fresnel_weight, which already weights it per direction). The same
 // factors multiply every light's terms (lighting.glsl) and the environment's.
+// `coat`: KHR_materials_clearcoat's coat at the view (brdf::layers: the extension's Schlick
+// weight, or with compensation the coat's compensated albedo and lobe factor).
 struct EnergyScale {
     vec3 specular;
     vec3 diffuse;
+    ClearcoatEnergy coat;
 };
+
+// The split-sum table's (A, B) at (n·v, roughness) in the material's layer.
+vec2 brdf_lut_ab(float n_v, float roughness) {
+    return textureLod(brdf_lut, vec3(n_v, roughness, float(material.flags)), 0.0).rg;
+}
+
+// The energy-compensated coat (brdf::layers::clearcoat_energy): its albedo E_ms and lobe factor
+// 1 + F0 (1 − E)/E, F0 = 0.04.
+ClearcoatEnergy clearcoat_energy(BrdfParams p, float n_v) {
+    vec2 ab = brdf_lut_ab(n_v, p.p1.y);
+    float e = max(ab.x + ab.y, 1e-4);
+    ClearcoatEnergy c;
+    c.specular = 1.0 + CLEARCOAT_F0 * ((1.0 - e) / e);
+    c.albedo = min((CLEARCOAT_F0 * ab.x + ab.y) * c.specular, 1.0);
+    return c;
+}
 
 bool energy_compensated(BrdfParams p) {
     return ENERGY_COMPENSATION && MODEL == BRDF_MODEL_METAL_ROUGH;
@@ -171,6 +190,10 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     EnergyScale es;
     es.specular = vec3(1.0);
     es.diffuse = vec3(1.0);
+    if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u) {
+        float c_v = clamp(dot(n, v), 1e-4, 1.0);
+        es.coat = energy_compensated(p) ? clearcoat_energy(p, c_v) : clearcoat_energy_schlick(c_v);
+    }
     if (!energy_compensated(p)) {
         return es;
     }
@@ -182,6 +205,23 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     vec3 e_ms = (f0 * ab.x + ab.y) * es.specular;
     es.diffuse = p.p0.x != 0.0 ? vec3(1.0) : max(vec3(1.0) - e_ms, vec3(0.0));
     return es;
+}
+
+// KHR_materials_clearcoat under the environment: the base's diffuse and specular weighted by
+// 1 − clearcoat · albedo, plus the coat's split sum (its own roughness, F0 0.04, along its
+// mirror direction). With importance sampling the base's specular samples already hold the
+// coat (brdf_eval_terms), so only the diffuse is weighted.
+vec3 ibl_clearcoat(BrdfParams p, vec3 n, vec3 v, vec3 diffuse, vec3 spec, ClearcoatEnergy e) {
+    float keep = 1.0 - p.p1.x * e.albedo;
+    if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {
+        return diffuse * keep + spec;
+    }
+    float n_v = clamp(dot(n, v), 1e-4, 1.0);
+    vec2 ab = brdf_lut_ab(n_v, p.p1.y);
+    vec3 r = reflect(-v, n);
+    vec3 pre = textureLod(prefiltered_cube, r, p.p1.y * (env.params.x - 1.0)).rgb;
+    vec3 coat = pre * (CLEARCOAT_F0 * ab.x + ab.y) * e.specular;
+    return (diffuse + spec) * keep + p.p1.x * coat;
 }
 
 // Environment lighting at a point: diffuse from irradiance, specular by the chosen method.
@@ -212,6 +252,9 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         // Other models: only the specular's multi-scatter factor 1 + F0 (1 − E)/E, E = A + B.
         float e = max(ab.x + ab.y, 1e-4);
         spec *= 1.0 + s.f0 * (1.0 - e) / e;
+    }
+    if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u && MODEL == BRDF_MODEL_METAL_ROUGH) {
+        return ibl_clearcoat(p, n, v, result, spec * es.specular, es.coat);
     }
     return result + spec * es.specular;
 }

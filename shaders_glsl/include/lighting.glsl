@@ -325,9 +325,13 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         }
 #ifdef IBL
         if (energy_compensated(p)) {
-            BrdfTerms t = brdf_metal_rough_terms_unit(p, s.n, l, V);
-            result += (t.diffuse * es.diffuse + t.specular * es.specular) * E
-                * clamp(dot(s.n, l), 0.0, 1.0);
+            BrdfTerms t = brdf_metal_rough_base_terms_unit(p, s.n, l, V);
+            t.diffuse *= es.diffuse;
+            t.specular *= es.specular;
+            if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(s.n, l) > 0.0) {
+                t = clearcoat_layer(t, p, s.n, l, V, es.coat);
+            }
+            result += (t.diffuse + t.specular) * E * clamp(dot(s.n, l), 0.0, 1.0);
             continue;
         }
 #endif

@@ -252,6 +252,25 @@ fn model_names() -> Vec<&'static str> {
     brdf::ModelKind::ALL.map(|k| k.name()).to_vec()
 }
 
+/// The scene file's KHR_materials_clearcoat object on metal_rough,
+/// `"clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": r}`, as the CPU model's
+/// fields `"clearcoat": c, "clearcoat_roughness": r` (a number `clearcoat` is kept as it is).
+fn scene_clearcoat(value: &Value) -> Value {
+    let mut v = value.clone();
+    let is_mr = v.get("model").and_then(Value::as_str) == Some("metal_rough");
+    if let (true, Some(obj)) = (is_mr, v.as_object_mut()) {
+        if let Some(Value::Object(coat)) = obj.get("clearcoat").cloned() {
+            let num = |k: &str| coat.get(k).cloned().unwrap_or(Value::from(0.0));
+            obj.insert("clearcoat".into(), num("clearcoatFactor"));
+            obj.insert(
+                "clearcoat_roughness".into(),
+                num("clearcoatRoughnessFactor"),
+            );
+        }
+    }
+    v
+}
+
 /// A [`Model`] from its JSON value (scene-file syntax), with errors that name the field.
 pub fn model_from_value(value: &Value) -> Result<Model> {
     let names = model_names().join(", ");
@@ -266,6 +285,7 @@ pub fn model_from_value(value: &Value) -> Result<Model> {
     if !model_names().contains(&tag) {
         bail!("field `model`: unknown model `{tag}` (expected one of {names})");
     }
+    let value = &scene_clearcoat(value);
     match serde_json::from_value::<Model>(value.clone()) {
         Ok(m) => Ok(m),
         Err(whole) => {

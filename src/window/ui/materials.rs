@@ -341,5 +341,10 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
     c |= row(ui, "Diffuse × (1 − F)", |ui| {
         checkbox(ui, &mut p.diffuse_fresnel_weight, "")
     });
+    // KHR_materials_clearcoat (turning the coat on or off rebuilds the pipelines: LOBES).
+    c |= row(ui, "Clearcoat", |ui| unit(ui, &mut p.clearcoat));
+    c |= row(ui, "Clearcoat roughness", |ui| {
+        unit(ui, &mut p.clearcoat_roughness)
+    });
     c
 }

@@ -134,11 +134,19 @@ pub fn sampling_lobes(model: &Model) -> Vec<Lobe> {
             }
         }
         Model::MetalRough(p) => {
-            let a = (p.roughness * p.roughness).max(ALPHA_MIN);
-            match p.distribution {
-                Distribution::Beckmann => vec![Lobe::Beckmann { m: a }],
-                Distribution::Ggx => vec![Lobe::Ggx { ax: a, ay: a }],
+            let lobe = |r: f32| {
+                let a = (r * r).max(ALPHA_MIN);
+                match p.distribution {
+                    Distribution::Beckmann => Lobe::Beckmann { m: a },
+                    Distribution::Ggx => Lobe::Ggx { ax: a, ay: a },
+                }
+            };
+            let mut lobes = vec![lobe(p.roughness)];
+            // KHR_materials_clearcoat: the coat's own lobe.
+            if p.clearcoat > 0.0 {
+                lobes.push(lobe(p.clearcoat_roughness));
             }
+            lobes
         }
         Model::Principled(p) => {
             let aspect = (1.0 - p.anisotropic * 0.9).sqrt();

@@ -20,6 +20,7 @@
 mod albedo;
 mod energy;
 mod gpu;
+mod layers;
 mod models;
 mod names;
 mod presets;
@@ -37,6 +38,9 @@ pub use albedo::{
 };
 pub use energy::{energy_scale, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
+pub use layers::{
+    clearcoat_energy, clearcoat_layer, clearcoat_specular, ClearcoatEnergy, CLEARCOAT_F0,
+};
 pub use models::{
     blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,
     metal_rough, metal_rough_terms, oren_nayar, oren_nayar_terms, phong, phong_radiance,

@@ -405,6 +405,12 @@ pub struct MetalRoughParams {
     /// ([`super::energy`]). Default false. Scenes set it for every metal-rough material from
     /// their environment's `energy_compensation`, not per material.
     pub energy_compensation: bool,
+    /// KHR_materials_clearcoat's `clearcoatFactor`, [0, 1]: the weight of a clear coat
+    /// ([`super::layers`]). Default 0 (no coat).
+    pub clearcoat: f32,
+    /// KHR_materials_clearcoat's `clearcoatRoughnessFactor`, [0, 1]: the coat's perceptual
+    /// roughness. Default 0.
+    pub clearcoat_roughness: f32,
 }
 
 impl Default for MetalRoughParams {
@@ -420,6 +426,8 @@ impl Default for MetalRoughParams {
             diffuse: Diffuse::Lambert,
             dielectric_f0: Vec3::splat(0.04),
             energy_compensation: false,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
         }
     }
 }
@@ -432,6 +440,8 @@ impl MetalRoughParams {
             base_color: colour(self.base_color),
             metallic: unit(self.metallic, 1.0),
             roughness: unit(self.roughness, 1.0),
+            clearcoat: unit(self.clearcoat, 0.0),
+            clearcoat_roughness: unit(self.clearcoat_roughness, 0.0),
             ..*self
         }
     }
@@ -804,12 +814,27 @@ pub fn cook_torrance(p: &CookTorranceParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 
     cook_torrance_terms(p, n, l, v).total()
 }
 
-/// glTF metallic-roughness as terms.
+/// glTF metallic-roughness as terms, with the clear coat of KHR_materials_clearcoat layered on
+/// top ([`super::layers::clearcoat_layer`]; the coat's normal is `n`).
 pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
     let p = p.sanitized();
     let Some(s) = setup(n, l, v) else {
         return Terms::ZERO;
     };
+    let t = metal_rough_base_terms(&p, &s);
+    if p.clearcoat <= 0.0 {
+        return t;
+    }
+    let coat = if p.energy_compensation {
+        super::layers::clearcoat_energy(&p, s.n_v)
+    } else {
+        super::layers::ClearcoatEnergy::schlick(s.n_v)
+    };
+    super::layers::clearcoat_layer(t, &p, s.n, s.l, s.v, coat)
+}
+
+/// The metallic-roughness terms without layers, of sanitised parameters.
+fn metal_rough_base_terms(p: &MetalRoughParams, s: &Setup) -> Terms {
     let a = (p.roughness * p.roughness).max(ALPHA_MIN);
     let f0 = mix3(p.dielectric_f0, p.base_color, p.metallic);
     let c_diff = p.base_color * (1.0 - p.metallic);

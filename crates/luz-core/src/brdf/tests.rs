@@ -1468,23 +1468,16 @@ fn model_kinds_and_selector_names_have_one_source() {
 #[test]
 fn energy_compensation_makes_a_white_furnace() {
     let furnace = |metallic: f32, roughness: f32, view_deg: f32, on: bool| {
-        let model = Model::MetalRough(MetalRoughParams {
-            base_color: Vec3::ONE,
-            metallic,
-            roughness,
-            energy_compensation: on,
-            ..MetalRoughParams::default()
-        });
-        let (s, c) = view_deg.to_radians().sin_cos();
-        let v = Vec3::new(s, 0.0, c);
-        let lobes = sampling_lobes(&model);
-        integrate_hemisphere(
-            |l| eval(&model, Vec3::Z, l, v, Vec3::X, Vec3::Y),
-            v,
-            &lobes,
-            1 << 14,
+        white_furnace(
+            MetalRoughParams {
+                base_color: Vec3::ONE,
+                metallic,
+                roughness,
+                energy_compensation: on,
+                ..MetalRoughParams::default()
+            },
+            view_deg,
         )
-        .x
     };
     let mut worst = (0.0f32, 0.0, 0.0, 0.0, 0.0);
     for metallic in [0.0, 1.0] {
@@ -1512,6 +1505,133 @@ fn energy_compensation_makes_a_white_furnace() {
         rough_metal < 0.9,
         "uncompensated rough white metal: {rough_metal}"
     );
+}
+
+/// The white furnace of a metal-rough material seen at `view_deg` from the normal: the
+/// hemispherical integral of `f · n·l` (importance sampled), red channel.
+fn white_furnace(p: MetalRoughParams, view_deg: f32) -> f32 {
+    let model = Model::MetalRough(p);
+    let (s, c) = view_deg.to_radians().sin_cos();
+    let v = Vec3::new(s, 0.0, c);
+    let lobes = sampling_lobes(&model);
+    integrate_hemisphere(
+        |l| eval(&model, Vec3::Z, l, v, Vec3::X, Vec3::Y),
+        v,
+        &lobes,
+        1 << 14,
+    )
+    .x
+}
+
+/// Issue 34, KHR_materials_clearcoat: with energy compensation a white furnace stays 1 ± 1 %
+/// under any coat (weight 0.5 and 1, coat roughness 0.05–1) over a white dielectric and a white
+/// metal of roughness 0.05–1, at views to 85° (measured worst 0.93 %); without it a rough coat
+/// over a smooth white metal returns 0.97.
+#[test]
+fn clearcoat_keeps_a_compensated_white_furnace() {
+    let mut worst = (0.0f32, [0.0f32; 5]);
+    for metallic in [0.0, 1.0] {
+        for roughness in [0.05, 0.5, 1.0] {
+            for clearcoat in [0.5, 1.0] {
+                for coat_roughness in [0.05, 0.3, 1.0] {
+                    for view in [0.0, 45.0, 75.0, 85.0] {
+                        let e = white_furnace(
+                            MetalRoughParams {
+                                base_color: Vec3::ONE,
+                                metallic,
+                                roughness,
+                                clearcoat,
+                                clearcoat_roughness: coat_roughness,
+                                energy_compensation: true,
+                                ..MetalRoughParams::default()
+                            },
+                            view,
+                        );
+                        if (e - 1.0).abs() > worst.0 {
+                            worst = (
+                                (e - 1.0).abs(),
+                                [metallic, roughness, clearcoat, coat_roughness, view],
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("clearcoat furnace: worst |E − 1| = {:.4} at (metallic, roughness, clearcoat, coat roughness, view°) {:?}", worst.0, worst.1);
+    assert!(worst.0 <= 0.01, "{worst:?}");
+    let uncompensated = white_furnace(
+        MetalRoughParams {
+            base_color: Vec3::ONE,
+            metallic: 1.0,
+            roughness: 0.05,
+            clearcoat: 1.0,
+            clearcoat_roughness: 1.0,
+            ..MetalRoughParams::default()
+        },
+        0.0,
+    );
+    eprintln!("clearcoat furnace without compensation (white metal 0.05, coat 1 of roughness 1): {uncompensated:.4}");
+    // Measured 0.972: the rough coat loses its multiple scattering.
+    assert!(uncompensated < 0.98, "{uncompensated}");
+}
+
+/// KHR_materials_clearcoat against its formula: no coat is the base exactly; a coat of the
+/// base's roughness over a black dielectric (whose specular is the coat's lobe itself) gives
+/// `f_coat (1 − Fc) + f_coat`, with Fc Schlick's F of F0 0.04 at n·v.
+#[test]
+fn clearcoat_layers_as_the_extension_says() {
+    let n = Vec3::Z;
+    let l = Vec3::new(0.3, -0.2, 0.8).normalize();
+    let v = Vec3::new(-0.5, 0.1, 0.6).normalize();
+    let base = MetalRoughParams {
+        base_color: Vec3::new(0.7, 0.3, 0.2),
+        metallic: 0.3,
+        roughness: 0.4,
+        ..MetalRoughParams::default()
+    };
+    let uncoated = metal_rough(&base, n, l, v);
+    let zero = MetalRoughParams {
+        clearcoat_roughness: 0.7,
+        ..base
+    };
+    assert_eq!(metal_rough(&zero, n, l, v), uncoated);
+    let black = MetalRoughParams {
+        base_color: Vec3::ZERO,
+        metallic: 0.0,
+        roughness: 0.3,
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.3,
+        ..MetalRoughParams::default()
+    };
+    let h = (l + v).normalize();
+    let a = 0.09f32;
+    let f_coat = d_ggx(n.dot(h), a) * g_smith_ggx_correlated(n.dot(l), n.dot(v), a)
+        / (4.0 * n.dot(l) * n.dot(v))
+        * (0.04 + 0.96 * (1.0 - v.dot(h)).powi(5));
+    let fc = 0.04 + 0.96 * (1.0 - n.dot(v)).powi(5);
+    let expected = f_coat * (2.0 - fc);
+    let got = metal_rough(&black, n, l, v);
+    for c in 0..3 {
+        assert!(
+            (got[c] - expected).abs() <= 1e-5 * expected,
+            "{got} against {expected}"
+        );
+    }
+    // Half a coat: the base's lobe weighted by 1 − Fc/2, plus half the coat's.
+    let half = MetalRoughParams {
+        clearcoat: 0.5,
+        clearcoat_roughness: 0.6,
+        ..base
+    };
+    let coat = clearcoat_specular(&half, n, l, v);
+    let expected = uncoated * (1.0 - 0.5 * fc) + Vec3::splat(0.5 * coat);
+    let got = metal_rough(&half, n, l, v);
+    assert!(
+        (got - expected).abs().max_element() <= 1e-6,
+        "{got} against {expected}"
+    );
+    assert!(coat > 0.0, "{coat}");
 }
 
 /// Issue 34: Beckmann's own Smith G1 (Walter et al. 2007's rational approximation) is within

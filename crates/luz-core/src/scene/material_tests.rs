@@ -398,6 +398,8 @@ fn metal_rough_every_field() {
             diffuse: Diffuse::Burley,
             dielectric_f0: Vec3::splat(0.04),
             energy_compensation: false,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
         }
     );
     // Any Fresnel works (the exact forms take η from F0).
@@ -794,5 +796,37 @@ fn beckmann_defaults_to_its_own_smith_term() {
     assert_eq!(
         metal_rough(r#", "distribution": "ggx""#).geometry,
         Geometry::SmithGgxCorrelated
+    );
+}
+
+/// KHR_materials_clearcoat on metal_rough (issue 34): the extension's names, its defaults (no
+/// coat), the values given, and errors naming the JSON path.
+#[test]
+fn metal_rough_clearcoat_fields_and_errors() {
+    let d = metal_rough("");
+    assert_eq!((d.clearcoat, d.clearcoat_roughness), (0.0, 0.0));
+    let p = metal_rough(
+        r#", "clearcoat": {"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.25}"#,
+    );
+    assert_eq!((p.clearcoat, p.clearcoat_roughness), (0.75, 0.25));
+    let p = metal_rough(r#", "clearcoat": {"clearcoatFactor": 1}"#);
+    assert_eq!((p.clearcoat, p.clearcoat_roughness), (1.0, 0.0));
+    let mr = |rest: &str| format!(r#""model": "metal_rough", "clearcoat": {rest}"#);
+    fails(
+        &mr(r#"{"clearcoatFactor": 1.5}"#),
+        &["materials.m.clearcoat.clearcoatFactor: must be in [0, 1], got 1.5"],
+    );
+    fails(
+        &mr(r#"{"clearcoatRoughnessFactor": -0.1}"#),
+        &["materials.m.clearcoat.clearcoatRoughnessFactor: must be in [0, 1], got -0.1"],
+    );
+    fails(
+        &mr(r#"{"clearcoatFactor": "1"}"#),
+        &["materials.m.clearcoat.clearcoatFactor"],
+    );
+    fails(&mr("0.5"), &["materials.m.clearcoat"]);
+    fails(
+        &mr(r#"{"clearcoatTexture": {"index": 0}}"#),
+        &["materials.m.clearcoat", "clearcoatTexture"],
     );
 }

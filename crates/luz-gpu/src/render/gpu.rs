@@ -62,6 +62,8 @@ pub const SPEC_OUTPUT_TONEMAP: u32 = glsl::include_output::SPEC_OUTPUT_TONEMAP;
 pub const SPEC_OUTPUT_CLAMP: u32 = glsl::include_output::SPEC_OUTPUT_CLAMP;
 /// `SEL_DIFFUSE`: the diffuse selector of Cook-Torrance / metal-rough ([`crate::render::forward::material_key`]).
 pub const SPEC_SEL_DIFFUSE: u32 = b::SPEC_SEL_DIFFUSE;
+/// `LOBES`: the glTF extension layers compiled in (`VariantKey::lobes`).
+pub const SPEC_LOBES: u32 = b::SPEC_LOBES;
 /// `CLUSTERED`: the fragment stage loops over its cluster's lights only.
 pub const SPEC_CLUSTERED: u32 = b::SPEC_CLUSTERED;
 /// `SHADOW_FIXED_0..3` of shadows.glsl: the shadowed lights packed whole

@@ -241,10 +241,15 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "fresnel",
             "diffuse_fresnel_weight",
             "diffuse",
+            "clearcoat",
         ],
         &a_material(model),
     )?;
     let d = MetalRoughParams::default();
+    let (clearcoat, clearcoat_roughness) = match f.get("clearcoat") {
+        None => (d.clearcoat, d.clearcoat_roughness),
+        Some(v) => clearcoat(v, &f.path("clearcoat"))?,
+    };
     let (base_color, metallic) = match f.string("preset")? {
         None => (
             f.color_in("base_color", d.base_color, UNIT)?,
@@ -293,7 +298,23 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         dielectric_f0: d.dielectric_f0,
         // The environment's switch, applied where the scene is rendered.
         energy_compensation: false,
+        clearcoat,
+        clearcoat_roughness,
     }))
+}
+
+/// KHR_materials_clearcoat's factors, with the extension's names:
+/// `{"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.1}` (defaults 0 and 0).
+fn clearcoat(v: &Value, path: &str) -> Result<(f32, f32)> {
+    let f = Fields::new(v, path)?;
+    f.allow(
+        &["clearcoatFactor", "clearcoatRoughnessFactor"],
+        "a clear coat (KHR_materials_clearcoat; its textures are not supported yet)",
+    )?;
+    Ok((
+        f.num("clearcoatFactor", 0.0, UNIT)?,
+        f.num("clearcoatRoughnessFactor", 0.0, UNIT)?,
+    ))
 }
 
 /// Disney "Principled". Defaults are `brdf::PrincipledParams::default()` (`disney.brdf`'s).

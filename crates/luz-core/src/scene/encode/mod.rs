@@ -270,9 +270,19 @@ impl Encoder<'_> {
                 let n = n
                     .put("base_color", p.base_color)
                     .put("metallic", p.metallic);
-                put_terms(n, p.roughness, (p.distribution, p.geometry, p.fresnel))
+                let n = put_terms(n, p.roughness, (p.distribution, p.geometry, p.fresnel))
                     .put("diffuse_fresnel_weight", p.diffuse_fresnel_weight)
                     .put("diffuse", select(DIFFUSES, p.diffuse));
+                // KHR_materials_clearcoat, only when there is a coat (files without one are
+                // written as before).
+                if p.clearcoat != 0.0 || p.clearcoat_roughness != 0.0 {
+                    n.put(
+                        "clearcoat",
+                        Node::obj()
+                            .with("clearcoatFactor", p.clearcoat)
+                            .with("clearcoatRoughnessFactor", p.clearcoat_roughness),
+                    );
+                }
             }
             Material::Principled(p) => {
                 n.put("base_color", p.base_color)

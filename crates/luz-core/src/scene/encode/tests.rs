@@ -430,6 +430,8 @@ fn every_field_round_trips() {
                   "roughness": {"path": "../tex ü/mr.png", "channel": "a"},
                   "occlusion": "../tex ü/ao.png"}},
    "mr_default": {"model": "metal_rough"},
+   "mr_coat": {"model": "metal_rough", "metallic": 0, "roughness": 0.5,
+     "clearcoat": {"clearcoatFactor": 0.75, "clearcoatRoughnessFactor": 0.125}},
    "principled": {"model": "principled", "base_color": [0.05, 0.1, 0.7], "subsurface": 0.1,
      "metallic": 0.2, "specular": 0.3, "specular_tint": 0.4, "roughness": 0.55, "anisotropic": 0.6,
      "sheen": 0.7, "sheen_tint": 0.8, "clearcoat": 0.9, "clearcoat_gloss": 0.15,

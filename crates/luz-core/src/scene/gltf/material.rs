@@ -205,14 +205,7 @@ fn dielectric_f0(
                 "{file_name}: KHR_materials_specular's specularTexture and specularColorTexture \
                  are not used (luz has no F0 map; their factors are):"
             );
-            let entry = format!(" materials[{i}] (\"{name}\")");
-            match warnings.iter_mut().find(|w| w.starts_with(&marker)) {
-                Some(w) => {
-                    w.push(',');
-                    w.push_str(&entry);
-                }
-                None => warnings.push(marker + &entry),
-            }
+            warn_material(warnings, marker, i, name);
         }
     }
     f0
@@ -332,5 +325,95 @@ pub fn material(
         material: Material::MetalRough(params),
         textures: t,
         uv,
+    }
+}
+
+/// KHR_materials_clearcoat's factors onto `gm` (a `metal_rough` material). Factors outside
+/// [0, 1] or not numbers, and textures whose index names no texture, are errors naming the JSON
+/// path; the coat's textures themselves are not read yet (one warning per file: luz has no coat
+/// maps), their factors are.
+pub fn clearcoat(
+    m: &gltf::Material,
+    gm: &mut GltfMaterial,
+    textures: usize,
+    (file, file_name): (&Path, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
+        return Ok(());
+    };
+    let i = m.index().unwrap_or(0);
+    let path = format!("materials[{i}].extensions.KHR_materials_clearcoat");
+    let err = |key: &str, reason: String| GltfError {
+        file: file.to_path_buf(),
+        path: format!("{path}.{key}"),
+        reason,
+    };
+    let Some(obj) = ext.as_object() else {
+        return Err(GltfError {
+            file: file.to_path_buf(),
+            path,
+            reason: "expected an object".into(),
+        });
+    };
+    let factor = |key: &str| -> Result<f32, GltfError> {
+        match obj.get(key) {
+            None => Ok(0.0),
+            Some(v) => match v.as_f64() {
+                Some(x) if (0.0..=1.0).contains(&x) => Ok(x as f32),
+                Some(x) => Err(err(key, format!("must be in [0, 1], got {x}"))),
+                None => Err(err(key, format!("expected a number, got {v}"))),
+            },
+        }
+    };
+    let (coat, roughness) = (
+        factor("clearcoatFactor")?,
+        factor("clearcoatRoughnessFactor")?,
+    );
+    let mut with_maps = false;
+    for key in [
+        "clearcoatTexture",
+        "clearcoatRoughnessTexture",
+        "clearcoatNormalTexture",
+    ] {
+        let Some(info) = obj.get(key) else { continue };
+        let index = info.get("index").and_then(|v| v.as_u64());
+        match index {
+            Some(t) if (t as usize) < textures => with_maps = true,
+            Some(t) => {
+                return Err(err(
+                    &format!("{key}.index"),
+                    format!("texture {t} does not exist (the file has {textures})"),
+                ))
+            }
+            None => {
+                return Err(err(key, "expected a texture info with an \"index\"".into()));
+            }
+        }
+    }
+    if with_maps {
+        let marker = format!(
+            "{file_name}: KHR_materials_clearcoat's textures are not used (luz has no coat maps \
+             yet; their factors are):"
+        );
+        warn_material(warnings, marker, i, &gm.name);
+    }
+    if let Material::MetalRough(p) = &mut gm.material {
+        p.clearcoat = coat;
+        p.clearcoat_roughness = roughness;
+    }
+    Ok(())
+}
+
+/// One warning per file and kind: `marker` (the file and what is not used), then every material
+/// it concerns, ` materials[i] ("name")`, comma-separated.
+fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize, name: &str) {
+    let entry = format!(" materials[{i}] (\"{name}\")");
+    match warnings.iter_mut().find(|w| w.starts_with(&marker)) {
+        Some(w) => {
+            w.push(',');
+            w.push_str(&entry);
+        }
+        None => warnings.push(marker + &entry),
     }
 }

@@ -26,6 +26,7 @@ use super::{Camera, Falloff, Light, LightKind, Mesh, Projection};
 /// Extensions luz reads; a file that requires any other one is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",
@@ -440,7 +441,15 @@ impl<'a> Builder<'a> {
     fn run(mut self, scene: Option<usize>) -> Result<GltfFile, GltfError> {
         let f = self.file_name.clone();
         for m in self.doc.materials() {
-            let gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
+            let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
+            let textures = self.doc.textures().len();
+            material::clearcoat(
+                &m,
+                &mut gm,
+                textures,
+                (self.path, &f),
+                &mut self.out.warnings,
+            )?;
             self.out.materials.push(gm);
         }
         let roots: Vec<usize> = match scene {

@@ -217,6 +217,7 @@ pub(super) fn build_draws(
             shadow_slots: [0; 4],
             alpha,
             vertex_color,
+            lobes: super::variant::GENERIC_LOBES,
         };
         list.items.push(draws::Item {
             shape: mesh_index,
@@ -234,6 +235,7 @@ pub(super) fn build_draws(
                     maps: crate::render::material::map_bits(&named.textures),
                     light_kinds: gpu::light_kinds(&scene.lights),
                     shadow_slots: crate::render::shadow::fixed_slots(&scene.lights),
+                    lobes: super::variant::lobe_bits(material),
                     ..generic_key
                 }
             },

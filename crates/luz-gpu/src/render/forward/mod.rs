@@ -713,12 +713,13 @@ impl ForwardPass {
             if model != draw.variant.model
                 || (!generic
                     && (terms != draw.variant.terms
+                        || variant::lobe_bits(material) != draw.variant.lobes
                         || light_kinds != draw.variant.light_kinds
                         || shadow_slots
                             != draw.variant.shadow_slots.map(|c| c & !shadow::FIXED_SKIP)))
             {
                 return Err(VkError::Setup(format!(
-                    "object {}: material model, BRDF terms, light kinds or shadowed lights changed; rebuild the forward pass",
+                    "object {}: material model, BRDF terms or lobes, light kinds or shadowed lights changed; rebuild the forward pass",
                     obj.name
                 )));
             }

@@ -190,6 +190,22 @@ pub struct VariantKey {
     /// The mesh's vertex colours multiply the base colour (Phong shading only: the
     /// `*_color` modules, vertex buffer binding 2).
     pub vertex_color: bool,
+    /// The glTF extension layers compiled in (`LOBES`, `BRDF_LOBE_*` bits; [`lobe_bits`]): a
+    /// lobe no material of the pipeline uses costs nothing.
+    pub lobes: u32,
+}
+
+/// Every lobe: the generic ("all features") pipeline's [`VariantKey::lobes`].
+pub const GENERIC_LOBES: u32 = u32::MAX;
+
+/// The `BRDF_LOBE_*` bits of the layers `m` uses (issue 34): clearcoat when its factor is
+/// above 0.
+pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
+    use crate::glsl::brdf_models as glsl;
+    match m.sanitized() {
+        crate::brdf::Model::MetalRough(p) if p.clearcoat > 0.0 => glsl::BRDF_LOBE_CLEARCOAT,
+        _ => 0,
+    }
 }
 
 /// glTF's alpha mode as a pipeline sees it ([`crate::scene::AlphaMode`] without the cutoff,
@@ -416,6 +432,9 @@ impl std::fmt::Display for VariantKey {
         if self.alpha != AlphaKey::Opaque {
             write!(f, ", alpha={:?}", self.alpha)?;
         }
+        if self.lobes != 0 && self.lobes != GENERIC_LOBES {
+            write!(f, ", lobes={:#x}", self.lobes)?;
+        }
         if self.vertex_color {
             write!(f, ", vertex_color")?;
         }
@@ -545,6 +564,7 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         (gpu::SPEC_LIGHT_KINDS, v.light_kinds),
         (gpu::SPEC_CLUSTERED, v.clustered as u32),
         (gpu::SPEC_ALPHA_MODE, v.alpha.code()),
+        (gpu::SPEC_LOBES, v.lobes),
     ];
     let slots = [
         gpu::SPEC_SHADOW_FIXED_0,
