@@ -179,8 +179,8 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
     }
     if !scene.area_lights.is_empty() {
         scene.warnings.push(format!(
-            "lights: {} area light(s): they are read and written, but neither the renderer nor \
-             `luz reference` shades them yet (issue 36)",
+            "lights: {} area light(s): `luz reference` shades them, but the GPU renderer does \
+             not yet (issue 36)",
             scene.area_lights.len()
         ));
     }
