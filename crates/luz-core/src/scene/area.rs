@@ -27,19 +27,25 @@ pub enum AreaShape {
 }
 
 impl AreaShape {
+    /// The scene format's `type`, and whether the shape is flat (rect and disk emit from one
+    /// side, or both with `two_sided`; spheres and tubes all round).
+    fn info(&self) -> (&'static str, bool) {
+        match self {
+            AreaShape::Rect { .. } => ("rect", true),
+            AreaShape::Disk { .. } => ("disk", true),
+            AreaShape::Sphere { .. } => ("sphere", false),
+            AreaShape::Tube { .. } => ("tube", false),
+        }
+    }
+
     /// The scene format's `type`.
     pub fn name(&self) -> &'static str {
-        match self {
-            AreaShape::Rect { .. } => "rect",
-            AreaShape::Disk { .. } => "disk",
-            AreaShape::Sphere { .. } => "sphere",
-            AreaShape::Tube { .. } => "tube",
-        }
+        self.info().0
     }
 
     /// Rect and disk emit from one side (or both with `two_sided`); spheres and tubes all round.
     pub fn is_flat(&self) -> bool {
-        matches!(self, AreaShape::Rect { .. } | AreaShape::Disk { .. })
+        self.info().1
     }
 }
 
@@ -84,19 +90,19 @@ pub struct AreaLight {
     /// Unit vector: the emitting side's normal for rect and disk, the axis for a tube; (0, −1, 0)
     /// for spheres.
     pub direction: Vec3,
-    /// Linear RGB, each channel ≥ 0.
+    /// Linear RGB (each channel ≥ 0) and the radiance L (≥ 0): every point emits color ·
+    /// intensity, and a surface under a large one-sided rect facing it receives π·L.
     pub color: Vec3,
-    /// The radiance L, ≥ 0: a surface under a large one-sided rect facing it receives π·L.
     pub intensity: f32,
-    /// Rect and disk: emit from both sides.
+    pub shadow: Option<Shadow>,
+    /// `two_sided` (rect and disk): emit from both sides. `visible`: the camera sees the emitter
+    /// and it blocks shadow rays; false: rays pass through it.
     pub two_sided: bool,
-    /// The camera sees the emitter (and it blocks shadow rays); false: rays pass through it.
     pub visible: bool,
     pub method: AreaMethod,
     /// Beyond this distance (m) from the shape's centre the light is cut off, with the same
     /// window as point lights ([`super::range_window`]); `None`: infinite.
     pub range: Option<f32>,
-    pub shadow: Option<Shadow>,
 }
 
 impl AreaLight {
