@@ -31,8 +31,10 @@ pub struct ReferenceArgs {
     /// more average correlated multi-jittered rays (an antialiased reference).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=luz::reference::MAX_SPP as i64))]
     pub spp: u32,
-    /// Directions per pixel for the environment's light (Monte Carlo with multiple importance
-    /// sampling; split between the primary rays when --spp > 1).
+    /// Directions per pixel for the environment's light and, per sampling strategy (the emitter
+    /// and each BRDF lobe), for each area light (Monte Carlo with multiple importance sampling;
+    /// split between the primary rays when --spp > 1). The default puts a Lambert plane under
+    /// an area light within 0.5 % of its exact irradiance.
     #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=luz::reference::MAX_SAMPLES as i64))]
     pub samples: u32,
     /// Seed of the random numbers (same seed, same image).

@@ -27,6 +27,7 @@ use crate::color::Tonemap;
 
 type Result<T> = std::result::Result<T, Invalid>;
 
+mod area;
 mod environment;
 mod fields;
 mod gltf_object;
@@ -78,9 +79,14 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
     };
     let ambient = top.color("ambient", Vec3::ZERO)?;
     let mut lights = Vec::new();
+    let mut area_lights = Vec::new();
     if let Some(v) = top.get("lights") {
         for (i, item) in array(v, "lights", "an array of lights")?.iter().enumerate() {
-            lights.push(light(item, &index("lights", i))?);
+            let path = index("lights", i);
+            match area::area_light(item, &path)? {
+                Some(a) => area_lights.push(a),
+                None => lights.push(light(item, &path)?),
+            }
         }
     }
     let mut materials = Vec::new();
@@ -130,6 +136,7 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
         output,
         ambient,
         lights,
+        area_lights,
         materials,
         objects: Vec::new(),
         fog,
@@ -168,6 +175,13 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             "lights: {unbounded} point and spot lights without a \"range\": each is shaded at \
              every pixel (10,000 took about 50 s a frame at 1280×720 on lavapipe); give them a \
              range so that the clustered light loop can skip them where they do not reach"
+        ));
+    }
+    if !scene.area_lights.is_empty() {
+        scene.warnings.push(format!(
+            "lights: {} area light(s): `luz reference` shades them, but the GPU renderer does \
+             not yet (issue 36)",
+            scene.area_lights.len()
         ));
     }
     // Every material is known now (the scene's, then the MTL and glTF files'): their textures
@@ -375,7 +389,15 @@ fn light(v: &Value, path: &str) -> Result<Light> {
     let kind = match choice(
         f.req("type")?,
         &f.path("type"),
-        &["directional", "point", "spot"],
+        &[
+            "directional",
+            "point",
+            "spot",
+            "rect",
+            "disk",
+            "sphere",
+            "tube",
+        ],
     )? {
         "directional" => LightKind::Directional,
         "point" => LightKind::Point,

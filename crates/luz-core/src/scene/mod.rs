@@ -4,6 +4,7 @@
 //! described in `docs/scene-format.md`. Every error message reads `<file>: <json path>: <reason>`
 //! (see [`SceneError`]); no input makes this module panic.
 
+pub mod area;
 mod decode;
 pub use decode::MATERIAL_MODELS;
 /// The viewer's edit rules (no egui): changes that keep a scene valid.
@@ -27,6 +28,7 @@ use std::sync::Arc;
 
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
+pub use area::{AreaLight, AreaMethod, AreaShape};
 pub use encode::{encode, save, to_json, Encoded};
 pub use environment::{
     DiffuseMethod, EnvSource, Environment, SpecularMethod, DEFAULT_ENV_SAMPLES,
@@ -63,6 +65,8 @@ pub struct Scene {
     /// diffuse term. Linear RGB.
     pub ambient: Vec3,
     pub lights: Vec<Light>,
+    /// Area lights (issue 36), written in `lights` beside the punctual ones.
+    pub area_lights: Vec<AreaLight>,
     /// The scene's materials in file order, then the ones made from OBJ/MTL files.
     pub materials: Vec<NamedMaterial>,
     /// Objects in file order; an OBJ with several parts expands into several objects.
@@ -708,3 +712,6 @@ mod material_tests;
 
 #[cfg(test)]
 mod environment_tests;
+
+#[cfg(test)]
+mod area_tests;

@@ -205,6 +205,7 @@ impl Writer {
         self.scene_level_notes(scene);
         self.environment(scene)?;
         self.lights(scene);
+        self.area_lights(scene);
         let used = self.materials(scene)?;
         self.shapes(scene, &used)?;
         self.line(0, "</scene>");
@@ -923,6 +924,8 @@ fn needs_two_sided(scene: &Scene, o: &crate::scene::Object) -> bool {
         ),
     }
 }
+
+mod area;
 
 #[cfg(test)]
 mod tests {

@@ -85,6 +85,7 @@ pub struct Prepared {
     objects: Vec<RefObject>,
     materials: Vec<RefMaterial>,
     lights: Vec<Light>,
+    area_lights: Vec<crate::scene::AreaLight>,
     ambient: Vec3,
     fog: Option<Fog>,
     background: Vec3,
@@ -230,6 +231,7 @@ impl Prepared {
             objects,
             materials,
             lights: scene.lights.clone(),
+            area_lights: scene.area_lights.clone(),
             ambient: scene.ambient,
             fog: scene.fog,
             background: scene.output.background,
@@ -439,6 +441,17 @@ impl Prepared {
                 e *= self.light_visibility(light, (p, n, l), obj, key, shadow_samples);
             }
             c += crate::brdf::radiance(&s.model, s.n, l, v, s.x, s.y, e);
+        }
+        if !self.area_lights.is_empty() {
+            // Shadow rays leave the surface by a few ulps of the scene around it.
+            let o = p + s.n * ((obj.hi - obj.lo).length().max(p.abs().max_element()) * 2e-5);
+            for (k, light) in self.area_lights.iter().enumerate() {
+                let shadowed = obj.receive_shadow && light.shadow.is_some();
+                let blocked =
+                    |dir: Vec3, dist: f32| shadowed && self.occluded(o, dir * dist, 1.0 - 1e-4);
+                let key = [key[0], key[1], key[2] ^ ((k as u64 + 1) << 48)];
+                c += area::area_light_radiance(light, &s, (p, v), key, samples, &blocked);
+            }
         }
         if let Some(env) = &self.env {
             c += s.occlusion * env_light(env, &s, v, key, samples);
@@ -861,8 +874,13 @@ fn env_light(env: &RefEnv, s: &Surface, v: Vec3, key: [u64; 3], samples: u32) ->
     sum.as_vec3()
 }
 
+mod area;
+
 #[cfg(test)]
 mod occluded_tests;
+
+#[cfg(test)]
+mod area_tests;
 
 #[cfg(test)]
 mod tests {

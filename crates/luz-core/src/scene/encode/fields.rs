@@ -118,7 +118,7 @@ pub(super) fn light(l: &Light) -> Node {
 }
 
 /// A light's shadow: `true` when it has the defaults, else every setting.
-fn shadow(s: &Shadow, kind: LightKind) -> Node {
+pub(super) fn shadow(s: &Shadow, kind: LightKind) -> Node {
     if *s == Shadow::default_for(kind) {
         return Node::from(true);
     }

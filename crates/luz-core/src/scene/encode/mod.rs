@@ -142,6 +142,7 @@ impl Encoded {
     }
 }
 
+mod area;
 mod fields;
 mod node;
 mod paths;
@@ -206,7 +207,10 @@ impl Encoder<'_> {
                 Saturation::None => "none",
             },
         );
-        root.put("lights", Node::Arr(s.lights.iter().map(light).collect()));
+        // Area lights after the punctual ones (the decoder keeps them in their own list).
+        let lights = s.lights.iter().map(light);
+        let area = s.area_lights.iter().map(area::area_light);
+        root.put("lights", Node::Arr(lights.chain(area).collect()));
         // Objects first: they decide which MTL-made materials must be written as scene materials.
         let objects = self.objects();
         root.put("materials", self.materials());

@@ -111,6 +111,7 @@ fn assert_same_with(a: &Scene, b: &Scene, what: &str, material_order: bool) {
     for (i, (x, y)) in a.lights.iter().zip(&b.lights).enumerate() {
         assert_eq!(x, y, "{what}: lights[{i}]");
     }
+    assert_eq!(a.area_lights, b.area_lights, "{what}: area lights");
     let names = |s: &Scene| {
         let mut n: Vec<String> = s.materials.iter().map(|m| m.name.clone()).collect();
         if !material_order {
