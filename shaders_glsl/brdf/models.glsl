@@ -33,7 +33,7 @@
 // p0.y (Cook-Torrance, metal-rough): diffuse, as a float
 #define BRDF_DIFFUSE_LAMBERT 0
 #define BRDF_DIFFUSE_BURLEY 1
-// The layers of the glTF PBR extensions on metal-rough (src/brdf/layers.rs), bits of BRDF_LOBES.
+// The layers of the glTF PBR extensions on metal-rough (src/brdf/models/layers.rs), bits of BRDF_LOBES.
 #define BRDF_LOBE_CLEARCOAT 1u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
@@ -265,7 +265,7 @@ BrdfTerms brdf_metal_rough_base_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v)
     return t;
 }
 
-// KHR_materials_clearcoat (src/brdf/layers.rs): F0 of the coat, what it takes from the base and
+// KHR_materials_clearcoat (src/brdf/models/layers.rs): F0 of the coat, what it takes from the base and
 // gives its lobe at one view (albedo: the base is weighted by 1 − clearcoat · albedo; specular:
 // multiplies the coat's lobe), the extension's own Schlick form of it.
 #define CLEARCOAT_F0 0.04

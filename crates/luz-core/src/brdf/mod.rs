@@ -20,7 +20,6 @@
 mod albedo;
 mod energy;
 mod gpu;
-mod layers;
 mod models;
 mod names;
 mod presets;
@@ -38,7 +37,7 @@ pub use albedo::{
 };
 pub use energy::{energy_scale, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
-pub use layers::{
+pub use models::layers::{
     clearcoat_energy, clearcoat_layer, clearcoat_specular, ClearcoatEnergy, CLEARCOAT_F0,
 };
 pub use models::{

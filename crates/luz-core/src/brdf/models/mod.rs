@@ -7,6 +7,8 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+pub mod layers;
+
 use super::presets::{f0_from_ior, ior_from_f0, ComplexIor};
 use super::terms::*;
 use crate::glsl::brdf_models as glsl;
@@ -406,7 +408,7 @@ pub struct MetalRoughParams {
     /// their environment's `energy_compensation`, not per material.
     pub energy_compensation: bool,
     /// KHR_materials_clearcoat's `clearcoatFactor`, [0, 1]: the weight of a clear coat
-    /// ([`super::layers`]). Default 0 (no coat).
+    /// ([`layers`]). Default 0 (no coat).
     pub clearcoat: f32,
     /// KHR_materials_clearcoat's `clearcoatRoughnessFactor`, [0, 1]: the coat's perceptual
     /// roughness. Default 0.
@@ -815,7 +817,7 @@ pub fn cook_torrance(p: &CookTorranceParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 
 }
 
 /// glTF metallic-roughness as terms, with the clear coat of KHR_materials_clearcoat layered on
-/// top ([`super::layers::clearcoat_layer`]; the coat's normal is `n`).
+/// top ([`layers::clearcoat_layer`]; the coat's normal is `n`).
 pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
     let p = p.sanitized();
     let Some(s) = setup(n, l, v) else {
@@ -826,11 +828,11 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
         return t;
     }
     let coat = if p.energy_compensation {
-        super::layers::clearcoat_energy(&p, s.n_v)
+        layers::clearcoat_energy(&p, s.n_v)
     } else {
-        super::layers::ClearcoatEnergy::schlick(s.n_v)
+        layers::ClearcoatEnergy::schlick(s.n_v)
     };
-    super::layers::clearcoat_layer(t, &p, s.n, s.l, s.v, coat)
+    layers::clearcoat_layer(t, &p, s.n, s.l, s.v, coat)
 }
 
 /// The metallic-roughness terms without layers, of sanitised parameters.

@@ -12,14 +12,14 @@
 //!
 //! With energy compensation on (the environment's `energy_compensation`), `Fc` is replaced by
 //! the coat's compensated directional albedo `E_ms(n·v)` and the coat lobe gets the same
-//! multi-scatter factor as the base's specular ([`super::energy_scale`] with F0 0.04): the base
-//! then receives exactly what the coat does not reflect, so a white furnace stays 1 whatever the
-//! coat (the extension's `Fc` equals the coat's albedo only for a smooth coat).
+//! multi-scatter factor as the base's specular ([`crate::brdf::energy_scale`] with F0 0.04): the
+//! base then receives exactly what the coat does not reflect, so a white furnace stays 1 whatever
+//! the coat (the extension's `Fc` equals the coat's albedo only for a smooth coat).
 
 use glam::Vec3;
 
-use super::models::{MetalRoughParams, Terms};
-use super::{clamp_cos, safe_normalize, schlick_weight, ALPHA_MIN};
+use super::{MetalRoughParams, Terms};
+use crate::brdf::{clamp_cos, safe_normalize, schlick_weight, ALPHA_MIN};
 
 /// F0 of the clear coat (ior 1.5), as KHR_materials_clearcoat fixes it.
 pub const CLEARCOAT_F0: f32 = 0.04;
@@ -46,7 +46,7 @@ impl ClearcoatEnergy {
 /// The energy-compensated coat of `p` at `n_v`: its directional albedo `E_ms` from the split-sum
 /// table and the multi-scatter factor of its lobe.
 pub fn clearcoat_energy(p: &MetalRoughParams, n_v: f32) -> ClearcoatEnergy {
-    let e = super::energy_scale(
+    let e = crate::brdf::energy_scale(
         p.geometry,
         Vec3::splat(CLEARCOAT_F0),
         n_v,
