@@ -1645,3 +1645,111 @@ fn skins_and_animations_give_one_warning() {
         w[0]
     );
 }
+
+/// Issue 35: KHR_materials_transmission, _volume, _dispersion and _diffuse_transmission set the
+/// metal_rough material's `transmission` (equal to the luz JSON material with the same fields),
+/// their textures are named in one warning each, and bad values are errors naming the file and
+/// the JSON path.
+#[test]
+fn glass_extensions_factors_warnings_and_errors() {
+    let dir = scratch("gltf-glass");
+    let write = |name: &str, exts: serde_json::Value, textures: bool| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "materials": [{"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.1},
+                           "extensions": exts}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(&dir, name, doc)
+    };
+    let f = load(&write(
+        "glass",
+        json!({
+            "KHR_materials_transmission": {"transmissionFactor": 0.9},
+            "KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationDistance": 2, "attenuationColor": [0.9, 0.5, 0.25]},
+            "KHR_materials_dispersion": {"dispersion": 0.3},
+            "KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.2, "diffuseTransmissionColorFactor": [1, 0.75, 0.5]}
+        }),
+        false,
+    ));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 0, "roughness": 0.1,
+            "transmission": {"transmissionFactor": 0.9},
+            "volume": {"thicknessFactor": 0.5, "attenuationDistance": 2, "attenuationColor": [0.9, 0.5, 0.25]},
+            "dispersion": {"dispersion": 0.3},
+            "diffuse_transmission": {"diffuseTransmissionFactor": 0.2, "diffuseTransmissionColorFactor": [1, 0.75, 0.5]}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+    );
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+    assert!(
+        matches!(&f.materials[0].material, luz::scene::Material::MetalRough(p) if p.transmission.factor == 0.9)
+    );
+
+    let f = load(&write(
+        "glasstex",
+        json!({"KHR_materials_transmission": {"transmissionFactor": 1, "transmissionTexture": {"index": 0}},
+               "KHR_materials_volume": {"thicknessTexture": {"index": 0}}}),
+        true,
+    ));
+    assert_eq!(f.warnings.len(), 2, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0].starts_with(
+            "glasstex.gltf: KHR_materials_transmission's transmissionTexture not used"
+        ) && f.warnings[0].ends_with(r#"materials[0] ("glass")"#),
+        "{}",
+        f.warnings[0]
+    );
+
+    let at = "materials[0].extensions";
+    for (name, ext, want) in [
+        (
+            "t_big",
+            json!({"KHR_materials_transmission": {"transmissionFactor": 1.5}}),
+            format!("{at}.KHR_materials_transmission.transmissionFactor: must be in [0, 1], got 1.5"),
+        ),
+        (
+            "v_thick",
+            json!({"KHR_materials_volume": {"thicknessFactor": -1}}),
+            format!("{at}.KHR_materials_volume.thicknessFactor: must be ≥ 0, got -1"),
+        ),
+        (
+            "v_dist",
+            json!({"KHR_materials_volume": {"attenuationDistance": 0}}),
+            format!("{at}.KHR_materials_volume.attenuationDistance: must be > 0, got 0"),
+        ),
+        (
+            "v_color",
+            json!({"KHR_materials_volume": {"attenuationColor": [1, 2, 0]}}),
+            format!("{at}.KHR_materials_volume.attenuationColor[1]: must be in [0, 1], got 2"),
+        ),
+        (
+            "d_neg",
+            json!({"KHR_materials_dispersion": {"dispersion": -0.5}}),
+            format!("{at}.KHR_materials_dispersion.dispersion: must be ≥ 0, got -0.5"),
+        ),
+        (
+            "dt_tex",
+            json!({"KHR_materials_diffuse_transmission": {"diffuseTransmissionTexture": {"index": 4}}}),
+            format!("{at}.KHR_materials_diffuse_transmission.diffuseTransmissionTexture.index: texture 4 does not exist"),
+        ),
+        (
+            "t_notobj",
+            json!({"KHR_materials_transmission": 1}),
+            format!("{at}.KHR_materials_transmission: expected an object"),
+        ),
+    ] {
+        let e = gltf::load(&write(name, ext, false), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
+}

@@ -65,5 +65,5 @@ pub use shipped_lut::{
 pub use split_sum::{g_ibl, split_sum_lut_reference, split_sum_lut_table};
 pub use terms::*;
 pub use transmission::{
-    attenuation_coefficient, beer_lambert, refract, DielectricSample, RoughDielectric,
+    attenuation_coefficient, beer_lambert, refract, DielectricSample, RoughDielectric, Transmission,
 };

@@ -184,6 +184,19 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             scene.area_lights.len()
         ));
     }
+    let glass: Vec<&str> = scene
+        .materials
+        .iter()
+        .filter(|m| matches!(&m.material, Material::MetalRough(p) if p.transmission.any()))
+        .map(|m| m.name.as_str())
+        .collect();
+    if !glass.is_empty() {
+        scene.warnings.push(format!(
+            "materials {}: transmission: `luz reference` refracts through them, but the GPU \
+             renderer draws them opaque yet (issue 35)",
+            glass.join(", ")
+        ));
+    }
     // Every material is known now (the scene's, then the MTL and glTF files'): their textures
     // together within the input budget, from the images' headers, before any is decoded.
     if let Err((material, reason)) = super::textures::check_total_pixels(&scene.materials) {

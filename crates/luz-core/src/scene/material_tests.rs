@@ -400,6 +400,7 @@ fn metal_rough_every_field() {
             energy_compensation: false,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            transmission: crate::brdf::Transmission::default(),
         }
     );
     // Any Fresnel works (the exact forms take η from F0).

@@ -11,6 +11,7 @@ pub mod layers;
 
 use super::presets::{f0_from_ior, ior_from_f0, ComplexIor};
 use super::terms::*;
+use super::transmission::Transmission;
 use crate::glsl::brdf_models as glsl;
 
 // ---------------------------------------------------------------------------------------------
@@ -413,6 +414,8 @@ pub struct MetalRoughParams {
     /// KHR_materials_clearcoat's `clearcoatRoughnessFactor`, [0, 1]: the coat's perceptual
     /// roughness. Default 0.
     pub clearcoat_roughness: f32,
+    /// Transmission, volume, dispersion and diffuse transmission (issue 35). Default: none.
+    pub transmission: Transmission,
 }
 
 impl Default for MetalRoughParams {
@@ -430,6 +433,7 @@ impl Default for MetalRoughParams {
             energy_compensation: false,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            transmission: Transmission::default(),
         }
     }
 }
@@ -444,6 +448,7 @@ impl MetalRoughParams {
             roughness: unit(self.roughness, 1.0),
             clearcoat: unit(self.clearcoat, 0.0),
             clearcoat_roughness: unit(self.clearcoat_roughness, 0.0),
+            transmission: self.transmission.sanitized(),
             ..*self
         }
     }
@@ -839,7 +844,9 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
 fn metal_rough_base_terms(p: &MetalRoughParams, s: &Setup) -> Terms {
     let a = (p.roughness * p.roughness).max(ALPHA_MIN);
     let f0 = mix3(p.dielectric_f0, p.base_color, p.metallic);
-    let c_diff = p.base_color * (1.0 - p.metallic);
+    // KHR_materials_transmission: the specular BTDF replaces that much of the dielectric's
+    // diffuse (what goes through is the reference's glass walk, not this BRDF).
+    let c_diff = p.base_color * (1.0 - p.metallic) * (1.0 - p.transmission.factor);
     let (spec, kappa) = p.fresnel.inputs_from_f0(f0);
     let h = safe_normalize(s.l + s.v);
     let n_h = s.n.dot(h);

@@ -146,6 +146,7 @@ mod area;
 mod fields;
 mod node;
 mod paths;
+mod transmission;
 
 use fields::*;
 use node::*;
@@ -287,6 +288,7 @@ impl Encoder<'_> {
                             .with("clearcoatRoughnessFactor", p.clearcoat_roughness),
                     );
                 }
+                transmission::put(n, &p.transmission);
             }
             Material::Principled(p) => {
                 n.put("base_color", p.base_color)

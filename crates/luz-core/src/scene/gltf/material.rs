@@ -407,7 +407,7 @@ pub fn clearcoat(
 
 /// One warning per file and kind: `marker` (the file and what is not used), then every material
 /// it concerns, ` materials[i] ("name")`, comma-separated.
-fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize, name: &str) {
+pub(super) fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize, name: &str) {
     let entry = format!(" materials[{i}] (\"{name}\")");
     match warnings.iter_mut().find(|w| w.starts_with(&marker)) {
         Some(w) => {

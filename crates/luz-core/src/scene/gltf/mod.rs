@@ -12,6 +12,7 @@
 mod accessor;
 mod material;
 mod primitive;
+mod transmission;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -444,6 +445,13 @@ impl<'a> Builder<'a> {
             let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
             let textures = self.doc.textures().len();
             material::clearcoat(
+                &m,
+                &mut gm,
+                textures,
+                (self.path, &f),
+                &mut self.out.warnings,
+            )?;
+            transmission::transmission(
                 &m,
                 &mut gm,
                 textures,
