@@ -200,3 +200,35 @@ fn glass_fields_round_trip_and_disperse() {
         "{iors}"
     );
 }
+
+/// KHR_materials_diffuse_transmission: a plane lit only from below is seen from above through
+/// its Lambertian BTDF, `diffuseTransmission · diffuseTransmissionColor / π · E · cos θ`
+/// (base colour black: nothing else reflects), at every pixel; with diffuse transmission 0 it is
+/// black.
+#[test]
+fn diffuse_transmission_lets_light_from_behind_through() {
+    let scene = |dt: f32| {
+        parse(&format!(
+            r#"{{
+            "camera": {{"position": [0, 3, 0.01], "target": [0, 0, 0], "fov_y_deg": 30}},
+            "output": {{"width": 16, "height": 16, "msaa": 1}},
+            "ambient": [0, 0, 0],
+            "lights": [{{"type": "directional", "direction": [0.6, 0.8, 0], "intensity": 2, "color": [1, 1, 1]}}],
+            "materials": {{"m": {{"model": "metal_rough", "base_color": [0, 0, 0], "metallic": 0, "roughness": 1,
+                "diffuse_transmission": {{"diffuseTransmissionFactor": {dt}, "diffuseTransmissionColorFactor": [1, 0.5, 0.25]}}}}}},
+            "objects": [{{"mesh": {{"type": "plane", "size": [10, 10]}}, "material": "m"}}]
+        }}"#
+        ))
+    };
+    let want = 0.5 * Vec3::new(1.0, 0.5, 0.25) / std::f32::consts::PI * 2.0 * 0.8;
+    for (dt, want) in [(0.5, want), (0.0, Vec3::ZERO)] {
+        let img = render_reference(&scene(dt), &ReferenceOptions::default(), None).unwrap();
+        for p in &img.pixels {
+            let got = Vec3::new(p[0], p[1], p[2]);
+            assert!(
+                (got - want).abs().max_element() < 1e-4,
+                "dt {dt}: {got}, want {want}"
+            );
+        }
+    }
+}

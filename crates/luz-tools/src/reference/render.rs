@@ -371,7 +371,8 @@ impl Prepared {
             };
         };
         let c = self.shade(i, t, part, &local, key, samples)
-            + self.transmission(&(i, t, part, local), d, key, samples, layer);
+            + self.transmission(&(i, t, part, local), d, key, samples, layer)
+            + self.diffuse_transmission(&(i, t, part, local), d, key, samples);
         let c = self.apply_fog(c, t);
         let obj = &self.objects[i];
         let Some(mat) = self.materials.get(obj.material) else {
@@ -708,7 +709,8 @@ fn ambient_term(model: &Model, ambient: Vec3) -> Vec3 {
         Model::Phong(p) => ambient * p.ka * p.diffuse_color,
         Model::CookTorrance(p) => ambient * p.kd * p.color,
         Model::MetalRough(p) => {
-            ambient * (1.0 - p.metallic) * (1.0 - p.transmission.factor) * p.base_color
+            let t = p.transmission;
+            ambient * (1.0 - p.metallic) * (1.0 - t.factor) * (1.0 - t.diffuse) * p.base_color
         }
         Model::Principled(p) => ambient * (1.0 - p.metallic) * p.base_color,
         Model::Lambert(p) => ambient * p.albedo,

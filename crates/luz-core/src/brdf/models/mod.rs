@@ -844,9 +844,11 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
 fn metal_rough_base_terms(p: &MetalRoughParams, s: &Setup) -> Terms {
     let a = (p.roughness * p.roughness).max(ALPHA_MIN);
     let f0 = mix3(p.dielectric_f0, p.base_color, p.metallic);
-    // KHR_materials_transmission: the specular BTDF replaces that much of the dielectric's
-    // diffuse (what goes through is the reference's glass walk, not this BRDF).
-    let c_diff = p.base_color * (1.0 - p.metallic) * (1.0 - p.transmission.factor);
+    // KHR_materials_transmission and _diffuse_transmission: the specular and the diffuse BTDF
+    // take those shares of the dielectric's diffuse (what goes through is the reference's, not
+    // this BRDF's).
+    let t = p.transmission;
+    let c_diff = p.base_color * (1.0 - p.metallic) * (1.0 - t.factor) * (1.0 - t.diffuse);
     let (spec, kappa) = p.fresnel.inputs_from_f0(f0);
     let h = safe_normalize(s.l + s.v);
     let n_h = s.n.dot(h);

@@ -8,10 +8,10 @@
 
 use glam::Vec3;
 
-use super::{hash, unit_float, Hit, Prepared, RefObject};
+use super::{cmj, hash, light_incidence, unit_float, Hit, Prepared, RefObject};
 use crate::brdf::{
-    f_dielectric, g_smith_ggx_separable, importance_sample_ggx, ior_from_f0, ortho_basis, Model,
-    RoughDielectric, ALPHA_MIN,
+    f_dielectric, g_smith_ggx_separable, importance_sample_ggx, ior_from_f0, ortho_basis,
+    sample_cosine_hemisphere, Model, RoughDielectric, ALPHA_MIN, INV_PI,
 };
 use crate::reference::geometry::{Ray, Shape};
 use crate::reference::glass::{self, Glass, GlassHit};
@@ -93,6 +93,69 @@ impl Prepared {
             };
         }
         tint * sum / walks as f32
+    }
+}
+
+impl Prepared {
+    /// KHR_materials_diffuse_transmission: light arriving on the side away from the viewer
+    /// through the Lambertian BTDF `(1 − transmission)(1 − metallic) · diffuseTransmission ·
+    /// diffuseTransmissionColor / π` (the extension's mix; the reflected diffuse lost that share:
+    /// `brdf::metal_rough_terms`). Every light on that side (with its shadow rays) and the
+    /// environment over that hemisphere (cosine-sampled, unoccluded as the reflected
+    /// environment is).
+    pub(super) fn diffuse_transmission(
+        &self,
+        hit: &Hit,
+        d: Vec3,
+        key: [u64; 3],
+        (samples, shadow_samples): (u32, u32),
+    ) -> Vec3 {
+        let (i, t, part, local) = hit;
+        let obj = &self.objects[*i];
+        let Some(mat) = self.materials.get(obj.material) else {
+            return Vec3::ZERO;
+        };
+        let ls = obj.shape.surface(local, *t, *part);
+        let (p, n, x, y, uv) = self.world_surface(obj, *part, &ls);
+        let Model::MetalRough(m) = super::surface_at(mat, n, x, y, uv).model else {
+            return Vec3::ZERO;
+        };
+        let tr = m.transmission;
+        if tr.diffuse <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let w = (1.0 - tr.factor) * (1.0 - m.metallic) * tr.diffuse * tr.diffuse_color * INV_PI;
+        // The side away from the viewer.
+        let back = if d.dot(n) < 0.0 { -n } else { n };
+        let mut sum = Vec3::ZERO;
+        for (k, light) in self.lights.iter().enumerate() {
+            let (l, e) = light_incidence(light, p);
+            let c = l.dot(back);
+            if c <= 0.0 || e == Vec3::ZERO {
+                continue;
+            }
+            let vis = if obj.receive_shadow && light.shadow.is_some() {
+                let key = [key[0], key[1], key[2] ^ ((k as u64 + 1) << 40) ^ 0xd1ff];
+                self.light_visibility(light, (p, n, l), obj, key, shadow_samples)
+            } else {
+                1.0
+            };
+            sum += w * e * c * vis;
+        }
+        if let Some(env) = &self.env {
+            let (t, b) = ortho_basis(back);
+            let count = samples.max(1);
+            let pattern = hash(&[key[0], key[1], key[2], 0xd1ff_e000]) as u32;
+            let mut l_sum = Vec3::ZERO;
+            for k in 0..count {
+                let u = cmj(k, count, pattern);
+                let c = sample_cosine_hemisphere(u.x, u.y);
+                l_sum += env.radiance((t * c.x + b * c.y + back * c.z).normalize());
+            }
+            // Cosine sampling: f L cos / (cos/π) = w π L.
+            sum += w * std::f32::consts::PI * l_sum / count as f32;
+        }
+        sum
     }
 }
 
