@@ -10,6 +10,7 @@
 //! cache and simplifies on that form.
 
 mod accessor;
+mod area;
 mod material;
 mod primitive;
 mod transmission;
@@ -19,6 +20,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 
+pub use area::max_scale;
 pub use material::GltfMaterial;
 pub use primitive::UvChoice;
 
@@ -27,6 +29,7 @@ use super::{Camera, Falloff, Light, LightKind, Mesh, Projection};
 /// Extensions luz reads; a file that requires any other one is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
+    "EXT_lights_area",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
@@ -91,6 +94,8 @@ pub struct GltfFile {
     pub cameras: Vec<GltfCamera>,
     /// KHR_lights_punctual lights in node order.
     pub lights: Vec<Light>,
+    /// EXT_lights_area lights in node order.
+    pub area_lights: Vec<super::AreaLight>,
     /// What the file has that luz does not use, one sentence each naming the file.
     pub warnings: Vec<String>,
 }
@@ -563,6 +568,7 @@ impl<'a> Builder<'a> {
         if let Some(light) = node.light() {
             self.light(&light, world)?;
         }
+        self.area_light(node, world)?;
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };
