@@ -49,69 +49,90 @@ AreaLight area_light(uint k) {
 // states the error this leaves).
 #define AREA_DISK_EDGES 24u
 
-// Vertex k of the emitter's polygon: the rect's corners in order, or the polygon around a disk
-// with axes ex, ey.
-vec3 area_vertex(vec3 c, vec3 ex, vec3 ey, uint n, uint k) {
-    if (n == 4u) {
-        float sx = (k == 0u || k == 3u) ? 1.0 : -1.0;
-        float sy = k < 2u ? 1.0 : -1.0;
-        return c + sx * ex + sy * ey;
+// Lagarde & de Rousiers 2014's illuminance of a sphere (or facing disk) of sin²(half-angle)
+// sin2_s whose centre is at cos θ = cos_t from the normal, per unit radiance; exact above the
+// horizon (π sin² σ cos θ), and with the horizon cut otherwise.
+float area_sphere_irradiance(float cos_t, float sin2_s) {
+    cos_t = clamp(cos_t, -0.9999, 0.9999);
+    float c2 = cos_t * cos_t;
+    if (c2 > sin2_s) {
+        return cos_t > 0.0 ? M_PI * sin2_s * cos_t : 0.0;
     }
-    float phi = 2.0 * M_PI * float(k) / float(n);
-    return c + cos(phi) * ex + sin(phi) * ey;
+    float sin_t = sqrt(1.0 - c2);
+    float x = sqrt(1.0 / sin2_s - 1.0);
+    float y = -x * (cos_t / sin_t);
+    float s = sin_t * sqrt(max(1.0 - y * y, 0.0));
+    return max((cos_t * acos(clamp(y, -1.0, 1.0)) - x * s) * sin2_s + atan(s / x), 0.0);
 }
 
-// The cosine-weighted integral of the great arc from a to b (unit vectors) about z: the
-// polygon's form factor is the sum over its edges / 2π (Lambert). atan(|a×b|, a·b) keeps
-// short edges exact in single precision.
-float area_edge(vec3 a, vec3 b) {
-    vec3 c = cross(a, b);
-    float s = length(c);
-    return c.z * (s > 1e-7 ? atan(s, dot(a, b)) / s : 1.0);
+// The cosine-weighted integral of the great arc from a to b (unit vectors) as a vector (Heitz &
+// Hill 2017's edge form: (a × b) θ/(2π sin θ), the factor by their cubic rational fit, no atan):
+// the sum over a polygon's edges is its vector form factor, whose z is the polygon's form factor
+// (Lambert's formula) when it lies above the horizon.
+vec3 area_edge(vec3 a, vec3 b) {
+    float x = dot(a, b);
+    float y = abs(x);
+    float u = 0.8543985 + (0.4965155 + 0.0145206 * y) * y;
+    float w = 3.4175940 + (4.1616724 + y) * y;
+    float v = u / w;
+    float theta_sin = x > 0.0 ? v : 0.5 * inversesqrt(max(1.0 - x * x, 1e-7)) - v;
+    return cross(a, b) * theta_sin;
 }
 
-void area_emit(vec3 x, inout float sum, inout vec3 first, inout vec3 prev, inout bool have) {
-    float len2 = dot(x, x);
-    if (len2 < 1e-20) {
-        return;
+// The form factor of a polygon from its vector form factor F, the part below the horizon (z < 0)
+// cut as for the sphere of the same F (Heitz & Hill 2017's approximation, with Lagarde & de
+// Rousiers' closed form instead of a table): exact when the polygon lies wholly above.
+float ltc_clipped(vec3 F) {
+    float len2 = dot(F, F);
+    if (len2 < 1e-18) {
+        return 0.0;
     }
-    x *= inversesqrt(len2);
-    if (have) {
-        sum += area_edge(prev, x);
-    } else {
-        first = x;
-        have = true;
-    }
-    prev = x;
+    float len = sqrt(len2);
+    return area_sphere_irradiance(F.z / len, min(len, 0.9999)) / M_PI;
 }
 
-// The form factor of the emitter's polygon (centre c, axes ex, ey, n vertices) seen from P
-// through the transform M (world to the cosine's frame): the polygon is clipped to the cosine's
-// hemisphere z ≥ 0 edge by edge (Sutherland–Hodgman, streamed) and integrated exactly.
-float ltc_polygon(mat3 M, vec3 P, vec3 c, vec3 ex, vec3 ey, uint n) {
-    float sum = 0.0;
-    vec3 first = vec3(0.0);
-    vec3 prev = vec3(0.0);
-    bool have = false;
-    vec3 a = M * (area_vertex(c, ex, ey, n, n - 1u) - P);
-    for (uint k = 0u; k < n; ++k) {
-        vec3 b = M * (area_vertex(c, ex, ey, n, k) - P);
-        if (a.z >= 0.0) {
-            if (b.z >= 0.0) {
-                area_emit(b, sum, first, prev, have);
-            } else {
-                area_emit(a + (b - a) * (a.z / (a.z - b.z)), sum, first, prev, have);
-            }
-        } else if (b.z >= 0.0) {
-            area_emit(a + (b - a) * (a.z / (a.z - b.z)), sum, first, prev, have);
-            area_emit(b, sum, first, prev, have);
+// The vector form factors of the emitter's polygon (centre c, axes ex, ey, n vertices) seen from
+// P, in the shading frame (`to_frame`, diffuse) and through the LTC's M⁻¹ (`minv`, specular;
+// `spec` false: skipped), each oriented towards the polygon.
+void ltc_polygon(mat3 to_frame, mat3 minv, bool spec, vec3 P, vec3 c, vec3 ex, vec3 ey, uint n,
+                 out vec3 fd, out vec3 fs) {
+    fd = vec3(0.0);
+    fs = vec3(0.0);
+    vec3 d0 = to_frame * (c - P);
+    vec3 dx = to_frame * ex;
+    vec3 dy = to_frame * ey;
+    // Vertex k at angle φ_k = 2πk/n (a rect: its corners at 45°, 135°, … scaled by √2).
+    float step = 2.0 * M_PI / float(n);
+    float scale = n == 4u ? sqrt(2.0) : 1.0;
+    float phi0 = n == 4u ? 0.25 * M_PI : 0.0;
+    vec2 cs = vec2(cos(phi0), sin(phi0)) * scale;
+    vec2 rot = vec2(cos(step), sin(step));
+    vec3 first_d = normalize(d0 + cs.x * dx + cs.y * dy);
+    vec3 first_s = normalize(minv * (d0 + cs.x * dx + cs.y * dy));
+    vec3 prev_d = first_d;
+    vec3 prev_s = first_s;
+    for (uint k = 1u; k <= n; ++k) {
+        vec3 vd_k;
+        vec3 vs_k;
+        if (k == n) {
+            vd_k = first_d;
+            vs_k = first_s;
+        } else {
+            cs = vec2(cs.x * rot.x - cs.y * rot.y, cs.x * rot.y + cs.y * rot.x);
+            vec3 q = d0 + cs.x * dx + cs.y * dy;
+            vd_k = normalize(q);
+            vs_k = spec ? normalize(minv * q) : vd_k;
         }
-        a = b;
+        fd += area_edge(prev_d, vd_k);
+        if (spec) {
+            fs += area_edge(prev_s, vs_k);
+        }
+        prev_d = vd_k;
+        prev_s = vs_k;
     }
-    if (have) {
-        sum += area_edge(prev, first);
-    }
-    return abs(sum) / (2.0 * M_PI);
+    // Either winding: the form factor vector points into the polygon's cone.
+    fd *= dot(fd, d0) < 0.0 ? -1.0 : 1.0;
+    fs *= dot(fs, minv * d0) < 0.0 ? -1.0 : 1.0;
 }
 
 // The polygon (centre, axes, vertex count) the LTC integrates for a rect, a disk, or the disk
@@ -181,26 +202,11 @@ float area_window(AreaLight a, vec3 P) {
     return w * w;
 }
 
-// Lagarde & de Rousiers 2014's illuminance of a sphere (or facing disk) of sin²(half-angle)
-// sin2_s whose centre is at cos θ = cos_t from the normal, per unit radiance; exact above the
-// horizon (π sin² σ cos θ), and with the horizon cut otherwise.
-float area_sphere_irradiance(float cos_t, float sin2_s) {
-    cos_t = clamp(cos_t, -0.9999, 0.9999);
-    float c2 = cos_t * cos_t;
-    if (c2 > sin2_s) {
-        return cos_t > 0.0 ? M_PI * sin2_s * cos_t : 0.0;
-    }
-    float sin_t = sqrt(1.0 - c2);
-    float x = sqrt(1.0 / sin2_s - 1.0);
-    float y = -x * (cos_t / sin_t);
-    float s = sin_t * sqrt(max(1.0 - y * y, 0.0));
-    return max((cos_t * acos(clamp(y, -1.0, 1.0)) - x * s) * sin2_s + atan(s / x), 0.0);
-}
-
 // Karis 2013's representative point for spheres and tubes: the specular lobe is evaluated towards
 // the point of the emitter nearest the reflected ray, with its D widened from α to
 // α' = sat(α + r/(2d)) and the energy renormalised by (α/α')²; the diffuse term sees the sphere's
-// (or, for a tube, the nearest point's sphere's) exact irradiance from its centre.
+// (or, for a tube, the nearest point's sphere's) irradiance from its centre, exact above the
+// horizon (no horizon cut: the cheap method).
 vec3 area_representative_point(AreaLight a, Surface s, vec3 P, vec3 V) {
     vec3 n = s.n;
     vec3 r = reflect(-V, n);
@@ -226,11 +232,18 @@ vec3 area_representative_point(AreaLight a, Surface s, vec3 P, vec3 V) {
     float alpha = max(roughness * roughness, BRDF_ALPHA_MIN);
     float alpha2 = clamp(alpha + a.radius / (2.0 * max(d, 1e-6)), 0.0, 1.0);
     float norm = (alpha / alpha2) * (alpha / alpha2);
-    BrdfTerms td = brdf_eval_terms(s.p, n, lc, V, s.x, s.y);
-    BrdfTerms ts = brdf_eval_terms(s.p, n, ls, V, s.x, s.y);
-    float e_d = area_sphere_irradiance(dot(n, lc), sin2);
+    // One evaluation, towards the representative point: its diffuse term with the irradiance of
+    // the sphere above the horizon (π sin²σ cos θ from the centre), its specular term with the
+    // sphere's solid angle at that point.
+    BrdfTerms t;
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        t = brdf_metal_rough_base_terms_unit(s.p, n, ls, V);
+    } else {
+        t = brdf_eval_terms(s.p, n, ls, V, s.x, s.y);
+    }
+    float e_d = M_PI * sin2 * max(dot(n, lc), 0.0);
     float e_s = M_PI * sin2 * max(dot(n, ls), 0.0) * norm;
-    return td.diffuse * e_d + ts.specular * e_s;
+    return t.diffuse * e_d + t.specular * e_s;
 }
 
 // The radical inverse of i in base 2 (Hammersley's second coordinate).
@@ -332,9 +345,11 @@ vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
     }
     t1 *= inversesqrt(len2);
     mat3 to_frame = transpose(mat3(t1, cross(N, t1), N));
-    float ff = ltc_polygon(to_frame, P, c, ex, ey, n);
+    vec3 fd;
+    vec3 fs;
     if (MODEL == BRDF_MODEL_LAMBERT) {
-        return s.p.color.rgb * ff;
+        ltc_polygon(to_frame, mat3(1.0), false, P, c, ex, ey, n, fd, fs);
+        return s.p.color.rgb * ltc_clipped(fd);
     }
     BrdfParams p = s.p;
     float roughness = p.color.w;
@@ -344,11 +359,11 @@ vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
     vec4 f;
     ltc_lookup(sqrt(max(1.0 - clamp(n_v, 0.0, 1.0), 0.0)), roughness, m, f);
     mat3 minv = mat3(vec3(m.x, 0.0, m.y), vec3(0.0, 1.0, 0.0), vec3(m.z, 0.0, m.w));
-    float fs = ltc_polygon(minv * to_frame, P, c, ex, ey, n);
+    ltc_polygon(to_frame, minv, true, P, c, ex, ey, n, fd, fs);
     vec3 spec = f0 * (f.x - f.y) + f.y;
     // The diffuse weight 1 − F (metal-rough's p0.x) at the view's Schlick Fresnel.
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - f_schlick(f0, clamp(n_v, 0.0, 1.0)) : vec3(1.0);
-    return p.color.rgb * (1.0 - metallic) * weight * ff + spec * fs;
+    return p.color.rgb * (1.0 - metallic) * weight * ltc_clipped(fd) + spec * ltc_clipped(fs);
 }
 
 // The light one area light reflects towards V at P. Rect and disk lights are shaded by LTC unless
