@@ -101,6 +101,25 @@ void ltc_polygon(mat3 to_frame, mat3 minv, bool spec, vec3 P, vec3 c, vec3 ex, v
     vec3 d0 = to_frame * (c - P);
     vec3 dx = to_frame * ex;
     vec3 dy = to_frame * ey;
+    if ((LIGHT_KINDS & (LK_AREA_DISK | LK_AREA_SPHERE)) == 0u) {
+        // Rects only: the four corners, unrolled.
+        vec3 q[4] = vec3[](d0 + dx + dy, d0 - dx + dy, d0 - dx - dy, d0 + dx - dy);
+        vec3 u[4];
+        vec3 w[4];
+        for (uint k = 0u; k < 4u; ++k) {
+            u[k] = normalize(q[k]);
+            w[k] = spec ? normalize(minv * q[k]) : u[k];
+        }
+        for (uint k = 0u; k < 4u; ++k) {
+            fd += area_edge(u[k], u[(k + 1u) & 3u]);
+            if (spec) {
+                fs += area_edge(w[k], w[(k + 1u) & 3u]);
+            }
+        }
+        fd *= dot(fd, d0) < 0.0 ? -1.0 : 1.0;
+        fs *= dot(fs, minv * d0) < 0.0 ? -1.0 : 1.0;
+        return;
+    }
     // Vertex k at angle φ_k = 2πk/n (a rect: its corners at 45°, 135°, … scaled by √2).
     float step = 2.0 * M_PI / float(n);
     float scale = n == 4u ? sqrt(2.0) : 1.0;
@@ -143,7 +162,7 @@ bool area_polygon(AreaLight a, vec3 P, out vec3 c, out vec3 ex, out vec3 ey, out
     ex = a.ex;
     ey = a.ey;
     n = 4u;
-    if (a.shape == AREA_SPHERE) {
+    if ((LIGHT_KINDS & LK_AREA_SPHERE) != 0u && a.shape == AREA_SPHERE) {
         vec3 w = P - c;
         float d2 = dot(w, w);
         float r2 = a.radius * a.radius;
@@ -161,7 +180,7 @@ bool area_polygon(AreaLight a, vec3 P, out vec3 c, out vec3 ex, out vec3 ey, out
     } else if (!a.two_sided && dot(P - c, a.direction) <= 0.0) {
         return false;
     }
-    if (a.shape != AREA_RECT) {
+    if ((LIGHT_KINDS & (LK_AREA_DISK | LK_AREA_SPHERE)) != 0u && a.shape != AREA_RECT) {
         // The regular polygon of the disk's area: circumradius · sqrt(2π / (n sin(2π/n))).
         n = AREA_DISK_EDGES;
         float s = sqrt(2.0 * M_PI / (float(n) * sin(2.0 * M_PI / float(n))));
@@ -211,7 +230,7 @@ vec3 area_representative_point(AreaLight a, Surface s, vec3 P, vec3 V) {
     vec3 n = s.n;
     vec3 r = reflect(-V, n);
     vec3 c = a.position;
-    if (a.shape == AREA_TUBE) {
+    if ((LIGHT_KINDS & LK_AREA_TUBE) != 0u && a.shape == AREA_TUBE) {
         // The segment's point nearest the reflected ray, then a sphere of the tube's radius there.
         vec3 l0 = a.position - a.ex - P;
         vec3 l1 = a.position + a.ex - P;
@@ -261,7 +280,7 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
     vec3 v = vec3(0.0);
     float cos_max = 1.0;
     float inv_n = 1.0 / float(count);
-    if (a.shape == AREA_SPHERE) {
+    if ((LIGHT_KINDS & LK_AREA_SPHERE) != 0u && a.shape == AREA_SPHERE) {
         vec3 to_c = a.position - P;
         float d2 = dot(to_c, to_c);
         if (d2 <= a.radius * a.radius) {
@@ -272,7 +291,7 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
         u = normalize(cross(w, t));
         v = cross(w, u);
         cos_max = sqrt(max(1.0 - a.radius * a.radius / d2, 0.0));
-    } else if (a.shape == AREA_TUBE) {
+    } else if ((LIGHT_KINDS & LK_AREA_TUBE) != 0u && a.shape == AREA_TUBE) {
         w = normalize(a.ex);
         vec3 t = abs(w.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
         u = normalize(cross(w, t));
@@ -283,7 +302,7 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
         float u2 = area_radical_inverse(i);
         vec3 l;
         float weight;  // the sample's solid angle
-        if (a.shape == AREA_SPHERE) {
+        if ((LIGHT_KINDS & LK_AREA_SPHERE) != 0u && a.shape == AREA_SPHERE) {
             float ct = 1.0 - u1 * (1.0 - cos_max);
             float st = sqrt(max(1.0 - ct * ct, 0.0));
             float phi = 2.0 * M_PI * u2;
@@ -297,7 +316,7 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
                 q = a.position + (2.0 * u1 - 1.0) * a.ex + (2.0 * u2 - 1.0) * a.ey;
                 nq = a.direction;
                 area = 4.0 * length(a.ex) * length(a.ey);
-            } else if (a.shape == AREA_DISK) {
+            } else if ((LIGHT_KINDS & LK_AREA_DISK) != 0u && a.shape == AREA_DISK) {
                 float rr = sqrt(u1);
                 float phi = 2.0 * M_PI * u2;
                 q = a.position + rr * (cos(phi) * a.ex + sin(phi) * a.ey);

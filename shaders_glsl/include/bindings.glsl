@@ -201,7 +201,7 @@ layout(constant_id = 10) const int SEL_FRESNEL = -1;
 // Bit MAP_* set when the material may have that map (0: no texture code at all).
 layout(constant_id = 11) const uint MAPS = 0xFFu;
 // The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
-layout(constant_id = 12) const uint LIGHT_KINDS = 8191u;
+layout(constant_id = 12) const uint LIGHT_KINDS = 65535u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
@@ -233,5 +233,9 @@ layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_AREA_RP 2048u
 #define LK_AREA_SAMPLED 4096u
 #define LK_AREA (LK_AREA_LTC | LK_AREA_RP | LK_AREA_SAMPLED)
+// Some area light has this shape (rects need no bit: their code is the smallest).
+#define LK_AREA_SPHERE 8192u
+#define LK_AREA_TUBE 16384u
+#define LK_AREA_DISK 32768u
 
 #endif

@@ -88,10 +88,13 @@ pub const LK_SHADOW_PCSS: u32 = b::LK_SHADOW_PCSS;
 pub const LK_AREA_LTC: u32 = b::LK_AREA_LTC;
 pub const LK_AREA_RP: u32 = b::LK_AREA_RP;
 pub const LK_AREA_SAMPLED: u32 = b::LK_AREA_SAMPLED;
+pub const LK_AREA_SPHERE: u32 = b::LK_AREA_SPHERE;
+pub const LK_AREA_TUBE: u32 = b::LK_AREA_TUBE;
+pub const LK_AREA_DISK: u32 = b::LK_AREA_DISK;
 
-/// The `LK_AREA_*` method bits (and `LK_RANGE`) area lights need, as `area.glsl`'s `area_shade`
-/// picks a method: sampled where asked; representative point for tubes and for spheres that ask
-/// for it; LTC for the rest (rect and disk always, unless sampled).
+/// The `LK_AREA_*` method and shape bits (and `LK_RANGE`) area lights need, as `area.glsl`'s
+/// `area_shade` picks a method: sampled where asked; representative point for tubes and for
+/// spheres that ask for it; LTC for the rest (rect and disk always, unless sampled).
 pub fn area_kinds(lights: &[AreaLight]) -> u32 {
     lights.iter().fold(0, |bits, l| {
         bits | match (l.shape, l.method) {
@@ -99,6 +102,11 @@ pub fn area_kinds(lights: &[AreaLight]) -> u32 {
             (AreaShape::Tube { .. }, _)
             | (AreaShape::Sphere { .. }, AreaMethod::RepresentativePoint) => LK_AREA_RP,
             _ => LK_AREA_LTC,
+        } | match l.shape {
+            AreaShape::Rect { .. } => 0,
+            AreaShape::Disk { .. } => LK_AREA_DISK,
+            AreaShape::Sphere { .. } => LK_AREA_SPHERE,
+            AreaShape::Tube { .. } => LK_AREA_TUBE,
         } | if l.range.is_some() { LK_RANGE } else { 0 }
     })
 }
