@@ -20,6 +20,7 @@
 mod albedo;
 mod energy;
 mod gpu;
+mod ltc;
 mod models;
 mod names;
 mod presets;
@@ -37,6 +38,10 @@ pub use albedo::{
 };
 pub use energy::{energy_scale, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
+pub use ltc::{
+    fit_entry, fit_table, generate_ltc_table, ltc_table, refit_shipped_entry, shipped_lobe,
+    LtcEntry, LTC_ENTRY, LTC_FILE, LTC_FIT_SAMPLES, LTC_SIZE,
+};
 pub use models::layers::{
     clearcoat_energy, clearcoat_layer, clearcoat_specular, ClearcoatEnergy, CLEARCOAT_F0,
 };

@@ -177,12 +177,28 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
              range so that the clustered light loop can skip them where they do not reach"
         ));
     }
-    if !scene.area_lights.is_empty() {
-        scene.warnings.push(format!(
-            "lights: {} area light(s): `luz reference` shades them, but the GPU renderer does \
-             not yet (issue 36)",
-            scene.area_lights.len()
-        ));
+    for (i, a) in scene.area_lights.iter().enumerate() {
+        use super::area::{AreaMethod, AreaShape};
+        let what = format!("area light {i} ({})", a.shape.name());
+        match (a.shape, a.method) {
+            (AreaShape::Tube { .. }, AreaMethod::Ltc) => scene.warnings.push(format!(
+                "lights: {what}: the GPU has no LTC form for tubes yet; it shades this one by \
+                 representative point (issue 36)"
+            )),
+            (AreaShape::Rect { .. } | AreaShape::Disk { .. }, AreaMethod::RepresentativePoint) => {
+                scene.warnings.push(format!(
+                    "lights: {what}: representative point is for spheres and tubes; the GPU \
+                     shades this one by LTC"
+                ))
+            }
+            _ => {}
+        }
+        if a.shadow.is_some() {
+            scene.warnings.push(format!(
+                "lights: {what}: `luz reference` shadows it, the GPU renderer does not yet \
+                 (issue 36)"
+            ));
+        }
     }
     let glass: Vec<&str> = scene
         .materials
