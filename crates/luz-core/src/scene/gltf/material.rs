@@ -7,6 +7,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use gltf::texture::{MagFilter, MinFilter, WrappingMode};
 
+use super::ext::{Ext, Range};
 use super::primitive::UvChoice;
 use super::GltfError;
 use crate::brdf::MetalRoughParams;
@@ -344,11 +345,6 @@ pub fn clearcoat(
     };
     let i = m.index().unwrap_or(0);
     let path = format!("materials[{i}].extensions.KHR_materials_clearcoat");
-    let err = |key: &str, reason: String| GltfError {
-        file: file.to_path_buf(),
-        path: format!("{path}.{key}"),
-        reason,
-    };
     let Some(obj) = ext.as_object() else {
         return Err(GltfError {
             file: file.to_path_buf(),
@@ -356,41 +352,19 @@ pub fn clearcoat(
             reason: "expected an object".into(),
         });
     };
-    let factor = |key: &str| -> Result<f32, GltfError> {
-        match obj.get(key) {
-            None => Ok(0.0),
-            Some(v) => match v.as_f64() {
-                Some(x) if (0.0..=1.0).contains(&x) => Ok(x as f32),
-                Some(x) => Err(err(key, format!("must be in [0, 1], got {x}"))),
-                None => Err(err(key, format!("expected a number, got {v}"))),
-            },
-        }
-    };
+    let e = Ext::new(obj, path, file);
     let (coat, roughness) = (
-        factor("clearcoatFactor")?,
-        factor("clearcoatRoughnessFactor")?,
+        e.number("clearcoatFactor", 0.0, Range::Unit)?,
+        e.number("clearcoatRoughnessFactor", 0.0, Range::Unit)?,
     );
-    let mut with_maps = false;
-    for key in [
-        "clearcoatTexture",
-        "clearcoatRoughnessTexture",
-        "clearcoatNormalTexture",
-    ] {
-        let Some(info) = obj.get(key) else { continue };
-        let index = info.get("index").and_then(|v| v.as_u64());
-        match index {
-            Some(t) if (t as usize) < textures => with_maps = true,
-            Some(t) => {
-                return Err(err(
-                    &format!("{key}.index"),
-                    format!("texture {t} does not exist (the file has {textures})"),
-                ))
-            }
-            None => {
-                return Err(err(key, "expected a texture info with an \"index\"".into()));
-            }
-        }
-    }
+    let with_maps = e.has_textures(
+        &[
+            "clearcoatTexture",
+            "clearcoatRoughnessTexture",
+            "clearcoatNormalTexture",
+        ],
+        textures,
+    )?;
     if with_maps {
         let marker = format!(
             "{file_name}: KHR_materials_clearcoat's textures are not used (luz has no coat maps \

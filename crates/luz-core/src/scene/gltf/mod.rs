@@ -11,6 +11,7 @@
 
 mod accessor;
 mod area;
+mod ext;
 mod material;
 mod primitive;
 mod transmission;
@@ -449,20 +450,16 @@ impl<'a> Builder<'a> {
         for m in self.doc.materials() {
             let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
             let textures = self.doc.textures().len();
-            material::clearcoat(
-                &m,
-                &mut gm,
-                textures,
-                (self.path, &f),
-                &mut self.out.warnings,
-            )?;
-            transmission::transmission(
-                &m,
-                &mut gm,
-                textures,
-                (self.path, &f),
-                &mut self.out.warnings,
-            )?;
+            // The material extensions luz reads onto metal_rough.
+            for read in [material::clearcoat, transmission::transmission] {
+                read(
+                    &m,
+                    &mut gm,
+                    textures,
+                    (self.path, &f),
+                    &mut self.out.warnings,
+                )?;
+            }
             self.out.materials.push(gm);
         }
         let roots: Vec<usize> = match scene {
