@@ -15,7 +15,7 @@
 #define BINDING_GBUFFER 0
 layout(set = SET_GBUFFER, binding = BINDING_GBUFFER) uniform utexture2D gbuffer;
 
-// src/render/gpu.rs: DeferredMaterial (std430, 160 bytes).
+// src/render/gpu.rs: DeferredMaterial (std430, 224 bytes).
 struct DeferredMaterial {
     BrdfParams brdf;
     uint object_index;
@@ -25,6 +25,9 @@ struct DeferredMaterial {
     vec4 emissive;
     vec4 params;
     uvec4 present;
+    vec4 volume;
+    vec4 attenuation;
+    vec4 diffuse_transmission;
 };
 layout(set = SET_FRAME, binding = BINDING_DEFERRED_MATERIALS, std430) readonly buffer DeferredMaterials {
     DeferredMaterial deferred_materials[];
@@ -45,6 +48,9 @@ void main() {
     mat_extra.emissive = m.emissive;
     mat_extra.params = m.params;
     mat_extra.present = m.present;
+    mat_extra.volume = m.volume;
+    mat_extra.attenuation = m.attenuation;
+    mat_extra.diffuse_transmission = m.diffuse_transmission;
 
     // The pixel centre's ray and the point on it at
     // the stored view depth.

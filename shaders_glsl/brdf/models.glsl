@@ -1,5 +1,5 @@
 // BRDF models (MODELS.md §1, §4, §5, §6): the GLSL mirror of src/brdf/models.rs.
-// Parameters come packed in BrdfParams (96 bytes, filled by GpuBrdfParams::from_model in
+// Parameters come packed in BrdfParams (112 bytes, filled by GpuBrdfParams::from_model in
 // src/brdf/gpu.rs from sanitised parameters; layout in docs/brdf.md). Each brdf_*_terms function
 // mirrors the Rust *_terms function of the same name. GLSL 4.60, no extension needed.
 #ifndef LUZ_BRDF_MODELS_GLSL
@@ -35,6 +35,11 @@
 #define BRDF_DIFFUSE_BURLEY 1
 // The layers of the glTF PBR extensions on metal-rough (src/brdf/models/layers.rs), bits of BRDF_LOBES.
 #define BRDF_LOBE_CLEARCOAT 1u
+// Glass (issue 35; the forward pass's include/transmission.glsl): specular transmission through
+// a copy of the opaque scene, one index per channel, and diffuse transmission from the far side.
+#define BRDF_LOBE_TRANSMISSION 2u
+#define BRDF_LOBE_DISPERSION 4u
+#define BRDF_LOBE_DIFFUSE_TRANSMISSION 8u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
 // (brdf_eval.comp) every lobe is compiled.
@@ -42,7 +47,7 @@
 #define BRDF_LOBES 0xFFFFFFFFu
 #endif
 
-// std430 / push-constant layout, 96 bytes. Slot use per model: docs/brdf.md.
+// std430 / push-constant layout, 112 bytes. Slot use per model: docs/brdf.md.
 struct BrdfParams {
     vec4 color;  //  0: rgb albedo / base colour / O_d; a roughness (Cook-Torrance, metal-rough, Principled)
     vec4 spec;   // 16: rgb O_s (Phong) or F0 / η (Cook-Torrance); a metallic (metal-rough, Principled)
@@ -53,6 +58,7 @@ struct BrdfParams {
     vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss);
                  //     metal-rough (clearcoat, clearcoat_roughness, -, -)
     ivec4 sel;   // 80: model, distribution, geometry, fresnel
+    vec4 p2;     // 96: metal-rough (transmission, diffuse transmission, -, -)
 };
 
 // The BRDF split into terms; diffuse + specular is the BRDF value (see Terms in models.rs).
@@ -233,6 +239,12 @@ BrdfTerms brdf_cook_torrance_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in
     return t;
 }
 
+// The share of metal-rough's diffuse that KHR_materials_transmission and _diffuse_transmission
+// leave it: (1 − transmission)(1 − diffuse transmission) (1 for the other models).
+float brdf_diffuse_keep(BrdfParams p) {
+    return p.sel.x == BRDF_MODEL_METAL_ROUGH ? (1.0 - p.p2.x) * (1.0 - p.p2.y) : 1.0;
+}
+
 // glTF metallic-roughness: c_diff/π [1 − F] + D F G / (4 (n·l)(n·v)).
 // The metallic-roughness terms without layers, for unit n, l and v (metal_rough_base_terms).
 BrdfTerms brdf_metal_rough_base_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
@@ -249,7 +261,8 @@ BrdfTerms brdf_metal_rough_base_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v)
     float metallic = p.spec.w;
     float a = max(roughness * roughness, BRDF_ALPHA_MIN);
     vec3 f0 = mix(p.spec.rgb, base, metallic);  // spec.rgb: the dielectric F0 (0.04)
-    vec3 c_diff = base * (1.0 - metallic);
+    // KHR_materials_transmission and _diffuse_transmission take their shares of the diffuse.
+    vec3 c_diff = base * ((1.0 - metallic) * (1.0 - p.p2.x) * (1.0 - p.p2.y));
     vec3 spec = brdf_fresnel_spec_from_f0(p.sel.w, f0);
     vec3 h = brdf_safe_normalize(l + v);
     float n_h = dot(n, h);

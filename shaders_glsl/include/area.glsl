@@ -382,7 +382,7 @@ vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
     vec3 spec = f0 * (f.x - f.y) + f.y;
     // The diffuse weight 1 − F (metal-rough's p0.x) at the view's Schlick Fresnel.
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - f_schlick(f0, clamp(n_v, 0.0, 1.0)) : vec3(1.0);
-    return p.color.rgb * (1.0 - metallic) * weight * ltc_clipped(fd) + spec * ltc_clipped(fs);
+    return p.color.rgb * ((1.0 - metallic) * brdf_diffuse_keep(p)) * weight * ltc_clipped(fd) + spec * ltc_clipped(fs);
 }
 
 // The light one area light reflects towards V at P. Rect and disk lights are shaded by LTC unless

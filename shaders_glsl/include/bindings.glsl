@@ -121,6 +121,10 @@ layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform Mat
     vec4 emissive;  // rgb emission factor
     vec4 params;    // normal_scale, occlusion_strength, alpha factor, alpha cutoff
     uvec4 present;  // x: bit MAP_* set when that map exists
+    // Glass (include/transmission.glsl; src/render/material.rs: MaterialExtra::glass):
+    vec4 volume;        // thickness (mesh units), dispersion, -, -
+    vec4 attenuation;   // rgb: σ per unit length (KHR_materials_volume), -
+    vec4 diffuse_transmission;  // rgb: diffuseTransmissionColorFactor, -
 } mat_extra;
 
 // Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush): the packed BRDF
@@ -142,6 +146,9 @@ struct MaterialExtraData {
     vec4 emissive;
     vec4 params;
     uvec4 present;
+    vec4 volume;
+    vec4 attenuation;
+    vec4 diffuse_transmission;
 };
 struct MaterialPushData {
     BrdfParams brdf;
@@ -237,5 +244,16 @@ layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_AREA_SPHERE 8192u
 #define LK_AREA_TUBE 16384u
 #define LK_AREA_DISK 32768u
+
+// Glass (include/transmission.glsl): the copy of the opaque scene's HDR colour, with its mips,
+// that transmissive draws sample (a 1×1 stand-in when the scene has none), and how
+// (src/scene: Refraction; REFRACTION_* codes).
+#define BINDING_TRANSMISSION 9
+layout(constant_id = 24) const uint REFRACTION = 0u;
+#define REFRACTION_SCREEN 0u
+#define REFRACTION_SCREEN_FILAMENT 1u
+#define REFRACTION_SCREEN_SHARP 2u
+#define REFRACTION_THIN 3u
+#define REFRACTION_NONE 4u
 
 #endif

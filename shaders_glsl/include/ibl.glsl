@@ -117,7 +117,10 @@ vec3 ibl_diffuse_albedo(BrdfParams p) {
     if (MODEL == BRDF_MODEL_COOK_TORRANCE) {
         return p.kappa.w * p.color.rgb;
     }
-    if (MODEL == BRDF_MODEL_METAL_ROUGH || MODEL == BRDF_MODEL_PRINCIPLED) {
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        return (1.0 - p.spec.w) * brdf_diffuse_keep(p) * p.color.rgb;
+    }
+    if (MODEL == BRDF_MODEL_PRINCIPLED) {
         return (1.0 - p.spec.w) * p.color.rgb;
     }
     return p.color.rgb;

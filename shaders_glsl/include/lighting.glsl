@@ -179,7 +179,10 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
     if (MODEL == BRDF_MODEL_COOK_TORRANCE) {
         return ambient * p.kappa.w * p.color.rgb;
     }
-    if (MODEL == BRDF_MODEL_METAL_ROUGH || MODEL == BRDF_MODEL_PRINCIPLED) {
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        return ambient * (1.0 - p.spec.w) * brdf_diffuse_keep(p) * p.color.rgb;
+    }
+    if (MODEL == BRDF_MODEL_PRINCIPLED) {
         return ambient * (1.0 - p.spec.w) * p.color.rgb;
     }
     return ambient * p.color.rgb;
@@ -189,6 +192,10 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #include "ibl.glsl"
 #endif
 #include "area.glsl"
+#if defined(LUZ_FRAGMENT) && !defined(LUZ_DEFERRED)
+#define LUZ_GLASS
+#include "transmission.glsl"
+#endif
 
 // The number of lights, for loops over them (through opaque(): see bindings.glsl).
 uint light_count() {
@@ -324,6 +331,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         if (shadowed) {
             E *= shadow_visibility(i, P, N, l);
         }
+#ifdef LUZ_GLASS
+        if ((LOBES & BRDF_LOBE_DIFFUSE_TRANSMISSION) != 0u && MODEL == BRDF_MODEL_METAL_ROUGH) {
+            result += diffuse_transmission_weight(p) * E * clamp(-dot(s.n, l), 0.0, 1.0);
+        }
+#endif
 #ifdef IBL
         if (energy_compensated(p)) {
             BrdfTerms t = brdf_metal_rough_base_terms_unit(p, s.n, l, V);
@@ -345,6 +357,18 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     }
 #ifdef IBL
     result += s.occlusion * ibl_shade(p, s.n, V, s.x, s.y, es);
+#endif
+#ifdef LUZ_GLASS
+    if (MODEL == BRDF_MODEL_METAL_ROUGH && REFRACTION != REFRACTION_NONE) {
+        if ((LOBES & BRDF_LOBE_TRANSMISSION) != 0u) {
+            result += transmitted(s, P, V);
+        }
+#ifdef IBL
+        if ((LOBES & BRDF_LOBE_DIFFUSE_TRANSMISSION) != 0u) {
+            result += s.occlusion * diffuse_transmission_weight(p) * env_irradiance(-s.n);
+        }
+#endif
+    }
 #endif
     return result + s.emission;
 }

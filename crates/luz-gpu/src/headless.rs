@@ -588,7 +588,7 @@ impl Headless {
         let d = self.ctx.device.clone();
         let cmd = self.cmd;
         self.forward.prepare(output)?;
-        self.forward.prepare_extent(self.target.extent());
+        self.forward.prepare_extent(self.target.extent())?;
         // SAFETY: `cmd` was allocated from `self.pool` (created with RESET_COMMAND_BUFFER) and is
         // not pending: the previous `render` waited for its fence before returning.
         unsafe { crate::vk::cmd::restart(&d, cmd) }?;

@@ -277,7 +277,7 @@ impl Viewer {
         let screenshot = self.pending_screenshot.take();
         let output = self.frame_output(screenshot.as_deref());
         self.forward.prepare(output)?;
-        self.forward.prepare_extent(self.swapchain.extent);
+        self.forward.prepare_extent(self.swapchain.extent)?;
         let readback = self.record(
             cmd,
             slot,

@@ -105,7 +105,7 @@ impl Side {
         let aspect = env.extent.width as f32 / env.extent.height.max(1) as f32;
         b.forward.update(slot, &b.scene, aspect)?;
         b.forward.prepare(Output::Hdr)?;
-        b.forward.prepare_extent(env.extent);
+        b.forward.prepare_extent(env.extent)?;
         b.display.prepare(b.scene.output.tonemap, format)?;
         Ok(message)
     }

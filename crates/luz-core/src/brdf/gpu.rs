@@ -1,5 +1,5 @@
 //! The packed material parameters the GLSL mirror reads (`BrdfParams` in
-//! `shaders_glsl/brdf/models.glsl`): 96 bytes, std430 / push-constant layout, six 16-byte slots.
+//! `shaders_glsl/brdf/models.glsl`): 112 bytes, std430 / push-constant layout, seven 16-byte slots.
 //!
 //! | offset | GLSL | Lambert | Phong / Blinn | Cook-Torrance | metal-rough | Principled | Oren-Nayar |
 //! |---|---|---|---|---|---|---|---|
@@ -9,6 +9,7 @@
 //! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | –, diffuse, –, – | (1−F) weight 0/1, diffuse, –, – | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
 //! | 64 | `vec4 p1`     | – | – | – | clearcoat, clearcoat_roughness, –, – | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
 //! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
+//! | 96 | `vec4 p2`     | – | – | – | transmission, diffuse transmission, –, – | – | – |
 //!
 //! `diffuse` is the [`Diffuse`](super::Diffuse) code as a float (0 Lambert, 1 Burley): `sel` is
 //! full. The forward pass may also fix it per pipeline (specialization constant `SEL_DIFFUSE`).
@@ -63,14 +64,16 @@ pub struct GpuBrdfParams {
     pub p1: [f32; 4],
     /// Offset 80: model code, distribution, geometry, fresnel.
     pub sel: [i32; 4],
+    /// Offset 96: metal-rough: transmission factor, diffuse transmission factor, –, –.
+    pub p2: [f32; 4],
 }
 
 const _: () = assert!(std::mem::size_of::<GpuBrdfParams>() == GpuBrdfParams::SIZE);
 const _: () = assert!(GpuBrdfParams::SIZE <= 128);
 
 impl GpuBrdfParams {
-    /// Size in bytes (96).
-    pub const SIZE: usize = 96;
+    /// Size in bytes (112).
+    pub const SIZE: usize = 112;
 
     /// Packs a (sanitised) model.
     pub fn from_model(model: &Model) -> Self {
@@ -104,6 +107,7 @@ impl GpuBrdfParams {
                 g.spec = p.dielectric_f0.extend(p.metallic).to_array();
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
                 g.p1 = [p.clearcoat, p.clearcoat_roughness, 0.0, 0.0];
+                g.p2 = [p.transmission.factor, p.transmission.diffuse, 0.0, 0.0];
                 g.sel[0] = model_code::METAL_ROUGH;
             }
             Model::Principled(p) => {
@@ -132,7 +136,7 @@ impl GpuBrdfParams {
         microfacet_selectors(model).map(|(diffuse, ..)| diffuse)
     }
 
-    /// The 96 bytes in native (little-endian on every Vulkan target luz runs on) order, ready for
+    /// The 112 bytes in native (little-endian on every Vulkan target luz runs on) order, ready for
     /// `vkCmdPushConstants` or a uniform/storage buffer.
     pub fn to_bytes(&self) -> [u8; Self::SIZE] {
         let mut out = [0u8; Self::SIZE];
@@ -144,7 +148,8 @@ impl GpuBrdfParams {
             .chain(&self.p0)
             .chain(&self.p1)
             .map(|f| f.to_bits())
-            .chain(self.sel.iter().map(|&i| i as u32));
+            .chain(self.sel.iter().map(|&i| i as u32))
+            .chain(self.p2.iter().map(|f| f.to_bits()));
         for (chunk, w) in out.chunks_exact_mut(4).zip(words) {
             chunk.copy_from_slice(&w.to_ne_bytes());
         }

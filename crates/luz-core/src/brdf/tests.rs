@@ -745,7 +745,7 @@ fn serde_names_and_defaults() {
 
 #[test]
 fn gpu_packing() {
-    assert_eq!(std::mem::size_of::<GpuBrdfParams>(), 96);
+    assert_eq!(std::mem::size_of::<GpuBrdfParams>(), 112);
     let p = Model::Principled(PrincipledParams {
         roughness: 0.3,
         sheen: 0.7,

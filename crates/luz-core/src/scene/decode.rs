@@ -200,19 +200,6 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             ));
         }
     }
-    let glass: Vec<&str> = scene
-        .materials
-        .iter()
-        .filter(|m| matches!(&m.material, Material::MetalRough(p) if p.transmission.any()))
-        .map(|m| m.name.as_str())
-        .collect();
-    if !glass.is_empty() {
-        scene.warnings.push(format!(
-            "materials {}: transmission: `luz reference` refracts through them, but the GPU \
-             renderer draws them opaque yet (issue 35)",
-            glass.join(", ")
-        ));
-    }
     // Every material is known now (the scene's, then the MTL and glTF files'): their textures
     // together within the input budget, from the images' headers, before any is decoded.
     if let Err((material, reason)) = super::textures::check_total_pixels(&scene.materials) {
@@ -329,6 +316,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
             "msaa",
             "tessellation_error_px",
             "golden",
+            "refraction",
         ],
         "the output",
     )?;
@@ -373,6 +361,11 @@ fn output(v: &Value, path: &str) -> Result<Output> {
             }
         })?,
     };
+    let names = super::Refraction::ALL.map(super::Refraction::name);
+    let refraction = f
+        .choice("refraction", &names)?
+        .and_then(super::Refraction::from_name)
+        .unwrap_or_default();
     Ok(Output {
         width,
         height,
@@ -383,6 +376,7 @@ fn output(v: &Value, path: &str) -> Result<Output> {
         msaa,
         tessellation_error_px,
         golden,
+        refraction,
     })
 }
 

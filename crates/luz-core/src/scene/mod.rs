@@ -270,6 +270,56 @@ pub struct Output {
     /// `luz golden`'s tolerances for this scene (`output.golden`; a sidecar overrides them:
     /// docs/golden.md).
     pub golden: crate::diff::ToleranceOverrides,
+    /// How the GPU draws transmissive materials (KHR_materials_transmission; issue 35).
+    pub refraction: Refraction,
+}
+
+/// How the GPU draws what a transmissive material lets through (`output.refraction`): the
+/// screen-space methods sample a copy of the opaque scene's HDR colour (with its mips) where the
+/// refracted ray leaves the object; the copy's mip level is the method's blur policy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum Refraction {
+    /// `"screen"`: the Khronos Sample Renderer's policy: level log2(width) · roughness ·
+    /// clamp(2 ior − 2, 0, 1).
+    #[default]
+    Screen,
+    /// `"screen_filament"`: Filament's policy: level 2 log2(roughness) + log2(width).
+    ScreenFilament,
+    /// `"screen_sharp"`: level 0 whatever the roughness (no blur).
+    ScreenSharp,
+    /// `"thin"`: every transmissive surface thin-walled (no bending, no attenuation), blurred as
+    /// `"screen"`.
+    Thin,
+    /// `"none"`: transmission off: transmissive materials drawn opaque (their diffuse keeps
+    /// what the transmission took), no copy of the scene.
+    None,
+}
+
+impl Refraction {
+    /// Every method, in the scene format's names.
+    pub const ALL: [Refraction; 5] = [
+        Refraction::Screen,
+        Refraction::ScreenFilament,
+        Refraction::ScreenSharp,
+        Refraction::Thin,
+        Refraction::None,
+    ];
+
+    /// The scene format's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Refraction::Screen => "screen",
+            Refraction::ScreenFilament => "screen_filament",
+            Refraction::ScreenSharp => "screen_sharp",
+            Refraction::Thin => "thin",
+            Refraction::None => "none",
+        }
+    }
+
+    /// The method called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.name() == name)
+    }
 }
 
 impl Output {

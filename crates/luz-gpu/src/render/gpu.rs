@@ -22,6 +22,8 @@ pub const BINDING_CLUSTER_LIGHTS: u32 = b::BINDING_CLUSTER_LIGHTS as u32;
 pub const BINDING_INSTANCES: u32 = b::BINDING_INSTANCES as u32;
 /// Area lights and the LTC table (`shaders_glsl/include/area.glsl`).
 pub const BINDING_AREA: u32 = b::BINDING_AREA as u32;
+/// The copy of the opaque scene transmissive draws read (`shaders_glsl/include/transmission.glsl`).
+pub const BINDING_TRANSMISSION: u32 = b::BINDING_TRANSMISSION as u32;
 /// The environment's set (`shaders_glsl/include/ibl.glsl`).
 pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
 /// The material maps' set.
@@ -58,6 +60,7 @@ pub const SPEC_SEL_DISTRIBUTION: u32 = b::SPEC_SEL_DISTRIBUTION;
 pub const SPEC_SEL_GEOMETRY: u32 = b::SPEC_SEL_GEOMETRY;
 pub const SPEC_SEL_FRESNEL: u32 = b::SPEC_SEL_FRESNEL;
 pub const SPEC_MAPS: u32 = b::SPEC_MAPS;
+pub const SPEC_REFRACTION: u32 = b::SPEC_REFRACTION;
 pub const SPEC_LIGHT_KINDS: u32 = b::SPEC_LIGHT_KINDS;
 pub const SPEC_OUTPUT: u32 = glsl::include_output::SPEC_OUTPUT;
 pub const SPEC_OUTPUT_TONEMAP: u32 = glsl::include_output::SPEC_OUTPUT_TONEMAP;
@@ -245,11 +248,12 @@ pub struct ObjectData {
 }
 
 /// `MaterialPush`: per-material parameters as push constants: the packed BRDF parameters of
-/// [`crate::brdf::GpuBrdfParams`] (96 bytes), then the object's index.
+/// [`crate::brdf::GpuBrdfParams`] (112 bytes), then the object's index (128 bytes in all:
+/// lavapipe's limit).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
 pub struct MaterialPush {
-    pub brdf: [u32; 24],
+    pub brdf: [u32; 28],
     pub object_index: u32,
     pub flags: u32,
     /// 1: shadow maps darken the object (`ObjectShadow::receive`).
@@ -267,8 +271,8 @@ pub struct DeferredMaterial {
     pub extra: crate::render::material::MaterialExtra,
 }
 
-const _: () = assert!(std::mem::size_of::<MaterialPush>() == 112);
-const _: () = assert!(std::mem::size_of::<DeferredMaterial>() == 160);
+const _: () = assert!(std::mem::size_of::<MaterialPush>() == 128);
+const _: () = assert!(std::mem::size_of::<DeferredMaterial>() == 224);
 
 /// Vulkan guarantees 128 bytes of push constants; lavapipe offers exactly that.
 const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);
@@ -338,7 +342,7 @@ impl GpuLight {
 pub fn material_push(m: &Material) -> MaterialPush {
     let packed = crate::brdf::GpuBrdfParams::from_model(m);
     let bytes = packed.to_bytes();
-    let mut brdf = [0u32; 24];
+    let mut brdf = [0u32; 28];
     for (w, c) in brdf.iter_mut().zip(bytes.chunks_exact(4)) {
         *w = u32::from_ne_bytes([c[0], c[1], c[2], c[3]]);
     }

@@ -41,16 +41,41 @@ pub struct MaterialExtra {
     pub params: [f32; 4],
     /// x: bit i set when map `TextureSlot::ALL[i]` is present.
     pub present: [u32; 4],
+    /// Glass ([`MaterialExtra::glass`]): thickness (mesh units), dispersion, –, –.
+    pub volume: [f32; 4],
+    /// The volume's attenuation coefficient σ per unit length (rgb), –.
+    pub attenuation: [f32; 4],
+    /// `diffuseTransmissionColorFactor` (rgb), –.
+    pub diffuse_transmission: [f32; 4],
 }
 
 impl MaterialExtra {
     /// The block of a material without maps (`present` 0): emission, normal scale, occlusion
     /// strength, as [`MaterialSets::new`] writes it.
-    pub fn without_maps(t: &crate::scene::MaterialTextures) -> Self {
+    pub fn without_maps(m: &crate::scene::NamedMaterial) -> Self {
+        let t = &m.textures;
         Self {
             emissive: t.emissive_factor.extend(0.0).to_array(),
             params: Self::params(t),
             present: [0; 4],
+            ..Self::default()
+        }
+        .glass(&m.material)
+    }
+
+    /// With the glass parameters of `model` (zero for a material that transmits nothing; σ
+    /// finite: a channel that lets nothing through gets a large coefficient instead of ∞).
+    pub fn glass(self, model: &crate::brdf::Model) -> Self {
+        let crate::brdf::Model::MetalRough(p) = model.sanitized() else {
+            return self;
+        };
+        let t = p.transmission;
+        let sigma = t.sigma().min(glam::Vec3::splat(1e30));
+        Self {
+            volume: [t.thickness, t.dispersion, 0.0, 0.0],
+            attenuation: sigma.extend(0.0).to_array(),
+            diffuse_transmission: t.diffuse_color.extend(0.0).to_array(),
+            ..self
         }
     }
 
@@ -250,7 +275,9 @@ impl MaterialSets {
                 emissive: t.emissive_factor.extend(0.0).to_array(),
                 params: MaterialExtra::params(t),
                 present: [present, 0, 0, 0],
-            };
+                ..MaterialExtra::default()
+            }
+            .glass(&m.material);
             extra.write(stride * mi as u64, bytemuck::bytes_of(&data))?;
             let set = desc_pool.allocate(&set_layout)?;
             let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;

@@ -375,3 +375,85 @@ pub unsafe fn restart(device: &ash::Device, cmd: vk::CommandBuffer) -> Result<()
         )
     }
 }
+
+/// Fills `image`'s mips 1..`levels` (layer 0, colour) by halving blits from mip 0, each level
+/// from the one above with a linear filter. Every level is in TRANSFER_DST_OPTIMAL before (mip
+/// 0 written by a transfer) and after: the barriers between the levels stay inside, so a frame
+/// graph sees one transfer write of the whole image.
+pub fn blit_mip_chain(
+    d: &ash::Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    extent: vk::Extent2D,
+    levels: u32,
+) {
+    let dst = (
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let src = (
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    let range = |base, count| vk::ImageSubresourceRange {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        base_mip_level: base,
+        level_count: count,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    let size = |level: u32| {
+        [
+            (extent.width >> level).max(1) as i32,
+            (extent.height >> level).max(1) as i32,
+        ]
+    };
+    for level in 1..levels {
+        let step = |from, to| Transition {
+            image,
+            range: range(level - 1, 1),
+            from,
+            to,
+        };
+        transition(d, cmd, &[step(dst, src)]);
+        let layers = |mip| vk::ImageSubresourceLayers {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            mip_level: mip,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let corner = |[x, y]: [i32; 2]| vk::Offset3D { x, y, z: 1 };
+        let blit = vk::ImageBlit2::default()
+            .src_subresource(layers(level - 1))
+            .src_offsets([vk::Offset3D::default(), corner(size(level - 1))])
+            .dst_subresource(layers(level))
+            .dst_offsets([vk::Offset3D::default(), corner(size(level))]);
+        let regions = [blit];
+        let info = vk::BlitImageInfo2::default()
+            .src_image(image)
+            .src_image_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+            .dst_image(image)
+            .dst_image_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+            .regions(&regions)
+            .filter(vk::Filter::LINEAR);
+        // SAFETY: `info` and `regions` are locals that outlive the call; the caller passes `cmd`
+        // recording outside a render pass and a live single-layer colour image of `levels` mips
+        // of `extent`, usable as TRANSFER_SRC and TRANSFER_DST with a format that supports linear
+        // blits; level − 1 was just moved to TRANSFER_SRC and level is TRANSFER_DST.
+        unsafe { d.cmd_blit_image2(cmd, &info) };
+    }
+    if levels > 1 {
+        transition(
+            d,
+            cmd,
+            &[Transition {
+                image,
+                range: range(0, levels - 1),
+                from: src,
+                to: dst,
+            }],
+        );
+    }
+}

@@ -195,6 +195,9 @@ impl Encoder<'_> {
         if s.output.transparent {
             output.put("transparent", true);
         }
+        if s.output.refraction != super::Refraction::default() {
+            output.put("refraction", s.output.refraction.name());
+        }
         if !s.output.golden.is_empty() {
             output.put("golden", golden_tolerances(&s.output.golden));
         }

@@ -35,6 +35,10 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_dispersion",
+    "KHR_materials_diffuse_transmission",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
 ];

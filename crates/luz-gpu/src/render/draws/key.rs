@@ -7,12 +7,15 @@
 //!
 //! | bits  | opaque and masked                   | blended                           |
 //! |-------|-------------------------------------|-----------------------------------|
-//! | 63–62 | phase 0                             | phase 1 (after the skybox)        |
+//! | 63–62 | phase 0                             | phase 2 (after the skybox)        |
 //! | 61–52 | pipeline (rank of the variant)      | view depth, farthest first (32)   |
 //! | 51–34 | material                            |                                   |
 //! | 33    | back faces culled                   |                                   |
 //! | 32–11 | mesh                                |                                   |
 //! | 10–6  | LOD level                           |                                   |
+//!
+//! Transmissive draws (glass, issue 35) are phase 1: after the opaque ones and the skybox,
+//! which they read a copy of, nearest first (bits 61–30, view depth), before the blended ones.
 //!
 //! Depth-only views (each shadow layer): phase 0 opaque casters (the vertex-only pipeline),
 //! phase 1 alpha-tested ones grouped by material (bits 61–44), then the depth along the view's
@@ -26,8 +29,12 @@ pub type Key = u64;
 
 /// Opaque (and alpha-masked) colour draws, and opaque shadow casters.
 pub const PHASE_OPAQUE: u64 = 0;
-/// Blended colour draws (back to front, after the skybox), and alpha-tested shadow casters.
+/// Alpha-tested shadow casters (depth views).
 pub const PHASE_SECOND: u64 = 1;
+/// Transmissive colour draws (front to back, after the skybox and the copy of the scene).
+pub const PHASE_TRANSMISSIVE: u64 = 1;
+/// Blended colour draws (back to front, after the transmissive ones).
+pub const PHASE_BLENDED: u64 = 2;
 
 /// Packs `fields` (value, width in bits), most significant first, below the two phase bits.
 fn pack(phase: u64, fields: &[(u64, u32)]) -> Key {
@@ -70,7 +77,13 @@ pub fn opaque(pipeline: u32, material: usize, cull: bool, mesh: usize, level: u8
 /// A blended colour draw at view depth `depth` (of its bounding sphere's centre): back to
 /// front, after every opaque draw.
 pub fn blended(depth: f32) -> Key {
-    pack(PHASE_SECOND, &[(u64::from(!ordered(depth)), 32)])
+    pack(PHASE_BLENDED, &[(u64::from(!ordered(depth)), 32)])
+}
+
+/// A transmissive colour draw at view depth `depth`: front to back, after every opaque draw and
+/// before the blended ones.
+pub fn transmissive(depth: f32) -> Key {
+    pack(PHASE_TRANSMISSIVE, &[(u64::from(ordered(depth)), 32)])
 }
 
 /// A shadow caster at `depth` along the layer's axis: opaque casters first, front to back; then
@@ -87,7 +100,14 @@ pub fn phase(key: Key) -> u64 {
     key >> 62
 }
 
-/// Where the second phase (a colour view's blended draws) starts in sorted `keys`.
+/// Where the second phase (a colour view's transmissive draws, then its blended ones) starts in
+/// sorted `keys`.
 pub fn second_phase(keys: &[Key]) -> usize {
     keys.partition_point(|&k| phase(k) == PHASE_OPAQUE)
+}
+
+/// Where a colour view's blended draws start in sorted `keys` (the transmissive ones are
+/// `second_phase(keys)..blended_phase(keys)`).
+pub fn blended_phase(keys: &[Key]) -> usize {
+    keys.partition_point(|&k| phase(k) < PHASE_BLENDED)
 }

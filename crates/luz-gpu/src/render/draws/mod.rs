@@ -55,6 +55,9 @@ pub struct Item {
     pub cull: bool,
     /// Blended: drawn back to front after the opaque draws and the skybox.
     pub blend: bool,
+    /// Transmissive (glass, issue 35): drawn front to back after the opaque draws and the
+    /// skybox, reading a copy of them, before the blended draws.
+    pub transmit: bool,
 }
 
 /// The scene's drawn objects and their meshes' bounds and levels.
@@ -186,6 +189,8 @@ impl DrawList {
             .map(|(i, (it, p))| {
                 let key = if it.blend {
                     key::blended(-view.transform_point3(p.sphere.center).z)
+                } else if it.transmit {
+                    key::transmissive(-view.transform_point3(p.sphere.center).z)
                 } else {
                     let pipeline = pipelines.get(i).copied().unwrap_or(0);
                     key::opaque(pipeline, it.material, it.cull, it.shape, levels[i])
@@ -275,7 +280,8 @@ pub fn runs(
     runs
 }
 
-/// A colour view: the visible items in recording `order` (opaque ones, then blended ones) with
+/// A colour view: the visible items in recording `order` (opaque ones, transmissive ones, then
+/// blended ones) with
 /// their `keys`, and every item's LOD level (culled items too).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ColorView {

@@ -67,6 +67,7 @@ fn item(shape: usize, material: usize, cull: bool, blend: bool) -> Item {
         material,
         cull,
         blend,
+        transmit: false,
     }
 }
 
@@ -112,6 +113,35 @@ fn colour_views_group_by_pipeline_and_material_then_blend_back_to_front() {
         .iter()
         .all(|&k| key::phase(k) == key::PHASE_OPAQUE));
     assert_eq!(view.levels, vec![0; 9]);
+}
+
+/// Transmissive draws come after every opaque draw, nearest first, and before every blended
+/// one, whatever their pipelines.
+#[test]
+fn transmissive_draws_sit_between_opaque_and_blended_nearest_first() {
+    let glass = |material| Item {
+        transmit: true,
+        ..item(0, material, true, false)
+    };
+    let list = DrawList {
+        shapes: vec![shape(vec![level(0, 3, 0.0)])],
+        items: vec![
+            glass(3),                // 0: glass, far
+            item(0, 1, false, true), // 1: blended
+            item(0, 0, true, false), // 2: opaque
+            glass(3),                // 3: glass, near
+            item(0, 2, true, false), // 4: opaque
+        ],
+    };
+    let at = |z: f32| placed_at(Vec3::new(0.0, 0.0, z));
+    let placed = [at(-6.0), at(-1.0), at(0.0), at(1.0), at(-2.0)];
+    let c = camera();
+    let view = list.color_view(&placed, &eye(&c), &[9, 0, 5, 9, 5]);
+    assert_eq!(view.order, vec![2, 4, 3, 0, 1]);
+    assert_eq!(key::second_phase(&view.keys), 2);
+    assert_eq!(key::blended_phase(&view.keys), 4);
+    assert_eq!(key::phase(view.keys[2]), key::PHASE_TRANSMISSIVE);
+    assert_eq!(key::phase(view.keys[4]), key::PHASE_BLENDED);
 }
 
 /// The pipeline outranks every other field; material outranks culling, mesh and level; a value

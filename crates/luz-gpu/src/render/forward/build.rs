@@ -218,13 +218,20 @@ pub(super) fn build_draws(
             alpha,
             vertex_color,
             lobes: super::variant::GENERIC_LOBES,
+            refraction: scene.output.refraction,
         };
+        let transmits = super::variant::lobe_bits(material)
+            & crate::glsl::brdf_models::BRDF_LOBE_TRANSMISSION
+            != 0;
         list.items.push(draws::Item {
             shape: mesh_index,
             object,
             material: obj.material,
             cull: culls(named.textures.sides, closed) && positive,
             blend: alpha == AlphaKey::Blend,
+            transmit: transmits
+                && alpha != AlphaKey::Blend
+                && scene.output.refraction != crate::scene::Refraction::None,
         });
         draws.push(Draw {
             variant: if generic {

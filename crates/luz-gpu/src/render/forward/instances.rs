@@ -12,7 +12,8 @@ use crate::vk::VkError;
 impl ForwardPass {
     /// Whether item `b` (at LOD level `lb`) can be another instance of the draw recording item
     /// `a` (at `la`): same mesh, level, variant, material, culling and push constants but for
-    /// the object, and neither split by where shadows fall.
+    /// the object, neither split by where shadows fall nor transmissive (glass reads its own
+    /// object's scale through the push constants).
     fn same_draw(&self, (a, la): (usize, u8), (b, lb): (usize, u8)) -> bool {
         let material = |i: usize| MaterialPush {
             object_index: 0,
@@ -21,6 +22,8 @@ impl ForwardPass {
         let (da, db) = (&self.draws[a], &self.draws[b]);
         let (ia, ib) = (&self.list.items[a], &self.list.items[b]);
         ia.shape == ib.shape
+            && !ia.transmit
+            && !ib.transmit
             && la == lb
             && da.shadow_area.is_none()
             && db.shadow_area.is_none()

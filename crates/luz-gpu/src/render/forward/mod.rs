@@ -32,6 +32,7 @@ mod instances;
 mod lod;
 mod per_frame;
 mod record;
+mod transmission;
 mod variant;
 pub mod world;
 
@@ -176,6 +177,9 @@ pub struct PassNames {
     pub gbuffer: &'static str,
     pub lighting: &'static str,
     pub forward: &'static str,
+    /// Glass: the copy of the opaque scene, and the transmissive (and blended) draws after it.
+    pub transmission: &'static str,
+    pub transmissive: &'static str,
 }
 
 impl PassNames {
@@ -185,6 +189,8 @@ impl PassNames {
         gbuffer: "gbuffer",
         lighting: "lighting",
         forward: "forward",
+        transmission: "transmission copy",
+        transmissive: "transmissive",
     };
     /// The viewer's B side.
     pub const B: Self = Self {
@@ -192,11 +198,20 @@ impl PassNames {
         gbuffer: "B: gbuffer",
         lighting: "B: lighting",
         forward: "B: forward",
+        transmission: "B: transmission copy",
+        transmissive: "B: transmissive",
     };
 
     /// Every name, for the reports that group them.
-    pub fn all(&self) -> [&'static str; 4] {
-        [self.shadows, self.gbuffer, self.lighting, self.forward]
+    pub fn all(&self) -> [&'static str; 6] {
+        [
+            self.shadows,
+            self.gbuffer,
+            self.lighting,
+            self.forward,
+            self.transmission,
+            self.transmissive,
+        ]
     }
 }
 
@@ -220,7 +235,12 @@ pub enum Output {
 impl Output {
     /// The display output for `scene` into attachments of `format`, or `None` when a frame of the
     /// scene needs the whole float image first (`normalize` saturation).
+    /// Scenes with transmissive materials draw into the float target too: their glass reads a
+    /// copy of the opaque scene's radiance.
     pub fn display_for(scene: &Scene, format: vk::Format) -> Option<Self> {
+        if transmission::transmits(scene) {
+            return None;
+        }
         match scene.saturation {
             Saturation::Normalize => None,
             s => Some(Output::Display {
@@ -365,6 +385,10 @@ pub struct ForwardPass {
     instancing: bool,
     /// Shadow lookups only where shadows can fall ([`Switches::shadow_receivers`]).
     receivers_culled: bool,
+    /// Glass: the copy of the opaque scene per slot (a 1×1 stand-in without transmissive draws).
+    transmission: transmission::TransmissionCopy,
+    /// Some draw is transmissive (the copy follows the target's size).
+    transmits: bool,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
@@ -540,6 +564,22 @@ impl ForwardPass {
                 (&srgb_table, &area_data),
             )?);
         }
+        let transmits = list.items.iter().any(|it| it.transmit);
+        let copy_extent = if transmits {
+            vk::Extent2D {
+                width: scene.output.width,
+                height: scene.output.height,
+            }
+        } else {
+            vk::Extent2D {
+                width: 1,
+                height: 1,
+            }
+        };
+        let transmission =
+            transmission::TransmissionCopy::new(ctx, (slot_count, copy_extent, target.color))?;
+        let sets: Vec<vk::DescriptorSet> = slots.iter().map(|s| s.set).collect();
+        transmission.bind(ctx, &set_layout, &sets)?;
         let has_skybox =
             matches!((ibl, &scene.environment), (Some(_), Some(e)) if e.show_background);
         let variants: Vec<VariantKey> = draws.iter().map(|d| d.variant).collect();
@@ -594,6 +634,8 @@ impl ForwardPass {
             lod_override: None,
             instancing: switches.instancing,
             receivers_culled: switches.shadow_receivers,
+            transmission,
+            transmits,
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
@@ -640,8 +682,21 @@ impl ForwardPass {
 
     /// Sets the size of the target the next frames draw into (the LOD choice projects errors
     /// onto its height).
-    pub fn prepare_extent(&mut self, extent: vk::Extent2D) {
+    /// A scene with transmissive draws remakes its copies of the opaque scene at that size
+    /// (after waiting for the device: frames in flight may read the old ones).
+    pub fn prepare_extent(&mut self, extent: vk::Extent2D) -> Result<(), VkError> {
         self.target_height = Some(extent.height);
+        if self.transmits && self.transmission.extent() != extent {
+            // SAFETY: waiting needs the queue externally synchronised: every submission comes
+            // from the thread that owns this pass.
+            unsafe { self.ctx.device.device_wait_idle() }?;
+            let format = self.transmission.format();
+            self.transmission =
+                transmission::TransmissionCopy::new(&self.ctx, (self.slots.len(), extent, format))?;
+            let sets: Vec<vk::DescriptorSet> = self.slots.iter().map(|s| s.set).collect();
+            self.transmission.bind(&self.ctx, &self.set_layout, &sets)?;
+        }
+        Ok(())
     }
 
     /// "deferred" or "forward": how this pass draws.
@@ -749,10 +804,10 @@ impl ForwardPass {
         if self.deferred.is_some() {
             let s = &mut self.slots[slot];
             for (draw, item) in self.draws.iter().zip(&self.list.items) {
-                let textures = &scene.materials[scene.objects[item.object].material].textures;
+                let named = &scene.materials[scene.objects[item.object].material];
                 let data = gpu::DeferredMaterial {
                     push: draw.push,
-                    extra: super::material::MaterialExtra::without_maps(textures),
+                    extra: super::material::MaterialExtra::without_maps(named),
                 };
                 s.deferred_materials.write(
                     draw.push.object_index as u64
@@ -851,6 +906,7 @@ impl ForwardPass {
             (meshes, self.materials.sets.as_slice()),
         );
         let shadow_set = self.shadows.set(slot);
+        let slot_index = slot;
         let slot = &self.slots[slot.min(self.slots.len() - 1)];
         let set = slot.set;
         let view = &slot.view;
@@ -914,6 +970,12 @@ impl ForwardPass {
                 )))
             }
         };
+        // Glass (issue 35): transmissive draws in view split the pass around a copy of the
+        // opaque scene ([`transmission`]).
+        let second = draws::key::second_phase(&view.keys);
+        let blended = draws::key::blended_phase(&view.keys);
+        let glass = second < blended && output == Output::Hdr;
+        let opaque_end = if glass { second } else { order.len() };
         let mut pass = g
             .pass(names.forward)
             .write(target.color, Access::ColorAttachmentWrite)
@@ -924,47 +986,21 @@ impl ForwardPass {
         if let Some(s) = shadow_image {
             pass = pass.read(s, shadow::SHADOW_READ);
         }
+        let pipelines = std::sync::Arc::new(pipelines);
+        let first_pipelines = pipelines.clone();
         pass.record(move |rc| {
-            let color_view = rc.image(target.color)?.view;
-            let depth_view = rc.image(target.depth)?.view;
-            let resolve_view = match target.resolve {
-                Some(r) => Some(rc.image(r)?.view),
-                None => None,
-            };
+            let views = attachment_views(rc, target)?;
             let (d, cmd) = (rc.device(), rc.cmd());
-            let mut color = color_attachment(color_view, Load::Clear(clear), true);
-            if let Some(resolve) = resolve_view {
-                color = color
-                    .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-                    .resolve_image_view(resolve)
-                    .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .store_op(vk::AttachmentStoreOp::DONT_CARE);
-            }
-            let colors = [color];
-            let depth = depth_attachment(depth_view, Load::depth(1.0), false);
-            let area = vk::Rect2D {
-                offset: vk::Offset2D { x: 0, y: 0 },
-                extent: target.extent,
-            };
-            let info = rendering_info(area, &colors, Some(&depth));
-            // SAFETY: the graph records this pass outside any rendering instance, with the
-            // attachments in the layouts declared above (colour, resolve: COLOR_ATTACHMENT_OPTIMAL;
-            // depth: DEPTH_ATTACHMENT_OPTIMAL); `info` and the slices it points to outlive the
-            // calls; every pipeline, set and buffer bound below belongs to this pass and outlives
-            // the command buffer's execution (the owner waits before dropping it).
-            unsafe {
-                d.cmd_begin_rendering(cmd, &info);
-                crate::vk::cmd::set_viewport(d, cmd, target.extent, area);
-            }
-            // Opaque draws, the skybox behind them, then blended draws over both.
-            let blended = draws::key::second_phase(&view.keys);
+            let area = begin_scene_rendering((d, cmd), target, views, (Load::Clear(clear), glass));
+            // Opaque draws, the skybox behind them, then (without glass) blended draws over both.
+            let pipelines = &first_pipelines;
             self.record_draws(
                 cmd,
-                (set, shadow_set, (&order[..blended], levels, 0)),
+                (set, shadow_set, (&order[..second], levels, 0)),
                 |i| pipelines[i],
                 area,
             );
-            // SAFETY: as above; the draws left the rendering instance open.
+            // SAFETY: as in `begin_scene_rendering`; the draws left the rendering instance open.
             unsafe {
                 if let Some(sky) = skybox {
                     d.cmd_set_cull_mode(cmd, vk::CullModeFlags::NONE);
@@ -972,12 +1008,100 @@ impl ForwardPass {
                     d.cmd_draw(cmd, 3, 1, 0, 0);
                 }
             }
-            let rest = (&order[blended..], levels, blended);
+            let rest = (&order[second..opaque_end], levels, second);
             self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);
             // SAFETY: as above; the draws left the rendering instance open.
             unsafe { d.cmd_end_rendering(cmd) };
             Ok(())
         });
+        if !glass {
+            return Ok(());
+        }
+        let copy = self.transmission.add_copy(
+            g,
+            (slot_index, names.transmission),
+            target.output(),
+            target.extent,
+        )?;
+        let mut pass = g
+            .pass(names.transmissive)
+            .read(copy, Access::FragmentSampled)
+            .write(target.color, Access::ColorAttachmentReadWrite)
+            .write(target.depth, Access::DepthAttachmentWrite);
+        if let Some(resolve) = target.resolve {
+            pass = pass.write(resolve, Access::ColorAttachmentWrite);
+        }
+        if let Some(s) = shadow_image {
+            pass = pass.read(s, shadow::SHADOW_READ);
+        }
+        pass.record(move |rc| {
+            let views = attachment_views(rc, target)?;
+            let (d, cmd) = (rc.device(), rc.cmd());
+            let area = begin_scene_rendering((d, cmd), target, views, (Load::Keep, false));
+            // Transmissive draws, nearest first, then the blended ones over them.
+            let rest = (&order[second..], levels, second);
+            self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);
+            // SAFETY: as in `begin_scene_rendering`; the draws left the rendering instance open.
+            unsafe { d.cmd_end_rendering(cmd) };
+            Ok(())
+        });
         Ok(())
     }
+}
+
+/// The views of a scene target's colour, depth and resolve images in a pass's recording.
+fn attachment_views(
+    rc: &mut luz_graph::RecordContext<'_>,
+    target: SceneTarget,
+) -> Result<(vk::ImageView, vk::ImageView, Option<vk::ImageView>), luz_graph::PassError> {
+    let color = rc.image(target.color)?.view;
+    let depth = rc.image(target.depth)?.view;
+    let resolve = match target.resolve {
+        Some(r) => Some(rc.image(r)?.view),
+        None => None,
+    };
+    Ok((color, depth, resolve))
+}
+
+/// Begins rendering the scene into `target` (views `color`, `depth`, `resolve`) with the
+/// colour starting as `load` (depth cleared to 1 with it, kept otherwise) and sets the viewport;
+/// `more`: a later pass loads colour and depth again, so the multisampled colour and the depth
+/// are stored. A multisampled colour resolves into `resolve` at the end. Returns the render area.
+fn begin_scene_rendering(
+    (d, cmd): (&ash::Device, vk::CommandBuffer),
+    target: SceneTarget,
+    (color_view, depth_view, resolve_view): (vk::ImageView, vk::ImageView, Option<vk::ImageView>),
+    (load, more): (Load, bool),
+) -> vk::Rect2D {
+    let depth_load = match load {
+        Load::Clear(_) => Load::depth(1.0),
+        other => other,
+    };
+    let mut color = color_attachment(color_view, load, true);
+    if let Some(resolve) = resolve_view {
+        color = color
+            .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+            .resolve_image_view(resolve)
+            .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+        if !more {
+            color = color.store_op(vk::AttachmentStoreOp::DONT_CARE);
+        }
+    }
+    let colors = [color];
+    let depth = depth_attachment(depth_view, depth_load, more);
+    let area = vk::Rect2D {
+        offset: vk::Offset2D { x: 0, y: 0 },
+        extent: target.extent,
+    };
+    let info = rendering_info(area, &colors, Some(&depth));
+    // SAFETY: the graph records the caller's pass outside any rendering instance, with the
+    // attachments in the layouts its accesses declare (colour, resolve: COLOR_ATTACHMENT_OPTIMAL;
+    // depth: DEPTH_ATTACHMENT_OPTIMAL); `info` and the slices it points to outlive the calls;
+    // every pipeline, set and buffer the caller binds belongs to the forward pass and outlives
+    // the command buffer's execution (the owner waits before dropping it).
+    unsafe {
+        d.cmd_begin_rendering(cmd, &info);
+        crate::vk::cmd::set_viewport(d, cmd, target.extent, area);
+    }
+    area
 }

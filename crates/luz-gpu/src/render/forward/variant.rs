@@ -193,18 +193,45 @@ pub struct VariantKey {
     /// The glTF extension layers compiled in (`LOBES`, `BRDF_LOBE_*` bits; [`lobe_bits`]): a
     /// lobe no material of the pipeline uses costs nothing.
     pub lobes: u32,
+    /// How transmissive materials are drawn (`REFRACTION`, the scene's `output.refraction`).
+    pub refraction: crate::scene::Refraction,
 }
 
 /// Every lobe: the generic ("all features") pipeline's [`VariantKey::lobes`].
 pub const GENERIC_LOBES: u32 = u32::MAX;
 
-/// The `BRDF_LOBE_*` bits of the layers `m` uses (issue 34): clearcoat when its factor is
-/// above 0.
+/// The `BRDF_LOBE_*` bits of the layers `m` uses (issues 34, 35): clearcoat, transmission,
+/// dispersion (with a volume) and diffuse transmission when their factors are above 0.
 pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     use crate::glsl::brdf_models as glsl;
-    match m.sanitized() {
-        crate::brdf::Model::MetalRough(p) if p.clearcoat > 0.0 => glsl::BRDF_LOBE_CLEARCOAT,
-        _ => 0,
+    let crate::brdf::Model::MetalRough(p) = m.sanitized() else {
+        return 0;
+    };
+    let t = p.transmission;
+    [
+        (p.clearcoat > 0.0, glsl::BRDF_LOBE_CLEARCOAT),
+        (t.factor > 0.0, glsl::BRDF_LOBE_TRANSMISSION),
+        (
+            t.factor > 0.0 && t.dispersion > 0.0 && !t.thin_walled(),
+            glsl::BRDF_LOBE_DISPERSION,
+        ),
+        (t.diffuse > 0.0, glsl::BRDF_LOBE_DIFFUSE_TRANSMISSION),
+    ]
+    .into_iter()
+    .filter(|(on, _)| *on)
+    .fold(0, |bits, (_, bit)| bits | bit)
+}
+
+/// The `REFRACTION` specialization constant of `r`.
+pub fn refraction_code(r: crate::scene::Refraction) -> u32 {
+    use crate::glsl::include_bindings as b;
+    use crate::scene::Refraction as R;
+    match r {
+        R::Screen => b::REFRACTION_SCREEN,
+        R::ScreenFilament => b::REFRACTION_SCREEN_FILAMENT,
+        R::ScreenSharp => b::REFRACTION_SCREEN_SHARP,
+        R::Thin => b::REFRACTION_THIN,
+        R::None => b::REFRACTION_NONE,
     }
 }
 
@@ -435,6 +462,11 @@ impl std::fmt::Display for VariantKey {
         if self.lobes != 0 && self.lobes != GENERIC_LOBES {
             write!(f, ", lobes={:#x}", self.lobes)?;
         }
+        if self.lobes & crate::glsl::brdf_models::BRDF_LOBE_TRANSMISSION != 0
+            && self.refraction != crate::scene::Refraction::default()
+        {
+            write!(f, ", refraction={}", self.refraction.name())?;
+        }
         if self.vertex_color {
             write!(f, ", vertex_color")?;
         }
@@ -565,6 +597,7 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         (gpu::SPEC_CLUSTERED, v.clustered as u32),
         (gpu::SPEC_ALPHA_MODE, v.alpha.code()),
         (gpu::SPEC_LOBES, v.lobes),
+        (gpu::SPEC_REFRACTION, refraction_code(v.refraction)),
     ];
     let slots = [
         gpu::SPEC_SHADOW_FIXED_0,
