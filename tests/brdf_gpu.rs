@@ -405,6 +405,59 @@ fn metal_rough_clearcoat() {
     assert_no_validation_messages(&ctx);
 }
 
+/// KHR_materials_transmission and _diffuse_transmission take their shares of metal-rough's
+/// diffuse on the GPU as on the CPU (`BrdfParams.p2`), over a plane drawn by the transmissive
+/// pass: what comes through is the copy of an empty (black) scene, so the image is the reflection
+/// alone. The factors change the CPU answer by more than the bound.
+#[test]
+fn metal_rough_transmission_takes_the_diffuse() {
+    let ctx = gpu();
+    let mut worst = 0.0f32;
+    for (factor, diffuse, metallic) in [
+        (1.0, 0.0, 0.0),
+        (0.5, 0.0, 0.3),
+        (0.0, 0.7, 0.0),
+        (0.4, 0.5, 0.0),
+    ] {
+        let p = MetalRoughParams {
+            base_color: Vec3::new(0.9, 0.6, 0.3),
+            metallic,
+            roughness: 0.5,
+            transmission: luz::brdf::Transmission {
+                factor,
+                diffuse,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let (n, l, v) = (
+            Vec3::Y,
+            (POINT - Vec3::ZERO).normalize(),
+            (CAM - Vec3::ZERO).normalize(),
+        );
+        let opaque = MetalRoughParams {
+            transmission: Default::default(),
+            ..p
+        };
+        let (with, without) = (
+            luz::brdf::metal_rough(&p, n, l, v),
+            luz::brdf::metal_rough(&opaque, n, l, v),
+        );
+        assert!(
+            (with - without).abs().max_element() > 2.0 * REL * without.max_element(),
+            "{p:?}: {with} against {without}"
+        );
+        worst = worst.max(compare(
+            &ctx,
+            &format!("transmission {factor}, diffuse transmission {diffuse}"),
+            Material::MetalRough(p),
+            REL,
+        ));
+    }
+    eprintln!("transmission: worst pixel {worst:.3}× the bound");
+    assert_no_validation_messages(&ctx);
+}
+
 #[test]
 fn principled_corners_and_random() {
     let ctx = gpu();

@@ -4,6 +4,7 @@
 //! `chart.png`/`chart.svg` (error, log, against GPU ms with the Pareto front marked) and one FLIP
 //! heat map per variant.
 
+pub mod glass;
 pub mod shadows;
 
 use std::path::Path;
@@ -397,6 +398,9 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
     }
     if want("lod") {
         out.extend(lod_variants(scene));
+    }
+    if want("glass") {
+        out.extend(glass::variants(scene));
     }
     if want("ibl") {
         if let Some(env) = &scene.environment {

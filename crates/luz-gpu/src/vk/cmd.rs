@@ -410,6 +410,21 @@ pub fn blit_mip_chain(
             (extent.height >> level).max(1) as i32,
         ]
     };
+    if levels < 2 {
+        return;
+    }
+    // The frame graph's barrier before this pass made the image TRANSFER_DST for the COPY stage:
+    // chain the blits' stage (BLIT) to it for the levels they write.
+    transition(
+        d,
+        cmd,
+        &[Transition {
+            image,
+            range: range(1, levels - 1),
+            from: dst,
+            to: dst,
+        }],
+    );
     for level in 1..levels {
         let step = |from, to| Transition {
             image,
@@ -444,16 +459,24 @@ pub fn blit_mip_chain(
         // blits; level − 1 was just moved to TRANSFER_SRC and level is TRANSFER_DST.
         unsafe { d.cmd_blit_image2(cmd, &info) };
     }
-    if levels > 1 {
-        transition(
-            d,
-            cmd,
-            &[Transition {
+    // Every level back to TRANSFER_DST, the blits' writes made available to the transfer stages
+    // (COPY among them), which the graph's next barrier waits for.
+    transition(
+        d,
+        cmd,
+        &[
+            Transition {
                 image,
                 range: range(0, levels - 1),
                 from: src,
                 to: dst,
-            }],
-        );
-    }
+            },
+            Transition {
+                image,
+                range: range(levels - 1, 1),
+                from: dst,
+                to: dst,
+            },
+        ],
+    );
 }
