@@ -725,14 +725,16 @@ fn gold_ggx_alpha_0_6_hdr_environment() {
 /// Glass (issue 35): a sphere of index 1.5 in the HDR environment, seen through (Mitsuba's
 /// path tracer, 16 bounces: the light refracted through the sphere, reflected and internally
 /// reflected, against luz's reference walk). The exact dielectric Fresnel and separable Smith G
-/// on the reflection, as Mitsuba's dielectrics. The GPU draws the material opaque yet: its row
-/// is recorded, not held.
+/// on the reflection, as Mitsuba's dielectrics. The GPU's row is its screen-space refraction
+/// (docs/glass.md: no second refraction, so the sphere does not invert the environment behind
+/// it), recorded, not held. The thickness is the sphere's diameter, which only the GPU reads
+/// (the reference walks the real surface).
 /// Thin-walled glass has no like-for-like counterpart (Mitsuba's `thindielectric` is a slab
 /// with internal reflections, 2R/(1 + R), and its back wall is seen): no row.
 fn glass_case(name: &'static str, roughness: f32) -> Option<Case> {
     let env = loft(1.0)?;
     let material = format!(
-        r#"{{"model": "metal_rough", "base_color": [1, 1, 1], "metallic": 0, "roughness": {roughness}, "fresnel": "dielectric", "geometry": "smith_ggx", "transmission": {{"transmissionFactor": 1}}, "volume": {{"thicknessFactor": 1}}}}"#
+        r#"{{"model": "metal_rough", "base_color": [1, 1, 1], "metallic": 0, "roughness": {roughness}, "fresnel": "dielectric", "geometry": "smith_ggx", "transmission": {{"transmissionFactor": 1}}, "volume": {{"thicknessFactor": 2}}}}"#
     );
     Some(Case {
         ref_spp: 16,
