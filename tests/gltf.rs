@@ -1745,6 +1745,16 @@ fn glass_extensions_factors_warnings_and_errors() {
             json!({"KHR_materials_transmission": 1}),
             format!("{at}.KHR_materials_transmission: expected an object"),
         ),
+        (
+            "ior_low",
+            json!({"KHR_materials_ior": {"ior": 0.5}}),
+            format!("{at}.KHR_materials_ior.ior: must be 0 (the extension's special value) or at least 1, got 0.5"),
+        ),
+        (
+            "ior_neg",
+            json!({"KHR_materials_ior": {"ior": -2}}),
+            format!("{at}.KHR_materials_ior.ior: must be ≥ 0, got -2"),
+        ),
     ] {
         let e = gltf::load(&write(name, ext, false), None)
             .unwrap_err()

@@ -329,6 +329,38 @@ pub fn material(
     }
 }
 
+/// KHR_materials_ior's `ior` checked (its value is read by [`dielectric_f0`]): a number, 0 (the
+/// extension's special value) or at least 1; anything else is an error naming the JSON path.
+pub fn ior(
+    m: &gltf::Material,
+    _gm: &mut GltfMaterial,
+    _textures: usize,
+    (file, _file_name): (&Path, &str),
+    _warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(ext) = m.extension_value("KHR_materials_ior") else {
+        return Ok(());
+    };
+    let i = m.index().unwrap_or(0);
+    let path = format!("materials[{i}].extensions.KHR_materials_ior");
+    let Some(obj) = ext.as_object() else {
+        return Err(GltfError {
+            file: file.to_path_buf(),
+            path,
+            reason: "expected an object".into(),
+        });
+    };
+    let e = Ext::new(obj, path, file);
+    let ior = e.number("ior", 1.5, Range::NonNegative)?;
+    if ior > 0.0 && ior < 1.0 {
+        return Err(e.err(
+            "ior",
+            format!("must be 0 (the extension's special value) or at least 1, got {ior}"),
+        ));
+    }
+    Ok(())
+}
+
 /// KHR_materials_clearcoat's factors onto `gm` (a `metal_rough` material). Factors outside
 /// [0, 1] or not numbers, and textures whose index names no texture, are errors naming the JSON
 /// path; the coat's textures themselves are not read yet (one warning per file: luz has no coat

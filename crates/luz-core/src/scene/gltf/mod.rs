@@ -455,7 +455,11 @@ impl<'a> Builder<'a> {
             let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
             let textures = self.doc.textures().len();
             // The material extensions luz reads onto metal_rough.
-            for read in [material::clearcoat, transmission::transmission] {
+            for read in [
+                material::ior,
+                material::clearcoat,
+                transmission::transmission,
+            ] {
                 read(
                     &m,
                     &mut gm,
