@@ -1753,7 +1753,7 @@ fn glass_extensions_factors_warnings_and_errors() {
         (
             "ior_neg",
             json!({"KHR_materials_ior": {"ior": -2}}),
-            format!("{at}.KHR_materials_ior.ior: must be ≥ 0, got -2"),
+            format!("{at}.KHR_materials_ior.ior: must be 0 (the extension's special value) or at least 1, got -2"),
         ),
     ] {
         let e = gltf::load(&write(name, ext, false), None)

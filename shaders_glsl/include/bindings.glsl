@@ -255,5 +255,6 @@ layout(constant_id = 24) const uint REFRACTION = 0u;
 #define REFRACTION_SCREEN_SHARP 2u
 #define REFRACTION_THIN 3u
 #define REFRACTION_NONE 4u
+#define REFRACTION_ENVIRONMENT 5u
 
 #endif

@@ -65,6 +65,27 @@ vec3 transmission_reflected(BrdfParams p, float n_v) {
 #endif
 }
 
+#ifdef IBL
+// REFRACTION_ENVIRONMENT (Filament's "solid" refraction): the view ray refracts in at P, crosses
+// a sphere of diameter `thickness` (its length inside: `inside`) and refracts out; the
+// prefiltered environment is read along the way it leaves, at the split sum's level for the
+// roughness. Thin-walled: straight through.
+vec3 transmission_environment(vec3 n, vec3 V, float ior, float thickness, float roughness,
+                              out float inside) {
+    vec3 d = -V;
+    inside = 0.0;
+    if (thickness > 0.0) {
+        vec3 r = refract(-V, n, 1.0 / ior);
+        float n_r = dot(n, r);
+        inside = thickness * -n_r;
+        vec3 out_n = normalize(n_r * r - n * 0.5);
+        vec3 t = refract(r, out_n, ior);
+        d = dot(t, t) > 0.0 ? t : r;
+    }
+    return textureLod(prefiltered_cube, d, roughness * (env.params.x - 1.0)).rgb;
+}
+#endif
+
 vec3 transmitted(Surface s, vec3 P, vec3 V) {
     BrdfParams p = s.p;
     vec3 n = s.n;
@@ -74,6 +95,24 @@ vec3 transmitted(Surface s, vec3 P, vec3 V) {
     float thickness = thin ? 0.0 : mat_extra.volume.x * transmission_object_scale();
     float lod = transmission_lod(p.color.w, ior);
     vec3 through;
+    float inside = thickness;
+#ifdef IBL
+    if (REFRACTION == REFRACTION_ENVIRONMENT) {
+        if ((LOBES & BRDF_LOBE_DISPERSION) != 0u) {
+            float spread = (ior - 1.0) * 0.025 * mat_extra.volume.y;
+            float unused;
+            through = vec3(
+                transmission_environment(n, V, ior - spread, thickness, p.color.w, unused).r,
+                transmission_environment(n, V, ior, thickness, p.color.w, inside).g,
+                transmission_environment(n, V, ior + spread, thickness, p.color.w, unused).b);
+        } else {
+            through = transmission_environment(n, V, ior, thickness, p.color.w, inside);
+        }
+        vec3 attenuation = exp(-mat_extra.attenuation.rgb * inside);
+        vec3 tint = p.p2.x * (1.0 - p.spec.w) * p.color.rgb;
+        return tint * (vec3(1.0) - transmission_reflected(p, n_v)) * attenuation * through;
+    }
+#endif
     if ((LOBES & BRDF_LOBE_DISPERSION) != 0u) {
         // KHR_materials_dispersion: ior ∓ (ior − 1) · 0.025 · dispersion for red and blue.
         float spread = (ior - 1.0) * 0.025 * mat_extra.volume.y;
@@ -83,7 +122,7 @@ vec3 transmitted(Surface s, vec3 P, vec3 V) {
     } else {
         through = transmission_sample(P, n, V, ior, thickness, lod);
     }
-    vec3 attenuation = exp(-mat_extra.attenuation.rgb * thickness);
+    vec3 attenuation = exp(-mat_extra.attenuation.rgb * inside);
     vec3 tint = p.p2.x * (1.0 - p.spec.w) * p.color.rgb;
     return tint * (vec3(1.0) - transmission_reflected(p, n_v)) * attenuation * through;
 }

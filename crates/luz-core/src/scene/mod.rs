@@ -293,15 +293,20 @@ pub enum Refraction {
     /// `"none"`: transmission off: transmissive materials drawn opaque (their diffuse keeps
     /// what the transmission took), no copy of the scene.
     None,
+    /// `"environment"`: no copy of the scene: the ray is followed through a sphere whose
+    /// diameter is the thickness (Filament's "solid" refraction) and the environment is read
+    /// along the direction it leaves in (needs an environment; without one, as `"screen"`).
+    Environment,
 }
 
 impl Refraction {
     /// Every method, in the scene format's names.
-    pub const ALL: [Refraction; 5] = [
+    pub const ALL: [Refraction; 6] = [
         Refraction::Screen,
         Refraction::ScreenFilament,
         Refraction::ScreenSharp,
         Refraction::Thin,
+        Refraction::Environment,
         Refraction::None,
     ];
 
@@ -312,6 +317,7 @@ impl Refraction {
             Refraction::ScreenFilament => "screen_filament",
             Refraction::ScreenSharp => "screen_sharp",
             Refraction::Thin => "thin",
+            Refraction::Environment => "environment",
             Refraction::None => "none",
         }
     }

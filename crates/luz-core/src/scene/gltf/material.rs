@@ -338,27 +338,20 @@ pub fn ior(
     (file, _file_name): (&Path, &str),
     _warnings: &mut Vec<String>,
 ) -> Result<(), GltfError> {
-    let Some(ext) = m.extension_value("KHR_materials_ior") else {
-        return Ok(());
-    };
-    let i = m.index().unwrap_or(0);
-    let path = format!("materials[{i}].extensions.KHR_materials_ior");
-    let Some(obj) = ext.as_object() else {
-        return Err(GltfError {
-            file: file.to_path_buf(),
-            path,
-            reason: "expected an object".into(),
-        });
-    };
-    let e = Ext::new(obj, path, file);
-    let ior = e.number("ior", 1.5, Range::NonNegative)?;
-    if ior > 0.0 && ior < 1.0 {
-        return Err(e.err(
-            "ior",
-            format!("must be 0 (the extension's special value) or at least 1, got {ior}"),
-        ));
+    // The gltf crate reads the extension itself (`ior()`), so the check is on its value.
+    match m.ior() {
+        Some(ior) if !ior.is_finite() || ior < 0.0 || (ior > 0.0 && ior < 1.0) => {
+            let i = m.index().unwrap_or(0);
+            Err(GltfError {
+                file: file.to_path_buf(),
+                path: format!("materials[{i}].extensions.KHR_materials_ior.ior"),
+                reason: format!(
+                    "must be 0 (the extension's special value) or at least 1, got {ior}"
+                ),
+            })
+        }
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// KHR_materials_clearcoat's factors onto `gm` (a `metal_rough` material). Factors outside

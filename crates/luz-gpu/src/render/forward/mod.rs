@@ -389,6 +389,8 @@ pub struct ForwardPass {
     transmission: transmission::TransmissionCopy,
     /// Some draw is transmissive (the copy follows the target's size).
     transmits: bool,
+    /// Transmissive draws read the copy (not `refraction: environment` under an environment).
+    copy_needed: bool,
     _empty_layout: DescriptorSetLayout,
     ctx: Arc<Context>,
 }
@@ -636,6 +638,8 @@ impl ForwardPass {
             receivers_culled: switches.shadow_receivers,
             transmission,
             transmits,
+            copy_needed: !(scene.output.refraction == crate::scene::Refraction::Environment
+                && ibl_key.is_some()),
             _empty_layout: empty_layout,
             ctx: ctx.clone(),
         };
@@ -974,7 +978,8 @@ impl ForwardPass {
         // opaque scene ([`transmission`]).
         let second = draws::key::second_phase(&view.keys);
         let blended = draws::key::blended_phase(&view.keys);
-        let glass = second < blended && output == Output::Hdr;
+        // The environment method reads no copy: one pass (transmissive draws after the sky).
+        let glass = second < blended && output == Output::Hdr && self.copy_needed;
         let opaque_end = if glass { second } else { order.len() };
         let mut pass = g
             .pass(names.forward)

@@ -232,6 +232,7 @@ pub fn refraction_code(r: crate::scene::Refraction) -> u32 {
         R::ScreenSharp => b::REFRACTION_SCREEN_SHARP,
         R::Thin => b::REFRACTION_THIN,
         R::None => b::REFRACTION_NONE,
+        R::Environment => b::REFRACTION_ENVIRONMENT,
     }
 }
 
