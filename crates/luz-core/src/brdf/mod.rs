@@ -38,7 +38,9 @@ pub use albedo::{
 pub use energy::{energy_scale, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
 pub use models::layers::{
-    clearcoat_energy, clearcoat_layer, clearcoat_specular, ClearcoatEnergy, CLEARCOAT_F0,
+    clearcoat_energy, clearcoat_layer, clearcoat_specular, d_charlie, lambda_sheen, sheen_albedo,
+    sheen_albedo_glsl_source, sheen_albedo_integrated, sheen_layer, sheen_specular, v_sheen,
+    ClearcoatEnergy, CLEARCOAT_F0, SHEEN_ROUGHNESS_MIN,
 };
 pub use models::{
     blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,

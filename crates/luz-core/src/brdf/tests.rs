@@ -6,6 +6,7 @@
 
 use glam::Vec3;
 
+use super::models::layers::SHEEN_ALBEDO_N;
 use super::*;
 
 /// xorshift64* — a seeded generator, so the "random" directions are the same on every run.
@@ -1741,4 +1742,112 @@ fn exact_conductor_fresnel_is_the_fresnel_equations() {
     eprintln!("exact conductor Fresnel: worst |F − F_complex| {worst:.2e}; the approximation up to {:.2} % off for gold", approx_off * 100.0);
     assert!(worst < 1e-5, "{worst}");
     assert!(approx_off > 1e-3, "{approx_off}");
+}
+
+/// Rewrites `shaders_glsl/brdf/sheen_albedo.glsl` from [`sheen_albedo_glsl_source`] (run it
+/// after changing the sheen lobe: `cargo test --release -p luz-core write_sheen_albedo_table --
+/// --ignored`).
+#[test]
+#[ignore]
+fn write_sheen_albedo_table() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shaders_glsl/brdf/sheen_albedo.glsl");
+    std::fs::write(&path, sheen_albedo_glsl_source()).unwrap();
+}
+
+/// KHR_materials_sheen's albedo table: its nodes are the lobe's integral (to the 6 decimals the
+/// file keeps), and between the nodes, at views to 85°, the bilinear lookup stays within 0.01
+/// of the integral: that difference is all a white furnace can gain or lose from the sheen's
+/// albedo scaling. (Beyond 89° it is 0.03 off for the smoothest sheen.)
+#[test]
+fn sheen_albedo_table_is_the_integral() {
+    let n = SHEEN_ALBEDO_N as f32 - 1.0;
+    let mut worst_node = 0.0f32;
+    let mut worst_mid = (0.0f32, 0.0, 0.0);
+    for j in 0..SHEEN_ALBEDO_N {
+        for i in 0..SHEEN_ALBEDO_N {
+            let (x, y) = ((i as f32 / n).powi(2), j as f32 / n);
+            worst_node = worst_node.max((sheen_albedo(x, y) - sheen_albedo_integrated(x, y)).abs());
+            if i + 1 < SHEEN_ALBEDO_N && j + 1 < SHEEN_ALBEDO_N {
+                let (x, y) = (((i as f32 + 0.5) / n).powi(2), (j as f32 + 0.5) / n);
+                let d = (sheen_albedo(x, y) - sheen_albedo_integrated(x, y)).abs();
+                if d > worst_mid.0 && x >= 85f32.to_radians().cos() {
+                    worst_mid = (d, x, y);
+                }
+            }
+        }
+    }
+    eprintln!("sheen albedo table: nodes within {worst_node:.2e}, midpoints within {:.4} (n·v {:.3}, roughness {:.3})", worst_mid.0, worst_mid.1, worst_mid.2);
+    assert!(worst_node <= 2e-6, "{worst_node}");
+    assert!(worst_mid.0 <= 0.01, "{worst_mid:?}");
+    // Not a table of zeros: a rough sheen reflects a fair part at normal view.
+    assert!(sheen_albedo(1.0, 1.0) > 0.1, "{}", sheen_albedo(1.0, 1.0));
+}
+
+/// Issue 34, KHR_materials_sheen: a white sheen of any roughness over a white dielectric or
+/// metal keeps the compensated white furnace at 1 ± 1 % (roughness 0.05–1, views to 85°), with
+/// the clear coat on top too; the sheen is not negligible (it changes the BRDF at grazing by
+/// more than 10 %).
+#[test]
+fn sheen_keeps_a_compensated_white_furnace() {
+    let mut worst = (0.0f32, [0.0f32; 5]);
+    for metallic in [0.0, 1.0] {
+        for roughness in [0.05, 0.5, 1.0] {
+            for sheen_roughness in [0.0, 0.3, 0.7, 1.0] {
+                for clearcoat in [0.0, 1.0] {
+                    for view in [0.0, 45.0, 75.0, 85.0] {
+                        let e = white_furnace(
+                            MetalRoughParams {
+                                base_color: Vec3::ONE,
+                                metallic,
+                                roughness,
+                                sheen_color: Vec3::ONE,
+                                sheen_roughness,
+                                clearcoat,
+                                clearcoat_roughness: 0.3,
+                                energy_compensation: true,
+                                ..MetalRoughParams::default()
+                            },
+                            view,
+                        );
+                        if (e - 1.0).abs() > worst.0 {
+                            worst = (
+                                (e - 1.0).abs(),
+                                [metallic, roughness, sheen_roughness, clearcoat, view],
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("sheen furnace: worst |E − 1| = {:.4} at (metallic, roughness, sheen roughness, clearcoat, view°) {:?}", worst.0, worst.1);
+    assert!(worst.0 <= 0.01, "{worst:?}");
+    let p = MetalRoughParams {
+        base_color: Vec3::new(0.2, 0.3, 0.8),
+        metallic: 0.0,
+        roughness: 0.6,
+        sheen_color: Vec3::new(1.0, 0.8, 0.6),
+        sheen_roughness: 0.5,
+        ..MetalRoughParams::default()
+    };
+    let (n, l, v) = (
+        Vec3::Z,
+        Vec3::new(0.2, 0.1, 0.95).normalize(),
+        Vec3::new(-0.95, 0.0, 0.2).normalize(),
+    );
+    let with = metal_rough(&p, n, l, v);
+    let without = metal_rough(
+        &MetalRoughParams {
+            sheen_color: Vec3::ZERO,
+            ..p
+        },
+        n,
+        l,
+        v,
+    );
+    assert!(
+        (with - without).abs().max_element() > 0.1 * without.max_element(),
+        "{with} against {without}"
+    );
 }

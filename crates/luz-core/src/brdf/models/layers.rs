@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use super::{MetalRoughParams, Terms};
-use crate::brdf::{clamp_cos, safe_normalize, schlick_weight, ALPHA_MIN};
+use crate::brdf::{clamp_cos, mix, safe_normalize, schlick_weight, ALPHA_MIN};
 
 /// F0 of the clear coat (ior 1.5), as KHR_materials_clearcoat fixes it.
 pub const CLEARCOAT_F0: f32 = 0.04;
@@ -90,6 +90,201 @@ pub fn clearcoat_layer(
     Terms {
         diffuse: t.diffuse * keep,
         specular: t.specular * keep + Vec3::splat(coat),
+        ..t
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// KHR_materials_sheen
+// ---------------------------------------------------------------------------------------------
+// The extension's sheen lobe: `f_sheen = sheenColor · D_Charlie · V_sheen` (Estevez & Kulla 2017's
+// Charlie distribution at `α = sheenRoughness²`, the specification's visibility term, Neubelt &
+// Pettineo's denominator with Estevez & Kulla's Λ fit), layered over the base as
+// `f = f_base · (1 − max(sheenColor) · E_sheen(n·v)) + f_sheen`, with `E_sheen` the lobe's own
+// directional albedo (white sheen colour). `E_sheen` is a table ([`SHEEN_ALBEDO_GLSL`], 16 × 16
+// over n·v and sheen roughness, bilinear) that this module computes by integration
+// ([`sheen_albedo_integrated`]) and the GLSL reads as a constant array, so the CPU and the GPU
+// scale by the same numbers and a white furnace stays 1 (the lobe's albedo is what the base
+// loses). The sheen is part of `Terms::diffuse` (a broad lobe, like Principled's sheen).
+
+/// The smallest sheen roughness (the specification's sample code clamps at 1e-6, which raises
+/// a float to the power 5·10¹¹). Below 0.07 the lobe lives within a few degrees of grazing and
+/// its albedo changes faster than a 32-node table can follow (`sheen_albedo_table_is_the_integral`
+/// measured 0.17 between nodes with 0.01); at 0.07 it looks the same at every view but grazing.
+pub const SHEEN_ROUGHNESS_MIN: f32 = 0.07;
+
+/// The GLSL file holding the sheen albedo table (`shaders_glsl/brdf/sheen_albedo.glsl`), read
+/// by the CPU too: one source of the numbers.
+pub const SHEEN_ALBEDO_GLSL: &str =
+    include_str!("../../../../../shaders_glsl/brdf/sheen_albedo.glsl");
+
+/// Nodes per axis of the sheen albedo table (n·v and sheen roughness, each 0 to 1).
+pub const SHEEN_ALBEDO_N: usize = crate::glsl::brdf_sheen_albedo::SHEEN_ALBEDO_N as usize;
+
+/// The sheen's `α = max(sheenRoughness, SHEEN_ROUGHNESS_MIN)²`.
+pub fn sheen_alpha(sheen_roughness: f32) -> f32 {
+    let r = sheen_roughness.max(SHEEN_ROUGHNESS_MIN);
+    r * r
+}
+
+/// The Charlie distribution `(2 + 1/α) sin(θh)^(1/α) / (2π)`, `sin2_h = |n × h|²`.
+pub fn d_charlie(alpha: f32, sin2_h: f32) -> f32 {
+    let inv_r = 1.0 / alpha;
+    (2.0 + inv_r) * sin2_h.max(0.0).powf(0.5 * inv_r) * (0.5 * crate::brdf::INV_PI)
+}
+
+/// The specification's fit `L(x) = a / (1 + b x^c) + d x + e`, its coefficients interpolated by
+/// `(1 − α)²`.
+fn sheen_l(x: f32, alpha: f32) -> f32 {
+    let t = (1.0 - alpha) * (1.0 - alpha);
+    let a = mix(21.5473, 25.3245, t);
+    let b = mix(3.82987, 3.32435, t);
+    let c = mix(0.19823, 0.16801, t);
+    let d = mix(-1.97760, -1.27393, t);
+    let e = mix(-4.32054, -4.85967, t);
+    a / (1.0 + b * x.powf(c)) + d * x + e
+}
+
+/// The sheen's Λ: `exp(L(cos θ))` below cos θ = 0.5, `exp(2 L(0.5) − L(1 − cos θ))` above.
+pub fn lambda_sheen(cos_theta: f32, alpha: f32) -> f32 {
+    if cos_theta.abs() < 0.5 {
+        sheen_l(cos_theta, alpha).exp()
+    } else {
+        (2.0 * sheen_l(0.5, alpha) - sheen_l(1.0 - cos_theta, alpha)).exp()
+    }
+}
+
+/// The specification's visibility `clamp(1 / ((1 + Λ(n·v) + Λ(n·l)) · 4 (n·l)(n·v)), 0, 1)`.
+pub fn v_sheen(n_l: f32, n_v: f32, alpha: f32) -> f32 {
+    let denom = (1.0 + lambda_sheen(n_v, alpha) + lambda_sheen(n_l, alpha)) * (4.0 * n_v * n_l);
+    (1.0 / denom).clamp(0.0, 1.0)
+}
+
+/// The white sheen lobe `D_Charlie · V_sheen` for unit `n`, `l` and `v` with `n·l > 0` and
+/// `n·v > 0`, at sheen roughness `r`.
+pub fn sheen_specular(r: f32, n: Vec3, l: Vec3, v: Vec3) -> f32 {
+    let alpha = sheen_alpha(r);
+    let h = safe_normalize(l + v);
+    let sin2_h = n.cross(h).length_squared();
+    d_charlie(alpha, sin2_h) * v_sheen(clamp_cos(n.dot(l)), clamp_cos(n.dot(v)), alpha)
+}
+
+/// The white sheen lobe's directional albedo `∫ D V (n·l) dl` at `n_v` and sheen roughness `r`,
+/// by a midpoint rule over the hemisphere (what the table holds at its nodes).
+pub fn sheen_albedo_integrated(n_v: f32, r: f32) -> f32 {
+    let (nt, np) = (256, 128);
+    let n_v = clamp_cos(n_v);
+    let v = Vec3::new((1.0 - n_v * n_v).max(0.0).sqrt(), 0.0, n_v);
+    let mut sum = 0.0f64;
+    let (dt, dp) = (
+        std::f32::consts::FRAC_PI_2 / nt as f32,
+        std::f32::consts::PI / np as f32,
+    );
+    for i in 0..nt {
+        let t = (i as f32 + 0.5) * dt;
+        let (st, ct) = t.sin_cos();
+        for j in 0..np {
+            // φ over [0, π], doubled: the lobe is symmetric about the plane of incidence.
+            let p = (j as f32 + 0.5) * dp;
+            let l = Vec3::new(st * p.cos(), st * p.sin(), ct);
+            let f = sheen_specular(r, Vec3::Z, l, v);
+            sum += (f * ct * st * dt * dp * 2.0) as f64;
+        }
+    }
+    sum as f32
+}
+
+/// The table of [`SHEEN_ALBEDO_GLSL`], row-major: `table[j · N + i]` at √(n·v) = i/(N−1) and
+/// sheen roughness j/(N−1) (the square root spends the nodes where a smooth sheen's albedo
+/// changes fastest, at grazing).
+pub fn sheen_albedo_table() -> &'static [f32] {
+    static TABLE: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let body = SHEEN_ALBEDO_GLSL
+            .split_once("](")
+            .and_then(|(_, rest)| rest.split_once(')'))
+            .map(|(numbers, _)| numbers)
+            .unwrap_or("");
+        let t: Vec<f32> = body
+            .split(',')
+            .filter_map(|s| s.trim().parse().ok())
+            .collect();
+        assert_eq!(
+            t.len(),
+            SHEEN_ALBEDO_N * SHEEN_ALBEDO_N,
+            "sheen_albedo.glsl"
+        );
+        t
+    })
+}
+
+/// The sheen lobe's directional albedo `E_sheen(n·v)` at sheen roughness `r`: the table,
+/// bilinear (as the GLSL's `sheen_albedo`).
+pub fn sheen_albedo(n_v: f32, r: f32) -> f32 {
+    let t = sheen_albedo_table();
+    let last = (SHEEN_ALBEDO_N - 1) as f32;
+    let x = n_v.clamp(0.0, 1.0).sqrt() * last;
+    let y = r.clamp(0.0, 1.0) * last;
+    let (i, j) = (
+        (x as usize).min(SHEEN_ALBEDO_N - 2),
+        (y as usize).min(SHEEN_ALBEDO_N - 2),
+    );
+    let (fx, fy) = (x - i as f32, y - j as f32);
+    let at = |i: usize, j: usize| t[j * SHEEN_ALBEDO_N + i];
+    mix(
+        mix(at(i, j), at(i + 1, j), fx),
+        mix(at(i, j + 1), at(i + 1, j + 1), fx),
+        fy,
+    )
+}
+
+/// The GLSL source of the table, nodes computed by [`sheen_albedo_integrated`] (what
+/// `shaders_glsl/brdf/sheen_albedo.glsl` holds; `brdf::tests::sheen_albedo_table_is_the_integral`
+/// checks it, the ignored `write_sheen_albedo_table` rewrites it).
+pub fn sheen_albedo_glsl_source() -> String {
+    let n = SHEEN_ALBEDO_N;
+    let mut s = String::from(
+        "// KHR_materials_sheen's directional albedo E_sheen(n·v, sheenRoughness) of the white sheen lobe\n\
+         // (D_Charlie · V_sheen), row-major: SHEEN_ALBEDO[j · N + i] at √(n·v) = i/(N−1), roughness j/(N−1).\n\
+         // Generated by brdf::models::layers::sheen_albedo_glsl_source (cargo test --release -p luz-core\n\
+         // write_sheen_albedo_table -- --ignored); the CPU reads this file too.\n\
+         #ifndef LUZ_SHEEN_ALBEDO_GLSL\n#define LUZ_SHEEN_ALBEDO_GLSL\n",
+    );
+    s += &format!(
+        "#define SHEEN_ALBEDO_N {n}\nconst float SHEEN_ALBEDO[{}] = float[](\n",
+        n * n
+    );
+    let last = (n - 1) as f32;
+    for j in 0..n {
+        let row: Vec<String> = (0..n)
+            .map(|i| {
+                let x = i as f32 / last;
+                format!("{:.6}", sheen_albedo_integrated(x * x, j as f32 / last))
+            })
+            .collect();
+        s += "    ";
+        s += &row.join(", ");
+        s += if j + 1 < n { ",\n" } else { "\n" };
+    }
+    s += ");\n#endif\n";
+    s
+}
+
+/// The base's terms `t` under the sheen of `p`: weighted by `1 − max(sheenColor) · e_sheen`
+/// (`e_sheen`: [`sheen_albedo`] at the view), plus `sheenColor · D V` in the diffuse.
+pub fn sheen_layer(
+    t: Terms,
+    p: &MetalRoughParams,
+    n: Vec3,
+    l: Vec3,
+    v: Vec3,
+    e_sheen: f32,
+) -> Terms {
+    let keep = 1.0 - p.sheen_color.max_element() * e_sheen;
+    let sheen = p.sheen_color * sheen_specular(p.sheen_roughness, n, l, v);
+    Terms {
+        diffuse: t.diffuse * keep + sheen,
+        specular: t.specular * keep,
         ..t
     }
 }

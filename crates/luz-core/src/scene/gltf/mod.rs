@@ -29,6 +29,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
@@ -443,7 +444,7 @@ impl<'a> Builder<'a> {
         for m in self.doc.materials() {
             let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
             let textures = self.doc.textures().len();
-            material::clearcoat(
+            material::layers(
                 &m,
                 &mut gm,
                 textures,

@@ -199,13 +199,15 @@ pub struct VariantKey {
 pub const GENERIC_LOBES: u32 = u32::MAX;
 
 /// The `BRDF_LOBE_*` bits of the layers `m` uses (issue 34): clearcoat when its factor is
-/// above 0.
+/// above 0, sheen when its colour is not black.
 pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     use crate::glsl::brdf_models as glsl;
-    match m.sanitized() {
-        crate::brdf::Model::MetalRough(p) if p.clearcoat > 0.0 => glsl::BRDF_LOBE_CLEARCOAT,
-        _ => 0,
-    }
+    let crate::brdf::Model::MetalRough(p) = m.sanitized() else {
+        return 0;
+    };
+    let bit = |on: bool, b: u32| if on { b } else { 0 };
+    bit(p.clearcoat > 0.0, glsl::BRDF_LOBE_CLEARCOAT)
+        | bit(p.sheen_color != glam::Vec3::ZERO, glsl::BRDF_LOBE_SHEEN)
 }
 
 /// glTF's alpha mode as a pipeline sees it ([`crate::scene::AlphaMode`] without the cutoff,
