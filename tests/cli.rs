@@ -236,6 +236,53 @@ fn model_files_on_the_command_line() {
     }
 }
 
+/// Issue 35's glass exports as Mitsuba's dielectrics: a smooth volume → `dielectric`, a rough
+/// one → `roughdielectric` at α = roughness², thin-walled → `thindielectric` (listed), a partial
+/// transmission → a `blendbsdf` at the factor; attenuation and dispersion are listed.
+#[test]
+fn export_maps_glass_to_dielectrics() {
+    let dir = scratch("export-glass");
+    let scene = dir.join("g.json");
+    std::fs::write(
+        &scene,
+        r#"{
+  "materials": {
+    "smooth": {"model": "metal_rough", "metallic": 0, "roughness": 0, "fresnel": "dielectric", "transmission": {"transmissionFactor": 1}, "volume": {"thicknessFactor": 1}},
+    "rough": {"model": "metal_rough", "metallic": 0, "roughness": 0.5, "fresnel": "dielectric", "transmission": {"transmissionFactor": 1}, "volume": {"thicknessFactor": 1, "attenuationDistance": 1, "attenuationColor": [0.5, 0.5, 0.5]}, "dispersion": {"dispersion": 1}},
+    "thin": {"model": "metal_rough", "metallic": 0, "roughness": 0, "fresnel": "dielectric", "transmission": {"transmissionFactor": 1}},
+    "half": {"model": "metal_rough", "metallic": 0, "roughness": 0, "fresnel": "dielectric", "transmission": {"transmissionFactor": 0.25}, "volume": {"thicknessFactor": 1}}
+  },
+  "objects": [{"mesh": {"type": "sphere"}, "material": "smooth"},
+              {"mesh": {"type": "sphere"}, "material": "rough", "position": [2, 0, 0]},
+              {"mesh": {"type": "sphere"}, "material": "thin", "position": [4, 0, 0]},
+              {"mesh": {"type": "sphere"}, "material": "half", "position": [6, 0, 0]}]
+}"#,
+    )
+    .unwrap();
+    let out = dir.join("mts");
+    let (code, _, err) = luz(&[
+        "export",
+        scene.to_str().unwrap(),
+        "--format",
+        "mitsuba",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    let xml = std::fs::read_to_string(out.join("scene.xml")).unwrap();
+    for want in [
+        r#"type="dielectric"><float name="int_ior" value="1.5"/>"#,
+        r#"type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.25"/>"#,
+        r#"type="thindielectric"><float name="int_ior" value="1.5"/>"#,
+        r#"type="blendbsdf"><float name="weight" value="0.25"/>"#,
+    ] {
+        assert!(xml.contains(want), "{want} in {xml}");
+    }
+    for what in ["thin-walled glass", "attenuation", "dispersion"] {
+        assert!(err.contains(what), "the warning lists {what}: {err}");
+    }
+}
+
 /// `luz export --format mitsuba`: scene.xml, PLY meshes and one warning listing what has no
 /// like-for-like counterpart (the cross-check itself is tests/crosscheck.rs).
 #[test]

@@ -1691,7 +1691,7 @@ fn sheen_factors_warnings_and_errors() {
         (
             "sheen_short",
             json!({"sheenColorFactor": [1, 1]}),
-            format!("{at}.sheenColorFactor: expected [r, g, b]"),
+            format!("{at}.sheenColorFactor: expected 3 numbers, got [1,1]"),
         ),
         (
             "sheen_neg",
@@ -1735,4 +1735,221 @@ fn skins_and_animations_give_one_warning() {
         "{}",
         w[0]
     );
+}
+
+/// Issue 35: KHR_materials_transmission, _volume, _dispersion and _diffuse_transmission set the
+/// metal_rough material's `transmission` (equal to the luz JSON material with the same fields),
+/// their textures are named in one warning each, and bad values are errors naming the file and
+/// the JSON path.
+#[test]
+fn glass_extensions_factors_warnings_and_errors() {
+    let dir = scratch("gltf-glass");
+    let write = |name: &str, exts: serde_json::Value, textures: bool| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "materials": [{"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.1},
+                           "extensions": exts}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(&dir, name, doc)
+    };
+    let f = load(&write(
+        "glass",
+        json!({
+            "KHR_materials_transmission": {"transmissionFactor": 0.9},
+            "KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationDistance": 2, "attenuationColor": [0.9, 0.5, 0.25]},
+            "KHR_materials_dispersion": {"dispersion": 0.3},
+            "KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.2, "diffuseTransmissionColorFactor": [1, 0.75, 0.5]}
+        }),
+        false,
+    ));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 0, "roughness": 0.1,
+            "transmission": {"transmissionFactor": 0.9},
+            "volume": {"thicknessFactor": 0.5, "attenuationDistance": 2, "attenuationColor": [0.9, 0.5, 0.25]},
+            "dispersion": {"dispersion": 0.3},
+            "diffuse_transmission": {"diffuseTransmissionFactor": 0.2, "diffuseTransmissionColorFactor": [1, 0.75, 0.5]}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+    );
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+    assert!(
+        matches!(&f.materials[0].material, luz::scene::Material::MetalRough(p) if p.transmission.factor == 0.9)
+    );
+
+    let f = load(&write(
+        "glasstex",
+        json!({"KHR_materials_transmission": {"transmissionFactor": 1, "transmissionTexture": {"index": 0}},
+               "KHR_materials_volume": {"thicknessTexture": {"index": 0}}}),
+        true,
+    ));
+    assert_eq!(f.warnings.len(), 2, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0].starts_with(
+            "glasstex.gltf: KHR_materials_transmission's transmissionTexture not used"
+        ) && f.warnings[0].ends_with(r#"materials[0] ("glass")"#),
+        "{}",
+        f.warnings[0]
+    );
+
+    let at = "materials[0].extensions";
+    for (name, ext, want) in [
+        (
+            "t_big",
+            json!({"KHR_materials_transmission": {"transmissionFactor": 1.5}}),
+            format!("{at}.KHR_materials_transmission.transmissionFactor: must be in [0, 1], got 1.5"),
+        ),
+        (
+            "v_thick",
+            json!({"KHR_materials_volume": {"thicknessFactor": -1}}),
+            format!("{at}.KHR_materials_volume.thicknessFactor: must be ≥ 0, got -1"),
+        ),
+        (
+            "v_dist",
+            json!({"KHR_materials_volume": {"attenuationDistance": 0}}),
+            format!("{at}.KHR_materials_volume.attenuationDistance: must be > 0, got 0"),
+        ),
+        (
+            "v_color",
+            json!({"KHR_materials_volume": {"attenuationColor": [1, 2, 0]}}),
+            format!("{at}.KHR_materials_volume.attenuationColor[1]: must be in [0, 1], got 2"),
+        ),
+        (
+            "d_neg",
+            json!({"KHR_materials_dispersion": {"dispersion": -0.5}}),
+            format!("{at}.KHR_materials_dispersion.dispersion: must be ≥ 0, got -0.5"),
+        ),
+        (
+            "dt_tex",
+            json!({"KHR_materials_diffuse_transmission": {"diffuseTransmissionTexture": {"index": 4}}}),
+            format!("{at}.KHR_materials_diffuse_transmission.diffuseTransmissionTexture.index: texture 4 does not exist"),
+        ),
+        (
+            "t_notobj",
+            json!({"KHR_materials_transmission": 1}),
+            format!("{at}.KHR_materials_transmission: expected an object"),
+        ),
+    ] {
+        let e = gltf::load(&write(name, ext, false), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
+}
+
+/// Issue 36: EXT_lights_area's rect and disk lights at nodes become area lights: centre at the
+/// node, facing its −Z, a rect `size · aspect` wide along its X and `size` high along its Y, a
+/// disk of diameter `size`, both scaled by the node's largest scale and then by the object's
+/// transform; bad lights are errors naming the JSON path.
+#[test]
+fn ext_lights_area_rect_and_disk() {
+    let dir = scratch("gltf-area");
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let write = |name: &str, lights: serde_json::Value, light_ref: u64| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        g.write_gltf(
+            &dir,
+            name,
+            json!({
+                "extensionsUsed": ["EXT_lights_area"],
+                "extensions": {"EXT_lights_area": {"lights": lights}},
+                "materials": [{"pbrMetallicRoughness": {}}],
+                "nodes": [
+                    {"mesh": 0},
+                    {"translation": [0, 3, 0], "rotation": [-s, 0, 0, s], "scale": [2, 2, 2],
+                     "extensions": {"EXT_lights_area": {"light": light_ref}}},
+                    {"extensions": {"EXT_lights_area": {"light": 1}}}
+                ],
+                "meshes": [{"primitives": [q]}]
+            }),
+        )
+    };
+    let path = write(
+        "area",
+        json!([
+            {"type": "rect", "size": 1, "rect": {"aspect": 2}, "intensity": 50, "color": [1, 0.5, 0.25]},
+            {"type": "disk", "size": 0.5}
+        ]),
+        0,
+    );
+    let text = format!(
+        r#"{{"objects": [{{"mesh": {{"type": "gltf", "path": {:?}, "lights": true}}, "position": [0, 0, 10]}}]}}"#,
+        path.to_str().unwrap()
+    );
+    let scene = luz::scene::parse(&text, &dir.join("s.json")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.area_lights.len(), 2);
+    let rect = &scene.area_lights[0];
+    assert!(
+        close(rect.position, Vec3::new(0.0, 3.0, 10.0)),
+        "{}",
+        rect.position
+    );
+    assert!(close(rect.direction, Vec3::NEG_Y), "{}", rect.direction);
+    match rect.shape {
+        luz::scene::AreaShape::Rect { up, width, height } => {
+            assert!(close(up, Vec3::NEG_Z), "{up}");
+            assert!(
+                (width - 4.0).abs() < 1e-5 && (height - 2.0).abs() < 1e-5,
+                "{width} × {height}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(
+        (rect.intensity, rect.color),
+        (50.0, Vec3::new(1.0, 0.5, 0.25))
+    );
+    let disk = &scene.area_lights[1];
+    assert!(close(disk.direction, Vec3::NEG_Z));
+    assert_eq!(disk.shape, luz::scene::AreaShape::Disk { radius: 0.25 });
+    assert_eq!(disk.intensity, 1000.0, "the extension's default luminance");
+
+    let at = "extensions.EXT_lights_area.lights";
+    for (name, lights, light_ref, want) in [
+        (
+            "area_type",
+            json!([{"type": "sphere"}, {"type": "disk"}]),
+            0,
+            format!(r#"{at}[0].type: expected "rect" or "disk", got "sphere""#),
+        ),
+        (
+            "area_size",
+            json!([{"type": "rect", "size": -1}, {"type": "disk"}]),
+            0,
+            format!("{at}[0].size: must be positive, got -1"),
+        ),
+        (
+            "area_aspect",
+            json!([{"type": "rect", "rect": {"aspect": 0}}, {"type": "disk"}]),
+            0,
+            format!("{at}[0].rect.aspect: must be positive, got 0"),
+        ),
+        (
+            "area_color",
+            json!([{"type": "disk", "color": [1, -1, 0]}, {"type": "disk"}]),
+            0,
+            format!("{at}[0].color: expected 3 finite numbers ≥ 0"),
+        ),
+        (
+            "area_ref",
+            json!([{"type": "disk"}, {"type": "disk"}]),
+            7,
+            "nodes[1].extensions.EXT_lights_area.light: light 7 does not exist".to_string(),
+        ),
+    ] {
+        let e = gltf::load(&write(name, lights, light_ref), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
 }

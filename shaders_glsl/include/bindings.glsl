@@ -34,7 +34,7 @@ layout(set = SET_FRAME, binding = BINDING_FRAME, std140) uniform FrameData {
     vec4 ambient;     // rgb: I_a (classic) or uniform ambient radiance (physically based)
     vec4 fog_color;   // rgb: I_F
     vec4 fog;         // z_a, z_b, s_a, s_b
-    uvec4 counts;     // x: number of lights
+    uvec4 counts;     // x: number of lights; y: area lights, z: the first's vec4 in area_data
     mat4 inv_view_proj;
     vec4 display;     // x: color::exposure_scale(ev) of the display output (include/output.glsl)
 } frame;
@@ -60,6 +60,23 @@ layout(set = SET_FRAME, binding = BINDING_LIGHTS, std430) readonly buffer Lights
 uint opaque(uint u) {
     return min(u, uint(lights.length()) | 0xFFFF0000u);
 }
+
+// Area lights (include/area.glsl; src/render/gpu.rs: area_data): the LTC table for GGX
+// (src/brdf/ltc.rs: LTC_SIZE² entries of two vec4) when the scene has an LTC light, then
+// AREA_VEC4S vec4 per light from frame.counts.z; frame.counts.y lights.
+#define BINDING_AREA 8
+layout(set = SET_FRAME, binding = BINDING_AREA, std430) readonly buffer AreaData {
+    vec4 area_data[];
+};
+#define LTC_SIZE 64
+#define AREA_VEC4S 5u
+#define AREA_RECT 0u
+#define AREA_DISK 1u
+#define AREA_SPHERE 2u
+#define AREA_TUBE 3u
+#define AREA_LTC 0u
+#define AREA_RP 1u
+#define AREA_SAMPLED 2u
 
 struct ObjectData {
     mat4 model;
@@ -184,7 +201,7 @@ layout(constant_id = 10) const int SEL_FRESNEL = -1;
 // Bit MAP_* set when the material may have that map (0: no texture code at all).
 layout(constant_id = 11) const uint MAPS = 0xFFu;
 // The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
-layout(constant_id = 12) const uint LIGHT_KINDS = 1023u;
+layout(constant_id = 12) const uint LIGHT_KINDS = 65535u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
@@ -211,5 +228,14 @@ layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_SHADOW_HARD 128u
 #define LK_SHADOW_PCF 256u
 #define LK_SHADOW_PCSS 512u
+// Some area light is shaded by this method (include/area.glsl); none: no area-light code at all.
+#define LK_AREA_LTC 1024u
+#define LK_AREA_RP 2048u
+#define LK_AREA_SAMPLED 4096u
+#define LK_AREA (LK_AREA_LTC | LK_AREA_RP | LK_AREA_SAMPLED)
+// Some area light has this shape (rects need no bit: their code is the smallest).
+#define LK_AREA_SPHERE 8192u
+#define LK_AREA_TUBE 16384u
+#define LK_AREA_DISK 32768u
 
 #endif

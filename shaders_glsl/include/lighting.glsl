@@ -188,6 +188,7 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
 #ifdef IBL
 #include "ibl.glsl"
 #endif
+#include "area.glsl"
 
 // The number of lights, for loops over them (through opaque(): see bindings.glsl).
 uint light_count() {
@@ -339,6 +340,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         }
 #endif
         result += brdf_radiance_unit(p, s.n, l, V, s.x, s.y, E);
+    }
+    if ((LIGHT_KINDS & LK_AREA) != 0u) {
+        for (uint k = 0u; k < opaque(frame.counts.y); ++k) {
+            result += area_shade(k, s, P, V);
+        }
     }
 #ifdef IBL
     result += s.occlusion * ibl_shade(p, s.n, V, s.x, s.y, es);

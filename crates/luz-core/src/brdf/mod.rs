@@ -20,6 +20,7 @@
 mod albedo;
 mod energy;
 mod gpu;
+mod ltc;
 mod models;
 mod names;
 mod presets;
@@ -37,6 +38,10 @@ pub use albedo::{
 };
 pub use energy::{energy_scale, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
+pub use ltc::{
+    fit_entry, fit_table, generate_ltc_table, ltc_table, refit_shipped_entry, shipped_lobe,
+    LtcEntry, LTC_ENTRY, LTC_FILE, LTC_FIT_SAMPLES, LTC_SIZE,
+};
 pub use models::layers::{
     clearcoat_energy, clearcoat_layer, clearcoat_specular, d_charlie, lambda_sheen, sheen_albedo,
     sheen_albedo_glsl_source, sheen_albedo_integrated, sheen_layer, sheen_specular, v_sheen,
@@ -67,5 +72,5 @@ pub use shipped_lut::{
 pub use split_sum::{g_ibl, split_sum_lut_reference, split_sum_lut_table};
 pub use terms::*;
 pub use transmission::{
-    attenuation_coefficient, beer_lambert, refract, DielectricSample, RoughDielectric,
+    attenuation_coefficient, beer_lambert, refract, DielectricSample, RoughDielectric, Transmission,
 };

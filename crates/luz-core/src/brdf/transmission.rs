@@ -12,6 +12,7 @@
 //! inside is in equilibrium: the furnace the tests run.
 
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
 use super::sampling::importance_sample_ggx;
 use super::terms::{d_ggx, f_dielectric, g1_smith_ggx, ALPHA_MIN};
@@ -43,6 +44,108 @@ pub fn attenuation_coefficient(attenuation_color: Vec3, attenuation_distance: f3
         return Vec3::ZERO;
     }
     -attenuation_color.max(Vec3::ZERO).ln() / attenuation_distance
+}
+
+/// Light through a metal-rough material (issue 35): `KHR_materials_transmission`,
+/// `KHR_materials_volume`, `KHR_materials_dispersion` and `KHR_materials_diffuse_transmission`,
+/// with the extensions' defaults (everything off). The index of refraction is the material's own
+/// (`KHR_materials_ior`, the dielectric F0's).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Transmission {
+    /// `transmissionFactor`, [0, 1]: how much of the dielectric's diffuse is replaced by the
+    /// specular BTDF. Default 0 (opaque).
+    pub factor: f32,
+    /// `thicknessFactor` ≥ 0, in the mesh's own units: 0 is a thin-walled surface (light
+    /// crosses it without bending its path); more makes the object a volume whose inside
+    /// refracts and attenuates. Default 0.
+    pub thickness: f32,
+    /// `attenuationColor`, [0, 1] per channel: what is left after `attenuation_distance`.
+    /// Default white.
+    pub attenuation_color: Vec3,
+    /// `attenuationDistance` > 0; `None` is the extension's default, infinity (no attenuation).
+    pub attenuation_distance: Option<f32>,
+    /// `dispersion` ≥ 0: 20 / Abbe number; 0 (default) is one index for every channel.
+    pub dispersion: f32,
+    /// `diffuseTransmissionFactor`, [0, 1]: the part of the diffuse lobe that goes through as
+    /// diffuse light. Default 0.
+    pub diffuse: f32,
+    /// `diffuseTransmissionColorFactor`, [0, 1] per channel. Default white.
+    pub diffuse_color: Vec3,
+}
+
+impl Default for Transmission {
+    fn default() -> Self {
+        Self {
+            factor: 0.0,
+            thickness: 0.0,
+            attenuation_color: Vec3::ONE,
+            attenuation_distance: None,
+            dispersion: 0.0,
+            diffuse: 0.0,
+            diffuse_color: Vec3::ONE,
+        }
+    }
+}
+
+impl Transmission {
+    /// Whether light goes through at all (specular or diffuse transmission).
+    pub fn any(&self) -> bool {
+        self.factor > 0.0 || self.diffuse > 0.0
+    }
+
+    /// Thin-walled (no volume): `thickness` 0.
+    pub fn thin_walled(&self) -> bool {
+        self.thickness <= 0.0
+    }
+
+    /// The inside's attenuation coefficient σ per unit length ([`attenuation_coefficient`]).
+    pub fn sigma(&self) -> Vec3 {
+        attenuation_coefficient(
+            self.attenuation_color,
+            self.attenuation_distance.unwrap_or(f32::INFINITY),
+        )
+    }
+
+    /// The index of refraction per channel (R, G, B) for the material's `ior`:
+    /// `KHR_materials_dispersion`'s spread `(ior − 1) · 0.025 · dispersion` below and above
+    /// green's `ior` (`ior − spread`, `ior`, `ior + spread`).
+    pub fn channel_iors(&self, ior: f32) -> Vec3 {
+        let spread = (ior - 1.0) * 0.025 * self.dispersion;
+        Vec3::new(ior - spread, ior, ior + spread)
+    }
+
+    /// Factors in range, colours in [0, 1], a positive finite attenuation distance (else none),
+    /// non-finite values to the defaults.
+    pub fn sanitized(&self) -> Self {
+        let d = Self::default();
+        let unit = |x: f32, default: f32| {
+            if x.is_finite() {
+                x.clamp(0.0, 1.0)
+            } else {
+                default
+            }
+        };
+        let colour = |c: Vec3| {
+            if c.is_finite() {
+                c.clamp(Vec3::ZERO, Vec3::ONE)
+            } else {
+                Vec3::ONE
+            }
+        };
+        let non_negative = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
+        Self {
+            factor: unit(self.factor, d.factor),
+            thickness: non_negative(self.thickness),
+            attenuation_color: colour(self.attenuation_color),
+            attenuation_distance: self
+                .attenuation_distance
+                .filter(|x| x.is_finite() && *x > 0.0),
+            dispersion: non_negative(self.dispersion),
+            diffuse: unit(self.diffuse, d.diffuse),
+            diffuse_color: colour(self.diffuse_color),
+        }
+    }
 }
 
 /// A sampled direction of a [`RoughDielectric`].
@@ -176,6 +279,24 @@ impl RoughDielectric {
     /// (reflection or refraction, by the Fresnel reflectance). `None` when the drawn microfacet
     /// faces away from `wo` or the refraction is totally reflected away.
     pub fn sample(&self, wo: Vec3, u: (f32, f32), u_lobe: f32) -> Option<DielectricSample> {
+        self.sample_lobe(wo, u, Some(u_lobe))
+    }
+
+    /// [`Self::sample`] restricted to refraction: the microfacet normal from `u`, always
+    /// refracted, with the weight of the refracted part alone (`eval · |cos| / pdf` with the
+    /// density of refraction given `h`, so the weights carry `1 − F`). Its expected weight is
+    /// the BTDF's share of what [`Self::sample`] returns, with no noise from the lobe choice.
+    pub fn sample_refraction(&self, wo: Vec3, u: (f32, f32)) -> Option<DielectricSample> {
+        self.sample_lobe(wo, u, None)
+    }
+
+    /// `u_lobe` chooses the lobe by the Fresnel reflectance; `None` always refracts.
+    fn sample_lobe(
+        &self,
+        wo: Vec3,
+        u: (f32, f32),
+        u_lobe: Option<f32>,
+    ) -> Option<DielectricSample> {
         if wo.z == 0.0 {
             return None;
         }
@@ -199,7 +320,7 @@ impl RoughDielectric {
         let eta_o = self.side_index(wo);
         let eta_t = self.side_index(-wo);
         let f = f_dielectric(o_h, eta_t / eta_o);
-        let reflect = u_lobe < f;
+        let reflect = u_lobe.is_some_and(|u| u < f);
         let wi = if reflect {
             2.0 * o_h * h - wo
         } else {
@@ -210,8 +331,12 @@ impl RoughDielectric {
         if (wo.z * wi.z > 0.0) != reflect {
             return None;
         }
-        let pdf = self.pdf(wo, wi);
+        let mut pdf = self.pdf(wo, wi);
         let value = self.eval(wo, wi);
+        if u_lobe.is_none() {
+            // The density given refraction: without the lobe choice's 1 − F.
+            pdf /= (1.0 - f).max(1e-12);
+        }
         if pdf <= 0.0 || value <= 0.0 {
             return None;
         }

@@ -177,11 +177,40 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
              range so that the clustered light loop can skip them where they do not reach"
         ));
     }
-    if !scene.area_lights.is_empty() {
+    for (i, a) in scene.area_lights.iter().enumerate() {
+        use super::area::{AreaMethod, AreaShape};
+        let what = format!("area light {i} ({})", a.shape.name());
+        match (a.shape, a.method) {
+            (AreaShape::Tube { .. }, AreaMethod::Ltc) => scene.warnings.push(format!(
+                "lights: {what}: the GPU has no LTC form for tubes yet; it shades this one by \
+                 representative point (issue 36)"
+            )),
+            (AreaShape::Rect { .. } | AreaShape::Disk { .. }, AreaMethod::RepresentativePoint) => {
+                scene.warnings.push(format!(
+                    "lights: {what}: representative point is for spheres and tubes; the GPU \
+                     shades this one by LTC"
+                ))
+            }
+            _ => {}
+        }
+        if a.shadow.is_some() {
+            scene.warnings.push(format!(
+                "lights: {what}: `luz reference` shadows it, the GPU renderer does not yet \
+                 (issue 36)"
+            ));
+        }
+    }
+    let glass: Vec<&str> = scene
+        .materials
+        .iter()
+        .filter(|m| matches!(&m.material, Material::MetalRough(p) if p.transmission.any()))
+        .map(|m| m.name.as_str())
+        .collect();
+    if !glass.is_empty() {
         scene.warnings.push(format!(
-            "lights: {} area light(s): `luz reference` shades them, but the GPU renderer does \
-             not yet (issue 36)",
-            scene.area_lights.len()
+            "materials {}: transmission: `luz reference` refracts through them, but the GPU \
+             renderer draws them opaque yet (issue 35)",
+            glass.join(", ")
         ));
     }
     // Every material is known now (the scene's, then the MTL and glTF files'): their textures

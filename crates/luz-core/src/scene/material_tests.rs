@@ -403,6 +403,7 @@ fn metal_rough_every_field() {
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::new(0.5, 0.25, 1.0),
             sheen_roughness: 0.3,
+            transmission: crate::brdf::Transmission::default(),
         }
     );
     // Any Fresnel works (the exact forms take η from F0).

@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
-use crate::scene::{Falloff, Light, LightKind, Material, Scene};
+use crate::scene::{AreaLight, AreaMethod, AreaShape, Falloff, Light, LightKind, Material, Scene};
 
 pub use crate::glsl;
 
@@ -20,6 +20,8 @@ pub const BINDING_DEFERRED_MATERIALS: u32 = b::BINDING_DEFERRED_MATERIALS as u32
 pub const BINDING_CLUSTERS: u32 = b::BINDING_CLUSTERS as u32;
 pub const BINDING_CLUSTER_LIGHTS: u32 = b::BINDING_CLUSTER_LIGHTS as u32;
 pub const BINDING_INSTANCES: u32 = b::BINDING_INSTANCES as u32;
+/// Area lights and the LTC table (`shaders_glsl/include/area.glsl`).
+pub const BINDING_AREA: u32 = b::BINDING_AREA as u32;
 /// The environment's set (`shaders_glsl/include/ibl.glsl`).
 pub const SET_ENV: u32 = glsl::include_ibl::SET_ENV as u32;
 /// The material maps' set.
@@ -83,6 +85,107 @@ pub const LK_RANGE: u32 = b::LK_RANGE;
 pub const LK_SHADOW_HARD: u32 = b::LK_SHADOW_HARD;
 pub const LK_SHADOW_PCF: u32 = b::LK_SHADOW_PCF;
 pub const LK_SHADOW_PCSS: u32 = b::LK_SHADOW_PCSS;
+pub const LK_AREA_LTC: u32 = b::LK_AREA_LTC;
+pub const LK_AREA_RP: u32 = b::LK_AREA_RP;
+pub const LK_AREA_SAMPLED: u32 = b::LK_AREA_SAMPLED;
+pub const LK_AREA_SPHERE: u32 = b::LK_AREA_SPHERE;
+pub const LK_AREA_TUBE: u32 = b::LK_AREA_TUBE;
+pub const LK_AREA_DISK: u32 = b::LK_AREA_DISK;
+
+/// The `LK_AREA_*` method and shape bits (and `LK_RANGE`) area lights need, as `area.glsl`'s
+/// `area_shade` picks a method: sampled where asked; representative point for tubes and for
+/// spheres that ask for it; LTC for the rest (rect and disk always, unless sampled).
+pub fn area_kinds(lights: &[AreaLight]) -> u32 {
+    lights.iter().fold(0, |bits, l| {
+        bits | match (l.shape, l.method) {
+            (_, AreaMethod::Sampled { .. }) => LK_AREA_SAMPLED,
+            (AreaShape::Tube { .. }, _)
+            | (AreaShape::Sphere { .. }, AreaMethod::RepresentativePoint) => LK_AREA_RP,
+            _ => LK_AREA_LTC,
+        } | match l.shape {
+            AreaShape::Rect { .. } => 0,
+            AreaShape::Disk { .. } => LK_AREA_DISK,
+            AreaShape::Sphere { .. } => LK_AREA_SPHERE,
+            AreaShape::Tube { .. } => LK_AREA_TUBE,
+        } | if l.range.is_some() { LK_RANGE } else { 0 }
+    })
+}
+
+/// The `LK_*` bits of a scene's punctual and area lights.
+pub fn scene_light_kinds(scene: &Scene) -> u32 {
+    light_kinds(&scene.lights) | area_kinds(&scene.area_lights)
+}
+
+/// `vec4`s per area light in `area_data` (`AREA_VEC4S`).
+pub const AREA_VEC4S: usize = b::AREA_VEC4S as usize;
+const _: () = assert!(b::LTC_SIZE as usize == crate::brdf::LTC_SIZE);
+
+/// Where the first area light starts in `area_data`, in `vec4`s: after the LTC table when some
+/// light is shaded by LTC.
+pub fn area_offset(scene: &Scene) -> usize {
+    if area_kinds(&scene.area_lights) & LK_AREA_LTC != 0 {
+        crate::brdf::LTC_SIZE * crate::brdf::LTC_SIZE * 2
+    } else {
+        0
+    }
+}
+
+/// One area light as `area.glsl`'s `area_light` reads it.
+pub fn gpu_area_light(l: &AreaLight) -> [Vec4; AREA_VEC4S] {
+    use glam::Vec3;
+    let n = l.direction.normalize_or_zero();
+    let (shape, ex, ey, radius) = match l.shape {
+        AreaShape::Rect { .. } => {
+            let (x, y) = l.rect_axes().unwrap_or((Vec3::ZERO, Vec3::ZERO));
+            (b::AREA_RECT, x, y, 0.0)
+        }
+        AreaShape::Disk { radius } => {
+            let t = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
+            let x = n.cross(t).normalize();
+            (b::AREA_DISK, x * radius, n.cross(x) * radius, radius)
+        }
+        AreaShape::Sphere { radius } => (b::AREA_SPHERE, Vec3::ZERO, Vec3::ZERO, radius),
+        AreaShape::Tube { length, radius } => {
+            (b::AREA_TUBE, n * (0.5 * length), Vec3::ZERO, radius)
+        }
+    };
+    let (method, samples) = match l.method {
+        AreaMethod::Ltc => (b::AREA_LTC, 0),
+        AreaMethod::RepresentativePoint => (b::AREA_RP, 0),
+        AreaMethod::Sampled { samples } => (b::AREA_SAMPLED, samples),
+    };
+    [
+        l.position.extend(shape as f32),
+        n.extend((method | samples << 2) as f32),
+        l.radiance().extend(l.range.unwrap_or(0.0)),
+        ex.extend(if l.two_sided { 1.0 } else { 0.0 }),
+        ey.extend(radius),
+    ]
+}
+
+/// The area lights' part of `area_data`.
+pub fn area_lights_data(scene: &Scene) -> Vec<Vec4> {
+    scene.area_lights.iter().flat_map(gpu_area_light).collect()
+}
+
+/// The whole of `area_data`: the LTC table when needed, then the lights (at least one `vec4`:
+/// Vulkan wants a non-zero range).
+pub fn area_data(scene: &Scene) -> Vec<Vec4> {
+    let mut data = Vec::new();
+    if area_offset(scene) > 0 {
+        let table = crate::brdf::ltc_table();
+        data.extend(
+            table
+                .chunks_exact(4)
+                .map(|c| Vec4::new(c[0], c[1], c[2], c[3])),
+        );
+    }
+    data.extend(area_lights_data(scene));
+    if data.is_empty() {
+        data.push(Vec4::ZERO);
+    }
+    data
+}
 
 /// The light types and falloffs `lights` use, as `LK_*` bits (the shader leaves out the rest).
 pub fn light_kinds(lights: &[Light]) -> u32 {
@@ -271,7 +374,12 @@ pub fn frame_data(scene: &Scene, aspect: f32, light_count: u32) -> FrameData {
         ambient: scene.ambient.extend(0.0),
         fog_color,
         fog,
-        counts: [light_count, 0, 0, 0],
+        counts: [
+            light_count,
+            scene.area_lights.len() as u32,
+            area_offset(scene) as u32,
+            0,
+        ],
         inv_view_proj: (proj * view).inverse(),
         display: Vec4::new(
             crate::color::exposure_scale(scene.output.exposure),

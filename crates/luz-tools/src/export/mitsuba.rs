@@ -752,6 +752,9 @@ impl Writer {
         base_map: Option<&TextureRef>,
     ) -> Result<String, ExportError> {
         let p = p.sanitized();
+        if p.transmission.factor > 0.0 {
+            return self.glass(name, &p, base_map);
+        }
         self.specular_notes(name, p.distribution, p.geometry, p.diffuse);
         if p.diffuse_fresnel_weight {
             self.note(format!("material '{name}': the diffuse's 1 − F weight"));
@@ -938,6 +941,7 @@ fn needs_two_sided(scene: &Scene, o: &crate::scene::Object) -> bool {
 }
 
 mod area;
+mod glass;
 
 #[cfg(test)]
 mod tests {

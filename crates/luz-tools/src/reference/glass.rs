@@ -34,43 +34,115 @@ pub struct Glass {
 
 /// Radiance arriving along the unit ray `(origin, dir)` from outside the object, estimated by
 /// one random walk: `hit(o, d)` is the nearest crossing of the object's surface along the ray
-/// (`None` when it leaves), `surroundings(d)` the radiance from direction `d` once a ray has
+/// (`None` when it leaves), `surroundings(o, d)` the radiance along the ray `(o, d)` once it has
 /// left, `rng()` uniform numbers in [0, 1).
 pub fn walk(
     origin: Vec3,
     dir: Vec3,
     glass: &Glass,
     hit: impl Fn(Vec3, Vec3) -> Option<GlassHit>,
-    surroundings: impl Fn(Vec3) -> Vec3,
+    surroundings: impl Fn(Vec3, Vec3) -> Vec3,
     mut rng: impl FnMut() -> f32,
 ) -> Vec3 {
-    let (mut o, mut d) = (origin, dir.normalize());
-    let mut throughput = Vec3::ONE;
-    let mut inside = false;
-    for _ in 0..MAX_BOUNCES {
+    let start = Start {
+        o: origin,
+        d: dir.normalize(),
+        throughput: Vec3::ONE,
+        inside: false,
+    };
+    walk_from(start, glass, &hit, &surroundings, &mut rng, MAX_BOUNCES)
+}
+
+/// What is refracted into the object where the unit ray `dir` meets its surface at `p` (outside
+/// normal `n_out`), where a reflection contributes nothing (the
+/// caller shades the surface's reflection as a BRDF): the refraction alone is sampled
+/// (`RoughDielectric::sample_refraction`), and walks on inside as [`walk`].
+/// The expected value is the transmitted part of the radiance seen at `p`.
+pub fn transmitted(
+    (p, dir, n_out): (Vec3, Vec3, Vec3),
+    glass: &Glass,
+    hit: impl Fn(Vec3, Vec3) -> Option<GlassHit>,
+    surroundings: impl Fn(Vec3, Vec3) -> Vec3,
+    mut rng: impl FnMut() -> f32,
+) -> Vec3 {
+    let (t, b) = ortho_basis(n_out);
+    let wo = Vec3::new(-dir.dot(t), -dir.dot(b), -dir.dot(n_out));
+    let Some(s) = glass.interface.sample_refraction(wo, (rng(), rng())) else {
+        return Vec3::ZERO;
+    };
+    let (d, weight) = (
+        (t * s.wi.x + b * s.wi.y + n_out * s.wi.z).normalize(),
+        s.weight,
+    );
+    let start = Start {
+        o: p - n_out * 1e-4,
+        d,
+        throughput: Vec3::splat(weight),
+        inside: true,
+    };
+    walk_from(start, glass, &hit, &surroundings, &mut rng, MAX_BOUNCES - 1)
+}
+
+/// Where a walk stands: the ray, the weight so far and the side.
+struct Start {
+    o: Vec3,
+    d: Vec3,
+    throughput: Vec3,
+    inside: bool,
+}
+
+/// One sample of the interface (outside normal `n_out`) for the unit ray `d` arriving: the
+/// new direction and the sample's weight.
+fn cross(
+    glass: &Glass,
+    n_out: Vec3,
+    d: Vec3,
+    rng: &mut impl FnMut() -> f32,
+) -> Option<(Vec3, f32)> {
+    // The BSDF's frame: +z the outside normal.
+    let (t, b) = ortho_basis(n_out);
+    let wo = Vec3::new(-d.dot(t), -d.dot(b), -d.dot(n_out));
+    let s = glass.interface.sample(wo, (rng(), rng()), rng())?;
+    Some((
+        (t * s.wi.x + b * s.wi.y + n_out * s.wi.z).normalize(),
+        s.weight,
+    ))
+}
+
+fn walk_from(
+    start: Start,
+    glass: &Glass,
+    hit: &impl Fn(Vec3, Vec3) -> Option<GlassHit>,
+    surroundings: &impl Fn(Vec3, Vec3) -> Vec3,
+    rng: &mut impl FnMut() -> f32,
+    bounces: u32,
+) -> Vec3 {
+    let Start {
+        mut o,
+        mut d,
+        mut throughput,
+        mut inside,
+    } = start;
+    for _ in 0..bounces {
         let Some(h) = hit(o, d) else {
             // Inside, a closed surface is always met again; a miss there is a numerical
             // escape and carries nothing.
             return if inside {
                 Vec3::ZERO
             } else {
-                throughput * surroundings(d)
+                throughput * surroundings(o, d)
             };
         };
         if inside {
             throughput *= beer_lambert(glass.sigma, h.t);
         }
         let p = o + d * h.t;
-        // The BSDF's frame: +z the outside normal.
-        let (t, b) = ortho_basis(h.n_out);
-        let to_local = |w: Vec3| Vec3::new(w.dot(t), w.dot(b), w.dot(h.n_out));
-        let wo = to_local(-d);
-        let Some(s) = glass.interface.sample(wo, (rng(), rng()), rng()) else {
+        let Some((next, weight)) = cross(glass, h.n_out, d, rng) else {
             return Vec3::ZERO;
         };
-        throughput *= s.weight;
-        d = (t * s.wi.x + b * s.wi.y + h.n_out * s.wi.z).normalize();
-        inside = s.wi.z < 0.0;
+        throughput *= weight;
+        d = next;
+        inside = d.dot(h.n_out) < 0.0;
         // Leave the surface on the side the ray goes to.
         o = p + h.n_out * (if inside { -1e-4 } else { 1e-4 });
     }
@@ -150,7 +222,7 @@ mod tests {
             let deviation = 2.0 * (theta_i - theta_t);
             // A ray along −z at height b in y; it turns towards the axis (−y), by `deviation`.
             let exit = Vec3::new(0.0, -deviation.sin(), -deviation.cos());
-            let lit = move |d: Vec3| {
+            let lit = move |_: Vec3, d: Vec3| {
                 if d.dot(exit) > 0.5f32.to_radians().cos() {
                     Vec3::ONE
                 } else {
@@ -199,7 +271,7 @@ mod tests {
                     d,
                     &glass,
                     slab(0.3),
-                    |_| Vec3::ONE,
+                    |_, _| Vec3::ONE,
                     rng(seed * 104_729),
                 )
             });
@@ -222,7 +294,7 @@ mod tests {
                 d,
                 &glass,
                 slab(0.4),
-                |_| Vec3::ONE,
+                |_, _| Vec3::ONE,
                 rng(3),
             );
             let want = (-sigma * 0.4 / t.cos()).exp();
@@ -242,7 +314,7 @@ mod tests {
                 -Vec3::Z,
                 &glass,
                 slab(0.4),
-                |d| if d.z < 0.0 { Vec3::ONE } else { Vec3::ZERO },
+                |_, d| if d.z < 0.0 { Vec3::ONE } else { Vec3::ZERO },
                 rng(seed * 31),
             )
         });

@@ -370,7 +370,9 @@ impl Prepared {
                 _ => self.background,
             };
         };
-        let c = self.shade(i, t, part, &local, key, samples);
+        let c = self.shade(i, t, part, &local, key, samples)
+            + self.transmission(&(i, t, part, local), d, key, samples, layer)
+            + self.diffuse_transmission(&(i, t, part, local), d, key, samples);
         let c = self.apply_fog(c, t);
         let obj = &self.objects[i];
         let Some(mat) = self.materials.get(obj.material) else {
@@ -706,7 +708,10 @@ fn ambient_term(model: &Model, ambient: Vec3) -> Vec3 {
     match model {
         Model::Phong(p) => ambient * p.ka * p.diffuse_color,
         Model::CookTorrance(p) => ambient * p.kd * p.color,
-        Model::MetalRough(p) => ambient * (1.0 - p.metallic) * p.base_color,
+        Model::MetalRough(p) => {
+            let t = p.transmission;
+            ambient * (1.0 - p.metallic) * (1.0 - t.factor) * (1.0 - t.diffuse) * p.base_color
+        }
         Model::Principled(p) => ambient * (1.0 - p.metallic) * p.base_color,
         Model::Lambert(p) => ambient * p.albedo,
         Model::OrenNayar(p) => ambient * p.albedo,
@@ -875,6 +880,7 @@ fn env_light(env: &RefEnv, s: &Surface, v: Vec3, key: [u64; 3], samples: u32) ->
 }
 
 mod area;
+mod transmission;
 
 #[cfg(test)]
 mod occluded_tests;

@@ -11,6 +11,7 @@ pub mod layers;
 
 use super::presets::{f0_from_ior, ior_from_f0, ComplexIor};
 use super::terms::*;
+use super::transmission::Transmission;
 use crate::glsl::brdf_models as glsl;
 
 // ---------------------------------------------------------------------------------------------
@@ -418,6 +419,8 @@ pub struct MetalRoughParams {
     pub sheen_color: Vec3,
     /// KHR_materials_sheen's `sheenRoughnessFactor`, [0, 1]. Default 0.
     pub sheen_roughness: f32,
+    /// Transmission, volume, dispersion and diffuse transmission (issue 35). Default: none.
+    pub transmission: Transmission,
 }
 
 impl Default for MetalRoughParams {
@@ -437,6 +440,7 @@ impl Default for MetalRoughParams {
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
+            transmission: Transmission::default(),
         }
     }
 }
@@ -453,6 +457,7 @@ impl MetalRoughParams {
             clearcoat_roughness: unit(self.clearcoat_roughness, 0.0),
             sheen_color: colour(self.sheen_color).min(Vec3::ONE),
             sheen_roughness: unit(self.sheen_roughness, 0.0),
+            transmission: self.transmission.sanitized(),
             ..*self
         }
     }
@@ -853,7 +858,11 @@ pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Ter
 fn metal_rough_base_terms(p: &MetalRoughParams, s: &Setup) -> Terms {
     let a = (p.roughness * p.roughness).max(ALPHA_MIN);
     let f0 = mix3(p.dielectric_f0, p.base_color, p.metallic);
-    let c_diff = p.base_color * (1.0 - p.metallic);
+    // KHR_materials_transmission and _diffuse_transmission: the specular and the diffuse BTDF
+    // take those shares of the dielectric's diffuse (what goes through is the reference's, not
+    // this BRDF's).
+    let t = p.transmission;
+    let c_diff = p.base_color * (1.0 - p.metallic) * (1.0 - t.factor) * (1.0 - t.diffuse);
     let (spec, kappa) = p.fresnel.inputs_from_f0(f0);
     let h = safe_normalize(s.l + s.v);
     let n_h = s.n.dot(h);

@@ -87,6 +87,32 @@ pub(super) fn expand(e: Entry, ctx: &mut Ctx, scene: &mut Scene) -> Result<()> {
             }
             scene.lights.push(l);
         }
+        let k = super::super::gltf::max_scale(m);
+        for a in &loaded.file.area_lights {
+            let mut a = *a;
+            a.position = m.transform_point3(a.position);
+            a.direction = m
+                .transform_vector3(a.direction)
+                .try_normalize()
+                .unwrap_or(a.direction);
+            a.shape = match a.shape {
+                crate::scene::AreaShape::Rect { up, width, height } => {
+                    crate::scene::AreaShape::Rect {
+                        up: m.transform_vector3(up).try_normalize().unwrap_or(up),
+                        width: width * k,
+                        height: height * k,
+                    }
+                }
+                crate::scene::AreaShape::Disk { radius } => {
+                    crate::scene::AreaShape::Disk { radius: radius * k }
+                }
+                other => other,
+            };
+            if *light_shadow {
+                a.shadow = Some(crate::scene::Shadow::default_for(LightKind::Point));
+            }
+            scene.area_lights.push(a);
+        }
     }
     if *cameras {
         for c in &loaded.file.cameras {

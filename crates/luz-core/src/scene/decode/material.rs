@@ -2,7 +2,7 @@
 //! selectors and the Cook-Torrance specular sources.
 
 use super::*;
-use crate::brdf::ModelKind;
+use crate::brdf::{ModelKind, Transmission};
 
 pub(super) type MaterialDecoder = fn(&Fields, &str) -> Result<Material>;
 
@@ -243,10 +243,15 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "diffuse",
             "clearcoat",
             "sheen",
+            "transmission",
+            "volume",
+            "dispersion",
+            "diffuse_transmission",
         ],
         &a_material(model),
     )?;
     let d = MetalRoughParams::default();
+    let transmission = transmission(f)?;
     let (clearcoat, clearcoat_roughness) = match f.get("clearcoat") {
         None => (d.clearcoat, d.clearcoat_roughness),
         Some(v) => clearcoat(v, &f.path("clearcoat"))?,
@@ -307,6 +312,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         clearcoat_roughness,
         sheen_color,
         sheen_roughness,
+        transmission,
     }))
 }
 
@@ -322,6 +328,51 @@ fn sheen(v: &Value, path: &str) -> Result<(Vec3, f32)> {
         f.color_in("sheenColorFactor", Vec3::ZERO, UNIT)?,
         f.num("sheenRoughnessFactor", 0.0, UNIT)?,
     ))
+}
+
+/// Issue 35's four extensions on a metal-rough material, each an object with the extension's
+/// own names: `"transmission": {"transmissionFactor"}`, `"volume": {"thicknessFactor",
+/// "attenuationDistance", "attenuationColor"}`, `"dispersion": {"dispersion"}`,
+/// `"diffuse_transmission": {"diffuseTransmissionFactor", "diffuseTransmissionColorFactor"}`.
+/// Defaults are the extensions' (nothing goes through).
+fn transmission(f: &Fields) -> Result<Transmission> {
+    let mut t = Transmission::default();
+    if let Some(v) = f.get("transmission") {
+        let g = Fields::new(v, &f.path("transmission"))?;
+        g.allow(
+            &["transmissionFactor"],
+            "transmission (KHR_materials_transmission; its texture is not supported yet)",
+        )?;
+        t.factor = g.num("transmissionFactor", t.factor, UNIT)?;
+    }
+    if let Some(v) = f.get("volume") {
+        let g = Fields::new(v, &f.path("volume"))?;
+        g.allow(
+            &["thicknessFactor", "attenuationDistance", "attenuationColor"],
+            "a volume (KHR_materials_volume; its thickness texture is not supported yet)",
+        )?;
+        t.thickness = g.num("thicknessFactor", t.thickness, Check::NonNegative)?;
+        t.attenuation_color = g.color_in("attenuationColor", t.attenuation_color, UNIT)?;
+        if g.has("attenuationDistance") {
+            t.attenuation_distance =
+                Some(g.num("attenuationDistance", f32::INFINITY, Check::Positive)?);
+        }
+    }
+    if let Some(v) = f.get("dispersion") {
+        let g = Fields::new(v, &f.path("dispersion"))?;
+        g.allow(&["dispersion"], "dispersion (KHR_materials_dispersion)")?;
+        t.dispersion = g.num("dispersion", t.dispersion, Check::NonNegative)?;
+    }
+    if let Some(v) = f.get("diffuse_transmission") {
+        let g = Fields::new(v, &f.path("diffuse_transmission"))?;
+        g.allow(
+            &["diffuseTransmissionFactor", "diffuseTransmissionColorFactor"],
+            "diffuse transmission (KHR_materials_diffuse_transmission; its textures are not supported yet)",
+        )?;
+        t.diffuse = g.num("diffuseTransmissionFactor", t.diffuse, UNIT)?;
+        t.diffuse_color = g.color_in("diffuseTransmissionColorFactor", t.diffuse_color, UNIT)?;
+    }
+    Ok(t)
 }
 
 /// KHR_materials_clearcoat's factors, with the extension's names:

@@ -146,6 +146,7 @@ mod area;
 mod fields;
 mod node;
 mod paths;
+mod transmission;
 
 use fields::*;
 use node::*;
@@ -296,6 +297,7 @@ impl Encoder<'_> {
                             .with("sheenRoughnessFactor", p.sheen_roughness),
                     );
                 }
+                transmission::put(n, &p.transmission);
             }
             Material::Principled(p) => {
                 n.put("base_color", p.base_color)

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use gltf::texture::{MagFilter, MinFilter, WrappingMode};
 
+use super::ext::{Ext, Range};
 use super::primitive::UvChoice;
 use super::GltfError;
 use crate::brdf::MetalRoughParams;
@@ -328,156 +329,85 @@ pub fn material(
     }
 }
 
-/// One material extension's object, with the checks every extension's factors and textures get:
-/// errors name the file and the JSON path `materials[i].extensions.NAME.key`.
-struct Ext<'a> {
-    obj: &'a serde_json::Map<String, serde_json::Value>,
-    path: String,
-    file: &'a Path,
-    textures: usize,
-}
-
-impl<'a> Ext<'a> {
-    /// Extension `name` of material `m` (`None` when absent); not an object is an error.
-    fn of(
-        m: &'a gltf::Material,
-        name: &str,
-        file: &'a Path,
-        textures: usize,
-    ) -> Result<Option<Self>, GltfError> {
-        let Some(ext) = m.extension_value(name) else {
-            return Ok(None);
-        };
-        let path = format!("materials[{}].extensions.{name}", m.index().unwrap_or(0));
-        match ext.as_object() {
-            Some(obj) => Ok(Some(Ext {
-                obj,
-                path,
-                file,
-                textures,
-            })),
-            None => Err(GltfError {
-                file: file.to_path_buf(),
-                path,
-                reason: "expected an object".into(),
-            }),
-        }
-    }
-
-    fn err(&self, key: &str, reason: String) -> GltfError {
-        GltfError {
-            file: self.file.to_path_buf(),
-            path: format!("{}.{key}", self.path),
-            reason,
-        }
-    }
-
-    /// A number in [0, 1] (`default` when absent).
-    fn factor(&self, key: &str, default: f32) -> Result<f32, GltfError> {
-        match self.obj.get(key) {
-            None => Ok(default),
-            Some(v) => self.unit(key, v),
-        }
-    }
-
-    fn unit(&self, key: &str, v: &serde_json::Value) -> Result<f32, GltfError> {
-        match v.as_f64() {
-            Some(x) if (0.0..=1.0).contains(&x) => Ok(x as f32),
-            Some(x) => Err(self.err(key, format!("must be in [0, 1], got {x}"))),
-            None => Err(self.err(key, format!("expected a number, got {v}"))),
-        }
-    }
-
-    /// Three numbers in [0, 1] (`default` when absent).
-    fn color(&self, key: &str, default: Vec3) -> Result<Vec3, GltfError> {
-        let Some(v) = self.obj.get(key) else {
-            return Ok(default);
-        };
-        match v.as_array() {
-            Some(a) if a.len() == 3 => {
-                let mut c = [0.0; 3];
-                for (k, x) in a.iter().enumerate() {
-                    c[k] = self.unit(&format!("{key}[{k}]"), x)?;
-                }
-                Ok(Vec3::from_array(c))
-            }
-            _ => Err(self.err(key, format!("expected [r, g, b], got {v}"))),
-        }
-    }
-
-    /// Whether any of the texture infos `keys` is given; an index naming no texture is an error.
-    fn maps(&self, keys: &[&str]) -> Result<bool, GltfError> {
-        let mut with_maps = false;
-        for key in keys {
-            let Some(info) = self.obj.get(*key) else {
-                continue;
-            };
-            match info.get("index").and_then(|v| v.as_u64()) {
-                Some(t) if (t as usize) < self.textures => with_maps = true,
-                Some(t) => {
-                    return Err(self.err(
-                        &format!("{key}.index"),
-                        format!(
-                            "texture {t} does not exist (the file has {})",
-                            self.textures
-                        ),
-                    ))
-                }
-                None => {
-                    return Err(self.err(key, "expected a texture info with an \"index\"".into()))
-                }
-            }
-        }
-        Ok(with_maps)
-    }
-}
-
-/// KHR_materials_clearcoat's and KHR_materials_sheen's factors onto `gm` (a `metal_rough`
-/// material). Factors outside [0, 1] or not numbers, and textures whose index names no texture,
-/// are errors naming the JSON path; the textures themselves are not read yet (one warning per
-/// file and extension: luz has no coat or sheen maps), their factors are.
-pub fn layers(
+/// KHR_materials_clearcoat's factors onto `gm` (a `metal_rough` material). Factors outside
+/// [0, 1] or not numbers, and textures whose index names no texture, are errors naming the JSON
+/// path; the coat's textures themselves are not read yet (one warning per file: luz has no coat
+/// maps), their factors are.
+pub fn clearcoat(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
     textures: usize,
     (file, file_name): (&Path, &str),
     warnings: &mut Vec<String>,
 ) -> Result<(), GltfError> {
-    let i = m.index().unwrap_or(0);
-    let Material::MetalRough(p) = &mut gm.material else {
+    let Some(e) = Ext::of(m, "KHR_materials_clearcoat", file)? else {
         return Ok(());
     };
-    let mut warn = |ext: &str, what: &str| {
-        let marker = format!(
-            "{file_name}: {ext}'s textures are not used (luz has no {what} maps yet; their \
-             factors are):"
-        );
-        warn_material(warnings, marker, i, &gm.name);
-    };
-    if let Some(e) = Ext::of(m, "KHR_materials_clearcoat", file, textures)? {
-        p.clearcoat = e.factor("clearcoatFactor", 0.0)?;
-        p.clearcoat_roughness = e.factor("clearcoatRoughnessFactor", 0.0)?;
-        if e.maps(&[
-            "clearcoatTexture",
-            "clearcoatRoughnessTexture",
-            "clearcoatNormalTexture",
-        ])? {
-            warn("KHR_materials_clearcoat", "coat");
-        }
+    let (coat, roughness) = (
+        e.number("clearcoatFactor", 0.0, Range::Unit)?,
+        e.number("clearcoatRoughnessFactor", 0.0, Range::Unit)?,
+    );
+    let keys = [
+        "clearcoatTexture",
+        "clearcoatRoughnessTexture",
+        "clearcoatNormalTexture",
+    ];
+    if e.has_textures(&keys, textures)? {
+        unused_maps(m, gm, file_name, ("KHR_materials_clearcoat", "coat"), warnings);
     }
-    if let Some(e) = Ext::of(m, "KHR_materials_sheen", file, textures)? {
-        p.sheen_color = e.color("sheenColorFactor", Vec3::ZERO)?;
-        p.sheen_roughness = e.factor("sheenRoughnessFactor", 0.0)?;
-        if e.maps(&["sheenColorTexture", "sheenRoughnessTexture"])? {
-            warn("KHR_materials_sheen", "sheen");
-        }
+    if let Material::MetalRough(p) = &mut gm.material {
+        p.clearcoat = coat;
+        p.clearcoat_roughness = roughness;
     }
     Ok(())
 }
 
+/// KHR_materials_sheen's factors onto `gm` (a `metal_rough` material), checked like the
+/// clear coat's; `sheenColorTexture` and `sheenRoughnessTexture` are not read yet (one warning
+/// per file), the factors are.
+pub fn sheen(
+    m: &gltf::Material,
+    gm: &mut GltfMaterial,
+    textures: usize,
+    (file, file_name): (&Path, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(e) = Ext::of(m, "KHR_materials_sheen", file)? else {
+        return Ok(());
+    };
+    let (color, roughness) = (
+        e.color("sheenColorFactor", Vec3::ZERO)?,
+        e.number("sheenRoughnessFactor", 0.0, Range::Unit)?,
+    );
+    if e.has_textures(&["sheenColorTexture", "sheenRoughnessTexture"], textures)? {
+        unused_maps(m, gm, file_name, ("KHR_materials_sheen", "sheen"), warnings);
+    }
+    if let Material::MetalRough(p) = &mut gm.material {
+        p.sheen_color = color;
+        p.sheen_roughness = roughness;
+    }
+    Ok(())
+}
+
+/// The one warning per file that extension `ext`'s textures are not used (luz has no `what`
+/// maps yet), naming material `m`.
+fn unused_maps(
+    m: &gltf::Material,
+    gm: &GltfMaterial,
+    file_name: &str,
+    (ext, what): (&str, &str),
+    warnings: &mut Vec<String>,
+) {
+    let marker = format!(
+        "{file_name}: {ext}'s textures are not used (luz has no {what} maps yet; their factors \
+         are):"
+    );
+    warn_material(warnings, marker, m.index().unwrap_or(0), &gm.name);
+}
+
 /// One warning per file and kind: `marker` (the file and what is not used), then every material
 /// it concerns, ` materials[i] ("name")`, comma-separated.
-fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize, name: &str) {
+pub(super) fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize, name: &str) {
     let entry = format!(" materials[{i}] (\"{name}\")");
     match warnings.iter_mut().find(|w| w.starts_with(&marker)) {
         Some(w) => {

@@ -10,14 +10,18 @@
 //! cache and simplifies on that form.
 
 mod accessor;
+mod area;
+mod ext;
 mod material;
 mod primitive;
+mod transmission;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 
+pub use area::max_scale;
 pub use material::GltfMaterial;
 pub use primitive::UvChoice;
 
@@ -26,6 +30,7 @@ use super::{Camera, Falloff, Light, LightKind, Mesh, Projection};
 /// Extensions luz reads; a file that requires any other one is refused.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
+    "EXT_lights_area",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
@@ -91,6 +96,8 @@ pub struct GltfFile {
     pub cameras: Vec<GltfCamera>,
     /// KHR_lights_punctual lights in node order.
     pub lights: Vec<Light>,
+    /// EXT_lights_area lights in node order.
+    pub area_lights: Vec<super::AreaLight>,
     /// What the file has that luz does not use, one sentence each naming the file.
     pub warnings: Vec<String>,
 }
@@ -444,13 +451,20 @@ impl<'a> Builder<'a> {
         for m in self.doc.materials() {
             let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
             let textures = self.doc.textures().len();
-            material::layers(
-                &m,
-                &mut gm,
-                textures,
-                (self.path, &f),
-                &mut self.out.warnings,
-            )?;
+            // The material extensions luz reads onto metal_rough.
+            for read in [
+                material::clearcoat,
+                material::sheen,
+                transmission::transmission,
+            ] {
+                read(
+                    &m,
+                    &mut gm,
+                    textures,
+                    (self.path, &f),
+                    &mut self.out.warnings,
+                )?;
+            }
             self.out.materials.push(gm);
         }
         let roots: Vec<usize> = match scene {
@@ -556,6 +570,7 @@ impl<'a> Builder<'a> {
         if let Some(light) = node.light() {
             self.light(&light, world)?;
         }
+        self.area_light(node, world)?;
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };

@@ -233,7 +233,7 @@ pub(super) fn build_draws(
                 VariantKey {
                     terms,
                     maps: crate::render::material::map_bits(&named.textures),
-                    light_kinds: gpu::light_kinds(&scene.lights),
+                    light_kinds: gpu::scene_light_kinds(scene),
                     shadow_slots: crate::render::shadow::fixed_slots(&scene.lights),
                     lobes: super::variant::lobe_bits(material),
                     ..generic_key
@@ -423,7 +423,7 @@ impl Slot {
         layout: &DescriptorSetLayout,
         index: usize,
         (light_count, object_count, cells, draw_count): (usize, usize, usize, usize),
-        srgb_table: &Buffer,
+        (srgb_table, area_data): (&Buffer, &[glam::Vec4]),
     ) -> Result<Self, VkError> {
         let buffer = |name: &str, size: usize, usage| {
             Buffer::new(
@@ -444,6 +444,12 @@ impl Slot {
             light_count * std::mem::size_of::<GpuLight>(),
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
+        let mut area = buffer(
+            "area lights and LTC table",
+            std::mem::size_of_val(area_data),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        area.write(0, bytemuck::cast_slice(area_data))?;
         let objects = buffer(
             "objects",
             object_count * std::mem::size_of::<gpu::ObjectData>(),
@@ -479,6 +485,7 @@ impl Slot {
             (gpu::BINDING_CLUSTERS, &clusters),
             (gpu::BINDING_CLUSTER_LIGHTS, &cluster_lights),
             (gpu::BINDING_INSTANCES, &instances),
+            (gpu::BINDING_AREA, &area),
         ]
         .into_iter()
         .fold(SetWrites::new(layout, set), |w, (binding, b)| {
@@ -495,6 +502,7 @@ impl Slot {
             clusters,
             cluster_lights,
             instances,
+            area,
             set,
             view: ColorView::default(),
         })

@@ -82,7 +82,7 @@ struct Draw {
 /// Maps and light kinds of a generic ("all features") pipeline (its terms are
 /// [`TermsKey::Generic`]): the shader keeps the code for every map and light kind.
 pub const GENERIC_MAPS: u32 = 0xFF;
-pub const GENERIC_LIGHT_KINDS: u32 = 1023;
+pub const GENERIC_LIGHT_KINDS: u32 = 65535;
 
 /// How to build a [`ForwardPass`] beyond the scene and the target.
 #[derive(Debug, Clone)]
@@ -302,6 +302,8 @@ struct Slot {
     /// The object of each entry of `order` (`BINDING_INSTANCES`): instanced draws read theirs
     /// from here ([`instances`]).
     instances: Buffer,
+    /// The LTC table and the area lights (`BINDING_AREA`, [`gpu::area_data`]).
+    area: Buffer,
     set: vk::DescriptorSet,
     /// The draws to record for the slot's camera and their LOD levels: the draw list's colour
     /// view ([`DrawList::color_view`]).
@@ -517,6 +519,7 @@ impl ForwardPass {
         let light_count = lights.len().max(1);
         let object_count = objects.len().max(1);
         let srgb_table = super::srgb_table(ctx, "forward sRGB encode table")?;
+        let area_data = gpu::area_data(scene);
         let mut slots = Vec::with_capacity(slot_count);
         for i in 0..slot_count {
             slots.push(Slot::new(
@@ -534,7 +537,7 @@ impl ForwardPass {
                     },
                     draws.len(),
                 ),
-                &srgb_table,
+                (&srgb_table, &area_data),
             )?);
         }
         let has_skybox =
@@ -684,6 +687,13 @@ impl ForwardPass {
         s.frame_ubo.write(0, bytemuck::bytes_of(&data))?;
         let lights: Vec<GpuLight> = scene.lights.iter().map(GpuLight::from_light).collect();
         s.lights.write(0, bytemuck::cast_slice(&lights))?;
+        let area = gpu::area_lights_data(scene);
+        if !area.is_empty() {
+            s.area.write(
+                (gpu::area_offset(scene) * 16) as u64,
+                bytemuck::cast_slice(&area),
+            )?;
+        }
         for (obj, index) in scene.objects.iter().zip(&self.object_slots) {
             if let Some(i) = index {
                 let data = gpu::object_data(obj.transform.matrix());
@@ -701,7 +711,7 @@ impl ForwardPass {
         self.update_shadows(slot, scene, aspect, &placed)?;
         self.write_clusters(slot, scene, aspect)?;
         let (light_kinds, shadow_slots) = (
-            gpu::light_kinds(&scene.lights),
+            gpu::scene_light_kinds(scene),
             crate::render::shadow::fixed_slots(&scene.lights),
         );
         for (draw, item) in self.draws.iter_mut().zip(&self.list.items) {

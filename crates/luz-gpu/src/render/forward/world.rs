@@ -43,6 +43,7 @@ type ObjectShape = (
 pub struct Shape {
     objects: Vec<ObjectShape>,
     lights: usize,
+    area_lights: usize,
     light_kinds: u32,
     /// Per light: the shadow's method, resolution and layers.
     shadows: Vec<Option<(ShadowMethod, u32, u32)>>,
@@ -74,7 +75,8 @@ impl Shape {
                 })
                 .collect(),
             lights: scene.lights.len(),
-            light_kinds: crate::render::gpu::light_kinds(&scene.lights),
+            area_lights: scene.area_lights.len(),
+            light_kinds: crate::render::gpu::scene_light_kinds(scene),
             shadows: scene
                 .lights
                 .iter()
@@ -104,6 +106,7 @@ impl Shape {
         if environment
             || meshes(self) != meshes(new)
             || self.lights != new.lights
+            || self.area_lights != new.area_lights
             || self.shadows != new.shadows
             || self.msaa != new.msaa
         {
@@ -132,6 +135,11 @@ impl Shape {
         }
         if self.lights != new.lights {
             parts.push(format!("{} lights → {}", self.lights, new.lights));
+        } else if self.area_lights != new.area_lights {
+            parts.push(format!(
+                "{} area lights → {}",
+                self.area_lights, new.area_lights
+            ));
         } else if self.light_kinds != new.light_kinds {
             parts.push("the kinds of lights".into());
         }
