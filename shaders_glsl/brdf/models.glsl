@@ -313,7 +313,7 @@ BrdfTerms clearcoat_layer(BrdfTerms t, BrdfParams p, vec3 n, vec3 l, vec3 v, Cle
 }
 
 // KHR_materials_sheen (src/brdf/models/layers.rs): the Charlie distribution, the specification's
-// visibility term, and the lobe's directional albedo from the table of sheen_albedo.glsl; the
+// visibility term, and the lobe's directional albedo from the fit of sheen_albedo.glsl; the
 // base is weighted by 1 − max(sheenColor) · E_sheen(n·v), the sheen goes in the diffuse.
 #define SHEEN_ROUGHNESS_MIN 0.07
 
@@ -356,18 +356,12 @@ float sheen_specular(float r, vec3 n, vec3 l, vec3 v) {
         * v_sheen(brdf_clamp_cos(dot(n, l)), brdf_clamp_cos(dot(n, v)), alpha);
 }
 
-// E_sheen(n·v) at sheen roughness r: the table, bilinear over (√(n·v), r).
+// E_sheen(n·v) at sheen roughness r: the fit of sheen_albedo.glsl at its variables
+// (layers::sheen_albedo, layers::sheen_fit_variables).
 float sheen_albedo(float n_v, float r) {
-    float last = float(SHEEN_ALBEDO_N - 1);
-    float x = sqrt(clamp(n_v, 0.0, 1.0)) * last;
-    float y = clamp(r, 0.0, 1.0) * last;
-    int i = min(int(x), SHEEN_ALBEDO_N - 2);
-    int j = min(int(y), SHEEN_ALBEDO_N - 2);
-    float fx = x - float(i);
-    float fy = y - float(j);
-    int k = j * SHEEN_ALBEDO_N + i;
-    return mix(mix(SHEEN_ALBEDO[k], SHEEN_ALBEDO[k + 1], fx),
-               mix(SHEEN_ALBEDO[k + SHEEN_ALBEDO_N], SHEEN_ALBEDO[k + SHEEN_ALBEDO_N + 1], fx), fy);
+    float s = log(clamp(r, SHEEN_ROUGHNESS_MIN, 1.0));
+    return sheen_albedo_fit(2.0 * sqrt(clamp(n_v, 0.0, 1.0)) - 1.0,
+                            1.0 - 2.0 * s / log(SHEEN_ROUGHNESS_MIN));
 }
 
 // The base's terms t under the sheen of p (kappa: sheen colour, sheen roughness).

@@ -353,7 +353,13 @@ pub fn clearcoat(
         "clearcoatNormalTexture",
     ];
     if e.has_textures(&keys, textures)? {
-        unused_maps(m, gm, file_name, ("KHR_materials_clearcoat", "coat"), warnings);
+        unused_maps(
+            m,
+            gm,
+            file_name,
+            ("KHR_materials_clearcoat", "coat"),
+            warnings,
+        );
     }
     if let Material::MetalRough(p) = &mut gm.material {
         p.clearcoat = coat;
