@@ -186,7 +186,8 @@ fn clearcoat_material_from_the_scene_syntax() {
 /// Issue 34: `--material` takes the scene file's KHR_materials_sheen object. At normal
 /// incidence (h = n) the Charlie distribution is 0, so a white sheen of roughness 1 over a white
 /// dielectric of roughness 0.5 only scales the base by `1 − E_sheen(1)`, the sheen lobe's albedo
-/// at normal view (the table's node, which is the integral).
+/// at normal view (the fit, within 0.012 of the integral as brdf's sheen_albedo_fit_is_the_integral
+/// asserts).
 #[test]
 fn sheen_material_from_the_scene_syntax() {
     let mat = r#"{"model":"metal_rough","metallic":0,"roughness":0.5,
@@ -199,7 +200,7 @@ fn sheen_material_from_the_scene_syntax() {
     let f = text_field(o.stdout.trim(), "f");
     let e = brdf::sheen_albedo(1.0, 1.0);
     assert!(
-        (e - brdf::sheen_albedo_integrated(1.0, 1.0)).abs() < 1e-5,
+        (e - brdf::sheen_albedo_integrated(1.0, 1.0)).abs() < 0.012,
         "{e}"
     );
     assert!(e > 0.1, "{e}");
