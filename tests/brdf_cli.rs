@@ -183,6 +183,34 @@ fn clearcoat_material_from_the_scene_syntax() {
     }
 }
 
+/// Issue 34: `--material` takes the scene file's KHR_materials_sheen object. At normal
+/// incidence (h = n) the Charlie distribution is 0, so a white sheen of roughness 1 over a white
+/// dielectric of roughness 0.5 only scales the base by `1 − E_sheen(1)`, the sheen lobe's albedo
+/// at normal view (the fit, within 0.012 of the integral as brdf's sheen_albedo_fit_is_the_integral
+/// asserts).
+#[test]
+fn sheen_material_from_the_scene_syntax() {
+    let mat = r#"{"model":"metal_rough","metallic":0,"roughness":0.5,
+        "sheen":{"sheenColorFactor":[1,1,1],"sheenRoughnessFactor":1}}"#;
+    let o = brdf(
+        &["--material", mat, "--theta-l", "0", "--theta-v", "0"],
+        None,
+    );
+    assert_ok(&o);
+    let f = text_field(o.stdout.trim(), "f");
+    let e = brdf::sheen_albedo(1.0, 1.0);
+    assert!(
+        (e - brdf::sheen_albedo_integrated(1.0, 1.0)).abs() < 0.012,
+        "{e}"
+    );
+    assert!(e > 0.1, "{e}");
+    let base = 1.0 / std::f32::consts::PI + 0.04 * brdf::d_ggx(1.0, 0.25) / 4.0;
+    let want = (1.0 - e) * base;
+    for c in f {
+        assert!((c - want).abs() <= 1e-5 * want, "{c} against {want}");
+    }
+}
+
 #[test]
 fn stdin_three_lines_give_three_json_lines() {
     let input = concat!(

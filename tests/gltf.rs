@@ -1626,6 +1626,97 @@ fn clearcoat_factors_warnings_and_errors() {
     }
 }
 
+/// Issue 34, KHR_materials_sheen: the factors set the metal_rough sheen (and equal the luz JSON
+/// material with the same fields), the sheen's textures are named in one warning, and bad
+/// values or a missing texture are errors naming the file and the JSON path.
+#[test]
+fn sheen_factors_warnings_and_errors() {
+    let dir = scratch("gltf-sheen");
+    let write = |name: &str, ext: serde_json::Value, textures: bool| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "extensionsUsed": ["KHR_materials_sheen"],
+            "materials": [{"name": "cloth", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.5},
+                           "extensions": {"KHR_materials_sheen": ext}}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(&dir, name, doc)
+    };
+    let f = load(&write(
+        "sheen",
+        json!({"sheenColorFactor": [0.9, 0.5, 0.25], "sheenRoughnessFactor": 0.4}),
+        false,
+    ));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 0, "roughness": 0.5,
+            "sheen": {"sheenColorFactor": [0.9, 0.5, 0.25], "sheenRoughnessFactor": 0.4}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+    );
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+    match &f.materials[0].material {
+        luz::scene::Material::MetalRough(p) => {
+            assert_eq!(p.sheen_color, glam::Vec3::new(0.9, 0.5, 0.25))
+        }
+        other => panic!("{other:?}"),
+    }
+
+    let f = load(&write(
+        "sheentex",
+        json!({"sheenColorFactor": [1, 1, 1], "sheenColorTexture": {"index": 0}}),
+        true,
+    ));
+    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0].starts_with("sheentex.gltf: KHR_materials_sheen's textures are not used")
+            && f.warnings[0].ends_with(r#"materials[0] ("cloth")"#),
+        "{}",
+        f.warnings[0]
+    );
+
+    let at = "materials[0].extensions.KHR_materials_sheen";
+    for (name, ext, want) in [
+        (
+            "sheen_big",
+            json!({"sheenColorFactor": [1, 2, 1]}),
+            format!("{at}.sheenColorFactor[1]: must be in [0, 1], got 2"),
+        ),
+        (
+            "sheen_short",
+            json!({"sheenColorFactor": [1, 1]}),
+            format!("{at}.sheenColorFactor: expected 3 numbers, got [1,1]"),
+        ),
+        (
+            "sheen_neg",
+            json!({"sheenRoughnessFactor": -0.5}),
+            format!("{at}.sheenRoughnessFactor: must be in [0, 1], got -0.5"),
+        ),
+        (
+            "sheen_tex",
+            json!({"sheenRoughnessTexture": {"index": 3}}),
+            format!("{at}.sheenRoughnessTexture.index: texture 3 does not exist"),
+        ),
+        (
+            "sheen_notobj",
+            json!([]),
+            format!("{at}: expected an object"),
+        ),
+    ] {
+        let e = gltf::load(&write(name, ext, false), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
+}
+
 /// Skins, morph targets and animations: the static pose, with one warning for the file.
 #[test]
 fn skins_and_animations_give_one_warning() {

@@ -678,6 +678,27 @@ fn compensated_white_furnace_with_clearcoat() {
     assert_no_validation_messages(&ctx);
 }
 
+/// Issue 34, KHR_materials_sheen: the same furnace with a white sheen (roughness 0.1–1) over a
+/// white dielectric and a white metal, with and without a coat: 1 ± 1 % (the CPU model's:
+/// `brdf::tests::sheen_keeps_a_compensated_white_furnace`).
+#[test]
+fn compensated_white_furnace_with_sheen() {
+    let ctx = gpu();
+    for (metallic, roughness) in [(0.0, 0.5), (1.0, 0.05), (1.0, 1.0)] {
+        for (sheen_roughness, clearcoat) in [(0.1, 0.0), (0.5, 1.0), (1.0, 0.0)] {
+            compensated_furnace(
+                &ctx,
+                &format!(
+                    r#"{{"model": "metal_rough", "base_color": [1, 1, 1], "metallic": {metallic}, "roughness": {roughness},
+                        "sheen": {{"sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": {sheen_roughness}}},
+                        "clearcoat": {{"clearcoatFactor": {clearcoat}, "clearcoatRoughnessFactor": 0.3}}}}"#
+                ),
+            );
+        }
+    }
+    assert_no_validation_messages(&ctx);
+}
+
 /// A white-furnace sphere of `material` (uniform environment of 1, `energy_compensation` on):
 /// every pixel seen at up to 85° within 1 % of 1.
 fn compensated_furnace(ctx: &std::sync::Arc<luz::vk::Context>, material: &str) {

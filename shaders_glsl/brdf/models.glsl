@@ -6,6 +6,7 @@
 #define LUZ_BRDF_MODELS_GLSL
 
 #include "terms.glsl"
+#include "sheen_albedo.glsl"
 
 // sel.x: model
 #define BRDF_MODEL_LAMBERT 0
@@ -35,11 +36,12 @@
 #define BRDF_DIFFUSE_BURLEY 1
 // The layers of the glTF PBR extensions on metal-rough (src/brdf/models/layers.rs), bits of BRDF_LOBES.
 #define BRDF_LOBE_CLEARCOAT 1u
+#define BRDF_LOBE_SHEEN 2u
 // Glass (issue 35; the forward pass's include/transmission.glsl): specular transmission through
 // a copy of the opaque scene, one index per channel, and diffuse transmission from the far side.
-#define BRDF_LOBE_TRANSMISSION 2u
-#define BRDF_LOBE_DISPERSION 4u
-#define BRDF_LOBE_DIFFUSE_TRANSMISSION 8u
+#define BRDF_LOBE_TRANSMISSION 4u
+#define BRDF_LOBE_DISPERSION 8u
+#define BRDF_LOBE_DIFFUSE_TRANSMISSION 16u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
 // (brdf_eval.comp) every lobe is compiled.
@@ -51,7 +53,8 @@
 struct BrdfParams {
     vec4 color;  //  0: rgb albedo / base colour / O_d; a roughness (Cook-Torrance, metal-rough, Principled)
     vec4 spec;   // 16: rgb O_s (Phong) or F0 / η (Cook-Torrance); a metallic (metal-rough, Principled)
-    vec4 kappa;  // 32: rgb κ (Cook-Torrance conductor); a k_d (Phong, Cook-Torrance)
+    vec4 kappa;  // 32: rgb κ (Cook-Torrance conductor); a k_d (Phong, Cook-Torrance);
+                 //     metal-rough (sheen_color, sheen_roughness)
     vec4 p0;     // 48: Phong (k_s, n, k_a, -); Cook-Torrance (-, diffuse, -, -);
                  //     metal-rough ((1-F) weight, diffuse, -, -);
                  //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
@@ -322,9 +325,79 @@ BrdfTerms clearcoat_layer(BrdfTerms t, BrdfParams p, vec3 n, vec3 l, vec3 v, Cle
     return t;
 }
 
+// KHR_materials_sheen (src/brdf/models/layers.rs): the Charlie distribution, the specification's
+// visibility term, and the lobe's directional albedo from the fit of sheen_albedo.glsl; the
+// base is weighted by 1 − max(sheenColor) · E_sheen(n·v), the sheen goes in the diffuse.
+#define SHEEN_ROUGHNESS_MIN 0.07
+
+float sheen_alpha(float sheen_roughness) {
+    float r = max(sheen_roughness, SHEEN_ROUGHNESS_MIN);
+    return r * r;
+}
+
+float d_charlie(float alpha, float sin2_h) {
+    float inv_r = 1.0 / alpha;
+    return (2.0 + inv_r) * pow(max(sin2_h, 0.0), 0.5 * inv_r) * (0.5 * M_1_PI);
+}
+
+float sheen_l(float x, float alpha) {
+    float t = (1.0 - alpha) * (1.0 - alpha);
+    float a = mix(21.5473, 25.3245, t);
+    float b = mix(3.82987, 3.32435, t);
+    float c = mix(0.19823, 0.16801, t);
+    float d = mix(-1.97760, -1.27393, t);
+    float e = mix(-4.32054, -4.85967, t);
+    return a / (1.0 + b * pow(x, c)) + d * x + e;
+}
+
+float lambda_sheen(float cos_theta, float alpha) {
+    return abs(cos_theta) < 0.5 ? exp(sheen_l(cos_theta, alpha))
+                                : exp(2.0 * sheen_l(0.5, alpha) - sheen_l(1.0 - cos_theta, alpha));
+}
+
+float v_sheen(float n_l, float n_v, float alpha) {
+    float denom = (1.0 + lambda_sheen(n_v, alpha) + lambda_sheen(n_l, alpha)) * (4.0 * n_v * n_l);
+    return clamp(1.0 / denom, 0.0, 1.0);
+}
+
+// The white sheen lobe D_Charlie · V_sheen for unit n, l and v with n·l > 0 and n·v > 0.
+float sheen_specular(float r, vec3 n, vec3 l, vec3 v) {
+    float alpha = sheen_alpha(r);
+    vec3 h = brdf_safe_normalize(l + v);
+    vec3 n_x_h = cross(n, h);
+    return d_charlie(alpha, dot(n_x_h, n_x_h))
+        * v_sheen(brdf_clamp_cos(dot(n, l)), brdf_clamp_cos(dot(n, v)), alpha);
+}
+
+// E_sheen(n·v) at sheen roughness r: the fit of sheen_albedo.glsl at its variables
+// (layers::sheen_albedo, layers::sheen_fit_variables).
+float sheen_albedo(float n_v, float r) {
+    float s = log(clamp(r, SHEEN_ROUGHNESS_MIN, 1.0));
+    return sheen_albedo_fit(2.0 * sqrt(clamp(n_v, 0.0, 1.0)) - 1.0,
+                            1.0 - 2.0 * s / log(SHEEN_ROUGHNESS_MIN));
+}
+
+// The base's terms t under the sheen of p (kappa: sheen colour, sheen roughness).
+BrdfTerms sheen_layer(BrdfTerms t, BrdfParams p, vec3 n, vec3 l, vec3 v, float e_sheen) {
+    vec3 color = p.kappa.rgb;
+    float keep = 1.0 - max(color.r, max(color.g, color.b)) * e_sheen;
+    t.diffuse = t.diffuse * keep + color * sheen_specular(p.kappa.w, n, l, v);
+    t.specular *= keep;
+    return t;
+}
+
+// Whether p has a sheen (metal-rough only: kappa is other models' κ).
+bool has_sheen(BrdfParams p) {
+    return (BRDF_LOBES & BRDF_LOBE_SHEEN) != 0u && p.sel.x == BRDF_MODEL_METAL_ROUGH
+        && any(greaterThan(p.kappa.rgb, vec3(0.0)));
+}
+
 // metal_rough_terms for unit n, l and v (no renormalisation): the base, then its layers.
 BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
     BrdfTerms t = brdf_metal_rough_base_terms_unit(p, n, l, v);
+    if (has_sheen(p) && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
+        t = sheen_layer(t, p, n, l, v, sheen_albedo(brdf_clamp_cos(dot(n, v)), p.kappa.w));
+    }
     if ((BRDF_LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
         t = clearcoat_layer(t, p, n, l, v, clearcoat_energy_schlick(brdf_clamp_cos(dot(n, v))));
     }

@@ -163,10 +163,12 @@ vec3 ibl_specular_importance(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, float
 // factors multiply every light's terms (lighting.glsl) and the environment's.
 // `coat`: KHR_materials_clearcoat's coat at the view (brdf::layers: the extension's Schlick
 // weight, or with compensation the coat's compensated albedo and lobe factor).
+// `sheen`: KHR_materials_sheen's albedo E_sheen at the view (sheen_albedo), 0 without a sheen.
 struct EnergyScale {
     vec3 specular;
     vec3 diffuse;
     ClearcoatEnergy coat;
+    float sheen;
 };
 
 // The split-sum table's (A, B) at (n·v, roughness) in the material's layer.
@@ -193,6 +195,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     EnergyScale es;
     es.specular = vec3(1.0);
     es.diffuse = vec3(1.0);
+    es.sheen = has_sheen(p) ? sheen_albedo(clamp(dot(n, v), 1e-4, 1.0), p.kappa.w) : 0.0;
     if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u) {
         float c_v = clamp(dot(n, v), 1e-4, 1.0);
         es.coat = energy_compensated(p) ? clearcoat_energy(p, c_v) : clearcoat_energy_schlick(c_v);
@@ -256,10 +259,22 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         float e = max(ab.x + ab.y, 1e-4);
         spec *= 1.0 + s.f0 * (1.0 - e) / e;
     }
-    if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u && MODEL == BRDF_MODEL_METAL_ROUGH) {
-        return ibl_clearcoat(p, n, v, result, spec * es.specular, es.coat);
+    spec *= es.specular;
+    if (has_sheen(p)) {
+        // KHR_materials_sheen under the environment: the base weighted by 1 − max(sheenColor) ·
+        // E_sheen(n·v), plus sheenColor · E_sheen · irradiance/π (the lobe's albedo times the
+        // cosine-weighted mean radiance: exact in a uniform environment, the furnace). With
+        // importance sampling the specular samples are already weighted (brdf_eval_terms).
+        float keep = 1.0 - max(p.kappa.r, max(p.kappa.g, p.kappa.b)) * es.sheen;
+        result = result * keep + p.kappa.rgb * es.sheen * env_irradiance(n) / M_PI;
+        if (SPECULAR_METHOD != SPECULAR_IMPORTANCE) {
+            spec *= keep;
+        }
     }
-    return result + spec * es.specular;
+    if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u && MODEL == BRDF_MODEL_METAL_ROUGH) {
+        return ibl_clearcoat(p, n, v, result, spec, es.coat);
+    }
+    return result + spec;
 }
 
 #endif

@@ -341,6 +341,9 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
             BrdfTerms t = brdf_metal_rough_base_terms_unit(p, s.n, l, V);
             t.diffuse *= es.diffuse;
             t.specular *= es.specular;
+            if (has_sheen(p) && dot(s.n, l) > 0.0) {
+                t = sheen_layer(t, p, s.n, l, V, es.sheen);
+            }
             if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(s.n, l) > 0.0) {
                 t = clearcoat_layer(t, p, s.n, l, V, es.coat);
             }

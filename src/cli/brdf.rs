@@ -252,20 +252,60 @@ fn model_names() -> Vec<&'static str> {
     brdf::ModelKind::ALL.map(|k| k.name()).to_vec()
 }
 
-/// The scene file's KHR_materials_clearcoat object on metal_rough,
-/// `"clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": r}`, as the CPU model's
-/// fields `"clearcoat": c, "clearcoat_roughness": r` (a number `clearcoat` is kept as it is).
-fn scene_clearcoat(value: &Value) -> Value {
+/// The scene file's glTF extension objects on metal_rough as the CPU model's fields:
+/// KHR_materials_clearcoat's `"clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": r}`
+/// as `"clearcoat": c, "clearcoat_roughness": r` (a number `clearcoat` is kept as it is), and
+/// KHR_materials_sheen's `"sheen": {"sheenColorFactor": [r, g, b], "sheenRoughnessFactor": s}`
+/// as `"sheen_color": [r, g, b], "sheen_roughness": s`.
+fn scene_layers(value: &Value) -> Value {
     let mut v = value.clone();
     let is_mr = v.get("model").and_then(Value::as_str) == Some("metal_rough");
-    if let (true, Some(obj)) = (is_mr, v.as_object_mut()) {
-        if let Some(Value::Object(coat)) = obj.get("clearcoat").cloned() {
-            let num = |k: &str| coat.get(k).cloned().unwrap_or(Value::from(0.0));
-            obj.insert("clearcoat".into(), num("clearcoatFactor"));
-            obj.insert(
-                "clearcoat_roughness".into(),
-                num("clearcoatRoughnessFactor"),
-            );
+    let Some(obj) = v.as_object_mut().filter(|_| is_mr) else {
+        return v;
+    };
+    // (scene object, its field, the model's field, default)
+    let fields = [
+        (
+            "clearcoat",
+            "clearcoatFactor",
+            "clearcoat",
+            Value::from(0.0),
+        ),
+        (
+            "clearcoat",
+            "clearcoatRoughnessFactor",
+            "clearcoat_roughness",
+            Value::from(0.0),
+        ),
+        (
+            "sheen",
+            "sheenColorFactor",
+            "sheen_color",
+            Value::from(vec![0.0; 3]),
+        ),
+        (
+            "sheen",
+            "sheenRoughnessFactor",
+            "sheen_roughness",
+            Value::from(0.0),
+        ),
+    ];
+    let objects: Vec<(&str, serde_json::Map<String, Value>)> = ["clearcoat", "sheen"]
+        .into_iter()
+        .filter_map(|k| match obj.get(k) {
+            Some(Value::Object(o)) => Some((k, o.clone())),
+            _ => None,
+        })
+        .collect();
+    for (key, o) in &objects {
+        obj.remove(*key);
+        for (scene, field, model, default) in &fields {
+            if scene == key {
+                obj.insert(
+                    model.to_string(),
+                    o.get(*field).cloned().unwrap_or(default.clone()),
+                );
+            }
         }
     }
     v
@@ -285,7 +325,7 @@ pub fn model_from_value(value: &Value) -> Result<Model> {
     if !model_names().contains(&tag) {
         bail!("field `model`: unknown model `{tag}` (expected one of {names})");
     }
-    let value = &scene_clearcoat(value);
+    let value = &scene_layers(value);
     match serde_json::from_value::<Model>(value.clone()) {
         Ok(m) => Ok(m),
         Err(whole) => {

@@ -346,5 +346,8 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
     c |= row(ui, "Clearcoat roughness", |ui| {
         unit(ui, &mut p.clearcoat_roughness)
     });
+    // KHR_materials_sheen (a black sheen colour is no sheen: LOBES likewise).
+    c |= row(ui, "Sheen colour", |ui| color(ui, &mut p.sheen_color, 1.0));
+    c |= row(ui, "Sheen roughness", |ui| unit(ui, &mut p.sheen_roughness));
     c
 }

@@ -43,7 +43,10 @@ pub use ltc::{
     LtcEntry, LTC_ENTRY, LTC_FILE, LTC_FIT_SAMPLES, LTC_SIZE,
 };
 pub use models::layers::{
-    clearcoat_energy, clearcoat_layer, clearcoat_specular, ClearcoatEnergy, CLEARCOAT_F0,
+    clearcoat_energy, clearcoat_layer, clearcoat_specular, d_charlie, fit_sheen_albedo,
+    lambda_sheen, sheen_albedo, sheen_albedo_fit, sheen_albedo_glsl_source,
+    sheen_albedo_integrated, sheen_fit_variables, sheen_layer, sheen_specular, v_sheen,
+    ClearcoatEnergy, CLEARCOAT_F0, SHEEN_FIT_S, SHEEN_FIT_X, SHEEN_ROUGHNESS_MIN,
 };
 pub use models::{
     blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,

@@ -1742,3 +1742,115 @@ fn exact_conductor_fresnel_is_the_fresnel_equations() {
     assert!(worst < 1e-5, "{worst}");
     assert!(approx_off > 1e-3, "{approx_off}");
 }
+
+/// KHR_materials_sheen's albedo fit (`shaders_glsl/brdf/sheen_albedo.glsl`): the file is what
+/// the generator writes for its coefficients (so the GLSL evaluates what the CPU does), and on a
+/// 64 × 34 grid off the fit's nodes (roughness 0–1, √(n·v) 0–1 at (i + 0.5)/64, views to 89°)
+/// it stays within 0.012 of the lobe's integral (measured 0.0116, RMS 0.0056) (the 32 × 32 bilinear table it replaces was
+/// within 0.01 between its nodes at views to 85°): that difference is all a white furnace can
+/// gain or lose from the sheen's albedo scaling.
+#[test]
+fn sheen_albedo_fit_is_the_integral() {
+    let c = sheen_albedo_fit();
+    assert_eq!(
+        crate::brdf::models::layers::SHEEN_ALBEDO_GLSL,
+        sheen_albedo_glsl_source(c),
+        "sheen_albedo.glsl is not the generator's output (cargo run --release -p luz-core --example sheen_fit)"
+    );
+    let (mut worst, mut at) = (0.0f32, (0.0f32, 0.0f32));
+    let (mut sum, mut count) = (0.0f64, 0);
+    for j in 0..34 {
+        let r = j as f32 / 33.0;
+        for i in 0..64 {
+            let x = (i as f32 + 0.5) / 64.0;
+            let n_v = x * x;
+            if n_v < 89f32.to_radians().cos() {
+                continue;
+            }
+            let d = (sheen_albedo(n_v, r) - sheen_albedo_integrated(n_v, r)).abs();
+            sum += (d * d) as f64;
+            count += 1;
+            if d > worst {
+                (worst, at) = (d, (n_v, r));
+            }
+        }
+    }
+    let rms = (sum / count as f64).sqrt();
+    eprintln!(
+        "sheen albedo fit: within {worst:.4} of the integral (n·v {:.3}, roughness {:.3}), RMS {rms:.5} over {count} points",
+        at.0, at.1
+    );
+    assert!(worst <= 0.012, "{worst} at {at:?}");
+    assert!(rms <= 0.006, "{rms}");
+    // Not a fit of zeros: a rough sheen reflects a fair part at normal view, a smooth one none.
+    assert!(sheen_albedo(1.0, 1.0) > 0.1, "{}", sheen_albedo(1.0, 1.0));
+    assert!(sheen_albedo(1.0, 0.0) < 1e-3, "{}", sheen_albedo(1.0, 0.0));
+}
+
+/// Issue 34, KHR_materials_sheen: a white sheen of any roughness over a white dielectric or
+/// metal keeps the compensated white furnace at 1 ± 1 % (roughness 0.05–1, views to 85°), with
+/// the clear coat on top too; the sheen is not negligible (it changes the BRDF at grazing by
+/// more than 10 %).
+#[test]
+fn sheen_keeps_a_compensated_white_furnace() {
+    let mut worst = (0.0f32, [0.0f32; 5]);
+    for metallic in [0.0, 1.0] {
+        for roughness in [0.05, 0.5, 1.0] {
+            for sheen_roughness in [0.0, 0.3, 0.7, 1.0] {
+                for clearcoat in [0.0, 1.0] {
+                    for view in [0.0, 45.0, 75.0, 85.0] {
+                        let e = white_furnace(
+                            MetalRoughParams {
+                                base_color: Vec3::ONE,
+                                metallic,
+                                roughness,
+                                sheen_color: Vec3::ONE,
+                                sheen_roughness,
+                                clearcoat,
+                                clearcoat_roughness: 0.3,
+                                energy_compensation: true,
+                                ..MetalRoughParams::default()
+                            },
+                            view,
+                        );
+                        if (e - 1.0).abs() > worst.0 {
+                            worst = (
+                                (e - 1.0).abs(),
+                                [metallic, roughness, sheen_roughness, clearcoat, view],
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("sheen furnace: worst |E − 1| = {:.4} at (metallic, roughness, sheen roughness, clearcoat, view°) {:?}", worst.0, worst.1);
+    assert!(worst.0 <= 0.01, "{worst:?}");
+    let p = MetalRoughParams {
+        base_color: Vec3::new(0.2, 0.3, 0.8),
+        metallic: 0.0,
+        roughness: 0.6,
+        sheen_color: Vec3::new(1.0, 0.8, 0.6),
+        sheen_roughness: 0.5,
+        ..MetalRoughParams::default()
+    };
+    let (n, l, v) = (
+        Vec3::Z,
+        Vec3::new(0.2, 0.1, 0.95).normalize(),
+        Vec3::new(-0.95, 0.0, 0.2).normalize(),
+    );
+    let with = metal_rough(&p, n, l, v);
+    let without = metal_rough(
+        &MetalRoughParams {
+            sheen_color: Vec3::ZERO,
+            ..p
+        },
+        n,
+        l,
+        v,
+    );
+    assert!(
+        (with - without).abs().max_element() > 0.1 * without.max_element(),
+        "{with} against {without}"
+    );
+}

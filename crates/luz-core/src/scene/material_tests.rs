@@ -383,7 +383,8 @@ fn metal_rough_every_field() {
     let p = metal_rough(
         r#", "base_color": [0.5, 0.1, 0.05], "metallic": 0.25, "roughness": 0.4,
         "distribution": "beckmann", "geometry": "smith_ggx", "fresnel": "schlick_sg",
-        "diffuse_fresnel_weight": true, "diffuse": "burley""#,
+        "diffuse_fresnel_weight": true, "diffuse": "burley",
+        "sheen": {"sheenColorFactor": [0.5, 0.25, 1], "sheenRoughnessFactor": 0.3}"#,
     );
     assert_eq!(
         p,
@@ -400,6 +401,8 @@ fn metal_rough_every_field() {
             energy_compensation: false,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: Vec3::new(0.5, 0.25, 1.0),
+            sheen_roughness: 0.3,
             transmission: crate::brdf::Transmission::default(),
         }
     );

@@ -759,6 +759,18 @@ impl Writer {
         if p.diffuse_fresnel_weight {
             self.note(format!("material '{name}': the diffuse's 1 − F weight"));
         }
+        // The glTF extension layers: Mitsuba's principled has a clearcoat and a sheen of its own
+        // (Disney 2015's), not KHR_materials_clearcoat's or KHR_materials_sheen's; left out.
+        if p.clearcoat > 0.0 {
+            self.note(format!(
+                "material '{name}': KHR_materials_clearcoat's coat (left out)"
+            ));
+        }
+        if p.sheen_color != Vec3::ZERO {
+            self.note(format!(
+                "material '{name}': KHR_materials_sheen's sheen (left out)"
+            ));
+        }
         let alpha = (p.roughness * p.roughness).max(ALPHA_MIN);
         let f0 = p.dielectric_f0.lerp(p.base_color, p.metallic);
         let c_diff = p.base_color * (1.0 - p.metallic);

@@ -414,6 +414,11 @@ pub struct MetalRoughParams {
     /// KHR_materials_clearcoat's `clearcoatRoughnessFactor`, [0, 1]: the coat's perceptual
     /// roughness. Default 0.
     pub clearcoat_roughness: f32,
+    /// KHR_materials_sheen's `sheenColorFactor`, linear RGB in [0, 1]: the sheen lobe's colour
+    /// ([`layers::sheen_layer`]). Default 0 (no sheen).
+    pub sheen_color: Vec3,
+    /// KHR_materials_sheen's `sheenRoughnessFactor`, [0, 1]. Default 0.
+    pub sheen_roughness: f32,
     /// Transmission, volume, dispersion and diffuse transmission (issue 35). Default: none.
     pub transmission: Transmission,
 }
@@ -433,6 +438,8 @@ impl Default for MetalRoughParams {
             energy_compensation: false,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
             transmission: Transmission::default(),
         }
     }
@@ -448,6 +455,8 @@ impl MetalRoughParams {
             roughness: unit(self.roughness, 1.0),
             clearcoat: unit(self.clearcoat, 0.0),
             clearcoat_roughness: unit(self.clearcoat_roughness, 0.0),
+            sheen_color: colour(self.sheen_color).min(Vec3::ONE),
+            sheen_roughness: unit(self.sheen_roughness, 0.0),
             transmission: self.transmission.sanitized(),
             ..*self
         }
@@ -821,14 +830,19 @@ pub fn cook_torrance(p: &CookTorranceParams, n: Vec3, l: Vec3, v: Vec3) -> Vec3 
     cook_torrance_terms(p, n, l, v).total()
 }
 
-/// glTF metallic-roughness as terms, with the clear coat of KHR_materials_clearcoat layered on
-/// top ([`layers::clearcoat_layer`]; the coat's normal is `n`).
+/// glTF metallic-roughness as terms, with KHR_materials_sheen's sheen over the base
+/// ([`layers::sheen_layer`]) and the clear coat of KHR_materials_clearcoat on top
+/// ([`layers::clearcoat_layer`]; the coat's normal is `n`), the extensions' order.
 pub fn metal_rough_terms(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> Terms {
     let p = p.sanitized();
     let Some(s) = setup(n, l, v) else {
         return Terms::ZERO;
     };
-    let t = metal_rough_base_terms(&p, &s);
+    let mut t = metal_rough_base_terms(&p, &s);
+    if p.sheen_color != Vec3::ZERO {
+        let e = layers::sheen_albedo(s.n_v, p.sheen_roughness);
+        t = layers::sheen_layer(t, &p, s.n, s.l, s.v, e);
+    }
     if p.clearcoat <= 0.0 {
         return t;
     }

@@ -242,6 +242,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "diffuse_fresnel_weight",
             "diffuse",
             "clearcoat",
+            "sheen",
             "transmission",
             "volume",
             "dispersion",
@@ -254,6 +255,10 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
     let (clearcoat, clearcoat_roughness) = match f.get("clearcoat") {
         None => (d.clearcoat, d.clearcoat_roughness),
         Some(v) => clearcoat(v, &f.path("clearcoat"))?,
+    };
+    let (sheen_color, sheen_roughness) = match f.get("sheen") {
+        None => (d.sheen_color, d.sheen_roughness),
+        Some(v) => sheen(v, &f.path("sheen"))?,
     };
     let (base_color, metallic) = match f.string("preset")? {
         None => (
@@ -305,8 +310,24 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         energy_compensation: false,
         clearcoat,
         clearcoat_roughness,
+        sheen_color,
+        sheen_roughness,
         transmission,
     }))
+}
+
+/// KHR_materials_sheen's factors, with the extension's names:
+/// `{"sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": 0.5}` (defaults black and 0).
+fn sheen(v: &Value, path: &str) -> Result<(Vec3, f32)> {
+    let f = Fields::new(v, path)?;
+    f.allow(
+        &["sheenColorFactor", "sheenRoughnessFactor"],
+        "a sheen (KHR_materials_sheen; its textures are not supported yet)",
+    )?;
+    Ok((
+        f.color_in("sheenColorFactor", Vec3::ZERO, UNIT)?,
+        f.num("sheenRoughnessFactor", 0.0, UNIT)?,
+    ))
 }
 
 /// Issue 35's four extensions on a metal-rough material, each an object with the extension's

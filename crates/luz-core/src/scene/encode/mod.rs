@@ -291,6 +291,15 @@ impl Encoder<'_> {
                             .with("clearcoatRoughnessFactor", p.clearcoat_roughness),
                     );
                 }
+                // KHR_materials_sheen, likewise only when there is a sheen.
+                if p.sheen_color != Vec3::ZERO || p.sheen_roughness != 0.0 {
+                    n.put(
+                        "sheen",
+                        Node::obj()
+                            .with("sheenColorFactor", p.sheen_color)
+                            .with("sheenRoughnessFactor", p.sheen_roughness),
+                    );
+                }
                 transmission::put(n, &p.transmission);
             }
             Material::Principled(p) => {

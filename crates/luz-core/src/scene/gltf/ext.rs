@@ -47,6 +47,27 @@ impl<'a> Ext<'a> {
         Self { obj, path, file }
     }
 
+    /// Extension `name` of material `m` (`None` when absent); not an object is an error at
+    /// `materials[i].extensions.NAME`.
+    pub(super) fn of(
+        m: &'a gltf::Material,
+        name: &str,
+        file: &'a Path,
+    ) -> Result<Option<Self>, GltfError> {
+        let Some(v) = m.extension_value(name) else {
+            return Ok(None);
+        };
+        let path = format!("materials[{}].extensions.{name}", m.index().unwrap_or(0));
+        match v.as_object() {
+            Some(obj) => Ok(Some(Self::new(obj, path, file))),
+            None => Err(GltfError {
+                file: file.to_path_buf(),
+                path,
+                reason: "expected an object".into(),
+            }),
+        }
+    }
+
     pub(super) fn err(&self, key: &str, reason: String) -> GltfError {
         GltfError {
             file: self.file.to_path_buf(),

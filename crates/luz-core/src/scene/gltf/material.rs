@@ -365,43 +365,75 @@ pub fn clearcoat(
     (file, file_name): (&Path, &str),
     warnings: &mut Vec<String>,
 ) -> Result<(), GltfError> {
-    let Some(ext) = m.extension_value("KHR_materials_clearcoat") else {
+    let Some(e) = Ext::of(m, "KHR_materials_clearcoat", file)? else {
         return Ok(());
     };
-    let i = m.index().unwrap_or(0);
-    let path = format!("materials[{i}].extensions.KHR_materials_clearcoat");
-    let Some(obj) = ext.as_object() else {
-        return Err(GltfError {
-            file: file.to_path_buf(),
-            path,
-            reason: "expected an object".into(),
-        });
-    };
-    let e = Ext::new(obj, path, file);
     let (coat, roughness) = (
         e.number("clearcoatFactor", 0.0, Range::Unit)?,
         e.number("clearcoatRoughnessFactor", 0.0, Range::Unit)?,
     );
-    let with_maps = e.has_textures(
-        &[
-            "clearcoatTexture",
-            "clearcoatRoughnessTexture",
-            "clearcoatNormalTexture",
-        ],
-        textures,
-    )?;
-    if with_maps {
-        let marker = format!(
-            "{file_name}: KHR_materials_clearcoat's textures are not used (luz has no coat maps \
-             yet; their factors are):"
+    let keys = [
+        "clearcoatTexture",
+        "clearcoatRoughnessTexture",
+        "clearcoatNormalTexture",
+    ];
+    if e.has_textures(&keys, textures)? {
+        unused_maps(
+            m,
+            gm,
+            file_name,
+            ("KHR_materials_clearcoat", "coat"),
+            warnings,
         );
-        warn_material(warnings, marker, i, &gm.name);
     }
     if let Material::MetalRough(p) = &mut gm.material {
         p.clearcoat = coat;
         p.clearcoat_roughness = roughness;
     }
     Ok(())
+}
+
+/// KHR_materials_sheen's factors onto `gm` (a `metal_rough` material), checked like the
+/// clear coat's; `sheenColorTexture` and `sheenRoughnessTexture` are not read yet (one warning
+/// per file), the factors are.
+pub fn sheen(
+    m: &gltf::Material,
+    gm: &mut GltfMaterial,
+    textures: usize,
+    (file, file_name): (&Path, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(e) = Ext::of(m, "KHR_materials_sheen", file)? else {
+        return Ok(());
+    };
+    let (color, roughness) = (
+        e.color("sheenColorFactor", Vec3::ZERO)?,
+        e.number("sheenRoughnessFactor", 0.0, Range::Unit)?,
+    );
+    if e.has_textures(&["sheenColorTexture", "sheenRoughnessTexture"], textures)? {
+        unused_maps(m, gm, file_name, ("KHR_materials_sheen", "sheen"), warnings);
+    }
+    if let Material::MetalRough(p) = &mut gm.material {
+        p.sheen_color = color;
+        p.sheen_roughness = roughness;
+    }
+    Ok(())
+}
+
+/// The one warning per file that extension `ext`'s textures are not used (luz has no `what`
+/// maps yet), naming material `m`.
+fn unused_maps(
+    m: &gltf::Material,
+    gm: &GltfMaterial,
+    file_name: &str,
+    (ext, what): (&str, &str),
+    warnings: &mut Vec<String>,
+) {
+    let marker = format!(
+        "{file_name}: {ext}'s textures are not used (luz has no {what} maps yet; their factors \
+         are):"
+    );
+    warn_material(warnings, marker, m.index().unwrap_or(0), &gm.name);
 }
 
 /// One warning per file and kind: `marker` (the file and what is not used), then every material

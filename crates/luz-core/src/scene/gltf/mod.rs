@@ -34,6 +34,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_volume",
@@ -458,6 +459,7 @@ impl<'a> Builder<'a> {
             for read in [
                 material::ior,
                 material::clearcoat,
+                material::sheen,
                 transmission::transmission,
             ] {
                 read(

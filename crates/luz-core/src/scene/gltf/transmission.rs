@@ -22,20 +22,7 @@ pub fn transmission(
 ) -> Result<(), GltfError> {
     let i = m.index().unwrap_or(0);
     let mut t = Transmission::default();
-    let ext = |name: &str| -> Result<Option<Ext<'_>>, GltfError> {
-        let Some(v) = m.extension_value(name) else {
-            return Ok(None);
-        };
-        let path = format!("materials[{i}].extensions.{name}");
-        match v.as_object() {
-            Some(obj) => Ok(Some(Ext::new(obj, path, file))),
-            None => Err(GltfError {
-                file: file.to_path_buf(),
-                path,
-                reason: "expected an object".into(),
-            }),
-        }
-    };
+    let ext = |name: &str| Ext::of(m, name, file);
     let mut unused = Vec::new();
     if let Some(e) = ext("KHR_materials_transmission")? {
         t.factor = e.number("transmissionFactor", t.factor, Range::Unit)?;

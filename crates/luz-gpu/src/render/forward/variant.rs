@@ -200,8 +200,9 @@ pub struct VariantKey {
 /// Every lobe: the generic ("all features") pipeline's [`VariantKey::lobes`].
 pub const GENERIC_LOBES: u32 = u32::MAX;
 
-/// The `BRDF_LOBE_*` bits of the layers `m` uses (issues 34, 35): clearcoat, transmission,
-/// dispersion (with a volume) and diffuse transmission when their factors are above 0.
+/// The `BRDF_LOBE_*` bits of the layers `m` uses (issues 34, 35): clearcoat, sheen (a colour
+/// that is not black), transmission, dispersion (with a volume) and diffuse transmission when
+/// their factors are above 0.
 pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     use crate::glsl::brdf_models as glsl;
     let crate::brdf::Model::MetalRough(p) = m.sanitized() else {
@@ -210,6 +211,7 @@ pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     let t = p.transmission;
     [
         (p.clearcoat > 0.0, glsl::BRDF_LOBE_CLEARCOAT),
+        (p.sheen_color != glam::Vec3::ZERO, glsl::BRDF_LOBE_SHEEN),
         (t.factor > 0.0, glsl::BRDF_LOBE_TRANSMISSION),
         (
             t.factor > 0.0 && t.dispersion > 0.0 && !t.thin_walled(),
