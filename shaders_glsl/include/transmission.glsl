@@ -108,10 +108,7 @@ vec3 transmitted(Surface s, vec3 P, vec3 V) {
         } else {
             through = transmission_environment(n, V, ior, thickness, p.color.w, inside);
         }
-        vec3 attenuation = exp(-mat_extra.attenuation.rgb * inside);
-        vec3 tint = p.p2.x * (1.0 - p.spec.w) * p.color.rgb;
-        return tint * (vec3(1.0) - transmission_reflected(p, n_v)) * attenuation * through;
-    }
+    } else
 #endif
     if ((LOBES & BRDF_LOBE_DISPERSION) != 0u) {
         // KHR_materials_dispersion: ior ∓ (ior − 1) · 0.025 · dispersion for red and blue.
