@@ -130,7 +130,11 @@ fn errors(gpu: &luz::imageio::LinearImage, reference: &luz::imageio::LinearImage
 
 /// Coloured bars behind `front` (an object JSON) under a uniform sky, 96×64, MSAA 1.
 fn bars_scene(front: &str, material: &str) -> Scene {
-    parse(&format!(
+    parse(&bars_json(front, material))
+}
+
+fn bars_json(front: &str, material: &str) -> String {
+    format!(
         r#"{{
         "camera": {{"position": [0, 0, 4], "target": [0, 0, 0], "fov_y_deg": 40}},
         "output": {{"width": 96, "height": 64, "msaa": 1}},
@@ -147,7 +151,7 @@ fn bars_scene(front: &str, material: &str) -> Scene {
         "lights": [{{"type": "directional", "direction": [0, 0, -1], "intensity": 2}}],
         "environment": {{"uniform": [0.5, 0.6, 0.7]}}
     }}"#
-    ))
+    )
 }
 
 /// GPU against the CPU reference: a thin-walled smooth pane (the same model on both sides) within
@@ -187,6 +191,135 @@ fn gpu_glass_against_the_reference() {
             "{name}: {without} without the glass, {rmse} with"
         );
     }
+    assert_no_validation_messages(&ctx);
+}
+
+/// The largest difference between `a` and `b` over the columns `columns`, every row, RGB.
+fn max_diff(
+    a: &luz::imageio::LinearImage,
+    b: &luz::imageio::LinearImage,
+    columns: std::ops::Range<u32>,
+) -> f32 {
+    let mut m = 0.0f32;
+    for y in 0..a.height {
+        for x in columns.clone() {
+            let (p, q) = (a.pixel(x, y), b.pixel(x, y));
+            for c in 0..3 {
+                m = m.max((p[c] - q[c]).abs());
+            }
+        }
+    }
+    m
+}
+
+/// Glass's maps (issue 35: `transmission`, `thickness`, `diffuse_transmission_color`; the
+/// glTF textures load into them, tests/gltf.rs). A thin pane whose map is black on its left half
+/// and white on its right (2×1, nearest) renders, half by half away from the seam, as the pane
+/// with the factor at 0 and at 1, within 1e-3; the transmission-mapped pane matches the CPU
+/// reference (which samples the same map) within the untextured pane's 3 %. A solid sphere with
+/// a black thickness map renders as the thin-walled sphere, with a white one as the factor's
+/// thickness.
+#[test]
+fn glass_maps_scale_their_factors() {
+    let dir = common::scratch("glass-maps");
+    let px = |v: u8| image::Rgba([v, v, v, 255]);
+    image::RgbaImage::from_fn(2, 1, |x, _| px(if x == 0 { 0 } else { 255 }))
+        .save(dir.join("split.png"))
+        .unwrap();
+    for (name, v) in [("black.png", 0), ("white.png", 255)] {
+        image::RgbaImage::from_pixel(1, 1, px(v))
+            .save(dir.join(name))
+            .unwrap();
+    }
+    let at = |json: String| {
+        luz::scene::parse(&json, &dir.join("scene.json")).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let split = |slot: &str| {
+        format!(
+            r#", "textures": {{"{slot}": {{"path": "split.png", "filter": "nearest", "mipmaps": false, "wrap": "clamp"}}}}"#
+        )
+    };
+    let ctx = gpu();
+    let pane = r#"{"mesh": {"type": "plane", "size": [2.4, 1.6]}, "rotation_deg": [90, 0, 0], "material": "glass"}"#;
+    let diffuse = |color: &str, extra: &str| {
+        format!(
+            r#"{{"model": "metal_rough", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0.5,
+            "diffuse_transmission": {{"diffuseTransmissionFactor": 1, "diffuseTransmissionColorFactor": {color}}}{extra}}}"#
+        )
+    };
+    let transmission = |factor: f32, extra: &str| {
+        format!(
+            r#"{{"model": "metal_rough", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0,
+            "transmission": {{"transmissionFactor": {factor}}}{extra}}}"#
+        )
+    };
+    let cases = [
+        (
+            "transmission",
+            transmission(1.0, &split("transmission")),
+            transmission(0.0, ""),
+            transmission(1.0, ""),
+        ),
+        (
+            "diffuse transmission colour",
+            diffuse("[1, 1, 1]", &split("diffuse_transmission_color")),
+            diffuse("[0, 0, 0]", ""),
+            diffuse("[1, 1, 1]", ""),
+        ),
+    ];
+    for (name, mapped, left, right) in cases {
+        let img = render_on(&ctx, &at(bars_json(pane, &mapped)));
+        let (l, r) = (
+            render_on(&ctx, &at(bars_json(pane, &left))),
+            render_on(&ctx, &at(bars_json(pane, &right))),
+        );
+        let (dl, dr) = (max_diff(&img, &l, 0..44), max_diff(&img, &r, 52..96));
+        println!("{name}: left half {dl:.2e} from factor 0, right half {dr:.2e} from factor 1");
+        assert!(dl < 1e-3 && dr < 1e-3, "{name}: {dl} / {dr}");
+        // Not trivially equal: the two factors differ on the pane.
+        let apart = max_diff(&l, &r, 30..66);
+        assert!(
+            apart > 0.05,
+            "{name}: factor 0 and 1 differ by {apart} only"
+        );
+        if name == "transmission" {
+            let opts = ReferenceOptions {
+                samples: 256,
+                ..Default::default()
+            };
+            let scene = at(bars_json(pane, &mapped));
+            let reference = render_reference(&scene, &opts, None).unwrap();
+            let (rmse, flip) = errors(&img, &reference);
+            println!(
+                "mapped pane against the reference: relative RMSE {:.2} %, FLIP {flip:.4}",
+                rmse * 100.0
+            );
+            assert!(rmse <= 0.03, "mapped pane: relative RMSE {rmse}");
+        }
+    }
+    // Thickness: a black map makes the sphere thin-walled; a white one keeps the factor's.
+    let sphere = r#"{"mesh": {"type": "sphere", "radius": 0.8}, "material": "glass"}"#;
+    let volume = |map: &str| {
+        let textures = match map {
+            "" => String::new(),
+            m => format!(r#", "textures": {{"thickness": "{m}"}}"#),
+        };
+        glass(
+            0.0,
+            &format!(r#", "volume": {{"thicknessFactor": 1.6}}{textures}"#),
+        )
+    };
+    let solid = render_on(&ctx, &at(bars_json(sphere, &volume(""))));
+    let thin = render_on(&ctx, &at(bars_json(sphere, &glass(0.0, ""))));
+    let black = render_on(&ctx, &at(bars_json(sphere, &volume("black.png"))));
+    let white = render_on(&ctx, &at(bars_json(sphere, &volume("white.png"))));
+    let (db, dw) = (
+        max_diff(&black, &thin, 0..96),
+        max_diff(&white, &solid, 0..96),
+    );
+    println!("thickness: black map {db:.2e} from thin-walled, white map {dw:.2e} from the factor");
+    assert!(db < 1e-3 && dw < 1e-3, "thickness maps: {db} / {dw}");
+    assert!(max_diff(&thin, &solid, 0..96) > 0.05);
     assert_no_validation_messages(&ctx);
 }
 

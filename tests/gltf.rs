@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use glam::{Vec2, Vec3};
-use luz::scene::gltf;
+use luz::scene::{gltf, TextureSlot};
 use serde_json::{json, Value};
 
 use common::*;
@@ -1618,7 +1618,8 @@ fn clearcoat_factors_warnings_and_errors() {
         ),
         ("coat_notobj", json!(1), format!("{at}: expected an object")),
     ] {
-        let e = gltf::load(&write(name, ext, false), None)
+        let textures = matches!(name, "t_uv" | "t_xform");
+        let e = gltf::load(&write(name, ext, textures), None)
             .unwrap_err()
             .to_string();
         let want = format!("{name}.gltf: {want}");
@@ -1709,7 +1710,8 @@ fn sheen_factors_warnings_and_errors() {
             format!("{at}: expected an object"),
         ),
     ] {
-        let e = gltf::load(&write(name, ext, false), None)
+        let textures = matches!(name, "t_uv" | "t_xform");
+        let e = gltf::load(&write(name, ext, textures), None)
             .unwrap_err()
             .to_string();
         let want = format!("{name}.gltf: {want}");
@@ -1739,8 +1741,9 @@ fn skins_and_animations_give_one_warning() {
 
 /// Issue 35: KHR_materials_transmission, _volume, _dispersion and _diffuse_transmission set the
 /// metal_rough material's `transmission` (equal to the luz JSON material with the same fields),
-/// their textures are named in one warning each, and bad values are errors naming the file and
-/// the JSON path.
+/// their textures become its glass maps with the extensions' channels (equal to the JSON maps),
+/// a map on another UV set is one warning, and bad values are errors naming the file and the
+/// JSON path.
 #[test]
 fn glass_extensions_factors_warnings_and_errors() {
     let dir = scratch("gltf-glass");
@@ -1784,17 +1787,94 @@ fn glass_extensions_factors_warnings_and_errors() {
         matches!(&f.materials[0].material, luz::scene::Material::MetalRough(p) if p.transmission.factor == 0.9)
     );
 
-    let f = load(&write(
-        "glasstex",
-        json!({"KHR_materials_transmission": {"transmissionFactor": 1, "transmissionTexture": {"index": 0}},
-               "KHR_materials_volume": {"thicknessTexture": {"index": 0}}}),
-        true,
-    ));
-    assert_eq!(f.warnings.len(), 2, "{:?}", f.warnings);
+    // The textures become the material's glass maps, each reading the channel its extension
+    // names (transmission R, thickness G, diffuse transmission A, its colour RGB), equal to the
+    // luz JSON material naming the same file and channels.
+    image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 128]))
+        .save(dir.join("glass.png"))
+        .unwrap();
+    let with_maps = |name: &str, second_set: u32| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let info = |set: u32| json!({"index": 0, "texCoord": set});
+        g.write_gltf(
+            &dir,
+            name,
+            json!({
+                "materials": [{"name": "glass", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.1},
+                    "extensions": {
+                        "KHR_materials_transmission": {"transmissionFactor": 1, "transmissionTexture": info(0)},
+                        "KHR_materials_volume": {"thicknessFactor": 0.5, "thicknessTexture": info(second_set)},
+                        "KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.5,
+                            "diffuseTransmissionTexture": info(0), "diffuseTransmissionColorTexture": info(0)}}}],
+                "images": [{"uri": "glass.png"}],
+                "textures": [{"source": 0}],
+                "nodes": [{"mesh": 0}],
+                "meshes": [{"primitives": [q]}]
+            }),
+        )
+    };
+    let f = load(&with_maps("glasstex", 0));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = luz::scene::parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 0, "roughness": 0.1,
+            "transmission": {"transmissionFactor": 1}, "volume": {"thicknessFactor": 0.5},
+            "diffuse_transmission": {"diffuseTransmissionFactor": 0.5},
+            "textures": {"transmission": "glass.png", "thickness": {"path": "glass.png", "channel": "g"},
+                "diffuse_transmission": {"path": "glass.png", "channel": "a"},
+                "diffuse_transmission_color": "glass.png"}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+        &dir.join("glass.json"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+    for slot in [
+        TextureSlot::Transmission,
+        TextureSlot::Thickness,
+        TextureSlot::DiffuseTransmission,
+        TextureSlot::DiffuseTransmissionColor,
+    ] {
+        let (a, b) = (
+            f.materials[0].textures.get(slot),
+            scene.materials[0].textures.get(slot),
+        );
+        assert!(a.is_some(), "{slot:?}");
+        let (a, b) = (a.unwrap(), b.unwrap());
+        assert_eq!(
+            (&a.path, a.channel),
+            (&b.path, b.channel),
+            "{slot:?} differs from the JSON map"
+        );
+    }
+    // The loaded maps decode as the JSON's: the thickness map's R is the file's G.
+    let thickness = f.materials[0].textures.thickness.as_ref().unwrap();
+    let data = luz::texture::load_texture(
+        thickness,
+        luz::texture::ColorSpace::Linear,
+        4096,
+        &mut |_| {},
+    )
+    .unwrap();
+    let r = data.texel(0, 0, 0).unwrap()[0];
+    assert!((r - 100.0 / 255.0).abs() < 1e-3, "thickness map reads {r}");
+    let dt = f.materials[0]
+        .textures
+        .diffuse_transmission
+        .as_ref()
+        .unwrap();
+    let a = luz::texture::load_texture(dt, luz::texture::ColorSpace::Linear, 4096, &mut |_| {})
+        .unwrap()
+        .texel(0, 0, 0)
+        .unwrap()[0];
     assert!(
-        f.warnings[0].starts_with(
-            "glasstex.gltf: KHR_materials_transmission's transmissionTexture not used"
-        ) && f.warnings[0].ends_with(r#"materials[0] ("glass")"#),
+        (a - 128.0 / 255.0).abs() < 1e-3,
+        "diffuse transmission map reads {a}"
+    );
+    // A map on another UV set than the material's first map: one warning naming it.
+    let f = load(&with_maps("glassuv", 1));
+    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0].contains(r#"materials[0] ("glass"): thicknessTexture reads UV set 1"#),
         "{}",
         f.warnings[0]
     );
@@ -1832,6 +1912,17 @@ fn glass_extensions_factors_warnings_and_errors() {
             format!("{at}.KHR_materials_diffuse_transmission.diffuseTransmissionTexture.index: texture 4 does not exist"),
         ),
         (
+            "t_uv",
+            json!({"KHR_materials_transmission": {"transmissionTexture": {"index": 0, "texCoord": -1}}}),
+            format!("{at}.KHR_materials_transmission.transmissionTexture.texCoord: expected a UV set 0–15, got -1"),
+        ),
+        (
+            "t_xform",
+            json!({"KHR_materials_volume": {"thicknessTexture": {"index": 0,
+                "extensions": {"KHR_texture_transform": {"scale": [1, "x"]}}}}}),
+            format!("{at}.KHR_materials_volume.thicknessTexture.extensions.KHR_texture_transform.scale: expected 2 finite number(s)"),
+        ),
+        (
             "t_notobj",
             json!({"KHR_materials_transmission": 1}),
             format!("{at}.KHR_materials_transmission: expected an object"),
@@ -1847,7 +1938,8 @@ fn glass_extensions_factors_warnings_and_errors() {
             format!("{at}.KHR_materials_ior.ior: must be 0 (the extension's special value) or at least 1, got -2"),
         ),
     ] {
-        let e = gltf::load(&write(name, ext, false), None)
+        let textures = matches!(name, "t_uv" | "t_xform");
+        let e = gltf::load(&write(name, ext, textures), None)
             .unwrap_err()
             .to_string();
         let want = format!("{name}.gltf: {want}");

@@ -107,7 +107,11 @@ layout(set = SET_FRAME, binding = BINDING_INSTANCES, std430) readonly buffer Ins
 #define MAP_NORMAL 5
 #define MAP_OCCLUSION 6
 #define MAP_EMISSIVE 7
-#define BINDING_MATERIAL_EXTRA 8
+#define MAP_TRANSMISSION 8
+#define MAP_THICKNESS 9
+#define MAP_DIFFUSE_TRANSMISSION 10
+#define MAP_DIFFUSE_TRANSMISSION_COLOR 11
+#define BINDING_MATERIAL_EXTRA 12
 layout(set = SET_MATERIAL, binding = MAP_BASE_COLOR) uniform sampler2D map_base_color;
 layout(set = SET_MATERIAL, binding = MAP_SPECULAR) uniform sampler2D map_specular;
 layout(set = SET_MATERIAL, binding = MAP_METALLIC) uniform sampler2D map_metallic;
@@ -116,6 +120,10 @@ layout(set = SET_MATERIAL, binding = MAP_ORM) uniform sampler2D map_orm;
 layout(set = SET_MATERIAL, binding = MAP_NORMAL) uniform sampler2D map_normal;
 layout(set = SET_MATERIAL, binding = MAP_OCCLUSION) uniform sampler2D map_occlusion;
 layout(set = SET_MATERIAL, binding = MAP_EMISSIVE) uniform sampler2D map_emissive;
+layout(set = SET_MATERIAL, binding = MAP_TRANSMISSION) uniform sampler2D map_transmission;
+layout(set = SET_MATERIAL, binding = MAP_THICKNESS) uniform sampler2D map_thickness;
+layout(set = SET_MATERIAL, binding = MAP_DIFFUSE_TRANSMISSION) uniform sampler2D map_diffuse_transmission;
+layout(set = SET_MATERIAL, binding = MAP_DIFFUSE_TRANSMISSION_COLOR) uniform sampler2D map_diffuse_transmission_color;
 #ifndef LUZ_DEFERRED
 layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor

@@ -98,6 +98,8 @@ struct Surface {
     vec3 y;
     float occlusion;
     vec3 emission;
+    // Glass: x the volume's thickness (mesh units), yzw the diffuse transmission colour.
+    vec4 glass;
 };
 
 Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
@@ -108,6 +110,7 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     s.y = Y;
     s.occlusion = 1.0;
     s.emission = mat_extra.emissive.rgb;
+    s.glass = vec4(mat_extra.volume.x, mat_extra.diffuse_transmission.rgb);
 #ifdef VERTEX_COLOR
     s.p.color.rgb *= g_vertex_color.rgb;
 #endif
@@ -140,6 +143,19 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     s.occlusion = 1.0 + mat_extra.params.y * (occ - 1.0);
     if (has_map(MAP_EMISSIVE)) {
         s.emission *= sample_map(map_emissive, uv).rgb;
+    }
+    // Glass's maps (their channel moved to R by the loader where glTF packs them elsewhere).
+    if (has_map(MAP_TRANSMISSION)) {
+        s.p.p2.x *= sample_map(map_transmission, uv).r;
+    }
+    if (has_map(MAP_THICKNESS)) {
+        s.glass.x *= sample_map(map_thickness, uv).r;
+    }
+    if (has_map(MAP_DIFFUSE_TRANSMISSION)) {
+        s.p.p2.y *= sample_map(map_diffuse_transmission, uv).r;
+    }
+    if (has_map(MAP_DIFFUSE_TRANSMISSION_COLOR)) {
+        s.glass.yzw *= sample_map(map_diffuse_transmission_color, uv).rgb;
     }
     if (has_map(MAP_NORMAL)) {
         // Tangent-space normal (glTF): n = normalize((2t − 1) · (scale, scale, 1)) in (X, Y, N).
@@ -333,7 +349,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         }
 #ifdef LUZ_GLASS
         if ((LOBES & BRDF_LOBE_DIFFUSE_TRANSMISSION) != 0u && MODEL == BRDF_MODEL_METAL_ROUGH) {
-            result += diffuse_transmission_weight(p) * E * clamp(-dot(s.n, l), 0.0, 1.0);
+            result += diffuse_transmission_weight(s) * E * clamp(-dot(s.n, l), 0.0, 1.0);
         }
 #endif
 #ifdef IBL
@@ -368,7 +384,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         }
 #ifdef IBL
         if ((LOBES & BRDF_LOBE_DIFFUSE_TRANSMISSION) != 0u) {
-            result += s.occlusion * diffuse_transmission_weight(p) * env_irradiance(-s.n);
+            result += s.occlusion * diffuse_transmission_weight(s) * env_irradiance(-s.n);
         }
 #endif
     }

@@ -92,7 +92,7 @@ vec3 transmitted(Surface s, vec3 P, vec3 V) {
     float n_v = clamp(dot(n, V), 1e-4, 1.0);
     float ior = transmission_ior(p);
     bool thin = REFRACTION == REFRACTION_THIN;
-    float thickness = thin ? 0.0 : mat_extra.volume.x * transmission_object_scale();
+    float thickness = thin ? 0.0 : s.glass.x * transmission_object_scale();
     float lod = transmission_lod(p.color.w, ior);
     vec3 through;
     float inside = thickness;
@@ -125,9 +125,9 @@ vec3 transmitted(Surface s, vec3 P, vec3 V) {
 }
 
 // KHR_materials_diffuse_transmission's BTDF weight (× irradiance from the far side).
-vec3 diffuse_transmission_weight(BrdfParams p) {
-    return (1.0 - p.p2.x) * (1.0 - p.spec.w) * p.p2.y * mat_extra.diffuse_transmission.rgb
-        * p.color.rgb * M_1_PI;
+vec3 diffuse_transmission_weight(Surface s) {
+    BrdfParams p = s.p;
+    return (1.0 - p.p2.x) * (1.0 - p.spec.w) * p.p2.y * s.glass.yzw * p.color.rgb * M_1_PI;
 }
 
 #endif

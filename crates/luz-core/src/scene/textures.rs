@@ -124,11 +124,23 @@ pub enum TextureSlot {
     Occlusion,
     /// Emitted radiance, multiplied by `emissive_factor`. sRGB.
     Emissive,
+    /// Multiplies `transmission.transmissionFactor` (metal_rough): glTF's
+    /// `KHR_materials_transmission` `transmissionTexture`, R. Linear, one channel.
+    Transmission,
+    /// Multiplies `volume.thicknessFactor` (metal_rough): glTF's `KHR_materials_volume`
+    /// `thicknessTexture`, G. Linear, one channel.
+    Thickness,
+    /// Multiplies `diffuse_transmission.diffuseTransmissionFactor` (metal_rough): glTF's
+    /// `diffuseTransmissionTexture`, A. Linear, one channel.
+    DiffuseTransmission,
+    /// Multiplies `diffuse_transmission.diffuseTransmissionColorFactor` (metal_rough): glTF's
+    /// `diffuseTransmissionColorTexture`, RGB. sRGB.
+    DiffuseTransmissionColor,
 }
 
 impl TextureSlot {
     /// Every slot, in the order the scene format lists them.
-    pub const ALL: [TextureSlot; 8] = [
+    pub const ALL: [TextureSlot; 12] = [
         TextureSlot::BaseColor,
         TextureSlot::Specular,
         TextureSlot::Metallic,
@@ -137,6 +149,10 @@ impl TextureSlot {
         TextureSlot::Normal,
         TextureSlot::Occlusion,
         TextureSlot::Emissive,
+        TextureSlot::Transmission,
+        TextureSlot::Thickness,
+        TextureSlot::DiffuseTransmission,
+        TextureSlot::DiffuseTransmissionColor,
     ];
 
     /// The key in a scene file's `textures` block.
@@ -150,6 +166,10 @@ impl TextureSlot {
             TextureSlot::Normal => "normal",
             TextureSlot::Occlusion => "occlusion",
             TextureSlot::Emissive => "emissive",
+            TextureSlot::Transmission => "transmission",
+            TextureSlot::Thickness => "thickness",
+            TextureSlot::DiffuseTransmission => "diffuse_transmission",
+            TextureSlot::DiffuseTransmissionColor => "diffuse_transmission_color",
         }
     }
 
@@ -157,7 +177,10 @@ impl TextureSlot {
     pub fn is_srgb(self) -> bool {
         matches!(
             self,
-            TextureSlot::BaseColor | TextureSlot::Specular | TextureSlot::Emissive
+            TextureSlot::BaseColor
+                | TextureSlot::Specular
+                | TextureSlot::Emissive
+                | TextureSlot::DiffuseTransmissionColor
         )
     }
 
@@ -165,7 +188,12 @@ impl TextureSlot {
     pub fn is_single_channel(self) -> bool {
         matches!(
             self,
-            TextureSlot::Metallic | TextureSlot::Roughness | TextureSlot::Occlusion
+            TextureSlot::Metallic
+                | TextureSlot::Roughness
+                | TextureSlot::Occlusion
+                | TextureSlot::Transmission
+                | TextureSlot::Thickness
+                | TextureSlot::DiffuseTransmission
         )
     }
 }
@@ -198,6 +226,13 @@ pub struct MaterialTextures {
     pub occlusion_strength: f32,
     /// sRGB.
     pub emissive: Option<TextureRef>,
+    /// Glass (metal_rough's `transmission`, `volume`, `diffuse_transmission`): linear, channel
+    /// selectable (default R; glTF's files give R, G, A).
+    pub transmission: Option<TextureRef>,
+    pub thickness: Option<TextureRef>,
+    pub diffuse_transmission: Option<TextureRef>,
+    /// sRGB.
+    pub diffuse_transmission_color: Option<TextureRef>,
     /// Emitted radiance = emissive_factor × emissive map (× 1 without a map). Linear RGB.
     /// Default: [1, 1, 1] with an emissive map, [0, 0, 0] without one.
     pub emissive_factor: Vec3,
@@ -268,6 +303,10 @@ impl Default for MaterialTextures {
             occlusion: None,
             occlusion_strength: 1.0,
             emissive: None,
+            transmission: None,
+            thickness: None,
+            diffuse_transmission: None,
+            diffuse_transmission_color: None,
             emissive_factor: Vec3::ZERO,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
@@ -288,6 +327,10 @@ impl MaterialTextures {
             TextureSlot::Normal => self.normal.as_ref(),
             TextureSlot::Occlusion => self.occlusion.as_ref(),
             TextureSlot::Emissive => self.emissive.as_ref(),
+            TextureSlot::Transmission => self.transmission.as_ref(),
+            TextureSlot::Thickness => self.thickness.as_ref(),
+            TextureSlot::DiffuseTransmission => self.diffuse_transmission.as_ref(),
+            TextureSlot::DiffuseTransmissionColor => self.diffuse_transmission_color.as_ref(),
         }
     }
 
@@ -302,6 +345,10 @@ impl MaterialTextures {
             TextureSlot::Normal => &mut self.normal,
             TextureSlot::Occlusion => &mut self.occlusion,
             TextureSlot::Emissive => &mut self.emissive,
+            TextureSlot::Transmission => &mut self.transmission,
+            TextureSlot::Thickness => &mut self.thickness,
+            TextureSlot::DiffuseTransmission => &mut self.diffuse_transmission,
+            TextureSlot::DiffuseTransmissionColor => &mut self.diffuse_transmission_color,
         }
     }
 
@@ -327,7 +374,20 @@ pub fn slots_for_model(model: crate::brdf::ModelKind) -> &'static [TextureSlot] 
     match model {
         K::Phong | K::BlinnPhong => &[BaseColor, Specular, Normal, Occlusion, Emissive],
         K::CookTorrance => &[BaseColor, Roughness, Normal, Occlusion, Emissive],
-        K::MetalRough | K::Principled => &[
+        K::MetalRough => &[
+            BaseColor,
+            Metallic,
+            Roughness,
+            Orm,
+            Normal,
+            Occlusion,
+            Emissive,
+            Transmission,
+            Thickness,
+            DiffuseTransmission,
+            DiffuseTransmissionColor,
+        ],
+        K::Principled => &[
             BaseColor, Metallic, Roughness, Orm, Normal, Occlusion, Emissive,
         ],
         K::Lambert | K::OrenNayar => &[BaseColor, Normal, Occlusion, Emissive],

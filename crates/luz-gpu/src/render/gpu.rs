@@ -444,6 +444,10 @@ mod tests {
             b::MAP_NORMAL,
             b::MAP_OCCLUSION,
             b::MAP_EMISSIVE,
+            b::MAP_TRANSMISSION,
+            b::MAP_THICKNESS,
+            b::MAP_DIFFUSE_TRANSMISSION,
+            b::MAP_DIFFUSE_TRANSMISSION_COLOR,
         ];
         assert_eq!(maps.len(), TextureSlot::ALL.len());
         assert_eq!(crate::render::material::SLOT_COUNT, TextureSlot::ALL.len());

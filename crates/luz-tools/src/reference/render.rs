@@ -651,6 +651,23 @@ fn surface_at(mat: &RefMaterial, n: Vec3, x: Vec3, y: Vec3, uv: Vec2) -> Surface
     if let Some(c) = sample(TextureSlot::Emissive) {
         s.emission *= c.xyz();
     }
+    if let Model::MetalRough(p) = &mut s.model {
+        let t = &mut p.transmission;
+        if let Some(c) = sample(TextureSlot::Transmission) {
+            t.factor *= c.x;
+        }
+        // The reference walks the object's real surface; the thickness is the GPU's estimate
+        // of that walk, kept here so both read the same material.
+        if let Some(c) = sample(TextureSlot::Thickness) {
+            t.thickness *= c.x;
+        }
+        if let Some(c) = sample(TextureSlot::DiffuseTransmission) {
+            t.diffuse *= c.x;
+        }
+        if let Some(c) = sample(TextureSlot::DiffuseTransmissionColor) {
+            t.diffuse_color *= c.xyz();
+        }
+    }
     if let Some(c) = sample(TextureSlot::Normal) {
         let mut t = c.xyz() * 2.0 - Vec3::ONE;
         t.x *= mat.normal_scale;

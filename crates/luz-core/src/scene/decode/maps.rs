@@ -24,6 +24,10 @@ const TEXTURE_FIELDS: &[&str] = &[
     "normal",
     "occlusion",
     "emissive",
+    "transmission",
+    "thickness",
+    "diffuse_transmission",
+    "diffuse_transmission_color",
     "normal_scale",
     "occlusion_strength",
     "emissive_factor",
@@ -156,7 +160,7 @@ fn texture_ref(v: &Value, path: &str, slot: TextureSlot, base: &Path) -> Result<
                     return Err(f.err(
                         "channel",
                         format!(
-                            "a {} map uses all its channels; \"channel\" applies to single-value maps (metallic, roughness, occlusion)",
+                            "a {} map uses all its channels; \"channel\" applies to single-value maps (metallic, roughness, occlusion, transmission, thickness, diffuse_transmission)",
                             slot.name()
                         ),
                     ))

@@ -7,6 +7,7 @@ use std::path::Path;
 use glam::Vec3;
 use serde_json::{Map, Value};
 
+use super::primitive::UvChoice;
 use super::GltfError;
 
 /// A number's allowed range.
@@ -36,6 +37,7 @@ impl Range {
 }
 
 /// One extension object of one material, with errors at `materials[i].extensions.NAME.key`.
+#[derive(Clone)]
 pub(super) struct Ext<'a> {
     pub(super) obj: &'a Map<String, Value>,
     path: String,
@@ -109,6 +111,74 @@ impl<'a> Ext<'a> {
             c[k] = x as f32;
         }
         Ok(Vec3::from(c))
+    }
+
+    /// The texture info at `key` (`None` when absent): the texture's index, checked against the
+    /// file's `count` textures, and the UVs it reads (`texCoord`, and `KHR_texture_transform`
+    /// when present). Errors name `…key.index`, `…key.texCoord` and the transform's fields.
+    pub(super) fn texture_info(
+        &self,
+        key: &str,
+        count: usize,
+    ) -> Result<Option<(usize, UvChoice)>, GltfError> {
+        if !self.has_textures(&[key], count)? {
+            return Ok(None);
+        }
+        let info = &self.obj[key];
+        // has_textures checked the index.
+        let index = info["index"].as_u64().unwrap_or(0) as usize;
+        let set = |v: Option<&Value>, at: &str| -> Result<Option<u32>, GltfError> {
+            match v {
+                None => Ok(None),
+                Some(v) => v
+                    .as_u64()
+                    .filter(|&s| s < 16)
+                    .map(|s| Some(s as u32))
+                    .ok_or_else(|| self.err(at, format!("expected a UV set 0–15, got {v}"))),
+            }
+        };
+        let mut uv = UvChoice {
+            set: set(info.get("texCoord"), &format!("{key}.texCoord"))?.unwrap_or(0),
+            ..UvChoice::default()
+        };
+        if let Some(t) = info
+            .get("extensions")
+            .and_then(|x| x.get("KHR_texture_transform"))
+        {
+            let at = format!("{key}.extensions.KHR_texture_transform");
+            let nums = |field: &str, n: usize| -> Result<Option<Vec<f32>>, GltfError> {
+                let Some(v) = t.get(field) else {
+                    return Ok(None);
+                };
+                let items: Option<Vec<f32>> = match (n, v) {
+                    (1, v) => v.as_f64().map(|x| vec![x as f32]),
+                    (_, Value::Array(a)) if a.len() == n => {
+                        a.iter().map(|x| x.as_f64().map(|x| x as f32)).collect()
+                    }
+                    _ => None,
+                };
+                match items.filter(|xs| xs.iter().all(|x| x.is_finite())) {
+                    Some(xs) => Ok(Some(xs)),
+                    None => Err(self.err(
+                        &format!("{at}.{field}"),
+                        format!("expected {n} finite number(s), got {v}"),
+                    )),
+                }
+            };
+            if let Some(o) = nums("offset", 2)? {
+                uv.offset = glam::Vec2::new(o[0], o[1]);
+            }
+            if let Some(r) = nums("rotation", 1)? {
+                uv.rotation = r[0];
+            }
+            if let Some(s) = nums("scale", 2)? {
+                uv.scale = glam::Vec2::new(s[0], s[1]);
+            }
+            if let Some(s) = set(t.get("texCoord"), &format!("{at}.texCoord"))? {
+                uv.set = s;
+            }
+        }
+        Ok(Some((index, uv)))
     }
 
     /// Whether any of `keys` is a texture info naming an existing texture (an error when it

@@ -150,6 +150,26 @@ fn texture_ref(t: &gltf::Texture, images: &Images, channel: Option<u8>) -> Optio
     })
 }
 
+/// A file's textures, for the extensions that read texture infos by index.
+pub struct TextureSource<'a> {
+    pub doc: &'a gltf::Document,
+    pub images: &'a Images,
+}
+
+impl TextureSource<'_> {
+    /// How many textures the file has.
+    pub fn count(&self) -> usize {
+        self.doc.textures().len()
+    }
+
+    /// Texture `index` (checked against [`TextureSource::count`] by the caller) reading
+    /// `channel`.
+    pub fn get(&self, index: usize, channel: Option<u8>) -> Option<TextureRef> {
+        let t = self.doc.textures().nth(index)?;
+        texture_ref(&t, self.images, channel)
+    }
+}
+
 /// How one map reads its UVs: (set, transform).
 fn uv_of(info_set: u32, tt: Option<gltf::texture::TextureTransform>) -> UvChoice {
     match tt {
@@ -334,7 +354,7 @@ pub fn material(
 pub fn ior(
     m: &gltf::Material,
     _gm: &mut GltfMaterial,
-    _textures: usize,
+    _textures: &TextureSource,
     (file, _file_name): (&Path, &str),
     _warnings: &mut Vec<String>,
 ) -> Result<(), GltfError> {
@@ -361,7 +381,7 @@ pub fn ior(
 pub fn clearcoat(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
-    textures: usize,
+    textures: &TextureSource,
     (file, file_name): (&Path, &str),
     warnings: &mut Vec<String>,
 ) -> Result<(), GltfError> {
@@ -377,7 +397,7 @@ pub fn clearcoat(
         "clearcoatRoughnessTexture",
         "clearcoatNormalTexture",
     ];
-    if e.has_textures(&keys, textures)? {
+    if e.has_textures(&keys, textures.count())? {
         unused_maps(
             m,
             gm,
@@ -399,7 +419,7 @@ pub fn clearcoat(
 pub fn sheen(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
-    textures: usize,
+    textures: &TextureSource,
     (file, file_name): (&Path, &str),
     warnings: &mut Vec<String>,
 ) -> Result<(), GltfError> {
@@ -410,7 +430,10 @@ pub fn sheen(
         e.color("sheenColorFactor", Vec3::ZERO)?,
         e.number("sheenRoughnessFactor", 0.0, Range::Unit)?,
     );
-    if e.has_textures(&["sheenColorTexture", "sheenRoughnessTexture"], textures)? {
+    if e.has_textures(
+        &["sheenColorTexture", "sheenRoughnessTexture"],
+        textures.count(),
+    )? {
         unused_maps(m, gm, file_name, ("KHR_materials_sheen", "sheen"), warnings);
     }
     if let Material::MetalRough(p) = &mut gm.material {

@@ -454,7 +454,10 @@ impl<'a> Builder<'a> {
         let f = self.file_name.clone();
         for m in self.doc.materials() {
             let mut gm = material::material(&m, &self.images, &f, &mut self.out.warnings);
-            let textures = self.doc.textures().len();
+            let textures = material::TextureSource {
+                doc: self.doc,
+                images: &self.images,
+            };
             // The material extensions luz reads onto metal_rough.
             for read in [
                 material::ior,
@@ -465,7 +468,7 @@ impl<'a> Builder<'a> {
                 read(
                     &m,
                     &mut gm,
-                    textures,
+                    &textures,
                     (self.path, &f),
                     &mut self.out.warnings,
                 )?;
