@@ -576,6 +576,13 @@ impl Writer {
                 (t.roughness.is_some(), "roughness"),
                 (t.orm.is_some(), "orm"),
                 (t.occlusion.is_some(), "occlusion"),
+                (t.transmission.is_some(), "transmission map"),
+                (t.thickness.is_some(), "thickness map"),
+                (t.diffuse_transmission.is_some(), "diffuse_transmission map"),
+                (
+                    t.diffuse_transmission_color.is_some(),
+                    "diffuse_transmission_color map",
+                ),
                 (
                     t.emissive.is_some() || t.emissive_factor != Vec3::ZERO,
                     "emission",

@@ -67,9 +67,13 @@ impl Prepared {
             // With dispersion, walk w carries channel w mod 3 (×3: a third of the walks each).
             let channel = (w % 3) as usize;
             let eta = if dispersive { iors[channel] } else { ior };
-            // Volumes walk spheres and meshes; other shapes are thin-walled.
-            let volume =
-                !tr.thin_walled() && matches!(obj.shape, Shape::Sphere { .. } | Shape::Mesh(_));
+            // Volumes walk spheres, cubes (slabs when scaled) and meshes; other shapes are
+            // thin-walled.
+            let volume = !tr.thin_walled()
+                && matches!(
+                    obj.shape,
+                    Shape::Sphere { .. } | Shape::Cube { .. } | Shape::Mesh(_)
+                );
             let l = if !volume {
                 thin_walled(p, d, n, (alpha, eta), &surroundings, &mut rng)
             } else {
@@ -201,6 +205,38 @@ fn crossing(obj: &RefObject, o: Vec3, d: Vec3) -> Option<GlassHit> {
             Some(GlassHit {
                 t: h.t / scale,
                 n_out: (obj.normal_matrix * h.n_out).normalize(),
+            })
+        }
+        Shape::Cube { half } => {
+            // The slabs' entry and exit (from outside or inside): the nearest crossing beyond
+            // a small epsilon, its outside normal the face's.
+            let (mut near, mut far) = ((f32::NEG_INFINITY, 0), (f32::INFINITY, 0));
+            for k in 0..3 {
+                if ld[k].abs() < 1e-12 {
+                    if lo[k].abs() > *half {
+                        return None;
+                    }
+                    continue;
+                }
+                let (t1, t2) = ((-half - lo[k]) / ld[k], (half - lo[k]) / ld[k]);
+                let (a, b) = (t1.min(t2), t1.max(t2));
+                if a > near.0 {
+                    near = (a, k);
+                }
+                if b < far.0 {
+                    far = (b, k);
+                }
+            }
+            let eps = 1e-5 * ld.length().recip();
+            let (t, k) = if near.0 > eps { near } else { far };
+            if near.0 > far.0 || t <= eps {
+                return None;
+            }
+            let mut n = Vec3::ZERO;
+            n[k] = 1f32.copysign(lo[k] + ld[k] * t);
+            Some(GlassHit {
+                t,
+                n_out: (obj.normal_matrix * n).normalize(),
             })
         }
         Shape::Mesh(m) => {
