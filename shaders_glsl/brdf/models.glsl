@@ -392,16 +392,28 @@ bool has_sheen(BrdfParams p) {
         && any(greaterThan(p.kappa.rgb, vec3(0.0)));
 }
 
-// metal_rough_terms for unit n, l and v (no renormalisation): the base, then its layers.
-BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+// E_sheen at the view for p's sheen (0 without one): what brdf_metal_rough_terms_unit_es takes,
+// so that a loop over lights evaluates the fit once per pixel, not once per light.
+float brdf_sheen_albedo_at(BrdfParams p, vec3 n, vec3 v) {
+    return has_sheen(p) ? sheen_albedo(brdf_clamp_cos(dot(n, v)), p.kappa.w) : 0.0;
+}
+
+// metal_rough_terms for unit n, l and v (no renormalisation), E_sheen(n·v) given: the base,
+// then its layers.
+BrdfTerms brdf_metal_rough_terms_unit_es(BrdfParams p, vec3 n, vec3 l, vec3 v, float e_sheen) {
     BrdfTerms t = brdf_metal_rough_base_terms_unit(p, n, l, v);
     if (has_sheen(p) && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
-        t = sheen_layer(t, p, n, l, v, sheen_albedo(brdf_clamp_cos(dot(n, v)), p.kappa.w));
+        t = sheen_layer(t, p, n, l, v, e_sheen);
     }
     if ((BRDF_LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
         t = clearcoat_layer(t, p, n, l, v, clearcoat_energy_schlick(brdf_clamp_cos(dot(n, v))));
     }
     return t;
+}
+
+// metal_rough_terms for unit n, l and v (no renormalisation).
+BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+    return brdf_metal_rough_terms_unit_es(p, n, l, v, brdf_sheen_albedo_at(p, n, v));
 }
 
 BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {

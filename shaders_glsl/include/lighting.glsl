@@ -318,6 +318,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);
 #ifdef IBL
     EnergyScale es = energy_scale(p, s.n, V);
+    float e_sheen = es.sheen;
+#else
+    // The sheen's albedo at the view, once for every light (MODEL is a constant: the branch
+    // and the fit compile out without a sheen lobe).
+    float e_sheen = MODEL == BRDF_MODEL_METAL_ROUGH ? brdf_sheen_albedo_at(p, s.n, V) : 0.0;
 #endif
     uvec2 cluster = light_list(P);
     // Fixed shadow slots (shadows.glsl): each shadowed light's visibility once, before the loop.
@@ -367,6 +372,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
             continue;
         }
 #endif
+        if (p.sel.x == BRDF_MODEL_METAL_ROUGH) {
+            BrdfTerms t = brdf_metal_rough_terms_unit_es(p, s.n, l, V, e_sheen);
+            result += (t.diffuse + t.specular) * E * clamp(dot(s.n, l), 0.0, 1.0);
+            continue;
+        }
         result += brdf_radiance_unit(p, s.n, l, V, s.x, s.y, E);
     }
     if ((LIGHT_KINDS & LK_AREA) != 0u) {
