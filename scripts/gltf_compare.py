@@ -45,6 +45,12 @@ CASES = [
      "attenuationDistance", [0.25, 0.5, 1.0, 2.0, 4.0], None),
     ("dispersion", "KHR_materials_dispersion", "dispersion", "dispersion", "dispersion",
      [0.0, 0.5, 1.0, 2.0, 4.0], None),
+    ("ior", "KHR_materials_ior", "ior", "ior", "ior", [1.0, 1.33, 1.5, 2.0, 2.5], None),
+    ("specular", "KHR_materials_specular", "specularFactor", "specular", "specularFactor",
+     [0.0, 0.25, 0.5, 0.75, 1.0], None),
+    ("specular_color", "KHR_materials_specular", "specularColorFactor", "specular",
+     "specularColorFactor", [[1, 1, 1], [1, 0.5, 0.5], [0.5, 1, 0.5], [0.5, 0.5, 1], [2, 2, 2]],
+     None),
     ("diffuse_transmission", "KHR_materials_diffuse_transmission", "diffuseTransmissionFactor",
      "diffuse_transmission", "diffuseTransmissionFactor", [0.0, 0.25, 0.5, 0.75, 1.0],
      ("diffuseTransmissionTexture", "diffuse_transmission", "a")),
@@ -71,6 +77,8 @@ LUZ_BLOCK = {
     "KHR_materials_volume": "volume",
     "KHR_materials_dispersion": "dispersion",
     "KHR_materials_diffuse_transmission": "diffuse_transmission",
+    "KHR_materials_ior": "ior",
+    "KHR_materials_specular": "specular",
 }
 
 SPACING = 2.5

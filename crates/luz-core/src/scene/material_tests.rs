@@ -834,3 +834,68 @@ fn metal_rough_clearcoat_fields_and_errors() {
         &["materials.m.clearcoat", "clearcoatTexture"],
     );
 }
+
+/// Issue 34: metal_rough's dielectric F0 from KHR_materials_ior's and KHR_materials_specular's
+/// fields (the extensions' names and formula, as glTF files give it), or `dielectric_f0` itself
+/// (what the encoder writes); bad values name the field.
+#[test]
+fn metal_rough_ior_and_specular_set_the_dielectric_f0() {
+    assert_eq!(metal_rough("").dielectric_f0, Vec3::splat(0.04));
+    let water = ((1.33f32 - 1.0) / (1.33 + 1.0)).powi(2);
+    assert_eq!(
+        metal_rough(r#", "ior": {"ior": 1.33}"#).dielectric_f0,
+        Vec3::splat(water)
+    );
+    // ior 0: the extension's special value, F0 = 1.
+    assert_eq!(
+        metal_rough(r#", "ior": {"ior": 0}"#).dielectric_f0,
+        Vec3::ONE
+    );
+    // min(F0(ior) · colour, 1) · factor.
+    let p = metal_rough(
+        r#", "ior": {"ior": 2}, "specular": {"specularFactor": 0.5, "specularColorFactor": [1, 2, 100]}"#,
+    );
+    let f0 = 1.0f32 / 9.0;
+    let want = Vec3::new(f0 * 0.5, 2.0 * f0 * 0.5, 0.5);
+    assert!(
+        (p.dielectric_f0 - want).abs().max_element() < 1e-6,
+        "{} against {want}",
+        p.dielectric_f0
+    );
+    assert_eq!(
+        metal_rough(r#", "dielectric_f0": [0.1, 0.2, 0.3]"#).dielectric_f0,
+        Vec3::new(0.1, 0.2, 0.3)
+    );
+    let m = r#""model": "metal_rough", "#;
+    fails(
+        &format!(r#"{m}"ior": {{"ior": 0.5}}"#),
+        &[
+            "materials.m.ior.ior",
+            "0 (the extension's special value) or at least 1, got 0.5",
+        ],
+    );
+    fails(
+        &format!(r#"{m}"ior": {{"ior": -1}}"#),
+        &["materials.m.ior.ior"],
+    );
+    fails(
+        &format!(r#"{m}"specular": {{"specularFactor": 2}}"#),
+        &["materials.m.specular.specularFactor"],
+    );
+    fails(
+        &format!(r#"{m}"specular": {{"specularColorFactor": [1, -1, 1]}}"#),
+        &["materials.m.specular.specularColorFactor"],
+    );
+    fails(
+        &format!(r#"{m}"specular": {{"specularTexture": {{}}}}"#),
+        &["materials.m.specular", "specularTexture"],
+    );
+    fails(
+        &format!(r#"{m}"dielectric_f0": [0.1, 0.1, 0.1], "ior": {{"ior": 1.5}}"#),
+        &["materials.m.ior", "dielectric_f0"],
+    );
+    fails(
+        &format!(r#"{m}"dielectric_f0": [0.1, 2, 0.1]"#),
+        &["materials.m.dielectric_f0"],
+    );
+}

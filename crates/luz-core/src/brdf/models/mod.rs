@@ -423,6 +423,21 @@ pub struct MetalRoughParams {
     pub transmission: Transmission,
 }
 
+impl MetalRoughParams {
+    /// The dielectric F0 from KHR_materials_ior's `ior` (`None`: 1.5, F0 0.04; 0 is the
+    /// extension's special value, F0 = 1) and KHR_materials_specular's `specularFactor` and
+    /// `specularColorFactor`, as the latter's specification computes it:
+    /// `min(((ior − 1)/(ior + 1))² · specularColorFactor, 1) · specularFactor`. glTF files and
+    /// scene files (`"ior"`, `"specular"` on metal_rough) both go through it.
+    pub fn dielectric_f0_from(ior: Option<f32>, factor: f32, color: Vec3) -> Vec3 {
+        let f0 = match ior {
+            Some(ior) => Vec3::splat(((ior - 1.0) / (ior + 1.0)).powi(2)),
+            None => Vec3::splat(0.04),
+        };
+        (f0 * color).min(Vec3::ONE) * factor
+    }
+}
+
 impl Default for MetalRoughParams {
     fn default() -> Self {
         Self {

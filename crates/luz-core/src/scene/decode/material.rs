@@ -247,11 +247,15 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "volume",
             "dispersion",
             "diffuse_transmission",
+            "ior",
+            "specular",
+            "dielectric_f0",
         ],
         &a_material(model),
     )?;
     let d = MetalRoughParams::default();
     let transmission = transmission(f)?;
+    let dielectric_f0 = dielectric_f0(f)?;
     let (clearcoat, clearcoat_roughness) = match f.get("clearcoat") {
         None => (d.clearcoat, d.clearcoat_roughness),
         Some(v) => clearcoat(v, &f.path("clearcoat"))?,
@@ -305,7 +309,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         fresnel: f.select("fresnel", FRESNELS, d.fresnel)?,
         diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
         diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,
-        dielectric_f0: d.dielectric_f0,
+        dielectric_f0,
         // The environment's switch, applied where the scene is rendered.
         energy_compensation: false,
         clearcoat,
@@ -314,6 +318,53 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         sheen_roughness,
         transmission,
     }))
+}
+
+/// The dielectric F0 of a metal_rough material: KHR_materials_ior's `{"ior": 1.5}` (0 or ≥ 1;
+/// 0 is the extension's F0 = 1) and KHR_materials_specular's `{"specularFactor": 1,
+/// "specularColorFactor": [1, 1, 1]}` (factor in [0, 1], colour ≥ 0), combined as the
+/// specification does ([`MetalRoughParams::dielectric_f0_from`]); or `dielectric_f0` itself
+/// (RGB in [0, 1], what the encoder writes), not with either.
+fn dielectric_f0(f: &Fields) -> Result<Vec3> {
+    if let Some(v) = f.get("dielectric_f0") {
+        if let Some(other) = ["ior", "specular"].into_iter().find(|k| f.has(k)) {
+            return Err(f.err(
+                other,
+                "\"dielectric_f0\" already gives F0; give either it or ior/specular, not both",
+            ));
+        }
+        return color_in(v, &f.path("dielectric_f0"), UNIT);
+    }
+    let ior = match f.get("ior") {
+        None => None,
+        Some(v) => {
+            let g = Fields::new(v, &f.path("ior"))?;
+            g.allow(&["ior"], "an index of refraction (KHR_materials_ior)")?;
+            let ior = g.num("ior", 1.5, Check::NonNegative)?;
+            if ior != 0.0 && ior < 1.0 {
+                return Err(g.err(
+                    "ior",
+                    format!("must be 0 (the extension's special value) or at least 1, got {ior}"),
+                ));
+            }
+            Some(ior)
+        }
+    };
+    let (factor, color) = match f.get("specular") {
+        None => (1.0, Vec3::ONE),
+        Some(v) => {
+            let g = Fields::new(v, &f.path("specular"))?;
+            g.allow(
+                &["specularFactor", "specularColorFactor"],
+                "a specular block (KHR_materials_specular; its textures are not supported yet)",
+            )?;
+            (
+                g.num("specularFactor", 1.0, UNIT)?,
+                g.color_in("specularColorFactor", Vec3::ONE, Check::NonNegative)?,
+            )
+        }
+    };
+    Ok(MetalRoughParams::dielectric_f0_from(ior, factor, color))
 }
 
 /// KHR_materials_sheen's factors, with the extension's names:

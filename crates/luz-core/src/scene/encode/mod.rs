@@ -41,7 +41,7 @@ use super::{
     EnvSource, Environment, Material, MaterialTextures, MeshDesc, Object, Saturation, Scene,
     Shading, TextureRef, TextureSlot,
 };
-use crate::brdf::{Distribution, Fresnel, Geometry, SpecularSource};
+use crate::brdf::{Distribution, Fresnel, Geometry, MetalRoughParams, SpecularSource};
 use crate::scene::{slots_for_model, SamplerDesc};
 
 /// The scene as JSON, with file paths relative to the folder of the file it was loaded from
@@ -281,6 +281,10 @@ impl Encoder<'_> {
                 let n = put_terms(n, p.roughness, (p.distribution, p.geometry, p.fresnel))
                     .put("diffuse_fresnel_weight", p.diffuse_fresnel_weight)
                     .put("diffuse", select(DIFFUSES, p.diffuse));
+                // The dielectric F0 (from KHR_materials_ior / _specular), only when not 0.04.
+                if p.dielectric_f0 != MetalRoughParams::default().dielectric_f0 {
+                    n.put("dielectric_f0", p.dielectric_f0);
+                }
                 // KHR_materials_clearcoat, only when there is a coat (files without one are
                 // written as before).
                 if p.clearcoat != 0.0 || p.clearcoat_roughness != 0.0 {

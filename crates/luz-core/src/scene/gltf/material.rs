@@ -197,15 +197,12 @@ fn dielectric_f0(
     warnings: &mut Vec<String>,
 ) -> Vec3 {
     let i = m.index().unwrap_or(0);
-    // Without KHR_materials_ior, exactly luz's default (0.04).
+    // Without either extension, exactly luz's default (0.04).
     // ior 0 is the extension's special value (F0 = 1).
-    let mut f0 = match m
+    let ior = m
         .ior()
-        .filter(|v| v.is_finite() && (*v >= 1.0 || *v == 0.0))
-    {
-        Some(ior) => Vec3::splat(((ior - 1.0) / (ior + 1.0)).powi(2)),
-        None => MetalRoughParams::default().dielectric_f0,
-    };
+        .filter(|v| v.is_finite() && (*v >= 1.0 || *v == 0.0));
+    let mut f0 = MetalRoughParams::dielectric_f0_from(ior, 1.0, Vec3::ONE);
     if let Some(sp) = m.specular() {
         let color = Vec3::from_array(sp.specular_color_factor());
         let color = if color.is_finite() {
@@ -219,7 +216,7 @@ fn dielectric_f0(
         } else {
             1.0
         };
-        f0 = (f0 * color).min(Vec3::ONE) * factor;
+        f0 = MetalRoughParams::dielectric_f0_from(ior, factor, color);
         if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
             // One warning per file, naming every material with such textures.
             let marker = format!(
