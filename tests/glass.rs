@@ -52,6 +52,49 @@ fn n_dot_v(scene: &Scene, x: u32, y: u32) -> Option<f32> {
     })
 }
 
+/// The largest |L − 1| over the pixels `keep` picks, and how many it picked.
+fn worst_off_one(img: &luz::imageio::LinearImage, keep: impl Fn(u32, u32) -> bool) -> (f32, usize) {
+    let (mut worst, mut n) = (0.0f32, 0);
+    for y in 0..img.height {
+        for x in 0..img.width {
+            if keep(x, y) {
+                let p = img.pixel(x, y);
+                worst = worst.max(
+                    (Vec3::new(p[0], p[1], p[2]) - Vec3::ONE)
+                        .abs()
+                        .max_element(),
+                );
+                n += 1;
+            }
+        }
+    }
+    (worst, n)
+}
+
+/// CLEAR with an attenuation keeping (0.5, 0.25, 0.9) over a distance of 2.
+fn tinted() -> String {
+    CLEAR.replace(
+        r#""thicknessFactor": 1}"#,
+        r#""thicknessFactor": 1, "attenuationColor": [0.5, 0.25, 0.9], "attenuationDistance": 2}"#,
+    )
+}
+
+/// Seen through an absorber that keeps `c` per crossing, in surroundings of 1, with Fresnel `f`
+/// at both faces: F + (1 − F)² c Σ (F c)^k = F + (1 − F)² c / (1 − F c).
+fn through_absorber(f: f32, c: Vec3) -> Vec3 {
+    Vec3::splat(f) + (1.0 - f) * (1.0 - f) * c / (Vec3::ONE - f * c)
+}
+
+/// The reference's centre pixel (4096 samples).
+fn centre_pixel(scene: &Scene) -> Vec3 {
+    let opts = ReferenceOptions {
+        samples: 4096,
+        ..ReferenceOptions::default()
+    };
+    let p = render_reference(scene, &opts, None).unwrap().pixel(24, 24);
+    Vec3::new(p[0], p[1], p[2])
+}
+
 /// A clear sphere (volume or thin-walled) in uniform surroundings of 1 is seen as 1 wherever
 /// n·v ≥ 0.3: the surface's reflection (the BRDF's specular, Schlick's F) plus the walk's
 /// transmission (exact Fresnel, the η² of radiance in and out) — within 1 %, the two Fresnels'
@@ -69,20 +112,8 @@ fn clear_glass_in_uniform_surroundings_returns_them() {
         assert_eq!(transmission_of(&scene).factor, 1.0);
         assert_eq!(transmission_of(&scene).thin_walled(), name == "thin-walled");
         let img = render_reference(&scene, &ReferenceOptions::default(), None).unwrap();
-        let (mut worst, mut n) = (0.0f32, 0);
-        for y in 0..49 {
-            for x in 0..49 {
-                if n_dot_v(&scene, x, y).is_some_and(|c| c >= 0.3) {
-                    let p = img.pixel(x, y);
-                    worst = worst.max(
-                        (Vec3::new(p[0], p[1], p[2]) - Vec3::ONE)
-                            .abs()
-                            .max_element(),
-                    );
-                    n += 1;
-                }
-            }
-        }
+        let (worst, n) =
+            worst_off_one(&img, |x, y| n_dot_v(&scene, x, y).is_some_and(|c| c >= 0.3));
         eprintln!("clear glass, {name}: worst |L − 1| {worst:.4} over {n} pixels");
         assert!(n > 300, "{n}");
         assert!(worst < 0.01, "{name}: worst |L − 1| {worst}");
@@ -110,43 +141,22 @@ fn clear_slab_in_uniform_surroundings_returns_them() {
     };
     let scene = slab(CLEAR);
     let img = render_reference(&scene, &ReferenceOptions::default(), None).unwrap();
-    let (mut worst, mut n) = (0.0f32, 0);
-    for y in 0..49 {
-        for x in 0..49 {
-            let (o, d) = primary_ray(&scene, x as f32 + 0.5, y as f32 + 0.5);
-            let t = (0.2 - o.z) / d.z;
-            let hit = o + d * t;
-            if hit.x.abs() < 0.7 && hit.y.abs() < 0.7 {
-                let p = img.pixel(x, y);
-                worst = worst.max(
-                    (Vec3::new(p[0], p[1], p[2]) - Vec3::ONE)
-                        .abs()
-                        .max_element(),
-                );
-                n += 1;
-            }
-        }
-    }
+    let (worst, n) = worst_off_one(&img, |x, y| {
+        let (o, d) = primary_ray(&scene, x as f32 + 0.5, y as f32 + 0.5);
+        let hit = o + d * ((0.2 - o.z) / d.z);
+        hit.x.abs() < 0.7 && hit.y.abs() < 0.7
+    });
     eprintln!("clear slab: worst |L − 1| {worst:.4} over {n} pixels");
     assert!(n > 300, "{n}");
     assert!(worst < 0.01, "slab: worst |L − 1| {worst}");
 
     let color = Vec3::new(0.5, 0.25, 0.9);
-    let scene = slab(&CLEAR.replace(
-        r#""thicknessFactor": 1}"#,
-        r#""thicknessFactor": 1, "attenuationColor": [0.5, 0.25, 0.9], "attenuationDistance": 2}"#,
-    ));
-    let opts = ReferenceOptions {
-        samples: 4096,
-        ..ReferenceOptions::default()
-    };
-    let img = render_reference(&scene, &opts, None).unwrap();
-    let p = img.pixel(24, 24);
-    let got = Vec3::new(p[0], p[1], p[2]);
+    let scene = slab(&tinted());
+    let got = centre_pixel(&scene);
     // The centre pixel's ray is within 0.5° of the axis: F and the path are the normal ones.
     let f = 0.04f32;
     let c = Vec3::new(color.x.powf(0.2), color.y.powf(0.2), color.z.powf(0.2));
-    let want = Vec3::splat(f) + (1.0 - f) * (1.0 - f) * c / (Vec3::ONE - f * c);
+    let want = through_absorber(f, c);
     let rel = ((got - want) / want).abs().max_element();
     eprintln!("slab centre {got} against {want} ({:.2} %)", rel * 100.0);
     assert!(rel < 0.01, "slab centre {got}, want {want} ({rel})");
@@ -159,25 +169,16 @@ fn clear_slab_in_uniform_surroundings_returns_them() {
 #[test]
 fn absorption_through_the_centre_is_beer_lambert() {
     let c = Vec3::new(0.5, 0.25, 0.9);
-    let material = CLEAR.replace(
-        r#""thicknessFactor": 1}"#,
-        r#""thicknessFactor": 1, "attenuationColor": [0.5, 0.25, 0.9], "attenuationDistance": 2}"#,
-    );
+    let material = tinted();
     let scene = glass_scene(&material);
     let t = transmission_of(&scene);
     assert_eq!(
         (t.attenuation_color, t.attenuation_distance),
         (c, Some(2.0))
     );
-    let opts = ReferenceOptions {
-        samples: 4096,
-        ..ReferenceOptions::default()
-    };
-    let img = render_reference(&scene, &opts, None).unwrap();
-    let p = img.pixel(24, 24);
-    let got = Vec3::new(p[0], p[1], p[2]);
+    let got = centre_pixel(&scene);
     let f = 0.04f32;
-    let want = Vec3::splat(f) + (1.0 - f) * (1.0 - f) * c / (Vec3::ONE - f * c);
+    let want = through_absorber(f, c);
     eprintln!("centre {got} against F + (1 − F)² c / (1 − F c) = {want}");
     let rel = ((got - want) / want).abs().max_element();
     assert!(rel < 0.01, "centre {got}, want {want} ({rel})");
@@ -201,10 +202,7 @@ fn fresnel_exact(cos_i: f32, eta: f32) -> f32 {
 #[test]
 fn absorption_on_rings_follows_the_analytic_path() {
     let color = Vec3::new(0.5, 0.25, 0.9);
-    let material = CLEAR.replace(
-        r#""thicknessFactor": 1}"#,
-        r#""thicknessFactor": 1, "attenuationColor": [0.5, 0.25, 0.9], "attenuationDistance": 2}"#,
-    );
+    let material = tinted();
     let scene = glass_scene(&material);
     let opts = ReferenceOptions {
         samples: 8192,
@@ -226,7 +224,7 @@ fn absorption_on_rings_follows_the_analytic_path() {
             (-sigma.y * chord).exp(),
             (-sigma.z * chord).exp(),
         );
-        let want = Vec3::splat(f) + (1.0 - f) * (1.0 - f) * c / (Vec3::ONE - f * c);
+        let want = through_absorber(f, c);
         let p = img.pixel(x, 24);
         let got = Vec3::new(p[0], p[1], p[2]);
         let rel = ((got - want) / want).abs().max_element();

@@ -155,6 +155,21 @@ impl TextureSlot {
         TextureSlot::DiffuseTransmissionColor,
     ];
 
+    /// The maps metal_rough takes: every slot but `Specular` (the classic models'), the core
+    /// glTF maps first, then glass's.
+    const ALL_METAL_ROUGH: [TextureSlot; 11] = {
+        let mut out = [TextureSlot::BaseColor; 11];
+        let (mut i, mut j) = (0, 0);
+        while i < TextureSlot::ALL.len() {
+            if !matches!(TextureSlot::ALL[i], TextureSlot::Specular) {
+                out[j] = TextureSlot::ALL[i];
+                j += 1;
+            }
+            i += 1;
+        }
+        out
+    };
+
     /// The key in a scene file's `textures` block.
     pub fn name(self) -> &'static str {
         match self {
@@ -374,22 +389,9 @@ pub fn slots_for_model(model: crate::brdf::ModelKind) -> &'static [TextureSlot] 
     match model {
         K::Phong | K::BlinnPhong => &[BaseColor, Specular, Normal, Occlusion, Emissive],
         K::CookTorrance => &[BaseColor, Roughness, Normal, Occlusion, Emissive],
-        K::MetalRough => &[
-            BaseColor,
-            Metallic,
-            Roughness,
-            Orm,
-            Normal,
-            Occlusion,
-            Emissive,
-            Transmission,
-            Thickness,
-            DiffuseTransmission,
-            DiffuseTransmissionColor,
-        ],
-        K::Principled => &[
-            BaseColor, Metallic, Roughness, Orm, Normal, Occlusion, Emissive,
-        ],
+        // Every slot but the classic models' specular colour; principled has no glass.
+        K::MetalRough => &TextureSlot::ALL_METAL_ROUGH,
+        K::Principled => &TextureSlot::ALL_METAL_ROUGH[..7],
         K::Lambert | K::OrenNayar => &[BaseColor, Normal, Occlusion, Emissive],
     }
 }
