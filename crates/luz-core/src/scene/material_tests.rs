@@ -512,8 +512,8 @@ fn metal_rough_errors() {
         ],
     );
     fails(
-        &mr(r#""ior": 1.5"#),
-        &["materials.m.ior: unknown field \"ior\" for a metal_rough material"],
+        &mr(r#""ior": "glass""#),
+        &["materials.m.ior: expected an object"],
     );
     fails(&mr(r#""metalic": 1"#), &["did you mean \"metallic\"?"]);
 }
@@ -844,6 +844,10 @@ fn metal_rough_ior_and_specular_set_the_dielectric_f0() {
     let water = ((1.33f32 - 1.0) / (1.33 + 1.0)).powi(2);
     assert_eq!(
         metal_rough(r#", "ior": {"ior": 1.33}"#).dielectric_f0,
+        Vec3::splat(water)
+    );
+    assert_eq!(
+        metal_rough(r#", "ior": 1.33"#).dielectric_f0,
         Vec3::splat(water)
     );
     // ior 0: the extension's special value, F0 = 1.

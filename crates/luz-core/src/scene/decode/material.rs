@@ -337,15 +337,24 @@ fn dielectric_f0(f: &Fields) -> Result<Vec3> {
     }
     let ior = match f.get("ior") {
         None => None,
+        // `"ior": 1.33` or the extension's `"ior": {"ior": 1.33}`.
         Some(v) => {
-            let g = Fields::new(v, &f.path("ior"))?;
-            g.allow(&["ior"], "an index of refraction (KHR_materials_ior)")?;
-            let ior = g.num("ior", 1.5, Check::NonNegative)?;
+            let (ior, at) = if matches!(v.kind, Kind::Number { .. }) {
+                (
+                    number(v, &f.path("ior"), Check::NonNegative)?,
+                    f.path("ior"),
+                )
+            } else {
+                let g = Fields::new(v, &f.path("ior"))?;
+                g.allow(&["ior"], "an index of refraction (KHR_materials_ior)")?;
+                (g.num("ior", 1.5, Check::NonNegative)?, g.path("ior"))
+            };
             if ior != 0.0 && ior < 1.0 {
-                return Err(g.err(
-                    "ior",
+                return Err(Invalid::new(
+                    &at,
                     format!("must be 0 (the extension's special value) or at least 1, got {ior}"),
-                ));
+                )
+                .into());
             }
             Some(ior)
         }
