@@ -353,8 +353,7 @@ fn dielectric_f0(f: &Fields) -> Result<Vec3> {
                 return Err(Invalid::new(
                     &at,
                     format!("must be 0 (the extension's special value) or at least 1, got {ior}"),
-                )
-                .into());
+                ));
             }
             Some(ior)
         }
