@@ -211,6 +211,29 @@ fn sheen_material_from_the_scene_syntax() {
     }
 }
 
+/// Issue 34: `--material` takes KHR_materials_ior's and KHR_materials_specular's fields as the
+/// scene file does: at normal incidence F = F0 = ((ior − 1)/(ior + 1))² · specularFactor.
+#[test]
+fn ior_and_specular_from_the_scene_syntax() {
+    for (extra, f0) in [
+        (r#""ior":1.33"#, (0.33f32 / 2.33).powi(2)),
+        (
+            r#""ior":{"ior":2},"specular":{"specularFactor":0.5}"#,
+            0.5 / 9.0,
+        ),
+    ] {
+        let mat = format!(r#"{{"model":"metal_rough","metallic":0,"roughness":0.5,{extra}}}"#);
+        let o = brdf(
+            &["--material", &mat, "--theta-l", "0", "--theta-v", "0"],
+            None,
+        );
+        assert_ok(&o);
+        for c in text_field(o.stdout.trim(), "F") {
+            assert!((c - f0).abs() <= 1e-6, "{extra}: F {c} against {f0}");
+        }
+    }
+}
+
 #[test]
 fn stdin_three_lines_give_three_json_lines() {
     let input = concat!(

@@ -256,7 +256,8 @@ fn model_names() -> Vec<&'static str> {
 /// KHR_materials_clearcoat's `"clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": r}`
 /// as `"clearcoat": c, "clearcoat_roughness": r` (a number `clearcoat` is kept as it is), and
 /// KHR_materials_sheen's `"sheen": {"sheenColorFactor": [r, g, b], "sheenRoughnessFactor": s}`
-/// as `"sheen_color": [r, g, b], "sheen_roughness": s`.
+/// as `"sheen_color": [r, g, b], "sheen_roughness": s`; `ior` and `specular` as
+/// `dielectric_f0`.
 fn scene_layers(value: &Value) -> Value {
     let mut v = value.clone();
     let is_mr = v.get("model").and_then(Value::as_str) == Some("metal_rough");
@@ -297,6 +298,34 @@ fn scene_layers(value: &Value) -> Value {
             _ => None,
         })
         .collect();
+    // KHR_materials_ior's `"ior": 1.33` (or `{"ior": 1.33}`) and KHR_materials_specular's
+    // `"specular": {"specularFactor": f, "specularColorFactor": [r, g, b]}` as the model's
+    // `dielectric_f0`, computed as scene files compute it.
+    if obj.contains_key("ior") || obj.contains_key("specular") {
+        let ior = match obj.remove("ior") {
+            Some(Value::Object(o)) => o.get("ior").and_then(Value::as_f64),
+            Some(v) => v.as_f64(),
+            None => None,
+        };
+        let spec = obj.remove("specular");
+        let spec = spec.as_ref().and_then(Value::as_object);
+        let factor = spec
+            .and_then(|o| o.get("specularFactor"))
+            .and_then(Value::as_f64)
+            .unwrap_or(1.0);
+        let color = spec
+            .and_then(|o| o.get("specularColorFactor"))
+            .and_then(Value::as_array)
+            .map(|a| {
+                glam::Vec3::from_array(std::array::from_fn(|i| {
+                    a.get(i).and_then(Value::as_f64).unwrap_or(1.0) as f32
+                }))
+            })
+            .unwrap_or(glam::Vec3::ONE);
+        let f0 =
+            brdf::MetalRoughParams::dielectric_f0_from(ior.map(|x| x as f32), factor as f32, color);
+        obj.insert("dielectric_f0".into(), Value::from(f0.to_array().to_vec()));
+    }
     for (key, o) in &objects {
         obj.remove(*key);
         for (scene, field, model, default) in &fields {
