@@ -682,8 +682,9 @@ fn lambert_hdr_environment() {
     });
 }
 
-/// The GPU's specular methods on a gold sphere in the HDR environment: the split sum (the
-/// scene's own, the asserted row) and importance sampling at 16 and 64 samples per pixel.
+/// The GPU's specular methods on a gold sphere in the HDR environment: the fitted lobes (the
+/// default, the scene's own, the asserted row: issue 37's goal is 3 %), importance sampling at
+/// 16 and 64 samples per pixel and the split sum.
 fn gold_environment(name: &'static str, alpha: f32, gpu_tolerance: f64) {
     let Some(case) = environment(name, &gold_ggx(alpha)) else {
         return;
@@ -693,33 +694,39 @@ fn gold_environment(name: &'static str, alpha: f32, gpu_tolerance: f64) {
         env.specular_method = luz::scene::SpecularMethod::Importance;
         env.samples = samples;
     }
+    let mut gpu_methods: Vec<GpuMethod> = [16, 64]
+        .map(|n| {
+            GpuMethod::new(format!("importance, {n} samples"), move |s| {
+                importance(s, n)
+            })
+        })
+        .into();
+    gpu_methods.push(GpuMethod::new("split sum", |s| {
+        s.environment.as_mut().unwrap().specular_method = luz::scene::SpecularMethod::SplitSum
+    }));
     run_case(Case {
         gpu_tolerance,
-        gpu_methods: [16, 64]
-            .map(|n| {
-                GpuMethod::new(format!("importance, {n} samples"), move |s| {
-                    importance(s, n)
-                })
-            })
-            .into(),
+        gpu_methods,
         ..case
     });
 }
 
+// Bounds of the fitted lobes against Mitsuba, just above what 2026-11-28 measured (2.93 %,
+// 3.29 %, 1.38 %; the split sum was 5.8 %, 4.3 %, 5.7 % with the old bake, issue 37 measured
+// 7.8 % at α 0.3): regressions fail, the α 0.1 row is above issue 37's 3 %.
 #[test]
 fn gold_ggx_alpha_0_3_hdr_environment() {
-    // The GPU's specular light is the split sum (issue 37 measured 7.8 %).
-    gold_environment("gold_ggx_a0.3_hdr_environment", 0.3, 0.15);
+    gold_environment("gold_ggx_a0.3_hdr_environment", 0.3, 0.033);
 }
 
 #[test]
 fn gold_ggx_alpha_0_1_hdr_environment() {
-    gold_environment("gold_ggx_a0.1_hdr_environment", 0.1, 0.15);
+    gold_environment("gold_ggx_a0.1_hdr_environment", 0.1, 0.037);
 }
 
 #[test]
 fn gold_ggx_alpha_0_6_hdr_environment() {
-    gold_environment("gold_ggx_a0.6_hdr_environment", 0.6, 0.15);
+    gold_environment("gold_ggx_a0.6_hdr_environment", 0.6, 0.017);
 }
 
 /// Glass (issue 35): a sphere of index 1.5 in the HDR environment, seen through (Mitsuba's

@@ -21,6 +21,12 @@ vec3 cube_dir(uint face, uvec2 texel, uint size) {
     return normalize(d);
 }
 
+// The mip level of the prefiltered cube (`mips` levels) holding `roughness`: level k holds
+// roughness k / (mips − 1) (env::prefilter_level_roughness, which says why linear).
+float prefiltered_lod(float roughness, float mips) {
+    return roughness * max(mips - 1.0, 0.0);
+}
+
 // Orthonormal basis around n (Frisvad / Duff et al. 2017, branchless and exact).
 void basis(vec3 n, out vec3 t, out vec3 b) {
     float s = n.z >= 0.0 ? 1.0 : -1.0;

@@ -20,12 +20,13 @@ layout(set = SET_ENV, binding = BINDING_BRDF_LUT) uniform sampler2DArray brdf_lu
 layout(set = SET_ENV, binding = BINDING_ENV_DATA, std140) uniform EnvData {
     vec4 sh[9];      // convolved irradiance SH: E(n) = Σ sh[i] Y_i(n)
     vec4 rotation;   // cos θ, sin θ (about +y), environment cube size, its mip count
-    vec4 params;     // prefiltered mip count
+    vec4 params;     // prefiltered mip count, the LUT layer of the fitted lobes
 } env;
 
 // Specialization constants 2..5 (src/render/gpu.rs: SPEC_*).
 #define SPECULAR_SPLIT_SUM 0
 #define SPECULAR_IMPORTANCE 1
+#define SPECULAR_FITTED_LOBES 2
 layout(constant_id = 2) const int SPECULAR_METHOD = SPECULAR_SPLIT_SUM;
 layout(constant_id = 3) const bool DIFFUSE_FROM_SH = true;
 layout(constant_id = 4) const bool ENERGY_COMPENSATION = false;
@@ -225,7 +226,7 @@ vec3 ibl_clearcoat(BrdfParams p, vec3 n, vec3 v, vec3 diffuse, vec3 spec, Clearc
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
     vec2 ab = brdf_lut_ab(n_v, p.p1.y);
     vec3 r = reflect(-v, n);
-    vec3 pre = textureLod(prefiltered_cube, r, p.p1.y * (env.params.x - 1.0)).rgb;
+    vec3 pre = textureLod(prefiltered_cube, r, prefiltered_lod(p.p1.y, env.params.x)).rgb;
     vec3 coat = pre * (CLEARCOAT_F0 * ab.x + ab.y) * e.specular;
     return (diffuse + spec) * keep + p.p1.x * coat;
 }
@@ -242,6 +243,19 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
     vec3 spec;
     if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {
         spec = ibl_specular_importance(p, n, v, x, y, s.roughness);
+    } else if (SPECULAR_METHOD == SPECULAR_FITTED_LOBES) {
+        // Two lookups of the prefiltered cube fitted to the real lobe (env::lobes,
+        // env::fitted_lobes_specular): (φ1, r1, r2, w2) at (n·v, roughness) in the LUT's last
+        // layer; d1 = cos φ1 n − sin φ1 t, t the part of v across n.
+        vec4 lobe = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y), 0.0);
+        vec3 t = v - n * dot(n, v);
+        float t_len = length(t);
+        t = t_len > 1e-6 ? t / t_len : vec3(0.0);
+        vec3 d1 = normalize(cos(lobe.x) * n - sin(lobe.x) * t);
+        float mips = env.params.x;
+        vec3 pre = mix(textureLod(prefiltered_cube, d1, prefiltered_lod(lobe.y, mips)).rgb,
+                       textureLod(prefiltered_cube, n, prefiltered_lod(lobe.z, mips)).rgb, lobe.w);
+        spec = s.weight * pre * (s.f0 * ab.x + ab.y);
     } else {
         vec3 r = 2.0 * dot(n, v) * n - v;
         // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3; env::reference::
@@ -250,7 +264,7 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         float a = s.roughness * s.roughness;
         float k = (1.0 - a) * (sqrt(1.0 - a) + a);
         r = normalize(mix(n, r, k));
-        float lod = s.roughness * (env.params.x - 1.0);
+        float lod = prefiltered_lod(s.roughness, env.params.x);
         vec3 pre = textureLod(prefiltered_cube, r, lod).rgb;
         spec = s.weight * pre * (s.f0 * ab.x + ab.y);
     }

@@ -301,7 +301,7 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
     if (DEBUG_VIEW == DEBUG_VIEW_IRRADIANCE) return env_irradiance(s.n) / M_PI;
     if (DEBUG_VIEW == DEBUG_VIEW_PREFILTERED) {
         vec3 r = 2.0 * dot(s.n, V) * s.n - V;
-        return textureLod(prefiltered_cube, r, p.color.w * (env.params.x - 1.0)).rgb;
+        return textureLod(prefiltered_cube, r, prefiltered_lod(p.color.w, env.params.x)).rgb;
     }
 #endif
     return vec3(0.0);

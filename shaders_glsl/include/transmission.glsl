@@ -82,7 +82,7 @@ vec3 transmission_environment(vec3 n, vec3 V, float ior, float thickness, float 
         vec3 t = refract(r, out_n, ior);
         d = dot(t, t) > 0.0 ? t : r;
     }
-    return textureLod(prefiltered_cube, d, roughness * (env.params.x - 1.0)).rgb;
+    return textureLod(prefiltered_cube, d, prefiltered_lod(roughness, env.params.x)).rgb;
 }
 #endif
 

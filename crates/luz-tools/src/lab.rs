@@ -427,6 +427,13 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
                     );
                 }
             }
+            for (dn, diffuse) in DiffuseMethod::NAMED {
+                push(format!("fitted lobes, {dn}"), &|e| {
+                    e.specular_method = SpecularMethod::FittedLobes;
+                    e.diffuse_method = diffuse;
+                    e.energy_compensation = false;
+                });
+            }
             for n in IBL_SAMPLES {
                 push(format!("importance N={n}"), &|e| {
                     e.specular_method = SpecularMethod::Importance;
@@ -855,9 +862,9 @@ mod tests {
         let brdf_count = g.iter().filter(|x| x.group == "brdf").count();
         assert!(brdf_count <= 24 + 2, "{brdf_count}");
         assert_eq!(g.iter().filter(|x| x.group == "ibl").count(), 0);
-        assert_eq!(count("ibl"), 4 + IBL_SAMPLES.len());
+        assert_eq!(count("ibl"), 4 + 2 + IBL_SAMPLES.len());
         let only = variants(&scene, &["ibl".to_string()]);
-        assert_eq!(only.len(), 1 + 4 + IBL_SAMPLES.len());
+        assert_eq!(only.len(), 1 + 4 + 2 + IBL_SAMPLES.len());
         // No point lights: no light ranges to choose.
         assert_eq!(count("lights"), 0);
     }

@@ -22,8 +22,9 @@ const ENV_SOURCES: [(EnvKind, &str); 5] = [
     (EnvKind::File, "file (.hdr / .exr)"),
 ];
 
-const SPECULAR_METHODS: [(SpecularMethod, &str); 2] = [
+const SPECULAR_METHODS: [(SpecularMethod, &str); 3] = [
     (SpecularMethod::SplitSum, "split sum"),
+    (SpecularMethod::FittedLobes, "fitted lobes"),
     (SpecularMethod::Importance, "importance sampling"),
 ];
 

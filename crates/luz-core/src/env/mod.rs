@@ -11,10 +11,13 @@
 //! * Reference integrals for tests: [`irradiance_reference`], [`irradiance_quadrature`],
 //!   [`split_sum_lut_reference`], [`prefiltered_reference`], [`specular_ibl_reference`],
 //!   [`diffuse_ibl_reference`].
+//! * [`fitted_lobes_specular`] and its table ([`lobe_table`]): the `fitted_lobes` specular
+//!   method (two prefiltered lookups fitted to the real lobe, `lobes.rs`).
 //! * [`cache_key`]: a stable key for precomputed data on disk.
 
 mod cache;
 mod equirect;
+mod lobes;
 mod procedural;
 mod reference;
 mod sh;
@@ -27,6 +30,11 @@ use std::path::PathBuf;
 pub use cache::{cache_key, fnv1a64, Fnv1a, CACHE_VERSION};
 pub use equirect::{
     dir_to_uv, env_rotation, env_to_world, uv_to_dir, world_to_env, Equirect, TEXEL_MAX,
+};
+pub use lobes::{
+    fitted_lobes_specular, generate_lobe_table, lobe_direction, lobe_entry_coords, lobe_fit_error,
+    lobe_layer, lobe_table, lobes_at, prefilter_level_roughness, prefiltered_lod, refit_lobe_entry,
+    LOBES_FILE, LOBES_SIZE,
 };
 pub use procedural::{
     sky, studio, GROUND_ALBEDO, SKY_HORIZON, SKY_WIDTH, SKY_ZENITH, STUDIO_FLOOR, STUDIO_WALL,

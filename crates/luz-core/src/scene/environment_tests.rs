@@ -56,7 +56,7 @@ fn sources_and_defaults() {
     assert_eq!(e, Environment::new(EnvSource::Studio));
     assert_eq!(e.intensity, 1.0);
     assert_eq!(e.rotation_deg, 0.0);
-    assert_eq!(e.specular_method, SpecularMethod::SplitSum);
+    assert_eq!(e.specular_method, SpecularMethod::FittedLobes);
     assert_eq!(e.samples, 64);
     assert_eq!(e.diffuse_method, DiffuseMethod::Sh9);
     assert!(!e.energy_compensation && e.mip_filtered_samples && e.show_background);

@@ -102,7 +102,7 @@ pub(super) fn environment(v: &Value, path: &str, base: &Path) -> Result<Environm
     env.specular_method = f.select(
         "specular_method",
         &SpecularMethod::NAMED,
-        SpecularMethod::SplitSum,
+        SpecularMethod::default(),
     )?;
     env.samples = f.int("samples", DEFAULT_ENV_SAMPLES, 1, MAX_ENV_SAMPLES)?;
     env.diffuse_method = f.select("diffuse_method", &DiffuseMethod::NAMED, DiffuseMethod::Sh9)?;

@@ -379,6 +379,8 @@ impl TermsKey {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct IblKey {
     pub importance: bool,
+    /// `fitted_lobes` (two prefiltered lookups from the fitted table) instead of the split sum.
+    pub fitted_lobes: bool,
     pub samples: u32,
     pub diffuse_sh: bool,
     pub energy_compensation: bool,
@@ -389,6 +391,7 @@ impl IblKey {
     pub fn from_env(e: &crate::scene::Environment) -> Self {
         Self {
             importance: e.specular_method == crate::scene::SpecularMethod::Importance,
+            fitted_lobes: e.specular_method == crate::scene::SpecularMethod::FittedLobes,
             samples: e.samples,
             diffuse_sh: e.diffuse_method == crate::scene::DiffuseMethod::Sh9,
             energy_compensation: e.energy_compensation,
@@ -444,6 +447,8 @@ impl std::fmt::Display for VariantKey {
                     i.samples,
                     if i.mip_filtered { ", mip-filtered" } else { "" }
                 )?;
+            } else if i.fitted_lobes {
+                write!(f, ", ibl=fitted_lobes")?;
             } else {
                 write!(f, ", ibl=split_sum")?;
             }
@@ -611,7 +616,7 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
     spec.extend(slots.into_iter().zip(v.shadow_slots));
     if let Some(i) = v.ibl {
         spec.extend([
-            (gpu::SPEC_SPECULAR_METHOD, i.importance as u32),
+            (gpu::SPEC_SPECULAR_METHOD, specular_method_code(i)),
             (gpu::SPEC_DIFFUSE_FROM_SH, i.diffuse_sh as u32),
             (gpu::SPEC_ENERGY_COMPENSATION, i.energy_compensation as u32),
             (gpu::SPEC_IBL_SAMPLES, i.samples.max(1)),
@@ -619,6 +624,18 @@ pub(super) fn variant_spec(v: VariantKey) -> Vec<(u32, u32)> {
         ]);
     }
     spec
+}
+
+/// The shader's `SPECULAR_METHOD` (shaders_glsl/include/ibl.glsl) for `i`.
+fn specular_method_code(i: IblKey) -> u32 {
+    use crate::render::gpu::glsl::include_ibl as g;
+    if i.importance {
+        g::SPECULAR_IMPORTANCE as u32
+    } else if i.fitted_lobes {
+        g::SPECULAR_FITTED_LOBES as u32
+    } else {
+        g::SPECULAR_SPLIT_SUM as u32
+    }
 }
 
 pub(super) fn create_pipeline(

@@ -51,16 +51,20 @@ pub struct IblSettings {
 }
 
 impl Default for IblSettings {
-    /// The sizes of the well-known Vulkan PBR sample luz compares itself with: 64² irradiance,
-    /// 512² prefiltered cube with 10 mips, 512² LUT at 1024 samples.
+    /// 64² irradiance, 512² prefiltered cube with 8 mips (down to 4², roughness 1) at 1024
+    /// samples per texel, 512² LUT at 1024 samples. The well-known Vulkan PBR sample luz compares
+    /// itself with bakes 10 mips at 64 samples; issue 37 measured what that costs in accuracy:
+    /// the fitted lobes against Mitsuba went from 3.8 / 5.7 / 8.9 % (α 0.1 / 0.3 / 0.6, 10 mips,
+    /// 64 samples) to 3.2 / 2.9 / 1.4 % (docs/accuracy.md): the last two mips' 2² and 1² faces
+    /// cannot hold a wide lobe, and 64 filtered samples blur it wider than the kernel.
     fn default() -> Self {
         Self {
             env_size: 512,
             irradiance_size: 64,
             irradiance_samples: 256,
             prefilter_size: 512,
-            prefilter_mips: 10,
-            prefilter_samples: 64,
+            prefilter_mips: 8,
+            prefilter_samples: 1024,
             lut_size: 512,
             lut_samples: 1024,
             shipped: true,
@@ -76,8 +80,8 @@ impl IblSettings {
             irradiance_size: 32,
             irradiance_samples: 128,
             prefilter_size: 128,
-            prefilter_mips: 8,
-            prefilter_samples: 32,
+            prefilter_mips: 6,
+            prefilter_samples: 256,
             lut_size: 128,
             lut_samples: 512,
             shipped: true,
@@ -192,7 +196,8 @@ impl Images {
             "prefiltered cube",
             ImageDesc::cube(s.prefilter_size, CUBE_FORMAT, pre_mips),
         )?;
-        let layers = lut_geometries.len().max(1) as u32;
+        // One layer per geometry selector, then the fitted lobes' table (`env::lobe_layer`).
+        let layers = lut_geometries.len().max(1) as u32 + 1;
         let mut lut_desc = ImageDesc::texture(s.lut_size, s.lut_size, LUT_FORMAT, 1, layers);
         lut_desc.usage = vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::STORAGE
@@ -265,7 +270,7 @@ impl Images {
                 .push(("irradiance cube", t.elapsed().as_secs_f64() * 1e3));
             tick("irradiance");
 
-            // Stage 3: prefiltered cube, one roughness per mip (roughness = mip / (mips − 1)).
+            // Stage 3: prefiltered cube, one roughness per mip (`env::prefilter_level_roughness`).
             let t = Instant::now();
             baker.prefilter(
                 &self.env,
@@ -337,6 +342,13 @@ impl Images {
             baker.brdf_lut_layer(lut, *g, layer as u32)?;
             tick("brdf lut");
         }
+        // The last layer: the `fitted_lobes` method's table at the LUT's texel centres.
+        let lobes: Vec<u8> = crate::env::lobe_layer(s.lut_size)
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_ne_bytes())
+            .collect();
+        write_lut_layer(ctx, pool, lut, lut_layers.len() as u32, &lobes)?;
         if !computed.is_empty() && inputs.cache.is_some() {
             let all = read_image(ctx, pool, lut)?;
             for layer in computed {
@@ -380,7 +392,7 @@ impl Ibl {
         let (eq, staging) = Equirect::upload(ctx, equirect)?;
         let sampler = Sampler::linear(ctx, "ibl sampler", vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let mut images = Images::new(ctx, s, lut_geometries)?;
-        let dispatches = 2 + images.env_mips + images.pre_mips + images.layers;
+        let dispatches = 2 + images.env_mips + images.pre_mips + images.layers - 1;
         let baker = Baker::new(ctx, pool, s, dispatches)?;
         times
             .stages
@@ -405,7 +417,7 @@ impl Ibl {
         let ubo_data = EnvData {
             sh: sh_irradiance.map(|c| [c.x, c.y, c.z, 0.0]),
             rotation: [cos, sin, s.env_size as f32, images.env_mips as f32],
-            params: [images.pre_mips as f32, 0.0, 0.0, 0.0],
+            params: [images.pre_mips as f32, lut_layers.len() as f32, 0.0, 0.0],
         };
         let env_set = EnvSet::new(
             ctx,
@@ -440,7 +452,7 @@ impl Ibl {
             _sampler: sampler,
         })
     }
-    /// Reads the BRDF LUT back: per layer, `size`² texels of (A, B, 0, 1), row = roughness index,
+    /// Reads the BRDF LUT back (the geometry layers, then the fitted lobes' layer): per layer, `size`² texels of (A, B, 0, 1), row = roughness index,
     /// column = n·v index (texel centres at (i + 0.5)/size).
     pub fn read_lut(
         &self,

@@ -20,7 +20,7 @@ use super::IblSettings;
 /// The cache file name of the shipped bake: the default scene's environment key at the default
 /// settings.
 pub const DEFAULT_ENV_FILE: &str =
-    "sky-b97155bd49c8d071-env512_irr64x256_pre512x64m10_lut512x1024.ibl";
+    "sky-fd1e2ad182d3f726-env512_irr64x256_pre512x1024m8_lut512x1024.ibl";
 
 /// Where the generator writes the deflated bake, relative to the luz-gpu crate.
 pub const DEFAULT_ENV_DATA: &str = "data/default_env.ibl.deflate";
