@@ -26,7 +26,7 @@ pub const LTC_SIZE: usize = 64;
 /// Stratified samples per axis of each lobe in the fitting error (the paper's 32).
 pub const LTC_FIT_SAMPLES: usize = 32;
 /// The power of the lobes' difference the fit minimises (3: the paper's error, 1: L1).
-const FIT_POWER: i32 = 1;
+const FIT_POWER: i32 = 3;
 
 /// Samples per axis for entry row t: more at grazing views (θ_v > 60°), where the lobe is
 /// narrow in one direction and long-tailed in the other.
