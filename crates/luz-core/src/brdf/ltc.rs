@@ -324,7 +324,10 @@ pub fn fit_entry(t: usize, a: usize, start: [f64; 4]) -> LtcEntry {
     } else {
         let params_of = |p: [f64; 4]| [p[0].abs().max(1e-7), p[1].abs().max(1e-7), p[2], p[3]];
         let cost = |p: [f64; 4]| error(&Ltc::new(params_of(p), norm), &brdf, n);
-        params_of(nelder_mead(&cost, start, 0.05, 400))
+        // Restarted once from its result: Nelder–Mead's simplex can collapse in the valley
+        // before the minimum.
+        let p = nelder_mead(&cost, start, 0.05, 400);
+        params_of(nelder_mead(&cost, p, 0.02, 400))
     };
     let inv = Ltc::new(best, norm).inv;
     let s = inv[1][1];
