@@ -4,11 +4,13 @@
 //! For each view angle θ_v and roughness, the cosine-weighted GGX lobe with height-correlated Smith
 //! masking and no Fresnel, `D G₂ / (4 n·v)`, is approximated by a clamped cosine `D_o(ω_o) =
 //! max(ω_o.z, 0)/π` seen through a 3×3 matrix M: `D(ω) = D_o(M⁻¹ω/|M⁻¹ω|) · |∂ω_o/∂ω|`. M has the
-//! paper's form: in the frame (X, Y, Z) whose Z is the lobe's average direction (X in the plane of
-//! the view), `M = [X Y Z] · [[m11, 0, m13], [0, m22, 0], [0, 0, 1]]`. The three parameters are
-//! found by Nelder–Mead, minimising the paper's error (the sum over samples of both lobes of
-//! `|f_GGX − f_LTC|³ / (pdf_GGX + pdf_LTC)`), each entry started from its neighbour's fit (the
-//! paper's public fitting code does the same; this is luz's own code).
+//! paper's four-parameter form for isotropic GGX, `[[a, 0, b], [0, c, 0], [d, 0, 1]]` up to scale,
+//! written as `M = R_y(θ) · [[m11, 0, m13], [0, m22, 0], [0, 0, 1]]`: a frame (X, Y, Z) turned by
+//! θ about y (Z = (sin θ, 0, cos θ), X in the plane of the view) times an upper-triangular
+//! matrix. The four parameters (m11, m22, m13, θ) are found by Nelder–Mead (restarted once),
+//! minimising the paper's error (the sum over samples of both lobes of `|f_GGX − f_LTC|³ /
+//! (pdf_GGX + pdf_LTC)`; [`FIT_POWER`]), each entry started from its neighbour's fit (the paper's
+//! public fitting code does the same; this is luz's own code).
 //!
 //! The table: [`LTC_SIZE`]² entries, row = θ index `t`, column = roughness index `a`; the entry's
 //! view has `cos θ_v = 1 − (t/(N−1))²` (the shader looks it up at `sqrt(1 − n·v)`), perceptual
