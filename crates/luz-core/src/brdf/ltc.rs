@@ -4,11 +4,13 @@
 //! For each view angle θ_v and roughness, the cosine-weighted GGX lobe with height-correlated Smith
 //! masking and no Fresnel, `D G₂ / (4 n·v)`, is approximated by a clamped cosine `D_o(ω_o) =
 //! max(ω_o.z, 0)/π` seen through a 3×3 matrix M: `D(ω) = D_o(M⁻¹ω/|M⁻¹ω|) · |∂ω_o/∂ω|`. M has the
-//! paper's form: in the frame (X, Y, Z) whose Z is the lobe's average direction (X in the plane of
-//! the view), `M = [X Y Z] · [[m11, 0, m13], [0, m22, 0], [0, 0, 1]]`. The three parameters are
-//! found by Nelder–Mead, minimising the paper's error (the sum over samples of both lobes of
-//! `|f_GGX − f_LTC|³ / (pdf_GGX + pdf_LTC)`), each entry started from its neighbour's fit (the
-//! paper's public fitting code does the same; this is luz's own code).
+//! paper's four-parameter form for isotropic GGX, `[[a, 0, b], [0, c, 0], [d, 0, 1]]` up to scale,
+//! written as `M = R_y(θ) · [[m11, 0, m13], [0, m22, 0], [0, 0, 1]]`: a frame (X, Y, Z) turned by
+//! θ about y (Z = (sin θ, 0, cos θ), X in the plane of the view) times an upper-triangular
+//! matrix. The four parameters (m11, m22, m13, θ) are found by Nelder–Mead (restarted once),
+//! minimising the paper's error (the sum over samples of both lobes of `|f_GGX − f_LTC|³ /
+//! (pdf_GGX + pdf_LTC)`; [`FIT_POWER`]), each entry started from its neighbour's fit (the paper's
+//! public fitting code does the same; this is luz's own code).
 //!
 //! The table: [`LTC_SIZE`]² entries, row = θ index `t`, column = roughness index `a`; the entry's
 //! view has `cos θ_v = 1 − (t/(N−1))²` (the shader looks it up at `sqrt(1 − n·v)`), perceptual
@@ -25,6 +27,18 @@ use std::f64::consts::PI;
 pub const LTC_SIZE: usize = 64;
 /// Stratified samples per axis of each lobe in the fitting error (the paper's 32).
 pub const LTC_FIT_SAMPLES: usize = 32;
+/// The power of the lobes' difference the fit minimises (3: the paper's error, 1: L1).
+const FIT_POWER: i32 = 3;
+
+/// Samples per axis for entry row t: more at grazing views (θ_v > 60°), where the lobe is
+/// narrow in one direction and long-tailed in the other.
+fn fit_samples(t: usize) -> usize {
+    if t >= 45 {
+        2 * LTC_FIT_SAMPLES
+    } else {
+        LTC_FIT_SAMPLES
+    }
+}
 /// f32 values per entry.
 pub const LTC_ENTRY: usize = 8;
 /// Where the generator writes the table, relative to the luz-core crate.
@@ -116,7 +130,13 @@ impl Ggx {
     }
 }
 
-/// An LTC: the matrix M from the three parameters and the frame.
+/// The rotation about y whose Z column is (sin θ, 0, cos θ) and X column (cos θ, 0, −sin θ).
+fn frame(theta: f64) -> M3 {
+    let (s, c) = theta.sin_cos();
+    [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+}
+
+/// An LTC: the matrix M from the four parameters (m11, m22, m13, θ).
 #[derive(Clone, Copy)]
 struct Ltc {
     magnitude: f64,
@@ -126,9 +146,9 @@ struct Ltc {
 }
 
 impl Ltc {
-    fn new(frame: M3, [m11, m22, m13]: [f64; 3], magnitude: f64) -> Self {
+    fn new([m11, m22, m13, theta]: [f64; 4], magnitude: f64) -> Self {
         let a = [[m11, 0.0, m13], [0.0, m22, 0.0], [0.0, 0.0, 1.0]];
-        let m = mul(&frame, &a);
+        let m = mul(&frame(theta), &a);
         Self {
             magnitude,
             m,
@@ -161,9 +181,10 @@ impl Ltc {
     }
 }
 
-/// The fitting error of `ltc` against `brdf` (the paper's, over both lobes' samples).
-fn error(ltc: &Ltc, brdf: &Ggx) -> f64 {
-    let n = LTC_FIT_SAMPLES;
+/// The fitting error of `ltc` against `brdf` over `n`² stratified samples of each lobe, both
+/// lobes' samples weighted by the balance heuristic (1 / (pdf_GGX + pdf_LTC)): the sum of
+/// `|f_GGX − f_LTC|^FIT_POWER`, i.e. an estimate of ∫ |f_GGX − f_LTC|^FIT_POWER.
+fn error(ltc: &Ltc, brdf: &Ggx, n: usize) -> f64 {
     let mut sum = 0.0;
     for j in 0..n {
         for i in 0..n {
@@ -174,7 +195,7 @@ fn error(ltc: &Ltc, brdf: &Ggx) -> f64 {
                 let (fl, pl) = ltc.eval(l);
                 let e = (fb - fl).abs();
                 if pb + pl > 0.0 {
-                    sum += e * e * e / (pb + pl);
+                    sum += e.powi(FIT_POWER) / (pb + pl);
                 }
             }
         }
@@ -206,8 +227,13 @@ fn lobe_terms(brdf: &Ggx) -> (f64, f64, [f64; 3]) {
 }
 
 /// Nelder–Mead minimisation of `f` from `start` with an initial step `delta`.
-fn nelder_mead(f: &dyn Fn([f64; 3]) -> f64, start: [f64; 3], delta: f64, iters: usize) -> [f64; 3] {
-    let mut s: Vec<([f64; 3], f64)> = (0..4)
+fn nelder_mead<const N: usize>(
+    f: &dyn Fn([f64; N]) -> f64,
+    start: [f64; N],
+    delta: f64,
+    iters: usize,
+) -> [f64; N] {
+    let mut s: Vec<([f64; N], f64)> = (0..=N)
         .map(|k| {
             let mut p = start;
             if k > 0 {
@@ -216,22 +242,25 @@ fn nelder_mead(f: &dyn Fn([f64; 3]) -> f64, start: [f64; 3], delta: f64, iters: 
             (p, f(p))
         })
         .collect();
-    let lerp = |a: [f64; 3], b: [f64; 3], t: f64| [0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]));
+    let lerp = |a: [f64; N], b: [f64; N], t: f64| -> [f64; N] {
+        std::array::from_fn(|i| a[i] + t * (b[i] - a[i]))
+    };
     for _ in 0..iters {
         s.sort_by(|a, b| a.1.total_cmp(&b.1));
-        if (s[3].1 - s[0].1).abs() <= 1e-5 * (s[0].1.abs() + s[3].1.abs()) + 1e-30 {
+        if (s[N].1 - s[0].1).abs() <= 1e-5 * (s[0].1.abs() + s[N].1.abs()) + 1e-30 {
             break;
         }
-        let c = [0, 1, 2].map(|i| (s[0].0[i] + s[1].0[i] + s[2].0[i]) / 3.0);
-        let worst = s[3];
+        let c: [f64; N] =
+            std::array::from_fn(|i| s[..N].iter().map(|p| p.0[i]).sum::<f64>() / N as f64);
+        let worst = s[N];
         let r = lerp(c, worst.0, -1.0);
         let fr = f(r);
         if fr < s[0].1 {
             let e = lerp(c, worst.0, -2.0);
             let fe = f(e);
-            s[3] = if fe < fr { (e, fe) } else { (r, fr) };
-        } else if fr < s[2].1 {
-            s[3] = (r, fr);
+            s[N] = if fe < fr { (e, fe) } else { (r, fr) };
+        } else if fr < s[N - 1].1 {
+            s[N] = (r, fr);
         } else {
             let k = if fr < worst.1 {
                 lerp(c, r, 0.5)
@@ -240,7 +269,7 @@ fn nelder_mead(f: &dyn Fn([f64; 3]) -> f64, start: [f64; 3], delta: f64, iters: 
             };
             let fk = f(k);
             if fk < worst.1.min(fr) {
-                s[3] = (k, fk);
+                s[N] = (k, fk);
             } else {
                 let best = s[0].0;
                 for p in s.iter_mut().skip(1) {
@@ -271,39 +300,38 @@ fn entry_setup(t: usize, a: usize) -> (Ggx, f64) {
     )
 }
 
-/// One fitted entry: the parameters (m11, m22, m13) and the table's 8 values.
+/// One fitted entry: the parameters (m11, m22, m13, θ) and the table's 8 values.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LtcEntry {
-    pub params: [f64; 3],
+    pub params: [f64; 4],
     pub values: [f32; LTC_ENTRY],
 }
 
-/// Fits entry (t, a) starting from `start` (m11, m22, m13).
-pub fn fit_entry(t: usize, a: usize, start: [f64; 3]) -> LtcEntry {
+/// The start of the fit at normal incidence from the roughest entry.
+const START: [f64; 4] = [1.0, 1.0, 0.0, 0.0];
+
+/// Fits entry (t, a) starting from `start` (m11, m22, m13, θ).
+pub fn fit_entry(t: usize, a: usize, start: [f64; 4]) -> LtcEntry {
     let (brdf, _) = entry_setup(t, a);
-    let (norm, fresnel, avg) = lobe_terms(&brdf);
-    let isotropic = t == 0;
-    let frame: M3 = if isotropic {
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    } else {
-        // Columns X = (z, 0, −x) of the average direction, Y, Z = the average direction.
-        [
-            [avg[2], 0.0, avg[0]],
-            [0.0, 1.0, 0.0],
-            [-avg[0], 0.0, avg[2]],
-        ]
-    };
-    let params_of = |p: [f64; 3]| -> [f64; 3] {
-        if isotropic {
+    let (norm, fresnel, _) = lobe_terms(&brdf);
+    let n = fit_samples(t);
+    let best = if t == 0 {
+        // Normal incidence: the lobe is isotropic, M = m·I in the normal's frame.
+        let cost = |p: [f64; 1]| {
             let m = p[0].abs().max(1e-7);
-            [m, m, 0.0]
-        } else {
-            [p[0].abs().max(1e-7), p[1].abs().max(1e-7), p[2]]
-        }
+            error(&Ltc::new([m, m, 0.0, 0.0], norm), &brdf, n)
+        };
+        let m = nelder_mead(&cost, [start[0]], 0.05, 200)[0].abs().max(1e-7);
+        [m, m, 0.0, 0.0]
+    } else {
+        let params_of = |p: [f64; 4]| [p[0].abs().max(1e-7), p[1].abs().max(1e-7), p[2], p[3]];
+        let cost = |p: [f64; 4]| error(&Ltc::new(params_of(p), norm), &brdf, n);
+        // Restarted once from its result: Nelder–Mead's simplex can collapse in the valley
+        // before the minimum.
+        let p = nelder_mead(&cost, start, 0.05, 400);
+        params_of(nelder_mead(&cost, p, 0.02, 400))
     };
-    let cost = |p: [f64; 3]| error(&Ltc::new(frame, params_of(p), norm), &brdf);
-    let best = params_of(nelder_mead(&cost, start, 0.05, 100));
-    let inv = Ltc::new(frame, best, norm).inv;
+    let inv = Ltc::new(best, norm).inv;
     let s = inv[1][1];
     LtcEntry {
         params: best,
@@ -325,8 +353,8 @@ pub fn fit_entry(t: usize, a: usize, start: [f64; 3]) -> LtcEntry {
 /// started from the previous view's fit). Entries in row-major order (t, a).
 pub fn fit_table() -> Vec<LtcEntry> {
     let n = LTC_SIZE;
-    let mut first = vec![[1.0, 1.0, 0.0]; n];
-    let mut start = [1.0, 1.0, 0.0];
+    let mut first = vec![START; n];
+    let mut start = START;
     let mut col0 = Vec::with_capacity(n);
     for a in (0..n).rev() {
         let e = fit_entry(0, a, start);
@@ -377,7 +405,7 @@ pub fn ltc_table() -> Vec<f32> {
 
 /// The start of a refit of entry (t, a) from the shipped table: the parameters the generator
 /// had there are not stored, so they are read back from the neighbour's matrix.
-fn shipped_params(table: &[f32], t: usize, a: usize) -> [f64; 3] {
+fn shipped_params(table: &[f32], t: usize, a: usize) -> [f64; 4] {
     let e = &table[(t * LTC_SIZE + a) * LTC_ENTRY..][..4];
     let inv = [
         [e[0] as f64, 0.0, e[2] as f64],
@@ -385,23 +413,15 @@ fn shipped_params(table: &[f32], t: usize, a: usize) -> [f64; 3] {
         [e[1] as f64, 0.0, e[3] as f64],
     ];
     let m = inverse(&inv);
-    // M = frame · A, frame a rotation about y: A's m11, m22, m13 are invariant up to that rotation
-    // and the scale of M (fixed by A's (2,2) = 1): the frame column Z is M's third column
-    // normalised, X its first in the plane.
-    let (_, _, avg) = lobe_terms(&entry_setup(t, a).0);
-    let frame: M3 = if t == 0 {
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    } else {
-        [
-            [avg[2], 0.0, avg[0]],
-            [0.0, 1.0, 0.0],
-            [-avg[0], 0.0, avg[2]],
-        ]
-    };
-    let ft = [0, 1, 2].map(|i| [0, 1, 2].map(|j| frame[j][i]));
+    // M = frame(θ) · A with A = [[m11, 0, m13], [0, m22, 0], [0, 0, 1]] up to scale (a QR
+    // decomposition of M's xz block): M's first column is m11 times the frame's X = (cos θ, 0,
+    // −sin θ).
+    let theta = (-m[2][0]).atan2(m[0][0]);
+    let f = frame(theta);
+    let ft = [0, 1, 2].map(|i| [0, 1, 2].map(|j| f[j][i]));
     let a_m = mul(&ft, &m);
     let s = a_m[2][2];
-    [a_m[0][0] / s, a_m[1][1] / s, a_m[0][2] / s]
+    [a_m[0][0] / s, a_m[1][1] / s, a_m[0][2] / s, theta]
 }
 
 /// Refits entry (t, a) of the shipped table freshly, started from the shipped neighbour the
@@ -409,7 +429,7 @@ fn shipped_params(table: &[f32], t: usize, a: usize) -> [f64; 3] {
 pub fn refit_shipped_entry(t: usize, a: usize) -> ([f32; LTC_ENTRY], [f32; LTC_ENTRY]) {
     let table = ltc_table();
     let start = match (t, a) {
-        (0, a) if a + 1 == LTC_SIZE => [1.0, 1.0, 0.0],
+        (0, a) if a + 1 == LTC_SIZE => START,
         (0, a) => shipped_params(&table, 0, a + 1),
         (t, a) => shipped_params(&table, t - 1, a),
     };
