@@ -711,22 +711,22 @@ fn gold_environment(name: &'static str, alpha: f32, gpu_tolerance: f64) {
     });
 }
 
-// Bounds of the fitted lobes against Mitsuba, just above what 2026-11-28 measured (2.93 %,
-// 3.29 %, 1.38 %; the split sum was 5.8 %, 4.3 %, 5.7 % with the old bake, issue 37 measured
-// 7.8 % at α 0.3): regressions fail, the α 0.1 row is above issue 37's 3 %.
+// Bounds of the fitted lobes against Mitsuba (issue 37's goal: 3 %), just above what 2026-11-28
+// measured: 2.89 % (α 0.1), 1.96 % (α 0.3), 1.59 % (α 0.6); the split sum measured 5.0 %, 7.5 %,
+// 8.9 % on the same bake (4.3 %, 5.8 %, 5.7 % on the old one; issue 37 measured 7.8 % at α 0.3).
 #[test]
 fn gold_ggx_alpha_0_3_hdr_environment() {
-    gold_environment("gold_ggx_a0.3_hdr_environment", 0.3, 0.033);
+    gold_environment("gold_ggx_a0.3_hdr_environment", 0.3, 0.025);
 }
 
 #[test]
 fn gold_ggx_alpha_0_1_hdr_environment() {
-    gold_environment("gold_ggx_a0.1_hdr_environment", 0.1, 0.037);
+    gold_environment("gold_ggx_a0.1_hdr_environment", 0.1, 0.032);
 }
 
 #[test]
 fn gold_ggx_alpha_0_6_hdr_environment() {
-    gold_environment("gold_ggx_a0.6_hdr_environment", 0.6, 0.017);
+    gold_environment("gold_ggx_a0.6_hdr_environment", 0.6, 0.02);
 }
 
 /// Glass (issue 35): a sphere of index 1.5 in the HDR environment, seen through (Mitsuba's

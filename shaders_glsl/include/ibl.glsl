@@ -245,16 +245,18 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         spec = ibl_specular_importance(p, n, v, x, y, s.roughness);
     } else if (SPECULAR_METHOD == SPECULAR_FITTED_LOBES) {
         // Two lookups of the prefiltered cube fitted to the real lobe (env::lobes,
-        // env::fitted_lobes_specular): (φ1, r1, r2, w2) at (n·v, roughness) in the LUT's last
-        // layer; d1 = cos φ1 n − sin φ1 t, t the part of v across n.
+        // env::fitted_lobes_specular): (φ1, r1, φ2, r2) and w2 at (n·v, roughness) in the LUT's
+        // last two layers; d = cos φ n − sin φ t, t the part of v across n.
         vec4 lobe = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y), 0.0);
+        float w2 = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y + 1.0), 0.0).x;
         vec3 t = v - n * dot(n, v);
         float t_len = length(t);
         t = t_len > 1e-6 ? t / t_len : vec3(0.0);
         vec3 d1 = normalize(cos(lobe.x) * n - sin(lobe.x) * t);
+        vec3 d2 = normalize(cos(lobe.z) * n - sin(lobe.z) * t);
         float mips = env.params.x;
         vec3 pre = mix(textureLod(prefiltered_cube, d1, prefiltered_lod(lobe.y, mips)).rgb,
-                       textureLod(prefiltered_cube, n, prefiltered_lod(lobe.z, mips)).rgb, lobe.w);
+                       textureLod(prefiltered_cube, d2, prefiltered_lod(lobe.w, mips)).rgb, w2);
         spec = s.weight * pre * (s.f0 * ab.x + ab.y);
     } else {
         vec3 r = 2.0 * dot(n, v) * n - v;

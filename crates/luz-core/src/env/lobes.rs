@@ -2,15 +2,15 @@
 //! prefiltered cube once, along one direction, at the material's own roughness: the cube holds
 //! the lobe `D(h)(d·l)` of `n = v = d`, which is neither the shape of the real lobe (`D G₂/(4 n·v)`
 //! over `n·l > 0`: G₁ instead of the cosine, stretched and cut by the horizon at grazing views)
-//! nor its width. This method reads the same cube twice — once along a direction `d₁` in the plane
-//! of `n` and `v` at roughness `r₁`, once along `n` at roughness `r₂` — and mixes the two with
-//! weight `w₂`; the four numbers come from a table over (n·v, roughness) fitted here so that the
-//! mix of the two prefilter kernels is as close as possible (L1 over the sphere) to the real
-//! lobe normalised to 1. The split sum's second factor (`F0 A + B`) is unchanged.
+//! nor its width. This method reads the same cube twice — along directions `d₁`, `d₂` in the
+//! plane of `n` and `v` at roughnesses `r₁`, `r₂` — and mixes the two with weight `w₂`; the five
+//! numbers come from a table over (n·v, roughness) fitted here so that the mix of the two
+//! prefilter kernels is as close as possible (L1 over the sphere) to the real lobe normalised to
+//! 1. The split sum's second factor (`F0 A + B`) is unchanged.
 //!
 //! The table: [`LOBES_SIZE`]² entries (view `cos θ_v = 1 − (t/(N−1))²`, roughness `a/(N−1)`),
-//! four f32 each: `[φ₁, r₁, r₂, w₂]` with `φ₁` the angle of `d₁` from `n`, away from `v` (the
-//! mirror direction is at φ₁ = θ_v). The lobe is GGX with separable Smith G₁(l) G₁(v), no Fresnel.
+//! [`LOBE_ENTRY`] f32 each: `[φ₁, r₁, φ₂, r₂, w₂]` with `φ` a direction's angle from `n`, away
+//! from `v` (the mirror direction is at φ = θ_v), the lobe farther from `n` first. The lobe is GGX with separable Smith G₁(l) G₁(v), no Fresnel.
 //! [`LOBES_FILE`] holds it (little-endian); `cargo run --release -p luz-core --example
 //! ibl_lobe_table` regenerates it and `lobe_table_refits` checks entries against a fresh fit.
 
@@ -164,17 +164,35 @@ impl Lobe {
     }
 }
 
-/// The fit's free parameters: `[φ₁, ln α₁, ln α₂, logit w₂]`.
-type Params = [f64; 4];
+/// The fit's free parameters: `[φ₁, ln α₁, φ₂, ln α₂, logit w₂]`.
+type Params = [f64; 5];
+
+/// Values per entry of the table: `[φ₁, r₁, φ₂, r₂, w₂]`.
+pub const LOBE_ENTRY: usize = 5;
+
+/// A direction in the plane of n (+z) and v (+x side), at angle φ from n away from v.
+fn plane_dir(phi: f64) -> DVec3 {
+    DVec3::new(-phi.sin(), 0.0, phi.cos())
+}
 
 fn kernels(p: &Params) -> [Kernel; 2] {
-    let w2 = 1.0 / (1.0 + (-p[3]).exp());
+    let w2 = 1.0 / (1.0 + (-p[4]).exp());
     let a1 = p[1].exp().clamp(1e-3, 1.0);
-    let a2 = p[2].exp().clamp(1e-3, 1.0);
+    let a2 = p[3].exp().clamp(1e-3, 1.0);
     [
-        Kernel::new(DVec3::new(-p[0].sin(), 0.0, p[0].cos()), a1, 1.0 - w2),
-        Kernel::new(DVec3::Z, a2, w2),
+        Kernel::new(plane_dir(p[0]), a1, 1.0 - w2),
+        Kernel::new(plane_dir(p[2]), a2, w2),
     ]
+}
+
+/// The same two lobes with the one farther from n first (φ₁ ≥ φ₂), so that neighbouring
+/// entries, fitted from different starts, name their lobes alike and interpolate.
+fn canonical(p: Params) -> Params {
+    if p[0] >= p[2] {
+        p
+    } else {
+        [p[2], p[3], p[0], p[1], -p[4]]
+    }
 }
 
 /// ∫ |lobe − Σ w_k kernel_k| over the sphere: balance-heuristic estimate over `n` Hammersley
@@ -200,14 +218,14 @@ fn l1_distance(lobe: &Lobe, ks: &[Kernel; 2], n: u32) -> f64 {
 }
 
 fn nelder_mead(f: &dyn Fn(&Params) -> f64, start: Params, delta: f64, iters: usize) -> Params {
-    const N: usize = 4;
+    const N: usize = 5;
     let mut pts = [start; N + 1];
     for (i, p) in pts.iter_mut().skip(1).enumerate() {
         p[i] += delta;
     }
     let mut vals = pts.map(|p| f(&p));
     for _ in 0..iters {
-        let mut idx = [0, 1, 2, 3, 4];
+        let mut idx = [0, 1, 2, 3, 4, 5];
         idx.sort_by(|&a, &b| vals[a].total_cmp(&vals[b]));
         pts = idx.map(|i| pts[i]);
         vals = idx.map(|i| vals[i]);
@@ -251,37 +269,61 @@ pub fn lobe_entry_coords(t: usize, a: usize) -> (f64, f64) {
 fn row_start(roughness: f64) -> Params {
     // Inside the clamp of α ≤ 1 (a simplex started on the clamp would not move).
     let alpha = (roughness * roughness).clamp(1e-3, 0.8);
-    [0.0, alpha.ln(), (2.0 * alpha).min(0.8).ln(), -2.0]
+    [0.0, alpha.ln(), 0.0, (2.0 * alpha).min(0.8).ln(), -2.0]
 }
 
-fn to_entry(p: &Params) -> [f32; 4] {
+fn to_entry(p: &Params) -> [f32; LOBE_ENTRY] {
     let [k1, k2] = kernels(p);
     [
         p[0] as f32,
         k1.a.sqrt() as f32,
+        p[2] as f32,
         k2.a.sqrt() as f32,
         k2.w as f32,
     ]
 }
 
 /// Fits entry `(t, a)` from `start`; returns the parameters and the entry.
-fn fit(t: usize, a: usize, start: Params) -> (Params, [f32; 4]) {
+fn fit(t: usize, a: usize, start: Params) -> (Params, [f32; LOBE_ENTRY]) {
     let (n_v, roughness) = lobe_entry_coords(t, a);
     if a == 0 {
         // A mirror: the mirror direction at roughness 0.
-        let p = [n_v.acos(), (1e-3f64).ln(), (1e-3f64).ln(), -30.0];
-        return (p, [n_v.acos() as f32, 0.0, 0.0, 0.0]);
+        let th = n_v.acos();
+        let p = [th, (1e-3f64).ln(), th, (1e-3f64).ln(), -30.0];
+        return (p, [th as f32, 0.0, th as f32, 0.0, 0.0]);
     }
-    let lobe = Lobe::new(n_v, roughness * roughness);
+    let alpha = roughness * roughness;
+    let lobe = Lobe::new(n_v, alpha);
     let f = |p: &Params| l1_distance(&lobe, &kernels(p), FIT_SAMPLES);
-    let p = nelder_mead(&f, start, 0.1, 450);
-    let p = nelder_mead(&f, p, 0.03, 300);
+    // Two starts, the better kept: the previous entry's fit, and two lobes spread along the
+    // lobe's stretch around Frostbite's dominant direction (from the first a simplex tends to
+    // stay with one lobe on n).
+    let th = n_v.acos();
+    let dominant = th * (1.0 - alpha) * ((1.0 - alpha).sqrt() + alpha);
+    let a0 = alpha.clamp(1e-3, 0.8).ln();
+    let spread = [1.15 * dominant, a0 - 0.3, 0.8 * dominant, a0 - 0.3, 0.0];
+    let run = |start: Params| {
+        let p = nelder_mead(&f, start, 0.1, 600);
+        let p = canonical(nelder_mead(&f, p, 0.03, 400));
+        (f(&p), p)
+    };
+    let (e1, p1) = run(start);
+    let p = if t == 0 {
+        p1
+    } else {
+        let (e2, p2) = run(spread);
+        if e2 < e1 {
+            p2
+        } else {
+            p1
+        }
+    };
     (p, to_entry(&p))
 }
 
 /// One row of the table (fixed roughness index `a`), each entry started from the previous one
 /// (the first from [`row_start`]).
-fn fit_row(a: usize) -> Vec<(Params, [f32; 4])> {
+fn fit_row(a: usize) -> Vec<(Params, [f32; LOBE_ENTRY])> {
     let (_, roughness) = lobe_entry_coords(0, a);
     let mut start = row_start(roughness);
     (0..LOBES_SIZE)
@@ -296,17 +338,18 @@ fn fit_row(a: usize) -> Vec<(Params, [f32; 4])> {
 /// The whole table in file order (row = roughness index, column = view index), as bytes.
 pub fn generate_lobe_table() -> Vec<u8> {
     use rayon::prelude::*;
-    let rows: Vec<Vec<(Params, [f32; 4])>> = (0..LOBES_SIZE).into_par_iter().map(fit_row).collect();
+    let rows: Vec<Vec<(Params, [f32; LOBE_ENTRY])>> =
+        (0..LOBES_SIZE).into_par_iter().map(fit_row).collect();
     rows.iter()
         .flatten()
         .flat_map(|(_, e)| e.iter().flat_map(|v| v.to_le_bytes()))
         .collect()
 }
 
-/// The shipped table, `LOBES_SIZE² × [φ₁, r₁, r₂, w₂]`, row = roughness index.
-pub fn lobe_table() -> Vec<[f32; 4]> {
+/// The shipped table, `LOBES_SIZE² × [φ₁, r₁, φ₂, r₂, w₂]`, row = roughness index.
+pub fn lobe_table() -> Vec<[f32; LOBE_ENTRY]> {
     SHIPPED
-        .chunks_exact(16)
+        .chunks_exact(4 * LOBE_ENTRY)
         .map(|b| {
             std::array::from_fn(|k| f32::from_le_bytes(b[4 * k..4 * k + 4].try_into().unwrap()))
         })
@@ -315,12 +358,12 @@ pub fn lobe_table() -> Vec<[f32; 4]> {
 
 /// The table's four values at `(n·v, roughness)`, bilinear between entries (the table's own
 /// coordinates: `t = (N − 1) sqrt(1 − n·v)`).
-pub fn lobes_at(n_v: f32, roughness: f32) -> [f32; 4] {
+pub fn lobes_at(n_v: f32, roughness: f32) -> [f32; LOBE_ENTRY] {
     let table = lobe_table();
     lobes_in(&table, n_v, roughness)
 }
 
-fn lobes_in(table: &[[f32; 4]], n_v: f32, roughness: f32) -> [f32; 4] {
+fn lobes_in(table: &[[f32; LOBE_ENTRY]], n_v: f32, roughness: f32) -> [f32; LOBE_ENTRY] {
     let last = (LOBES_SIZE - 1) as f32;
     let x = (1.0 - n_v.clamp(0.0, 1.0)).sqrt() * last;
     let y = roughness.clamp(0.0, 1.0) * last;
@@ -338,14 +381,19 @@ fn lobes_in(table: &[[f32; 4]], n_v: f32, roughness: f32) -> [f32; 4] {
 }
 
 /// The table resampled at a LUT's texel centres (`size`², column = n·v `(i + 0.5)/size`, row =
-/// roughness `(j + 0.5)/size`), as the GPU stores it beside the split-sum LUT.
-pub fn lobe_layer(size: u32) -> Vec<[f32; 4]> {
+/// roughness `(j + 0.5)/size`), as the GPU stores it beside the split-sum LUT: two RGBA layers,
+/// `(φ₁, r₁, φ₂, r₂)` then `(w₂, 0, 0, 0)`.
+pub fn lobe_layers(size: u32) -> [Vec<[f32; 4]>; 2] {
     let table = lobe_table();
     let c = |i: u32| (i as f32 + 0.5) / size as f32;
-    (0..size)
+    let entries: Vec<[f32; LOBE_ENTRY]> = (0..size)
         .flat_map(|j| (0..size).map(move |i| (i, j)))
         .map(|(i, j)| lobes_in(&table, c(i), c(j)))
-        .collect()
+        .collect();
+    [
+        entries.iter().map(|e| [e[0], e[1], e[2], e[3]]).collect(),
+        entries.iter().map(|e| [e[4], 0.0, 0.0, 0.0]).collect(),
+    ]
 }
 
 /// The roughness the prefiltered cube holds at `level` of `mips`: `level / (mips − 1)`, 0 (the
@@ -367,8 +415,8 @@ pub fn prefiltered_lod(roughness: f32, mips: u32) -> f32 {
     roughness * mips.saturating_sub(1) as f32
 }
 
-/// The two directions of the lobes at `n`, `v` (unit, `n·v > 0`): `d₁ = cos φ₁ n − sin φ₁ t`
-/// with `t` the unit part of `v` across `n` (any when `v = n`), and `n`.
+/// A lobe's direction at `n`, `v` (unit, `n·v > 0`): `d = cos φ n − sin φ t` with `t` the unit
+/// part of `v` across `n` (any when `v = n`).
 pub fn lobe_direction(n: Vec3, v: Vec3, phi1: f32) -> Vec3 {
     let t = (v - n * n.dot(v)).try_normalize().unwrap_or(Vec3::ZERO);
     (n * phi1.cos() - t * phi1.sin())
@@ -377,7 +425,7 @@ pub fn lobe_direction(n: Vec3, v: Vec3, phi1: f32) -> Vec3 {
 }
 
 /// The method's estimate with the table and an exact prefilter (`samples` per lookup, as
-/// [`prefiltered_reference`]): `((1 − w₂) pre(d₁, r₁) + w₂ pre(n, r₂)) · (F0 A + B)`, `(A, B)`
+/// [`prefiltered_reference`]): `((1 − w₂) pre(d₁, r₁) + w₂ pre(d₂, r₂)) · (F0 A + B)`, `(A, B)`
 /// at `(n·v, roughness)` for `geometry`. 0 when `n·v ≤ 0`.
 #[allow(clippy::too_many_arguments)]
 pub fn fitted_lobes_specular(
@@ -395,10 +443,9 @@ pub fn fitted_lobes_specular(
     if n_v <= 0.0 {
         return Vec3::ZERO;
     }
-    let [phi1, r1, r2, w2] = lobes_at(n_v, roughness);
-    let d1 = lobe_direction(n, v, phi1);
-    let pre = prefiltered_reference(eq, d1, r1, samples) * (1.0 - w2)
-        + prefiltered_reference(eq, n, r2, samples) * w2;
+    let [phi1, r1, phi2, r2, w2] = lobes_at(n_v, roughness);
+    let pre = prefiltered_reference(eq, lobe_direction(n, v, phi1), r1, samples) * (1.0 - w2)
+        + prefiltered_reference(eq, lobe_direction(n, v, phi2), r2, samples) * w2;
     let (a, b) = split_sum_lut_reference(n_v, roughness, geometry, samples);
     pre * (f0 * a + Vec3::splat(b))
 }
@@ -411,17 +458,10 @@ pub fn lobe_fit_error(t: usize, a: usize, n: u32) -> (f64, f64) {
     let alpha = (roughness * roughness).max(1e-3);
     let lobe = Lobe::new(n_v, alpha);
     let e = lobe_table()[a * LOBES_SIZE + t];
+    let e = e.map(f64::from);
     let fitted = [
-        Kernel::new(
-            DVec3::new(-f64::from(e[0]).sin(), 0.0, f64::from(e[0]).cos()),
-            (f64::from(e[1]).powi(2)).max(1e-3),
-            1.0 - f64::from(e[3]),
-        ),
-        Kernel::new(
-            DVec3::Z,
-            (f64::from(e[2]).powi(2)).max(1e-3),
-            f64::from(e[3]),
-        ),
+        Kernel::new(plane_dir(e[0]), (e[1] * e[1]).max(1e-3), 1.0 - e[4]),
+        Kernel::new(plane_dir(e[2]), (e[3] * e[3]).max(1e-3), e[4]),
     ];
     let th = n_v.acos();
     let s = (1.0 - alpha) * ((1.0 - alpha).sqrt() + alpha);
@@ -439,15 +479,15 @@ pub fn lobe_fit_error(t: usize, a: usize, n: u32) -> (f64, f64) {
 
 /// Refits entry `(t, a)` from the start the generator gave it (the previous entry of its row,
 /// refitted along the row from the row's start): `(shipped, fresh)`.
-pub fn refit_lobe_entry(t: usize, a: usize) -> ([f32; 4], [f32; 4]) {
+pub fn refit_lobe_entry(t: usize, a: usize) -> ([f32; LOBE_ENTRY], [f32; LOBE_ENTRY]) {
     let row = fit_row_until(a, t);
     (lobe_table()[a * LOBES_SIZE + t], row)
 }
 
-fn fit_row_until(a: usize, t_end: usize) -> [f32; 4] {
+fn fit_row_until(a: usize, t_end: usize) -> [f32; LOBE_ENTRY] {
     let (_, roughness) = lobe_entry_coords(0, a);
     let mut start = row_start(roughness);
-    let mut entry = [0.0; 4];
+    let mut entry = [0.0; LOBE_ENTRY];
     for t in 0..=t_end {
         let r = fit(t, a, start);
         start = r.0;
@@ -462,10 +502,10 @@ mod tests {
 
     #[test]
     fn lobe_table_refits() {
-        assert_eq!(SHIPPED.len(), LOBES_SIZE * LOBES_SIZE * 16);
+        assert_eq!(SHIPPED.len(), LOBES_SIZE * LOBES_SIZE * LOBE_ENTRY * 4);
         for (t, a) in [(0, 31), (3, 9), (12, 20)] {
             let (shipped, fresh) = refit_lobe_entry(t, a);
-            for k in 0..4 {
+            for k in 0..LOBE_ENTRY {
                 assert!(
                     (shipped[k] - fresh[k]).abs() <= 1e-3,
                     "entry ({t}, {a}) value {k}: shipped {shipped:?}, fresh {fresh:?}"
@@ -510,7 +550,7 @@ mod tests {
     fn a_mirror_reads_the_mirror_direction() {
         let n = Vec3::Z;
         let v = Vec3::new(0.6, 0.0, 0.8);
-        let [phi1, r1, _, w2] = lobes_at(0.8, 0.0);
+        let [phi1, r1, _, _, w2] = lobes_at(0.8, 0.0);
         assert!(r1 < 1e-6 && w2 < 1e-6, "{r1} {w2}");
         let d = lobe_direction(n, v, phi1);
         let r = n * 2.0 * n.dot(v) - v;

@@ -33,8 +33,8 @@ pub use equirect::{
 };
 pub use lobes::{
     fitted_lobes_specular, generate_lobe_table, lobe_direction, lobe_entry_coords, lobe_fit_error,
-    lobe_layer, lobe_table, lobes_at, prefilter_level_roughness, prefiltered_lod, refit_lobe_entry,
-    LOBES_FILE, LOBES_SIZE,
+    lobe_layers, lobe_table, lobes_at, prefilter_level_roughness, prefiltered_lod,
+    refit_lobe_entry, LOBES_FILE, LOBES_SIZE, LOBE_ENTRY,
 };
 pub use procedural::{
     sky, studio, GROUND_ALBEDO, SKY_HORIZON, SKY_WIDTH, SKY_ZENITH, STUDIO_FLOOR, STUDIO_WALL,

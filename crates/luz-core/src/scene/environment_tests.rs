@@ -206,7 +206,7 @@ fn errors_name_the_path() {
     );
     env_err(
         r#"{"uniform": 1, "specular_method": "splitsum"}"#,
-        r#"environment.specular_method: unknown value "splitsum"; expected one of "importance", "split_sum" (did you mean "split_sum"?)"#,
+        r#"environment.specular_method: unknown value "splitsum"; expected one of "importance", "split_sum", "fitted_lobes" (did you mean "split_sum"?)"#,
     );
     env_err(
         r#"{"uniform": 1, "diffuse_method": "sh"}"#,

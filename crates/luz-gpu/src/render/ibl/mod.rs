@@ -196,8 +196,8 @@ impl Images {
             "prefiltered cube",
             ImageDesc::cube(s.prefilter_size, CUBE_FORMAT, pre_mips),
         )?;
-        // One layer per geometry selector, then the fitted lobes' table (`env::lobe_layer`).
-        let layers = lut_geometries.len().max(1) as u32 + 1;
+        // One layer per geometry selector, then the fitted lobes' two (`env::lobe_layers`).
+        let layers = lut_geometries.len().max(1) as u32 + 2;
         let mut lut_desc = ImageDesc::texture(s.lut_size, s.lut_size, LUT_FORMAT, 1, layers);
         lut_desc.usage = vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::STORAGE
@@ -342,13 +342,15 @@ impl Images {
             baker.brdf_lut_layer(lut, *g, layer as u32)?;
             tick("brdf lut");
         }
-        // The last layer: the `fitted_lobes` method's table at the LUT's texel centres.
-        let lobes: Vec<u8> = crate::env::lobe_layer(s.lut_size)
-            .iter()
-            .flatten()
-            .flat_map(|v| v.to_ne_bytes())
-            .collect();
-        write_lut_layer(ctx, pool, lut, lut_layers.len() as u32, &lobes)?;
+        // The last two layers: the `fitted_lobes` method's table at the LUT's texel centres.
+        for (k, layer) in crate::env::lobe_layers(s.lut_size).iter().enumerate() {
+            let bytes: Vec<u8> = layer
+                .iter()
+                .flatten()
+                .flat_map(|v| v.to_ne_bytes())
+                .collect();
+            write_lut_layer(ctx, pool, lut, (lut_layers.len() + k) as u32, &bytes)?;
+        }
         if !computed.is_empty() && inputs.cache.is_some() {
             let all = read_image(ctx, pool, lut)?;
             for layer in computed {
@@ -392,7 +394,7 @@ impl Ibl {
         let (eq, staging) = Equirect::upload(ctx, equirect)?;
         let sampler = Sampler::linear(ctx, "ibl sampler", vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
         let mut images = Images::new(ctx, s, lut_geometries)?;
-        let dispatches = 2 + images.env_mips + images.pre_mips + images.layers - 1;
+        let dispatches = 2 + images.env_mips + images.pre_mips + images.layers - 2;
         let baker = Baker::new(ctx, pool, s, dispatches)?;
         times
             .stages
