@@ -106,10 +106,10 @@ pub enum SpecularMethod {
     Importance,
     /// Karis's split sum: prefiltered environment × (F0·A + B) from a 2D table.
     SplitSum,
-    /// Two lookups of the same prefiltered environment (one along a direction near the mirror
-    /// direction, one along the normal), at roughnesses and with a weight from a table fitted to
+    /// Two lookups of the same prefiltered environment (along two directions in the plane of the
+    /// normal and the view), at roughnesses and with a weight from a table fitted to
     /// the real lobe (`crate::env::fitted_lobes_specular`), × (F0·A + B). The default since
-    /// issue 37: 2–6× closer to Mitsuba than the split sum on gold spheres (docs/accuracy.md).
+    /// issue 37: 1.7–5.6× closer to Mitsuba than the split sum on gold spheres (docs/accuracy.md).
     #[default]
     FittedLobes,
 }

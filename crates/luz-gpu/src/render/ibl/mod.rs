@@ -54,9 +54,10 @@ impl Default for IblSettings {
     /// 64² irradiance, 512² prefiltered cube with 8 mips (down to 4², roughness 1) at 1024
     /// samples per texel, 512² LUT at 1024 samples. The well-known Vulkan PBR sample luz compares
     /// itself with bakes 10 mips at 64 samples; issue 37 measured what that costs in accuracy:
-    /// the fitted lobes against Mitsuba went from 3.8 / 5.7 / 8.9 % (α 0.1 / 0.3 / 0.6, 10 mips,
-    /// 64 samples) to 3.2 / 2.9 / 1.4 % (docs/accuracy.md): the last two mips' 2² and 1² faces
-    /// cannot hold a wide lobe, and 64 filtered samples blur it wider than the kernel.
+    /// a first version of the fitted lobes against Mitsuba went from 3.8 / 5.7 / 8.9 % (α 0.1 /
+    /// 0.3 / 0.6, 10 mips, 64 samples) to 3.3 / 3.0 / 1.4 % (docs/accuracy.md): the last two mips'
+    /// 2² and 1² faces cannot hold a wide lobe, and 64 filtered samples blur it wider than the
+    /// kernel.
     fn default() -> Self {
         Self {
             env_size: 512,
