@@ -437,12 +437,9 @@ pub fn fitted_lobes_specular(
     v: Vec3,
     samples: u32,
 ) -> Vec3 {
-    let n = n.try_normalize().unwrap_or(Vec3::Y);
-    let v = v.try_normalize().unwrap_or(n);
-    let n_v = n.dot(v);
-    if n_v <= 0.0 {
+    let Some((n, v, n_v)) = super::reference::unit_view(n, v) else {
         return Vec3::ZERO;
-    }
+    };
     let [phi1, r1, phi2, r2, w2] = lobes_at(n_v, roughness);
     let pre = prefiltered_reference(eq, lobe_direction(n, v, phi1), r1, samples) * (1.0 - w2)
         + prefiltered_reference(eq, lobe_direction(n, v, phi2), r2, samples) * w2;
@@ -541,6 +538,29 @@ mod tests {
                 assert!(
                     (lod - level as f32).abs() < 1e-4,
                     "mips {mips} level {level}: {lod}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn fitted_lobes_in_a_uniform_environment_are_the_albedo() {
+        // The method's CPU estimate (exact prefilter, no cube) in a uniform environment of 1:
+        // both lookups read 1, so it is the split sum's second factor F0 A + B exactly, at every
+        // view and roughness (the mix's weights sum to 1).
+        let uniform = Equirect::filled(8, 4, Vec3::ONE);
+        let base = Vec3::new(0.95, 0.64, 0.54);
+        let g = Geometry::SmithGgxCorrelated;
+        for roughness in [0.05f32, 0.3, 0.55, 0.8, 1.0] {
+            for k in 0..8 {
+                let theta = (4.0 + 10.0 * k as f32).to_radians();
+                let n = Vec3::new(theta.sin(), 0.3 * theta.sin(), theta.cos());
+                let flat = fitted_lobes_specular(&uniform, base, roughness, g, n, Vec3::Z, 1024);
+                let (a, b) = split_sum_lut_reference(n.normalize().z, roughness, g, 1024);
+                let want = base * a + Vec3::splat(b);
+                assert!(
+                    (flat - want).abs().max_element() < 1e-4,
+                    "roughness {roughness}, θ {theta}: {flat} against {want}"
                 );
             }
         }

@@ -141,6 +141,15 @@ pub fn specular_dominant_direction(n: Vec3, r: Vec3, roughness: f32) -> Vec3 {
     n.lerp(r, s).try_normalize().unwrap_or(n)
 }
 
+/// `n` and `v` made unit (a zero `n` is +y, a zero `v` is `n`) and `n·v`, or `None` when the view
+/// is below the surface (`n·v ≤ 0`): the start of every specular IBL estimate.
+pub(super) fn unit_view(n: Vec3, v: Vec3) -> Option<(Vec3, Vec3, f32)> {
+    let n = n.try_normalize().unwrap_or(Vec3::Y);
+    let v = v.try_normalize().unwrap_or(n);
+    let n_v = n.dot(v);
+    (n_v > 0.0).then_some((n, v, n_v))
+}
+
 /// The split-sum estimate of the specular radiance with the table computed on the fly:
 /// `prefiltered(d, roughness) · (F0 · A + B)` with `(A, B)` at `(n·v, roughness)` for the
 /// `geometry` selector and `d = r = 2(n·v)n − v` (MODELS.md §7), or, with `dominant`,
@@ -156,12 +165,9 @@ pub fn split_sum_specular(
     dominant: bool,
     samples: u32,
 ) -> Vec3 {
-    let n = n.try_normalize().unwrap_or(Vec3::Y);
-    let v = v.try_normalize().unwrap_or(n);
-    let n_v = n.dot(v);
-    if n_v <= 0.0 {
+    let Some((n, v, n_v)) = unit_view(n, v) else {
         return Vec3::ZERO;
-    }
+    };
     let r = n * (2.0 * n_v) - v;
     let d = if dominant {
         specular_dominant_direction(n, r, roughness)
