@@ -346,21 +346,23 @@ pub fn generate_lobe_table() -> Vec<u8> {
         .collect()
 }
 
-/// The shipped table, `LOBES_SIZE² × [φ₁, r₁, φ₂, r₂, w₂]`, row = roughness index.
-pub fn lobe_table() -> Vec<[f32; LOBE_ENTRY]> {
-    SHIPPED
-        .chunks_exact(4 * LOBE_ENTRY)
-        .map(|b| {
-            std::array::from_fn(|k| f32::from_le_bytes(b[4 * k..4 * k + 4].try_into().unwrap()))
-        })
-        .collect()
+/// The shipped table, `LOBES_SIZE² × [φ₁, r₁, φ₂, r₂, w₂]`, row = roughness index (decoded once).
+pub fn lobe_table() -> &'static [[f32; LOBE_ENTRY]] {
+    static TABLE: std::sync::OnceLock<Vec<[f32; LOBE_ENTRY]>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        SHIPPED
+            .chunks_exact(4 * LOBE_ENTRY)
+            .map(|b| {
+                std::array::from_fn(|k| f32::from_le_bytes(b[4 * k..4 * k + 4].try_into().unwrap()))
+            })
+            .collect()
+    })
 }
 
 /// The table's four values at `(n·v, roughness)`, bilinear between entries (the table's own
 /// coordinates: `t = (N − 1) sqrt(1 − n·v)`).
 pub fn lobes_at(n_v: f32, roughness: f32) -> [f32; LOBE_ENTRY] {
-    let table = lobe_table();
-    lobes_in(&table, n_v, roughness)
+    lobes_in(lobe_table(), n_v, roughness)
 }
 
 fn lobes_in(table: &[[f32; LOBE_ENTRY]], n_v: f32, roughness: f32) -> [f32; LOBE_ENTRY] {
@@ -388,7 +390,7 @@ pub fn lobe_layers(size: u32) -> [Vec<[f32; 4]>; 2] {
     let c = |i: u32| (i as f32 + 0.5) / size as f32;
     let entries: Vec<[f32; LOBE_ENTRY]> = (0..size)
         .flat_map(|j| (0..size).map(move |i| (i, j)))
-        .map(|(i, j)| lobes_in(&table, c(i), c(j)))
+        .map(|(i, j)| lobes_in(table, c(i), c(j)))
         .collect();
     [
         entries.iter().map(|e| [e[0], e[1], e[2], e[3]]).collect(),
@@ -427,7 +429,6 @@ pub fn lobe_direction(n: Vec3, v: Vec3, phi1: f32) -> Vec3 {
 /// The method's estimate with the table and an exact prefilter (`samples` per lookup, as
 /// [`prefiltered_reference`]): `((1 − w₂) pre(d₁, r₁) + w₂ pre(d₂, r₂)) · (F0 A + B)`, `(A, B)`
 /// at `(n·v, roughness)` for `geometry`. 0 when `n·v ≤ 0`.
-#[allow(clippy::too_many_arguments)]
 pub fn fitted_lobes_specular(
     eq: &Equirect,
     f0: Vec3,
