@@ -42,6 +42,8 @@
 #define BRDF_LOBE_TRANSMISSION 4u
 #define BRDF_LOBE_DISPERSION 8u
 #define BRDF_LOBE_DIFFUSE_TRANSMISSION 16u
+// KHR_materials_anisotropy (anisotropic_lobe in src/brdf/models/mod.rs).
+#define BRDF_LOBE_ANISOTROPY 32u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
 // (brdf_eval.comp) every lobe is compiled.
@@ -59,7 +61,7 @@ struct BrdfParams {
                  //     metal-rough ((1-F) weight, diffuse, -, -);
                  //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
     vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss);
-                 //     metal-rough (clearcoat, clearcoat_roughness, -, -)
+                 //     metal-rough (clearcoat, clearcoat_roughness, anisotropy strength, rotation)
     ivec4 sel;   // 80: model, distribution, geometry, fresnel
     vec4 p2;     // 96: metal-rough (transmission, diffuse transmission, -, -)
 };
@@ -248,9 +250,44 @@ float brdf_diffuse_keep(BrdfParams p) {
     return p.sel.x == BRDF_MODEL_METAL_ROUGH ? (1.0 - p.p2.x) * (1.0 - p.p2.y) : 1.0;
 }
 
+// KHR_materials_anisotropy's lobe (AnisotropicLobe in src/brdf/models/mod.rs): direction t
+// (the frame's x turned by the rotation p1.w towards y), b = n × t, widths α_t = mix(α, 1, s²),
+// α_b = α; on = false for an isotropic material or a non-GGX distribution.
+struct AnisotropicLobe {
+    vec3 t;
+    vec3 b;
+    float alpha_t;
+    float alpha_b;
+    bool on;
+};
+
+AnisotropicLobe brdf_anisotropic_lobe(BrdfParams p, vec3 n, vec3 x, vec3 y) {
+    AnisotropicLobe a;
+    a.on = (BRDF_LOBES & BRDF_LOBE_ANISOTROPY) != 0u && p.sel.x == BRDF_MODEL_METAL_ROUGH
+        && p.p1.z > 0.0 && p.sel.y == BRDF_D_GGX;
+    vec3 tx = brdf_tangent_x(n, x, y);
+    vec3 ty = cross(n, tx);
+    a.t = brdf_safe_normalize(tx * cos(p.p1.w) + ty * sin(p.p1.w));
+    a.b = cross(n, a.t);
+    float r = p.color.w;
+    a.alpha_b = max(r * r, BRDF_ALPHA_MIN);
+    a.alpha_t = a.alpha_b + (1.0 - a.alpha_b) * p.p1.z * p.p1.z;
+    return a;
+}
+
+// p's roughness, or for an anisotropic lobe the roughness of an isotropic lobe of about the same
+// albedo, ((α_t² + α_b²)/2)^¼ (AnisotropicLobe::equivalent_roughness): what the energy and
+// split-sum tables are indexed by.
+float brdf_lobe_roughness(BrdfParams p) {
+    AnisotropicLobe a = brdf_anisotropic_lobe(p, vec3(0.0, 0.0, 1.0), vec3(1.0, 0.0, 0.0),
+                                              vec3(0.0, 1.0, 0.0));
+    return a.on ? sqrt(sqrt(0.5 * (a.alpha_t * a.alpha_t + a.alpha_b * a.alpha_b))) : p.color.w;
+}
+
 // glTF metallic-roughness: c_diff/π [1 − F] + D F G / (4 (n·l)(n·v)).
-// The metallic-roughness terms without layers, for unit n, l and v (metal_rough_base_terms).
-BrdfTerms brdf_metal_rough_base_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
+// The metallic-roughness terms without layers, for unit n, l and v (metal_rough_base_terms), with
+// the anisotropic lobe `an` replacing D and G when it is on.
+BrdfTerms brdf_metal_rough_base_terms_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v, AnisotropicLobe an) {
     BrdfTerms t = brdf_terms_zero();
     float n_l_raw = dot(n, l);
     float n_v_raw = dot(n, v);
@@ -272,8 +309,14 @@ BrdfTerms brdf_metal_rough_base_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v)
     vec3 n_x_h = cross(n, h);
     float sin2_h = dot(n_x_h, n_x_h);
     float v_h = dot(v, h);
-    t.d = brdf_distribution(p.sel.y, n_h, sin2_h, a);
-    t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
+    if (an.on) {
+        t.d = d_gtr2_aniso(n_h, dot(an.t, h), dot(an.b, h), an.alpha_t, an.alpha_b);
+        t.g = g_smith_ggx_correlated_aniso(n_l, n_v, dot(an.t, l), dot(an.b, l), dot(an.t, v),
+                                           dot(an.b, v), an.alpha_t, an.alpha_b);
+    } else {
+        t.d = brdf_distribution(p.sel.y, n_h, sin2_h, a);
+        t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
+    }
     t.f = brdf_fresnel(p.sel.w, spec, vec3(0.0), v_h);
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
     t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;
@@ -400,8 +443,9 @@ float brdf_sheen_albedo_at(BrdfParams p, vec3 n, vec3 v) {
 
 // metal_rough_terms for unit n, l and v (no renormalisation), E_sheen(n·v) given: the base,
 // then its layers.
-BrdfTerms brdf_metal_rough_terms_unit_es(BrdfParams p, vec3 n, vec3 l, vec3 v, float e_sheen) {
-    BrdfTerms t = brdf_metal_rough_base_terms_unit(p, n, l, v);
+BrdfTerms brdf_metal_rough_terms_lobe_es(BrdfParams p, vec3 n, vec3 l, vec3 v, AnisotropicLobe an,
+                                         float e_sheen) {
+    BrdfTerms t = brdf_metal_rough_base_terms_lobe(p, n, l, v, an);
     if (has_sheen(p) && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
         t = sheen_layer(t, p, n, l, v, e_sheen);
     }
@@ -411,14 +455,15 @@ BrdfTerms brdf_metal_rough_terms_unit_es(BrdfParams p, vec3 n, vec3 l, vec3 v, f
     return t;
 }
 
-// metal_rough_terms for unit n, l and v (no renormalisation).
-BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v) {
-    return brdf_metal_rough_terms_unit_es(p, n, l, v, brdf_sheen_albedo_at(p, n, v));
+// metal_rough_terms_frame for unit n, l and v (no renormalisation) and tangent frame (x, y).
+BrdfTerms brdf_metal_rough_terms_unit(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y) {
+    return brdf_metal_rough_terms_lobe_es(p, n, l, v, brdf_anisotropic_lobe(p, n, x, y),
+                                          brdf_sheen_albedo_at(p, n, v));
 }
 
-BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in) {
+BrdfTerms brdf_metal_rough_terms(BrdfParams p, vec3 n_in, vec3 l_in, vec3 v_in, vec3 x, vec3 y) {
     return brdf_metal_rough_terms_unit(
-        p, brdf_safe_normalize(n_in), brdf_safe_normalize(l_in), brdf_safe_normalize(v_in));
+        p, brdf_safe_normalize(n_in), brdf_safe_normalize(l_in), brdf_safe_normalize(v_in), x, y);
 }
 
 // Disney Principled, exactly as BRDF Explorer's disney.brdf (MODELS.md §5).
@@ -520,7 +565,7 @@ BrdfTerms brdf_eval_terms(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y) 
         return brdf_cook_torrance_terms(p, n, l, v);
     }
     if (m == BRDF_MODEL_METAL_ROUGH) {
-        return brdf_metal_rough_terms(p, n, l, v);
+        return brdf_metal_rough_terms(p, n, l, v, x, y);
     }
     if (m == BRDF_MODEL_PRINCIPLED) {
         return brdf_principled_terms(p, n, l, v, x, y);
@@ -553,7 +598,7 @@ vec3 brdf_radiance(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y, vec3 e_
 // tests bound both paths).
 vec3 brdf_radiance_unit(BrdfParams p, vec3 n, vec3 l, vec3 v, vec3 x, vec3 y, vec3 e_light) {
     if (p.sel.x == BRDF_MODEL_METAL_ROUGH) {
-        BrdfTerms t = brdf_metal_rough_terms_unit(p, n, l, v);
+        BrdfTerms t = brdf_metal_rough_terms_unit(p, n, l, v, x, y);
         return (t.diffuse + t.specular) * e_light * clamp(dot(n, l), 0.0, 1.0);
     }
     return brdf_radiance(p, n, l, v, x, y, e_light);

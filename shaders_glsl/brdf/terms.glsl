@@ -241,6 +241,22 @@ float k_ibl(float roughness) {
     return roughness * roughness / 2.0;
 }
 
+// Smith GGX, height-correlated and anisotropic (g_smith_ggx_correlated_aniso in terms.rs;
+// KHR_materials_anisotropy's V × 4 (n·l)(n·v)): t_l = t·l, b_l = b·l, t_v, b_v likewise.
+float g_smith_ggx_correlated_aniso(float n_l, float n_v, float t_l, float b_l, float t_v,
+                                   float b_v, float at, float ab) {
+    if (n_l <= 0.0 || n_v <= 0.0) {
+        return 0.0;
+    }
+    float att = max(at, BRDF_ALPHA_MIN);
+    float abb = max(ab, BRDF_ALPHA_MIN);
+    float cl = brdf_clamp_cos(n_l);
+    float cv = brdf_clamp_cos(n_v);
+    float lambda_v = cl * length(vec3(att * t_v, abb * b_v, cv));
+    float lambda_l = cv * length(vec3(att * t_l, abb * b_l, cl));
+    return 2.0 * cl * cv / (lambda_v + lambda_l);
+}
+
 // Disney anisotropic Smith GGX, visibility form: 1 / (c + sqrt((a α_x)² + (b α_y)² + c²)).
 float vis_smith_ggx_aniso(float n_v, float v_x, float v_y, float ax, float ay) {
     if (n_v <= 0.0) {

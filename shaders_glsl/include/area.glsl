@@ -256,7 +256,7 @@ vec3 area_representative_point(AreaLight a, Surface s, vec3 P, vec3 V) {
     // sphere's solid angle at that point.
     BrdfTerms t;
     if (MODEL == BRDF_MODEL_METAL_ROUGH) {
-        t = brdf_metal_rough_base_terms_unit(s.p, n, ls, V);
+        t = brdf_metal_rough_base_terms_lobe(s.p, n, ls, V, brdf_anisotropic_lobe(s.p, n, s.x, s.y));
     } else {
         t = brdf_eval_terms(s.p, n, ls, V, s.x, s.y);
     }

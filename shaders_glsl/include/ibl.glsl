@@ -79,6 +79,7 @@ SplitSumInputs split_sum_inputs(BrdfParams p) {
     s.roughness = p.color.w;
     if (MODEL == BRDF_MODEL_METAL_ROUGH) {
         s.f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
+        s.roughness = brdf_lobe_roughness(p);
         if (p.sel.y == BRDF_D_BECKMANN) {
             // Beckmann m = roughness² here; GGX with α = m has a similar width.
             s.roughness = p.color.w;
@@ -206,7 +207,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     }
     vec3 f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    vec2 ab = textureLod(brdf_lut, vec3(n_v, p.color.w, float(material.flags)), 0.0).rg;
+    vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
     float e = max(ab.x + ab.y, 1e-4);
     es.specular = vec3(1.0) + f0 * ((1.0 - e) / e);
     vec3 e_ms = (f0 * ab.x + ab.y) * es.specular;
@@ -240,6 +241,23 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
     vec2 ab = textureLod(brdf_lut, vec3(n_v, s.roughness, float(material.flags)), 0.0).rg;
+    // KHR_materials_anisotropy: the prefiltered cube is read around the bent normal of the
+    // extension's sample renderer (the normal leaned towards the plane across the anisotropy
+    // direction, the more the stronger and smoother the lobe); the LUT keeps n·v.
+    vec3 n_r = n;
+    if (MODEL == BRDF_MODEL_METAL_ROUGH && SPECULAR_METHOD != SPECULAR_IMPORTANCE) {
+        AnisotropicLobe an = brdf_anisotropic_lobe(p, n, x, y);
+        if (an.on) {
+            vec3 across = cross(an.b, v);
+            vec3 n_a = cross(across, an.b);
+            float bend = 1.0 - p.p1.z * (1.0 - p.color.w);
+            bend *= bend;
+            n_r = brdf_safe_normalize(mix(n_a, n, bend * bend));
+            if (dot(n_r, v) <= 0.0) {
+                n_r = n;
+            }
+        }
+    }
     vec3 spec;
     if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {
         spec = ibl_specular_importance(p, n, v, x, y, s.roughness);
@@ -249,23 +267,23 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         // last two layers; d = cos φ n − sin φ t, t the part of v across n.
         vec4 lobe = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y), 0.0);
         float w2 = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y + 1.0), 0.0).x;
-        vec3 t = v - n * dot(n, v);
+        vec3 t = v - n_r * dot(n_r, v);
         float t_len = length(t);
         t = t_len > 1e-6 ? t / t_len : vec3(0.0);
-        vec3 d1 = normalize(cos(lobe.x) * n - sin(lobe.x) * t);
-        vec3 d2 = normalize(cos(lobe.z) * n - sin(lobe.z) * t);
+        vec3 d1 = normalize(cos(lobe.x) * n_r - sin(lobe.x) * t);
+        vec3 d2 = normalize(cos(lobe.z) * n_r - sin(lobe.z) * t);
         float mips = env.params.x;
         vec3 pre = mix(textureLod(prefiltered_cube, d1, prefiltered_lod(lobe.y, mips)).rgb,
                        textureLod(prefiltered_cube, d2, prefiltered_lod(lobe.w, mips)).rgb, w2);
         spec = s.weight * pre * (s.f0 * ab.x + ab.y);
     } else {
-        vec3 r = 2.0 * dot(n, v) * n - v;
+        vec3 r = 2.0 * dot(n_r, v) * n_r - v;
         // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3; env::reference::
         // specular_dominant_direction): the lobe leans towards n as it widens, which the n = v = r
         // assumption of the prefiltered cube ignores.
         float a = s.roughness * s.roughness;
         float k = (1.0 - a) * (sqrt(1.0 - a) + a);
-        r = normalize(mix(n, r, k));
+        r = normalize(mix(n_r, r, k));
         float lod = prefiltered_lod(s.roughness, env.params.x);
         vec3 pre = textureLod(prefiltered_cube, r, lod).rgb;
         spec = s.weight * pre * (s.f0 * ab.x + ab.y);

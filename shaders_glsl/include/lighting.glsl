@@ -324,6 +324,8 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     // and the fit compile out without a sheen lobe).
     float e_sheen = MODEL == BRDF_MODEL_METAL_ROUGH ? brdf_sheen_albedo_at(p, s.n, V) : 0.0;
 #endif
+    // KHR_materials_anisotropy's lobe frame, once for every light (off unless LOBES has it).
+    AnisotropicLobe an = brdf_anisotropic_lobe(p, s.n, s.x, s.y);
     uvec2 cluster = light_list(P);
     // Fixed shadow slots (shadows.glsl): each shadowed light's visibility once, before the loop.
     bool fixed_shadows = (LIGHT_KINDS & SHADOW_KINDS) != 0u && SHADOW_FIXED_0 != 0u;
@@ -359,7 +361,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
 #endif
 #ifdef IBL
         if (energy_compensated(p)) {
-            BrdfTerms t = brdf_metal_rough_base_terms_unit(p, s.n, l, V);
+            BrdfTerms t = brdf_metal_rough_base_terms_lobe(p, s.n, l, V, an);
             t.diffuse *= es.diffuse;
             t.specular *= es.specular;
             if (has_sheen(p) && dot(s.n, l) > 0.0) {
@@ -373,7 +375,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         }
 #endif
         if (p.sel.x == BRDF_MODEL_METAL_ROUGH) {
-            BrdfTerms t = brdf_metal_rough_terms_unit_es(p, s.n, l, V, e_sheen);
+            BrdfTerms t = brdf_metal_rough_terms_lobe_es(p, s.n, l, V, an, e_sheen);
             result += (t.diffuse + t.specular) * E * clamp(dot(s.n, l), 0.0, 1.0);
             continue;
         }

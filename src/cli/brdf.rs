@@ -256,7 +256,9 @@ fn model_names() -> Vec<&'static str> {
 /// KHR_materials_clearcoat's `"clearcoat": {"clearcoatFactor": c, "clearcoatRoughnessFactor": r}`
 /// as `"clearcoat": c, "clearcoat_roughness": r` (a number `clearcoat` is kept as it is), and
 /// KHR_materials_sheen's `"sheen": {"sheenColorFactor": [r, g, b], "sheenRoughnessFactor": s}`
-/// as `"sheen_color": [r, g, b], "sheen_roughness": s`; `ior` and `specular` as
+/// as `"sheen_color": [r, g, b], "sheen_roughness": s`, KHR_materials_anisotropy's
+/// `"anisotropy": {"anisotropyStrength": s, "anisotropyRotation": r}` as
+/// `"anisotropy_strength": s, "anisotropy_rotation": r`; `ior` and `specular` as
 /// `dielectric_f0`.
 fn scene_layers(value: &Value) -> Value {
     let mut v = value.clone();
@@ -290,8 +292,20 @@ fn scene_layers(value: &Value) -> Value {
             "sheen_roughness",
             Value::from(0.0),
         ),
+        (
+            "anisotropy",
+            "anisotropyStrength",
+            "anisotropy_strength",
+            Value::from(0.0),
+        ),
+        (
+            "anisotropy",
+            "anisotropyRotation",
+            "anisotropy_rotation",
+            Value::from(0.0),
+        ),
     ];
-    let objects: Vec<(&str, serde_json::Map<String, Value>)> = ["clearcoat", "sheen"]
+    let objects: Vec<(&str, serde_json::Map<String, Value>)> = ["clearcoat", "sheen", "anisotropy"]
         .into_iter()
         .filter_map(|k| match obj.get(k) {
             Some(Value::Object(o)) => Some((k, o.clone())),

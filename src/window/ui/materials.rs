@@ -349,5 +349,17 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
     // KHR_materials_sheen (a black sheen colour is no sheen: LOBES likewise).
     c |= row(ui, "Sheen colour", |ui| color(ui, &mut p.sheen_color, 1.0));
     c |= row(ui, "Sheen roughness", |ui| unit(ui, &mut p.sheen_roughness));
+    // KHR_materials_anisotropy (strength 0 is isotropic: LOBES likewise); the rotation in degrees.
+    c |= row(ui, "Anisotropy", |ui| unit(ui, &mut p.anisotropy_strength));
+    c |= row(ui, "Anisotropy rotation °", |ui| {
+        let mut deg = p.anisotropy_rotation.to_degrees();
+        let changed = ui
+            .add(egui::DragValue::new(&mut deg).range(-180.0..=180.0).speed(1.0))
+            .changed();
+        if changed {
+            p.anisotropy_rotation = deg.to_radians();
+        }
+        changed
+    });
     c
 }

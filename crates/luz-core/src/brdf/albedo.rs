@@ -142,6 +142,27 @@ pub fn sampling_lobes(model: &Model) -> Vec<Lobe> {
                 }
             };
             let mut lobes = vec![lobe(p.roughness)];
+            // KHR_materials_anisotropy: the stretched lobe, exact when its direction is the
+            // frame's x or y (as `eval` with the frame (X, Y) sees it), and an isotropic lobe
+            // of its long width for the other rotations.
+            if let Some(an) = super::models::anisotropic_lobe(&p, Vec3::Z, Vec3::X, Vec3::Y) {
+                if an.t.x.abs() > 0.9999 {
+                    lobes[0] = Lobe::Ggx {
+                        ax: an.alpha_t,
+                        ay: an.alpha_b,
+                    };
+                } else if an.t.y.abs() > 0.9999 {
+                    lobes[0] = Lobe::Ggx {
+                        ax: an.alpha_b,
+                        ay: an.alpha_t,
+                    };
+                } else {
+                    lobes.push(Lobe::Ggx {
+                        ax: an.alpha_t,
+                        ay: an.alpha_t,
+                    });
+                }
+            }
             // KHR_materials_clearcoat: the coat's own lobe.
             if p.clearcoat > 0.0 {
                 lobes.push(lobe(p.clearcoat_roughness));

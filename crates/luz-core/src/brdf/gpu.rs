@@ -7,7 +7,7 @@
 //! | 16 | `vec4 spec`   | – | O_s, – | F0 or η (by `fresnel`), – | –, metallic | –, metallic | – |
 //! | 32 | `vec4 kappa`  | – | –, k_d | κ, k_d | sheen_color, sheen_roughness | – | – |
 //! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | –, diffuse, –, – | (1−F) weight 0/1, diffuse, –, – | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
-//! | 64 | `vec4 p1`     | – | – | – | clearcoat, clearcoat_roughness, –, – | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
+//! | 64 | `vec4 p1`     | – | – | – | clearcoat, clearcoat_roughness, anisotropy strength, rotation | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
 //! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
 //! | 96 | `vec4 p2`     | – | – | – | transmission, diffuse transmission, –, – | – | – |
 //!
@@ -107,7 +107,12 @@ impl GpuBrdfParams {
                 g.spec = p.dielectric_f0.extend(p.metallic).to_array();
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
                 g.kappa = p.sheen_color.extend(p.sheen_roughness).to_array();
-                g.p1 = [p.clearcoat, p.clearcoat_roughness, 0.0, 0.0];
+                g.p1 = [
+                    p.clearcoat,
+                    p.clearcoat_roughness,
+                    p.anisotropy_strength,
+                    p.anisotropy_rotation,
+                ];
                 g.p2 = [p.transmission.factor, p.transmission.diffuse, 0.0, 0.0];
                 g.sel[0] = model_code::METAL_ROUGH;
             }

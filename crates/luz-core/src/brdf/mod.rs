@@ -49,11 +49,11 @@ pub use models::layers::{
     ClearcoatEnergy, CLEARCOAT_F0, SHEEN_FIT_S, SHEEN_FIT_X, SHEEN_ROUGHNESS_MIN,
 };
 pub use models::{
-    blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert, lambert_terms,
-    metal_rough, metal_rough_terms, oren_nayar, oren_nayar_terms, phong, phong_radiance,
+    anisotropic_lobe, blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert,
+    lambert_terms, metal_rough, metal_rough_terms, metal_rough_terms_frame, oren_nayar, oren_nayar_terms, phong, phong_radiance,
     phong_terms, principled, principled_terms, radiance, CookTorranceParams, Diffuse, Distribution,
     Fresnel, Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
-    PrincipledParams, SpecularSource, Terms,
+    PrincipledParams, SpecularSource, Terms, AnisotropicLobe,
 };
 pub(crate) use names::selector_names;
 pub use names::ModelKind;

@@ -291,6 +291,34 @@ pub fn k_ibl(roughness: f32) -> f32 {
     roughness * roughness / 2.0
 }
 
+/// Smith GGX, height-correlated and anisotropic (Heitz 2014; KHR_materials_anisotropy's
+/// `V_GGX_anisotropic` × 4 (n·l)(n·v)):
+/// `2 (n·l)(n·v) / ((n·l) |(α_t t·v, α_b b·v, n·v)| + (n·v) |(α_t t·l, α_b b·l, n·l)|)`, with
+/// `t`, `b` the anisotropy direction and its bitangent. Equal to [`g_smith_ggx_correlated`] when
+/// `α_t = α_b`. 0 for `n·l ≤ 0` or `n·v ≤ 0`; the widths are clamped to [`ALPHA_MIN`].
+#[allow(clippy::too_many_arguments)]
+pub fn g_smith_ggx_correlated_aniso(
+    n_l: f32,
+    n_v: f32,
+    t_l: f32,
+    b_l: f32,
+    t_v: f32,
+    b_v: f32,
+    at: f32,
+    ab: f32,
+) -> f32 {
+    if n_l <= 0.0 || n_v <= 0.0 {
+        return 0.0;
+    }
+    let at = at.max(ALPHA_MIN);
+    let ab = ab.max(ALPHA_MIN);
+    let cl = clamp_cos(n_l);
+    let cv = clamp_cos(n_v);
+    let lambda_v = cl * Vec3::new(at * t_v, ab * b_v, cv).length();
+    let lambda_l = cv * Vec3::new(at * t_l, ab * b_l, cl).length();
+    2.0 * cl * cv / (lambda_v + lambda_l)
+}
+
 /// Disney's anisotropic Smith GGX in visibility form (the `1/(4 (n·l)(n·v))` is inside):
 /// `Vis(c, a, b) = 1 / (c + sqrt((a α_x)² + (b α_y)² + c²))`, `c = n·v`, `a = v·x`, `b = v·y`.
 /// 0 for `n·v ≤ 0`. `G1 = 2 (n·v) · Vis`.

@@ -1854,3 +1854,140 @@ fn sheen_keeps_a_compensated_white_furnace() {
         "{with} against {without}"
     );
 }
+
+/// KHR_materials_anisotropy, the lobe's shape: strength 0 is the isotropic material exactly; the
+/// anisotropic GGX of equal widths is GGX and its height-correlated Smith term the isotropic one;
+/// the stretched D is normalised (∫ D (n·h) dω_h = 1, quadrature); the BRDF stays reciprocal; a
+/// rotation of π/2 is the frame turned by π/2; the lobe is wider along t than along b.
+#[test]
+fn anisotropy_lobe_shape() {
+    let base = MetalRoughParams {
+        base_color: Vec3::new(0.9, 0.6, 0.3),
+        metallic: 1.0,
+        roughness: 0.4,
+        ..MetalRoughParams::default()
+    };
+    let mut rng = Rng::new(34);
+    for _ in 0..64 {
+        let (l, v) = (rng.hemi(), rng.hemi());
+        let iso = metal_rough_terms_frame(&base, Vec3::Z, l, v, Vec3::X, Vec3::Y);
+        let zero = MetalRoughParams {
+            anisotropy_rotation: 1.0,
+            ..base
+        };
+        let z = metal_rough_terms_frame(&zero, Vec3::Z, l, v, Vec3::X, Vec3::Y);
+        assert_eq!(iso.total(), z.total());
+        let (a, c) = (0.16, l.z);
+        let g_iso = g_smith_ggx_correlated(l.z, v.z, a);
+        let g_an = g_smith_ggx_correlated_aniso(c, v.z, l.x, l.y, v.x, v.y, a, a);
+        assert!((g_iso - g_an).abs() <= 1e-5 * g_iso.max(1e-3), "{g_iso} {g_an}");
+    }
+    // ∫ D(h) (n·h) dω_h over the hemisphere, midpoint rule in (cos θ, φ).
+    for (at, ab) in [(0.5, 0.05), (0.9, 0.3), (0.2, 0.2)] {
+        let (nt, np) = (2000, 400);
+        let mut sum = 0.0f64;
+        for i in 0..nt {
+            let c = (i as f64 + 0.5) / nt as f64;
+            let s = (1.0 - c * c).sqrt();
+            for j in 0..np {
+                let phi = (j as f64 + 0.5) / np as f64 * std::f64::consts::TAU;
+                let d = d_gtr2_aniso(
+                    c as f32,
+                    (s * phi.cos()) as f32,
+                    (s * phi.sin()) as f32,
+                    at,
+                    ab,
+                );
+                sum += d as f64 * c;
+            }
+        }
+        let integral = sum * std::f64::consts::TAU / (nt * np) as f64;
+        assert!((integral - 1.0).abs() < 0.01, "α ({at}, {ab}): {integral}");
+    }
+    let p = MetalRoughParams {
+        anisotropy_strength: 0.8,
+        anisotropy_rotation: 0.7,
+        ..base
+    };
+    let turned = MetalRoughParams {
+        anisotropy_rotation: 0.7 + std::f32::consts::FRAC_PI_2,
+        ..p
+    };
+    for _ in 0..64 {
+        let (l, v) = (rng.hemi(), rng.hemi());
+        let f = metal_rough_terms_frame(&p, Vec3::Z, l, v, Vec3::X, Vec3::Y).total();
+        let r = metal_rough_terms_frame(&p, Vec3::Z, v, l, Vec3::X, Vec3::Y).total();
+        assert!((f - r).abs().max_element() <= 1e-4 * f.max_element().max(1e-3), "{f} {r}");
+        // x → y, y → −x turns the frame by π/2.
+        let g = metal_rough_terms_frame(&turned, Vec3::Z, l, v, Vec3::X, Vec3::Y).total();
+        let h = metal_rough_terms_frame(&p, Vec3::Z, l, v, Vec3::Y, -Vec3::X).total();
+        assert!((g - h).abs().max_element() <= 1e-4 * g.max_element().max(1e-3), "{g} {h}");
+    }
+    // Off the mirror direction along t the stretched lobe is brighter than along b and than the
+    // isotropic lobe; the isotropic lobe is the same both ways.
+    let aligned = MetalRoughParams {
+        anisotropy_strength: 0.8,
+        ..base
+    };
+    let v = Vec3::new(0.0, 0.0, 1.0);
+    let spec = |p: &MetalRoughParams, l: Vec3| {
+        metal_rough_terms_frame(p, Vec3::Z, l.normalize(), v, Vec3::X, Vec3::Y).specular.x
+    };
+    let along_t = Vec3::new(0.6f32.sin(), 0.0, 0.6f32.cos());
+    let along_b = Vec3::new(0.0, 0.6f32.sin(), 0.6f32.cos());
+    assert!(spec(&aligned, along_t) > 3.0 * spec(&aligned, along_b));
+    assert!(spec(&aligned, along_t) > 3.0 * spec(&base, along_t));
+    let (t_iso, b_iso) = (spec(&base, along_t), spec(&base, along_b));
+    assert!((t_iso - b_iso).abs() <= 1e-4 * t_iso, "{t_iso} {b_iso}");
+}
+
+/// Issue 34, KHR_materials_anisotropy, the white furnace with energy compensation (indexed by
+/// `AnisotropicLobe::equivalent_roughness`) over a white dielectric and metal of roughness
+/// 0.05–1, strengths 0.5 and 1, the lobe along and across the view, with and without a coat and
+/// a sheen, views to 85°. **The issue's 1 ± 1 % is not met**: one isotropic albedo cannot follow
+/// the anisotropic lobe's dependence on the view's azimuth. Measured: within 1.9 % at strength
+/// 0.5 and views ≤ 45°; 0.64–1.40 over the whole grid (strength 1 or grazing views). Both are
+/// held here so that a better compensation shows.
+#[test]
+fn anisotropy_white_furnace_with_compensation() {
+    let mut worst = (0.0f32, [0.0f32; 6]);
+    let mut mild = (0.0f32, [0.0f32; 6]);
+    for metallic in [0.0, 1.0] {
+        for roughness in [0.05, 0.3, 0.6, 1.0] {
+            for strength in [0.5, 1.0] {
+                for rotation in [0.0, std::f32::consts::FRAC_PI_2] {
+                    for layers in [0.0, 1.0] {
+                        for view in [0.0, 45.0, 75.0, 85.0] {
+                            let e = white_furnace(
+                                MetalRoughParams {
+                                    base_color: Vec3::ONE,
+                                    metallic,
+                                    roughness,
+                                    anisotropy_strength: strength,
+                                    anisotropy_rotation: rotation,
+                                    clearcoat: layers,
+                                    clearcoat_roughness: 0.3,
+                                    sheen_color: Vec3::splat(layers),
+                                    sheen_roughness: 0.5,
+                                    energy_compensation: true,
+                                    ..MetalRoughParams::default()
+                                },
+                                view,
+                            );
+                            let at = [metallic, roughness, strength, rotation, layers, view];
+                            if (e - 1.0).abs() > worst.0 {
+                                worst = ((e - 1.0).abs(), at);
+                            }
+                            if strength <= 0.5 && view <= 45.0 && (e - 1.0).abs() > mild.0 {
+                                mild = ((e - 1.0).abs(), at);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("anisotropy furnace: worst |E − 1| = {:.4} at (metallic, roughness, strength, rotation, coat+sheen, view°) {:?}; strength 0.5, views ≤ 45°: {:.4} at {:?}", worst.0, worst.1, mild.0, mild.1);
+    assert!(mild.0 <= 0.025, "{mild:?}");
+    assert!(worst.0 <= 0.45, "{worst:?}");
+}

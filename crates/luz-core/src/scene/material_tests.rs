@@ -404,8 +404,15 @@ fn metal_rough_every_field() {
             sheen_color: Vec3::new(0.5, 0.25, 1.0),
             sheen_roughness: 0.3,
             transmission: crate::brdf::Transmission::default(),
+            anisotropy_strength: 0.0,
+            anisotropy_rotation: 0.0,
         }
     );
+    // KHR_materials_anisotropy's block, with the extension's names.
+    let a = metal_rough(
+        r#", "anisotropy": {"anisotropyStrength": 0.6, "anisotropyRotation": -1.25}"#,
+    );
+    assert_eq!((a.anisotropy_strength, a.anisotropy_rotation), (0.6, -1.25));
     // Any Fresnel works (the exact forms take η from F0).
     for (name, f) in FRESNELS {
         assert_eq!(

@@ -304,6 +304,15 @@ impl Encoder<'_> {
                             .with("sheenRoughnessFactor", p.sheen_roughness),
                     );
                 }
+                // KHR_materials_anisotropy, likewise.
+                if p.anisotropy_strength != 0.0 || p.anisotropy_rotation != 0.0 {
+                    n.put(
+                        "anisotropy",
+                        Node::obj()
+                            .with("anisotropyStrength", p.anisotropy_strength)
+                            .with("anisotropyRotation", p.anisotropy_rotation),
+                    );
+                }
                 transmission::put(n, &p.transmission);
             }
             Material::Principled(p) => {

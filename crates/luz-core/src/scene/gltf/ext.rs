@@ -16,6 +16,8 @@ pub(super) enum Range {
     Unit,
     NonNegative,
     Positive,
+    /// Any number a 32-bit float holds (an angle in radians).
+    Finite,
 }
 
 impl Range {
@@ -24,6 +26,7 @@ impl Range {
             Range::Unit => (0.0..=1.0).contains(&x),
             Range::NonNegative => x >= 0.0,
             Range::Positive => x > 0.0,
+            Range::Finite => x.abs() <= f32::MAX as f64,
         };
         if ok && x.is_finite() {
             return Ok(());
@@ -32,6 +35,7 @@ impl Range {
             Range::Unit => format!("must be in [0, 1], got {x}"),
             Range::NonNegative => format!("must be ≥ 0, got {x}"),
             Range::Positive => format!("must be > 0, got {x}"),
+            Range::Finite => format!("must be a finite number, got {x}"),
         })
     }
 }

@@ -440,6 +440,39 @@ pub fn sheen(
     Ok(())
 }
 
+/// KHR_materials_anisotropy's factors onto `gm` (a `metal_rough` material): strength in [0, 1],
+/// rotation any finite angle in radians; `anisotropyTexture` is not read yet (one warning per
+/// file), the factors are.
+pub fn anisotropy(
+    m: &gltf::Material,
+    gm: &mut GltfMaterial,
+    textures: &TextureSource,
+    (file, file_name): (&Path, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(e) = Ext::of(m, "KHR_materials_anisotropy", file)? else {
+        return Ok(());
+    };
+    let (strength, rotation) = (
+        e.number("anisotropyStrength", 0.0, Range::Unit)?,
+        e.number("anisotropyRotation", 0.0, Range::Finite)?,
+    );
+    if e.has_textures(&["anisotropyTexture"], textures.count())? {
+        unused_maps(
+            m,
+            gm,
+            file_name,
+            ("KHR_materials_anisotropy", "anisotropy"),
+            warnings,
+        );
+    }
+    if let Material::MetalRough(p) = &mut gm.material {
+        p.anisotropy_strength = strength;
+        p.anisotropy_rotation = rotation;
+    }
+    Ok(())
+}
+
 /// The one warning per file that extension `ext`'s textures are not used (luz has no `what`
 /// maps yet), naming material `m`.
 fn unused_maps(

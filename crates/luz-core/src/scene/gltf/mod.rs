@@ -31,6 +31,7 @@ use super::{Camera, Falloff, Light, LightKind, Mesh, Projection};
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "EXT_lights_area",
+    "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
@@ -463,6 +464,7 @@ impl<'a> Builder<'a> {
                 material::ior,
                 material::clearcoat,
                 material::sheen,
+                material::anisotropy,
                 transmission::transmission,
             ] {
                 read(

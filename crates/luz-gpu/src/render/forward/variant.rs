@@ -201,8 +201,8 @@ pub struct VariantKey {
 pub const GENERIC_LOBES: u32 = u32::MAX;
 
 /// The `BRDF_LOBE_*` bits of the layers `m` uses (issues 34, 35): clearcoat, sheen (a colour
-/// that is not black), transmission, dispersion (with a volume) and diffuse transmission when
-/// their factors are above 0.
+/// that is not black), transmission, dispersion (with a volume), diffuse transmission and
+/// anisotropy (GGX only) when their factors are above 0.
 pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     use crate::glsl::brdf_models as glsl;
     let crate::brdf::Model::MetalRough(p) = m.sanitized() else {
@@ -218,6 +218,10 @@ pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
             glsl::BRDF_LOBE_DISPERSION,
         ),
         (t.diffuse > 0.0, glsl::BRDF_LOBE_DIFFUSE_TRANSMISSION),
+        (
+            p.anisotropy_strength > 0.0 && p.distribution == crate::brdf::Distribution::Ggx,
+            glsl::BRDF_LOBE_ANISOTROPY,
+        ),
     ]
     .into_iter()
     .filter(|(on, _)| *on)
