@@ -2115,3 +2115,94 @@ fn generated_compare_files_equal_their_json() {
     }
     assert!(cases >= 10, "{cases} cases");
 }
+
+/// Issue 34, KHR_materials_anisotropy: the factors map onto metal_rough's anisotropy (the same
+/// material as the scene file's `anisotropy` block), a required extension is accepted, the
+/// texture gives one warning per file, and bad values are errors naming the file and JSON path.
+#[test]
+fn anisotropy_factors_warnings_and_errors() {
+    let dir = scratch("gltf-anisotropy");
+    let write = |name: &str, ext: serde_json::Value, textures: bool| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "extensionsUsed": ["KHR_materials_anisotropy"],
+            "extensionsRequired": ["KHR_materials_anisotropy"],
+            "materials": [{"name": "brushed", "pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.3},
+                           "extensions": {"KHR_materials_anisotropy": ext}}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(&dir, name, doc)
+    };
+    let f = load(&write(
+        "aniso",
+        json!({"anisotropyStrength": 0.75, "anisotropyRotation": 1.5}),
+        false,
+    ));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 1, "roughness": 0.3,
+            "anisotropy": {"anisotropyStrength": 0.75, "anisotropyRotation": 1.5}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+    );
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+    match &f.materials[0].material {
+        luz::scene::Material::MetalRough(p) => {
+            assert_eq!((p.anisotropy_strength, p.anisotropy_rotation), (0.75, 1.5))
+        }
+        other => panic!("{other:?}"),
+    }
+    // The scene file round trip keeps the block.
+    let again = parse(&serde_json::to_string(&luz::scene::to_json(&scene)).unwrap());
+    assert_eq!(again.materials[0].material, scene.materials[0].material);
+
+    let f = load(&write(
+        "anisotex",
+        json!({"anisotropyStrength": 1, "anisotropyTexture": {"index": 0}}),
+        true,
+    ));
+    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0]
+            .starts_with("anisotex.gltf: KHR_materials_anisotropy's textures are not used")
+            && f.warnings[0].ends_with(r#"materials[0] ("brushed")"#),
+        "{}",
+        f.warnings[0]
+    );
+
+    let at = "materials[0].extensions.KHR_materials_anisotropy";
+    for (name, ext, want) in [
+        (
+            "aniso_big",
+            json!({"anisotropyStrength": 1.5}),
+            format!("{at}.anisotropyStrength: must be in [0, 1], got 1.5"),
+        ),
+        (
+            "aniso_text",
+            json!({"anisotropyRotation": "up"}),
+            format!("{at}.anisotropyRotation: expected a number, got \"up\""),
+        ),
+        (
+            "aniso_huge",
+            json!({"anisotropyRotation": 1e300}),
+            format!("{at}.anisotropyRotation: must be a finite number, got 1e300"),
+        ),
+        (
+            "aniso_tex",
+            json!({"anisotropyTexture": {"index": 3}}),
+            format!("{at}.anisotropyTexture.index: texture 3 does not exist"),
+        ),
+    ] {
+        let e = gltf::load(&write(name, ext, false), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
+}

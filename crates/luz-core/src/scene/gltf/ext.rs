@@ -35,7 +35,7 @@ impl Range {
             Range::Unit => format!("must be in [0, 1], got {x}"),
             Range::NonNegative => format!("must be ≥ 0, got {x}"),
             Range::Positive => format!("must be > 0, got {x}"),
-            Range::Finite => format!("must be a finite number, got {x}"),
+            Range::Finite => format!("must be a finite number, got {x:e}"),
         })
     }
 }

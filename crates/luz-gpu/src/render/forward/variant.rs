@@ -298,10 +298,13 @@ impl VariantKey {
 
     /// Whether a Phong-shaded pipeline interpolates the tangent and texture coordinates too
     /// (`forward.vert`'s `PHONG_MAPS`): only with texture maps, or for a model that reads the
-    /// tangent frame (Principled's anisotropy). The lean variant saves lavapipe's triangle setup
-    /// six of thirteen interpolated floats.
+    /// tangent frame (Principled's anisotropy, metal-rough's KHR_materials_anisotropy). The lean
+    /// variant saves lavapipe's triangle setup six of thirteen interpolated floats.
     pub fn phong_maps(&self) -> bool {
-        self.maps != 0 || self.model == ModelKind::Principled || self.vertex_color
+        self.maps != 0
+            || self.model == ModelKind::Principled
+            || self.vertex_color
+            || self.lobes & crate::glsl::brdf_models::BRDF_LOBE_ANISOTROPY != 0
     }
 
     /// The `forward.vert` / `forward.frag` variant this key's pipeline is built from.
