@@ -438,3 +438,43 @@ fn plot_writes_decodable_non_blank_pngs() {
     assert!(o.stderr.contains("roughness"), "{}", o.stderr);
     assert!(!dir3.exists());
 }
+
+/// Issue 34: `--material` takes the scene file's KHR_materials_anisotropy object. At normal
+/// incidence (h = n, G = 1) a white metal's value is `1/(4π α_t α_b)` with `α_t = mix(α, 1, s²)`;
+/// turning the lobe by π/2 is the same as turning the light and view by π/2 the other way.
+#[test]
+fn anisotropy_material_from_the_scene_syntax() {
+    let mat = |rotation: f32| {
+        format!(
+            r#"{{"model":"metal_rough","metallic":1,"base_color":[1,1,1],"roughness":0.5,
+            "anisotropy":{{"anisotropyStrength":0.8,"anisotropyRotation":{rotation}}}}}"#
+        )
+    };
+    let o = brdf(
+        &["--material", &mat(0.0), "--theta-l", "0", "--theta-v", "0"],
+        None,
+    );
+    assert_ok(&o);
+    let (a, at) = (0.25f32, 0.25 + 0.75 * 0.64);
+    let want = 1.0 / (4.0 * std::f32::consts::PI * at * a);
+    for c in text_field(o.stdout.trim(), "f") {
+        assert!((c - want).abs() <= 1e-4 * want, "{c} against {want}");
+    }
+    let at_angles = |m: &str, phi_l: &str, phi_v: &str| {
+        let o = brdf(
+            &[
+                "--material", m, "--theta-l", "35", "--phi-l", phi_l, "--theta-v", "50",
+                "--phi-v", phi_v,
+            ],
+            None,
+        );
+        assert_ok(&o);
+        text_field(o.stdout.trim(), "f")[0]
+    };
+    let turned = at_angles(&mat(std::f32::consts::FRAC_PI_2), "90", "250");
+    let straight = at_angles(&mat(0.0), "0", "160");
+    assert!((turned - straight).abs() <= 1e-4 * straight, "{turned} {straight}");
+    // And it is anisotropic: the unturned lobe at the turned angles differs.
+    let other = at_angles(&mat(0.0), "90", "250");
+    assert!((other - straight).abs() > 0.1 * straight, "{other} {straight}");
+}
