@@ -7,6 +7,8 @@
 #   clearcoat off   the same block with clearcoatFactor 0 (the lobe's code compiles out)
 #   sheen on        every sphere with "sheen": {sheenColorFactor [1, 1, 1], sheenRoughnessFactor 0.5}
 #   sheen off       sheenColorFactor [0, 0, 0]
+#   anisotropy on   every sphere with "anisotropy": {anisotropyStrength 0.8, anisotropyRotation 0.5}
+#   anisotropy off  the same block with anisotropyStrength 0
 # Each round benches every variant once, in turn; the ratio is the median GPU total (forward and
 # every other pass) of a variant over the base's, so a busy machine slows all of them alike.
 #
@@ -30,6 +32,8 @@ variants = {
     "clearcoat_off": ("clearcoat", {"clearcoatFactor": 0, "clearcoatRoughnessFactor": 0.1}),
     "sheen_on": ("sheen", {"sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": 0.5}),
     "sheen_off": ("sheen", {"sheenColorFactor": [0, 0, 0], "sheenRoughnessFactor": 0.5}),
+    "anisotropy_on": ("anisotropy", {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5}),
+    "anisotropy_off": ("anisotropy", {"anisotropyStrength": 0, "anisotropyRotation": 0.5}),
 }
 for name, lobe in variants.items():
     scene = json.loads(json.dumps(base))
@@ -40,7 +44,7 @@ for name, lobe in variants.items():
     json.dump(scene, open(f"{out}/{name}.json", "w"))
 PY
 
-variants=(base clearcoat_on clearcoat_off sheen_on sheen_off)
+variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off)
 bench() {
     "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --json "$tmp/b.json" >/dev/null
     python3 -c 'import json,sys; b = json.load(open(sys.argv[1])); print("%.3f" % b["gpu_total_ms"]["median"])' "$tmp/b.json"

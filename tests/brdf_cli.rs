@@ -463,8 +463,16 @@ fn anisotropy_material_from_the_scene_syntax() {
     let at_angles = |m: &str, phi_l: &str, phi_v: &str| {
         let o = brdf(
             &[
-                "--material", m, "--theta-l", "35", "--phi-l", phi_l, "--theta-v", "50",
-                "--phi-v", phi_v,
+                "--material",
+                m,
+                "--theta-l",
+                "35",
+                "--phi-l",
+                phi_l,
+                "--theta-v",
+                "50",
+                "--phi-v",
+                phi_v,
             ],
             None,
         );
@@ -473,8 +481,14 @@ fn anisotropy_material_from_the_scene_syntax() {
     };
     let turned = at_angles(&mat(std::f32::consts::FRAC_PI_2), "90", "250");
     let straight = at_angles(&mat(0.0), "0", "160");
-    assert!((turned - straight).abs() <= 1e-4 * straight, "{turned} {straight}");
+    assert!(
+        (turned - straight).abs() <= 1e-4 * straight,
+        "{turned} {straight}"
+    );
     // And it is anisotropic: the unturned lobe at the turned angles differs.
     let other = at_angles(&mat(0.0), "90", "250");
-    assert!((other - straight).abs() > 0.1 * straight, "{other} {straight}");
+    assert!(
+        (other - straight).abs() > 0.1 * straight,
+        "{other} {straight}"
+    );
 }

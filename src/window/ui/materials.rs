@@ -354,7 +354,11 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
     c |= row(ui, "Anisotropy rotation °", |ui| {
         let mut deg = p.anisotropy_rotation.to_degrees();
         let changed = ui
-            .add(egui::DragValue::new(&mut deg).range(-180.0..=180.0).speed(1.0))
+            .add(
+                egui::DragValue::new(&mut deg)
+                    .range(-180.0..=180.0)
+                    .speed(1.0),
+            )
             .changed();
         if changed {
             p.anisotropy_rotation = deg.to_radians();

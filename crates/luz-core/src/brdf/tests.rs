@@ -1880,7 +1880,10 @@ fn anisotropy_lobe_shape() {
         let (a, c) = (0.16, l.z);
         let g_iso = g_smith_ggx_correlated(l.z, v.z, a);
         let g_an = g_smith_ggx_correlated_aniso(c, v.z, l.x, l.y, v.x, v.y, a, a);
-        assert!((g_iso - g_an).abs() <= 1e-5 * g_iso.max(1e-3), "{g_iso} {g_an}");
+        assert!(
+            (g_iso - g_an).abs() <= 1e-5 * g_iso.max(1e-3),
+            "{g_iso} {g_an}"
+        );
     }
     // ∫ D(h) (n·h) dω_h over the hemisphere, midpoint rule in (cos θ, φ).
     for (at, ab) in [(0.5, 0.05), (0.9, 0.3), (0.2, 0.2)] {
@@ -1917,11 +1920,17 @@ fn anisotropy_lobe_shape() {
         let (l, v) = (rng.hemi(), rng.hemi());
         let f = metal_rough_terms_frame(&p, Vec3::Z, l, v, Vec3::X, Vec3::Y).total();
         let r = metal_rough_terms_frame(&p, Vec3::Z, v, l, Vec3::X, Vec3::Y).total();
-        assert!((f - r).abs().max_element() <= 1e-4 * f.max_element().max(1e-3), "{f} {r}");
+        assert!(
+            (f - r).abs().max_element() <= 1e-4 * f.max_element().max(1e-3),
+            "{f} {r}"
+        );
         // x → y, y → −x turns the frame by π/2.
         let g = metal_rough_terms_frame(&turned, Vec3::Z, l, v, Vec3::X, Vec3::Y).total();
         let h = metal_rough_terms_frame(&p, Vec3::Z, l, v, Vec3::Y, -Vec3::X).total();
-        assert!((g - h).abs().max_element() <= 1e-4 * g.max_element().max(1e-3), "{g} {h}");
+        assert!(
+            (g - h).abs().max_element() <= 1e-4 * g.max_element().max(1e-3),
+            "{g} {h}"
+        );
     }
     // Off the mirror direction along t the stretched lobe is brighter than along b and than the
     // isotropic lobe; the isotropic lobe is the same both ways.
@@ -1931,7 +1940,9 @@ fn anisotropy_lobe_shape() {
     };
     let v = Vec3::new(0.0, 0.0, 1.0);
     let spec = |p: &MetalRoughParams, l: Vec3| {
-        metal_rough_terms_frame(p, Vec3::Z, l.normalize(), v, Vec3::X, Vec3::Y).specular.x
+        metal_rough_terms_frame(p, Vec3::Z, l.normalize(), v, Vec3::X, Vec3::Y)
+            .specular
+            .x
     };
     let along_t = Vec3::new(0.6f32.sin(), 0.0, 0.6f32.cos());
     let along_b = Vec3::new(0.0, 0.6f32.sin(), 0.6f32.cos());

@@ -409,9 +409,8 @@ fn metal_rough_every_field() {
         }
     );
     // KHR_materials_anisotropy's block, with the extension's names.
-    let a = metal_rough(
-        r#", "anisotropy": {"anisotropyStrength": 0.6, "anisotropyRotation": -1.25}"#,
-    );
+    let a =
+        metal_rough(r#", "anisotropy": {"anisotropyStrength": 0.6, "anisotropyRotation": -1.25}"#);
     assert_eq!((a.anisotropy_strength, a.anisotropy_rotation), (0.6, -1.25));
     // Any Fresnel works (the exact forms take η from F0).
     for (name, f) in FRESNELS {

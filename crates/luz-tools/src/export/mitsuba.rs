@@ -778,6 +778,13 @@ impl Writer {
                 "material '{name}': KHR_materials_sheen's sheen (left out)"
             ));
         }
+        // Mitsuba's alpha_u / alpha_v follow the mesh's own parameterisation, not the glTF
+        // tangents luz turns the lobe from; left out rather than exported along another axis.
+        if p.anisotropy_strength > 0.0 {
+            self.note(format!(
+                "material '{name}': KHR_materials_anisotropy's stretched lobe (left out: isotropic)"
+            ));
+        }
         let alpha = (p.roughness * p.roughness).max(ALPHA_MIN);
         let f0 = p.dielectric_f0.lerp(p.base_color, p.metallic);
         let c_diff = p.base_color * (1.0 - p.metallic);

@@ -893,7 +893,12 @@ impl AnisotropicLobe {
 /// The anisotropic lobe of sanitised `p` at unit normal `n` with tangent frame `(x, y)`
 /// (degenerate ones are rebuilt, [`tangent_frame`]); `None` when the material is isotropic
 /// (strength 0) or its distribution is not GGX.
-pub fn anisotropic_lobe(p: &MetalRoughParams, n: Vec3, x: Vec3, y: Vec3) -> Option<AnisotropicLobe> {
+pub fn anisotropic_lobe(
+    p: &MetalRoughParams,
+    n: Vec3,
+    x: Vec3,
+    y: Vec3,
+) -> Option<AnisotropicLobe> {
     if p.anisotropy_strength <= 0.0 || p.distribution != Distribution::Ggx {
         return None;
     }
@@ -943,7 +948,11 @@ pub fn metal_rough_terms_frame(
 
 /// The metallic-roughness terms without layers, of sanitised parameters; `lobe`: the
 /// anisotropic GGX lobe that replaces D and G (KHR_materials_anisotropy).
-fn metal_rough_base_terms(p: &MetalRoughParams, s: &Setup, lobe: Option<&AnisotropicLobe>) -> Terms {
+fn metal_rough_base_terms(
+    p: &MetalRoughParams,
+    s: &Setup,
+    lobe: Option<&AnisotropicLobe>,
+) -> Terms {
     let a = (p.roughness * p.roughness).max(ALPHA_MIN);
     let f0 = mix3(p.dielectric_f0, p.base_color, p.metallic);
     // KHR_materials_transmission and _diffuse_transmission: the specular and the diffuse BTDF
