@@ -44,6 +44,8 @@
 #define BRDF_LOBE_DIFFUSE_TRANSMISSION 16u
 // KHR_materials_anisotropy (anisotropic_lobe in src/brdf/models/mod.rs).
 #define BRDF_LOBE_ANISOTROPY 32u
+// KHR_materials_iridescence (iridescence_fresnel_of in src/brdf/models/mod.rs).
+#define BRDF_LOBE_IRIDESCENCE 64u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
 // (brdf_eval.comp) every lobe is compiled.
@@ -58,12 +60,13 @@ struct BrdfParams {
     vec4 kappa;  // 32: rgb κ (Cook-Torrance conductor); a k_d (Phong, Cook-Torrance);
                  //     metal-rough (sheen_color, sheen_roughness)
     vec4 p0;     // 48: Phong (k_s, n, k_a, -); Cook-Torrance (-, diffuse, -, -);
-                 //     metal-rough ((1-F) weight, diffuse, -, -);
+                 //     metal-rough ((1-F) weight, diffuse, -, iridescence factor);
                  //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
     vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss);
                  //     metal-rough (clearcoat, clearcoat_roughness, anisotropy strength, rotation)
     ivec4 sel;   // 80: model, distribution, geometry, fresnel
-    vec4 p2;     // 96: metal-rough (transmission, diffuse transmission, -, -)
+    vec4 p2;     // 96: metal-rough (transmission, diffuse transmission, iridescence ior,
+                 //     iridescence thickness nm)
 };
 
 // The BRDF split into terms; diffuse + specular is the BRDF value (see Terms in models.rs).
@@ -275,6 +278,39 @@ AnisotropicLobe brdf_anisotropic_lobe(BrdfParams p, vec3 n, vec3 x, vec3 y) {
     return a;
 }
 
+// Whether p has KHR_materials_iridescence's film (has_iridescence): factor p0.w and thickness
+// p2.w above 0.
+bool brdf_has_iridescence(BrdfParams p) {
+    return (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE) != 0u && p.sel.x == BRDF_MODEL_METAL_ROUGH
+        && p.p0.w > 0.0 && p.p2.w > 0.0;
+}
+
+// The film's Fresnel at cos (iridescence_fresnel_of): over the dielectric F0 and over the base
+// colour, mixed by metallic.
+vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
+    float metallic = p.spec.w;
+    if (metallic <= 0.0) {
+        return iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.spec.rgb);
+    }
+    if (metallic >= 1.0) {
+        return iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.color.rgb);
+    }
+    return mix(iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.spec.rgb),
+               iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.color.rgb), metallic);
+}
+
+// The F0 the split sum and energy compensation take for p (iridescence_f0): f0, or mixed with
+// the F0 whose Schlick curve meets the film's Fresnel at n·v.
+vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float n_v) {
+    if (!brdf_has_iridescence(p)) {
+        return f0;
+    }
+    vec3 f = brdf_iridescence_fresnel_of(p, n_v);
+    float w = brdf_schlick_weight(clamp(n_v, 0.0, 1.0));
+    vec3 film_f0 = clamp((f - vec3(w)) / max(1.0 - w, 1e-4), vec3(0.0), vec3(1.0));
+    return mix(f0, film_f0, p.p0.w);
+}
+
 // p's roughness, or for an anisotropic lobe the roughness of an isotropic lobe of about the same
 // albedo, ((α_t² + α_b²)/2)^¼ (AnisotropicLobe::equivalent_roughness): what the energy and
 // split-sum tables are indexed by.
@@ -318,6 +354,9 @@ BrdfTerms brdf_metal_rough_base_terms_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v,
         t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
     }
     t.f = brdf_fresnel(p.sel.w, spec, vec3(0.0), v_h);
+    if (brdf_has_iridescence(p)) {
+        t.f = mix(t.f, brdf_iridescence_fresnel_of(p, v_h), p.p0.w);
+    }
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
     t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;
     t.specular = t.f * (t.d * t.g / (4.0 * n_l * n_v));

@@ -424,4 +424,73 @@ float cos_phi_diff(vec3 n, vec3 l, vec3 v) {
     return 0.0;
 }
 
+// KHR_materials_iridescence's thin-film Fresnel (src/brdf/iridescence.rs, same names and order):
+// Belcour & Barla 2017, the film's first two Airy orders against the CIE sensitivities' Gaussian
+// fit, to linear Rec. 709.
+const mat3 IRID_XYZ_TO_REC709 = mat3(3.2404542, -0.9692660, 0.0556434, -1.5371385, 1.8760108,
+                                     -0.2040259, -0.4985314, 0.0415560, 1.0572252);
+
+float irid_schlick1(float f0, float c) {
+    return f0 + (1.0 - f0) * brdf_schlick_weight(c);
+}
+
+float irid_ior_to_f0(float eta_t, float eta_i) {
+    float r = (eta_t - eta_i) / (eta_t + eta_i);
+    return r * r;
+}
+
+float irid_f0_to_ior(float f0) {
+    float s = sqrt(clamp(f0, 0.0, 0.9999));
+    return (1.0 + s) / (1.0 - s);
+}
+
+vec3 irid_eval_sensitivity(float opd, vec3 shift) {
+    float phase = 2.0 * M_PI * opd * 1.0e-9;
+    vec3 val = vec3(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    vec3 pos = vec3(1.6810e+06, 1.7953e+06, 2.2084e+06);
+    vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    vec3 xyz = val * sqrt(2.0 * M_PI * var) * cos(pos * phase + shift) * exp(-(phase * phase) * var);
+    xyz.x += 9.7470e-14 * sqrt(2.0 * M_PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift.x)
+        * exp(-4.5282e+09 * (phase * phase));
+    return IRID_XYZ_TO_REC709 * (xyz / 1.0685e-7);
+}
+
+vec3 iridescence_fresnel(float outside_ior, float film_ior, float cos_theta1, float thickness_nm,
+                         vec3 base_f0) {
+    float c1 = clamp(cos_theta1, 0.0, 1.0);
+    float t = clamp(thickness_nm / 0.03, 0.0, 1.0);
+    float eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
+    float r_io = outside_ior / eta2;
+    float sin2_theta2 = r_io * r_io * (1.0 - c1 * c1);
+    float cos2_theta2 = 1.0 - sin2_theta2;
+    if (cos2_theta2 < 0.0) {
+        return vec3(1.0);
+    }
+    float c2 = sqrt(cos2_theta2);
+    float r12 = irid_schlick1(irid_ior_to_f0(eta2, outside_ior), c1);
+    float t121 = 1.0 - r12;
+    float phi12 = eta2 < outside_ior ? M_PI : 0.0;
+    float phi21 = M_PI - phi12;
+    vec3 r23;
+    vec3 phi23;
+    for (int i = 0; i < 3; ++i) {
+        float base_ior = irid_f0_to_ior(base_f0[i]);
+        r23[i] = irid_schlick1(irid_ior_to_f0(base_ior, eta2), c2);
+        phi23[i] = base_ior < eta2 ? M_PI : 0.0;
+    }
+    float opd = 2.0 * eta2 * thickness_nm * c2;
+    vec3 phi = vec3(phi21) + phi23;
+    vec3 r123 = clamp(r12 * r23, vec3(1e-5), vec3(0.9999));
+    vec3 sqrt_r123 = sqrt(r123);
+    vec3 rs = (t121 * t121) * r23 / (vec3(1.0) - r123);
+    vec3 I = vec3(r12) + rs;
+    vec3 cm = rs - vec3(t121);
+    for (int m = 1; m <= 2; ++m) {
+        cm *= sqrt_r123;
+        vec3 sm = 2.0 * irid_eval_sensitivity(float(m) * opd, float(m) * phi);
+        I += cm * sm;
+    }
+    return max(I, vec3(0.0));
+}
+
 #endif // LUZ_BRDF_TERMS_GLSL

@@ -80,6 +80,7 @@ SplitSumInputs split_sum_inputs(BrdfParams p) {
     if (MODEL == BRDF_MODEL_METAL_ROUGH) {
         s.f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
         s.roughness = brdf_lobe_roughness(p);
+        // s.f0 is mixed with the film's at n·v by ibl_shade (it needs the view).
         if (p.sel.y == BRDF_D_BECKMANN) {
             // Beckmann m = roughness² here; GGX with α = m has a similar width.
             s.roughness = p.color.w;
@@ -205,8 +206,8 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     if (!energy_compensated(p)) {
         return es;
     }
-    vec3 f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
+    vec3 f0 = brdf_iridescence_f0(p, mix(p.spec.rgb, p.color.rgb, p.spec.w), n_v);
     vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
     float e = max(ab.x + ab.y, 1e-4);
     es.specular = vec3(1.0) + f0 * ((1.0 - e) / e);
@@ -240,6 +241,9 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         return result;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        s.f0 = brdf_iridescence_f0(p, s.f0, n_v);
+    }
     vec2 ab = textureLod(brdf_lut, vec3(n_v, s.roughness, float(material.flags)), 0.0).rg;
     // KHR_materials_anisotropy: the prefiltered cube is read around the bent normal of the
     // extension's sample renderer (the normal leaned towards the plane across the anisotropy

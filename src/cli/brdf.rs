@@ -258,7 +258,9 @@ fn model_names() -> Vec<&'static str> {
 /// KHR_materials_sheen's `"sheen": {"sheenColorFactor": [r, g, b], "sheenRoughnessFactor": s}`
 /// as `"sheen_color": [r, g, b], "sheen_roughness": s`, KHR_materials_anisotropy's
 /// `"anisotropy": {"anisotropyStrength": s, "anisotropyRotation": r}` as
-/// `"anisotropy_strength": s, "anisotropy_rotation": r`; `ior` and `specular` as
+/// `"anisotropy_strength": s, "anisotropy_rotation": r`, KHR_materials_iridescence's four
+/// fields likewise (`iridescence`, `iridescence_ior`, `iridescence_thickness_min`,
+/// `iridescence_thickness_max`); `ior` and `specular` as
 /// `dielectric_f0`.
 fn scene_layers(value: &Value) -> Value {
     let mut v = value.clone();
@@ -304,14 +306,39 @@ fn scene_layers(value: &Value) -> Value {
             "anisotropy_rotation",
             Value::from(0.0),
         ),
+        (
+            "iridescence",
+            "iridescenceFactor",
+            "iridescence",
+            Value::from(0.0),
+        ),
+        (
+            "iridescence",
+            "iridescenceIor",
+            "iridescence_ior",
+            Value::from(1.3),
+        ),
+        (
+            "iridescence",
+            "iridescenceThicknessMinimum",
+            "iridescence_thickness_min",
+            Value::from(100.0),
+        ),
+        (
+            "iridescence",
+            "iridescenceThicknessMaximum",
+            "iridescence_thickness_max",
+            Value::from(400.0),
+        ),
     ];
-    let objects: Vec<(&str, serde_json::Map<String, Value>)> = ["clearcoat", "sheen", "anisotropy"]
-        .into_iter()
-        .filter_map(|k| match obj.get(k) {
-            Some(Value::Object(o)) => Some((k, o.clone())),
-            _ => None,
-        })
-        .collect();
+    let objects: Vec<(&str, serde_json::Map<String, Value>)> =
+        ["clearcoat", "sheen", "anisotropy", "iridescence"]
+            .into_iter()
+            .filter_map(|k| match obj.get(k) {
+                Some(Value::Object(o)) => Some((k, o.clone())),
+                _ => None,
+            })
+            .collect();
     // KHR_materials_ior's `"ior": 1.33` (or `{"ior": 1.33}`) and KHR_materials_specular's
     // `"specular": {"specularFactor": f, "specularColorFactor": [r, g, b]}` as the model's
     // `dielectric_f0`, computed as scene files compute it.

@@ -365,5 +365,23 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
         }
         changed
     });
+    // KHR_materials_iridescence (factor 0 or thickness 0 is no film: LOBES likewise).
+    c |= row(ui, "Iridescence", |ui| unit(ui, &mut p.iridescence));
+    c |= row(ui, "Film ior", |ui| {
+        ui.add(
+            egui::DragValue::new(&mut p.iridescence_ior)
+                .range(1.0..=3.0)
+                .speed(0.01),
+        )
+        .changed()
+    });
+    c |= row(ui, "Film thickness nm", |ui| {
+        ui.add(
+            egui::DragValue::new(&mut p.iridescence_thickness_max)
+                .range(0.0..=1200.0)
+                .speed(5.0),
+        )
+        .changed()
+    });
     c
 }

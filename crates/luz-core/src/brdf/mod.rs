@@ -20,6 +20,7 @@
 mod albedo;
 mod energy;
 mod gpu;
+pub mod iridescence;
 mod ltc;
 mod models;
 mod names;
@@ -49,11 +50,12 @@ pub use models::layers::{
     ClearcoatEnergy, CLEARCOAT_F0, SHEEN_FIT_S, SHEEN_FIT_X, SHEEN_ROUGHNESS_MIN,
 };
 pub use models::{
-    anisotropic_lobe, blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms, lambert,
-    lambert_terms, metal_rough, metal_rough_terms, metal_rough_terms_frame, oren_nayar,
-    oren_nayar_terms, phong, phong_radiance, phong_terms, principled, principled_terms, radiance,
-    AnisotropicLobe, CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry, LambertParams,
-    MetalRoughParams, Model, OrenNayarParams, PhongParams, PrincipledParams, SpecularSource, Terms,
+    anisotropic_lobe, blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms,
+    has_iridescence, iridescence_f0, iridescence_fresnel_of, lambert, lambert_terms, metal_rough,
+    metal_rough_terms, metal_rough_terms_frame, oren_nayar, oren_nayar_terms, phong,
+    phong_radiance, phong_terms, principled, principled_terms, radiance, AnisotropicLobe,
+    CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry, LambertParams, MetalRoughParams,
+    Model, OrenNayarParams, PhongParams, PrincipledParams, SpecularSource, Terms,
 };
 pub(crate) use names::selector_names;
 pub use names::ModelKind;

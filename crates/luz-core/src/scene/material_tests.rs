@@ -406,12 +406,26 @@ fn metal_rough_every_field() {
             transmission: crate::brdf::Transmission::default(),
             anisotropy_strength: 0.0,
             anisotropy_rotation: 0.0,
+            ..MetalRoughParams::default()
         }
     );
     // KHR_materials_anisotropy's block, with the extension's names.
     let a =
         metal_rough(r#", "anisotropy": {"anisotropyStrength": 0.6, "anisotropyRotation": -1.25}"#);
     assert_eq!((a.anisotropy_strength, a.anisotropy_rotation), (0.6, -1.25));
+    // KHR_materials_iridescence's block, with the extension's names and defaults.
+    let i = metal_rough(
+        r#", "iridescence": {"iridescenceFactor": 0.8, "iridescenceThicknessMaximum": 520}"#,
+    );
+    assert_eq!(
+        [
+            i.iridescence,
+            i.iridescence_ior,
+            i.iridescence_thickness_min,
+            i.iridescence_thickness_max
+        ],
+        [0.8, 1.3, 100.0, 520.0]
+    );
     // Any Fresnel works (the exact forms take η from F0).
     for (name, f) in FRESNELS {
         assert_eq!(

@@ -428,6 +428,17 @@ pub struct MetalRoughParams {
     /// KHR_materials_anisotropy's `anisotropyRotation`, radians: the anisotropy direction is
     /// the tangent turned by this angle towards the bitangent. Default 0.
     pub anisotropy_rotation: f32,
+    /// KHR_materials_iridescence's `iridescenceFactor`, [0, 1]: the weight of the thin film's
+    /// Fresnel ([`super::iridescence`]) against the material's own. Default 0 (no film).
+    pub iridescence: f32,
+    /// KHR_materials_iridescence's `iridescenceIor`, ≥ 1: the film's index. Default 1.3.
+    pub iridescence_ior: f32,
+    /// KHR_materials_iridescence's `iridescenceThicknessMinimum`, nm, ≥ 0: the thickness where
+    /// the thickness texture is 0 (no texture: unused). Default 100.
+    pub iridescence_thickness_min: f32,
+    /// KHR_materials_iridescence's `iridescenceThicknessMaximum`, nm, ≥ the minimum: the film's
+    /// thickness without a texture. 0 turns the film off. Default 400.
+    pub iridescence_thickness_max: f32,
 }
 
 impl MetalRoughParams {
@@ -465,6 +476,10 @@ impl Default for MetalRoughParams {
             transmission: Transmission::default(),
             anisotropy_strength: 0.0,
             anisotropy_rotation: 0.0,
+            iridescence: 0.0,
+            iridescence_ior: 1.3,
+            iridescence_thickness_min: 100.0,
+            iridescence_thickness_max: 400.0,
         }
     }
 }
@@ -484,6 +499,10 @@ impl MetalRoughParams {
             transmission: self.transmission.sanitized(),
             anisotropy_strength: unit(self.anisotropy_strength, 0.0),
             anisotropy_rotation: fin(self.anisotropy_rotation, 0.0),
+            iridescence: unit(self.iridescence, 0.0),
+            iridescence_ior: fin(self.iridescence_ior, 1.3).clamp(1.0, 10.0),
+            iridescence_thickness_min: fin(self.iridescence_thickness_min, 100.0).max(0.0),
+            iridescence_thickness_max: fin(self.iridescence_thickness_max, 400.0).max(0.0),
             ..*self
         }
     }
@@ -915,6 +934,48 @@ pub fn anisotropic_lobe(
     })
 }
 
+/// Whether sanitised `p` has KHR_materials_iridescence's film: a factor above 0 and a
+/// thickness above 0.
+pub fn has_iridescence(p: &MetalRoughParams) -> bool {
+    p.iridescence > 0.0 && p.iridescence_thickness_max > 0.0
+}
+
+/// KHR_materials_iridescence's Fresnel of sanitised `p` at `cos` (v·h; n·v for the
+/// environment): the film over the dielectric's F0 and over the metal's base colour, mixed by
+/// metallic (one evaluation when metallic is 0 or 1), as the extension's dielectric and metal
+/// BRDFs mix.
+pub fn iridescence_fresnel_of(p: &MetalRoughParams, cos: f32) -> Vec3 {
+    let film = |f0: Vec3| {
+        super::iridescence::iridescence_fresnel(
+            1.0,
+            p.iridescence_ior,
+            cos,
+            p.iridescence_thickness_max,
+            f0,
+        )
+    };
+    if p.metallic <= 0.0 {
+        film(p.dielectric_f0)
+    } else if p.metallic >= 1.0 {
+        film(p.base_color)
+    } else {
+        mix3(film(p.dielectric_f0), film(p.base_color), p.metallic)
+    }
+}
+
+/// The F0 whose Schlick curve passes through the film's Fresnel at `n·v` (the extension's
+/// sample renderer's `Schlick_to_F0`), mixed with `f0` by the iridescence factor: what the
+/// split sum and energy compensation take for an iridescent material.
+pub fn iridescence_f0(p: &MetalRoughParams, f0: Vec3, n_v: f32) -> Vec3 {
+    if !has_iridescence(p) {
+        return f0;
+    }
+    let f = iridescence_fresnel_of(p, n_v);
+    let w = schlick_weight(n_v.clamp(0.0, 1.0));
+    let film_f0 = ((f - Vec3::splat(w)) / (1.0 - w).max(1e-4)).clamp(Vec3::ZERO, Vec3::ONE);
+    mix3(f0, film_f0, p.iridescence)
+}
+
 /// [`metal_rough_terms`] with the tangent frame `(x, y)` that KHR_materials_anisotropy turns
 /// its direction from.
 pub fn metal_rough_terms_frame(
@@ -984,7 +1045,11 @@ fn metal_rough_base_terms(
             ),
         ),
     };
-    let f = p.fresnel.eval(spec, kappa, v_h);
+    let mut f = p.fresnel.eval(spec, kappa, v_h);
+    if has_iridescence(p) {
+        // KHR_materials_iridescence: the film's Fresnel at v·h, weighted by its factor.
+        f = mix3(f, iridescence_fresnel_of(p, v_h), p.iridescence);
+    }
     let weight = if p.diffuse_fresnel_weight {
         Vec3::ONE - f
     } else {
@@ -992,7 +1057,7 @@ fn metal_rough_base_terms(
     };
     let energy = if p.energy_compensation {
         let roughness = lobe.map_or(p.roughness, AnisotropicLobe::equivalent_roughness);
-        super::energy_scale(p.geometry, f0, s.n_v, roughness)
+        super::energy_scale(p.geometry, iridescence_f0(p, f0, s.n_v), s.n_v, roughness)
     } else {
         super::EnergyScale::NONE
     };

@@ -313,6 +313,28 @@ impl Encoder<'_> {
                             .with("anisotropyRotation", p.anisotropy_rotation),
                     );
                 }
+                // KHR_materials_iridescence, likewise (every field once the film is on).
+                let d = crate::brdf::MetalRoughParams::default();
+                if p.iridescence != 0.0
+                    || (
+                        p.iridescence_ior,
+                        p.iridescence_thickness_min,
+                        p.iridescence_thickness_max,
+                    ) != (
+                        d.iridescence_ior,
+                        d.iridescence_thickness_min,
+                        d.iridescence_thickness_max,
+                    )
+                {
+                    n.put(
+                        "iridescence",
+                        Node::obj()
+                            .with("iridescenceFactor", p.iridescence)
+                            .with("iridescenceIor", p.iridescence_ior)
+                            .with("iridescenceThicknessMinimum", p.iridescence_thickness_min)
+                            .with("iridescenceThicknessMaximum", p.iridescence_thickness_max),
+                    );
+                }
                 transmission::put(n, &p.transmission);
             }
             Material::Principled(p) => {

@@ -473,6 +473,69 @@ pub fn anisotropy(
     Ok(())
 }
 
+/// KHR_materials_iridescence's factors onto `gm` (a `metal_rough` material): factor in [0, 1],
+/// ior ≥ 1, thicknesses ≥ 0 (nm) with the minimum not above the maximum; `iridescenceTexture`
+/// and `iridescenceThicknessTexture` are not read yet (one warning per file), the factors are
+/// (without a thickness texture the film is `iridescenceThicknessMaximum` thick, as the
+/// extension says).
+pub fn iridescence(
+    m: &gltf::Material,
+    gm: &mut GltfMaterial,
+    textures: &TextureSource,
+    (file, file_name): (&Path, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(e) = Ext::of(m, "KHR_materials_iridescence", file)? else {
+        return Ok(());
+    };
+    let d = crate::brdf::MetalRoughParams::default();
+    let factor = e.number("iridescenceFactor", 0.0, Range::Unit)?;
+    let ior = e.number("iridescenceIor", d.iridescence_ior, Range::Positive)?;
+    if ior < 1.0 {
+        return Err(e.err(
+            "iridescenceIor",
+            format!("a film's index is at least 1, got {ior}"),
+        ));
+    }
+    let min = e.number(
+        "iridescenceThicknessMinimum",
+        d.iridescence_thickness_min,
+        Range::NonNegative,
+    )?;
+    let max = e.number(
+        "iridescenceThicknessMaximum",
+        d.iridescence_thickness_max,
+        Range::NonNegative,
+    )?;
+    if min > max {
+        return Err(e.err(
+            "iridescenceThicknessMinimum",
+            format!(
+                "the thickness range is reversed: minimum {min} nm is above the maximum {max} nm"
+            ),
+        ));
+    }
+    if e.has_textures(
+        &["iridescenceTexture", "iridescenceThicknessTexture"],
+        textures.count(),
+    )? {
+        unused_maps(
+            m,
+            gm,
+            file_name,
+            ("KHR_materials_iridescence", "iridescence"),
+            warnings,
+        );
+    }
+    if let Material::MetalRough(p) = &mut gm.material {
+        p.iridescence = factor;
+        p.iridescence_ior = ior;
+        p.iridescence_thickness_min = min;
+        p.iridescence_thickness_max = max;
+    }
+    Ok(())
+}
+
 /// The one warning per file that extension `ext`'s textures are not used (luz has no `what`
 /// maps yet), naming material `m`.
 fn unused_maps(

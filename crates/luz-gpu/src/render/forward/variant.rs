@@ -201,8 +201,9 @@ pub struct VariantKey {
 pub const GENERIC_LOBES: u32 = u32::MAX;
 
 /// The `BRDF_LOBE_*` bits of the layers `m` uses (issues 34, 35): clearcoat, sheen (a colour
-/// that is not black), transmission, dispersion (with a volume), diffuse transmission and
-/// anisotropy (GGX only) when their factors are above 0.
+/// that is not black), transmission, dispersion (with a volume), diffuse transmission,
+/// anisotropy (GGX only) and iridescence (with a thickness above 0) when their factors are
+/// above 0.
 pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     use crate::glsl::brdf_models as glsl;
     let crate::brdf::Model::MetalRough(p) = m.sanitized() else {
@@ -221,6 +222,10 @@ pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
         (
             p.anisotropy_strength > 0.0 && p.distribution == crate::brdf::Distribution::Ggx,
             glsl::BRDF_LOBE_ANISOTROPY,
+        ),
+        (
+            crate::brdf::has_iridescence(&p),
+            glsl::BRDF_LOBE_IRIDESCENCE,
         ),
     ]
     .into_iter()
