@@ -2206,3 +2206,105 @@ fn anisotropy_factors_warnings_and_errors() {
         assert!(e.contains(&want), "{e} does not contain {want}");
     }
 }
+
+/// Issue 34, KHR_materials_iridescence: the factors map onto metal_rough's iridescence (the same
+/// material as the scene file's `iridescence` block; defaults ior 1.3, 100–400 nm), the
+/// textures give one warning per file, and bad values — a factor out of range, an index below 1,
+/// a reversed thickness range, a missing texture — are errors naming the file and JSON path.
+#[test]
+fn iridescence_factors_warnings_and_errors() {
+    let dir = scratch("gltf-iridescence");
+    let write = |name: &str, ext: serde_json::Value, textures: bool| {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "extensionsUsed": ["KHR_materials_iridescence"],
+            "extensionsRequired": ["KHR_materials_iridescence"],
+            "materials": [{"name": "bubble", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.2},
+                           "extensions": {"KHR_materials_iridescence": ext}}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(&dir, name, doc)
+    };
+    let f = load(&write(
+        "film",
+        json!({"iridescenceFactor": 0.9, "iridescenceIor": 1.45, "iridescenceThicknessMaximum": 650}),
+        false,
+    ));
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let scene = parse(
+        r#"{"materials": {"m": {"model": "metal_rough", "metallic": 0, "roughness": 0.2,
+            "iridescence": {"iridescenceFactor": 0.9, "iridescenceIor": 1.45, "iridescenceThicknessMaximum": 650}}},
+            "objects": [{"mesh": {"type": "sphere"}, "material": "m"}]}"#,
+    );
+    assert_eq!(f.materials[0].material, scene.materials[0].material);
+    match &f.materials[0].material {
+        luz::scene::Material::MetalRough(p) => assert_eq!(
+            [
+                p.iridescence,
+                p.iridescence_ior,
+                p.iridescence_thickness_min,
+                p.iridescence_thickness_max
+            ],
+            [0.9, 1.45, 100.0, 650.0]
+        ),
+        other => panic!("{other:?}"),
+    }
+    let again = parse(&serde_json::to_string(&luz::scene::to_json(&scene)).unwrap());
+    assert_eq!(again.materials[0].material, scene.materials[0].material);
+
+    let f = load(&write(
+        "filmtex",
+        json!({"iridescenceFactor": 1, "iridescenceThicknessTexture": {"index": 0}}),
+        true,
+    ));
+    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
+    assert!(
+        f.warnings[0]
+            .starts_with("filmtex.gltf: KHR_materials_iridescence's textures are not used")
+            && f.warnings[0].ends_with(r#"materials[0] ("bubble")"#),
+        "{}",
+        f.warnings[0]
+    );
+
+    let at = "materials[0].extensions.KHR_materials_iridescence";
+    for (name, ext, want) in [
+        (
+            "film_big",
+            json!({"iridescenceFactor": 2}),
+            format!("{at}.iridescenceFactor: must be in [0, 1], got 2"),
+        ),
+        (
+            "film_ior",
+            json!({"iridescenceIor": 0.8}),
+            format!("{at}.iridescenceIor: a film's index is at least 1, got 0.8"),
+        ),
+        (
+            "film_reversed",
+            json!({"iridescenceThicknessMinimum": 500, "iridescenceThicknessMaximum": 200}),
+            format!("{at}.iridescenceThicknessMinimum: the thickness range is reversed: minimum 500 nm is above the maximum 200 nm"),
+        ),
+        (
+            "film_neg",
+            json!({"iridescenceThicknessMaximum": -1}),
+            format!("{at}.iridescenceThicknessMaximum: must be ≥ 0, got -1"),
+        ),
+        (
+            "film_tex",
+            json!({"iridescenceTexture": {"index": 3}}),
+            format!("{at}.iridescenceTexture.index: texture 3 does not exist"),
+        ),
+    ] {
+        let e = gltf::load(&write(name, ext, false), None)
+            .unwrap_err()
+            .to_string();
+        let want = format!("{name}.gltf: {want}");
+        assert!(e.contains(&want), "{e} does not contain {want}");
+    }
+}

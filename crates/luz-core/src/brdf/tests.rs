@@ -2046,7 +2046,10 @@ fn iridescence_replaces_the_fresnel() {
         assert_eq!(t.diffuse, t0.diffuse);
         let ratio = t.specular / t0.specular.max(Vec3::splat(1e-12));
         let f_ratio = want / t0.f;
-        assert!((ratio - f_ratio).abs().max_element() < 1e-3 * f_ratio.max_element(), "{ratio} {f_ratio}");
+        assert!(
+            (ratio - f_ratio).abs().max_element() < 1e-3 * f_ratio.max_element(),
+            "{ratio} {f_ratio}"
+        );
     }
     let f = super::iridescence::iridescence_fresnel(1.0, 1.3, 1.0, 300.0, Vec3::splat(0.04));
     assert!(f.max_element() > 1.5 * f.min_element(), "{f}");
