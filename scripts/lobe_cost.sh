@@ -9,6 +9,8 @@
 #   sheen off       sheenColorFactor [0, 0, 0]
 #   anisotropy on   every sphere with "anisotropy": {anisotropyStrength 0.8, anisotropyRotation 0.5}
 #   anisotropy off  the same block with anisotropyStrength 0
+#   iridescence on  every sphere with "iridescence": {iridescenceFactor 1, thickness 400 nm}
+#   iridescence off the same block with iridescenceFactor 0
 # Each round benches every variant once, in turn; the ratio is the median GPU total (forward and
 # every other pass) of a variant over the base's, so a busy machine slows all of them alike.
 #
@@ -34,6 +36,8 @@ variants = {
     "sheen_off": ("sheen", {"sheenColorFactor": [0, 0, 0], "sheenRoughnessFactor": 0.5}),
     "anisotropy_on": ("anisotropy", {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5}),
     "anisotropy_off": ("anisotropy", {"anisotropyStrength": 0, "anisotropyRotation": 0.5}),
+    "iridescence_on": ("iridescence", {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 400}),
+    "iridescence_off": ("iridescence", {"iridescenceFactor": 0, "iridescenceThicknessMaximum": 400}),
 }
 for name, lobe in variants.items():
     scene = json.loads(json.dumps(base))
@@ -44,7 +48,7 @@ for name, lobe in variants.items():
     json.dump(scene, open(f"{out}/{name}.json", "w"))
 PY
 
-variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off)
+variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off)
 bench() {
     "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --json "$tmp/b.json" >/dev/null
     python3 -c 'import json,sys; b = json.load(open(sys.argv[1])); print("%.3f" % b["gpu_total_ms"]["median"])' "$tmp/b.json"

@@ -785,6 +785,11 @@ impl Writer {
                 "material '{name}': KHR_materials_anisotropy's stretched lobe (left out: isotropic)"
             ));
         }
+        if crate::brdf::has_iridescence(&p.sanitized()) {
+            self.note(format!(
+                "material '{name}': KHR_materials_iridescence's thin film (left out)"
+            ));
+        }
         let alpha = (p.roughness * p.roughness).max(ALPHA_MIN);
         let f0 = p.dielectric_f0.lerp(p.base_color, p.metallic);
         let c_diff = p.base_color * (1.0 - p.metallic);
