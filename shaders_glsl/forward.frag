@@ -9,6 +9,8 @@
 //! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
 //! variant phong_maps_color: SHADING_PHONG PHONG_MAPS VERTEX_COLOR
 //! variant phong_maps_color_ibl: SHADING_PHONG PHONG_MAPS VERTEX_COLOR IBL
+//! variant phong_tangent: SHADING_PHONG PHONG_TANGENT
+//! variant phong_tangent_ibl: SHADING_PHONG PHONG_TANGENT IBL
 
 #define LUZ_FRAGMENT
 #include "include/lighting.glsl"
@@ -27,6 +29,8 @@ layout(location = 2) in vec3 in_normal;
 #ifdef PHONG_MAPS
 layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in vec2 in_uv;
+#elif defined(PHONG_TANGENT)
+layout(location = 3) in vec3 in_tangent;
 #endif
 #endif
 #ifdef VERTEX_COLOR
@@ -71,6 +75,10 @@ void main() {
     vec3 y;
 #ifdef PHONG_MAPS
     tangent_frame(n, in_tangent, x, y);
+#elif defined(PHONG_TANGENT)
+    // The anisotropic lobe reads the tangent's direction; the bitangent's sign does not matter
+    // to it (it uses squares of b·h, b·l, b·v).
+    tangent_frame(n, vec4(in_tangent, 1.0), x, y);
 #else
     // No maps and a model without a tangent frame: any frame around n (unused by the model).
     tangent_frame(n, vec4(0.0, 0.0, 0.0, 1.0), x, y);

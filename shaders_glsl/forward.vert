@@ -9,6 +9,8 @@
 //! variant phong_maps_ibl: SHADING_PHONG PHONG_MAPS IBL
 //! variant phong_maps_color: SHADING_PHONG PHONG_MAPS VERTEX_COLOR
 //! variant phong_maps_color_ibl: SHADING_PHONG PHONG_MAPS VERTEX_COLOR IBL
+//! variant phong_tangent: SHADING_PHONG PHONG_TANGENT
+//! variant phong_tangent_ibl: SHADING_PHONG PHONG_TANGENT IBL
 //! variant gbuffer: SHADING_PHONG GBUFFER
 
 // Phong shading interpolates only what the fragment stage reads: lavapipe sets up every triangle
@@ -16,7 +18,8 @@
 // maps, a model without a tangent frame) that is the view depth, world position and normal; with
 // it also the tangent and the texture coordinates. GBUFFER (the deferred path's geometry pass):
 // only the view depth and the normal. VERTEX_COLOR (Phong with maps only): the vertex colours
-// (binding 2) are interpolated too.
+// (binding 2) are interpolated too. PHONG_TANGENT (no maps, a material whose lobe reads the
+// tangent frame: KHR_materials_anisotropy): the tangent's direction only, three floats.
 
 #include "include/lighting.glsl"
 
@@ -24,6 +27,8 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 #if !defined(SHADING_PHONG) || defined(PHONG_MAPS)
 layout(location = 2) in vec2 in_uv;
+layout(location = 3) in vec4 in_tangent;
+#elif defined(PHONG_TANGENT)
 layout(location = 3) in vec4 in_tangent;
 #endif
 #ifdef SHADING_FLAT
@@ -52,6 +57,8 @@ layout(location = 2) out vec3 out_normal;
 #ifdef PHONG_MAPS
 layout(location = 3) out vec4 out_tangent;
 layout(location = 4) out vec2 out_uv;
+#elif defined(PHONG_TANGENT)
+layout(location = 3) out vec3 out_tangent;
 #endif
 #endif
 
@@ -97,6 +104,8 @@ void main() {
 #ifdef PHONG_MAPS
     out_tangent = t;
     out_uv = in_uv;
+#elif defined(PHONG_TANGENT)
+    out_tangent = mat3(obj.model) * in_tangent.xyz;
 #endif
 #endif
 }

@@ -289,14 +289,14 @@ bool brdf_has_iridescence(BrdfParams p) {
 // colour, mixed by metallic.
 vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
     float metallic = p.spec.w;
+    FilmAt f = film_at(1.0, p.p2.z, c, p.p2.w);
     if (metallic <= 0.0) {
-        return iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.spec.rgb);
+        return film_over(f, p.spec.rgb);
     }
     if (metallic >= 1.0) {
-        return iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.color.rgb);
+        return film_over(f, p.color.rgb);
     }
-    return mix(iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.spec.rgb),
-               iridescence_fresnel(1.0, p.p2.z, c, p.p2.w, p.color.rgb), metallic);
+    return mix(film_over(f, p.spec.rgb), film_over(f, p.color.rgb), metallic);
 }
 
 // The F0 the split sum and energy compensation take for p (iridescence_f0): f0, or mixed with

@@ -444,53 +444,78 @@ float irid_f0_to_ior(float f0) {
     return (1.0 + s) / (1.0 - s);
 }
 
-vec3 irid_eval_sensitivity(float opd, vec3 shift) {
-    float phase = 2.0 * M_PI * opd * 1.0e-9;
-    vec3 val = vec3(5.4856e-13, 4.4201e-13, 5.2481e-13);
+// What the film gives at one angle whatever the base (FilmAt in iridescence.rs): the first
+// interface, the film's index and refracted cosine, and the sensitivity fit's cosines and
+// Gaussians at its path difference and phase φ21; a base only flips first-order cosines' signs,
+// so two bases share the transcendentals. tir: total internal reflection (F = 1).
+struct FilmAt {
+    float r12;
+    float t121;
+    float eta2;
+    float cos2;
+    vec3 c;
+    float cx;
+    vec3 e;
+    float ex;
+    bool tir;
+};
+
+FilmAt film_at(float outside_ior, float film_ior, float cos_theta1, float thickness_nm) {
+    FilmAt f;
+    float c1 = clamp(cos_theta1, 0.0, 1.0);
+    float t = clamp(thickness_nm / 0.03, 0.0, 1.0);
+    f.eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
+    float r_io = outside_ior / f.eta2;
+    float cos2_theta2 = 1.0 - r_io * r_io * (1.0 - c1 * c1);
+    f.tir = cos2_theta2 < 0.0;
+    f.cos2 = sqrt(max(cos2_theta2, 0.0));
+    f.r12 = irid_schlick1(irid_ior_to_f0(f.eta2, outside_ior), c1);
+    f.t121 = 1.0 - f.r12;
+    float phi21 = f.eta2 < outside_ior ? 0.0 : M_PI;
+    float phase = 2.0 * M_PI * (2.0 * f.eta2 * thickness_nm * f.cos2) * 1.0e-9;
     vec3 pos = vec3(1.6810e+06, 1.7953e+06, 2.2084e+06);
     vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
-    vec3 xyz = val * sqrt(2.0 * M_PI * var) * cos(pos * phase + shift) * exp(-(phase * phase) * var);
-    xyz.x += 9.7470e-14 * sqrt(2.0 * M_PI * 4.5282e+09) * cos(2.2399e+06 * phase + shift.x)
-        * exp(-4.5282e+09 * (phase * phase));
-    return IRID_XYZ_TO_REC709 * (xyz / 1.0685e-7);
+    f.c = cos(pos * phase + phi21);
+    f.e = exp(-(phase * phase) * var);
+    f.cx = cos(2.2399e+06 * phase + phi21);
+    f.ex = exp(-4.5282e+09 * (phase * phase));
+    return f;
+}
+
+// The film's Fresnel over a base of normal-incidence reflectance base_f0 (film_over).
+vec3 film_over(FilmAt f, vec3 base_f0) {
+    if (f.tir) {
+        return vec3(1.0);
+    }
+    vec3 val = vec3(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    vec3 r23;
+    vec3 sgn;
+    for (int i = 0; i < 3; ++i) {
+        float base_ior = irid_f0_to_ior(base_f0[i]);
+        r23[i] = irid_schlick1(irid_ior_to_f0(base_ior, f.eta2), f.cos2);
+        sgn[i] = base_ior < f.eta2 ? -1.0 : 1.0;
+    }
+    vec3 k = val * sqrt(2.0 * M_PI * var);
+    vec3 e2 = (f.e * f.e) * (f.e * f.e);
+    vec3 xyz1 = k * sgn * f.c * f.e;
+    vec3 xyz2 = k * (2.0 * f.c * f.c - 1.0) * e2;
+    float kx = 9.7470e-14 * sqrt(2.0 * M_PI * 4.5282e+09);
+    xyz1.x += kx * sgn.x * f.cx * f.ex;
+    xyz2.x += kx * (2.0 * f.cx * f.cx - 1.0) * ((f.ex * f.ex) * (f.ex * f.ex));
+    vec3 s1 = IRID_XYZ_TO_REC709 * (xyz1 / 1.0685e-7);
+    vec3 s2 = IRID_XYZ_TO_REC709 * (xyz2 / 1.0685e-7);
+    vec3 r123 = clamp(f.r12 * r23, vec3(1e-5), vec3(0.9999));
+    vec3 sqrt_r123 = sqrt(r123);
+    vec3 rs = (f.t121 * f.t121) * r23 / (vec3(1.0) - r123);
+    vec3 k1 = (rs - vec3(f.t121)) * sqrt_r123;
+    vec3 k2 = k1 * sqrt_r123;
+    return max(vec3(f.r12) + rs + 2.0 * (k1 * s1 + k2 * s2), vec3(0.0));
 }
 
 vec3 iridescence_fresnel(float outside_ior, float film_ior, float cos_theta1, float thickness_nm,
                          vec3 base_f0) {
-    float c1 = clamp(cos_theta1, 0.0, 1.0);
-    float t = clamp(thickness_nm / 0.03, 0.0, 1.0);
-    float eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
-    float r_io = outside_ior / eta2;
-    float sin2_theta2 = r_io * r_io * (1.0 - c1 * c1);
-    float cos2_theta2 = 1.0 - sin2_theta2;
-    if (cos2_theta2 < 0.0) {
-        return vec3(1.0);
-    }
-    float c2 = sqrt(cos2_theta2);
-    float r12 = irid_schlick1(irid_ior_to_f0(eta2, outside_ior), c1);
-    float t121 = 1.0 - r12;
-    float phi12 = eta2 < outside_ior ? M_PI : 0.0;
-    float phi21 = M_PI - phi12;
-    vec3 r23;
-    vec3 phi23;
-    for (int i = 0; i < 3; ++i) {
-        float base_ior = irid_f0_to_ior(base_f0[i]);
-        r23[i] = irid_schlick1(irid_ior_to_f0(base_ior, eta2), c2);
-        phi23[i] = base_ior < eta2 ? M_PI : 0.0;
-    }
-    float opd = 2.0 * eta2 * thickness_nm * c2;
-    vec3 phi = vec3(phi21) + phi23;
-    vec3 r123 = clamp(r12 * r23, vec3(1e-5), vec3(0.9999));
-    vec3 sqrt_r123 = sqrt(r123);
-    vec3 rs = (t121 * t121) * r23 / (vec3(1.0) - r123);
-    vec3 I = vec3(r12) + rs;
-    vec3 cm = rs - vec3(t121);
-    for (int m = 1; m <= 2; ++m) {
-        cm *= sqrt_r123;
-        vec3 sm = 2.0 * irid_eval_sensitivity(float(m) * opd, float(m) * phi);
-        I += cm * sm;
-    }
-    return max(I, vec3(0.0));
+    return film_over(film_at(outside_ior, film_ior, cos_theta1, thickness_nm), base_f0);
 }
 
 #endif // LUZ_BRDF_TERMS_GLSL

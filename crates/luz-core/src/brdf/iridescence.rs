@@ -45,32 +45,148 @@ fn f0_to_ior(f0: f32) -> f32 {
     (1.0 + s) / (1.0 - s)
 }
 
-/// The film's spectral sensitivity at optical path difference `opd` (nm) and phase `shift`,
-/// in linear Rec. 709: Belcour & Barla's Gaussian fit of the CIE XYZ matching functions.
-pub fn eval_sensitivity(opd: f32, shift: Vec3) -> Vec3 {
+/// The film's spectral sensitivity at optical path differences `opd` and `2 opd` (nm) with
+/// phases `shift` and `2 shift`, in linear Rec. 709: Belcour & Barla's Gaussian fit of the CIE
+/// XYZ matching functions, the Airy sum's first and second orders. The second order's arguments
+/// are twice the first's, so its cosines and Gaussians come from the first's
+/// (`cos 2x = 2 cos² x − 1`, `exp(−4y) = exp(−y)⁴`): four cosines and four exponentials for
+/// both instead of eight and eight.
+pub fn eval_sensitivity2(opd: f32, shift: Vec3) -> (Vec3, Vec3) {
     let phase = 2.0 * std::f32::consts::PI * opd * 1.0e-9;
     let val = Vec3::new(5.4856e-13, 4.4201e-13, 5.2481e-13);
     let pos = Vec3::new(1.6810e+06, 1.7953e+06, 2.2084e+06);
     let var = Vec3::new(4.3278e+09, 9.3046e+09, 6.6121e+09);
     let two_pi = 2.0 * std::f32::consts::PI;
-    let mut xyz = Vec3::ZERO;
+    let (mut xyz1, mut xyz2) = (Vec3::ZERO, Vec3::ZERO);
+    let doubled = |c: f32, e: f32| (2.0 * c * c - 1.0, sq(sq(e)));
     for i in 0..3 {
-        xyz[i] = val[i]
-            * (two_pi * var[i]).sqrt()
-            * (pos[i] * phase + shift[i]).cos()
-            * (-sq(phase) * var[i]).exp();
+        let k = val[i] * (two_pi * var[i]).sqrt();
+        let c = (pos[i] * phase + shift[i]).cos();
+        let e = (-sq(phase) * var[i]).exp();
+        let (c2, e2) = doubled(c, e);
+        xyz1[i] = k * c * e;
+        xyz2[i] = k * c2 * e2;
     }
-    xyz.x += 9.7470e-14
-        * (two_pi * 4.5282e+09f32).sqrt()
-        * (2.2399e+06 * phase + shift.x).cos()
-        * (-4.5282e+09 * sq(phase)).exp();
-    XYZ_TO_REC709 * (xyz / 1.0685e-7)
+    let k = 9.7470e-14 * (two_pi * 4.5282e+09f32).sqrt();
+    let c = (2.2399e+06 * phase + shift.x).cos();
+    let e = (-4.5282e+09 * sq(phase)).exp();
+    let (c2, e2) = doubled(c, e);
+    xyz1.x += k * c * e;
+    xyz2.x += k * c2 * e2;
+    (
+        XYZ_TO_REC709 * (xyz1 / 1.0685e-7),
+        XYZ_TO_REC709 * (xyz2 / 1.0685e-7),
+    )
+}
+
+/// What the film gives at one angle whatever the base under it: the first interface's
+/// reflectance `r12` and transmission `t121`, the film's index `eta2` and refracted cosine
+/// `cos2`, and the sensitivity fit's cosines and Gaussians at the film's path difference and
+/// its own phase `phi21` (per XYZ component, and the X component's extra lobe). A base only
+/// adds a phase of π per channel, which flips a first-order cosine's sign and leaves the
+/// second order's (`cos(2x + 2π) = cos 2x`): two bases (metallic between 0 and 1) share one
+/// evaluation of the transcendentals. `None` under total internal reflection.
+#[derive(Debug, Clone, Copy)]
+pub struct FilmAt {
+    r12: f32,
+    t121: f32,
+    eta2: f32,
+    cos2: f32,
+    /// cos(pos · phase + φ21) per XYZ component, and the X lobe's.
+    c: Vec3,
+    cx: f32,
+    /// exp(−phase² var) per XYZ component, and the X lobe's.
+    e: Vec3,
+    ex: f32,
+}
+
+/// The film of index `film_ior` and thickness `thickness_nm` seen from a medium of index
+/// `outside_ior` at `cos_theta1` (v·h). The film's index fades to the outside's as it thins.
+pub fn film_at(
+    outside_ior: f32,
+    film_ior: f32,
+    cos_theta1: f32,
+    thickness_nm: f32,
+) -> Option<FilmAt> {
+    let c1 = cos_theta1.clamp(0.0, 1.0);
+    let t = (thickness_nm / 0.03).clamp(0.0, 1.0);
+    let eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
+    let sin2_theta2 = sq(outside_ior / eta2) * (1.0 - sq(c1));
+    let cos2_theta2 = 1.0 - sin2_theta2;
+    if cos2_theta2 < 0.0 {
+        return None;
+    }
+    let cos2 = cos2_theta2.sqrt();
+    let r12 = schlick1(ior_to_f0(eta2, outside_ior), c1);
+    let phi21 = if eta2 < outside_ior {
+        0.0
+    } else {
+        std::f32::consts::PI
+    };
+    let phase = 2.0 * std::f32::consts::PI * (2.0 * eta2 * thickness_nm * cos2) * 1.0e-9;
+    let pos = Vec3::new(1.6810e+06, 1.7953e+06, 2.2084e+06);
+    let var = Vec3::new(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    let mut c = Vec3::ZERO;
+    let mut e = Vec3::ZERO;
+    for i in 0..3 {
+        c[i] = (pos[i] * phase + phi21).cos();
+        e[i] = (-sq(phase) * var[i]).exp();
+    }
+    Some(FilmAt {
+        r12,
+        t121: 1.0 - r12,
+        eta2,
+        cos2,
+        c,
+        cx: (2.2399e+06 * phase + phi21).cos(),
+        e,
+        ex: (-4.5282e+09 * sq(phase)).exp(),
+    })
+}
+
+/// The film's Fresnel reflectance over a base of normal-incidence reflectance `base_f0`
+/// (`None`, total internal reflection: 1). Never negative (the extension clamps out-of-gamut
+/// colours).
+pub fn film_over(film: Option<&FilmAt>, base_f0: Vec3) -> Vec3 {
+    let Some(f) = film else {
+        return Vec3::ONE;
+    };
+    let val = Vec3::new(5.4856e-13, 4.4201e-13, 5.2481e-13);
+    let var = Vec3::new(4.3278e+09, 9.3046e+09, 6.6121e+09);
+    let two_pi = 2.0 * std::f32::consts::PI;
+    let mut r23 = Vec3::ZERO;
+    // The base's phase π (a base of lower index than the film) flips the first order's cosine.
+    let mut sign = Vec3::ONE;
+    for i in 0..3 {
+        let base_ior = f0_to_ior(base_f0[i]);
+        r23[i] = schlick1(ior_to_f0(base_ior, f.eta2), f.cos2);
+        if base_ior < f.eta2 {
+            sign[i] = -1.0;
+        }
+    }
+    let (mut xyz1, mut xyz2) = (Vec3::ZERO, Vec3::ZERO);
+    for i in 0..3 {
+        let k = val[i] * (two_pi * var[i]).sqrt();
+        xyz1[i] = k * sign[i] * f.c[i] * f.e[i];
+        xyz2[i] = k * (2.0 * f.c[i] * f.c[i] - 1.0) * sq(sq(f.e[i]));
+    }
+    let kx = 9.7470e-14 * (two_pi * 4.5282e+09f32).sqrt();
+    xyz1.x += kx * sign.x * f.cx * f.ex;
+    xyz2.x += kx * (2.0 * f.cx * f.cx - 1.0) * sq(sq(f.ex));
+    let s1 = XYZ_TO_REC709 * (xyz1 / 1.0685e-7);
+    let s2 = XYZ_TO_REC709 * (xyz2 / 1.0685e-7);
+    let r123 = (f.r12 * r23).clamp(Vec3::splat(1e-5), Vec3::splat(0.9999));
+    let sqrt_r123 = Vec3::new(r123.x.sqrt(), r123.y.sqrt(), r123.z.sqrt());
+    let rs = sq(f.t121) * r23 / (Vec3::ONE - r123);
+    // m = 0 (the DC term), then the pairs of Diracs m = 1, 2.
+    let k1 = (rs - Vec3::splat(f.t121)) * sqrt_r123;
+    let k2 = k1 * sqrt_r123;
+    (Vec3::splat(f.r12) + rs + 2.0 * (k1 * s1 + k2 * s2)).max(Vec3::ZERO)
 }
 
 /// The thin film's Fresnel reflectance (RGB) seen from a medium of index `outside_ior` at
 /// `cos_theta1` (v·h), for a film of index `film_ior` and thickness `thickness_nm` over a base
-/// of normal-incidence reflectance `base_f0`. 1 under total internal reflection in the film;
-/// never negative (out-of-gamut colours are clamped, as the extension does).
+/// of normal-incidence reflectance `base_f0`: [`film_over`] of [`film_at`].
 pub fn iridescence_fresnel(
     outside_ior: f32,
     film_ior: f32,
@@ -78,55 +194,102 @@ pub fn iridescence_fresnel(
     thickness_nm: f32,
     base_f0: Vec3,
 ) -> Vec3 {
-    let c1 = cos_theta1.clamp(0.0, 1.0);
-    // The film's index fades to the outside's as it thins (no film: the base alone).
-    let t = (thickness_nm / 0.03).clamp(0.0, 1.0);
-    let eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
-    let sin2_theta2 = sq(outside_ior / eta2) * (1.0 - sq(c1));
-    let cos2_theta2 = 1.0 - sin2_theta2;
-    if cos2_theta2 < 0.0 {
-        return Vec3::ONE;
-    }
-    let c2 = cos2_theta2.sqrt();
-    // First interface (outside → film).
-    let r12 = schlick1(ior_to_f0(eta2, outside_ior), c1);
-    let t121 = 1.0 - r12;
-    let phi12 = if eta2 < outside_ior {
-        std::f32::consts::PI
-    } else {
-        0.0
-    };
-    let phi21 = std::f32::consts::PI - phi12;
-    // Second interface (film → base), per channel.
-    let mut r23 = Vec3::ZERO;
-    let mut phi23 = Vec3::ZERO;
-    for i in 0..3 {
-        let base_ior = f0_to_ior(base_f0[i]);
-        r23[i] = schlick1(ior_to_f0(base_ior, eta2), c2);
-        if base_ior < eta2 {
-            phi23[i] = std::f32::consts::PI;
-        }
-    }
-    // Phase shift and the compound terms.
-    let opd = 2.0 * eta2 * thickness_nm * c2;
-    let phi = Vec3::splat(phi21) + phi23;
-    let r123 = (r12 * r23).clamp(Vec3::splat(1e-5), Vec3::splat(0.9999));
-    let sqrt_r123 = Vec3::new(r123.x.sqrt(), r123.y.sqrt(), r123.z.sqrt());
-    let rs = sq(t121) * r23 / (Vec3::ONE - r123);
-    // m = 0 (the DC term), then the pairs of Diracs m = 1, 2.
-    let mut i = Vec3::splat(r12) + rs;
-    let mut cm = rs - Vec3::splat(t121);
-    for m in 1..=2 {
-        cm *= sqrt_r123;
-        let sm = 2.0 * eval_sensitivity(m as f32 * opd, m as f32 * phi);
-        i += cm * sm;
-    }
-    i.max(Vec3::ZERO)
+    film_over(
+        film_at(outside_ior, film_ior, cos_theta1, thickness_nm).as_ref(),
+        base_f0,
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The doubled second order equals the fit evaluated at twice the path and phase.
+    #[test]
+    fn second_order_is_the_fit_at_twice_the_path() {
+        let direct = |opd: f32, shift: Vec3| {
+            let phase = 2.0 * std::f64::consts::PI * opd as f64 * 1.0e-9;
+            let val = [5.4856e-13, 4.4201e-13, 5.2481e-13];
+            let pos = [1.6810e+06, 1.7953e+06, 2.2084e+06];
+            let var = [4.3278e+09, 9.3046e+09, 6.6121e+09];
+            let tp = 2.0 * std::f64::consts::PI;
+            let mut xyz = [0.0f64; 3];
+            for i in 0..3 {
+                xyz[i] = val[i]
+                    * (tp * var[i]).sqrt()
+                    * (pos[i] * phase + shift[i] as f64).cos()
+                    * (-phase * phase * var[i]).exp();
+            }
+            xyz[0] += 9.7470e-14
+                * (tp * 4.5282e+09f64).sqrt()
+                * (2.2399e+06 * phase + shift.x as f64).cos()
+                * (-4.5282e+09 * phase * phase).exp();
+            XYZ_TO_REC709 * (Vec3::new(xyz[0] as f32, xyz[1] as f32, xyz[2] as f32) / 1.0685e-7)
+        };
+        for opd in [0.0, 120.0, 380.0, 777.0, 2400.0] {
+            let shift = Vec3::new(std::f32::consts::PI, 0.0, std::f32::consts::PI);
+            let (s1, s2) = eval_sensitivity2(opd, shift);
+            let (d1, d2) = (direct(opd, shift), direct(2.0 * opd, 2.0 * shift));
+            assert!((s1 - d1).abs().max_element() < 1e-4, "{opd}: {s1} {d1}");
+            assert!((s2 - d2).abs().max_element() < 1e-4, "{opd}: {s2} {d2}");
+        }
+    }
+
+    /// The shared-film form equals the extension's code written out (every base's phase in the
+    /// sensitivity's argument).
+    #[test]
+    fn shared_film_is_the_written_out_form() {
+        let written = |eta1: f32, eta_f: f32, c1: f32, d: f32, f0: Vec3| {
+            let t = (d / 0.03).clamp(0.0, 1.0);
+            let eta2 = eta1 + (eta_f - eta1) * (t * t * (3.0 - 2.0 * t));
+            let c2sq = 1.0 - sq(eta1 / eta2) * (1.0 - sq(c1));
+            if c2sq < 0.0 {
+                return Vec3::ONE;
+            }
+            let c2 = c2sq.sqrt();
+            let r12 = schlick1(ior_to_f0(eta2, eta1), c1);
+            let t121 = 1.0 - r12;
+            let phi12 = if eta2 < eta1 {
+                std::f32::consts::PI
+            } else {
+                0.0
+            };
+            let phi21 = std::f32::consts::PI - phi12;
+            let mut r23 = Vec3::ZERO;
+            let mut phi23 = Vec3::ZERO;
+            for i in 0..3 {
+                let b = f0_to_ior(f0[i]);
+                r23[i] = schlick1(ior_to_f0(b, eta2), c2);
+                if b < eta2 {
+                    phi23[i] = std::f32::consts::PI;
+                }
+            }
+            let opd = 2.0 * eta2 * d * c2;
+            let (s1, s2) = eval_sensitivity2(opd, Vec3::splat(phi21) + phi23);
+            let r123 = (r12 * r23).clamp(Vec3::splat(1e-5), Vec3::splat(0.9999));
+            let sr = Vec3::new(r123.x.sqrt(), r123.y.sqrt(), r123.z.sqrt());
+            let rs = sq(t121) * r23 / (Vec3::ONE - r123);
+            let k1 = (rs - Vec3::splat(t121)) * sr;
+            (Vec3::splat(r12) + rs + 2.0 * (k1 * s1 + k1 * sr * s2)).max(Vec3::ZERO)
+        };
+        for f0 in [
+            Vec3::splat(0.04),
+            Vec3::new(0.95, 0.6, 0.2),
+            Vec3::new(0.02, 0.5, 0.9),
+        ] {
+            for (eta_f, d) in [(1.3, 300.0), (1.8, 150.0), (2.5, 900.0), (1.0, 400.0)] {
+                for k in 0..=10 {
+                    let c = k as f32 / 10.0;
+                    let a = iridescence_fresnel(1.0, eta_f, c, d, f0);
+                    let b = written(1.0, eta_f, c, d, f0);
+                    assert!(
+                        (a - b).abs().max_element() < 1e-4,
+                        "{f0} {eta_f} {d} {c}: {a} {b}"
+                    );
+                }
+            }
+        }
+    }
 
     /// A film of thickness 0 is the base's Schlick Fresnel within 0.02 near normal incidence;
     /// the result is finite and in [0, 1.2] over thicknesses 0–1200 nm and every angle; a film

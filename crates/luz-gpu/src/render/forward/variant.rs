@@ -303,13 +303,18 @@ impl VariantKey {
 
     /// Whether a Phong-shaded pipeline interpolates the tangent and texture coordinates too
     /// (`forward.vert`'s `PHONG_MAPS`): only with texture maps, or for a model that reads the
-    /// tangent frame (Principled's anisotropy, metal-rough's KHR_materials_anisotropy). The lean
-    /// variant saves lavapipe's triangle setup six of thirteen interpolated floats.
+    /// tangent frame (Principled's anisotropy). The lean variant saves lavapipe's triangle setup
+    /// six of thirteen interpolated floats.
     pub fn phong_maps(&self) -> bool {
-        self.maps != 0
-            || self.model == ModelKind::Principled
-            || self.vertex_color
-            || self.lobes & crate::glsl::brdf_models::BRDF_LOBE_ANISOTROPY != 0
+        self.maps != 0 || self.model == ModelKind::Principled || self.vertex_color
+    }
+
+    /// Whether a Phong-shaded pipeline without maps interpolates the tangent's direction only
+    /// (`PHONG_TANGENT`, three floats instead of the maps' six): for KHR_materials_anisotropy.
+    pub fn phong_tangent(&self) -> bool {
+        self.shading == ShadingKey::Phong
+            && !self.phong_maps()
+            && self.lobes & crate::glsl::brdf_models::BRDF_LOBE_ANISOTROPY != 0
     }
 
     /// The `forward.vert` / `forward.frag` variant this key's pipeline is built from.
@@ -320,6 +325,8 @@ impl VariantKey {
             if self.vertex_color {
                 s.push_str("_color");
             }
+        } else if self.phong_tangent() {
+            s.push_str("_tangent");
         }
         if self.ibl.is_some() {
             s.push_str("_ibl");
@@ -563,6 +570,14 @@ pub(super) fn vertex_input(
             offset: 12,
         },
     ];
+    if v.phong_tangent() {
+        attributes.push(vk::VertexInputAttributeDescription {
+            location: 3,
+            binding: 0,
+            format: vk::Format::R32G32B32A32_SFLOAT,
+            offset: 32,
+        });
+    }
     if v.reads_uv_tangent() {
         attributes.extend([
             vk::VertexInputAttributeDescription {
