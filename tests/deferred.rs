@@ -115,3 +115,23 @@ fn deferred_matches_forward() {
     }
     assert_no_validation_messages(&ctx);
 }
+
+/// KHR_materials_anisotropy needs the tangent frame, which the G-buffer does not keep: grid49
+/// with every sphere anisotropic stays on the forward path (whose `PHONG_TANGENT` variant the
+/// GPU-vs-CPU test `brdf_gpu::metal_rough_anisotropy` checks), and its image is the forward
+/// path's.
+#[test]
+fn anisotropic_materials_stay_forward() {
+    let ctx = gpu();
+    let mut s = asset("assets/scenes/bench/grid49.json", 160, 90);
+    for m in &mut s.materials {
+        if let luz::scene::Material::MetalRough(p) = &mut m.material {
+            p.anisotropy_strength = 0.8;
+        }
+    }
+    let (fi, _, _) = render_with(&ctx, &s, RenderPath::Forward);
+    let (ai, _, name) = render_with(&ctx, &s, RenderPath::Auto);
+    assert_eq!(name, "forward");
+    assert_eq!(fi.pixels, ai.pixels);
+    assert_no_validation_messages(&ctx);
+}

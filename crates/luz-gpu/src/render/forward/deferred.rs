@@ -41,7 +41,8 @@ pub enum RenderPath {
 }
 
 /// The one variant every draw uses, when the deferred path can draw the scene: a lean Phong
-/// variant (no texture maps, no tangent frame), fixed BRDF terms, no environment, no debug view
+/// variant (no texture maps, no tangent frame: the G-buffer keeps the normal only), fixed BRDF
+/// terms, no environment, no debug view
 /// but `nan`, one sample per pixel.
 pub fn eligible(variants: &[VariantKey], samples: vk::SampleCountFlags) -> Option<VariantKey> {
     let first = *variants.first()?;
@@ -49,6 +50,7 @@ pub fn eligible(variants: &[VariantKey], samples: vk::SampleCountFlags) -> Optio
         && samples == vk::SampleCountFlags::TYPE_1
         && first.shading == ShadingKey::Phong
         && !first.phong_maps()
+        && !first.phong_tangent()
         && first.ibl.is_none()
         && matches!(first.debug, DebugView::None | DebugView::Nan)
         && first.terms != TermsKey::Generic
