@@ -14,11 +14,16 @@
 # Each round benches every variant once, in turn; the ratio is the median GPU total (forward and
 # every other pass) of a variant over the base's, so a busy machine slows all of them alike.
 #
-#   scripts/lobe_cost.sh [ROUNDS] [FRAMES]   (default 3 20; LUZ=path/to/luz)
+# RENDER_PATH (default forward) is luz bench's --render-path for every variant: grid49 itself
+# takes the deferred path under "auto", an anisotropic material cannot (the G-buffer keeps no
+# tangent), so "auto" would compare a lobe with the path change; "forward" compares the lobes.
+#
+#   scripts/lobe_cost.sh [ROUNDS] [FRAMES]   (default 3 20; LUZ=path/to/luz, RENDER_PATH=auto)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROUNDS=${1:-3}
 FRAMES=${2:-20}
+RENDER_PATH=${RENDER_PATH:-forward}
 LUZ=${LUZ:-${CARGO_TARGET_DIR:-target}/release/luz}
 [ -x "$LUZ" ] || { echo "build first: cargo build --release ($LUZ missing)" >&2; exit 1; }
 tmp=$(mktemp -d)
@@ -50,12 +55,13 @@ PY
 
 variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off)
 bench() {
-    "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --json "$tmp/b.json" >/dev/null
+    "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --render-path "$RENDER_PATH" \
+        --json "$tmp/b.json" >/dev/null
     python3 -c 'import json,sys; b = json.load(open(sys.argv[1])); print("%.3f" % b["gpu_total_ms"]["median"])' "$tmp/b.json"
 }
 
 echo "# lobe cost: $(date -u +%Y-%m-%dT%H:%MZ), $("$LUZ" devices 2>/dev/null | head -1), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "# command: scripts/lobe_cost.sh $ROUNDS $FRAMES ($(git rev-parse --short HEAD 2>/dev/null || echo '?'))"
+echo "# command: RENDER_PATH=$RENDER_PATH scripts/lobe_cost.sh $ROUNDS $FRAMES ($(git rev-parse --short HEAD 2>/dev/null || echo '?'))"
 declare -A times
 for r in $(seq 1 "$ROUNDS"); do
     line="round $r:"

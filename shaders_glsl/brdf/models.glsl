@@ -60,7 +60,7 @@ struct BrdfParams {
     vec4 kappa;  // 32: rgb κ (Cook-Torrance conductor); a k_d (Phong, Cook-Torrance);
                  //     metal-rough (sheen_color, sheen_roughness)
     vec4 p0;     // 48: Phong (k_s, n, k_a, -); Cook-Torrance (-, diffuse, -, -);
-                 //     metal-rough ((1-F) weight, diffuse, -, iridescence factor);
+                 //     metal-rough ((1-F) weight, diffuse, dielectric F90, iridescence factor);
                  //     Principled (subsurface, specular, specular_tint, anisotropic); Oren-Nayar (σ rad, -, -, -)
     vec4 p1;     // 64: Principled (sheen, sheen_tint, clearcoat, clearcoat_gloss);
                  //     metal-rough (clearcoat, clearcoat_roughness, anisotropy strength, rotation)
@@ -278,6 +278,21 @@ AnisotropicLobe brdf_anisotropic_lobe(BrdfParams p, vec3 n, vec3 x, vec3 y) {
     return a;
 }
 
+// KHR_materials_specular's F90 of the mixed material, mix(p0.z, 1, metallic) (MetalRoughParams::f90).
+float brdf_f90(BrdfParams p) {
+    return p.sel.x == BRDF_MODEL_METAL_ROUGH ? mix(p.p0.z, 1.0, p.spec.w) : 1.0;
+}
+
+// The Schlick forms with F90 in place of 1: F0 + (F − F0)(F90 − F0)/(1 − F0) (with_f90).
+vec3 brdf_with_f90(int sel, vec3 f, vec3 f0, float f90) {
+    if (sel != BRDF_F_SCHLICK && sel != BRDF_F_SCHLICK_SG) {
+        return f;
+    }
+    vec3 room = vec3(1.0) - f0;
+    vec3 g = f0 + (f - f0) * ((vec3(f90) - f0) / max(room, vec3(1e-6)));
+    return mix(f, g, greaterThan(room, vec3(1e-6)));
+}
+
 // Whether p has KHR_materials_iridescence's film (has_iridescence): factor p0.w and thickness
 // p2.w above 0.
 bool brdf_has_iridescence(BrdfParams p) {
@@ -354,6 +369,10 @@ BrdfTerms brdf_metal_rough_base_terms_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v,
         t.g = brdf_geometry(p.sel.z, n_h, n_v, n_l, v_h, a, roughness);
     }
     t.f = brdf_fresnel(p.sel.w, spec, vec3(0.0), v_h);
+    float f90 = brdf_f90(p);
+    if (f90 < 1.0) {
+        t.f = brdf_with_f90(p.sel.w, t.f, f0, f90);
+    }
     if (brdf_has_iridescence(p)) {
         t.f = mix(t.f, brdf_iridescence_fresnel_of(p, v_h), p.p0.w);
     }
@@ -462,7 +481,8 @@ float sheen_albedo(float n_v, float r) {
 // The base's terms t under the sheen of p (kappa: sheen colour, sheen roughness).
 BrdfTerms sheen_layer(BrdfTerms t, BrdfParams p, vec3 n, vec3 l, vec3 v, float e_sheen) {
     vec3 color = p.kappa.rgb;
-    float keep = 1.0 - max(color.r, max(color.g, color.b)) * e_sheen;
+    // At least 0: E_sheen exceeds 1 near grazing for a smooth sheen (layers::sheen_layer).
+    float keep = max(1.0 - max(color.r, max(color.g, color.b)) * e_sheen, 0.0);
     t.diffuse = t.diffuse * keep + color * sheen_specular(p.kappa.w, n, l, v);
     t.specular *= keep;
     return t;

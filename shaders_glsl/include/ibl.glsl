@@ -62,6 +62,7 @@ vec3 env_irradiance(vec3 n) {
 // of its specular lobe; `ok` is false for models without a microfacet lobe.
 struct SplitSumInputs {
     vec3 f0;
+    float f90;
     float roughness;
     float weight;
     bool ok;
@@ -76,6 +77,7 @@ SplitSumInputs split_sum_inputs(BrdfParams p) {
     SplitSumInputs s;
     s.ok = true;
     s.weight = 1.0;
+    s.f90 = brdf_f90(p);
     s.roughness = p.color.w;
     if (MODEL == BRDF_MODEL_METAL_ROUGH) {
         s.f0 = mix(p.spec.rgb, p.color.rgb, p.spec.w);
@@ -211,7 +213,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
     float e = max(ab.x + ab.y, 1e-4);
     es.specular = vec3(1.0) + f0 * ((1.0 - e) / e);
-    vec3 e_ms = (f0 * ab.x + ab.y) * es.specular;
+    vec3 e_ms = (f0 * ab.x + brdf_f90(p) * ab.y) * es.specular;
     es.diffuse = p.p0.x != 0.0 ? vec3(1.0) : max(vec3(1.0) - e_ms, vec3(0.0));
     return es;
 }
@@ -279,7 +281,7 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         float mips = env.params.x;
         vec3 pre = mix(textureLod(prefiltered_cube, d1, prefiltered_lod(lobe.y, mips)).rgb,
                        textureLod(prefiltered_cube, d2, prefiltered_lod(lobe.w, mips)).rgb, w2);
-        spec = s.weight * pre * (s.f0 * ab.x + ab.y);
+        spec = s.weight * pre * (s.f0 * ab.x + s.f90 * ab.y);
     } else {
         vec3 r = 2.0 * dot(n_r, v) * n_r - v;
         // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3; env::reference::
@@ -290,7 +292,7 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         r = normalize(mix(n_r, r, k));
         float lod = prefiltered_lod(s.roughness, env.params.x);
         vec3 pre = textureLod(prefiltered_cube, r, lod).rgb;
-        spec = s.weight * pre * (s.f0 * ab.x + ab.y);
+        spec = s.weight * pre * (s.f0 * ab.x + s.f90 * ab.y);
     }
     if (ENERGY_COMPENSATION && !energy_compensated(p)) {
         // Other models: only the specular's multi-scatter factor 1 + F0 (1 − E)/E, E = A + B.
@@ -303,7 +305,7 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         // E_sheen(n·v), plus sheenColor · E_sheen · irradiance/π (the lobe's albedo times the
         // cosine-weighted mean radiance: exact in a uniform environment, the furnace). With
         // importance sampling the specular samples are already weighted (brdf_eval_terms).
-        float keep = 1.0 - max(p.kappa.r, max(p.kappa.g, p.kappa.b)) * es.sheen;
+        float keep = max(1.0 - max(p.kappa.r, max(p.kappa.g, p.kappa.b)) * es.sheen, 0.0);
         result = result * keep + p.kappa.rgb * es.sheen * env_irradiance(n) / M_PI;
         if (SPECULAR_METHOD != SPECULAR_IMPORTANCE) {
             spec *= keep;

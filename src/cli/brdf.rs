@@ -366,6 +366,8 @@ fn scene_layers(value: &Value) -> Value {
         let f0 =
             brdf::MetalRoughParams::dielectric_f0_from(ior.map(|x| x as f32), factor as f32, color);
         obj.insert("dielectric_f0".into(), Value::from(f0.to_array().to_vec()));
+        // KHR_materials_specular's specularFactor is also the dielectric's F90.
+        obj.insert("dielectric_f90".into(), Value::from(factor));
     }
     for (key, o) in &objects {
         obj.remove(*key);

@@ -103,10 +103,22 @@ impl EnergyScale {
 /// [`EnergyScale`] of a GGX lobe of reflectance `f0` and perceptual `roughness` seen at `n_v`
 /// (clamped to `[COS_EPS, 1]`, as the GPU's `clamp(n·v, 1e-4, 1)`).
 pub fn energy_scale(geometry: Geometry, f0: Vec3, n_v: f32, roughness: f32) -> EnergyScale {
+    energy_scale_f90(geometry, f0, 1.0, n_v, roughness)
+}
+
+/// [`energy_scale`] of a lobe whose Fresnel reaches `f90` at grazing (KHR_materials_specular):
+/// its single-scattering albedo is `F0·A + F90·B`.
+pub fn energy_scale_f90(
+    geometry: Geometry,
+    f0: Vec3,
+    f90: f32,
+    n_v: f32,
+    roughness: f32,
+) -> EnergyScale {
     let (a, b) = split_sum_ab(geometry, n_v.clamp(COS_EPS, 1.0), roughness);
     let e = (a + b).max(1e-4);
     let specular = Vec3::ONE + f0 * ((1.0 - e) / e);
-    let e_ms = (f0 * a + Vec3::splat(b)) * specular;
+    let e_ms = (f0 * a + Vec3::splat(f90 * b)) * specular;
     EnergyScale {
         specular,
         diffuse: (Vec3::ONE - e_ms).max(Vec3::ZERO),

@@ -37,7 +37,7 @@ mod tests;
 pub use albedo::{
     directional_albedo, directional_albedo_dir, integrate_hemisphere, sampling_lobes, Lobe,
 };
-pub use energy::{energy_scale, split_sum_ab, EnergyScale};
+pub use energy::{energy_scale, energy_scale_f90, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
 pub use ltc::{
     fit_entry, fit_table, generate_ltc_table, ltc_table, refit_shipped_entry, shipped_lobe,

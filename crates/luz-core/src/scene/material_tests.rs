@@ -886,9 +886,17 @@ fn metal_rough_ior_and_specular_set_the_dielectric_f0() {
         "{} against {want}",
         p.dielectric_f0
     );
+    // specularFactor is the dielectric's F90 too.
+    assert_eq!(p.dielectric_f90, 0.5);
     assert_eq!(
         metal_rough(r#", "dielectric_f0": [0.1, 0.2, 0.3]"#).dielectric_f0,
         Vec3::new(0.1, 0.2, 0.3)
+    );
+    // What the encoder writes for them.
+    let q = metal_rough(r#", "dielectric_f0": [0.1, 0.2, 0.3], "dielectric_f90": 0.25"#);
+    assert_eq!(
+        (q.dielectric_f0, q.dielectric_f90),
+        (Vec3::new(0.1, 0.2, 0.3), 0.25)
     );
     let m = r#""model": "metal_rough", "#;
     fails(

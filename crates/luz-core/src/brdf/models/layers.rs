@@ -377,7 +377,10 @@ pub fn sheen_layer(
     v: Vec3,
     e_sheen: f32,
 ) -> Terms {
-    let keep = 1.0 - p.sheen_color.max_element() * e_sheen;
+    // The lobe's albedo exceeds 1 near grazing for a smooth sheen (1.64 at sheen roughness 0,
+    // n·v 0.01: the extension's visibility term is not energy-conserving there); the base then
+    // gets nothing rather than a negative share (`luz stability`'s sheen row).
+    let keep = (1.0 - p.sheen_color.max_element() * e_sheen).max(0.0);
     let sheen = p.sheen_color * sheen_specular(p.sheen_roughness, n, l, v);
     Terms {
         diffuse: t.diffuse * keep + sheen,

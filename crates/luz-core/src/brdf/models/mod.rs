@@ -421,6 +421,10 @@ pub struct MetalRoughParams {
     pub sheen_roughness: f32,
     /// Transmission, volume, dispersion and diffuse transmission (issue 35). Default: none.
     pub transmission: Transmission,
+    /// F90 of the dielectric part, [0, 1]: KHR_materials_specular's `specularFactor` (which
+    /// also scales `dielectric_f0`). The Schlick forms reach `mix(dielectric_f90, 1, metallic)`
+    /// at grazing instead of 1; the exact forms ignore it. Default 1.
+    pub dielectric_f90: f32,
     /// KHR_materials_anisotropy's `anisotropyStrength`, [0, 1]: the GGX lobe stretched along
     /// the anisotropy direction, `α_t = mix(α, 1, strength²)`, `α_b = α`
     /// ([`anisotropic_lobe`]). GGX only: with Beckmann it does nothing. Default 0 (isotropic).
@@ -474,6 +478,7 @@ impl Default for MetalRoughParams {
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
             transmission: Transmission::default(),
+            dielectric_f90: 1.0,
             anisotropy_strength: 0.0,
             anisotropy_rotation: 0.0,
             iridescence: 0.0,
@@ -497,6 +502,7 @@ impl MetalRoughParams {
             sheen_color: colour(self.sheen_color).min(Vec3::ONE),
             sheen_roughness: unit(self.sheen_roughness, 0.0),
             transmission: self.transmission.sanitized(),
+            dielectric_f90: unit(self.dielectric_f90, 1.0),
             anisotropy_strength: unit(self.anisotropy_strength, 0.0),
             anisotropy_rotation: fin(self.anisotropy_rotation, 0.0),
             iridescence: unit(self.iridescence, 0.0),
@@ -934,6 +940,30 @@ pub fn anisotropic_lobe(
     })
 }
 
+impl MetalRoughParams {
+    /// The F90 of the mixed material: `mix(dielectric_f90, 1, metallic)` (KHR_materials_specular
+    /// scales the dielectric only).
+    pub fn f90(&self) -> f32 {
+        self.dielectric_f90 + (1.0 - self.dielectric_f90) * self.metallic
+    }
+}
+
+/// The Schlick forms' `F = F0 + (1 − F0) w` with F90 in place of 1: `F0 + (F90 − F0) w`
+/// (`w = (F − F0)/(1 − F0)`, each form's own weight); the exact forms unchanged.
+pub fn with_f90(fresnel: Fresnel, f: Vec3, f0: Vec3, f90: f32) -> Vec3 {
+    if !matches!(fresnel, Fresnel::Schlick | Fresnel::SchlickSg) {
+        return f;
+    }
+    let mut out = f;
+    for i in 0..3 {
+        let room = 1.0 - f0[i];
+        if room > 1e-6 {
+            out[i] = f0[i] + (f[i] - f0[i]) * ((f90 - f0[i]) / room);
+        }
+    }
+    out
+}
+
 /// Whether sanitised `p` has KHR_materials_iridescence's film: a factor above 0 and a
 /// thickness above 0.
 pub fn has_iridescence(p: &MetalRoughParams) -> bool {
@@ -1040,6 +1070,10 @@ fn metal_rough_base_terms(
         ),
     };
     let mut f = p.fresnel.eval(spec, kappa, v_h);
+    let f90 = p.f90();
+    if f90 < 1.0 {
+        f = with_f90(p.fresnel, f, f0, f90);
+    }
     if has_iridescence(p) {
         // KHR_materials_iridescence: the film's Fresnel at v·h, weighted by its factor.
         f = mix3(f, iridescence_fresnel_of(p, v_h), p.iridescence);
@@ -1051,7 +1085,13 @@ fn metal_rough_base_terms(
     };
     let energy = if p.energy_compensation {
         let roughness = lobe.map_or(p.roughness, AnisotropicLobe::equivalent_roughness);
-        super::energy_scale(p.geometry, iridescence_f0(p, f0, s.n_v), s.n_v, roughness)
+        super::energy_scale_f90(
+            p.geometry,
+            iridescence_f0(p, f0, s.n_v),
+            f90,
+            s.n_v,
+            roughness,
+        )
     } else {
         super::EnergyScale::NONE
     };

@@ -252,12 +252,13 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "ior",
             "specular",
             "dielectric_f0",
+            "dielectric_f90",
         ],
         &a_material(model),
     )?;
     let d = MetalRoughParams::default();
     let transmission = transmission(f)?;
-    let dielectric_f0 = dielectric_f0(f)?;
+    let (dielectric_f0, dielectric_f90) = dielectric_f0(f)?;
     let (clearcoat, clearcoat_roughness) = match f.get("clearcoat") {
         None => (d.clearcoat, d.clearcoat_roughness),
         Some(v) => clearcoat(v, &f.path("clearcoat"))?,
@@ -334,6 +335,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         diffuse_fresnel_weight: f.boolean("diffuse_fresnel_weight", d.diffuse_fresnel_weight)?,
         diffuse: f.select("diffuse", DIFFUSES, d.diffuse)?,
         dielectric_f0,
+        dielectric_f90,
         // The environment's switch, applied where the scene is rendered.
         energy_compensation: false,
         clearcoat,
@@ -412,17 +414,27 @@ fn anisotropy(v: &Value, path: &str) -> Result<(f32, f32)> {
 /// The dielectric F0 of a metal_rough material: KHR_materials_ior's `{"ior": 1.5}` (0 or ≥ 1;
 /// 0 is the extension's F0 = 1) and KHR_materials_specular's `{"specularFactor": 1,
 /// "specularColorFactor": [1, 1, 1]}` (factor in [0, 1], colour ≥ 0), combined as the
-/// specification does ([`MetalRoughParams::dielectric_f0_from`]); or `dielectric_f0` itself
-/// (RGB in [0, 1], what the encoder writes), not with either.
-fn dielectric_f0(f: &Fields) -> Result<Vec3> {
-    if let Some(v) = f.get("dielectric_f0") {
+/// specification does ([`MetalRoughParams::dielectric_f0_from`]), with F90 = `specularFactor`;
+/// or `dielectric_f0` itself (RGB in [0, 1], what the encoder writes) and `dielectric_f90`
+/// (in [0, 1], default 1), not with either.
+fn dielectric_f0(f: &Fields) -> Result<(Vec3, f32)> {
+    if f.has("dielectric_f0") || f.has("dielectric_f90") {
+        let key = if f.has("dielectric_f0") {
+            "dielectric_f0"
+        } else {
+            "dielectric_f90"
+        };
         if let Some(other) = ["ior", "specular"].into_iter().find(|k| f.has(k)) {
             return Err(f.err(
                 other,
-                "\"dielectric_f0\" already gives F0; give either it or ior/specular, not both",
+                format!("\"{key}\" already gives the dielectric's Fresnel; give either it or ior/specular, not both"),
             ));
         }
-        return color_in(v, &f.path("dielectric_f0"), UNIT);
+        let f0 = match f.get("dielectric_f0") {
+            Some(v) => color_in(v, &f.path("dielectric_f0"), UNIT)?,
+            None => Vec3::splat(0.04),
+        };
+        return Ok((f0, f.num("dielectric_f90", 1.0, UNIT)?));
     }
     let ior = match f.get("ior") {
         None => None,
@@ -461,7 +473,10 @@ fn dielectric_f0(f: &Fields) -> Result<Vec3> {
             )
         }
     };
-    Ok(MetalRoughParams::dielectric_f0_from(ior, factor, color))
+    Ok((
+        MetalRoughParams::dielectric_f0_from(ior, factor, color),
+        factor,
+    ))
 }
 
 /// KHR_materials_sheen's factors, with the extension's names:

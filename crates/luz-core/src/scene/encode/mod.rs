@@ -285,6 +285,10 @@ impl Encoder<'_> {
                 if p.dielectric_f0 != MetalRoughParams::default().dielectric_f0 {
                     n.put("dielectric_f0", p.dielectric_f0);
                 }
+                // Its F90 (KHR_materials_specular's specularFactor), only when not 1.
+                if p.dielectric_f90 != 1.0 {
+                    n.put("dielectric_f90", p.dielectric_f90);
+                }
                 // KHR_materials_clearcoat, only when there is a coat (files without one are
                 // written as before).
                 if p.clearcoat != 0.0 || p.clearcoat_roughness != 0.0 {

@@ -189,13 +189,14 @@ fn uv_of(info_set: u32, tt: Option<gltf::texture::TextureTransform>) -> UvChoice
 /// The dielectric F0 of material `m` (named `name`) from KHR_materials_ior and
 /// KHR_materials_specular, as the latter's specification computes it:
 /// `min(((ior − 1)/(ior + 1))² · specularColorFactor, 1) · specularFactor` (0.04 with neither).
-/// Their textures are not read (one warning per file): luz has no map for F0.
+/// Their textures are not read (one warning per file): luz has no map for F0. Returns F0 and
+/// F90 (`specularFactor`, 1 without the extension).
 fn dielectric_f0(
     m: &gltf::Material,
     name: &str,
     file_name: &str,
     warnings: &mut Vec<String>,
-) -> Vec3 {
+) -> (Vec3, f32) {
     let i = m.index().unwrap_or(0);
     // Without either extension, exactly luz's default (0.04).
     // ior 0 is the extension's special value (F0 = 1).
@@ -203,6 +204,7 @@ fn dielectric_f0(
         .ior()
         .filter(|v| v.is_finite() && (*v >= 1.0 || *v == 0.0));
     let mut f0 = MetalRoughParams::dielectric_f0_from(ior, 1.0, Vec3::ONE);
+    let mut f90 = 1.0;
     if let Some(sp) = m.specular() {
         let color = Vec3::from_array(sp.specular_color_factor());
         let color = if color.is_finite() {
@@ -217,6 +219,7 @@ fn dielectric_f0(
             1.0
         };
         f0 = MetalRoughParams::dielectric_f0_from(ior, factor, color);
+        f90 = factor;
         if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
             // One warning per file, naming every material with such textures.
             let marker = format!(
@@ -226,7 +229,7 @@ fn dielectric_f0(
             warn_material(warnings, marker, i, name);
         }
     }
-    f0
+    (f0, f90)
 }
 
 /// Maps glTF material `m` onto `metal_rough` with maps; sentences about what is not used go to
@@ -252,11 +255,13 @@ pub fn material(
             0.0
         }
     };
+    let (dielectric_f0, dielectric_f90) = dielectric_f0(m, &name, file_name, warnings);
     let params = MetalRoughParams {
         base_color: Vec3::new(clamp(r), clamp(g), clamp(b)),
         metallic: clamp(pbr.metallic_factor()),
         roughness: clamp(pbr.roughness_factor()),
-        dielectric_f0: dielectric_f0(m, &name, file_name, warnings),
+        dielectric_f0,
+        dielectric_f90,
         ..MetalRoughParams::default()
     };
     let mut t = MaterialTextures {
