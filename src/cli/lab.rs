@@ -37,7 +37,7 @@ pub struct LabArgs {
     // --width and --height: the lab renders every variant at this size.
     #[command(flatten)]
     pub view: ViewOverrides,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows, lod, glass).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows, lod, glass, layers).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.

@@ -5,6 +5,7 @@
 //! heat map per variant.
 
 pub mod glass;
+pub mod layers;
 pub mod shadows;
 
 use std::path::Path;
@@ -401,6 +402,9 @@ pub fn variants(scene: &Scene, only: &[String]) -> Vec<Variant> {
     }
     if want("glass") {
         out.extend(glass::variants(scene));
+    }
+    if want("layers") {
+        out.extend(layers::variants(scene));
     }
     if want("ibl") {
         if let Some(env) = &scene.environment {

@@ -976,7 +976,12 @@ pub fn has_iridescence(p: &MetalRoughParams) -> bool {
 /// BRDFs mix.
 pub fn iridescence_fresnel_of(p: &MetalRoughParams, cos: f32) -> Vec3 {
     use super::iridescence::{film_at, film_over};
-    let at = film_at(1.0, p.iridescence_ior, cos, p.iridescence_thickness_max);
+    let at = film_at(
+        iridescence_outside_ior(p),
+        p.iridescence_ior,
+        cos,
+        p.iridescence_thickness_max,
+    );
     let film = |f0: Vec3| film_over(at.as_ref(), f0);
     if p.metallic <= 0.0 {
         film(p.dielectric_f0)
@@ -985,6 +990,13 @@ pub fn iridescence_fresnel_of(p: &MetalRoughParams, cos: f32) -> Vec3 {
     } else {
         mix3(film(p.dielectric_f0), film(p.base_color), p.metallic)
     }
+}
+
+/// The index above the film: the extension puts a clear coat (of index 1.5) over the film, so
+/// the outside is the coat where there is one — `mix(1, 1.5, clearcoat)`, exact at factors 0
+/// and 1 and continuous between.
+pub fn iridescence_outside_ior(p: &MetalRoughParams) -> f32 {
+    1.0 + 0.5 * p.clearcoat
 }
 
 /// The F0 whose Schlick curve passes through the film's Fresnel at `n·v` (the extension's
