@@ -457,8 +457,13 @@ float lambda_sheen(float cos_theta, float alpha) {
                                 : exp(2.0 * sheen_l(0.5, alpha) - sheen_l(1.0 - cos_theta, alpha));
 }
 
+// Λ_sheen at the view, once per pixel: shade() sets it for its one (n, v, sheen roughness) before
+// the light loop; < 0 (brdf_eval.comp, the default) computes it per call. The same value either way.
+float g_sheen_lambda_v = -1.0;
+
 float v_sheen(float n_l, float n_v, float alpha) {
-    float denom = (1.0 + lambda_sheen(n_v, alpha) + lambda_sheen(n_l, alpha)) * (4.0 * n_v * n_l);
+    float lambda_v = g_sheen_lambda_v >= 0.0 ? g_sheen_lambda_v : lambda_sheen(n_v, alpha);
+    float denom = (1.0 + lambda_v + lambda_sheen(n_l, alpha)) * (4.0 * n_v * n_l);
     return clamp(1.0 / denom, 0.0, 1.0);
 }
 

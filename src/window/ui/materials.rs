@@ -341,6 +341,9 @@ pub(super) fn metal_rough_ui(ui: &mut Ui, p: &mut MetalRoughParams) -> bool {
     c |= row(ui, "Diffuse × (1 − F)", |ui| {
         checkbox(ui, &mut p.diffuse_fresnel_weight, "")
     });
+    // KHR_materials_specular's F90 of the dielectric (its F0 follows the specularFactor it
+    // came from; here only the grazing value).
+    c |= row(ui, "Dielectric F90", |ui| unit(ui, &mut p.dielectric_f90));
     // KHR_materials_clearcoat (turning the coat on or off rebuilds the pipelines: LOBES).
     c |= row(ui, "Clearcoat", |ui| unit(ui, &mut p.clearcoat));
     c |= row(ui, "Clearcoat roughness", |ui| {
