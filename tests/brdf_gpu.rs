@@ -15,7 +15,7 @@ use luz::brdf::{
     metal_preset, CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry, MetalRoughParams,
     OrenNayarParams, PrincipledParams, SpecularSource,
 };
-use luz::scene::Material;
+use luz::scene::{Material, Scene};
 use luz::vk::Context;
 use std::sync::Arc;
 
@@ -72,7 +72,11 @@ fn hit(i: u32, j: u32) -> Vec3 {
 fn compare(ctx: &Arc<Context>, name: &str, material: Material, rel: f32) -> f32 {
     let mut scene = base_scene();
     scene.materials[0].material = material;
-    let model = material;
+    compare_scene(ctx, name, scene, material, rel)
+}
+
+/// [`compare`] of a prepared `scene` (its material's maps, say) against the CPU's `model`.
+fn compare_scene(ctx: &Arc<Context>, name: &str, scene: Scene, model: Material, rel: f32) -> f32 {
     // The plane's tangent frame exactly as the renderer derives it.
     let mesh = &scene.objects[0].mesh;
     let tan =
@@ -848,5 +852,51 @@ fn metal_rough_specular_f90() {
     }
     eprintln!("specular F90: worst pixel {worst:.3}× the bound; F90 changes the CPU value by up to {changed:.1}× the bound");
     assert!(changed > 2.0, "{changed}");
+    assert_no_validation_messages(&ctx);
+}
+
+/// Issue 34, KHR_materials_anisotropy's map: a map of direction d (RG) and strength b (B) on
+/// the GPU equals the CPU lobe turned by atan2(d) further and of strength × b (what the
+/// reference's `surface_at` makes of the same map), within the same bound as every model.
+#[test]
+fn metal_rough_anisotropy_map() {
+    let ctx = gpu();
+    let dir = common::scratch("aniso-map");
+    let png = dir.join("aniso.png");
+    let rgb = [200u8, 90, 128];
+    image::RgbImage::from_pixel(1, 1, image::Rgb(rgb))
+        .save(&png)
+        .unwrap();
+    let p = MetalRoughParams {
+        base_color: Vec3::new(0.9, 0.6, 0.4),
+        metallic: 1.0,
+        roughness: 0.35,
+        anisotropy_strength: 0.9,
+        anisotropy_rotation: 0.3,
+        ..Default::default()
+    };
+    let mut scene = base_scene();
+    let mapped = parse(&format!(
+        r#"{{"materials": {{"m": {{"model": "metal_rough", "textures": {{"anisotropy": {:?}}}}}}},
+            "objects": [{{"mesh": {{"type": "plane"}}, "material": "m"}}]}}"#,
+        png.to_str().unwrap()
+    ));
+    scene.materials[0].textures = mapped.materials[0].textures.clone();
+    scene.materials[0].material = Material::MetalRough(p);
+    let c = rgb.map(|v| v as f32 / 255.0);
+    let (dx, dy) = (2.0 * c[0] - 1.0, 2.0 * c[1] - 1.0);
+    let expected = MetalRoughParams {
+        anisotropy_rotation: p.anisotropy_rotation + dy.atan2(dx),
+        anisotropy_strength: p.anisotropy_strength * c[2],
+        ..p
+    };
+    let worst = compare_scene(
+        &ctx,
+        "anisotropy map",
+        scene,
+        Material::MetalRough(expected),
+        REL,
+    );
+    eprintln!("anisotropy map: worst pixel {worst:.3}× the bound");
     assert_no_validation_messages(&ctx);
 }

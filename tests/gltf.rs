@@ -2118,7 +2118,8 @@ fn generated_compare_files_equal_their_json() {
 
 /// Issue 34, KHR_materials_anisotropy: the factors map onto metal_rough's anisotropy (the same
 /// material as the scene file's `anisotropy` block), a required extension is accepted, the
-/// texture gives one warning per file, and bad values are errors naming the file and JSON path.
+/// texture becomes the `anisotropy` map, and bad values are errors naming the file and JSON
+/// path.
 #[test]
 fn anisotropy_factors_warnings_and_errors() {
     let dir = scratch("gltf-anisotropy");
@@ -2162,19 +2163,20 @@ fn anisotropy_factors_warnings_and_errors() {
     let again = parse(&serde_json::to_string(&luz::scene::to_json(&scene)).unwrap());
     assert_eq!(again.materials[0].material, scene.materials[0].material);
 
+    // The texture becomes the material's anisotropy map (all channels, linear).
     let f = load(&write(
         "anisotex",
         json!({"anisotropyStrength": 1, "anisotropyTexture": {"index": 0}}),
         true,
     ));
-    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
-    assert!(
-        f.warnings[0]
-            .starts_with("anisotex.gltf: KHR_materials_anisotropy's textures are not used")
-            && f.warnings[0].ends_with(r#"materials[0] ("brushed")"#),
-        "{}",
-        f.warnings[0]
-    );
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let map = f.materials[0]
+        .textures
+        .anisotropy
+        .as_ref()
+        .expect("anisotropy map");
+    assert_eq!(map.channel, None);
+    assert!(!luz::scene::TextureSlot::Anisotropy.is_srgb());
 
     let at = "materials[0].extensions.KHR_materials_anisotropy";
     for (name, ext, want) in [

@@ -111,7 +111,8 @@ layout(set = SET_FRAME, binding = BINDING_INSTANCES, std430) readonly buffer Ins
 #define MAP_THICKNESS 9
 #define MAP_DIFFUSE_TRANSMISSION 10
 #define MAP_DIFFUSE_TRANSMISSION_COLOR 11
-#define BINDING_MATERIAL_EXTRA 12
+#define MAP_ANISOTROPY 12
+#define BINDING_MATERIAL_EXTRA 13
 layout(set = SET_MATERIAL, binding = MAP_BASE_COLOR) uniform sampler2D map_base_color;
 layout(set = SET_MATERIAL, binding = MAP_SPECULAR) uniform sampler2D map_specular;
 layout(set = SET_MATERIAL, binding = MAP_METALLIC) uniform sampler2D map_metallic;
@@ -124,6 +125,7 @@ layout(set = SET_MATERIAL, binding = MAP_TRANSMISSION) uniform sampler2D map_tra
 layout(set = SET_MATERIAL, binding = MAP_THICKNESS) uniform sampler2D map_thickness;
 layout(set = SET_MATERIAL, binding = MAP_DIFFUSE_TRANSMISSION) uniform sampler2D map_diffuse_transmission;
 layout(set = SET_MATERIAL, binding = MAP_DIFFUSE_TRANSMISSION_COLOR) uniform sampler2D map_diffuse_transmission_color;
+layout(set = SET_MATERIAL, binding = MAP_ANISOTROPY) uniform sampler2D map_anisotropy;
 #ifndef LUZ_DEFERRED
 layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor

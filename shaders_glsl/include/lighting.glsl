@@ -170,6 +170,20 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
             s.n = n;
         }
     }
+    if (has_map(MAP_ANISOTROPY)) {
+        // KHR_materials_anisotropy's map (surface_at in the reference): RG the direction in
+        // the tangent frame, which becomes the frame's x (the rotation turns it further in the
+        // BRDF); B scales the strength.
+        vec3 a = sample_map(map_anisotropy, uv).rgb;
+        vec2 d = a.rg * 2.0 - 1.0;
+        vec3 t = d.x * s.x + d.y * s.y;
+        float len2 = dot(t, t);
+        if (len2 > 1e-12) {
+            s.x = t * inversesqrt(len2);
+            s.y = cross(s.n, s.x);
+        }
+        s.p.p1.z *= a.b;
+    }
 #endif
     return s;
 }

@@ -136,11 +136,15 @@ pub enum TextureSlot {
     /// Multiplies `diffuse_transmission.diffuseTransmissionColorFactor` (metal_rough): glTF's
     /// `diffuseTransmissionColorTexture`, RGB. sRGB.
     DiffuseTransmissionColor,
+    /// KHR_materials_anisotropy's `anisotropyTexture` (metal_rough): RG the anisotropy direction
+    /// in the tangent frame ([0, 1] → [−1, 1]), turned further by `anisotropyRotation`; B
+    /// multiplies `anisotropyStrength`. Linear.
+    Anisotropy,
 }
 
 impl TextureSlot {
     /// Every slot, in the order the scene format lists them.
-    pub const ALL: [TextureSlot; 12] = [
+    pub const ALL: [TextureSlot; 13] = [
         TextureSlot::BaseColor,
         TextureSlot::Specular,
         TextureSlot::Metallic,
@@ -153,12 +157,13 @@ impl TextureSlot {
         TextureSlot::Thickness,
         TextureSlot::DiffuseTransmission,
         TextureSlot::DiffuseTransmissionColor,
+        TextureSlot::Anisotropy,
     ];
 
     /// The maps metal_rough takes: every slot but `Specular` (the classic models'), the core
-    /// glTF maps first, then glass's.
-    const ALL_METAL_ROUGH: [TextureSlot; 11] = {
-        let mut out = [TextureSlot::BaseColor; 11];
+    /// glTF maps first, then glass's, then anisotropy's.
+    const ALL_METAL_ROUGH: [TextureSlot; 12] = {
+        let mut out = [TextureSlot::BaseColor; 12];
         let (mut i, mut j) = (0, 0);
         while i < TextureSlot::ALL.len() {
             if !matches!(TextureSlot::ALL[i], TextureSlot::Specular) {
@@ -185,6 +190,7 @@ impl TextureSlot {
             TextureSlot::Thickness => "thickness",
             TextureSlot::DiffuseTransmission => "diffuse_transmission",
             TextureSlot::DiffuseTransmissionColor => "diffuse_transmission_color",
+            TextureSlot::Anisotropy => "anisotropy",
         }
     }
 
@@ -248,6 +254,8 @@ pub struct MaterialTextures {
     pub diffuse_transmission: Option<TextureRef>,
     /// sRGB.
     pub diffuse_transmission_color: Option<TextureRef>,
+    /// KHR_materials_anisotropy's direction (RG) and strength (B). Linear.
+    pub anisotropy: Option<TextureRef>,
     /// Emitted radiance = emissive_factor × emissive map (× 1 without a map). Linear RGB.
     /// Default: [1, 1, 1] with an emissive map, [0, 0, 0] without one.
     pub emissive_factor: Vec3,
@@ -322,6 +330,7 @@ impl Default for MaterialTextures {
             thickness: None,
             diffuse_transmission: None,
             diffuse_transmission_color: None,
+            anisotropy: None,
             emissive_factor: Vec3::ZERO,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
@@ -346,6 +355,7 @@ impl MaterialTextures {
             TextureSlot::Thickness => self.thickness.as_ref(),
             TextureSlot::DiffuseTransmission => self.diffuse_transmission.as_ref(),
             TextureSlot::DiffuseTransmissionColor => self.diffuse_transmission_color.as_ref(),
+            TextureSlot::Anisotropy => self.anisotropy.as_ref(),
         }
     }
 
@@ -364,6 +374,7 @@ impl MaterialTextures {
             TextureSlot::Thickness => &mut self.thickness,
             TextureSlot::DiffuseTransmission => &mut self.diffuse_transmission,
             TextureSlot::DiffuseTransmissionColor => &mut self.diffuse_transmission_color,
+            TextureSlot::Anisotropy => &mut self.anisotropy,
         }
     }
 

@@ -448,6 +448,7 @@ mod tests {
             b::MAP_THICKNESS,
             b::MAP_DIFFUSE_TRANSMISSION,
             b::MAP_DIFFUSE_TRANSMISSION_COLOR,
+            b::MAP_ANISOTROPY,
         ];
         assert_eq!(maps.len(), TextureSlot::ALL.len());
         assert_eq!(crate::render::material::SLOT_COUNT, TextureSlot::ALL.len());

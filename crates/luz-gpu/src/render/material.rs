@@ -16,8 +16,8 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, SetWrites, VkError};
 
 pub const SET_MATERIAL: u32 = crate::glsl::include_bindings::SET_MATERIAL as u32;
-/// Bindings 0..12: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
-pub const SLOT_COUNT: usize = 12;
+/// Bindings 0..13: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
+pub const SLOT_COUNT: usize = 13;
 
 /// Bit i set when `textures` has map `TextureSlot::ALL[i]` (the shader's `MAPS`/`present`).
 pub fn map_bits(textures: &crate::scene::MaterialTextures) -> u32 {

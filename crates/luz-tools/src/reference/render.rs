@@ -682,6 +682,16 @@ fn surface_at(mat: &RefMaterial, n: Vec3, x: Vec3, y: Vec3, uv: Vec2) -> Surface
             s.n = nm;
         }
     }
+    if let (Some(c), Model::MetalRough(p)) = (sample(TextureSlot::Anisotropy), &mut s.model) {
+        // KHR_materials_anisotropy's map: RG the direction in the tangent frame, which becomes
+        // the frame's x (the rotation turns it further in the BRDF); B scales the strength.
+        let t = s.x * (2.0 * c.x - 1.0) + s.y * (2.0 * c.y - 1.0);
+        if t.length_squared() > 1e-12 {
+            s.x = t.normalize();
+            s.y = s.n.cross(s.x);
+        }
+        p.anisotropy_strength *= c.z;
+    }
     s
 }
 

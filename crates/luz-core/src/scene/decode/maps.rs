@@ -28,6 +28,7 @@ const TEXTURE_FIELDS: &[&str] = &[
     "thickness",
     "diffuse_transmission",
     "diffuse_transmission_color",
+    "anisotropy",
     "normal_scale",
     "occlusion_strength",
     "emissive_factor",

@@ -445,9 +445,9 @@ pub fn sheen(
     Ok(())
 }
 
-/// KHR_materials_anisotropy's factors onto `gm` (a `metal_rough` material): strength in [0, 1],
-/// rotation any finite angle in radians; `anisotropyTexture` is not read yet (one warning per
-/// file), the factors are.
+/// KHR_materials_anisotropy onto `gm` (a `metal_rough` material): strength in [0, 1], rotation
+/// any finite angle in radians, and `anisotropyTexture` as the `anisotropy` map (RG direction,
+/// B strength).
 pub fn anisotropy(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
@@ -462,20 +462,20 @@ pub fn anisotropy(
         e.number("anisotropyStrength", 0.0, Range::Unit)?,
         e.number("anisotropyRotation", 0.0, Range::Finite)?,
     );
-    if e.has_textures(&["anisotropyTexture"], textures.count())? {
-        unused_maps(
-            m,
-            gm,
-            file_name,
-            ("KHR_materials_anisotropy", "anisotropy"),
-            warnings,
-        );
-    }
-    if let Material::MetalRough(p) = &mut gm.material {
-        p.anisotropy_strength = strength;
-        p.anisotropy_rotation = rotation;
-    }
-    Ok(())
+    let Material::MetalRough(p) = &mut gm.material else {
+        return Ok(());
+    };
+    p.anisotropy_strength = strength;
+    p.anisotropy_rotation = rotation;
+    let i = m.index().unwrap_or(0);
+    super::transmission::attach_map(
+        gm,
+        textures,
+        (&e, "anisotropyTexture"),
+        (crate::scene::TextureSlot::Anisotropy, None),
+        (i, file_name),
+        warnings,
+    )
 }
 
 /// KHR_materials_iridescence's factors onto `gm` (a `metal_rough` material): factor in [0, 1],
