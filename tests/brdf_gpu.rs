@@ -123,6 +123,40 @@ fn compare_scene(ctx: &Arc<Context>, name: &str, scene: Scene, model: Material, 
     worst.0
 }
 
+/// Each of `cases` on the GPU against the CPU (the worst error as a fraction of the bound), and
+/// how much the layer changes the CPU value at `(l, v)` on the plane (+y, its frame x = +x): the
+/// largest |with − without| over `REL`·without, `off` giving the material without the layer.
+fn layer_cases(
+    ctx: &Arc<Context>,
+    what: &str,
+    cases: &[MetalRoughParams],
+    off: impl Fn(MetalRoughParams) -> MetalRoughParams,
+    (l, v): (Vec3, Vec3),
+) -> (f32, f32) {
+    let (mut worst, mut changed) = (0.0f32, 0.0f32);
+    let (n, x, y) = (Vec3::Y, Vec3::X, Vec3::Z);
+    for p in cases {
+        let with = luz::brdf::metal_rough_terms_frame(p, n, l, v, x, y).total();
+        let without = luz::brdf::metal_rough_terms_frame(&off(*p), n, l, v, x, y).total();
+        changed = changed.max((with - without).abs().max_element() / (REL * without.max_element()));
+        worst = worst.max(compare(
+            ctx,
+            &format!("{what} {p:?}"),
+            Material::MetalRough(*p),
+            REL,
+        ));
+    }
+    (worst, changed)
+}
+
+/// The scene's light and view directions at the plane's centre.
+fn centre_directions() -> (Vec3, Vec3) {
+    (
+        (POINT - Vec3::ZERO).normalize(),
+        (CAM - Vec3::ZERO).normalize(),
+    )
+}
+
 const REL: f32 = 1e-3;
 
 /// xorshift64* in [0, 1).
@@ -470,7 +504,6 @@ fn metal_rough_transmission_takes_the_diffuse() {
 #[test]
 fn metal_rough_sheen() {
     let ctx = gpu();
-    let mut worst = 0.0f32;
     let mut cases = Vec::new();
     for metallic in [0.0, 1.0] {
         for (sheen_roughness, clearcoat) in [(0.0, 0.0), (1.0, 1.0)] {
@@ -497,31 +530,16 @@ fn metal_rough_sheen() {
             ..Default::default()
         });
     }
-    let mut changed = 0.0f32;
-    for p in cases {
-        let (n, l, v) = (
-            Vec3::Y,
-            (POINT - Vec3::ZERO).normalize(),
-            (CAM - Vec3::ZERO).normalize(),
-        );
-        let with = luz::brdf::metal_rough(&p, n, l, v);
-        let without = luz::brdf::metal_rough(
-            &MetalRoughParams {
-                sheen_color: Vec3::ZERO,
-                ..p
-            },
-            n,
-            l,
-            v,
-        );
-        changed = changed.max((with - without).abs().max_element() / (REL * without.max_element()));
-        worst = worst.max(compare(
-            &ctx,
-            &format!("sheen {p:?}"),
-            Material::MetalRough(p),
-            REL,
-        ));
-    }
+    let (worst, changed) = layer_cases(
+        &ctx,
+        "sheen",
+        &cases,
+        |p| MetalRoughParams {
+            sheen_color: Vec3::ZERO,
+            ..p
+        },
+        centre_directions(),
+    );
     eprintln!("sheen: worst pixel {worst:.3}× the bound; the sheen changes the CPU value by up to {changed:.0}× the bound");
     assert!(changed > 2.0, "{changed}");
     assert_no_validation_messages(&ctx);
@@ -713,27 +731,16 @@ fn metal_rough_anisotropy() {
         sheen_roughness: 0.5,
         ..Default::default()
     });
-    let (mut worst, mut changed) = (0.0f32, 0.0f32);
-    let (n, x, y) = (Vec3::Y, Vec3::X, Vec3::Z);
-    for p in cases {
-        let (l, v) = (
-            (POINT - Vec3::ZERO).normalize(),
-            (CAM - Vec3::ZERO).normalize(),
-        );
-        let iso = MetalRoughParams {
+    let (worst, changed) = layer_cases(
+        &ctx,
+        "anisotropy",
+        &cases,
+        |p| MetalRoughParams {
             anisotropy_strength: 0.0,
             ..p
-        };
-        let with = luz::brdf::metal_rough_terms_frame(&p, n, l, v, x, y).total();
-        let without = luz::brdf::metal_rough_terms_frame(&iso, n, l, v, x, y).total();
-        changed = changed.max((with - without).abs().max_element() / (REL * without.max_element()));
-        worst = worst.max(compare(
-            &ctx,
-            &format!("anisotropy {p:?}"),
-            Material::MetalRough(p),
-            REL,
-        ));
-    }
+        },
+        centre_directions(),
+    );
     eprintln!("anisotropy: worst pixel {worst:.3}× the bound; the anisotropy changes the CPU value by up to {changed:.0}× the bound");
     assert!(changed > 2.0, "{changed}");
     assert_no_validation_messages(&ctx);
@@ -773,31 +780,16 @@ fn metal_rough_iridescence() {
         sheen_roughness: 0.4,
         ..Default::default()
     });
-    let (mut worst, mut changed) = (0.0f32, 0.0f32);
-    for p in cases {
-        let (n, l, v) = (
-            Vec3::Y,
-            (POINT - Vec3::ZERO).normalize(),
-            (CAM - Vec3::ZERO).normalize(),
-        );
-        let with = luz::brdf::metal_rough(&p, n, l, v);
-        let without = luz::brdf::metal_rough(
-            &MetalRoughParams {
-                iridescence: 0.0,
-                ..p
-            },
-            n,
-            l,
-            v,
-        );
-        changed = changed.max((with - without).abs().max_element() / (REL * without.max_element()));
-        worst = worst.max(compare(
-            &ctx,
-            &format!("iridescence {p:?}"),
-            Material::MetalRough(p),
-            REL,
-        ));
-    }
+    let (worst, changed) = layer_cases(
+        &ctx,
+        "iridescence",
+        &cases,
+        |p| MetalRoughParams {
+            iridescence: 0.0,
+            ..p
+        },
+        centre_directions(),
+    );
     eprintln!("iridescence: worst pixel {worst:.3}× the bound; the film changes the CPU value by up to {changed:.0}× the bound");
     assert!(changed > 2.0, "{changed}");
     assert_no_validation_messages(&ctx);
@@ -812,44 +804,35 @@ fn metal_rough_iridescence() {
 #[test]
 fn metal_rough_specular_f90() {
     let ctx = gpu();
-    let (mut worst, mut changed) = (0.0f32, 0.0f32);
-    for (metallic, factor, fresnel) in [
+    let cases: Vec<MetalRoughParams> = [
         (0.0, 0.2, luz::brdf::Fresnel::Schlick),
         (0.0, 0.6, luz::brdf::Fresnel::SchlickSg),
         (0.5, 0.2, luz::brdf::Fresnel::Schlick),
-    ] {
-        let p = MetalRoughParams {
-            base_color: Vec3::new(0.7, 0.4, 0.2),
-            metallic,
-            roughness: 0.3,
-            fresnel,
-            dielectric_f0: MetalRoughParams::dielectric_f0_from(Some(1.6), factor, Vec3::ONE),
-            dielectric_f90: factor,
-            ..Default::default()
-        };
-        let (n, l, v) = (
-            Vec3::Y,
+    ]
+    .into_iter()
+    .map(|(metallic, factor, fresnel)| MetalRoughParams {
+        base_color: Vec3::new(0.7, 0.4, 0.2),
+        metallic,
+        roughness: 0.3,
+        fresnel,
+        dielectric_f0: MetalRoughParams::dielectric_f0_from(Some(1.6), factor, Vec3::ONE),
+        dielectric_f90: factor,
+        ..Default::default()
+    })
+    .collect();
+    let (worst, changed) = layer_cases(
+        &ctx,
+        "specular F90",
+        &cases,
+        |p| MetalRoughParams {
+            dielectric_f90: 1.0,
+            ..p
+        },
+        (
             Vec3::new(1.0, 0.05, 0.0).normalize(),
             Vec3::new(-1.0, 0.05, 0.1).normalize(),
-        );
-        let with = luz::brdf::metal_rough(&p, n, l, v);
-        let without = luz::brdf::metal_rough(
-            &MetalRoughParams {
-                dielectric_f90: 1.0,
-                ..p
-            },
-            n,
-            l,
-            v,
-        );
-        changed = changed.max((with - without).abs().max_element() / (REL * without.max_element()));
-        worst = worst.max(compare(
-            &ctx,
-            &format!("specular F90 {p:?}"),
-            Material::MetalRough(p),
-            REL,
-        ));
-    }
+        ),
+    );
     eprintln!("specular F90: worst pixel {worst:.3}× the bound; F90 changes the CPU value by up to {changed:.1}× the bound");
     assert!(changed > 2.0, "{changed}");
     assert_no_validation_messages(&ctx);

@@ -163,6 +163,41 @@ fn png_2x2(rgba: [u8; 4]) -> Vec<u8> {
     png
 }
 
+/// A one-quad glTF file whose one material (`name`, metallic-roughness factors) has extension
+/// `ext` (required or only used), optionally with a 2×2 texture: what the layer extensions'
+/// tests write, one file per case.
+struct ExtMaterial {
+    ext: &'static str,
+    required: bool,
+    name: &'static str,
+    metallic: f32,
+    roughness: f32,
+}
+
+impl ExtMaterial {
+    fn write(&self, dir: &Path, file: &str, ext: serde_json::Value, textures: bool) -> PathBuf {
+        let mut g = Gltf::default();
+        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
+        let mut doc = json!({
+            "extensionsUsed": [self.ext],
+            "materials": [{"name": self.name,
+                           "pbrMetallicRoughness": {"metallicFactor": self.metallic, "roughnessFactor": self.roughness},
+                           "extensions": {self.ext: ext}}],
+            "nodes": [{"mesh": 0}],
+            "meshes": [{"primitives": [q]}]
+        });
+        if self.required {
+            doc["extensionsRequired"] = json!([self.ext]);
+        }
+        if textures {
+            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
+            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
+            doc["textures"] = json!([{"source": 0}]);
+        }
+        g.write_gltf(dir, file, doc)
+    }
+}
+
 fn load(path: &Path) -> gltf::GltfFile {
     gltf::load(path, None).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -1546,21 +1581,14 @@ fn file_tangents_ior_and_specular() {
 fn clearcoat_factors_warnings_and_errors() {
     let dir = scratch("gltf-clearcoat");
     let write = |name: &str, ext: serde_json::Value, textures: bool| {
-        let mut g = Gltf::default();
-        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
-        let mut doc = json!({
-            "extensionsUsed": ["KHR_materials_clearcoat"],
-            "materials": [{"name": "coat", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.5},
-                           "extensions": {"KHR_materials_clearcoat": ext}}],
-            "nodes": [{"mesh": 0}],
-            "meshes": [{"primitives": [q]}]
-        });
-        if textures {
-            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
-            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
-            doc["textures"] = json!([{"source": 0}]);
-        }
-        g.write_gltf(&dir, name, doc)
+        let spec = ExtMaterial {
+            ext: "KHR_materials_clearcoat",
+            required: false,
+            name: "coat",
+            metallic: 0.0,
+            roughness: 0.5,
+        };
+        spec.write(&dir, name, ext, textures)
     };
     let f = load(&write(
         "coat",
@@ -1634,21 +1662,14 @@ fn clearcoat_factors_warnings_and_errors() {
 fn sheen_factors_warnings_and_errors() {
     let dir = scratch("gltf-sheen");
     let write = |name: &str, ext: serde_json::Value, textures: bool| {
-        let mut g = Gltf::default();
-        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
-        let mut doc = json!({
-            "extensionsUsed": ["KHR_materials_sheen"],
-            "materials": [{"name": "cloth", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.5},
-                           "extensions": {"KHR_materials_sheen": ext}}],
-            "nodes": [{"mesh": 0}],
-            "meshes": [{"primitives": [q]}]
-        });
-        if textures {
-            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
-            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
-            doc["textures"] = json!([{"source": 0}]);
-        }
-        g.write_gltf(&dir, name, doc)
+        let spec = ExtMaterial {
+            ext: "KHR_materials_sheen",
+            required: false,
+            name: "cloth",
+            metallic: 0.0,
+            roughness: 0.5,
+        };
+        spec.write(&dir, name, ext, textures)
     };
     let f = load(&write(
         "sheen",
@@ -2124,22 +2145,14 @@ fn generated_compare_files_equal_their_json() {
 fn anisotropy_factors_warnings_and_errors() {
     let dir = scratch("gltf-anisotropy");
     let write = |name: &str, ext: serde_json::Value, textures: bool| {
-        let mut g = Gltf::default();
-        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
-        let mut doc = json!({
-            "extensionsUsed": ["KHR_materials_anisotropy"],
-            "extensionsRequired": ["KHR_materials_anisotropy"],
-            "materials": [{"name": "brushed", "pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.3},
-                           "extensions": {"KHR_materials_anisotropy": ext}}],
-            "nodes": [{"mesh": 0}],
-            "meshes": [{"primitives": [q]}]
-        });
-        if textures {
-            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
-            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
-            doc["textures"] = json!([{"source": 0}]);
-        }
-        g.write_gltf(&dir, name, doc)
+        let spec = ExtMaterial {
+            ext: "KHR_materials_anisotropy",
+            required: true,
+            name: "brushed",
+            metallic: 1.0,
+            roughness: 0.3,
+        };
+        spec.write(&dir, name, ext, textures)
     };
     let f = load(&write(
         "aniso",
@@ -2217,22 +2230,14 @@ fn anisotropy_factors_warnings_and_errors() {
 fn iridescence_factors_warnings_and_errors() {
     let dir = scratch("gltf-iridescence");
     let write = |name: &str, ext: serde_json::Value, textures: bool| {
-        let mut g = Gltf::default();
-        let q = zquad(&mut g, [0.0; 3], 0.5, false, 0, &[]);
-        let mut doc = json!({
-            "extensionsUsed": ["KHR_materials_iridescence"],
-            "extensionsRequired": ["KHR_materials_iridescence"],
-            "materials": [{"name": "bubble", "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.2},
-                           "extensions": {"KHR_materials_iridescence": ext}}],
-            "nodes": [{"mesh": 0}],
-            "meshes": [{"primitives": [q]}]
-        });
-        if textures {
-            let img = g.view(&png_2x2([200, 100, 50, 128]), None);
-            doc["images"] = json!([{"bufferView": img, "mimeType": "image/png"}]);
-            doc["textures"] = json!([{"source": 0}]);
-        }
-        g.write_gltf(&dir, name, doc)
+        let spec = ExtMaterial {
+            ext: "KHR_materials_iridescence",
+            required: true,
+            name: "bubble",
+            metallic: 0.0,
+            roughness: 0.2,
+        };
+        spec.write(&dir, name, ext, textures)
     };
     let f = load(&write(
         "film",
