@@ -208,7 +208,8 @@ fn ggx_ltc_against_the_reference() {
 }
 
 /// Spheres on a Lambert plane and on a rough metal (roughness 0.5) by representative point, LTC
-/// (the facing disk) and 256 samples, each against the reference (4096 per strategy); the
+/// (the facing disk) and 256 samples, each against the reference (4096 per strategy; the
+/// emitter is not `visible`, so that only shading is measured); the
 /// tolerance is on the relative L1 error, measured on lavapipe + ~20 %. The diffuse term is exact
 /// for all three (0.04 % measured: the reference's own noise); the specular term of the
 /// representative point is Karis's approximation (17 % measured), LTC's that of the rect (4.2 %
@@ -238,7 +239,7 @@ fn sphere_methods_against_the_reference() {
         ),
     ] {
         let light = format!(
-            r#"{{"type": "sphere", "position": [0.1, 1.0, 0.2], "radius": 0.3, "intensity": 4, {method}}}"#
+            r#"{{"type": "sphere", "position": [0.1, 1.0, 0.2], "radius": 0.3, "intensity": 4, "visible": false, {method}}}"#
         );
         let scene = plane_scene(&light, material);
         let gpu = common::render_on(&ctx, &scene);
@@ -725,8 +726,11 @@ fn visible_emitter_blocks_other_lights_shadow_rays() {
 /// Stability rows (issue 36): roughness 0, an emitter crossing the shaded surface's horizon, one
 /// touching the surface and degenerate (tiny) sizes, each on the GPU against the reference (4096
 /// directions per strategy; emitters `visible: false`, so the rows measure shading alone). Every
-/// pixel is finite and ≥ 0, and the relative L1 error is within the row's bound (the measured
-/// value + a margin, printed; docs/area-lights.md has the table).
+/// pixel is finite and ≥ 0, and the relative L1 error is within the row's bound: the measured
+/// value (printed; 2026-11-29, docs/area-lights.md has the table) + ~20 %, or 0.5 % where the
+/// measured error is the reference's noise. Representative point (roughness 0, touching, tubes)
+/// and the tiny LTC sphere are far off the reference (12–55 %): those bounds only catch a
+/// regression, they are not accuracy goals.
 #[test]
 fn area_light_stability_rows() {
     let ctx = common::gpu();
@@ -734,66 +738,66 @@ fn area_light_stability_rows() {
         r#"{"model": "metal_rough", "base_color": [0.9, 0.9, 0.9], "metallic": 1, "roughness": 0}"#;
     let rough = r#"{"model": "metal_rough", "base_color": [0.8, 0.7, 0.6], "metallic": 0.3, "roughness": 0.4}"#;
     let rows: Vec<(&str, String, &str, f64)> = vec![
-        ("roughness 0, rect LTC", RECT.replace('}', r#", "visible": false}"#), metal0, 1.0),
+        ("roughness 0, rect LTC", RECT.replace('}', r#", "visible": false}"#), metal0, 0.005),
         (
             "roughness 0, sphere representative point",
             r#"{"type": "sphere", "position": [0.1, 1.0, 0.2], "radius": 0.3, "intensity": 4, "method": "representative_point", "visible": false}"#.into(),
             metal0,
-            1.0,
+            0.15,
         ),
         (
             "rect crossing the horizon, Lambert",
             r#"{"type": "rect", "position": [0.2, 0.3, -0.3], "direction": [0, 0, 1], "up": [0, 1, 0], "size": [1.2, 1.0], "intensity": 3, "visible": false}"#.into(),
             lambert(),
-            1.0,
+            0.04,
         ),
         (
             "rect crossing the horizon, metal-rough 0.4",
             r#"{"type": "rect", "position": [0.2, 0.3, -0.3], "direction": [0, 0, 1], "up": [0, 1, 0], "size": [1.2, 1.0], "intensity": 3, "visible": false}"#.into(),
             rough,
-            1.0,
+            0.03,
         ),
         (
             "sphere touching the plane, LTC, Lambert",
             r#"{"type": "sphere", "position": [0.1, 0.3, 0.2], "radius": 0.3, "intensity": 4, "visible": false}"#.into(),
             lambert(),
-            1.0,
+            0.005,
         ),
         (
             "sphere touching the plane, representative point, metal-rough 0.4",
             r#"{"type": "sphere", "position": [0.1, 0.3, 0.2], "radius": 0.3, "intensity": 4, "method": "representative_point", "visible": false}"#.into(),
             rough,
-            1.0,
+            0.10,
         ),
         (
             "tube lying on the plane, metal-rough 0.4",
             r#"{"type": "tube", "position": [0.1, 0.05, 0.2], "direction": [1, 0, 0], "length": 1, "radius": 0.05, "intensity": 20, "visible": false}"#.into(),
             rough,
-            1.0,
+            0.45,
         ),
         (
             "tiny rect (1 mm), Lambert",
             r#"{"type": "rect", "position": [0.2, 1.5, -0.3], "direction": [0, -1, 0], "up": [0, 0, 1], "size": [0.001, 0.001], "intensity": 3000000, "visible": false}"#.into(),
             lambert(),
-            1.0,
+            0.005,
         ),
         (
             "tiny disk (0.5 mm), metal-rough 0.4",
             r#"{"type": "disk", "position": [-0.2, 1.2, 0.1], "direction": [0, -1, 0], "radius": 0.0005, "intensity": 4000000, "visible": false}"#.into(),
             rough,
-            1.0,
+            0.01,
         ),
         (
             "tiny sphere (0.5 mm), LTC, metal-rough 0.4",
             r#"{"type": "sphere", "position": [0.1, 1.0, 0.2], "radius": 0.0005, "intensity": 1000000, "visible": false}"#.into(),
             rough,
-            1.0,
+            0.40,
         ),
         (
             "short thin tube (1 mm), metal-rough 0.4",
             r#"{"type": "tube", "position": [0.1, 1.0, 0.2], "direction": [1, 0, 0], "length": 0.001, "radius": 0.0005, "intensity": 1000000, "visible": false}"#.into(),
             rough,
-            1.0,
+            0.65,
         ),
     ];
     let mut failures = Vec::new();

@@ -967,9 +967,10 @@ impl ForwardPass {
             );
             if let Some(pipeline) = emitters {
                 // After the lighting (which kept depth for it): the emitters over the lit scene.
+                // Both kept: the lit scene under the emitters, its depth to test them against.
                 g.pass(names.emitters)
-                    .write(target.color, Access::ColorAttachmentReadWrite)
-                    .write(target.depth, Access::DepthAttachmentWrite)
+                    .read_write(target.color, Access::ColorAttachmentReadWrite)
+                    .read_write(target.depth, Access::DepthAttachmentWrite)
                     .record(move |rc| {
                         let views = attachment_views(rc, target)?;
                         let (d, cmd) = (rc.device(), rc.cmd());
