@@ -833,3 +833,25 @@ fn area_light_stability_rows() {
     assert!(failures.is_empty(), "{failures:#?}");
     assert!(e_gpu < 0.01, "1 mm rect: {e_gpu}");
 }
+
+/// A scene without a visible area light has no emitter pass: on the deferred path (Lambert
+/// plane) the frame's passes (its GPU timer rows) include "emitters" with a visible rect and not
+/// with `visible: false`.
+#[test]
+fn emitters_add_a_pass_only_when_visible() {
+    let ctx = common::gpu();
+    let mut rows = Vec::new();
+    for visible in [true, false] {
+        let light = RECT.replace('}', &format!(r#", "visible": {visible}}}"#));
+        let mut r =
+            luz::headless::Headless::new(&ctx, &plane_scene(&light, lambert())).expect("renderer");
+        assert_eq!(r.render_path(), "deferred");
+        let times = r.render().expect("frame");
+        let names: Vec<String> = times.gpu_ms.iter().map(|(n, _)| n.to_string()).collect();
+        eprintln!("visible {visible}: passes {names:?}");
+        rows.push((visible, names.iter().any(|n| n == "emitters"), names.len()));
+    }
+    common::assert_no_validation_messages(&ctx);
+    assert!(rows[0].1 && !rows[1].1, "{rows:?}");
+    assert_eq!(rows[0].2, rows[1].2 + 1, "{rows:?}");
+}
