@@ -76,7 +76,10 @@ vec3 area_edge(vec3 a, vec3 b) {
     float w = 3.4175940 + (4.1616724 + y) * y;
     float v = u / w;
     float theta_sin = x > 0.0 ? v : 0.5 * inversesqrt(max(1.0 - x * x, 1e-7)) - v;
-    return cross(a, b) * theta_sin;
+    // a × (b − a) = a × b, but without its cancellation for close a and b: b − a is exact (close
+    // floats subtract exactly), while a × b of nearly parallel vectors keeps only an absolute
+    // error of ~1e-7, as large as a tiny polygon's whole sum (a 1 mm rect at 1.5 m was 7.5× off).
+    return cross(a, b - a) * theta_sin;
 }
 
 // The form factor of a polygon from its vector form factor F, the part below the horizon (z < 0)

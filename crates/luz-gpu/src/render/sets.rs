@@ -16,9 +16,15 @@ const SET_SHADOW: u32 = crate::glsl::include_shadows::SET_SHADOW as u32;
 /// set 1 is the G-buffer's). Each of these set layouts is made from it, once for all the pipeline
 /// layouts that share it.
 pub fn scene_interface() -> Result<Interface, VkError> {
-    let keys: Vec<&str> = ["forward.", "skybox.", "shadow_mask.", "deferred_gbuffer."]
-        .into_iter()
-        .flat_map(keys_with_prefix)
-        .collect();
+    let keys: Vec<&str> = [
+        "forward.",
+        "skybox.",
+        "emitter.",
+        "shadow_mask.",
+        "deferred_gbuffer.",
+    ]
+    .into_iter()
+    .flat_map(keys_with_prefix)
+    .collect();
     Interface::of("scene", &keys)?.with(&["deferred_light.frag"], &[SET_FRAME, SET_SHADOW])
 }

@@ -16,7 +16,9 @@ use super::ReferenceOptions;
 use crate::brdf::{radical_inverse_vdc, sampling_lobes, Lobe, Model};
 use crate::env::{env_rotation, Equirect};
 use crate::scene::mesh::bounds_of;
-use crate::scene::{AlphaMode, Fog, Light, LightKind, MeshDesc, Scene, Sides, TextureSlot};
+use crate::scene::{
+    AlphaMode, AreaLight, Fog, Light, LightKind, MeshDesc, Scene, Sides, TextureSlot,
+};
 
 /// A material as the reference shades it: the sanitised model and its decoded maps.
 struct RefMaterial {
@@ -364,7 +366,13 @@ impl Prepared {
         samples: (u32, u32),
         layer: usize,
     ) -> Vec3 {
-        let Some((i, t, part, local)) = self.trace(o, d, t_min) else {
+        let hit = self.trace(o, d, t_min);
+        // A visible emitter nearer than the surface (issue 36): its radiance L, fogged as one.
+        if let Some((l, t)) = self.emitter_seen(o, d, t_min, hit.as_ref().map_or(self.far, |h| h.1))
+        {
+            return self.apply_fog(l, t);
+        }
+        let Some((i, t, part, local)) = hit else {
             return match &self.env {
                 Some(e) if e.show_background => e.radiance(d.normalize_or(Vec3::NEG_Z)),
                 _ => self.background,
@@ -449,8 +457,11 @@ impl Prepared {
             let o = p + s.n * ((obj.hi - obj.lo).length().max(p.abs().max_element()) * 2e-5);
             for (k, light) in self.area_lights.iter().enumerate() {
                 let shadowed = obj.receive_shadow && light.shadow.is_some();
-                let blocked =
-                    |dir: Vec3, dist: f32| shadowed && self.occluded(o, dir * dist, 1.0 - 1e-4);
+                let blocked = |dir: Vec3, dist: f32| {
+                    shadowed
+                        && (self.occluded(o, dir * dist, 1.0 - 1e-4)
+                            || self.emitter_blocks(o, dir * dist, 1.0 - 1e-4, Some(k)))
+                };
                 let key = [key[0], key[1], key[2] ^ ((k as u64 + 1) << 48)];
                 c += area::area_light_radiance(light, &s, (p, v), key, samples, &blocked);
             }
@@ -499,7 +510,8 @@ impl Prepared {
             }
         };
         if size <= 0.0 {
-            return if self.occluded(o, ray(None), t_max) {
+            let r = ray(None);
+            return if self.occluded(o, r, t_max) || self.emitter_blocks(o, r, t_max, None) {
                 0.0
             } else {
                 1.0
@@ -509,10 +521,56 @@ impl Prepared {
         let lit = (0..samples)
             .filter(|&s| {
                 let d = concentric_disc(cmj(s, samples, pattern));
-                !self.occluded(o, ray(Some(d)), t_max)
+                let r = ray(Some(d));
+                !(self.occluded(o, r, t_max) || self.emitter_blocks(o, r, t_max, None))
             })
             .count();
         lit as f32 / samples as f32
+    }
+
+    /// The nearest visible area light (issue 36) that the ray `o + t d` meets from its emitting
+    /// side (either side of a `two_sided` rect or disk; a sphere from outside; a tube's side, inside
+    /// or out, as [`area::intersect`] sees the emitter) at t in [`t_min`, `t_max`]: its radiance L
+    /// and t. A one-sided rect or disk seen from behind is not seen (rays pass through it).
+    fn emitter_seen(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Option<(Vec3, f32)> {
+        let len = d.length();
+        if self.area_lights.is_empty() || len <= 0.0 || !len.is_finite() {
+            return None;
+        }
+        let dir = d / len;
+        let mut best: Option<(Vec3, f32)> = None;
+        for light in self.area_lights.iter().filter(|l| l.visible) {
+            let Some((dist, _)) = area::intersect(light, o, dir) else {
+                continue;
+            };
+            let t = dist / len;
+            if t >= t_min && t <= best.map_or(t_max, |b| b.1) {
+                best = Some((light.radiance(), t));
+            }
+        }
+        best
+    }
+
+    /// Whether a visible area light other than `own` (its index in the scene's area lights)
+    /// meets the shadow ray `o + t d` for t in (0, `t_max`): visible emitters block the shadow
+    /// rays of the other lights from either side (a one-sided emitter's back is not drawn but is
+    /// still solid, as a single-sided material's back face casts shadows), never their own.
+    fn emitter_blocks(&self, o: Vec3, d: Vec3, t_max: f32, own: Option<usize>) -> bool {
+        let len = d.length();
+        if self.area_lights.is_empty() || len <= 0.0 || !len.is_finite() {
+            return false;
+        }
+        let dir = d / len;
+        self.area_lights.iter().enumerate().any(|(k, light)| {
+            if !light.visible || Some(k) == own {
+                return false;
+            }
+            let solid = AreaLight {
+                two_sided: true,
+                ..*light
+            };
+            area::intersect(&solid, o, dir).is_some_and(|(dist, _)| dist / len < t_max)
+        })
     }
 
     /// Whether a shadow-casting object meets the ray `o + t d` for t in (0, `t_max`) where it

@@ -212,7 +212,7 @@ impl Deferred {
         &'a self,
         g: &mut FrameGraph<'a>,
         (target, names): (SceneTarget, super::PassNames),
-        (output, clear): (Output, vk::ClearValue),
+        (output, clear, keep_depth): (Output, vk::ClearValue, bool),
         (frame_set, shadow_set, shadow): (
             vk::DescriptorSet,
             vk::DescriptorSet,
@@ -290,7 +290,8 @@ impl Deferred {
             let depth_view = rc.image(target.depth)?.view;
             let (d, cmd) = (rc.device(), rc.cmd());
             let colors = [color_attachment(color_view, Load::Clear(clear), true)];
-            let depth = depth_attachment(depth_view, Load::Keep, false);
+            // Stored when a pass after this one draws against it (the emitters, issue 36).
+            let depth = depth_attachment(depth_view, Load::Keep, keep_depth);
             let info = rendering_info(area, &colors, Some(&depth));
             // SAFETY: as above: the graph put the output in COLOR_ATTACHMENT_OPTIMAL, depth in
             // DEPTH_ATTACHMENT_OPTIMAL after the geometry's writes and the G-buffer in

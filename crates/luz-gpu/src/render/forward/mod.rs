@@ -28,6 +28,7 @@ use world::{Change, Shape};
 mod build;
 pub mod clusters;
 mod deferred;
+mod emitter;
 mod instances;
 mod lod;
 mod per_frame;
@@ -180,6 +181,9 @@ pub struct PassNames {
     /// Glass: the copy of the opaque scene, and the transmissive (and blended) draws after it.
     pub transmission: &'static str,
     pub transmissive: &'static str,
+    /// The visible area lights' emitters after the deferred path's lighting (the forward path
+    /// draws them in its own pass).
+    pub emitters: &'static str,
 }
 
 impl PassNames {
@@ -191,6 +195,7 @@ impl PassNames {
         forward: "forward",
         transmission: "transmission copy",
         transmissive: "transmissive",
+        emitters: "emitters",
     };
     /// The viewer's B side.
     pub const B: Self = Self {
@@ -200,10 +205,11 @@ impl PassNames {
         forward: "B: forward",
         transmission: "B: transmission copy",
         transmissive: "B: transmissive",
+        emitters: "B: emitters",
     };
 
     /// Every name, for the reports that group them.
-    pub fn all(&self) -> [&'static str; 6] {
+    pub fn all(&self) -> [&'static str; 7] {
         [
             self.shadows,
             self.gbuffer,
@@ -211,6 +217,7 @@ impl PassNames {
             self.forward,
             self.transmission,
             self.transmissive,
+            self.emitters,
         ]
     }
 }
@@ -361,6 +368,8 @@ pub struct ForwardPass {
     /// The environment is drawn as the background: one pipeline per output.
     has_skybox: bool,
     skyboxes: BTreeMap<Output, Pipeline>,
+    /// The visible area lights' emitters (issue 36); `None`: no visible area light.
+    emitters: Option<emitter::Emitters>,
     /// Bound in every slot's set (`BINDING_SRGB_TABLE`); kept as long as they are.
     _srgb_table: Buffer,
     /// The deferred path, when the scene takes it ([`deferred::eligible`]).
@@ -431,7 +440,7 @@ fn background(output: &crate::scene::Output) -> glam::Vec4 {
 /// and the deferred path's geometry pass (its push block is [`MaterialPush`]).
 fn forward_interface() -> Result<crate::vk::Interface, VkError> {
     use crate::vk::interface::keys_with_prefix;
-    let keys: Vec<&str> = ["forward.", "skybox.", "deferred_gbuffer."]
+    let keys: Vec<&str> = ["forward.", "skybox.", "emitter.", "deferred_gbuffer."]
         .into_iter()
         .flat_map(keys_with_prefix)
         .collect();
@@ -624,6 +633,7 @@ impl ForwardPass {
             shape: Shape::of(scene, debug),
             has_skybox,
             skyboxes: BTreeMap::new(),
+            emitters: emitter::Emitters::new(scene),
             _srgb_table: srgb_table,
             deferred,
             env_set: ibl.map(|i| i.set),
@@ -653,6 +663,9 @@ impl ForwardPass {
     /// Builds the pipelines drawing with `output` that are not built yet (each variant the draws
     /// use, and the skybox).
     pub fn prepare(&mut self, output: Output) -> Result<(), VkError> {
+        if let Some(e) = &mut self.emitters {
+            e.prepare(&self.ctx, &self.layout, self.target, output)?;
+        }
         if let Some(d) = &mut self.deferred {
             return d.prepare(output);
         }
@@ -930,10 +943,18 @@ impl ForwardPass {
                 extent: target.extent,
                 ..Default::default()
             };
+            let emitters = match &self.emitters {
+                None => None,
+                Some(e) => Some(e.pipeline(output).ok_or_else(|| {
+                    VkError::Setup(format!(
+                        "forward: the emitters for {output:?} were not prepared"
+                    ))
+                })?),
+            };
             def.add_passes(
                 g,
                 (target, names),
-                (output, clear),
+                (output, clear, emitters.is_some()),
                 (set, shadow_set, shadow_image),
                 move |cmd, pipeline| {
                     self.record_draws(
@@ -944,6 +965,24 @@ impl ForwardPass {
                     )
                 },
             );
+            if let Some(pipeline) = emitters {
+                // After the lighting (which kept depth for it): the emitters over the lit scene.
+                // Both kept: the lit scene under the emitters, its depth to test them against.
+                g.pass(names.emitters)
+                    .read_write(target.color, Access::ColorAttachmentReadWrite)
+                    .read_write(target.depth, Access::DepthAttachmentWrite)
+                    .record(move |rc| {
+                        let views = attachment_views(rc, target)?;
+                        let (d, cmd) = (rc.device(), rc.cmd());
+                        let _area =
+                            begin_scene_rendering((d, cmd), target, views, (Load::Keep, false));
+                        self.record_emitters(cmd, (set, shadow_set), pipeline);
+                        // SAFETY: closes the rendering instance begun above, in the same command
+                        // buffer.
+                        unsafe { d.cmd_end_rendering(cmd) };
+                        Ok(())
+                    });
+            }
             return Ok(());
         }
         let mut pipelines = Vec::new();
@@ -973,6 +1012,14 @@ impl ForwardPass {
                     "forward: the skybox for {output:?} was not prepared"
                 )))
             }
+        };
+        let emitters = match &self.emitters {
+            None => None,
+            Some(e) => Some(e.pipeline(output).ok_or_else(|| {
+                VkError::Setup(format!(
+                    "forward: the emitters for {output:?} were not prepared"
+                ))
+            })?),
         };
         // Glass (issue 35): transmissive draws in view split the pass around a copy of the
         // opaque scene ([`transmission`]).
@@ -1012,6 +1059,11 @@ impl ForwardPass {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, sky);
                     d.cmd_draw(cmd, 3, 1, 0, 0);
                 }
+            }
+            // The visible area lights' emitters over the opaque scene and the sky, before glass
+            // and blended draws (issue 36).
+            if let Some(pipeline) = emitters {
+                self.record_emitters(cmd, (set, shadow_set), pipeline);
             }
             let rest = (&order[second..opaque_end], levels, second);
             self.record_draws(cmd, (set, shadow_set, rest), |i| pipelines[i], area);

@@ -91,7 +91,7 @@ fn disk_light_on_a_lambert_plane_is_the_exact_irradiance() {
 #[test]
 fn sphere_light_on_a_lambert_plane_is_pi_l_sin2() {
     let (c, r, l) = (DVec3::new(0.1, 1.0, 0.2), 0.3, 1.5);
-    let light = r#"{"type": "sphere", "position": [0.1, 1, 0.2], "radius": 0.3, "intensity": 1.5}"#;
+    let light = r#"{"type": "sphere", "position": [0.1, 1, 0.2], "radius": 0.3, "intensity": 1.5, "visible": false}"#;
     // Wholly above the horizon: E = π·L·sin²θ · cos α (θ the cone's half-angle, α its axis's
     // angle from the normal).
     let worst = plane_under(light, &|p| {
