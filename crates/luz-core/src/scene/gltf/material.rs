@@ -468,7 +468,7 @@ pub fn anisotropy(
     p.anisotropy_strength = strength;
     p.anisotropy_rotation = rotation;
     let i = m.index().unwrap_or(0);
-    super::transmission::attach_map(
+    attach_map(
         gm,
         textures,
         (&e, "anisotropyTexture"),
@@ -568,4 +568,31 @@ pub(super) fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize
         }
         None => warnings.push(marker + &entry),
     }
+}
+
+/// Extension `e`'s texture `key` (if any) as `gm`'s `slot` map (`channel`: the channel holding
+/// a single value, `None` = R). A material's maps share one UV set and transform (baked into
+/// the meshes' UVs): the first map's, as for the core maps; another is one warning.
+pub(super) fn attach_map(
+    gm: &mut GltfMaterial,
+    textures: &TextureSource,
+    (e, key): (&Ext, &str),
+    (slot, channel): (crate::scene::TextureSlot, Option<u8>),
+    (i, file_name): (usize, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some((index, uv)) = e.texture_info(key, textures.count())? else {
+        return Ok(());
+    };
+    if gm.textures.maps().next().is_none() {
+        gm.uv = uv;
+    } else if uv != gm.uv {
+        warnings.push(format!(
+            "{file_name}: materials[{i}] (\"{}\"): {key} reads UV set {} with its own \
+             transform; luz gives all maps of a material the UVs of its first map (set {})",
+            gm.name, uv.set, gm.uv.set
+        ));
+    }
+    *gm.textures.get_mut(slot) = textures.get(index, channel);
+    Ok(())
 }

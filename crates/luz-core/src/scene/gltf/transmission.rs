@@ -58,7 +58,7 @@ pub fn transmission(
     };
     p.transmission = t;
     for (slot, e, key, channel) in maps {
-        attach_map(
+        super::material::attach_map(
             gm,
             textures,
             (&e, key),
@@ -67,32 +67,5 @@ pub fn transmission(
             warnings,
         )?;
     }
-    Ok(())
-}
-
-/// Extension `e`'s texture `key` (if any) as `gm`'s `slot` map (`channel`: the channel holding
-/// a single value, `None` = R). A material's maps share one UV set and transform (baked into
-/// the meshes' UVs): the first map's, as for the core maps; another is one warning.
-pub(super) fn attach_map(
-    gm: &mut GltfMaterial,
-    textures: &TextureSource,
-    (e, key): (&Ext, &str),
-    (slot, channel): (TextureSlot, Option<u8>),
-    (i, file_name): (usize, &str),
-    warnings: &mut Vec<String>,
-) -> Result<(), GltfError> {
-    let Some((index, uv)) = e.texture_info(key, textures.count())? else {
-        return Ok(());
-    };
-    if gm.textures.maps().next().is_none() {
-        gm.uv = uv;
-    } else if uv != gm.uv {
-        warnings.push(format!(
-            "{file_name}: materials[{i}] (\"{}\"): {key} reads UV set {} with its own \
-             transform; luz gives all maps of a material the UVs of its first map (set {})",
-            gm.name, uv.set, gm.uv.set
-        ));
-    }
-    *gm.textures.get_mut(slot) = textures.get(index, channel);
     Ok(())
 }
