@@ -304,8 +304,8 @@ bool brdf_has_iridescence(BrdfParams p) {
 // colour, mixed by metallic.
 vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
     float metallic = p.spec.w;
-    // The outside is the clear coat's index where there is one (iridescence_outside_ior).
-    FilmAt f = film_at(1.0 + 0.5 * p.p1.x, p.p2.z, c, p.p2.w);
+    // The outside is air, under a coat too (iridescence_outside_ior).
+    FilmAt f = film_at(1.0, p.p2.z, c, p.p2.w);
     if (metallic <= 0.0) {
         return film_over(f, p.spec.rgb);
     }

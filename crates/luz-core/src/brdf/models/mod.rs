@@ -992,11 +992,14 @@ pub fn iridescence_fresnel_of(p: &MetalRoughParams, cos: f32) -> Vec3 {
     }
 }
 
-/// The index above the film: the extension puts a clear coat (of index 1.5) over the film, so
-/// the outside is the coat where there is one — `mix(1, 1.5, clearcoat)`, exact at factors 0
-/// and 1 and continuous between.
-pub fn iridescence_outside_ior(p: &MetalRoughParams) -> f32 {
-    1.0 + 0.5 * p.clearcoat
+/// The index above the film: air (1). The extension puts a clear coat (index 1.5) above the
+/// film, but inside the coat light travels at the refracted angle, so Snell's law into the film
+/// is the same as from air; only the first interface's reflectance changes. Taking 1.5 with the
+/// air angle made total internal reflection in the film at grazing views (a white furnace of
+/// 1.64 under a coat), so the coat's index is left out until the first interface is modelled at
+/// the coat's angle.
+pub fn iridescence_outside_ior(_p: &MetalRoughParams) -> f32 {
+    1.0
 }
 
 /// The F0 whose Schlick curve passes through the film's Fresnel at `n·v` (the extension's
