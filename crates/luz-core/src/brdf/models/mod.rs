@@ -964,6 +964,19 @@ pub fn with_f90(fresnel: Fresnel, f: Vec3, f0: Vec3, f90: f32) -> Vec3 {
     out
 }
 
+/// KHR_materials_iridescence's rules that the scene decoder and the glTF reader both apply:
+/// why `iridescenceIor` is refused (the film's index is at least 1), if it is.
+pub fn film_ior_error(ior: f32) -> Option<String> {
+    (ior < 1.0).then(|| format!("a film's index is at least 1, got {ior}"))
+}
+
+/// Why `iridescenceThicknessMinimum` is refused (a reversed range), if it is.
+pub fn film_range_error(min: f32, max: f32) -> Option<String> {
+    (min > max).then(|| {
+        format!("the thickness range is reversed: minimum {min} nm is above the maximum {max} nm")
+    })
+}
+
 /// Whether sanitised `p` has KHR_materials_iridescence's film: a factor above 0 and a
 /// thickness above 0.
 pub fn has_iridescence(p: &MetalRoughParams) -> bool {

@@ -369,11 +369,8 @@ fn iridescence(v: &Value, path: &str) -> Result<[f32; 4]> {
     )?;
     let d = MetalRoughParams::default();
     let ior = f.num("iridescenceIor", d.iridescence_ior, Check::NonNegative)?;
-    if ior < 1.0 {
-        return Err(f.err(
-            "iridescenceIor",
-            format!("a film's index is at least 1, got {ior}"),
-        ));
+    if let Some(why) = crate::brdf::film_ior_error(ior) {
+        return Err(f.err("iridescenceIor", why));
     }
     let min = f.num(
         "iridescenceThicknessMinimum",
@@ -385,13 +382,8 @@ fn iridescence(v: &Value, path: &str) -> Result<[f32; 4]> {
         d.iridescence_thickness_max,
         Check::NonNegative,
     )?;
-    if min > max {
-        return Err(f.err(
-            "iridescenceThicknessMinimum",
-            format!(
-                "the thickness range is reversed: minimum {min} nm is above the maximum {max} nm"
-            ),
-        ));
+    if let Some(why) = crate::brdf::film_range_error(min, max) {
+        return Err(f.err("iridescenceThicknessMinimum", why));
     }
     Ok([f.num("iridescenceFactor", 0.0, UNIT)?, ior, min, max])
 }

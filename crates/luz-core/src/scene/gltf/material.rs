@@ -496,11 +496,8 @@ pub fn iridescence(
     let d = crate::brdf::MetalRoughParams::default();
     let factor = e.number("iridescenceFactor", 0.0, Range::Unit)?;
     let ior = e.number("iridescenceIor", d.iridescence_ior, Range::Positive)?;
-    if ior < 1.0 {
-        return Err(e.err(
-            "iridescenceIor",
-            format!("a film's index is at least 1, got {ior}"),
-        ));
+    if let Some(why) = crate::brdf::film_ior_error(ior) {
+        return Err(e.err("iridescenceIor", why));
     }
     let min = e.number(
         "iridescenceThicknessMinimum",
@@ -512,13 +509,8 @@ pub fn iridescence(
         d.iridescence_thickness_max,
         Range::NonNegative,
     )?;
-    if min > max {
-        return Err(e.err(
-            "iridescenceThicknessMinimum",
-            format!(
-                "the thickness range is reversed: minimum {min} nm is above the maximum {max} nm"
-            ),
-        ));
+    if let Some(why) = crate::brdf::film_range_error(min, max) {
+        return Err(e.err("iridescenceThicknessMinimum", why));
     }
     if e.has_textures(
         &["iridescenceTexture", "iridescenceThicknessTexture"],
