@@ -54,6 +54,38 @@ CASES = [
     ("diffuse_transmission", "KHR_materials_diffuse_transmission", "diffuseTransmissionFactor",
      "diffuse_transmission", "diffuseTransmissionFactor", [0.0, 0.25, 0.5, 0.75, 1.0],
      ("diffuseTransmissionTexture", "diffuse_transmission", "a")),
+    # The layers' textures, each multiplying its factor (the channel glTF reads: R unless given).
+    ("clearcoat_texture", "KHR_materials_clearcoat", "clearcoatFactor", "clearcoat",
+     "clearcoatFactor", [0.2, 0.4, 0.6, 0.8, 1.0], ("clearcoatTexture", "clearcoat", None)),
+    ("clearcoat_roughness_texture", "KHR_materials_clearcoat", "clearcoatRoughnessFactor",
+     "clearcoat", "clearcoatRoughnessFactor", [0.2, 0.4, 0.6, 0.8, 1.0],
+     ("clearcoatRoughnessTexture", "clearcoat_roughness", "g")),
+    ("sheen_color_texture", "KHR_materials_sheen", "sheenColorFactor", "sheen", "sheenColorFactor",
+     [[0.2, 0.2, 0.2], [0.4, 0.3, 0.3], [0.6, 0.4, 0.4], [0.8, 0.5, 0.5], [1, 0.6, 0.6]],
+     ("sheenColorTexture", "sheen_color", None)),
+    ("sheen_roughness_texture", "KHR_materials_sheen", "sheenRoughnessFactor", "sheen",
+     "sheenRoughnessFactor", [0.2, 0.4, 0.6, 0.8, 1.0],
+     ("sheenRoughnessTexture", "sheen_roughness", "a")),
+    ("specular_texture", "KHR_materials_specular", "specularFactor", "specular",
+     "specularFactor", [0.2, 0.4, 0.6, 0.8, 1.0], ("specularTexture", "specular_factor", "a")),
+    ("specular_color_texture", "KHR_materials_specular", "specularColorFactor", "specular",
+     "specularColorFactor", [[1, 1, 1], [1, 0.5, 0.5], [0.5, 1, 0.5], [0.5, 0.5, 1], [2, 2, 2]],
+     ("specularColorTexture", "specular_color", None)),
+    ("anisotropy", "KHR_materials_anisotropy", "anisotropyStrength", "anisotropy",
+     "anisotropyStrength", [0.0, 0.25, 0.5, 0.75, 1.0], None),
+    ("anisotropy_rotation", "KHR_materials_anisotropy", "anisotropyRotation", "anisotropy",
+     "anisotropyRotation", [0.0, 0.4, 0.8, 1.2, 1.6], None),
+    ("anisotropy_texture", "KHR_materials_anisotropy", "anisotropyStrength", "anisotropy",
+     "anisotropyStrength", [0.2, 0.4, 0.6, 0.8, 1.0], ("anisotropyTexture", "anisotropy", None)),
+    ("iridescence", "KHR_materials_iridescence", "iridescenceFactor", "iridescence",
+     "iridescenceFactor", [0.0, 0.25, 0.5, 0.75, 1.0], None),
+    ("iridescence_ior", "KHR_materials_iridescence", "iridescenceIor", "iridescence",
+     "iridescenceIor", [1.0, 1.2, 1.4, 1.6, 1.8], None),
+    ("iridescence_texture", "KHR_materials_iridescence", "iridescenceFactor", "iridescence",
+     "iridescenceFactor", [0.2, 0.4, 0.6, 0.8, 1.0], ("iridescenceTexture", "iridescence", None)),
+    ("iridescence_thickness", "KHR_materials_iridescence", "iridescenceThicknessMaximum",
+     "iridescence", "iridescenceThicknessMaximum", [200, 350, 500, 650, 800],
+     ("iridescenceThicknessTexture", "iridescence_thickness", "g")),
 ]
 
 # Fields a case needs beside its varied one (the glass cases need a transmission to show).
@@ -67,6 +99,13 @@ EXTRA = {
         "KHR_materials_transmission": {"transmissionFactor": 1},
         "KHR_materials_volume": {"thicknessFactor": 1},
     },
+    "clearcoat_roughness_texture": {"KHR_materials_clearcoat": {"clearcoatFactor": 1}},
+    "sheen_roughness_texture": {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}},
+    "anisotropy_rotation": {"KHR_materials_anisotropy": {"anisotropyStrength": 0.8}},
+    "iridescence_ior": {"KHR_materials_iridescence": {"iridescenceFactor": 1}},
+    "iridescence_thickness": {
+        "KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMinimum": 100},
+    },
 }
 
 # glTF extension name → luz block name.
@@ -79,6 +118,8 @@ LUZ_BLOCK = {
     "KHR_materials_diffuse_transmission": "diffuse_transmission",
     "KHR_materials_ior": "ior",
     "KHR_materials_specular": "specular",
+    "KHR_materials_anisotropy": "anisotropy",
+    "KHR_materials_iridescence": "iridescence",
 }
 
 SPACING = 2.5
@@ -199,7 +240,7 @@ def write_case(out, case, ext, key, block, luz_key, values, texture):
     with open(os.path.join(out, f"{case}.json"), "w") as f:
         json.dump({**common, "objects": [{"mesh": {"type": "gltf", "path": f"{case}.gltf"}}]},
                   f, indent=1)
-    objects = [{"name": name, "mesh": {"type": "sphere", "radius": 1}, "material": name,
+    objects = [{"name": name, "mesh": {"type": "sphere", "radius": 1, "segments": 48, "rings": 24}, "material": name,
                 "position": [(i - (len(values) - 1) / 2) * SPACING, 0, 0]}
                for i, name in enumerate(luz_materials)]
     with open(os.path.join(out, f"{case}.luz.json"), "w") as f:

@@ -883,3 +883,129 @@ fn metal_rough_anisotropy_map() {
     eprintln!("anisotropy map: worst pixel {worst:.3}× the bound");
     assert_no_validation_messages(&ctx);
 }
+
+/// Issue 34, the layers' maps (KHR_materials_clearcoat, _sheen, _specular and _iridescence
+/// textures): each pair of maps, a 1×1 texel, on the GPU equals the CPU BRDF of the material
+/// whose factors the texel multiplies (sRGB decoded for the colours; the film's thickness
+/// mix(min, max, texel)), within the same bound as every model. The same material without maps
+/// differs from it by far more than the bound, so a map the shader ignored would fail.
+#[test]
+fn metal_rough_layer_maps() {
+    let ctx = gpu();
+    let dir = common::scratch("layer-maps");
+    let texel = [200u8, 90, 128];
+    let png = dir.join("texel.png");
+    image::RgbImage::from_pixel(1, 1, image::Rgb(texel))
+        .save(&png)
+        .unwrap();
+    let lin = texel.map(|v| v as f32 / 255.0);
+    let srgb = Vec3::from(texel.map(luz::color::srgb_decode_u8));
+    let r = lin[0];
+    let base = MetalRoughParams {
+        base_color: Vec3::new(0.8, 0.5, 0.3),
+        metallic: 0.0,
+        roughness: 0.45,
+        ..Default::default()
+    };
+    let cases: [(&str, &[&str], MetalRoughParams, MetalRoughParams); 4] = [
+        (
+            "clear coat",
+            &["clearcoat", "clearcoat_roughness"],
+            MetalRoughParams {
+                clearcoat: 0.9,
+                clearcoat_roughness: 0.6,
+                ..base
+            },
+            MetalRoughParams {
+                clearcoat: 0.9 * r,
+                clearcoat_roughness: 0.6 * r,
+                ..base
+            },
+        ),
+        (
+            "sheen",
+            &["sheen_color", "sheen_roughness"],
+            MetalRoughParams {
+                sheen_color: Vec3::new(1.0, 0.8, 0.6),
+                sheen_roughness: 0.7,
+                ..base
+            },
+            MetalRoughParams {
+                sheen_color: Vec3::new(1.0, 0.8, 0.6) * srgb,
+                sheen_roughness: 0.7 * r,
+                ..base
+            },
+        ),
+        (
+            "specular",
+            &["specular_color", "specular_factor"],
+            MetalRoughParams {
+                dielectric_f0: Vec3::new(0.06, 0.04, 0.03),
+                dielectric_f90: 0.9,
+                ..base
+            },
+            MetalRoughParams {
+                dielectric_f0: Vec3::new(0.06, 0.04, 0.03) * srgb * r,
+                dielectric_f90: 0.9 * r,
+                ..base
+            },
+        ),
+        (
+            "iridescence",
+            &["iridescence", "iridescence_thickness"],
+            MetalRoughParams {
+                metallic: 1.0,
+                iridescence: 0.9,
+                iridescence_thickness_min: 150.0,
+                iridescence_thickness_max: 600.0,
+                ..base
+            },
+            MetalRoughParams {
+                metallic: 1.0,
+                iridescence: 0.9 * r,
+                iridescence_thickness_min: 150.0,
+                iridescence_thickness_max: 150.0 + 450.0 * r,
+                ..base
+            },
+        ),
+    ];
+    for (what, slots, p, expected) in cases {
+        let maps: Vec<String> = slots
+            .iter()
+            .map(|s| format!("{s:?}: {:?}", png.to_str().unwrap()))
+            .collect();
+        let mapped = parse(&format!(
+            r#"{{"materials": {{"m": {{"model": "metal_rough", "textures": {{ {} }}}}}},
+                "objects": [{{"mesh": {{"type": "plane"}}, "material": "m"}}]}}"#,
+            maps.join(", ")
+        ));
+        let mut scene = base_scene();
+        scene.materials[0].textures = mapped.materials[0].textures.clone();
+        scene.materials[0].material = Material::MetalRough(p);
+        let worst = compare_scene(&ctx, what, scene, Material::MetalRough(expected), REL);
+        // The map matters: without it the CPU value moves by far more than the bound.
+        let (n, l, v) = (
+            Vec3::Y,
+            Vec3::new(0.3, 1.0, 0.2).normalize(),
+            Vec3::new(-0.4, 1.0, 0.1).normalize(),
+        );
+        let e = Vec3::ONE;
+        let with = luz::brdf::radiance(
+            &Material::MetalRough(expected),
+            n,
+            l,
+            v,
+            Vec3::X,
+            Vec3::Z,
+            e,
+        );
+        let without = luz::brdf::radiance(&Material::MetalRough(p), n, l, v, Vec3::X, Vec3::Z, e);
+        let moved = ((with - without).abs() / (REL * without.abs() + 1e-5)).max_element();
+        eprintln!("{what} maps: worst pixel {worst:.3}× the bound; the maps move it {moved:.0}× the bound");
+        assert!(
+            moved > 10.0,
+            "{what}: the maps hardly matter ({moved}× the bound)"
+        );
+    }
+    assert_no_validation_messages(&ctx);
+}

@@ -112,7 +112,15 @@ layout(set = SET_FRAME, binding = BINDING_INSTANCES, std430) readonly buffer Ins
 #define MAP_DIFFUSE_TRANSMISSION 10
 #define MAP_DIFFUSE_TRANSMISSION_COLOR 11
 #define MAP_ANISOTROPY 12
-#define BINDING_MATERIAL_EXTRA 13
+#define MAP_CLEARCOAT 13
+#define MAP_CLEARCOAT_ROUGHNESS 14
+#define MAP_SHEEN_COLOR 15
+#define MAP_SHEEN_ROUGHNESS 16
+#define MAP_SPECULAR_FACTOR 17
+#define MAP_SPECULAR_COLOR 18
+#define MAP_IRIDESCENCE 19
+#define MAP_IRIDESCENCE_THICKNESS 20
+#define BINDING_MATERIAL_EXTRA 21
 layout(set = SET_MATERIAL, binding = MAP_BASE_COLOR) uniform sampler2D map_base_color;
 layout(set = SET_MATERIAL, binding = MAP_SPECULAR) uniform sampler2D map_specular;
 layout(set = SET_MATERIAL, binding = MAP_METALLIC) uniform sampler2D map_metallic;
@@ -126,13 +134,21 @@ layout(set = SET_MATERIAL, binding = MAP_THICKNESS) uniform sampler2D map_thickn
 layout(set = SET_MATERIAL, binding = MAP_DIFFUSE_TRANSMISSION) uniform sampler2D map_diffuse_transmission;
 layout(set = SET_MATERIAL, binding = MAP_DIFFUSE_TRANSMISSION_COLOR) uniform sampler2D map_diffuse_transmission_color;
 layout(set = SET_MATERIAL, binding = MAP_ANISOTROPY) uniform sampler2D map_anisotropy;
+layout(set = SET_MATERIAL, binding = MAP_CLEARCOAT) uniform sampler2D map_clearcoat;
+layout(set = SET_MATERIAL, binding = MAP_CLEARCOAT_ROUGHNESS) uniform sampler2D map_clearcoat_roughness;
+layout(set = SET_MATERIAL, binding = MAP_SHEEN_COLOR) uniform sampler2D map_sheen_color;
+layout(set = SET_MATERIAL, binding = MAP_SHEEN_ROUGHNESS) uniform sampler2D map_sheen_roughness;
+layout(set = SET_MATERIAL, binding = MAP_SPECULAR_FACTOR) uniform sampler2D map_specular_factor;
+layout(set = SET_MATERIAL, binding = MAP_SPECULAR_COLOR) uniform sampler2D map_specular_color;
+layout(set = SET_MATERIAL, binding = MAP_IRIDESCENCE) uniform sampler2D map_iridescence;
+layout(set = SET_MATERIAL, binding = MAP_IRIDESCENCE_THICKNESS) uniform sampler2D map_iridescence_thickness;
 #ifndef LUZ_DEFERRED
 layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor
     vec4 params;    // normal_scale, occlusion_strength, alpha factor, alpha cutoff
     uvec4 present;  // x: bit MAP_* set when that map exists
     // Glass (include/transmission.glsl; src/render/material.rs: MaterialExtra::glass):
-    vec4 volume;        // thickness (mesh units), dispersion, -, -
+    vec4 volume;        // thickness (mesh units), dispersion, iridescence thickness minimum (nm), -
     vec4 attenuation;   // rgb: σ per unit length (KHR_materials_volume), -
     vec4 diffuse_transmission;  // rgb: diffuseTransmissionColorFactor, -
 } mat_extra;

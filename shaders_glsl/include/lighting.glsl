@@ -184,6 +184,38 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
         }
         s.p.p1.z *= a.b;
     }
+    // The layers' maps (surface_at in the reference), each multiplying its factor; the loader
+    // moved glTF's channel (clearcoat roughness G, sheen roughness A, specular A, thickness G)
+    // to R.
+    if (has_map(MAP_CLEARCOAT)) {
+        s.p.p1.x *= sample_map(map_clearcoat, uv).r;
+    }
+    if (has_map(MAP_CLEARCOAT_ROUGHNESS)) {
+        s.p.p1.y *= sample_map(map_clearcoat_roughness, uv).r;
+    }
+    if (has_map(MAP_SHEEN_COLOR)) {
+        s.p.kappa.rgb *= sample_map(map_sheen_color, uv).rgb;
+    }
+    if (has_map(MAP_SHEEN_ROUGHNESS)) {
+        s.p.kappa.w *= sample_map(map_sheen_roughness, uv).r;
+    }
+    if (has_map(MAP_SPECULAR_COLOR)) {
+        // KHR_materials_specular: F0 = min(F0(ior) · colour factor · map, 1) · specular; the
+        // map multiplies the clamped F0 (the same unless the colour factor took F0 past 1).
+        s.p.spec.rgb *= sample_map(map_specular_color, uv).rgb;
+    }
+    if (has_map(MAP_SPECULAR_FACTOR)) {
+        // specularFactor scales the dielectric F0 and is its F90.
+        float k = sample_map(map_specular_factor, uv).r;
+        s.p.spec.rgb *= k;
+        s.p.p0.z *= k;
+    }
+    if (has_map(MAP_IRIDESCENCE)) {
+        s.p.p0.w *= sample_map(map_iridescence, uv).r;
+    }
+    if (has_map(MAP_IRIDESCENCE_THICKNESS)) {
+        s.p.p2.w = mix(mat_extra.volume.z, s.p.p2.w, sample_map(map_iridescence_thickness, uv).r);
+    }
 #endif
     return s;
 }

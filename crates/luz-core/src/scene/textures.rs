@@ -140,11 +140,35 @@ pub enum TextureSlot {
     /// in the tangent frame ([0, 1] → [−1, 1]), turned further by `anisotropyRotation`; B
     /// multiplies `anisotropyStrength`. Linear.
     Anisotropy,
+    /// KHR_materials_clearcoat's `clearcoatTexture` (metal_rough): multiplies
+    /// `clearcoat.clearcoatFactor`. glTF reads R. Linear, one channel.
+    Clearcoat,
+    /// KHR_materials_clearcoat's `clearcoatRoughnessTexture`: multiplies
+    /// `clearcoat.clearcoatRoughnessFactor`. glTF reads G. Linear, one channel.
+    ClearcoatRoughness,
+    /// KHR_materials_sheen's `sheenColorTexture`: multiplies `sheen.sheenColorFactor`. sRGB.
+    SheenColor,
+    /// KHR_materials_sheen's `sheenRoughnessTexture`: multiplies `sheen.sheenRoughnessFactor`.
+    /// glTF reads A. Linear, one channel.
+    SheenRoughness,
+    /// KHR_materials_specular's `specularTexture`: multiplies `specularFactor`, i.e. the
+    /// dielectric F0 and F90. glTF reads A. Linear, one channel.
+    SpecularFactor,
+    /// KHR_materials_specular's `specularColorTexture`: multiplies the dielectric F0's colour
+    /// (`specularColorFactor`). sRGB.
+    SpecularColor,
+    /// KHR_materials_iridescence's `iridescenceTexture`: multiplies
+    /// `iridescence.iridescenceFactor`. glTF reads R. Linear, one channel.
+    Iridescence,
+    /// KHR_materials_iridescence's `iridescenceThicknessTexture`: the film's thickness is
+    /// mix(`iridescenceThicknessMinimum`, `iridescenceThicknessMaximum`, texel). glTF reads G.
+    /// Linear, one channel.
+    IridescenceThickness,
 }
 
 impl TextureSlot {
     /// Every slot, in the order the scene format lists them.
-    pub const ALL: [TextureSlot; 13] = [
+    pub const ALL: [TextureSlot; 21] = [
         TextureSlot::BaseColor,
         TextureSlot::Specular,
         TextureSlot::Metallic,
@@ -158,12 +182,21 @@ impl TextureSlot {
         TextureSlot::DiffuseTransmission,
         TextureSlot::DiffuseTransmissionColor,
         TextureSlot::Anisotropy,
+        TextureSlot::Clearcoat,
+        TextureSlot::ClearcoatRoughness,
+        TextureSlot::SheenColor,
+        TextureSlot::SheenRoughness,
+        TextureSlot::SpecularFactor,
+        TextureSlot::SpecularColor,
+        TextureSlot::Iridescence,
+        TextureSlot::IridescenceThickness,
     ];
 
     /// The maps metal_rough takes: every slot but `Specular` (the classic models'), the core
-    /// glTF maps first, then glass's, then anisotropy's.
-    const ALL_METAL_ROUGH: [TextureSlot; 12] = {
-        let mut out = [TextureSlot::BaseColor; 12];
+    /// glTF maps first, then glass's, then the layers' (anisotropy, clear coat, sheen, specular,
+    /// iridescence).
+    const ALL_METAL_ROUGH: [TextureSlot; 20] = {
+        let mut out = [TextureSlot::BaseColor; 20];
         let (mut i, mut j) = (0, 0);
         while i < TextureSlot::ALL.len() {
             if !matches!(TextureSlot::ALL[i], TextureSlot::Specular) {
@@ -191,6 +224,14 @@ impl TextureSlot {
             TextureSlot::DiffuseTransmission => "diffuse_transmission",
             TextureSlot::DiffuseTransmissionColor => "diffuse_transmission_color",
             TextureSlot::Anisotropy => "anisotropy",
+            TextureSlot::Clearcoat => "clearcoat",
+            TextureSlot::ClearcoatRoughness => "clearcoat_roughness",
+            TextureSlot::SheenColor => "sheen_color",
+            TextureSlot::SheenRoughness => "sheen_roughness",
+            TextureSlot::SpecularFactor => "specular_factor",
+            TextureSlot::SpecularColor => "specular_color",
+            TextureSlot::Iridescence => "iridescence",
+            TextureSlot::IridescenceThickness => "iridescence_thickness",
         }
     }
 
@@ -202,6 +243,8 @@ impl TextureSlot {
                 | TextureSlot::Specular
                 | TextureSlot::Emissive
                 | TextureSlot::DiffuseTransmissionColor
+                | TextureSlot::SheenColor
+                | TextureSlot::SpecularColor
         )
     }
 
@@ -215,6 +258,12 @@ impl TextureSlot {
                 | TextureSlot::Transmission
                 | TextureSlot::Thickness
                 | TextureSlot::DiffuseTransmission
+                | TextureSlot::Clearcoat
+                | TextureSlot::ClearcoatRoughness
+                | TextureSlot::SheenRoughness
+                | TextureSlot::SpecularFactor
+                | TextureSlot::Iridescence
+                | TextureSlot::IridescenceThickness
         )
     }
 }
@@ -256,6 +305,17 @@ pub struct MaterialTextures {
     pub diffuse_transmission_color: Option<TextureRef>,
     /// KHR_materials_anisotropy's direction (RG) and strength (B). Linear.
     pub anisotropy: Option<TextureRef>,
+    /// The layers' maps (KHR_materials_clearcoat, _sheen, _specular, _iridescence), each
+    /// multiplying its factor ([`TextureSlot`]); the colours sRGB, the others linear with a
+    /// selectable channel.
+    pub clearcoat: Option<TextureRef>,
+    pub clearcoat_roughness: Option<TextureRef>,
+    pub sheen_color: Option<TextureRef>,
+    pub sheen_roughness: Option<TextureRef>,
+    pub specular_factor: Option<TextureRef>,
+    pub specular_color: Option<TextureRef>,
+    pub iridescence: Option<TextureRef>,
+    pub iridescence_thickness: Option<TextureRef>,
     /// Emitted radiance = emissive_factor × emissive map (× 1 without a map). Linear RGB.
     /// Default: [1, 1, 1] with an emissive map, [0, 0, 0] without one.
     pub emissive_factor: Vec3,
@@ -331,6 +391,14 @@ impl Default for MaterialTextures {
             diffuse_transmission: None,
             diffuse_transmission_color: None,
             anisotropy: None,
+            clearcoat: None,
+            clearcoat_roughness: None,
+            sheen_color: None,
+            sheen_roughness: None,
+            specular_factor: None,
+            specular_color: None,
+            iridescence: None,
+            iridescence_thickness: None,
             emissive_factor: Vec3::ZERO,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
@@ -356,6 +424,14 @@ impl MaterialTextures {
             TextureSlot::DiffuseTransmission => self.diffuse_transmission.as_ref(),
             TextureSlot::DiffuseTransmissionColor => self.diffuse_transmission_color.as_ref(),
             TextureSlot::Anisotropy => self.anisotropy.as_ref(),
+            TextureSlot::Clearcoat => self.clearcoat.as_ref(),
+            TextureSlot::ClearcoatRoughness => self.clearcoat_roughness.as_ref(),
+            TextureSlot::SheenColor => self.sheen_color.as_ref(),
+            TextureSlot::SheenRoughness => self.sheen_roughness.as_ref(),
+            TextureSlot::SpecularFactor => self.specular_factor.as_ref(),
+            TextureSlot::SpecularColor => self.specular_color.as_ref(),
+            TextureSlot::Iridescence => self.iridescence.as_ref(),
+            TextureSlot::IridescenceThickness => self.iridescence_thickness.as_ref(),
         }
     }
 
@@ -375,6 +451,14 @@ impl MaterialTextures {
             TextureSlot::DiffuseTransmission => &mut self.diffuse_transmission,
             TextureSlot::DiffuseTransmissionColor => &mut self.diffuse_transmission_color,
             TextureSlot::Anisotropy => &mut self.anisotropy,
+            TextureSlot::Clearcoat => &mut self.clearcoat,
+            TextureSlot::ClearcoatRoughness => &mut self.clearcoat_roughness,
+            TextureSlot::SheenColor => &mut self.sheen_color,
+            TextureSlot::SheenRoughness => &mut self.sheen_roughness,
+            TextureSlot::SpecularFactor => &mut self.specular_factor,
+            TextureSlot::SpecularColor => &mut self.specular_color,
+            TextureSlot::Iridescence => &mut self.iridescence,
+            TextureSlot::IridescenceThickness => &mut self.iridescence_thickness,
         }
     }
 

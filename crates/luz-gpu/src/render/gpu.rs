@@ -449,6 +449,14 @@ mod tests {
             b::MAP_DIFFUSE_TRANSMISSION,
             b::MAP_DIFFUSE_TRANSMISSION_COLOR,
             b::MAP_ANISOTROPY,
+            b::MAP_CLEARCOAT,
+            b::MAP_CLEARCOAT_ROUGHNESS,
+            b::MAP_SHEEN_COLOR,
+            b::MAP_SHEEN_ROUGHNESS,
+            b::MAP_SPECULAR_FACTOR,
+            b::MAP_SPECULAR_COLOR,
+            b::MAP_IRIDESCENCE,
+            b::MAP_IRIDESCENCE_THICKNESS,
         ];
         assert_eq!(maps.len(), TextureSlot::ALL.len());
         assert_eq!(crate::render::material::SLOT_COUNT, TextureSlot::ALL.len());

@@ -16,8 +16,8 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, SetWrites, VkError};
 
 pub const SET_MATERIAL: u32 = crate::glsl::include_bindings::SET_MATERIAL as u32;
-/// Bindings 0..13: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
-pub const SLOT_COUNT: usize = 13;
+/// Bindings 0..21: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
+pub const SLOT_COUNT: usize = 21;
 
 /// Bit i set when `textures` has map `TextureSlot::ALL[i]` (the shader's `MAPS`/`present`).
 pub fn map_bits(textures: &crate::scene::MaterialTextures) -> u32 {
@@ -41,7 +41,8 @@ pub struct MaterialExtra {
     pub params: [f32; 4],
     /// x: bit i set when map `TextureSlot::ALL[i]` is present.
     pub present: [u32; 4],
-    /// Glass ([`MaterialExtra::glass`]): thickness (mesh units), dispersion, –, –.
+    /// Glass ([`MaterialExtra::glass`]): thickness (mesh units), dispersion; the iridescence
+    /// thickness map's minimum (nm), –.
     pub volume: [f32; 4],
     /// The volume's attenuation coefficient σ per unit length (rgb), –.
     pub attenuation: [f32; 4],
@@ -64,7 +65,8 @@ impl MaterialExtra {
     }
 
     /// With the glass parameters of `model` (zero for a material that transmits nothing; σ
-    /// finite: a channel that lets nothing through gets a large coefficient instead of ∞).
+    /// finite: a channel that lets nothing through gets a large coefficient instead of ∞), and
+    /// the iridescence thickness map's minimum (`volume.z`, nm: the thickness at texel 0).
     pub fn glass(self, model: &crate::brdf::Model) -> Self {
         let crate::brdf::Model::MetalRough(p) = model.sanitized() else {
             return self;
@@ -72,7 +74,7 @@ impl MaterialExtra {
         let t = p.transmission;
         let sigma = t.sigma().min(glam::Vec3::splat(1e30));
         Self {
-            volume: [t.thickness, t.dispersion, 0.0, 0.0],
+            volume: [t.thickness, t.dispersion, p.iridescence_thickness_min, 0.0],
             attenuation: sigma.extend(0.0).to_array(),
             diffuse_transmission: t.diffuse_color.extend(0.0).to_array(),
             ..self

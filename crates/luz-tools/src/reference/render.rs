@@ -13,7 +13,7 @@ use super::geometry::{LocalSurface, MeshAccel, Part, Ray, Shape};
 use super::sampling::{cmj, hash, mix64, unit_float, EnvDistribution};
 use super::texture::{CpuTexture, Texels};
 use super::ReferenceOptions;
-use crate::brdf::{radical_inverse_vdc, sampling_lobes, Lobe, Model};
+use crate::brdf::{radical_inverse_vdc, sampling_lobes, Lobe, MetalRoughParams, Model};
 use crate::env::{env_rotation, Equirect};
 use crate::scene::mesh::bounds_of;
 use crate::scene::{
@@ -750,7 +750,43 @@ fn surface_at(mat: &RefMaterial, n: Vec3, x: Vec3, y: Vec3, uv: Vec2) -> Surface
         }
         p.anisotropy_strength *= c.z;
     }
+    if let Model::MetalRough(p) = &mut s.model {
+        layer_maps(p, &sample);
+    }
     s
+}
+
+/// The layers' maps of a metal_rough material (`surface_at` in lighting.glsl), each multiplying
+/// its factor (the loader moved glTF's channel to R): clear coat and its roughness, sheen colour
+/// and roughness, specular colour (× the clamped F0) and factor (× F0 and F90), iridescence, and
+/// the film's thickness between the minimum (texel 0) and the maximum (texel 1).
+fn layer_maps(p: &mut MetalRoughParams, sample: &dyn Fn(TextureSlot) -> Option<Vec4>) {
+    if let Some(c) = sample(TextureSlot::Clearcoat) {
+        p.clearcoat *= c.x;
+    }
+    if let Some(c) = sample(TextureSlot::ClearcoatRoughness) {
+        p.clearcoat_roughness *= c.x;
+    }
+    if let Some(c) = sample(TextureSlot::SheenColor) {
+        p.sheen_color *= c.xyz();
+    }
+    if let Some(c) = sample(TextureSlot::SheenRoughness) {
+        p.sheen_roughness *= c.x;
+    }
+    if let Some(c) = sample(TextureSlot::SpecularColor) {
+        p.dielectric_f0 *= c.xyz();
+    }
+    if let Some(c) = sample(TextureSlot::SpecularFactor) {
+        p.dielectric_f0 *= c.x;
+        p.dielectric_f90 *= c.x;
+    }
+    if let Some(c) = sample(TextureSlot::Iridescence) {
+        p.iridescence *= c.x;
+    }
+    if let Some(c) = sample(TextureSlot::IridescenceThickness) {
+        let (lo, hi) = (p.iridescence_thickness_min, p.iridescence_thickness_max);
+        p.iridescence_thickness_max = lo + (hi - lo) * c.x;
+    }
 }
 
 /// The model's base colour multiplied by `c` (a base colour map, vertex colours).

@@ -189,15 +189,9 @@ fn uv_of(info_set: u32, tt: Option<gltf::texture::TextureTransform>) -> UvChoice
 /// The dielectric F0 of material `m` (named `name`) from KHR_materials_ior and
 /// KHR_materials_specular, as the latter's specification computes it:
 /// `min(((ior − 1)/(ior + 1))² · specularColorFactor, 1) · specularFactor` (0.04 with neither).
-/// Their textures are not read (one warning per file): luz has no map for F0. Returns F0 and
-/// F90 (`specularFactor`, 1 without the extension).
-fn dielectric_f0(
-    m: &gltf::Material,
-    name: &str,
-    file_name: &str,
-    warnings: &mut Vec<String>,
-) -> (Vec3, f32) {
-    let i = m.index().unwrap_or(0);
+/// Their textures are [`specular`]'s maps. Returns F0 and F90 (`specularFactor`, 1 without the
+/// extension).
+fn dielectric_f0(m: &gltf::Material) -> (Vec3, f32) {
     // Without either extension, exactly luz's default (0.04).
     // ior 0 is the extension's special value (F0 = 1).
     let ior = m
@@ -220,14 +214,6 @@ fn dielectric_f0(
         };
         f0 = MetalRoughParams::dielectric_f0_from(ior, factor, color);
         f90 = factor;
-        if sp.specular_texture().is_some() || sp.specular_color_texture().is_some() {
-            // One warning per file, naming every material with such textures.
-            let marker = format!(
-                "{file_name}: KHR_materials_specular's specularTexture and specularColorTexture \
-                 are not used (luz has no F0 map; their factors are):"
-            );
-            warn_material(warnings, marker, i, name);
-        }
     }
     (f0, f90)
 }
@@ -255,7 +241,7 @@ pub fn material(
             0.0
         }
     };
-    let (dielectric_f0, dielectric_f90) = dielectric_f0(m, &name, file_name, warnings);
+    let (dielectric_f0, dielectric_f90) = dielectric_f0(m);
     let params = MetalRoughParams {
         base_color: Vec3::new(clamp(r), clamp(g), clamp(b)),
         metallic: clamp(pbr.metallic_factor()),
@@ -378,8 +364,9 @@ pub fn ior(
 
 /// KHR_materials_clearcoat's factors onto `gm` (a `metal_rough` material). Factors outside
 /// [0, 1] or not numbers, and textures whose index names no texture, are errors naming the JSON
-/// path; the coat's textures themselves are not read yet (one warning per file: luz has no coat
-/// maps), their factors are.
+/// path. `clearcoatTexture` (R) and `clearcoatRoughnessTexture` (G) become the `clearcoat` and
+/// `clearcoat_roughness` maps; `clearcoatNormalTexture` is not read (one warning per file: the
+/// coat's normal is the base's).
 pub fn clearcoat(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
@@ -394,30 +381,33 @@ pub fn clearcoat(
         e.number("clearcoatFactor", 0.0, Range::Unit)?,
         e.number("clearcoatRoughnessFactor", 0.0, Range::Unit)?,
     );
-    let keys = [
-        "clearcoatTexture",
-        "clearcoatRoughnessTexture",
-        "clearcoatNormalTexture",
-    ];
-    if e.has_textures(&keys, textures.count())? {
-        unused_maps(
-            m,
-            gm,
-            file_name,
-            ("KHR_materials_clearcoat", "coat"),
-            warnings,
+    if e.has_textures(&["clearcoatNormalTexture"], textures.count())? {
+        let marker = format!(
+            "{file_name}: KHR_materials_clearcoat's clearcoatNormalTexture is not used (the coat's \
+             normal is the base's):"
         );
+        warn_material(warnings, marker, m.index().unwrap_or(0), &gm.name);
     }
-    if let Material::MetalRough(p) = &mut gm.material {
-        p.clearcoat = coat;
-        p.clearcoat_roughness = roughness;
-    }
-    Ok(())
+    let Material::MetalRough(p) = &mut gm.material else {
+        return Ok(());
+    };
+    p.clearcoat = coat;
+    p.clearcoat_roughness = roughness;
+    use crate::scene::TextureSlot as S;
+    attach_maps(
+        (m, gm, textures, &e),
+        &[
+            ("clearcoatTexture", S::Clearcoat, None),
+            ("clearcoatRoughnessTexture", S::ClearcoatRoughness, Some(1)),
+        ],
+        file_name,
+        warnings,
+    )
 }
 
-/// KHR_materials_sheen's factors onto `gm` (a `metal_rough` material), checked like the
-/// clear coat's; `sheenColorTexture` and `sheenRoughnessTexture` are not read yet (one warning
-/// per file), the factors are.
+/// KHR_materials_sheen onto `gm` (a `metal_rough` material), checked like the clear coat;
+/// `sheenColorTexture` (RGB) and `sheenRoughnessTexture` (A) become the `sheen_color` and
+/// `sheen_roughness` maps.
 pub fn sheen(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
@@ -432,17 +422,21 @@ pub fn sheen(
         e.color("sheenColorFactor", Vec3::ZERO)?,
         e.number("sheenRoughnessFactor", 0.0, Range::Unit)?,
     );
-    if e.has_textures(
-        &["sheenColorTexture", "sheenRoughnessTexture"],
-        textures.count(),
-    )? {
-        unused_maps(m, gm, file_name, ("KHR_materials_sheen", "sheen"), warnings);
-    }
-    if let Material::MetalRough(p) = &mut gm.material {
-        p.sheen_color = color;
-        p.sheen_roughness = roughness;
-    }
-    Ok(())
+    let Material::MetalRough(p) = &mut gm.material else {
+        return Ok(());
+    };
+    p.sheen_color = color;
+    p.sheen_roughness = roughness;
+    use crate::scene::TextureSlot as S;
+    attach_maps(
+        (m, gm, textures, &e),
+        &[
+            ("sheenColorTexture", S::SheenColor, None),
+            ("sheenRoughnessTexture", S::SheenRoughness, Some(3)),
+        ],
+        file_name,
+        warnings,
+    )
 }
 
 /// KHR_materials_anisotropy onto `gm` (a `metal_rough` material): strength in [0, 1], rotation
@@ -480,9 +474,9 @@ pub fn anisotropy(
 
 /// KHR_materials_iridescence's factors onto `gm` (a `metal_rough` material): factor in [0, 1],
 /// ior ≥ 1, thicknesses ≥ 0 (nm) with the minimum not above the maximum; `iridescenceTexture`
-/// and `iridescenceThicknessTexture` are not read yet (one warning per file), the factors are
-/// (without a thickness texture the film is `iridescenceThicknessMaximum` thick, as the
-/// extension says).
+/// (R) and `iridescenceThicknessTexture` (G) become the `iridescence` and
+/// `iridescence_thickness` maps (without a thickness texture the film is
+/// `iridescenceThicknessMaximum` thick, as the extension says).
 pub fn iridescence(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
@@ -512,41 +506,27 @@ pub fn iridescence(
     if let Some(why) = crate::brdf::film_range_error(min, max) {
         return Err(e.err("iridescenceThicknessMinimum", why));
     }
-    if e.has_textures(
-        &["iridescenceTexture", "iridescenceThicknessTexture"],
-        textures.count(),
-    )? {
-        unused_maps(
-            m,
-            gm,
-            file_name,
-            ("KHR_materials_iridescence", "iridescence"),
-            warnings,
-        );
-    }
-    if let Material::MetalRough(p) = &mut gm.material {
-        p.iridescence = factor;
-        p.iridescence_ior = ior;
-        p.iridescence_thickness_min = min;
-        p.iridescence_thickness_max = max;
-    }
-    Ok(())
-}
-
-/// The one warning per file that extension `ext`'s textures are not used (luz has no `what`
-/// maps yet), naming material `m`.
-fn unused_maps(
-    m: &gltf::Material,
-    gm: &GltfMaterial,
-    file_name: &str,
-    (ext, what): (&str, &str),
-    warnings: &mut Vec<String>,
-) {
-    let marker = format!(
-        "{file_name}: {ext}'s textures are not used (luz has no {what} maps yet; their factors \
-         are):"
-    );
-    warn_material(warnings, marker, m.index().unwrap_or(0), &gm.name);
+    let Material::MetalRough(p) = &mut gm.material else {
+        return Ok(());
+    };
+    p.iridescence = factor;
+    p.iridescence_ior = ior;
+    p.iridescence_thickness_min = min;
+    p.iridescence_thickness_max = max;
+    use crate::scene::TextureSlot as S;
+    attach_maps(
+        (m, gm, textures, &e),
+        &[
+            ("iridescenceTexture", S::Iridescence, None),
+            (
+                "iridescenceThicknessTexture",
+                S::IridescenceThickness,
+                Some(1),
+            ),
+        ],
+        file_name,
+        warnings,
+    )
 }
 
 /// One warning per file and kind: `marker` (the file and what is not used), then every material
@@ -560,6 +540,74 @@ pub(super) fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize
         }
         None => warnings.push(marker + &entry),
     }
+}
+
+/// Extension `e`'s textures `(key, slot, channel)` of material `m` attached with [`attach_map`].
+fn attach_maps(
+    (m, gm, textures, e): (&gltf::Material, &mut GltfMaterial, &TextureSource, &Ext),
+    maps: &[(&str, crate::scene::TextureSlot, Option<u8>)],
+    file_name: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let i = m.index().unwrap_or(0);
+    for &(key, slot, channel) in maps {
+        attach_map(
+            gm,
+            textures,
+            (e, key),
+            (slot, channel),
+            (i, file_name),
+            warnings,
+        )?;
+    }
+    Ok(())
+}
+
+/// KHR_materials_specular's textures onto `gm` (its factors are [`dielectric_f0`]'s):
+/// `specularTexture` (A) and `specularColorTexture` (RGB, sRGB) become the `specular_factor` and
+/// `specular_color` maps.
+pub fn specular(
+    m: &gltf::Material,
+    gm: &mut GltfMaterial,
+    textures: &TextureSource,
+    (_file, file_name): (&Path, &str),
+    warnings: &mut Vec<String>,
+) -> Result<(), GltfError> {
+    let Some(sp) = m.specular() else {
+        return Ok(());
+    };
+    if !matches!(gm.material, Material::MetalRough(_)) {
+        return Ok(());
+    }
+    use crate::scene::TextureSlot as S;
+    let i = m.index().unwrap_or(0);
+    for (key, info, slot, channel) in [
+        (
+            "specularTexture",
+            sp.specular_texture(),
+            S::SpecularFactor,
+            Some(3),
+        ),
+        (
+            "specularColorTexture",
+            sp.specular_color_texture(),
+            S::SpecularColor,
+            None,
+        ),
+    ] {
+        let Some(info) = info else { continue };
+        let uv = uv_of(info.tex_coord(), info.texture_transform());
+        let index = info.texture().index();
+        attach(
+            gm,
+            textures,
+            (index, uv),
+            (slot, channel),
+            (i, file_name, key),
+            warnings,
+        );
+    }
+    Ok(())
 }
 
 /// Extension `e`'s texture `key` (if any) as `gm`'s `slot` map (`channel`: the channel holding
@@ -576,6 +624,27 @@ pub(super) fn attach_map(
     let Some((index, uv)) = e.texture_info(key, textures.count())? else {
         return Ok(());
     };
+    attach(
+        gm,
+        textures,
+        (index, uv),
+        (slot, channel),
+        (i, file_name, key),
+        warnings,
+    );
+    Ok(())
+}
+
+/// Texture `index` read through `uv` as `gm`'s `slot` map (`key` names it in the warning when
+/// its UVs differ from the material's first map's).
+fn attach(
+    gm: &mut GltfMaterial,
+    textures: &TextureSource,
+    (index, uv): (usize, UvChoice),
+    (slot, channel): (crate::scene::TextureSlot, Option<u8>),
+    (i, file_name, key): (usize, &str, &str),
+    warnings: &mut Vec<String>,
+) {
     if gm.textures.maps().next().is_none() {
         gm.uv = uv;
     } else if uv != gm.uv {
@@ -586,5 +655,4 @@ pub(super) fn attach_map(
         ));
     }
     *gm.textures.get_mut(slot) = textures.get(index, channel);
-    Ok(())
 }

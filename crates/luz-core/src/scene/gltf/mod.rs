@@ -467,6 +467,7 @@ impl<'a> Builder<'a> {
                 material::sheen,
                 material::anisotropy,
                 material::iridescence,
+                material::specular,
                 transmission::transmission,
             ] {
                 read(
