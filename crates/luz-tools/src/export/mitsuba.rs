@@ -17,7 +17,7 @@ use crate::brdf::{
 use crate::color::Tonemap;
 use crate::scene::{
     AlphaMode, EnvSource, Falloff, Filter, LightKind, MeshDesc, Projection, Saturation, Scene,
-    Shading, Sides, TextureRef, Wrap,
+    Shading, Sides, TextureRef, TextureSlot, Wrap,
 };
 
 /// Writes `scene` as `out/scene.xml` with its meshes (`out/meshes/*.ply`), textures
@@ -569,28 +569,15 @@ impl Writer {
                 );
             }
             let t = &m.textures;
-            let dropped: Vec<&str> = [
-                (t.normal.is_some(), "normal"),
-                (t.specular.is_some(), "specular"),
-                (t.metallic.is_some(), "metallic"),
-                (t.roughness.is_some(), "roughness"),
-                (t.orm.is_some(), "orm"),
-                (t.occlusion.is_some(), "occlusion"),
-                (t.transmission.is_some(), "transmission map"),
-                (t.thickness.is_some(), "thickness map"),
-                (t.diffuse_transmission.is_some(), "diffuse_transmission map"),
-                (
-                    t.diffuse_transmission_color.is_some(),
-                    "diffuse_transmission_color map",
-                ),
-                (
-                    t.emissive.is_some() || t.emissive_factor != Vec3::ZERO,
-                    "emission",
-                ),
-            ]
-            .into_iter()
-            .filter_map(|(present, name)| present.then_some(name))
-            .collect();
+            // Every map but the base colour (exported as a bitmap) and the emission.
+            let mut dropped: Vec<String> = t
+                .maps()
+                .filter(|(slot, _)| !matches!(slot, TextureSlot::BaseColor | TextureSlot::Emissive))
+                .map(|(slot, _)| format!("{} map", slot.name()))
+                .collect();
+            if t.emissive.is_some() || t.emissive_factor != Vec3::ZERO {
+                dropped.push("emission".into());
+            }
             if !dropped.is_empty() {
                 self.note(format!(
                     "material '{}': {} left out",
