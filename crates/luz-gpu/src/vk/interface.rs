@@ -218,12 +218,104 @@ impl Interface {
                 }
             }
         }
+        check_stage_samplers(&self.name, ctx, sets)?;
         PipelineLayout::new(
             ctx,
             &format!("{} layout", self.name),
             sets,
             self.push.as_slice(),
         )
+    }
+}
+
+/// The textures one stage of a layout of `sets` reads, against the device's
+/// `maxPerStageDescriptorSamplers` and `maxPerStageDescriptorSampledImages` (Vulkan guarantees
+/// 16; the forward pass's material set alone has 21 maps): a clear error instead of a layout
+/// the device cannot make.
+fn check_stage_samplers(
+    name: &str,
+    ctx: &Context,
+    sets: &[&DescriptorSetLayout],
+) -> Result<(), VkError> {
+    let l = &ctx.info.limits;
+    let bindings: Vec<&LayoutBinding> = sets.iter().flat_map(|s| s.bindings()).collect();
+    let limits = (
+        l.max_per_stage_descriptor_samplers,
+        l.max_per_stage_descriptor_sampled_images,
+    );
+    match stage_sampler_excess(&bindings, limits) {
+        None => Ok(()),
+        Some((stage, used)) => Err(VkError::Setup(format!(
+            "{name}: the {stage:?} stage reads {used} textures; {} allows {} per stage \
+             (maxPerStageDescriptorSamplers {}, maxPerStageDescriptorSampledImages {})",
+            ctx.info.name,
+            limits.0.min(limits.1),
+            limits.0,
+            limits.1
+        ))),
+    }
+}
+
+/// The first stage whose combined image samplers in `bindings` exceed `(samplers, images)`
+/// per stage, with how many it reads.
+fn stage_sampler_excess(
+    bindings: &[&LayoutBinding],
+    (samplers, images): (u32, u32),
+) -> Option<(vk::ShaderStageFlags, u32)> {
+    [
+        vk::ShaderStageFlags::VERTEX,
+        vk::ShaderStageFlags::FRAGMENT,
+        vk::ShaderStageFlags::COMPUTE,
+    ]
+    .into_iter()
+    .map(|stage| {
+        let used = bindings
+            .iter()
+            .filter(|b| {
+                b.stages.contains(stage) && b.ty == vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+            })
+            .map(|b| b.count)
+            .sum();
+        (stage, used)
+    })
+    .find(|&(_, used)| used > samplers.min(images))
+}
+
+#[cfg(test)]
+mod sampler_limit_tests {
+    use super::*;
+
+    /// The scene's sets (frame, material, shadow, environment) read more textures in the
+    /// fragment stage than Vulkan's guaranteed 16 and fit lavapipe's limits; either limit below
+    /// the count is reported with the first stage over it and its count.
+    #[test]
+    fn the_scene_layout_is_checked_against_the_per_stage_limits() {
+        let scene = crate::render::sets::scene_interface().unwrap();
+        let refs: Vec<&LayoutBinding> = (0..4).flat_map(|s| scene.bindings(s)).collect();
+        let count = |stage: vk::ShaderStageFlags| -> u32 {
+            refs.iter()
+                .filter(|b| {
+                    b.stages.contains(stage) && b.ty == vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+                })
+                .map(|b| b.count)
+                .sum()
+        };
+        let (vertex, fragment) = (
+            count(vk::ShaderStageFlags::VERTEX),
+            count(vk::ShaderStageFlags::FRAGMENT),
+        );
+        assert!(fragment > 21 && vertex > 16, "{vertex} {fragment}");
+        assert_eq!(stage_sampler_excess(&refs, (1 << 20, 1 << 20)), None);
+        for limits in [(16, 1 << 20), (1 << 20, 16)] {
+            assert_eq!(
+                stage_sampler_excess(&refs, limits),
+                Some((vk::ShaderStageFlags::VERTEX, vertex))
+            );
+        }
+        assert_eq!(
+            stage_sampler_excess(&refs, (vertex, vertex)),
+            (fragment > vertex).then_some((vk::ShaderStageFlags::FRAGMENT, fragment))
+        );
     }
 }
 
