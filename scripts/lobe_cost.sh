@@ -11,6 +11,7 @@
 #   anisotropy off  the same block with anisotropyStrength 0
 #   iridescence on  every sphere with "iridescence": {iridescenceFactor 1, thickness 400 nm}
 #   iridescence off the same block with iridescenceFactor 0
+#   iridescence view on  "iridescence on" with "iridescence_angle": "view" (the film once per pixel)
 # Each round benches every variant once, in turn; the ratio is the median GPU total (forward and
 # every other pass) of a variant over the base's, so a busy machine slows all of them alike.
 #
@@ -43,6 +44,8 @@ variants = {
     "anisotropy_off": ("anisotropy", {"anisotropyStrength": 0, "anisotropyRotation": 0.5}),
     "iridescence_on": ("iridescence", {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 400}),
     "iridescence_off": ("iridescence", {"iridescenceFactor": 0, "iridescenceThicknessMaximum": 400}),
+    "iridescence_view_on": ("iridescence", {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 400},
+                            {"iridescence_angle": "view"}),
 }
 for name, lobe in variants.items():
     scene = json.loads(json.dumps(base))
@@ -50,10 +53,11 @@ for name, lobe in variants.items():
         for m in scene["materials"].values():
             if m.get("model") == "metal_rough":
                 m[lobe[0]] = lobe[1]
+                m.update(lobe[2] if len(lobe) > 2 else {})
     json.dump(scene, open(f"{out}/{name}.json", "w"))
 PY
 
-variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off)
+variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off iridescence_view_on)
 bench() {
     "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --render-path "$RENDER_PATH" \
         --json "$tmp/b.json" >/dev/null

@@ -749,7 +749,8 @@ fn metal_rough_anisotropy() {
 /// Issue 34, KHR_materials_iridescence: the GPU's thin-film Fresnel (LOBES bit 64, evaluated
 /// per light at v·h) equals the CPU's within the same bound as every model: film thicknesses
 /// 150, 400 and 900 nm, film indices 1.3 and 1.8, over a dielectric, a metal and a half-metal,
-/// one case with a coat and a sheen. The film is not negligible: the CPU values with and without
+/// one case with a coat and a sheen; each also with the film at the view (`iridescence_at_view`,
+/// once per pixel on the GPU: LOBES bit 128). The film is not negligible: the CPU values with and without
 /// it differ by more than twice the bound.
 #[test]
 fn metal_rough_iridescence() {
@@ -780,6 +781,15 @@ fn metal_rough_iridescence() {
         sheen_roughness: 0.4,
         ..Default::default()
     });
+    // Each again with the film taken at the view for every light (once per pixel on the GPU).
+    let at_view: Vec<MetalRoughParams> = cases
+        .iter()
+        .map(|p| MetalRoughParams {
+            iridescence_at_view: true,
+            ..*p
+        })
+        .collect();
+    cases.extend(at_view);
     let (worst, changed) = layer_cases(
         &ctx,
         "iridescence",

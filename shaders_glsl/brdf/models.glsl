@@ -46,11 +46,14 @@
 #define BRDF_LOBE_ANISOTROPY 32u
 // KHR_materials_iridescence (iridescence_fresnel_of in src/brdf/models/mod.rs).
 #define BRDF_LOBE_IRIDESCENCE 64u
+// The film's Fresnel at n·v for every light (MetalRoughParams::iridescence_at_view): the lighting
+// shaders evaluate it once per pixel (g_film_view, set by shade()).
+#define BRDF_LOBE_IRIDESCENCE_VIEW 128u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
-// (brdf_eval.comp) every lobe is compiled.
+// (brdf_eval.comp) every lobe is compiled, the film at each light's v·h.
 #ifndef BRDF_LOBES
-#define BRDF_LOBES 0xFFFFFFFFu
+#define BRDF_LOBES (0xFFFFFFFFu & ~BRDF_LOBE_IRIDESCENCE_VIEW)
 #endif
 
 // std430 / push-constant layout, 112 bytes. Slot use per model: docs/brdf.md.
@@ -315,6 +318,10 @@ vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
     return mix(film_over(f, p.spec.rgb), film_over(f, p.color.rgb), metallic);
 }
 
+// The film's Fresnel at the view, once per pixel, where the pipeline takes it at n·v
+// (BRDF_LOBE_IRIDESCENCE_VIEW): shade() sets it before the light loop.
+vec3 g_film_view = vec3(0.0);
+
 // The F0 the split sum and energy compensation take for p (iridescence_f0): f0, or mixed with
 // the F0 whose Schlick curve meets the film's Fresnel at n·v.
 vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float n_v) {
@@ -375,7 +382,13 @@ BrdfTerms brdf_metal_rough_base_terms_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v,
         t.f = brdf_with_f90(p.sel.w, t.f, f0, f90);
     }
     if (brdf_has_iridescence(p)) {
-        t.f = mix(t.f, brdf_iridescence_fresnel_of(p, v_h), p.p0.w);
+#ifdef LUZ_FRAGMENT
+        vec3 film = (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE_VIEW) != 0u
+                        ? g_film_view : brdf_iridescence_fresnel_of(p, v_h);
+#else
+        vec3 film = brdf_iridescence_fresnel_of(p, v_h);
+#endif
+        t.f = mix(t.f, film, p.p0.w);
     }
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
     t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;
@@ -442,28 +455,60 @@ float d_charlie(float alpha, float sin2_h) {
     return (2.0 + inv_r) * pow(max(sin2_h, 0.0), 0.5 * inv_r) * (0.5 * M_1_PI);
 }
 
-float sheen_l(float x, float alpha) {
+// The fit of Λ's exponent at one alpha (sheen_l in layers.rs): its five coefficients, and its
+// value at 0.5. shade() makes it once per pixel (g_sheen_fit), the lights reuse it.
+struct SheenFit {
+    float a;
+    float b;
+    float c;
+    float d;
+    float e;
+    float l_half;
+};
+
+SheenFit sheen_fit(float alpha) {
     float t = (1.0 - alpha) * (1.0 - alpha);
-    float a = mix(21.5473, 25.3245, t);
-    float b = mix(3.82987, 3.32435, t);
-    float c = mix(0.19823, 0.16801, t);
-    float d = mix(-1.97760, -1.27393, t);
-    float e = mix(-4.32054, -4.85967, t);
-    return a / (1.0 + b * pow(x, c)) + d * x + e;
+    SheenFit f;
+    f.a = mix(21.5473, 25.3245, t);
+    f.b = mix(3.82987, 3.32435, t);
+    f.c = mix(0.19823, 0.16801, t);
+    f.d = mix(-1.97760, -1.27393, t);
+    f.e = mix(-4.32054, -4.85967, t);
+    f.l_half = f.a / (1.0 + f.b * exp2(-f.c)) + 0.5 * f.d + f.e;
+    return f;
+}
+
+float sheen_l_of(float x, SheenFit f) {
+    return f.a / (1.0 + f.b * pow(x, f.c)) + f.d * x + f.e;
+}
+
+float sheen_l(float x, float alpha) {
+    return sheen_l_of(x, sheen_fit(alpha));
+}
+
+// One sheen_l per call: both sides of a branch would run under the lane mask, so the branch
+// picks the argument and the exponent instead (the same values as lambda_sheen in layers.rs).
+float lambda_sheen_of(float cos_theta, SheenFit f) {
+    bool low = abs(cos_theta) < 0.5;
+    float l = sheen_l_of(low ? cos_theta : 1.0 - cos_theta, f);
+    return exp(low ? l : 2.0 * f.l_half - l);
 }
 
 float lambda_sheen(float cos_theta, float alpha) {
-    return abs(cos_theta) < 0.5 ? exp(sheen_l(cos_theta, alpha))
-                                : exp(2.0 * sheen_l(0.5, alpha) - sheen_l(1.0 - cos_theta, alpha));
+    return lambda_sheen_of(cos_theta, sheen_fit(alpha));
 }
 
-// Λ_sheen at the view, once per pixel: shade() sets it for its one (n, v, sheen roughness) before
-// the light loop; < 0 (brdf_eval.comp, the default) computes it per call. The same value either way.
+// Per pixel: Λ_sheen at the view and the fit at the sheen's alpha. shade() sets them for its one
+// (n, v, sheen roughness) before the light loop; g_sheen_lambda_v < 0 (brdf_eval.comp, the
+// default) computes both per call. The same values either way.
 float g_sheen_lambda_v = -1.0;
+SheenFit g_sheen_fit;
 
 float v_sheen(float n_l, float n_v, float alpha) {
-    float lambda_v = g_sheen_lambda_v >= 0.0 ? g_sheen_lambda_v : lambda_sheen(n_v, alpha);
-    float denom = (1.0 + lambda_v + lambda_sheen(n_l, alpha)) * (4.0 * n_v * n_l);
+    bool per_pixel = g_sheen_lambda_v >= 0.0;
+    SheenFit f = per_pixel ? g_sheen_fit : sheen_fit(alpha);
+    float lambda_v = per_pixel ? g_sheen_lambda_v : lambda_sheen_of(n_v, f);
+    float denom = (1.0 + lambda_v + lambda_sheen_of(n_l, f)) * (4.0 * n_v * n_l);
     return clamp(1.0 / denom, 0.0, 1.0);
 }
 

@@ -370,9 +370,15 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     // and the fit compile out without a sheen lobe).
     float e_sheen = MODEL == BRDF_MODEL_METAL_ROUGH ? brdf_sheen_albedo_at(p, s.n, V) : 0.0;
 #endif
-    // KHR_materials_sheen's Λ at the view, once for every light (v_sheen).
+    // KHR_materials_sheen's Λ fit and its value at the view, once for every light (v_sheen).
     if (MODEL == BRDF_MODEL_METAL_ROUGH && has_sheen(p)) {
-        g_sheen_lambda_v = lambda_sheen(brdf_clamp_cos(dot(s.n, V)), sheen_alpha(p.kappa.w));
+        g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
+        g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
+    }
+    // KHR_materials_iridescence at the view: the film once for every light.
+    if (MODEL == BRDF_MODEL_METAL_ROUGH && (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE_VIEW) != 0u
+        && brdf_has_iridescence(p)) {
+        g_film_view = brdf_iridescence_fresnel_of(p, brdf_clamp_cos(dot(s.n, V)));
     }
     // KHR_materials_anisotropy's lobe frame, once for every light (off unless LOBES has it).
     AnisotropicLobe an = brdf_anisotropic_lobe(p, s.n, s.x, s.y);

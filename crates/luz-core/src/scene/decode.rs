@@ -40,7 +40,7 @@ pub(crate) use super::mesh_cache::MeshCache;
 use fields::*;
 pub use material::MATERIAL_MODELS;
 use material::*;
-pub(crate) use material::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
+pub(crate) use material::{DIFFUSES, DISTRIBUTIONS, FILM_ANGLES, FRESNELS, GEOMETRIES};
 use object::*;
 
 // ---------------------------------------------------------------------------------------------

@@ -2,7 +2,8 @@
 //! turned off in turn — clear coat, sheen, anisotropy, iridescence, the specular F90 — each GPU
 //! time beside its error against the reference, which keeps every layer. A layer's row is what
 //! it costs against what leaving it out gets wrong; the scene as written is the cost and error
-//! of drawing them all. Empty when no material has a layer.
+//! of drawing them all. One row is a method instead: the thin film at the view, once per pixel
+//! (`iridescence_at_view`). Empty when no material has a layer.
 
 use glam::Vec3;
 
@@ -14,7 +15,7 @@ use super::Variant;
 /// The layers: a label and the parameters without the layer (`None`: the material has none).
 type Off = fn(&MetalRoughParams) -> Option<MetalRoughParams>;
 
-const LAYERS: [(&str, Off); 5] = [
+const LAYERS: [(&str, Off); 6] = [
     ("no clearcoat", |p| {
         (p.clearcoat > 0.0).then_some(MetalRoughParams {
             clearcoat: 0.0,
@@ -36,6 +37,14 @@ const LAYERS: [(&str, Off); 5] = [
     ("no iridescence", |p| {
         has_iridescence(p).then_some(MetalRoughParams {
             iridescence: 0.0,
+            ..*p
+        })
+    }),
+    // Not a layer off but the film's cheaper form: its Fresnel at n·v once per pixel, against
+    // the reference's per light at v·h.
+    ("iridescence at the view", |p| {
+        has_iridescence(p).then_some(MetalRoughParams {
+            iridescence_at_view: true,
             ..*p
         })
     }),
@@ -75,9 +84,9 @@ pub fn variants(scene: &Scene) -> Vec<Variant> {
 mod tests {
     use super::*;
 
-    /// docs/lab/layers.json has every layer: five variants, each the scene with exactly that
-    /// layer off on the materials that have it (and nothing else changed); a scene without
-    /// layers has none.
+    /// docs/lab/layers.json has every layer: six variants, each the scene with exactly that
+    /// layer off (or the film at the view) on the materials that have it (and nothing else
+    /// changed); a scene without layers has none.
     #[test]
     fn one_variant_per_layer_present() {
         let path =

@@ -443,6 +443,10 @@ pub struct MetalRoughParams {
     /// KHR_materials_iridescence's `iridescenceThicknessMaximum`, nm, ≥ the minimum: the film's
     /// thickness without a texture. 0 turns the film off. Default 400.
     pub iridescence_thickness_max: f32,
+    /// The film's Fresnel at the view (n·v) for every light instead of at each light's v·h:
+    /// what Khronos' sample renderer and three.js do, once per pixel on the GPU
+    /// (`"iridescence_angle": "view"` in scene files). Default false (v·h, the reference).
+    pub iridescence_at_view: bool,
 }
 
 impl MetalRoughParams {
@@ -485,6 +489,7 @@ impl Default for MetalRoughParams {
             iridescence_ior: 1.3,
             iridescence_thickness_min: 100.0,
             iridescence_thickness_max: 400.0,
+            iridescence_at_view: false,
         }
     }
 }
@@ -1103,8 +1108,10 @@ fn metal_rough_base_terms(
         f = with_f90(p.fresnel, f, f0, f90);
     }
     if has_iridescence(p) {
-        // KHR_materials_iridescence: the film's Fresnel at v·h, weighted by its factor.
-        f = mix3(f, iridescence_fresnel_of(p, v_h), p.iridescence);
+        // KHR_materials_iridescence: the film's Fresnel at v·h (or at n·v, once per pixel on the
+        // GPU, with `iridescence_at_view`), weighted by its factor.
+        let c = if p.iridescence_at_view { s.n_v } else { v_h };
+        f = mix3(f, iridescence_fresnel_of(p, c), p.iridescence);
     }
     let weight = if p.diffuse_fresnel_weight {
         Vec3::ONE - f

@@ -42,6 +42,9 @@ pub(crate) const FRESNELS: &[(&str, Fresnel)] = &Fresnel::NAMED;
 /// The `diffuse` selector (Cook-Torrance and metal_rough).
 pub(crate) const DIFFUSES: &[(&str, Diffuse)] = &Diffuse::NAMED;
 
+/// Where metal_rough's thin film takes its Fresnel: `iridescence_at_view` false or true.
+pub(crate) const FILM_ANGLES: &[(&str, bool)] = &[("half_vector", false), ("view", true)];
+
 /// Cook-Torrance's specular (Fresnel) sources; a material gives at most one.
 pub(super) const SPECULAR_SOURCES: &[&str] = &["ior", "f0", "complex_ior", "preset"];
 
@@ -245,6 +248,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
             "sheen",
             "anisotropy",
             "iridescence",
+            "iridescence_angle",
             "transmission",
             "volume",
             "dispersion",
@@ -349,6 +353,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         iridescence_ior: film[1],
         iridescence_thickness_min: film[2],
         iridescence_thickness_max: film[3],
+        iridescence_at_view: f.select("iridescence_angle", FILM_ANGLES, d.iridescence_at_view)?,
     }))
 }
 
@@ -365,7 +370,7 @@ fn iridescence(v: &Value, path: &str) -> Result<[f32; 4]> {
             "iridescenceThicknessMinimum",
             "iridescenceThicknessMaximum",
         ],
-        "an iridescence (KHR_materials_iridescence; its textures are not supported yet)",
+        "an iridescence (KHR_materials_iridescence; its textures are the `iridescence` and `iridescence_thickness` maps in \"textures\")",
     )?;
     let d = MetalRoughParams::default();
     let ior = f.num("iridescenceIor", d.iridescence_ior, Check::NonNegative)?;
@@ -395,7 +400,7 @@ fn anisotropy(v: &Value, path: &str) -> Result<(f32, f32)> {
     let f = Fields::new(v, path)?;
     f.allow(
         &["anisotropyStrength", "anisotropyRotation"],
-        "an anisotropy (KHR_materials_anisotropy; its texture is not supported yet)",
+        "an anisotropy (KHR_materials_anisotropy; its texture is the `anisotropy` map in \"textures\")",
     )?;
     Ok((
         f.num("anisotropyStrength", 0.0, UNIT)?,
@@ -457,7 +462,7 @@ fn dielectric_f0(f: &Fields) -> Result<(Vec3, f32)> {
             let g = Fields::new(v, &f.path("specular"))?;
             g.allow(
                 &["specularFactor", "specularColorFactor"],
-                "a specular block (KHR_materials_specular; its textures are not supported yet)",
+                "a specular block (KHR_materials_specular; its textures are the `specular_factor` and `specular_color` maps in \"textures\")",
             )?;
             (
                 g.num("specularFactor", 1.0, UNIT)?,
@@ -477,7 +482,7 @@ fn sheen(v: &Value, path: &str) -> Result<(Vec3, f32)> {
     let f = Fields::new(v, path)?;
     f.allow(
         &["sheenColorFactor", "sheenRoughnessFactor"],
-        "a sheen (KHR_materials_sheen; its textures are not supported yet)",
+        "a sheen (KHR_materials_sheen; its textures are the `sheen_color` and `sheen_roughness` maps in \"textures\")",
     )?;
     Ok((
         f.color_in("sheenColorFactor", Vec3::ZERO, UNIT)?,
@@ -496,7 +501,7 @@ fn transmission(f: &Fields) -> Result<Transmission> {
         let g = Fields::new(v, &f.path("transmission"))?;
         g.allow(
             &["transmissionFactor"],
-            "transmission (KHR_materials_transmission; its texture is not supported yet)",
+            "transmission (KHR_materials_transmission; its texture is the `transmission` map in \"textures\")",
         )?;
         t.factor = g.num("transmissionFactor", t.factor, UNIT)?;
     }
@@ -504,7 +509,7 @@ fn transmission(f: &Fields) -> Result<Transmission> {
         let g = Fields::new(v, &f.path("volume"))?;
         g.allow(
             &["thicknessFactor", "attenuationDistance", "attenuationColor"],
-            "a volume (KHR_materials_volume; its thickness texture is not supported yet)",
+            "a volume (KHR_materials_volume; its thickness texture is the `thickness` map in \"textures\")",
         )?;
         t.thickness = g.num("thicknessFactor", t.thickness, Check::NonNegative)?;
         t.attenuation_color = g.color_in("attenuationColor", t.attenuation_color, UNIT)?;
@@ -522,7 +527,7 @@ fn transmission(f: &Fields) -> Result<Transmission> {
         let g = Fields::new(v, &f.path("diffuse_transmission"))?;
         g.allow(
             &["diffuseTransmissionFactor", "diffuseTransmissionColorFactor"],
-            "diffuse transmission (KHR_materials_diffuse_transmission; its textures are not supported yet)",
+            "diffuse transmission (KHR_materials_diffuse_transmission; its textures are the `diffuse_transmission` and `diffuse_transmission_color` maps in \"textures\")",
         )?;
         t.diffuse = g.num("diffuseTransmissionFactor", t.diffuse, UNIT)?;
         t.diffuse_color = g.color_in("diffuseTransmissionColorFactor", t.diffuse_color, UNIT)?;
@@ -536,7 +541,7 @@ fn clearcoat(v: &Value, path: &str) -> Result<(f32, f32)> {
     let f = Fields::new(v, path)?;
     f.allow(
         &["clearcoatFactor", "clearcoatRoughnessFactor"],
-        "a clear coat (KHR_materials_clearcoat; its textures are not supported yet)",
+        "a clear coat (KHR_materials_clearcoat; its textures are the `clearcoat` and `clearcoat_roughness` maps in \"textures\")",
     )?;
     Ok((
         f.num("clearcoatFactor", 0.0, UNIT)?,

@@ -36,7 +36,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use serde_json::Value;
 
-use super::decode::{DIFFUSES, DISTRIBUTIONS, FRESNELS, GEOMETRIES};
+use super::decode::{DIFFUSES, DISTRIBUTIONS, FILM_ANGLES, FRESNELS, GEOMETRIES};
 use super::{
     EnvSource, Environment, Material, MaterialTextures, MeshDesc, Object, Saturation, Scene,
     Shading, TextureRef, TextureSlot,
@@ -288,6 +288,10 @@ impl Encoder<'_> {
                 // Its F90 (KHR_materials_specular's specularFactor), only when not 1.
                 if p.dielectric_f90 != 1.0 {
                     n.put("dielectric_f90", p.dielectric_f90);
+                }
+                // The film's Fresnel at the view, only when chosen.
+                if p.iridescence_at_view {
+                    n.put("iridescence_angle", select(FILM_ANGLES, true));
                 }
                 // KHR_materials_clearcoat, only when there is a coat (files without one are
                 // written as before).

@@ -227,6 +227,10 @@ pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
             crate::brdf::has_iridescence(&p),
             glsl::BRDF_LOBE_IRIDESCENCE,
         ),
+        (
+            crate::brdf::has_iridescence(&p) && p.iridescence_at_view,
+            glsl::BRDF_LOBE_IRIDESCENCE_VIEW,
+        ),
     ]
     .into_iter()
     .filter(|(on, _)| *on)
