@@ -855,3 +855,75 @@ fn emitters_add_a_pass_only_when_visible() {
     assert!(rows[0].1 && !rows[1].1, "{rows:?}");
     assert_eq!(rows[0].2, rows[1].2 + 1, "{rows:?}");
 }
+
+/// Editing area lights in a live renderer (the viewer's path, `Headless::apply`): moving one and
+/// changing its size and radiance is per-frame data; hiding the emitters, or turning a disk into
+/// a rect, changes the emitter pass's draws and rebuilds it. After each edit the picture equals
+/// a fresh renderer's bit for bit, and it moved.
+#[test]
+fn edited_area_lights_show_as_a_fresh_render() {
+    use luz::render::world::Change;
+    let ctx = common::gpu();
+    let mut scene = emitter_scene([0.0, 0.0, 1.0], "", true);
+    let mut r = luz::headless::Headless::new(&ctx, &scene).expect("renderer");
+    r.render().unwrap();
+    type Edit = (&'static str, fn(&mut Scene), Change);
+    let edits: [Edit; 3] = [
+        (
+            "disk moved, larger and brighter",
+            |s| {
+                let l = &mut s.area_lights[1];
+                l.position += glam::Vec3::new(0.2, 0.1, 0.0);
+                l.intensity *= 1.5;
+                if let luz::scene::AreaShape::Disk { radius } = &mut l.shape {
+                    *radius = 0.5;
+                }
+            },
+            Change::InPlace,
+        ),
+        (
+            "emitters hidden",
+            |s| s.area_lights.iter_mut().for_each(|l| l.visible = false),
+            Change::Rebuild { environment: false },
+        ),
+        (
+            "disk turned into a visible rect",
+            |s| {
+                let l = &mut s.area_lights[1];
+                l.shape = luz::scene::AreaShape::Rect {
+                    up: glam::Vec3::Y,
+                    width: 0.8,
+                    height: 0.5,
+                };
+                l.visible = true;
+            },
+            Change::Rebuild { environment: false },
+        ),
+    ];
+    for (name, edit, want) in edits {
+        let before = r.image().unwrap();
+        edit(&mut scene);
+        assert_eq!(r.apply(&scene).unwrap(), want, "{name}");
+        r.render().unwrap();
+        let got = r.image().unwrap();
+        let fresh = common::render_on(&ctx, &scene);
+        let differing = got
+            .pixels
+            .iter()
+            .zip(&fresh.pixels)
+            .filter(|(a, b)| a.map(f32::to_bits) != b.map(f32::to_bits))
+            .count();
+        assert_eq!(
+            differing, 0,
+            "{name}: {differing} pixels differ from a fresh render"
+        );
+        let moved = got
+            .pixels
+            .iter()
+            .zip(&before.pixels)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(moved > 20, "{name}: only {moved} pixels changed");
+    }
+    common::assert_no_validation_messages(&ctx);
+}

@@ -43,7 +43,9 @@ type ObjectShape = (
 pub struct Shape {
     objects: Vec<ObjectShape>,
     lights: usize,
-    area_lights: usize,
+    /// Per area light: what its emitter draws (the shape's vertex count) and whether the camera
+    /// sees it (the emitter pass's draw list).
+    area_lights: Vec<(u32, bool)>,
     light_kinds: u32,
     /// Per light: the shadow's method, resolution and layers.
     shadows: Vec<Option<(ShadowMethod, u32, u32)>>,
@@ -75,7 +77,11 @@ impl Shape {
                 })
                 .collect(),
             lights: scene.lights.len(),
-            area_lights: scene.area_lights.len(),
+            area_lights: scene
+                .area_lights
+                .iter()
+                .map(|l| (super::emitter::vertex_count(&l.shape), l.visible))
+                .collect(),
             light_kinds: crate::render::gpu::scene_light_kinds(scene),
             shadows: scene
                 .lights
@@ -135,11 +141,14 @@ impl Shape {
         }
         if self.lights != new.lights {
             parts.push(format!("{} lights → {}", self.lights, new.lights));
-        } else if self.area_lights != new.area_lights {
+        } else if self.area_lights.len() != new.area_lights.len() {
             parts.push(format!(
                 "{} area lights → {}",
-                self.area_lights, new.area_lights
+                self.area_lights.len(),
+                new.area_lights.len()
             ));
+        } else if self.area_lights != new.area_lights {
+            parts.push("an area light's shape or visibility".into());
         } else if self.light_kinds != new.light_kinds {
             parts.push("the kinds of lights".into());
         }
