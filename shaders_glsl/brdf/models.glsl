@@ -46,14 +46,15 @@
 #define BRDF_LOBE_ANISOTROPY 32u
 // KHR_materials_iridescence (iridescence_fresnel_of in src/brdf/models/mod.rs).
 #define BRDF_LOBE_IRIDESCENCE 64u
-// The film's Fresnel at n·v for every light (MetalRoughParams::iridescence_at_view): the lighting
-// shaders evaluate it once per pixel (g_film_view, set by shade()).
+// The film's Fresnel at n·v for every light (MetalRoughParams::iridescence_at_view, packed as a
+// negative factor): the lighting shaders evaluate it once per pixel (g_film_view, set by
+// shade()). Without the bit the sign is not read (the film at each light's v·h).
 #define BRDF_LOBE_IRIDESCENCE_VIEW 128u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
-// (brdf_eval.comp) every lobe is compiled, the film at each light's v·h.
+// (brdf_eval.comp) every lobe is compiled.
 #ifndef BRDF_LOBES
-#define BRDF_LOBES (0xFFFFFFFFu & ~BRDF_LOBE_IRIDESCENCE_VIEW)
+#define BRDF_LOBES 0xFFFFFFFFu
 #endif
 
 // std430 / push-constant layout, 112 bytes. Slot use per model: docs/brdf.md.
@@ -296,11 +297,20 @@ vec3 brdf_with_f90(int sel, vec3 f, vec3 f0, float f90) {
     return mix(f, g, greaterThan(room, vec3(1e-6)));
 }
 
-// Whether p has KHR_materials_iridescence's film (has_iridescence): factor p0.w and thickness
+// Whether p has KHR_materials_iridescence's film (has_iridescence): factor |p0.w| and thickness
 // p2.w above 0.
 bool brdf_has_iridescence(BrdfParams p) {
     return (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE) != 0u && p.sel.x == BRDF_MODEL_METAL_ROUGH
-        && p.p0.w > 0.0 && p.p2.w > 0.0;
+        && p.p0.w != 0.0 && p.p2.w > 0.0;
+}
+
+// The film's factor, and whether its Fresnel is taken at the view (the factor's sign).
+float brdf_film_factor(BrdfParams p) {
+    return abs(p.p0.w);
+}
+
+bool brdf_film_at_view(BrdfParams p) {
+    return (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE_VIEW) != 0u && p.p0.w < 0.0;
 }
 
 // The film's Fresnel at cos (iridescence_fresnel_of): over the dielectric F0 and over the base
@@ -331,7 +341,7 @@ vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float n_v) {
     vec3 f = brdf_iridescence_fresnel_of(p, n_v);
     float w = brdf_schlick_weight(clamp(n_v, 0.0, 1.0));
     vec3 film_f0 = clamp((f - vec3(w)) / max(1.0 - w, 1e-4), vec3(0.0), vec3(1.0));
-    return mix(f0, film_f0, p.p0.w);
+    return mix(f0, film_f0, brdf_film_factor(p));
 }
 
 // p's roughness, or for an anisotropic lobe the roughness of an isotropic lobe of about the same
@@ -382,13 +392,17 @@ BrdfTerms brdf_metal_rough_base_terms_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v,
         t.f = brdf_with_f90(p.sel.w, t.f, f0, f90);
     }
     if (brdf_has_iridescence(p)) {
+        vec3 film;
+        if (brdf_film_at_view(p)) {
 #ifdef LUZ_FRAGMENT
-        vec3 film = (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE_VIEW) != 0u
-                        ? g_film_view : brdf_iridescence_fresnel_of(p, v_h);
+            film = g_film_view;
 #else
-        vec3 film = brdf_iridescence_fresnel_of(p, v_h);
+            film = brdf_iridescence_fresnel_of(p, n_v);
 #endif
-        t.f = mix(t.f, film, p.p0.w);
+        } else {
+            film = brdf_iridescence_fresnel_of(p, v_h);
+        }
+        t.f = mix(t.f, film, brdf_film_factor(p));
     }
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - t.f : vec3(1.0);
     t.diffuse = c_diff * M_1_PI * brdf_diffuse_factor(p.p0.y, n_l, n_v, v_h, roughness) * weight;

@@ -376,8 +376,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
     }
     // KHR_materials_iridescence at the view: the film once for every light.
-    if (MODEL == BRDF_MODEL_METAL_ROUGH && (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE_VIEW) != 0u
-        && brdf_has_iridescence(p)) {
+    if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p) && brdf_film_at_view(p)) {
         g_film_view = brdf_iridescence_fresnel_of(p, brdf_clamp_cos(dot(s.n, V)));
     }
     // KHR_materials_anisotropy's lobe frame, once for every light (off unless LOBES has it).

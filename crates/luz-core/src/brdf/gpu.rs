@@ -6,7 +6,7 @@
 //! | 0  | `vec4 color`  | albedo, – | O_d, – | colour, roughness | base, roughness | base, roughness | ρ, – |
 //! | 16 | `vec4 spec`   | – | O_s, – | F0 or η (by `fresnel`), – | –, metallic | –, metallic | – |
 //! | 32 | `vec4 kappa`  | – | –, k_d | κ, k_d | sheen_color, sheen_roughness | – | – |
-//! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | –, diffuse, –, – | (1−F) weight 0/1, diffuse, dielectric F90, iridescence factor | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
+//! | 48 | `vec4 p0`     | – | k_s, n, k_a, – | –, diffuse, –, – | (1−F) weight 0/1, diffuse, dielectric F90, iridescence factor (negative: at the view) | subsurface, specular, specular_tint, anisotropic | σ (radians), – |
 //! | 64 | `vec4 p1`     | – | – | – | clearcoat, clearcoat_roughness, anisotropy strength, rotation | sheen, sheen_tint, clearcoat, clearcoat_gloss | – |
 //! | 80 | `ivec4 sel`   | model, –, –, – | model, – | model, D, G, F | model, D, G, F | model, – | model, – |
 //! | 96 | `vec4 p2`     | – | – | – | transmission, diffuse transmission, iridescence ior, iridescence thickness (nm) | – | – |
@@ -107,7 +107,12 @@ impl GpuBrdfParams {
                 g.spec = p.dielectric_f0.extend(p.metallic).to_array();
                 g.p0[0] = if p.diffuse_fresnel_weight { 1.0 } else { 0.0 };
                 g.p0[2] = p.dielectric_f90;
-                g.p0[3] = p.iridescence;
+                // The sign: the film at the view (`iridescence_at_view`).
+                g.p0[3] = if p.iridescence_at_view {
+                    -p.iridescence
+                } else {
+                    p.iridescence
+                };
                 g.kappa = p.sheen_color.extend(p.sheen_roughness).to_array();
                 g.p1 = [
                     p.clearcoat,
