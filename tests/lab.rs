@@ -171,7 +171,10 @@ fn lab_area_group_reduced() {
             r.forward_ms,
             r.cost()
         );
-        assert!(r.relative_l1.is_finite() && r.error.rmse.is_finite(), "{r:?}");
+        assert!(
+            r.relative_l1.is_finite() && r.error.rmse.is_finite(),
+            "{r:?}"
+        );
         assert_eq!(r.error.nan_pixels, 0, "{r:?}");
         assert!(r.forward_ms > 0.0 && r.base_forward_ms > 0.0, "{r:?}");
     }

@@ -223,7 +223,16 @@ fn run_area(a: &LabArgs, scene: &luz::scene::Scene) -> Result<ExitCode> {
     area::write_outputs(&a.out, scene, &sweep, &rows)?;
     println!(
         "{:<7} {:<22} {:>5} {:>6} {:>7} {:>9} {:>10} {:>8} {:>10} {:>10}",
-        "shape", "method", "rough", "size", "sr", "elevation", "fwd ms", "× point", "rel L1", "FLIP"
+        "shape",
+        "method",
+        "rough",
+        "size",
+        "sr",
+        "elevation",
+        "fwd ms",
+        "× point",
+        "rel L1",
+        "FLIP"
     );
     for r in &rows {
         println!(

@@ -95,7 +95,11 @@ pub fn methods(shape: &str, samples: &[u32]) -> Vec<AreaMethod> {
     if matches!(shape, "sphere" | "tube") {
         m.push(AreaMethod::RepresentativePoint);
     }
-    m.extend(samples.iter().map(|&samples| AreaMethod::Sampled { samples }));
+    m.extend(
+        samples
+            .iter()
+            .map(|&samples| AreaMethod::Sampled { samples }),
+    );
     m
 }
 
