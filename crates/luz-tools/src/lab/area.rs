@@ -466,6 +466,7 @@ pub fn write_outputs(dir: &Path, base: &Scene, sweep: &AreaSweep, rows: &[AreaRo
         title: "area lights: error against GPU cost (every shape, roughness, size, elevation)"
             .into(),
         x: crate::plot::Axis::new("forward pass GPU ms / the same scene with a point light (log)")
+            .range(1.0, 20.0)
             .log(),
         y: crate::plot::Axis::new("relative L1 against the CPU reference (log)").log(),
         points,

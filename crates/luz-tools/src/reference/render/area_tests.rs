@@ -54,9 +54,6 @@ fn plane_under_within(light: &str, exact: &dyn Fn(DVec3) -> f64, tolerance: f64)
                 "pixel ({px}, {py}) at {p}: {got} vs exact {want} ({err:.5})"
             );
             worst = worst.max(err);
-            if std::env::var_os("LUZ_AREA_TEST_PIXELS").is_some() {
-                eprintln!("pixel ({px}, {py}) at {p}: {err:.5}");
-            }
         }
     }
     worst
@@ -114,7 +111,7 @@ fn sphere_light_on_a_lambert_plane_is_pi_l_sin2() {
 /// towards a point of the plane, so E = L ∫ 2r |t × s| (n · s) / d² dx along the axis (the
 /// silhouette, 2r wide, the axis foreshortened by |t × s|; thin: r/d ≤ 0.004), within 8 % at
 /// every pixel (1.0–5.2 % measured: the emitter's samples are noisier on a tube, half of them
-/// land on the hidden half; `LUZ_AREA_TEST_PIXELS=1` prints each pixel). The reference
+/// land on the hidden half). The reference
 /// counted the hidden far half's inner face too, 2× this, until the lab's `area` group showed a
 /// tube's sampled method converging to half the reference (issue 36).
 #[test]
