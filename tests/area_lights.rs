@@ -729,7 +729,7 @@ fn visible_emitter_blocks_other_lights_shadow_rays() {
 /// pixel is finite and ≥ 0, and the relative L1 error is within the row's bound: the measured
 /// value (printed; 2026-11-29, docs/area-lights.md has the table) + ~20 %, or 0.5 % where the
 /// measured error is the reference's noise. Representative point (roughness 0, touching, tubes)
-/// and the tiny LTC sphere are far off the reference (12–55 %): those bounds only catch a
+/// and the tiny LTC sphere are far off the reference (12–49 %): those bounds only catch a
 /// regression, they are not accuracy goals.
 #[test]
 fn area_light_stability_rows() {
@@ -772,8 +772,10 @@ fn area_light_stability_rows() {
         (
             "tube lying on the plane, metal-rough 0.4",
             r#"{"type": "tube", "position": [0.1, 0.05, 0.2], "direction": [1, 0, 0], "length": 1, "radius": 0.05, "intensity": 20, "visible": false}"#.into(),
+            // 37 % against the reference before it stopped counting a tube's hidden far half
+            // (2026-11-29, the lab group `area`); 21.9 % after.
             rough,
-            0.45,
+            0.26,
         ),
         (
             "tiny rect (1 mm), Lambert",
@@ -796,8 +798,9 @@ fn area_light_stability_rows() {
         (
             "short thin tube (1 mm), metal-rough 0.4",
             r#"{"type": "tube", "position": [0.1, 1.0, 0.2], "direction": [1, 0, 0], "length": 0.001, "radius": 0.0005, "intensity": 1000000, "visible": false}"#.into(),
+            // 55 % before the reference's tube fix, 49.2 % after.
             rough,
-            0.65,
+            0.59,
         ),
     ];
     let mut failures = Vec::new();

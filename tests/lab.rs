@@ -123,3 +123,93 @@ fn lab_rejects_a_reference_of_the_wrong_size() {
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// The `area` group (issue 36) reduced: a rect and a sphere, large, overhead, roughness 0.25, every
+/// method, against the CPU reference. Every row is finite with a positive time; the sampled
+/// method's error falls from 4 to 64 samples; LTC beats 4 samples on the rect and the
+/// representative point on the sphere; and validation stays silent. Figures printed
+/// (`-- --nocapture`); the full sweep is `luz lab docs/lab/area.json --only area`.
+#[test]
+fn lab_area_group_reduced() {
+    use luz::lab::area::{self, AreaSweep};
+    let ctx = common::gpu();
+    let base = luz::scene::load(&root().join("docs/lab/area.json")).unwrap();
+    let sweep = AreaSweep {
+        shapes: vec!["rect", "sphere"],
+        roughness: vec![0.25],
+        solid_angles: vec![area::SOLID_ANGLES[1]],
+        elevations: vec![area::ELEVATIONS[0]],
+        samples: vec![4, 64],
+        timing_size: (96, 64),
+        frames: 3,
+        reference_samples: 1024,
+    };
+    let rows = area::measure(
+        &ctx,
+        &base,
+        &sweep,
+        &luz::headless::RenderOptions::default(),
+        None,
+    )
+    .unwrap();
+    common::assert_no_validation_messages(&ctx);
+    // rect: ltc, sampled 4, sampled 64; sphere: ltc, representative point, sampled 4, 64.
+    assert_eq!(rows.len(), 3 + 4);
+    let err = |shape: &str, label: &str| {
+        rows.iter()
+            .find(|r| r.cell.shape == shape && r.label() == label)
+            .unwrap_or_else(|| panic!("{shape} {label} missing"))
+            .relative_l1
+    };
+    for r in &rows {
+        eprintln!(
+            "{} {}: relative L1 {:.4}, FLIP {:.4}, forward {:.3} ms ({:.2}× point)",
+            r.cell.shape,
+            r.label(),
+            r.relative_l1,
+            r.error.flip_mean,
+            r.forward_ms,
+            r.cost()
+        );
+        assert!(
+            r.relative_l1.is_finite() && r.error.rmse.is_finite(),
+            "{r:?}"
+        );
+        assert_eq!(r.error.nan_pixels, 0, "{r:?}");
+        assert!(r.forward_ms > 0.0 && r.base_forward_ms > 0.0, "{r:?}");
+    }
+    for shape in ["rect", "sphere"] {
+        assert!(
+            err(shape, "sampled 64") < 0.5 * err(shape, "sampled 4"),
+            "{shape}: sampled error falls with samples"
+        );
+    }
+    assert!(err("rect", "ltc") < err("rect", "sampled 4"));
+    assert!(err("sphere", "ltc") < err("sphere", "representative_point"));
+    // Sampled's cost grows with its samples (at 64 × 96 px the frame is small, so only the order
+    // is asserted).
+    let cost = |label: &str| {
+        rows.iter()
+            .find(|r| r.cell.shape == "rect" && r.label() == label)
+            .unwrap()
+            .forward_ms
+    };
+    assert!(cost("sampled 64") > cost("sampled 4"));
+}
+
+/// `--only area` runs alone (its cells have their own references) and takes no `--reference`.
+#[test]
+fn lab_area_group_runs_alone() {
+    let dir = scratch("area-alone");
+    let ran = run(&mut luz_command([
+        "lab",
+        root().join("docs/lab/area.json").to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--only",
+        "area,brdf",
+    ]));
+    assert!(!ran.status.success());
+    assert!(ran.stderr.contains("runs alone"), "{}", ran.stderr);
+    assert!(!ran.stderr.contains("panicked"), "{}", ran.stderr);
+}

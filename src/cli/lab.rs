@@ -37,7 +37,8 @@ pub struct LabArgs {
     // --width and --height: the lab renders every variant at this size.
     #[command(flatten)]
     pub view: ViewOverrides,
-    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows, lod, glass, layers).
+    /// Only these variant groups (comma separated: tessellation, auto, brdf, lights, ibl, shadows, lod, glass, layers;
+    /// `area` runs alone: one reference per cell of its sweep, docs/area-lights.md).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
     /// Sizes of the image-based lighting data.
@@ -53,6 +54,9 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     let mut scene = luz::scene::load(&a.scene)?;
     a.view.apply(&mut scene)?;
     report_tessellation(&scene, false);
+    if a.only.iter().any(|g| g == "area") {
+        return run_area(&a, &scene);
+    }
     std::fs::create_dir_all(a.out.join("heatmaps"))
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let reference = match &a.reference {
@@ -170,6 +174,83 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     }
     println!(
         "wrote {0}/results.csv, {0}/results.json, {0}/chart.png, {0}/chart.svg, {0}/heatmaps/",
+        a.out.display()
+    );
+    Ok(validation_exit(&ctx))
+}
+
+/// The `area` group: its own sweep of lights over the scene's surface, one CPU reference per
+/// cell ([`luz::lab::area`]).
+fn run_area(a: &LabArgs, scene: &luz::scene::Scene) -> Result<ExitCode> {
+    use luz::lab::area;
+    if a.only.len() > 1 {
+        bail!("--only area runs alone: each of its cells has its own reference");
+    }
+    if a.reference.is_some() {
+        bail!("--reference: the area group renders one reference per cell itself");
+    }
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let ctx = context(&a.gpu)?;
+    println!("device: {}", ctx.info.summary());
+    let sweep = area::AreaSweep {
+        frames: a.frames,
+        reference_samples: a.reference_samples,
+        ..Default::default()
+    };
+    println!(
+        "area: {} cells, reference {} directions per strategy, error at {}x{}, time at {}x{}",
+        area::cells(&sweep).len(),
+        sweep.reference_samples,
+        scene.output.width,
+        scene.output.height,
+        sweep.timing_size.0,
+        sweep.timing_size.1
+    );
+    let render = luz::headless::RenderOptions {
+        progress: None,
+        switches: a.switches.switches(),
+        ..render_options(
+            &IblArgs {
+                ibl_quality: a.ibl_quality,
+                no_cache: false,
+            },
+            Default::default(),
+        )
+    };
+    let bar = Bar::new("{bar:40} {pos}/{len} cells {elapsed} {msg}");
+    let rows = area::measure(&ctx, scene, &sweep, &render, Some(&bar))?;
+    area::write_outputs(&a.out, scene, &sweep, &rows)?;
+    println!(
+        "{:<7} {:<22} {:>5} {:>6} {:>7} {:>9} {:>10} {:>8} {:>10} {:>10}",
+        "shape",
+        "method",
+        "rough",
+        "size",
+        "sr",
+        "elevation",
+        "fwd ms",
+        "× point",
+        "rel L1",
+        "FLIP"
+    );
+    for r in &rows {
+        println!(
+            "{:<7} {:<22} {:>5} {:>6} {:>7} {:>9} {:>10.3} {:>8.2} {:>10.5} {:>10.5}",
+            r.cell.shape,
+            r.label(),
+            r.cell.roughness,
+            r.cell.size,
+            r.cell.solid_angle_sr,
+            r.cell.elevation,
+            r.forward_ms,
+            r.cost(),
+            r.relative_l1,
+            r.error.flip_mean
+        );
+    }
+    println!(
+        "wrote {0}/results.csv, {0}/results.json, {0}/chart.png, {0}/chart.svg",
         a.out.display()
     );
     Ok(validation_exit(&ctx))

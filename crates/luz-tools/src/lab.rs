@@ -4,6 +4,7 @@
 //! `chart.png`/`chart.svg` (error, log, against GPU ms with the Pareto front marked) and one FLIP
 //! heat map per variant.
 
+pub mod area;
 pub mod glass;
 pub mod layers;
 pub mod shadows;

@@ -95,6 +95,15 @@ pub(super) fn sample(light: &AreaLight, p: Vec3, u: Vec2) -> Option<Towards> {
     let dist = to_q.length();
     let dir = to_q / dist;
     let cos_l = emitting_cos(light, m, dir);
+    // A tube's side hides itself: a point behind the near side (outside it, its far half) is
+    // not seen from `p`, though its inner face turns towards p. Only the first surface the ray
+    // meets emits towards p, as `intersect` (the BRDF's samples) has it; counting the far half
+    // too doubled a tube's light seen from outside (the lab's `area` group, issue 36).
+    if matches!(light.shape, AreaShape::Tube { .. })
+        && intersect(light, p, dir).is_none_or(|(t, _)| t < dist * (1.0 - 1e-3))
+    {
+        return None;
+    }
     (dist > 0.0 && cos_l > 0.0).then(|| Towards {
         dir,
         dist,

@@ -23,6 +23,11 @@ fn polygon_irradiance(p: DVec3, n: DVec3, verts: &[DVec3], l: f64) -> f64 {
 /// Every pixel of a 6 × 4 image of a Lambert plane (albedo 0.5) under `light` at the default
 /// sample count, against albedo/π · E(p) from `exact`; returns the largest relative error.
 fn plane_under(light: &str, exact: &dyn Fn(DVec3) -> f64) -> f64 {
+    plane_under_within(light, exact, 0.005)
+}
+
+/// [`plane_under`] with every pixel's relative error below `tolerance`.
+fn plane_under_within(light: &str, exact: &dyn Fn(DVec3) -> f64, tolerance: f64) -> f64 {
     let json = format!(
         r#"{{
         "camera": {{"position": [0.3, 4, 3], "target": [0, 0, 0]}},
@@ -45,7 +50,7 @@ fn plane_under(light: &str, exact: &dyn Fn(DVec3) -> f64) -> f64 {
             let got = f64::from(prepared.pixel(px, py, &opts).x);
             let err = (got - want).abs() / want;
             assert!(
-                err < 0.005,
+                err < tolerance,
                 "pixel ({px}, {py}) at {p}: {got} vs exact {want} ({err:.5})"
             );
             worst = worst.max(err);
@@ -100,4 +105,36 @@ fn sphere_light_on_a_lambert_plane_is_pi_l_sin2() {
         std::f64::consts::PI * l * (r / d) * (r / d) * to_c.y / d
     });
     eprintln!("sphere: largest relative error {worst:.5}");
+}
+
+/// A thin tube (radius 5 mm, 1 m long, 1.5 m up) seen from outside: only its near half emits
+/// towards a point of the plane, so E = L ∫ 2r |t × s| (n · s) / d² dx along the axis (the
+/// silhouette, 2r wide, the axis foreshortened by |t × s|; thin: r/d ≤ 0.004), within 8 % at
+/// every pixel (1.0–5.2 % measured: the emitter's samples are noisier on a tube, half of them
+/// land on the hidden half). The reference
+/// counted the hidden far half's inner face too, 2× this, until the lab's `area` group showed a
+/// tube's sampled method converging to half the reference (issue 36).
+#[test]
+fn thin_tube_on_a_lambert_plane_is_its_silhouette() {
+    let (c, t, r, h, l) = (DVec3::new(0.1, 1.5, -0.2), DVec3::X, 0.005, 0.5, 4.0);
+    let light = r#"{"type": "tube", "position": [0.1, 1.5, -0.2], "direction": [1, 0, 0], "length": 1, "radius": 0.005, "intensity": 4, "visible": false}"#;
+    let worst = plane_under_within(
+        light,
+        &|p| {
+            let steps = 20_000;
+            let dx = 2.0 * h / f64::from(steps);
+            (0..steps)
+                .map(|i| {
+                    let q = c + t * (-h + (f64::from(i) + 0.5) * dx);
+                    let to = q - p;
+                    let d2 = to.length_squared();
+                    let s = to / d2.sqrt();
+                    2.0 * r * t.cross(s).length() * s.y.max(0.0) / d2 * dx
+                })
+                .sum::<f64>()
+                * l
+        },
+        0.08,
+    );
+    eprintln!("thin tube: largest relative error {worst:.5}");
 }
