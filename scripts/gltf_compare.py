@@ -57,6 +57,8 @@ CASES = [
     # The layers' textures, each multiplying its factor (the channel glTF reads: R unless given).
     ("clearcoat_texture", "KHR_materials_clearcoat", "clearcoatFactor", "clearcoat",
      "clearcoatFactor", [0.2, 0.4, 0.6, 0.8, 1.0], ("clearcoatTexture", "clearcoat", None)),
+    ("clearcoat_normal_texture", "KHR_materials_clearcoat", "clearcoatFactor", "clearcoat",
+     "clearcoatFactor", [0.2, 0.4, 0.6, 0.8, 1.0], ("clearcoatNormalTexture", "clearcoat_normal", None)),
     ("clearcoat_roughness_texture", "KHR_materials_clearcoat", "clearcoatRoughnessFactor",
      "clearcoat", "clearcoatRoughnessFactor", [0.2, 0.4, 0.6, 0.8, 1.0],
      ("clearcoatRoughnessTexture", "clearcoat_roughness", "g")),
@@ -197,8 +199,11 @@ def write_case(out, case, ext, key, block, luz_key, values, texture):
     luz_materials = {}
     if texture:
         # Stripes: a ramp 0 → 255 across u, in every channel (the map's channel is read).
+        # A normal map instead: tilts growing across u from the flat (128, 128, 255).
+        pixel = ((lambda x, y: (128 + x * 8, 128, 255, 255)) if texture[1].endswith("normal")
+                 else (lambda x, y: (x * 36, x * 36, x * 36, x * 36)))
         with open(os.path.join(out, f"{case}.png"), "wb") as f:
-            f.write(png(8, 2, lambda x, y: (x * 36, x * 36, x * 36, x * 36)))
+            f.write(png(8, 2, pixel))
         doc["images"] = [{"uri": f"{case}.png"}]
         doc["textures"] = [{"source": 0}]
     for i, value in enumerate(values):

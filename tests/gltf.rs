@@ -1615,25 +1615,20 @@ fn clearcoat_factors_warnings_and_errors() {
     let f = load(&write(
         "coattex",
         json!({"clearcoatFactor": 1, "clearcoatTexture": {"index": 0},
-               "clearcoatRoughnessTexture": {"index": 0}, "clearcoatNormalTexture": {"index": 0}}),
+               "clearcoatRoughnessTexture": {"index": 0}, "clearcoatNormalTexture": {"index": 0, "scale": 0.5}}),
         true,
     ));
-    // The coat's factor (R) and roughness (G) maps; its normal map is one warning.
+    // The coat's factor (R), roughness (G) and normal maps, the normal's scale.
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
     assert_eq!(
         map_channels(&f, 0),
         [
             (TextureSlot::Clearcoat, None),
-            (TextureSlot::ClearcoatRoughness, Some(1))
+            (TextureSlot::ClearcoatRoughness, Some(1)),
+            (TextureSlot::ClearcoatNormal, None)
         ]
     );
-    assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
-    assert!(
-        f.warnings[0].starts_with(
-            "coattex.gltf: KHR_materials_clearcoat's clearcoatNormalTexture is not used"
-        ) && f.warnings[0].ends_with(r#"materials[0] ("coat")"#),
-        "{}",
-        f.warnings[0]
-    );
+    assert_eq!(f.materials[0].textures.clearcoat_normal_scale, 0.5);
     match &f.materials[0].material {
         luz::scene::Material::MetalRough(p) => {
             assert_eq!((p.clearcoat, p.clearcoat_roughness), (1.0, 0.0))
@@ -2105,8 +2100,8 @@ fn ext_lights_area_rect_and_disk() {
 /// format. Every material of every file equals its twin: the model and its parameters, and every
 /// map (file and channel); and each file renders like its twin (luz spheres of the same
 /// tessellation: the vertices differ by float rounding, so a silhouette pixel may flip) within
-/// 0.25 % mean and 0.05 max (measured: 0 untextured; up to 0.09 % textured, where the files'
-/// samplers differ). The script needs `python3` (skipped, visibly, without it).
+/// 0.25 % mean and 0.08 max (measured: 0 untextured; up to 0.09 % mean and 0.06 max textured,
+/// where the files' samplers differ). The script needs `python3` (skipped, visibly, without it).
 #[test]
 fn generated_compare_files_equal_their_json() {
     let dir = scratch("gltf-compare");
@@ -2184,14 +2179,14 @@ fn generated_compare_files_equal_their_json() {
             rel * 100.0
         );
         assert!(
-            rel < 2.5e-3 && max < 0.05,
+            rel < 2.5e-3 && max < 0.08,
             "{case}: the glTF file renders {:.3} % (max {max}) from its twin",
             rel * 100.0
         );
         cases += 1;
     }
     assert_no_validation_messages(&ctx);
-    assert!(cases >= 26, "{cases} cases");
+    assert!(cases >= 27, "{cases} cases");
 }
 
 /// Issue 34, KHR_materials_anisotropy: the factors map onto metal_rough's anisotropy (the same

@@ -410,6 +410,18 @@ BrdfTerms brdf_metal_rough_base_terms_lobe(BrdfParams p, vec3 n, vec3 l, vec3 v,
     return t;
 }
 
+// The clear coat's normal where the lighting shaders shade a pixel (shade() sets g_coat_n: the
+// geometric normal, or the coat's normal map's); elsewhere the shading normal n.
+vec3 g_coat_n = vec3(0.0, 0.0, 1.0);
+
+vec3 brdf_coat_normal(vec3 n) {
+#ifdef LUZ_FRAGMENT
+    return g_coat_n;
+#else
+    return n;
+#endif
+}
+
 // KHR_materials_clearcoat (src/brdf/models/layers.rs): F0 of the coat, what it takes from the base and
 // gives its lobe at one view (albedo: the base is weighted by 1 − clearcoat · albedo; specular:
 // multiplies the coat's lobe), the extension's own Schlick form of it.
@@ -445,10 +457,14 @@ float clearcoat_specular(BrdfParams p, vec3 n, vec3 l, vec3 v) {
 }
 
 // The base's terms t under the coat of p: weighted by 1 − clearcoat · e.albedo, plus
-// clearcoat · e.specular · clearcoat_specular in the specular.
+// clearcoat · e.specular · clearcoat_specular · (n_c·l)/(n·l) in the specular, at the coat's
+// normal n_c (brdf_coat_normal; the ratio turns the caller's cosine into the coat's). n·l > 0.
 BrdfTerms clearcoat_layer(BrdfTerms t, BrdfParams p, vec3 n, vec3 l, vec3 v, ClearcoatEnergy e) {
     float keep = 1.0 - p.p1.x * e.albedo;
-    float coat = p.p1.x * e.specular * clearcoat_specular(p, n, l, v);
+    vec3 nc = brdf_coat_normal(n);
+    float nc_l = dot(nc, l);
+    float coat = nc_l > 0.0 && dot(nc, v) > 0.0
+        ? p.p1.x * e.specular * clearcoat_specular(p, nc, l, v) * (nc_l / dot(n, l)) : 0.0;
     t.diffuse *= keep;
     t.specular = t.specular * keep + vec3(coat);
     return t;
@@ -574,7 +590,8 @@ BrdfTerms brdf_metal_rough_terms_lobe_es(BrdfParams p, vec3 n, vec3 l, vec3 v, A
         t = sheen_layer(t, p, n, l, v, e_sheen);
     }
     if ((BRDF_LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
-        t = clearcoat_layer(t, p, n, l, v, clearcoat_energy_schlick(brdf_clamp_cos(dot(n, v))));
+        t = clearcoat_layer(t, p, n, l, v,
+                            clearcoat_energy_schlick(brdf_clamp_cos(dot(brdf_coat_normal(n), v))));
     }
     return t;
 }

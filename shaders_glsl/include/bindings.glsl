@@ -120,7 +120,8 @@ layout(set = SET_FRAME, binding = BINDING_INSTANCES, std430) readonly buffer Ins
 #define MAP_SPECULAR_COLOR 18
 #define MAP_IRIDESCENCE 19
 #define MAP_IRIDESCENCE_THICKNESS 20
-#define BINDING_MATERIAL_EXTRA 21
+#define MAP_CLEARCOAT_NORMAL 21
+#define BINDING_MATERIAL_EXTRA 22
 layout(set = SET_MATERIAL, binding = MAP_BASE_COLOR) uniform sampler2D map_base_color;
 layout(set = SET_MATERIAL, binding = MAP_SPECULAR) uniform sampler2D map_specular;
 layout(set = SET_MATERIAL, binding = MAP_METALLIC) uniform sampler2D map_metallic;
@@ -142,6 +143,7 @@ layout(set = SET_MATERIAL, binding = MAP_SPECULAR_FACTOR) uniform sampler2D map_
 layout(set = SET_MATERIAL, binding = MAP_SPECULAR_COLOR) uniform sampler2D map_specular_color;
 layout(set = SET_MATERIAL, binding = MAP_IRIDESCENCE) uniform sampler2D map_iridescence;
 layout(set = SET_MATERIAL, binding = MAP_IRIDESCENCE_THICKNESS) uniform sampler2D map_iridescence_thickness;
+layout(set = SET_MATERIAL, binding = MAP_CLEARCOAT_NORMAL) uniform sampler2D map_clearcoat_normal;
 #ifndef LUZ_DEFERRED
 layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform MaterialExtra {
     vec4 emissive;  // rgb emission factor
@@ -149,7 +151,7 @@ layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform Mat
     uvec4 present;  // x: bit MAP_* set when that map exists
     // Glass (include/transmission.glsl; src/render/material.rs: MaterialExtra::glass):
     vec4 volume;        // thickness (mesh units), dispersion, iridescence thickness minimum (nm), -
-    vec4 attenuation;   // rgb: σ per unit length (KHR_materials_volume), -
+    vec4 attenuation;   // rgb: σ per unit length (KHR_materials_volume), w: clear coat normal scale
     vec4 diffuse_transmission;  // rgb: diffuseTransmissionColorFactor, -
 } mat_extra;
 

@@ -202,7 +202,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
     es.diffuse = vec3(1.0);
     es.sheen = has_sheen(p) ? sheen_albedo(clamp(dot(n, v), 1e-4, 1.0), p.kappa.w) : 0.0;
     if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u) {
-        float c_v = clamp(dot(n, v), 1e-4, 1.0);
+        float c_v = clamp(dot(brdf_coat_normal(n), v), 1e-4, 1.0);
         es.coat = energy_compensated(p) ? clearcoat_energy(p, c_v) : clearcoat_energy_schlick(c_v);
     }
     if (!energy_compensated(p)) {
@@ -227,9 +227,10 @@ vec3 ibl_clearcoat(BrdfParams p, vec3 n, vec3 v, vec3 diffuse, vec3 spec, Clearc
     if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {
         return diffuse * keep + spec;
     }
-    float n_v = clamp(dot(n, v), 1e-4, 1.0);
+    vec3 nc = brdf_coat_normal(n);
+    float n_v = clamp(dot(nc, v), 1e-4, 1.0);
     vec2 ab = brdf_lut_ab(n_v, p.p1.y);
-    vec3 r = reflect(-v, n);
+    vec3 r = reflect(-v, nc);
     vec3 pre = textureLod(prefiltered_cube, r, prefiltered_lod(p.p1.y, env.params.x)).rgb;
     vec3 coat = pre * (CLEARCOAT_F0 * ab.x + ab.y) * e.specular;
     return (diffuse + spec) * keep + p.p1.x * coat;

@@ -100,6 +100,8 @@ struct Surface {
     vec3 emission;
     // Glass: x the volume's thickness (mesh units), yzw the diffuse transmission colour.
     vec4 glass;
+    // KHR_materials_clearcoat: the coat's normal (the geometric one unless its map bends it).
+    vec3 coat_n;
 };
 
 Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
@@ -109,6 +111,7 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     s.x = X;
     s.y = Y;
     s.occlusion = 1.0;
+    s.coat_n = N;
     s.emission = mat_extra.emissive.rgb;
     s.glass = vec4(mat_extra.volume.x, mat_extra.diffuse_transmission.rgb);
 #ifdef VERTEX_COLOR
@@ -212,6 +215,12 @@ Surface surface_at(vec3 N, vec3 X, vec3 Y, vec2 uv) {
     }
     if (has_map(MAP_IRIDESCENCE)) {
         s.p.p0.w *= sample_map(map_iridescence, uv).r;
+    }
+    if (has_map(MAP_CLEARCOAT_NORMAL)) {
+        // The coat's tangent-space normal, as the base's, in the geometric frame.
+        vec3 t = sample_map(map_clearcoat_normal, uv).xyz * 2.0 - 1.0;
+        t.xy *= mat_extra.attenuation.w;
+        s.coat_n = normalize(t.x * X + t.y * Y + t.z * N);
     }
     if (has_map(MAP_IRIDESCENCE_THICKNESS)) {
         s.p.p2.w = mix(mat_extra.volume.z, s.p.p2.w, sample_map(map_iridescence_thickness, uv).r);
@@ -375,6 +384,8 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
         g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
     }
+    // KHR_materials_clearcoat's normal, for every coat term of this pixel (brdf_coat_normal).
+    g_coat_n = s.coat_n;
     // KHR_materials_iridescence at the view: the film once for every light.
     if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p) && brdf_film_at_view(p)) {
         g_film_view = brdf_iridescence_fresnel_of(p, brdf_clamp_cos(dot(s.n, V)));

@@ -7,7 +7,7 @@
 
 #define SHADOW_MASK_SET 2
 #define SHADOW_MASK_MAP_BASE_COLOR 0
-#define SHADOW_MASK_BINDING_EXTRA 21
+#define SHADOW_MASK_BINDING_EXTRA 22
 
 layout(push_constant) uniform ShadowMaskPush {
     mat4 clip_from_object;  // the layer's view-projection × the object's model matrix

@@ -164,11 +164,15 @@ pub enum TextureSlot {
     /// mix(`iridescenceThicknessMinimum`, `iridescenceThicknessMaximum`, texel). glTF reads G.
     /// Linear, one channel.
     IridescenceThickness,
+    /// KHR_materials_clearcoat's `clearcoatNormalTexture`: the coat's tangent-space normal
+    /// (as `Normal`, scaled by `clearcoat_normal_scale`). Without it the coat's normal is the
+    /// geometric one, whatever the base's normal map. Linear.
+    ClearcoatNormal,
 }
 
 impl TextureSlot {
     /// Every slot, in the order the scene format lists them.
-    pub const ALL: [TextureSlot; 21] = [
+    pub const ALL: [TextureSlot; 22] = [
         TextureSlot::BaseColor,
         TextureSlot::Specular,
         TextureSlot::Metallic,
@@ -190,13 +194,14 @@ impl TextureSlot {
         TextureSlot::SpecularColor,
         TextureSlot::Iridescence,
         TextureSlot::IridescenceThickness,
+        TextureSlot::ClearcoatNormal,
     ];
 
     /// The maps metal_rough takes: every slot but `Specular` (the classic models'), the core
     /// glTF maps first, then glass's, then the layers' (anisotropy, clear coat, sheen, specular,
     /// iridescence).
-    const ALL_METAL_ROUGH: [TextureSlot; 20] = {
-        let mut out = [TextureSlot::BaseColor; 20];
+    const ALL_METAL_ROUGH: [TextureSlot; 21] = {
+        let mut out = [TextureSlot::BaseColor; 21];
         let (mut i, mut j) = (0, 0);
         while i < TextureSlot::ALL.len() {
             if !matches!(TextureSlot::ALL[i], TextureSlot::Specular) {
@@ -232,6 +237,7 @@ impl TextureSlot {
             TextureSlot::SpecularColor => "specular_color",
             TextureSlot::Iridescence => "iridescence",
             TextureSlot::IridescenceThickness => "iridescence_thickness",
+            TextureSlot::ClearcoatNormal => "clearcoat_normal",
         }
     }
 
@@ -316,6 +322,11 @@ pub struct MaterialTextures {
     pub specular_color: Option<TextureRef>,
     pub iridescence: Option<TextureRef>,
     pub iridescence_thickness: Option<TextureRef>,
+    /// Tangent space, linear: the coat's normal.
+    pub clearcoat_normal: Option<TextureRef>,
+    /// The coat normal's scale, as `normal_scale` (glTF's `clearcoatNormalTexture.scale`).
+    /// Default 1.
+    pub clearcoat_normal_scale: f32,
     /// Emitted radiance = emissive_factor × emissive map (× 1 without a map). Linear RGB.
     /// Default: [1, 1, 1] with an emissive map, [0, 0, 0] without one.
     pub emissive_factor: Vec3,
@@ -399,6 +410,8 @@ impl Default for MaterialTextures {
             specular_color: None,
             iridescence: None,
             iridescence_thickness: None,
+            clearcoat_normal: None,
+            clearcoat_normal_scale: 1.0,
             emissive_factor: Vec3::ZERO,
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
@@ -432,6 +445,7 @@ impl MaterialTextures {
             TextureSlot::SpecularColor => self.specular_color.as_ref(),
             TextureSlot::Iridescence => self.iridescence.as_ref(),
             TextureSlot::IridescenceThickness => self.iridescence_thickness.as_ref(),
+            TextureSlot::ClearcoatNormal => self.clearcoat_normal.as_ref(),
         }
     }
 
@@ -459,6 +473,7 @@ impl MaterialTextures {
             TextureSlot::SpecularColor => &mut self.specular_color,
             TextureSlot::Iridescence => &mut self.iridescence,
             TextureSlot::IridescenceThickness => &mut self.iridescence_thickness,
+            TextureSlot::ClearcoatNormal => &mut self.clearcoat_normal,
         }
     }
 

@@ -457,6 +457,7 @@ mod tests {
             b::MAP_SPECULAR_COLOR,
             b::MAP_IRIDESCENCE,
             b::MAP_IRIDESCENCE_THICKNESS,
+            b::MAP_CLEARCOAT_NORMAL,
         ];
         assert_eq!(maps.len(), TextureSlot::ALL.len());
         assert_eq!(crate::render::material::SLOT_COUNT, TextureSlot::ALL.len());

@@ -16,8 +16,8 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, Image, SetWrites, VkError};
 
 pub const SET_MATERIAL: u32 = crate::glsl::include_bindings::SET_MATERIAL as u32;
-/// Bindings 0..21: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
-pub const SLOT_COUNT: usize = 21;
+/// Bindings 0..22: one combined image sampler per [`TextureSlot::ALL`] entry, in that order.
+pub const SLOT_COUNT: usize = 22;
 
 /// Bit i set when `textures` has map `TextureSlot::ALL[i]` (the shader's `MAPS`/`present`).
 pub fn map_bits(textures: &crate::scene::MaterialTextures) -> u32 {
@@ -44,7 +44,8 @@ pub struct MaterialExtra {
     /// Glass ([`MaterialExtra::glass`]): thickness (mesh units), dispersion; the iridescence
     /// thickness map's minimum (nm), –.
     pub volume: [f32; 4],
-    /// The volume's attenuation coefficient σ per unit length (rgb), –.
+    /// The volume's attenuation coefficient σ per unit length (rgb); the clear coat normal
+    /// map's scale (with maps).
     pub attenuation: [f32; 4],
     /// `diffuseTransmissionColorFactor` (rgb), –.
     pub diffuse_transmission: [f32; 4],
@@ -280,6 +281,15 @@ impl MaterialSets {
                 ..MaterialExtra::default()
             }
             .glass(&m.material);
+            let data = MaterialExtra {
+                attenuation: [
+                    data.attenuation[0],
+                    data.attenuation[1],
+                    data.attenuation[2],
+                    t.clearcoat_normal_scale,
+                ],
+                ..data
+            };
             extra.write(stride * mi as u64, bytemuck::bytes_of(&data))?;
             let set = desc_pool.allocate(&set_layout)?;
             let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;

@@ -230,7 +230,7 @@ impl Interface {
 
 /// The textures one stage of a layout of `sets` reads, against the device's
 /// `maxPerStageDescriptorSamplers` and `maxPerStageDescriptorSampledImages` (Vulkan guarantees
-/// 16; the forward pass's material set alone has 21 maps): a clear error instead of a layout
+/// 16; the forward pass's material set alone has 22 maps): a clear error instead of a layout
 /// the device cannot make.
 fn check_stage_samplers(
     name: &str,

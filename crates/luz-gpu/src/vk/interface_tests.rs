@@ -123,10 +123,10 @@ fn the_reflected_tables_agree_with_the_glsl_constants() {
 fn the_scene_sets_have_every_binding_of_bindings_glsl() {
     let scene = crate::render::sets::scene_interface().unwrap();
     // Frame set: 9 buffers (the area lights' included) and glass's copy of the opaque scene;
-    // materials: 21 maps (glass's four and the layers' nine included) and the extras; shadows:
+    // materials: 22 maps (glass's four and the layers' ten included) and the extras; shadows:
     // 3 maps, 2 buffers.
     assert_eq!(scene.bindings(crate::render::gpu::SET_FRAME).len(), 10);
-    assert_eq!(scene.bindings(crate::render::gpu::SET_MATERIAL).len(), 22);
+    assert_eq!(scene.bindings(crate::render::gpu::SET_MATERIAL).len(), 23);
     assert_eq!(scene.bindings(crate::render::gpu::SET_SHADOW).len(), 5);
     assert_eq!(scene.bindings(crate::render::gpu::SET_ENV).len(), 5);
 }

@@ -25,6 +25,7 @@ struct RefMaterial {
     model: Model,
     maps: HashMap<TextureSlot, Arc<CpuTexture>>,
     normal_scale: f32,
+    clearcoat_normal_scale: f32,
     occlusion_strength: f32,
     emissive_factor: Vec3,
     alpha_mode: AlphaMode,
@@ -138,6 +139,7 @@ impl Prepared {
                 model,
                 maps,
                 normal_scale: m.textures.normal_scale,
+                clearcoat_normal_scale: m.textures.clearcoat_normal_scale,
                 occlusion_strength: m.textures.occlusion_strength,
                 emissive_factor: m.textures.emissive_factor,
                 alpha_mode: m.textures.alpha_mode,
@@ -752,6 +754,16 @@ fn surface_at(mat: &RefMaterial, n: Vec3, x: Vec3, y: Vec3, uv: Vec2) -> Surface
     }
     if let Model::MetalRough(p) = &mut s.model {
         layer_maps(p, &sample);
+        // KHR_materials_clearcoat's normal: its map's in the geometric frame, else the
+        // geometric normal where the base's map bent the shading one.
+        if let Some(c) = sample(TextureSlot::ClearcoatNormal) {
+            let mut t = c.xyz() * 2.0 - Vec3::ONE;
+            t.x *= mat.clearcoat_normal_scale;
+            t.y *= mat.clearcoat_normal_scale;
+            p.clearcoat_normal = Some((x * t.x + y * t.y + n * t.z).normalize_or(n));
+        } else if s.n != n {
+            p.clearcoat_normal = Some(n);
+        }
     }
     s
 }

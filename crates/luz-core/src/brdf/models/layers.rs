@@ -76,17 +76,23 @@ pub fn clearcoat_specular(p: &MetalRoughParams, n: Vec3, l: Vec3, v: Vec3) -> f3
 }
 
 /// The base's terms `t` under the coat of `p`: diffuse and specular weighted by
-/// `1 − clearcoat · e.albedo`, plus `clearcoat · e.specular · f_coat` in the specular.
+/// `1 − clearcoat · e.albedo`, plus `clearcoat · e.specular · f_coat · cosines` in the
+/// specular, `f_coat` at the coat's normal `n` and `cosines` = (n_coat·l)/(n·l), which turns
+/// the caller's cosine into the coat's (1 when the coat's normal is the base's; 0 below it).
 pub fn clearcoat_layer(
     t: Terms,
     p: &MetalRoughParams,
-    n: Vec3,
+    (n, cosines): (Vec3, f32),
     l: Vec3,
     v: Vec3,
     e: ClearcoatEnergy,
 ) -> Terms {
     let keep = 1.0 - p.clearcoat * e.albedo;
-    let coat = p.clearcoat * e.specular * clearcoat_specular(p, n, l, v);
+    let coat = if cosines > 0.0 {
+        p.clearcoat * e.specular * clearcoat_specular(p, n, l, v) * cosines
+    } else {
+        0.0
+    };
     Terms {
         diffuse: t.diffuse * keep,
         specular: t.specular * keep + Vec3::splat(coat),

@@ -447,6 +447,12 @@ pub struct MetalRoughParams {
     /// what Khronos' sample renderer and three.js do, once per pixel on the GPU
     /// (`"iridescence_angle": "view"` in scene files). Default false (v·h, the reference).
     pub iridescence_at_view: bool,
+    /// The clear coat's normal at the point being shaded, world space, unit
+    /// (KHR_materials_clearcoat: the `clearcoat_normal` map, else the geometric normal where a
+    /// normal map bends the base's). Set per point by the maps (`surface_at`); `None`: the
+    /// shading normal. Not a scene field.
+    #[serde(skip)]
+    pub clearcoat_normal: Option<Vec3>,
 }
 
 impl MetalRoughParams {
@@ -490,6 +496,7 @@ impl Default for MetalRoughParams {
             iridescence_thickness_min: 100.0,
             iridescence_thickness_max: 400.0,
             iridescence_at_view: false,
+            clearcoat_normal: None,
         }
     }
 }
@@ -1056,12 +1063,22 @@ pub fn metal_rough_terms_frame(
     if p.clearcoat <= 0.0 {
         return t;
     }
+    // The coat's own normal: its lobe and what it takes at its own angles, its cosine instead of
+    // the base's (the caller multiplies by n·l).
+    let nc = p.clearcoat_normal.unwrap_or(s.n);
+    let (nc_v, nc_l) = (nc.dot(s.v), nc.dot(s.l));
+    let c_v = clamp_cos(nc_v);
     let coat = if p.energy_compensation {
-        layers::clearcoat_energy(&p, s.n_v)
+        layers::clearcoat_energy(&p, c_v)
     } else {
-        layers::ClearcoatEnergy::schlick(s.n_v)
+        layers::ClearcoatEnergy::schlick(c_v)
     };
-    layers::clearcoat_layer(t, &p, s.n, s.l, s.v, coat)
+    let cosines = if nc_l > 0.0 && nc_v > 0.0 {
+        nc_l / s.n_l
+    } else {
+        0.0
+    };
+    layers::clearcoat_layer(t, &p, (nc, cosines), s.l, s.v, coat)
 }
 
 /// The metallic-roughness terms without layers, of sanitised parameters; `lobe`: the

@@ -37,7 +37,9 @@ const TEXTURE_FIELDS: &[&str] = &[
     "specular_color",
     "iridescence",
     "iridescence_thickness",
+    "clearcoat_normal",
     "normal_scale",
+    "clearcoat_normal_scale",
     "occlusion_strength",
     "emissive_factor",
 ];
@@ -117,6 +119,13 @@ pub(super) fn material_textures(v: &Value, path: &str, base: &Path) -> Result<Ma
         return Err(f.err("normal_scale", "given without a \"normal\" map"));
     }
     out.normal_scale = f.num("normal_scale", 1.0, Check::Any)?;
+    if f.has("clearcoat_normal_scale") && out.clearcoat_normal.is_none() {
+        return Err(f.err(
+            "clearcoat_normal_scale",
+            "given without a \"clearcoat_normal\" map",
+        ));
+    }
+    out.clearcoat_normal_scale = f.num("clearcoat_normal_scale", 1.0, Check::Any)?;
     if f.has("occlusion_strength") && out.occlusion.is_none() && out.orm.is_none() {
         return Err(f.err(
             "occlusion_strength",

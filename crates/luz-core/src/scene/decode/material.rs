@@ -354,6 +354,7 @@ pub(super) fn metal_rough(f: &Fields, model: &str) -> Result<Material> {
         iridescence_thickness_min: film[2],
         iridescence_thickness_max: film[3],
         iridescence_at_view: f.select("iridescence_angle", FILM_ANGLES, d.iridescence_at_view)?,
+        clearcoat_normal: None,
     }))
 }
 

@@ -423,6 +423,9 @@ impl Encoder<'_> {
                 t.normal_scale
             ));
         }
+        if block_has(&block, "clearcoat_normal") {
+            block.put("clearcoat_normal_scale", t.clearcoat_normal_scale);
+        }
         if has_occlusion {
             block.put("occlusion_strength", t.occlusion_strength);
         } else if t.occlusion_strength != 1.0 {

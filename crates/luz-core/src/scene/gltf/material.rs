@@ -364,9 +364,9 @@ pub fn ior(
 
 /// KHR_materials_clearcoat's factors onto `gm` (a `metal_rough` material). Factors outside
 /// [0, 1] or not numbers, and textures whose index names no texture, are errors naming the JSON
-/// path. `clearcoatTexture` (R) and `clearcoatRoughnessTexture` (G) become the `clearcoat` and
-/// `clearcoat_roughness` maps; `clearcoatNormalTexture` is not read (one warning per file: the
-/// coat's normal is the base's).
+/// path. `clearcoatTexture` (R), `clearcoatRoughnessTexture` (G) and `clearcoatNormalTexture`
+/// (with its `scale`) become the `clearcoat`, `clearcoat_roughness` and `clearcoat_normal`
+/// maps.
 pub fn clearcoat(
     m: &gltf::Material,
     gm: &mut GltfMaterial,
@@ -381,13 +381,20 @@ pub fn clearcoat(
         e.number("clearcoatFactor", 0.0, Range::Unit)?,
         e.number("clearcoatRoughnessFactor", 0.0, Range::Unit)?,
     );
-    if e.has_textures(&["clearcoatNormalTexture"], textures.count())? {
-        let marker = format!(
-            "{file_name}: KHR_materials_clearcoat's clearcoatNormalTexture is not used (the coat's \
-             normal is the base's):"
-        );
-        warn_material(warnings, marker, m.index().unwrap_or(0), &gm.name);
-    }
+    // The coat normal's scale, as normalTexture's (a number; 1 without one).
+    let scale = match e
+        .obj
+        .get("clearcoatNormalTexture")
+        .and_then(|t| t.get("scale"))
+    {
+        None => 1.0,
+        Some(v) => v.as_f64().filter(|s| s.is_finite()).ok_or_else(|| {
+            e.err(
+                "clearcoatNormalTexture.scale",
+                format!("expected a number, got {v}"),
+            )
+        })? as f32,
+    };
     let Material::MetalRough(p) = &mut gm.material else {
         return Ok(());
     };
@@ -399,10 +406,13 @@ pub fn clearcoat(
         &[
             ("clearcoatTexture", S::Clearcoat, None),
             ("clearcoatRoughnessTexture", S::ClearcoatRoughness, Some(1)),
+            ("clearcoatNormalTexture", S::ClearcoatNormal, None),
         ],
         file_name,
         warnings,
-    )
+    )?;
+    gm.textures.clearcoat_normal_scale = scale;
+    Ok(())
 }
 
 /// KHR_materials_sheen onto `gm` (a `metal_rough` material), checked like the clear coat;
@@ -527,19 +537,6 @@ pub fn iridescence(
         file_name,
         warnings,
     )
-}
-
-/// One warning per file and kind: `marker` (the file and what is not used), then every material
-/// it concerns, ` materials[i] ("name")`, comma-separated.
-pub(super) fn warn_material(warnings: &mut Vec<String>, marker: String, i: usize, name: &str) {
-    let entry = format!(" materials[{i}] (\"{name}\")");
-    match warnings.iter_mut().find(|w| w.starts_with(&marker)) {
-        Some(w) => {
-            w.push(',');
-            w.push_str(&entry);
-        }
-        None => warnings.push(marker + &entry),
-    }
 }
 
 /// Extension `e`'s textures `(key, slot, channel)` of material `m` attached with [`attach_map`].
