@@ -364,6 +364,9 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
 
 vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     Surface s = surface_at(N, X, Y, uv);
+    // KHR_materials_clearcoat's normal, for every coat term of this pixel (brdf_coat_normal),
+    // the environment's energy scale included: set before anything reads it.
+    g_coat_n = s.coat_n;
     BrdfParams p = s.p;
     // camera_pos is (eye, 1), or (−forward, 0) for an orthographic camera: V is constant then.
     vec3 V = normalize(frame.camera_pos.xyz - P * frame.camera_pos.w);
@@ -384,8 +387,6 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
         g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
     }
-    // KHR_materials_clearcoat's normal, for every coat term of this pixel (brdf_coat_normal).
-    g_coat_n = s.coat_n;
     // KHR_materials_iridescence at the view: the film once for every light.
     if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p) && brdf_film_at_view(p)) {
         g_film_view = brdf_iridescence_fresnel_of(p, brdf_clamp_cos(dot(s.n, V)));
