@@ -281,44 +281,6 @@ fn stage_sampler_excess(
     .find(|&(_, used)| used > samplers.min(images))
 }
 
-#[cfg(test)]
-mod sampler_limit_tests {
-    use super::*;
-
-    /// The scene's sets (frame, material, shadow, environment) read more textures in the
-    /// fragment stage than Vulkan's guaranteed 16 and fit lavapipe's limits; either limit below
-    /// the count is reported with the first stage over it and its count.
-    #[test]
-    fn the_scene_layout_is_checked_against_the_per_stage_limits() {
-        let scene = crate::render::sets::scene_interface().unwrap();
-        let refs: Vec<&LayoutBinding> = (0..4).flat_map(|s| scene.bindings(s)).collect();
-        let count = |stage: vk::ShaderStageFlags| -> u32 {
-            refs.iter()
-                .filter(|b| {
-                    b.stages.contains(stage) && b.ty == vk::DescriptorType::COMBINED_IMAGE_SAMPLER
-                })
-                .map(|b| b.count)
-                .sum()
-        };
-        let (vertex, fragment) = (
-            count(vk::ShaderStageFlags::VERTEX),
-            count(vk::ShaderStageFlags::FRAGMENT),
-        );
-        assert!(fragment > 21 && vertex > 16, "{vertex} {fragment}");
-        assert_eq!(stage_sampler_excess(&refs, (1 << 20, 1 << 20)), None);
-        for limits in [(16, 1 << 20), (1 << 20, 16)] {
-            assert_eq!(
-                stage_sampler_excess(&refs, limits),
-                Some((vk::ShaderStageFlags::VERTEX, vertex))
-            );
-        }
-        assert_eq!(
-            stage_sampler_excess(&refs, (vertex, vertex)),
-            (fragment > vertex).then_some((vk::ShaderStageFlags::FRAGMENT, fragment))
-        );
-    }
-}
-
 /// Descriptor writes into one set, each binding's type taken from the set's layout.
 pub struct SetWrites<'a> {
     layout: &'a DescriptorSetLayout,
@@ -610,3 +572,41 @@ impl SingleSet {
 #[cfg(test)]
 #[path = "interface_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+mod sampler_limit_tests {
+    use super::*;
+
+    /// The scene's sets (frame, material, shadow, environment) read more textures in the
+    /// fragment stage than Vulkan's guaranteed 16 and fit lavapipe's limits; either limit below
+    /// the count is reported with the first stage over it and its count.
+    #[test]
+    fn the_scene_layout_is_checked_against_the_per_stage_limits() {
+        let scene = crate::render::sets::scene_interface().unwrap();
+        let refs: Vec<&LayoutBinding> = (0..4).flat_map(|s| scene.bindings(s)).collect();
+        let count = |stage: vk::ShaderStageFlags| -> u32 {
+            refs.iter()
+                .filter(|b| {
+                    b.stages.contains(stage) && b.ty == vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+                })
+                .map(|b| b.count)
+                .sum()
+        };
+        let (vertex, fragment) = (
+            count(vk::ShaderStageFlags::VERTEX),
+            count(vk::ShaderStageFlags::FRAGMENT),
+        );
+        assert!(fragment > 21 && vertex > 16, "{vertex} {fragment}");
+        assert_eq!(stage_sampler_excess(&refs, (1 << 20, 1 << 20)), None);
+        for limits in [(16, 1 << 20), (1 << 20, 16)] {
+            assert_eq!(
+                stage_sampler_excess(&refs, limits),
+                Some((vk::ShaderStageFlags::VERTEX, vertex))
+            );
+        }
+        assert_eq!(
+            stage_sampler_excess(&refs, (vertex, vertex)),
+            (fragment > vertex).then_some((vk::ShaderStageFlags::FRAGMENT, fragment))
+        );
+    }
+}
