@@ -76,14 +76,20 @@ fn compare(ctx: &Arc<Context>, name: &str, material: Material, rel: f32) -> f32 
 }
 
 /// [`compare`] of a prepared `scene` (its material's maps, say) against the CPU's `model`.
-fn compare_scene(ctx: &Arc<Context>, name: &str, scene: Scene, model: Material, rel: f32) -> f32 {
-    // The plane's tangent frame exactly as the renderer derives it.
+/// The tangent frame (x, y) of `scene`'s first object, a plane of normal +y, exactly as the
+/// renderer derives it.
+fn plane_frame(scene: &Scene) -> (Vec3, Vec3) {
     let mesh = &scene.objects[0].mesh;
     let tan =
         luz::render::mesh::tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)[0];
     let n = Vec3::Y;
     let x = (Vec3::from_slice(&tan[..3]) - n * n.dot(Vec3::from_slice(&tan[..3]))).normalize();
-    let y = n.cross(x) * tan[3].signum();
+    (x, n.cross(x) * tan[3].signum())
+}
+
+fn compare_scene(ctx: &Arc<Context>, name: &str, scene: Scene, model: Material, rel: f32) -> f32 {
+    let n = Vec3::Y;
+    let (x, y) = plane_frame(&scene);
     let img = render_on(ctx, &scene);
     let sun = -Vec3::from(SUN_DIR).normalize();
     let mut worst = (0.0f32, 0, 0, Vec3::ZERO, Vec3::ZERO);
@@ -1049,13 +1055,8 @@ fn metal_rough_clearcoat_normal_map() {
     let mut scene = base_scene();
     scene.materials[0].textures = mapped.materials[0].textures.clone();
     scene.materials[0].material = Material::MetalRough(p);
-    // The plane's frame as compare_scene derives it.
-    let mesh = &scene.objects[0].mesh;
-    let tan =
-        luz::render::mesh::tangents(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)[0];
     let n = Vec3::Y;
-    let x = (Vec3::from_slice(&tan[..3]) - n * n.dot(Vec3::from_slice(&tan[..3]))).normalize();
-    let y = n.cross(x) * tan[3].signum();
+    let (x, y) = plane_frame(&scene);
     let t = Vec3::from(texel.map(|v| v as f32 / 255.0)) * 2.0 - Vec3::ONE;
     let nc = (x * t.x * 0.8 + y * t.y * 0.8 + n * t.z).normalize();
     let expected = MetalRoughParams {
