@@ -1073,10 +1073,12 @@ pub fn metal_rough_terms_frame(
     } else {
         layers::ClearcoatEnergy::schlick(c_v)
     };
-    let cosines = if nc_l > 0.0 && nc_v > 0.0 {
-        nc_l / s.n_l
-    } else {
-        0.0
+    // 1 without a coat normal of its own (as the GPU: the same cosine over itself, clamped or
+    // not); else the raw cosines' ratio, as the GPU takes it.
+    let cosines = match p.clearcoat_normal {
+        None => 1.0,
+        Some(_) if nc_l > 0.0 && nc_v > 0.0 => nc_l / s.n.dot(s.l),
+        Some(_) => 0.0,
     };
     layers::clearcoat_layer(t, &p, (nc, cosines), s.l, s.v, coat)
 }
