@@ -1639,6 +1639,11 @@ fn clearcoat_factors_warnings_and_errors() {
     let at = "materials[0].extensions.KHR_materials_clearcoat";
     for (name, ext, want) in [
         (
+            "coat_scale",
+            json!({"clearcoatFactor": 1, "clearcoatNormalTexture": {"index": 0, "scale": "big"}}),
+            format!("{at}.clearcoatNormalTexture.scale: expected a number, got \"big\""),
+        ),
+        (
             "coat_big",
             json!({"clearcoatFactor": 1.5}),
             format!("{at}.clearcoatFactor: must be in [0, 1], got 1.5"),
