@@ -106,17 +106,7 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     let options = LabOptions {
         frames: a.frames,
         rounds: a.rounds,
-        render: luz::headless::RenderOptions {
-            progress: None,
-            switches: a.switches.switches(),
-            ..render_options(
-                &IblArgs {
-                    ibl_quality: a.ibl_quality,
-                    no_cache: false,
-                },
-                Default::default(),
-            )
-        },
+        render: lab_render_options(&a),
     };
     let bar = Bar::new("{bar:40} {pos}/{len} variants {elapsed} {msg}");
     let results = measure(
@@ -181,6 +171,21 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
 
 /// The `area` group: its own sweep of lights over the scene's surface, one CPU reference per
 /// cell ([`luz::lab::area`]).
+/// The renderer's options for every lab run: the IBL quality and switches of `a`, no progress.
+fn lab_render_options(a: &LabArgs) -> luz::headless::RenderOptions {
+    luz::headless::RenderOptions {
+        progress: None,
+        switches: a.switches.switches(),
+        ..render_options(
+            &IblArgs {
+                ibl_quality: a.ibl_quality,
+                no_cache: false,
+            },
+            Default::default(),
+        )
+    }
+}
+
 fn run_area(a: &LabArgs, scene: &luz::scene::Scene) -> Result<ExitCode> {
     use luz::lab::area;
     if a.only.len() > 1 {
@@ -207,17 +212,7 @@ fn run_area(a: &LabArgs, scene: &luz::scene::Scene) -> Result<ExitCode> {
         sweep.timing_size.0,
         sweep.timing_size.1
     );
-    let render = luz::headless::RenderOptions {
-        progress: None,
-        switches: a.switches.switches(),
-        ..render_options(
-            &IblArgs {
-                ibl_quality: a.ibl_quality,
-                no_cache: false,
-            },
-            Default::default(),
-        )
-    };
+    let render = lab_render_options(a);
     let bar = Bar::new("{bar:40} {pos}/{len} cells {elapsed} {msg}");
     let rows = area::measure(&ctx, scene, &sweep, &render, Some(&bar))?;
     area::write_outputs(&a.out, scene, &sweep, &rows)?;
