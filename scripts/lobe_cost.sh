@@ -19,7 +19,8 @@
 # takes the deferred path under "auto", an anisotropic material cannot (the G-buffer keeps no
 # tangent), so "auto" would compare a lobe with the path change; "forward" compares the lobes.
 #
-#   scripts/lobe_cost.sh [ROUNDS] [FRAMES]   (default 3 20; LUZ=path/to/luz, RENDER_PATH=auto)
+#   scripts/lobe_cost.sh [ROUNDS] [FRAMES]   (default 3 20; LUZ=path/to/luz, RENDER_PATH=auto,
+#   VARIANTS="base sheen_on ..." for a subset, base first)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROUNDS=${1:-3}
@@ -57,7 +58,8 @@ for name, lobe in variants.items():
     json.dump(scene, open(f"{out}/{name}.json", "w"))
 PY
 
-variants=(base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off iridescence_view_on)
+# VARIANTS="base sheen_on" benches a subset (base always first).
+read -r -a variants <<< "${VARIANTS:-base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off iridescence_view_on}"
 bench() {
     "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --render-path "$RENDER_PATH" \
         --json "$tmp/b.json" >/dev/null

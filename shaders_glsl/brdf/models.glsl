@@ -44,11 +44,13 @@
 #define BRDF_LOBE_DIFFUSE_TRANSMISSION 16u
 // KHR_materials_anisotropy (anisotropic_lobe in src/brdf/models/mod.rs).
 #define BRDF_LOBE_ANISOTROPY 32u
-// KHR_materials_iridescence (iridescence_fresnel_of in src/brdf/models/mod.rs).
+// KHR_materials_iridescence (iridescence_fresnel_of in src/brdf/models/mod.rs), two bits: a
+// material of the pipeline takes the film at each light's v·h (IRIDESCENCE), or at n·v for every
+// light (IRIDESCENCE_VIEW: MetalRoughParams::iridescence_at_view, packed as a negative factor;
+// the lighting shaders evaluate it once per pixel, g_film_view, set by shade()). With one bit
+// the other form compiles out (lavapipe would run both sides of a branch on the factor's sign
+// under the lane mask); with both (a deferred lighting pass, brdf_eval.comp) the sign decides.
 #define BRDF_LOBE_IRIDESCENCE 64u
-// The film's Fresnel at n·v for every light (MetalRoughParams::iridescence_at_view, packed as a
-// negative factor): the lighting shaders evaluate it once per pixel (g_film_view, set by
-// shade()). Without the bit the sign is not read (the film at each light's v·h).
 #define BRDF_LOBE_IRIDESCENCE_VIEW 128u
 // The lobes compiled in: the forward pass defines BRDF_LOBES as its LOBES specialization constant
 // (include/bindings.glsl), so a lobe no material of the pipeline uses costs nothing; elsewhere
@@ -300,8 +302,8 @@ vec3 brdf_with_f90(int sel, vec3 f, vec3 f0, float f90) {
 // Whether p has KHR_materials_iridescence's film (has_iridescence): factor |p0.w| and thickness
 // p2.w above 0.
 bool brdf_has_iridescence(BrdfParams p) {
-    return (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE) != 0u && p.sel.x == BRDF_MODEL_METAL_ROUGH
-        && p.p0.w != 0.0 && p.p2.w > 0.0;
+    return (BRDF_LOBES & (BRDF_LOBE_IRIDESCENCE | BRDF_LOBE_IRIDESCENCE_VIEW)) != 0u
+        && p.sel.x == BRDF_MODEL_METAL_ROUGH && p.p0.w != 0.0 && p.p2.w > 0.0;
 }
 
 // The film's factor, and whether its Fresnel is taken at the view (the factor's sign).
@@ -310,7 +312,11 @@ float brdf_film_factor(BrdfParams p) {
 }
 
 bool brdf_film_at_view(BrdfParams p) {
-    return (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE_VIEW) != 0u && p.p0.w < 0.0;
+    const uint forms = BRDF_LOBES & (BRDF_LOBE_IRIDESCENCE | BRDF_LOBE_IRIDESCENCE_VIEW);
+    if (forms == BRDF_LOBE_IRIDESCENCE_VIEW) {
+        return true;
+    }
+    return forms != BRDF_LOBE_IRIDESCENCE && p.p0.w < 0.0;
 }
 
 // The film's Fresnel at cos (iridescence_fresnel_of): over the dielectric F0 and over the base
@@ -528,16 +534,22 @@ float lambda_sheen(float cos_theta, float alpha) {
     return lambda_sheen_of(cos_theta, sheen_fit(alpha));
 }
 
-// Per pixel: Λ_sheen at the view and the fit at the sheen's alpha. shade() sets them for its one
-// (n, v, sheen roughness) before the light loop; g_sheen_lambda_v < 0 (brdf_eval.comp, the
-// default) computes both per call. The same values either way.
+// Per pixel: Λ_sheen at the view and the fit at the sheen's alpha. The lighting shaders'
+// shade() sets them for its one (n, v, sheen roughness) before anything evaluates the sheen,
+// and every fragment-stage sheen reads them; elsewhere (brdf_eval.comp) both are computed per
+// call. The same values either way. (A run-time choice between the two would cost both under
+// lavapipe's lane mask: the fit's exp2 and Λ(n·v)'s pow and exp per light.)
 float g_sheen_lambda_v = -1.0;
 SheenFit g_sheen_fit;
 
 float v_sheen(float n_l, float n_v, float alpha) {
-    bool per_pixel = g_sheen_lambda_v >= 0.0;
-    SheenFit f = per_pixel ? g_sheen_fit : sheen_fit(alpha);
-    float lambda_v = per_pixel ? g_sheen_lambda_v : lambda_sheen_of(n_v, f);
+#ifdef LUZ_FRAGMENT
+    SheenFit f = g_sheen_fit;
+    float lambda_v = g_sheen_lambda_v;
+#else
+    SheenFit f = sheen_fit(alpha);
+    float lambda_v = lambda_sheen_of(n_v, f);
+#endif
     float denom = (1.0 + lambda_v + lambda_sheen_of(n_l, f)) * (4.0 * n_v * n_l);
     return clamp(1.0 / denom, 0.0, 1.0);
 }

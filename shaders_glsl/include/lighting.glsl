@@ -370,6 +370,13 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     BrdfParams p = s.p;
     // camera_pos is (eye, 1), or (−forward, 0) for an orthographic camera: V is constant then.
     vec3 V = normalize(frame.camera_pos.xyz - P * frame.camera_pos.w);
+    // KHR_materials_sheen's Λ fit and its value at the view, once for every light (v_sheen reads
+    // them in the fragment stage: set before anything, the debug views included, evaluates the
+    // sheen; has_sheen compiles out without the lobe).
+    if (has_sheen(p)) {
+        g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
+        g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
+    }
     if (DEBUG_VIEW != DEBUG_VIEW_NONE && DEBUG_VIEW != DEBUG_VIEW_NAN) {
         return debug_value(s, P, V);
     }
@@ -382,11 +389,6 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     // and the fit compile out without a sheen lobe).
     float e_sheen = MODEL == BRDF_MODEL_METAL_ROUGH ? brdf_sheen_albedo_at(p, s.n, V) : 0.0;
 #endif
-    // KHR_materials_sheen's Λ fit and its value at the view, once for every light (v_sheen).
-    if (MODEL == BRDF_MODEL_METAL_ROUGH && has_sheen(p)) {
-        g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
-        g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
-    }
     // KHR_materials_iridescence at the view: the film once for every light.
     if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p) && brdf_film_at_view(p)) {
         g_film_view = brdf_iridescence_fresnel_of(p, brdf_clamp_cos(dot(s.n, V)));

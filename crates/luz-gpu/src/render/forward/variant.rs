@@ -203,7 +203,8 @@ pub const GENERIC_LOBES: u32 = u32::MAX;
 /// The `BRDF_LOBE_*` bits of the layers `m` uses (issues 34, 35): clearcoat, sheen (a colour
 /// that is not black), transmission, dispersion (with a volume), diffuse transmission,
 /// anisotropy (GGX only) and iridescence (with a thickness above 0) when their factors are
-/// above 0.
+/// above 0. The film has two bits, one per form (at each light's v·h, or at the view): a
+/// pipeline compiles only the forms its materials take.
 pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
     use crate::glsl::brdf_models as glsl;
     let crate::brdf::Model::MetalRough(p) = m.sanitized() else {
@@ -224,7 +225,7 @@ pub fn lobe_bits(m: &crate::scene::Material) -> u32 {
             glsl::BRDF_LOBE_ANISOTROPY,
         ),
         (
-            crate::brdf::has_iridescence(&p),
+            crate::brdf::has_iridescence(&p) && !p.iridescence_at_view,
             glsl::BRDF_LOBE_IRIDESCENCE,
         ),
         (
