@@ -338,14 +338,21 @@ vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
 // (BRDF_LOBE_IRIDESCENCE_VIEW): shade() sets it before the light loop.
 vec3 g_film_view = vec3(0.0);
 
+// The v·h whose Schlick weight is the lobe's mean over a split-sum entry (A, B)
+// (split_sum_mean_cos): B / (A + B) = (1 − c)⁵.
+float brdf_split_sum_mean_cos(vec2 ab) {
+    return 1.0 - pow(clamp(ab.y / max(ab.x + ab.y, 1e-6), 0.0, 1.0), 0.2);
+}
+
 // The F0 the split sum and energy compensation take for p (iridescence_f0): f0, or mixed with
-// the F0 whose Schlick curve meets the film's Fresnel at n·v.
-vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float n_v) {
+// the F0 whose Schlick curve meets the film's Fresnel at c (brdf_split_sum_mean_cos of the
+// lobe's entry).
+vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float c) {
     if (!brdf_has_iridescence(p)) {
         return f0;
     }
-    vec3 f = brdf_iridescence_fresnel_of(p, n_v);
-    float w = brdf_schlick_weight(clamp(n_v, 0.0, 1.0));
+    vec3 f = brdf_iridescence_fresnel_of(p, c);
+    float w = brdf_schlick_weight(clamp(c, 0.0, 1.0));
     vec3 film_f0 = clamp((f - vec3(w)) / max(1.0 - w, 1e-4), vec3(0.0), vec3(1.0));
     return mix(f0, film_f0, brdf_film_factor(p));
 }

@@ -209,8 +209,9 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
         return es;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    vec3 f0 = brdf_iridescence_f0(p, mix(p.spec.rgb, p.color.rgb, p.spec.w), n_v);
     vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
+    vec3 f0 = brdf_iridescence_f0(p, mix(p.spec.rgb, p.color.rgb, p.spec.w),
+                                  brdf_split_sum_mean_cos(ab));
     float e = max(ab.x + ab.y, 1e-4);
     es.specular = vec3(1.0) + f0 * ((1.0 - e) / e);
     vec3 e_ms = (f0 * ab.x + brdf_f90(p) * ab.y) * es.specular;
@@ -244,10 +245,10 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         return result;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
-        s.f0 = brdf_iridescence_f0(p, s.f0, n_v);
-    }
     vec2 ab = textureLod(brdf_lut, vec3(n_v, s.roughness, float(material.flags)), 0.0).rg;
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        s.f0 = brdf_iridescence_f0(p, s.f0, brdf_split_sum_mean_cos(ab));
+    }
     // KHR_materials_anisotropy: the prefiltered cube is read around the bent normal of the
     // extension's sample renderer (the normal leaned towards the plane across the anisotropy
     // direction, the more the stronger and smoother the lobe); the LUT keeps n·v.

@@ -54,8 +54,9 @@ pub use models::{
     film_ior_error, film_range_error, has_iridescence, iridescence_f0, iridescence_fresnel_of,
     lambert, lambert_terms, metal_rough, metal_rough_terms, metal_rough_terms_frame, oren_nayar,
     oren_nayar_terms, phong, phong_radiance, phong_terms, principled, principled_terms, radiance,
-    AnisotropicLobe, CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry, LambertParams,
-    MetalRoughParams, Model, OrenNayarParams, PhongParams, PrincipledParams, SpecularSource, Terms,
+    split_sum_mean_cos, AnisotropicLobe, CookTorranceParams, Diffuse, Distribution, Fresnel,
+    Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
+    PrincipledParams, SpecularSource, Terms,
 };
 pub(crate) use names::selector_names;
 pub use names::ModelKind;

@@ -1510,6 +1510,11 @@ fn energy_compensation_makes_a_white_furnace() {
 /// The white furnace of a metal-rough material seen at `view_deg` from the normal: the
 /// hemispherical integral of `f · n·l` (importance sampled), red channel.
 fn white_furnace(p: MetalRoughParams, view_deg: f32) -> f32 {
+    white_furnace_rgb(p, view_deg).x
+}
+
+/// [`white_furnace`] in every channel (a film or a coloured layer makes them differ).
+fn white_furnace_rgb(p: MetalRoughParams, view_deg: f32) -> Vec3 {
     let model = Model::MetalRough(p);
     let (s, c) = view_deg.to_radians().sin_cos();
     let v = Vec3::new(s, 0.0, c);
@@ -1520,7 +1525,6 @@ fn white_furnace(p: MetalRoughParams, view_deg: f32) -> f32 {
         &lobes,
         1 << 14,
     )
-    .x
 }
 
 /// Issue 34, KHR_materials_clearcoat: with energy compensation a white furnace stays 1 ± 1 %
@@ -2070,7 +2074,7 @@ fn furnace_over_lobe_combinations() {
             for mask in 0..8u32 {
                 for view in [0.0, 45.0, 75.0, 85.0] {
                     let on = |bit: u32| if mask & bit != 0 { 1.0 } else { 0.0 };
-                    let e = white_furnace(
+                    let e = white_furnace_rgb(
                         MetalRoughParams {
                             base_color: Vec3::ONE,
                             metallic,
@@ -2086,6 +2090,8 @@ fn furnace_over_lobe_combinations() {
                         },
                         view,
                     );
+                    // The channel farthest from 1 (the film colours them).
+                    let e = 1.0 + (e - Vec3::ONE).abs().max_element();
                     let k = (mask & 4 != 0) as usize;
                     if (e - 1.0).abs() > worst[k].0 {
                         worst[k] = (
@@ -2101,8 +2107,13 @@ fn furnace_over_lobe_combinations() {
         "furnace over coat × sheen × film: without the film worst |E − 1| = {:.4} at {:?}; with it {:.4} at {:?} (metallic, roughness, coat, sheen, film, view°)",
         worst[0].0, worst[0].1, worst[1].0, worst[1].1
     );
+    // Without the film: 1.11 % (a sheen over a rough metal at 85°: the sheen albedo fit's 0.8 %
+    // error there on top of the base's 0.7 %; larger fits, 9 × 8 to 11 × 8 terms, trade it for
+    // 1.1–1.2 % in sheen_keeps_a_compensated_white_furnace). With it: 2.05 % in the worst channel
+    // (the film's Fresnel at the lobe's mean Schlick angle, split_sum_mean_cos; at n·v it was
+    // 2.77 % in red alone).
     assert!(worst[0].0 <= 0.012, "{:?}", worst[0]);
-    assert!(worst[1].0 <= 0.03, "{:?}", worst[1]);
+    assert!(worst[1].0 <= 0.025, "{:?}", worst[1]);
 }
 
 /// Issue 34, KHR_materials_specular's F90: a dielectric of `specularFactor` s reaches F = s at
