@@ -1123,7 +1123,8 @@ fn clusters_debug_view_counts_area_lights() {
 
 /// The clustered loop's cost against the plain loop's with ranged area lights over a plane
 /// (640 × 360, the forward pass; the loops' frames interleaved in one run, medians of 11 frames
-/// after 2 warm-up frames): 24 of mixed shapes, 4 rects, 1 rect. Prints the table of
+/// after 2 warm-up frames): 24 of mixed shapes, 4 rects, 1 rect, and 24 and 1 with ranges that
+/// reach every pixel (nothing to cull). Prints the table of
 /// docs/area-lights.md ("Clustered culling") and asserts clustered ≤ 0.7× plain with 24 lights
 /// (a generous bound on a busy machine; never a time). `cargo test --release --test
 /// area_lights clustered_area_light_cost -- --ignored --nocapture`.
@@ -1139,10 +1140,22 @@ fn clustered_area_light_cost() {
         s.area_lights = keep;
         s
     };
+    // The same lights with ranges that reach every pixel: nothing to cull.
+    let everywhere = |mut s: Scene| {
+        for l in &mut s.area_lights {
+            l.range = Some(100.0);
+        }
+        s
+    };
     let cases = [
         ("24 mixed", many_area_lights_scene(24, 0, (640, 360))),
         ("4 rects", rects(4)),
         ("1 rect", rects(1)),
+        (
+            "24 mixed, range 100 m",
+            everywhere(many_area_lights_scene(24, 0, (640, 360))),
+        ),
+        ("1 rect, range 100 m", everywhere(rects(1))),
     ];
     let forward = |t: &luz::headless::FrameTimes| {
         t.gpu_ms
