@@ -995,13 +995,18 @@ fn many_area_lights_scene(n: usize, unranged: usize, (w, h): (u32, u32)) -> Scen
     ))
 }
 
-/// One frame of `scene` with `light_loop` on `path`, and the clusters' figures (`None`: plain).
+/// One frame of `scene` with `light_loop` on `path`, the clusters' figures (`None`: plain) and
+/// the path's name.
 fn render_loop(
     ctx: &std::sync::Arc<Context>,
     scene: &Scene,
     light_loop: luz::render::forward::LightLoop,
     path: luz::render::forward::RenderPath,
-) -> (LinearImage, Option<luz::render::forward::ClusterStats>) {
+) -> (
+    LinearImage,
+    Option<luz::render::forward::ClusterStats>,
+    &'static str,
+) {
     let options = luz::headless::RenderOptions {
         light_loop,
         render_path: path,
@@ -1010,7 +1015,7 @@ fn render_loop(
     let mut r = luz::headless::Headless::with_options(ctx, scene, &options).expect("renderer");
     r.render().expect("frame");
     let stats = r.cluster_stats();
-    (r.image().expect("readback"), stats)
+    (r.image().expect("readback"), stats, r.render_path())
 }
 
 /// 24 ranged area lights of every shape and method (and one without a range, and punctual
@@ -1024,10 +1029,13 @@ fn clustered_area_lights_match_the_plain_loop() {
     use luz::render::forward::{LightLoop, RenderPath};
     let ctx = common::gpu();
     let scene = many_area_lights_scene(24, 1, (CW, CH));
+    let mut names = Vec::new();
     for path in [RenderPath::Forward, RenderPath::Auto] {
-        let (plain, s0) = render_loop(&ctx, &scene, LightLoop::Plain, path);
-        let (clustered, s1) = render_loop(&ctx, &scene, LightLoop::Clustered, path);
-        let (_, auto) = render_loop(&ctx, &scene, LightLoop::Auto, path);
+        let (plain, s0, name) = render_loop(&ctx, &scene, LightLoop::Plain, path);
+        let (clustered, s1, _) = render_loop(&ctx, &scene, LightLoop::Clustered, path);
+        let (_, auto, _) = render_loop(&ctx, &scene, LightLoop::Auto, path);
+        eprintln!("{path:?}: the {name} path");
+        names.push(name);
         assert!(
             s0.is_none() && auto.is_some(),
             "Auto takes the clustered loop"
@@ -1052,6 +1060,7 @@ fn clustered_area_lights_match_the_plain_loop() {
         assert!(lit > (CW * CH) as usize / 4, "{lit}");
         assert!(worst <= 1e-5, "{path:?}: worst relative difference {worst}");
     }
+    assert_ne!(names[0], names[1], "one forward, one deferred");
     common::assert_no_validation_messages(&ctx);
 }
 
