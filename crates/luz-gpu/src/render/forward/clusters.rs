@@ -55,11 +55,11 @@ pub const CROSSOVER: usize = 4;
 /// 256 lights per cluster, 2.4× the plain loop's frame).
 pub const MAX_LISTED_FRACTION: f64 = 0.3;
 
-/// What one area light weighs in [`LightLoop::Auto`]'s decision, in punctual lights: the
-/// cheapest area light costs about a point light plus the cluster lookup's whole overhead
-/// (representative point 1.25× a point light's frame, LTC rect 2.16×, LTC sphere 3.71×:
-/// docs/area-lights.md, "Cost"), so one ranged area light alone reaches [`CROSSOVER`], and in
-/// the listed-fraction test an area light listed or not counts this many times a punctual one.
+/// What one area light weighs in [`LightLoop::Auto`]'s decision, in punctual lights: a frame
+/// with one area light costs 1.25× (representative point) to 3.71× (LTC sphere) the frame with
+/// one point light (docs/area-lights.md, "Cost"), the base frame included, so an area light
+/// costs several point lights: with 4, one ranged area light alone reaches [`CROSSOVER`], and
+/// in the listed-fraction test an area light, listed or not, counts as 4 punctual ones.
 pub const AREA_WEIGHT: usize = CROSSOVER;
 
 /// [`LightLoop::Auto`] also takes the clustered loop when some area light has a range and the
@@ -67,8 +67,8 @@ pub const AREA_WEIGHT: usize = CROSSOVER;
 /// the punctual lights are at most [`AREA_WEIGHT`] per ranged area light, so that their gathers
 /// do not outweigh what the area lights save). Area lights cost so much more than the cluster
 /// lookup that any real culling pays: measured (docs/area-lights.md, "Clustered culling"), the
-/// clustered loop costs 0.54× the plain one with 1 ranged rect, 0.29× with 4, 0.09× with 24 of
-/// mixed shapes, and 0.97–1.04× when every area light reaches every pixel (nothing to cull: the
+/// clustered loop costs 0.54–0.55× the plain one with 1 ranged rect, 0.29× with 4, 0.09× with 24
+/// of mixed shapes, and 0.97–1.04× when every area light reaches every pixel (nothing to cull: the
 /// fraction is then 1, and the loop stays plain).
 pub const MAX_AREA_LISTED_FRACTION: f64 = 0.5;
 
