@@ -263,7 +263,12 @@ fn clusters_debug_view_shows_lights_per_fragment() {
     };
     let aspect = W as f32 / H as f32;
     let view = scene.camera.view();
-    let clusters = build(&Grid::of(&scene, aspect), view, &scene.lights);
+    let clusters = build(
+        &Grid::of(&scene, aspect),
+        view,
+        &scene.lights,
+        &scene.area_lights,
+    );
     for light_loop in [LightLoop::Clustered, LightLoop::Plain] {
         let ctx = gpu();
         let mut r = Headless::with_options(

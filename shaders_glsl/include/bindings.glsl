@@ -191,7 +191,8 @@ MaterialPushData material;
 // Per object slot: its material's push constants and extra block, for the deferred lighting pass.
 #define BINDING_DEFERRED_MATERIALS 4
 // Clustered light culling (src/render/forward/clusters.rs): the grid and each cluster's
-// (base, count), then the light index list (lights without a range first, in every cluster).
+// (base, count), then (with area lights) each cluster's area (base, count); and the light index
+// list (lights without a range first, in every cluster; then area lights without a range).
 #define BINDING_CLUSTERS 5
 #define BINDING_CLUSTER_LIGHTS 6
 #ifdef LUZ_FRAGMENT
@@ -199,7 +200,11 @@ layout(set = SET_FRAME, binding = BINDING_CLUSTERS, std430) readonly buffer Clus
     uvec4 cluster_dims;   // tiles x, tiles y, depth slices, lights in every cluster
     vec4 cluster_xy;      // column = floor(x/d · x + y), row = floor(y/d · z + w); view space, d = −z
     vec4 cluster_depth;   // slice = floor(ln d · x + y); z = 1: orthographic (x, y for x/d, y/d)
-    uvec2 clusters[];     // (base, count): light k is cluster_lights[k < always ? k : base + k]
+    uvec4 cluster_area;   // area lights in every cluster, where they start in cluster_lights
+    // (base, count): light k is cluster_lights[k < always ? k : base + k]; clusters[cells + i]:
+    // cluster i's area lights, area light k is cluster_lights[k < x ? y + k : base + k] (x, y
+    // of cluster_area).
+    uvec2 clusters[];
 };
 layout(set = SET_FRAME, binding = BINDING_CLUSTER_LIGHTS, std430) readonly buffer ClusterLights {
     uint cluster_lights[];

@@ -273,20 +273,29 @@ uint light_count() {
     return opaque(frame.counts.x);
 }
 
-// The lights that may reach P: (base, count) of its cluster when CLUSTERED (fragment stage), else
-// (0, every light). The loop's k-th light is light_list_index(list, k).
-uvec2 light_list(vec3 P) {
+// The index of P's cluster in clusters[] (fragment stage, CLUSTERED only).
+uint light_cluster(vec3 P) {
+#ifdef LUZ_FRAGMENT
+    vec3 v = (frame.view * vec4(P, 1.0)).xyz;
+    float d = max(-v.z, 1e-6);
+    // Tiles cut slopes x/d, y/d; an orthographic grid's (cluster_depth.z = 1) cut x, y.
+    float dxy = max(d * (1.0 - cluster_depth.z), cluster_depth.z);
+    ivec3 c = ivec3(floor(vec3(v.x / dxy * cluster_xy.x + cluster_xy.y,
+                               v.y / dxy * cluster_xy.z + cluster_xy.w,
+                               log(d) * cluster_depth.x + cluster_depth.y)));
+    c = clamp(c, ivec3(0), ivec3(cluster_dims.xyz) - 1);
+    return (uint(c.z) * cluster_dims.y + uint(c.y)) * cluster_dims.x + uint(c.x);
+#else
+    return 0u;
+#endif
+}
+
+// The lights of cluster `cell` (light_cluster) when CLUSTERED (fragment stage): (base, count);
+// else (0, every light). The loop's k-th light is light_list_index(list, k).
+uvec2 light_list_of(uint cell) {
 #ifdef LUZ_FRAGMENT
     if (CLUSTERED) {
-        vec3 v = (frame.view * vec4(P, 1.0)).xyz;
-        float d = max(-v.z, 1e-6);
-        // Tiles cut slopes x/d, y/d; an orthographic grid's (cluster_depth.z = 1) cut x, y.
-        float dxy = max(d * (1.0 - cluster_depth.z), cluster_depth.z);
-        ivec3 c = ivec3(floor(vec3(v.x / dxy * cluster_xy.x + cluster_xy.y,
-                                   v.y / dxy * cluster_xy.z + cluster_xy.w,
-                                   log(d) * cluster_depth.x + cluster_depth.y)));
-        c = clamp(c, ivec3(0), ivec3(cluster_dims.xyz) - 1);
-        return clusters[(uint(c.z) * cluster_dims.y + uint(c.y)) * cluster_dims.x + uint(c.x)];
+        return clusters[cell];
     }
 #endif
     return uvec2(0u, light_count());
@@ -296,6 +305,27 @@ uint light_list_index(uvec2 list, uint k) {
 #ifdef LUZ_FRAGMENT
     if (CLUSTERED) {
         return cluster_lights[k < cluster_dims.w ? k : list.x + k];
+    }
+#endif
+    return k;
+}
+
+// The area lights of cluster `cell` when CLUSTERED (fragment stage): their own (base, count),
+// after every cluster's punctual pair; else (0, every area light). The loop's k-th area light is
+// area_list_index(list, k).
+uvec2 area_list_of(uint cell) {
+#ifdef LUZ_FRAGMENT
+    if (CLUSTERED) {
+        return clusters[cluster_dims.x * cluster_dims.y * cluster_dims.z + cell];
+    }
+#endif
+    return uvec2(0u, opaque(frame.counts.y));
+}
+
+uint area_list_index(uvec2 list, uint k) {
+#ifdef LUZ_FRAGMENT
+    if (CLUSTERED) {
+        return cluster_lights[k < cluster_area.x ? cluster_area.y + k : list.x + k];
     }
 #endif
     return k;
@@ -325,8 +355,13 @@ vec3 debug_value(Surface s, vec3 P, vec3 V) {
         return t.specular;
     }
     if (DEBUG_VIEW == DEBUG_VIEW_CLUSTERS) {
-        // Blue (no light) through green (32) to red (64 or more).
-        float t = clamp(float(light_list(P).y) / 64.0, 0.0, 1.0);
+        // Blue (no light) through green (32) to red (64 or more); area lights count too.
+        uint cell = CLUSTERED ? light_cluster(P) : 0u;
+        uint n = light_list_of(cell).y;
+        if ((LIGHT_KINDS & LK_AREA) != 0u) {
+            n += area_list_of(cell).y;
+        }
+        float t = clamp(float(n) / 64.0, 0.0, 1.0);
         return vec3(clamp(2.0 * t - 1.0, 0.0, 1.0), 1.0 - abs(2.0 * t - 1.0), clamp(1.0 - 2.0 * t, 0.0, 1.0));
     }
     if (DEBUG_VIEW == DEBUG_VIEW_SHADOW || DEBUG_VIEW == DEBUG_VIEW_SHADOW_LAYERS) {
@@ -395,7 +430,8 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     }
     // KHR_materials_anisotropy's lobe frame, once for every light (off unless LOBES has it).
     AnisotropicLobe an = brdf_anisotropic_lobe(p, s.n, s.x, s.y);
-    uvec2 cluster = light_list(P);
+    uint cell = CLUSTERED ? light_cluster(P) : 0u;
+    uvec2 cluster = light_list_of(cell);
     // Fixed shadow slots (shadows.glsl): each shadowed light's visibility once, before the loop.
     bool fixed_shadows = (LIGHT_KINDS & SHADOW_KINDS) != 0u && SHADOW_FIXED_0 != 0u;
     vec4 fixed_vis = vec4(1.0);
@@ -451,8 +487,10 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         result += brdf_radiance_unit(p, s.n, l, V, s.x, s.y, E);
     }
     if ((LIGHT_KINDS & LK_AREA) != 0u) {
-        for (uint k = 0u; k < opaque(frame.counts.y); ++k) {
-            result += area_shade(k, s, P, V);
+        // Clustered: the cluster's area lights only (a loop of its own, not a branch per light).
+        uvec2 areas = area_list_of(cell);
+        for (uint k = 0u; k < areas.y; ++k) {
+            result += area_shade(area_list_index(areas, k), s, P, V);
         }
     }
 #ifdef IBL

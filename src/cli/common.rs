@@ -413,7 +413,8 @@ impl LightLoopArg {
 pub fn light_loop_line(stats: Option<luz::render::forward::ClusterStats>) -> String {
     match stats {
         None => "light loop: plain (every light at every fragment)".to_string(),
-        Some(s) => format!(
+        Some(s) => {
+            format!(
             "light loop: clustered, {}x{} tiles x {} slices, lights per cluster max {} mean {:.2} \
              (over clusters with a ranged light {:.2}; {} in every cluster), {} indices, \
              assigned on the CPU in {:.2} ms",
@@ -426,7 +427,16 @@ pub fn light_loop_line(stats: Option<luz::render::forward::ClusterStats>) -> Str
             s.always,
             s.indices,
             s.build_ms
-        ),
+        ) + &if s.area_max > 0 {
+                format!(
+                "; area lights per cluster max {} mean {:.2} (over clusters with a ranged light \
+                 {:.2}; {} in every cluster)",
+                s.area_max, s.area_mean, s.area_mean_occupied, s.area_always
+            )
+            } else {
+                String::new()
+            }
+        }
     }
 }
 

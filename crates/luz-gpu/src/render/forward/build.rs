@@ -525,7 +525,7 @@ impl Slot {
     ) -> Result<(), VkError> {
         let header = std::mem::size_of::<ClusterHeader>();
         let sizes = [
-            (header + c.cells.len() * 8) as u64,
+            (header + (c.cells.len() + c.area_cells.len()) * 8) as u64,
             (c.indices.len().max(1) * 4) as u64,
         ];
         for (which, bytes) in sizes.into_iter().enumerate() {
@@ -557,6 +557,12 @@ impl Slot {
         self.clusters.write(0, bytemuck::bytes_of(&c.header))?;
         self.clusters
             .write(header as u64, bytemuck::cast_slice(&c.cells))?;
+        if !c.area_cells.is_empty() {
+            self.clusters.write(
+                (header + c.cells.len() * 8) as u64,
+                bytemuck::cast_slice(&c.area_cells),
+            )?;
+        }
         if !c.indices.is_empty() {
             self.cluster_lights
                 .write(0, bytemuck::cast_slice(&c.indices))?;

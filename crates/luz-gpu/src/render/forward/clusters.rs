@@ -9,6 +9,15 @@
 //! every cluster's list. A fragment at P finds its cluster from P's view-space position
 //! (`light_cluster` in `shaders_glsl/include/lighting.glsl`) and loops over that list only.
 //!
+//! Area lights (issue 36) have lists of their own, beside the punctual ones: an area light with a
+//! range is listed by the sphere (its shape's centre, range) — `area_window` in
+//! `shaders_glsl/include/area.glsl` is the same window as a point light's, on the distance to the
+//! centre, so beyond the range it delivers exactly 0 — and one without a range is in every
+//! cluster. Each cluster has a second (base, count) pair for them, after every cluster's punctual
+//! pair, so the punctual loop reads what it read before and a scene without area lights uploads
+//! nothing more; the fragment runs a second loop over its area list (no per-light branch between
+//! the two kinds, which lavapipe would run on both sides under a lane mask).
+//!
 //! Exactness: a light is dropped from a cluster only when its sphere, grown by a small margin for
 //! rounding, misses the cluster's bounds: per depth slice, the sphere's part inside the slice lies
 //! in a box (the largest cross-section's square × the slice's depths), and the tiles that box's
@@ -21,7 +30,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 
-use crate::scene::{Light, LightKind};
+use crate::scene::{AreaLight, Light, LightKind};
 
 /// Screen tiles in y (x follows the aspect ratio: square-ish tiles). 32 × 64 slices on
 /// plane1024 (docs/performance.md, "Many lights"): lighting 308 ms against 386 ms with 16 × 32
@@ -46,10 +55,29 @@ pub const CROSSOVER: usize = 4;
 /// 256 lights per cluster, 2.4× the plain loop's frame).
 pub const MAX_LISTED_FRACTION: f64 = 0.3;
 
+/// What one area light weighs in [`LightLoop::Auto`]'s decision, in punctual lights: a frame
+/// with one area light costs 1.25× (representative point) to 3.71× (LTC sphere) the frame with
+/// one point light (docs/area-lights.md, "Cost"), the base frame included, so an area light
+/// costs several point lights: with 4, one ranged area light alone reaches [`CROSSOVER`], and
+/// in the listed-fraction test an area light, listed or not, counts as 4 punctual ones.
+pub const AREA_WEIGHT: usize = CROSSOVER;
+
+/// [`LightLoop::Auto`] also takes the clustered loop when some area light has a range and the
+/// clusters list, on average over all clusters, at most this fraction of the area lights (and
+/// the punctual lights are at most [`AREA_WEIGHT`] per ranged area light, so that their gathers
+/// do not outweigh what the area lights save). Area lights cost so much more than the cluster
+/// lookup that any real culling pays: measured (docs/area-lights.md, "Clustered culling"), the
+/// clustered loop costs 0.54–0.55× the plain one with 1 ranged rect, 0.29× with 4, 0.09× with 24
+/// of mixed shapes, and 0.97–1.04× when every area light reaches every pixel (nothing to cull: the
+/// fraction is then 1, and the loop stays plain).
+pub const MAX_AREA_LISTED_FRACTION: f64 = 0.5;
+
 /// How the fragment stage loops over lights.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LightLoop {
-    /// Clustered when the scene has at least [`CROSSOVER`] lights with a range, plain otherwise.
+    /// Clustered when the scene has at least [`CROSSOVER`] lights with a range (an area light
+    /// counting [`AREA_WEIGHT`]) that the clusters cull, or ranged area lights that the clusters
+    /// cull ([`MAX_AREA_LISTED_FRACTION`]); plain otherwise.
     #[default]
     Auto,
     /// Every light at every fragment (the loop before clusters).
@@ -65,10 +93,17 @@ impl LightLoop {
             LightLoop::Plain => false,
             LightLoop::Clustered => true,
             LightLoop::Auto => {
-                let lights = &scene.lights;
-                ranged(lights) >= CROSSOVER && {
-                    let c = build(&Grid::of(scene, aspect), scene.camera.view(), lights);
-                    c.stats.mean_occupied <= MAX_LISTED_FRACTION * lights.len() as f64
+                let (lights, areas) = (&scene.lights, &scene.area_lights);
+                let ranged_areas = ranged_areas(areas);
+                ranged(lights) + AREA_WEIGHT * ranged_areas >= CROSSOVER && {
+                    let c = build(&Grid::of(scene, aspect), scene.camera.view(), lights, areas);
+                    let w = AREA_WEIGHT as f64;
+                    let s = c.stats;
+                    s.mean_occupied + w * s.area_mean_occupied
+                        <= MAX_LISTED_FRACTION * (lights.len() as f64 + w * areas.len() as f64)
+                        || (ranged_areas > 0
+                            && lights.len() <= AREA_WEIGHT * ranged_areas
+                            && s.area_mean <= MAX_AREA_LISTED_FRACTION * areas.len() as f64)
                 }
             }
         }
@@ -91,6 +126,16 @@ fn has_range(l: &Light) -> bool {
 /// Lights with a range.
 pub fn ranged(lights: &[Light]) -> usize {
     lights.iter().filter(|l| has_range(l)).count()
+}
+
+/// Whether the area light `a` is culled by its range.
+fn area_has_range(a: &AreaLight) -> bool {
+    a.range.is_some_and(|r| r.is_finite() && r > 0.0)
+}
+
+/// Area lights with a range.
+pub fn ranged_areas(areas: &[AreaLight]) -> usize {
+    areas.iter().filter(|a| area_has_range(a)).count()
 }
 
 /// The cluster grid of a camera: tile counts, slices, and the mapping from view-space position to
@@ -118,8 +163,8 @@ pub struct Grid {
     ortho: bool,
 }
 
-/// `ClusterHeader` (std430, 48 bytes) at the start of the clusters buffer, before the
-/// (base, count) pairs of every cluster.
+/// `ClusterHeader` (std430, 64 bytes) at the start of the clusters buffer, before the
+/// (base, count) pairs of every cluster (then, with area lights, every cluster's area pair).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable, Debug, PartialEq)]
 pub struct ClusterHeader {
@@ -129,9 +174,11 @@ pub struct ClusterHeader {
     pub xy: Vec4,
     /// ls, lo, 1 for an orthographic grid (tiles in x and y, not slopes) else 0, unused.
     pub depth: Vec4,
+    /// Area lights in every cluster, where they start in the index list, unused, unused.
+    pub area: [u32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<ClusterHeader>() == 48);
+const _: () = assert!(std::mem::size_of::<ClusterHeader>() == 64);
 
 impl Grid {
     /// The grid of a perspective camera (vertical field of view, aspect, near and far planes).
@@ -211,11 +258,14 @@ impl Grid {
         (self.tiles_x * self.tiles_y * self.slices) as usize
     }
 
-    pub fn header(&self, always: u32) -> ClusterHeader {
+    /// The header of lists with `always` punctual lights in every cluster (and `area_always`
+    /// area lights, from `area_start` in the index list).
+    pub fn header(&self, always: u32, [area_always, area_start]: [u32; 2]) -> ClusterHeader {
         ClusterHeader {
             dims: [self.tiles_x, self.tiles_y, self.slices, always],
             xy: Vec4::new(self.sx, self.ox, self.sy, self.oy),
             depth: Vec4::new(self.ls, self.lo, if self.ortho { 1.0 } else { 0.0 }, 0.0),
+            area: [area_always, area_start, 0, 0],
         }
     }
 
@@ -269,8 +319,14 @@ pub struct ClusterStats {
     pub max: u32,
     /// Mean lights per cluster (with `always`).
     pub mean: f64,
-    /// Mean lights per cluster over the clusters that list a ranged light (with `always`).
+    /// Mean lights per cluster over the clusters that list a ranged light, punctual or area
+    /// (with `always`).
     pub mean_occupied: f64,
+    /// The same four for area lights (`area_mean_occupied` over the same clusters).
+    pub area_always: u32,
+    pub area_max: u32,
+    pub area_mean: f64,
+    pub area_mean_occupied: f64,
     /// Light indices listed in all (the buffer's length).
     pub indices: usize,
     /// CPU time of the assignment, ms.
@@ -278,12 +334,15 @@ pub struct ClusterStats {
 }
 
 /// The clusters of one frame: the grid, its header, (base, count) per cluster — the cluster's
-/// k-th light is `indices[k]` for k < always, `indices[base + k]` after — and the index list.
+/// k-th light is `indices[k]` for k < always, `indices[base + k]` after — the same for area
+/// lights (`area_cells`, empty without area lights: the k-th is `indices[area_start + k]` for
+/// k < area_always, `indices[base + k]` after), and the index list.
 #[derive(Debug, Clone)]
 pub struct Clusters {
     pub grid: Grid,
     pub header: ClusterHeader,
     pub cells: Vec<[u32; 2]>,
+    pub area_cells: Vec<[u32; 2]>,
     pub indices: Vec<u32>,
     pub stats: ClusterStats,
 }
@@ -301,35 +360,70 @@ impl Clusters {
             }
         })
     }
+
+    /// The area lights of cluster `cell`, in the order the shader visits them (none without area
+    /// lights).
+    pub fn area_lights_of(&self, cell: usize) -> impl Iterator<Item = u32> + '_ {
+        let [base, count] = self.area_cells.get(cell).copied().unwrap_or([0, 0]);
+        let [always, start, ..] = self.header.area;
+        (0..count).map(move |k| {
+            if k < always {
+                self.indices[(start + k) as usize]
+            } else {
+                self.indices[(base + k) as usize]
+            }
+        })
+    }
+
+    /// The (base, count) pairs as the clusters buffer holds them after its header: every
+    /// cluster's punctual pair, then (with area lights) every cluster's area pair.
+    pub fn pairs(&self) -> impl Iterator<Item = &[u32; 2]> {
+        self.cells.iter().chain(&self.area_cells)
+    }
 }
 
 /// Relative growth of a light's range and of the slice bounds: rounding in the shader's cluster
 /// lookup (a matrix product, a division, a logarithm) never moves a fragment by this much.
 const MARGIN: f32 = 1e-3;
 
-/// Assigns `lights` to the clusters of the camera grid `camera` (slices fitted to the lights,
-/// [`Grid::fitted`]) for the camera `view` (world to view space).
-pub fn build(camera: &Grid, view: Mat4, lights: &[Light]) -> Clusters {
+/// One rectangle of tiles per (light, slice): kind (0 punctual, 1 area), slice, columns, rows,
+/// light.
+type TileRect = (usize, u32, [u32; 2], [u32; 2], u32);
+
+/// Assigns `lights` and `areas` to the clusters of the camera grid `camera` (slices fitted to
+/// the lights, [`Grid::fitted`]) for the camera `view` (world to view space).
+pub fn build(camera: &Grid, view: Mat4, lights: &[Light], areas: &[AreaLight]) -> Clusters {
     let start = std::time::Instant::now();
     let always: Vec<u32> = (0..lights.len() as u32)
         .filter(|&i| !has_range(&lights[i as usize]))
         .collect();
+    let area_always: Vec<u32> = (0..areas.len() as u32)
+        .filter(|&i| !area_has_range(&areas[i as usize]))
+        .collect();
+    // World-space bounding spheres (kind: 0 punctual, 1 area; index; centre; range). An area
+    // light's window is on the distance to its shape's centre (area.glsl: area_window), so the
+    // sphere there of radius range bounds every point it reaches, whatever the shape's size.
+    let punctual = lights.iter().enumerate().filter_map(|(i, l)| {
+        let range = l.range.filter(|_| has_range(l))?;
+        Some((0usize, i as u32, l.position, range))
+    });
+    let area = areas.iter().enumerate().filter_map(|(i, a)| {
+        let range = a.range.filter(|_| area_has_range(a))?;
+        Some((1usize, i as u32, a.position, range))
+    });
     // View-space bounding spheres, grown by the margin.
-    let spheres: Vec<(u32, glam::Vec3, f32)> = lights
-        .iter()
-        .enumerate()
-        .filter_map(|(i, l)| {
-            let range = l.range.filter(|_| has_range(l))?;
-            let c = view.transform_point3(l.position);
+    let spheres: Vec<(usize, u32, glam::Vec3, f32)> = punctual
+        .chain(area)
+        .filter_map(|(kind, i, p, range)| {
+            let c = view.transform_point3(p);
             let r = range * (1.0 + MARGIN) + 1e-5 * (1.0 + c.length());
-            (c.is_finite() && r.is_finite()).then_some((i as u32, c, r))
+            (c.is_finite() && r.is_finite()).then_some((kind, i, c, r))
         })
         .collect();
-    let grid = camera.fitted(spheres.iter().map(|&(_, c, r)| (c, r)));
-    // One rectangle of tiles per (light, slice): slice, columns, rows, light.
-    let mut rects: Vec<(u32, [u32; 2], [u32; 2], u32)> = Vec::new();
+    let grid = camera.fitted(spheres.iter().map(|&(_, _, c, r)| (c, r)));
+    let mut rects: Vec<TileRect> = Vec::new();
     let min_depth = grid.near * 0.5;
-    for &(i, c, r) in &spheres {
+    for &(kind, i, c, r) in &spheres {
         let dc = -c.z;
         let (zlo, zhi) = (dc - r, dc + r);
         // Fragments lie between the near and far planes.
@@ -374,6 +468,7 @@ pub fn build(camera: &Grid, view: Mat4, lights: &[Light]) -> Clusters {
             let (tx0, tx1) = span(c.x);
             let (ty0, ty1) = span(c.y);
             rects.push((
+                kind,
                 k,
                 [grid.column(tx0), grid.column(tx1)],
                 [grid.row(ty0), grid.row(ty1)],
@@ -384,62 +479,87 @@ pub fn build(camera: &Grid, view: Mat4, lights: &[Light]) -> Clusters {
     let cells = grid.cells();
     let (tx, ty) = (grid.tiles_x as usize, grid.tiles_y as usize);
     let cell = |k: u32, row: u32, col: u32| (k as usize * ty + row as usize) * tx + col as usize;
-    let mut counts = vec![0u32; cells];
-    for &(k, cols, rows, _) in &rects {
+    // Per kind (punctual, then area when the scene has area lights): ranged lights per cluster.
+    let kinds = if areas.is_empty() { 1 } else { 2 };
+    let mut counts = vec![vec![0u32; cells]; kinds];
+    for &(kind, k, cols, rows, _) in &rects {
         for row in rows[0]..=rows[1] {
             for col in cols[0]..=cols[1] {
-                counts[cell(k, row, col)] += 1;
+                counts[kind][cell(k, row, col)] += 1;
             }
         }
     }
-    // The always-lit lights first, then each cluster's list.
-    let n_always = always.len() as u32;
-    let mut offsets = Vec::with_capacity(cells);
-    let mut next = n_always;
-    for &n in &counts {
-        offsets.push(next);
-        next += n;
+    // The always-lit punctual lights first, then the always-lit area lights, then each cluster's
+    // punctual list, then each cluster's area list.
+    let n_always = [always.len() as u32, area_always.len() as u32];
+    let mut offsets = vec![Vec::with_capacity(cells); kinds];
+    let mut next = n_always[0] + n_always[1];
+    for (offsets, counts) in offsets.iter_mut().zip(&counts) {
+        for &n in counts {
+            offsets.push(next);
+            next += n;
+        }
     }
     let mut indices = always;
+    indices.extend(&area_always);
     indices.resize(next as usize, 0);
     let mut fill = offsets.clone();
-    for &(k, cols, rows, light) in &rects {
+    for &(kind, k, cols, rows, light) in &rects {
         for row in rows[0]..=rows[1] {
             for col in cols[0]..=cols[1] {
                 let c = cell(k, row, col);
-                indices[fill[c] as usize] = light;
-                fill[c] += 1;
+                indices[fill[kind][c] as usize] = light;
+                fill[kind][c] += 1;
             }
         }
     }
-    let cells_data: Vec<[u32; 2]> = offsets
-        .iter()
-        .zip(&counts)
-        .map(|(&o, &n)| [o - n_always, n + n_always])
+    let pairs = |kind: usize| -> Vec<[u32; 2]> {
+        offsets[kind]
+            .iter()
+            .zip(&counts[kind])
+            .map(|(&o, &n)| [o - n_always[kind], n + n_always[kind]])
+            .collect()
+    };
+    let cells_data = pairs(0);
+    let area_cells = if kinds == 2 { pairs(1) } else { Vec::new() };
+    let max = |c: &[[u32; 2]]| c.iter().map(|c| c[1]).max().unwrap_or(0);
+    let mean = |c: &[[u32; 2]]| c.iter().map(|c| c[1] as f64).sum::<f64>() / cells.max(1) as f64;
+    // The clusters that list a ranged light of either kind.
+    let occupied: Vec<usize> = (0..cells)
+        .filter(|&c| counts.iter().any(|n| n[c] > 0))
         .collect();
-    let max = cells_data.iter().map(|c| c[1]).max().unwrap_or(0);
-    let mean = cells_data.iter().map(|c| c[1] as f64).sum::<f64>() / cells.max(1) as f64;
-    let occupied: Vec<f64> = counts
-        .iter()
-        .filter(|&&n| n > 0)
-        .map(|&n| (n + n_always) as f64)
-        .collect();
-    let mean_occupied = occupied.iter().sum::<f64>() / occupied.len().max(1) as f64;
+    let mean_occupied = |kind: usize| {
+        let listed = |c: usize| counts.get(kind).map_or(0, |n| n[c]) + n_always[kind];
+        occupied.iter().map(|&c| listed(c) as f64).sum::<f64>() / occupied.len().max(1) as f64
+    };
     Clusters {
         grid,
-        header: grid.header(n_always),
+        header: grid.header(n_always[0], [n_always[1], n_always[0]]),
         stats: ClusterStats {
             tiles_x: grid.tiles_x,
             tiles_y: grid.tiles_y,
             slices: grid.slices,
-            always: n_always,
-            max,
-            mean,
-            mean_occupied,
+            always: n_always[0],
+            max: max(&cells_data),
+            mean: mean(&cells_data),
+            mean_occupied: mean_occupied(0),
+            area_always: n_always[1],
+            area_max: max(&area_cells),
+            area_mean: if areas.is_empty() {
+                0.0
+            } else {
+                mean(&area_cells)
+            },
+            area_mean_occupied: if areas.is_empty() {
+                0.0
+            } else {
+                mean_occupied(1)
+            },
             indices: indices.len(),
             build_ms: start.elapsed().as_secs_f64() * 1e3,
         },
         cells: cells_data,
+        area_cells,
         indices,
     }
 }
@@ -459,6 +579,36 @@ mod tests {
         }
     }
 
+    /// An area light of shape `k` mod 4 (rect, disk, sphere, tube) at `p`, of size up to 1 m.
+    fn area(p: Vec3, range: Option<f32>, k: usize) -> AreaLight {
+        use crate::scene::{AreaMethod, AreaShape};
+        let shape = match k % 4 {
+            0 => AreaShape::Rect {
+                up: Vec3::Z,
+                width: 1.0,
+                height: 0.5,
+            },
+            1 => AreaShape::Disk { radius: 0.4 },
+            2 => AreaShape::Sphere { radius: 0.3 },
+            _ => AreaShape::Tube {
+                length: 1.0,
+                radius: 0.05,
+            },
+        };
+        AreaLight {
+            shape,
+            position: p,
+            direction: Vec3::NEG_Y,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            shadow: None,
+            two_sided: false,
+            visible: true,
+            method: AreaMethod::Ltc,
+            range,
+        }
+    }
+
     /// A cheap deterministic sequence in [0, 1).
     fn rand(seed: &mut u64) -> f32 {
         *seed = seed
@@ -468,8 +618,8 @@ mod tests {
     }
 
     /// Every point in the view volume finds, in its cluster, every light whose range reaches it
-    /// (random lights and points, a camera looking down at a plane), and lights without a range
-    /// are in every cluster; the culling also drops most lights.
+    /// (random punctual and area lights and points, a camera looking down at a plane), and lights
+    /// without a range are in every cluster; the culling also drops most lights.
     #[test]
     fn no_light_that_reaches_a_point_is_missing_from_its_cluster() {
         let (fov, aspect, near, far) = (50.0f32, 16.0 / 9.0, 0.1, 100.0);
@@ -489,7 +639,7 @@ mod tests {
     fn orthographic_clusters_miss_no_light_either() {
         let (h, aspect, near, far) = (6.0f32, 16.0 / 9.0, 0.1, 100.0);
         let grid = Grid::orthographic(h, aspect, near, far);
-        assert_eq!(grid.header(0).depth.z, 1.0);
+        assert_eq!(grid.header(0, [0, 0]).depth.z, 1.0);
         check_clusters(grid, &|seed| {
             let x = (rand(seed) * 2.0 - 1.0) * h * aspect;
             let y = (rand(seed) * 2.0 - 1.0) * h;
@@ -522,17 +672,51 @@ mod tests {
             LightKind::Directional,
             None,
         ));
-        let c = build(&grid, view, &lights);
+        // Area lights of every shape (an area light's range is on the distance to its centre),
+        // near and behind the camera, and without a range.
+        let mut areas: Vec<AreaLight> = (0..300)
+            .map(|k| {
+                let p = Vec3::new(
+                    rand(&mut seed) * 40.0 - 20.0,
+                    rand(&mut seed) * 2.0 - 0.5,
+                    rand(&mut seed) * 40.0 - 25.0,
+                );
+                area(p, Some(0.2 + rand(&mut seed) * 3.0), k)
+            })
+            .collect();
+        areas.push(area(eye + Vec3::new(0.0, 0.0, 0.05), Some(1.0), 0));
+        areas.push(area(eye + Vec3::new(0.0, 0.0, 2.0), Some(2.5), 1));
+        areas.push(area(Vec3::new(-1.0, 1.0, 1.0), None, 2));
+        areas.push(area(Vec3::new(2.0, 1.0, 1.0), None, 3));
+        areas.push(area(Vec3::new(3.0, 1.0, 1.0), None, 0));
+        let c = build(&grid, view, &lights, &areas);
         assert_eq!(c.header.dims[3], 2, "two lights without a range");
+        assert_eq!(
+            c.header.area[..2],
+            [3, 2],
+            "three area lights without a range, after 2"
+        );
         assert_eq!(c.cells.len(), grid.cells());
-        let mut checked = 0;
-        let mut listed = 0usize;
+        assert_eq!(c.area_cells.len(), grid.cells());
+        let (mut checked, mut area_checked) = (0, 0);
+        let (mut listed, mut area_listed) = (0usize, 0usize);
         for _ in 0..40_000 {
             let v = point_in_view(&mut seed);
             let p = view.inverse().transform_point3(v);
             let cell = c.grid.cluster_of(view.transform_point3(p));
             let list: Vec<u32> = c.lights_of(cell).collect();
             listed += list.len();
+            let area_list: Vec<u32> = c.area_lights_of(cell).collect();
+            area_listed += area_list.len();
+            for (i, a) in areas.iter().enumerate() {
+                if a.range.is_none_or(|r| (a.position - p).length() < r) {
+                    area_checked += 1;
+                    assert!(
+                        area_list.contains(&(i as u32)),
+                        "area light {i} reaches {p} (cluster {cell}) but is not listed"
+                    );
+                }
+            }
             for (i, l) in lights.iter().enumerate() {
                 let reaches = match l.range {
                     _ if l.kind == LightKind::Directional => true,
@@ -549,17 +733,32 @@ mod tests {
             }
         }
         assert!(checked > 10_000, "{checked}");
+        // The 3 unranged area lights at each of the 40,000 points, and ranged ones.
+        assert!(area_checked > 3 * 40_000 + 3_000, "{area_checked}");
         let mean = listed as f64 / 40_000.0;
         assert!(
             mean < 60.0,
             "{mean} lights per sampled cluster of {}",
             lights.len()
         );
+        let area_mean = area_listed as f64 / 40_000.0;
+        assert!(
+            area_mean < 40.0,
+            "{area_mean} area lights per sampled cluster of {}",
+            areas.len()
+        );
         // Lists are in light order (the plain loop's order of the sum).
         for cell in 0..c.cells.len() {
             let l: Vec<u32> = c.lights_of(cell).skip(2).collect();
             assert!(l.windows(2).all(|w| w[0] < w[1]), "cell {cell}: {l:?}");
+            let l: Vec<u32> = c.area_lights_of(cell).skip(3).collect();
+            assert!(l.windows(2).all(|w| w[0] < w[1]), "cell {cell}: {l:?}");
         }
+        // Without area lights, no area pairs: nothing more to upload.
+        let plain = build(&grid, view, &lights, &[]);
+        assert!(plain.area_cells.is_empty());
+        assert_eq!(plain.header.area[0], 0);
+        assert_eq!(plain.stats.area_max, 0);
     }
 
     /// Auto: clustered with at least CROSSOVER ranged lights that the clusters cull; plain with
@@ -596,5 +795,32 @@ mod tests {
             l.range = None;
         }
         assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        // A ranged area light weighs AREA_WEIGHT punctual lights: CROSSOVER − 1 ranged point
+        // lights stay plain, one ranged area light more tips them over; the same area light
+        // reaching the whole view, or without a range, does not.
+        scene.lights = (0..CROSSOVER - 1)
+            .map(|k| point(at(k), Some(1.0)))
+            .collect();
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        scene.area_lights = vec![area(at(9), Some(1.0), 0)];
+        assert!(LightLoop::Auto.clustered(&scene, aspect));
+        scene.area_lights[0].range = Some(100.0);
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        scene.area_lights[0].range = None;
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        // One ranged area light alone is culled enough (MAX_AREA_LISTED_FRACTION), unless its
+        // range reaches the whole view, or unranged punctual lights outnumber AREA_WEIGHT per
+        // ranged area light; 24 spread over the plane take the clustered loop.
+        scene.lights.clear();
+        scene.area_lights = vec![area(at(9), Some(1.0), 0)];
+        assert!(LightLoop::Auto.clustered(&scene, aspect));
+        scene.area_lights[0].range = Some(100.0);
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        scene.area_lights[0].range = Some(1.0);
+        scene.lights = (0..AREA_WEIGHT + 1).map(|k| point(at(k), None)).collect();
+        assert!(!LightLoop::Auto.clustered(&scene, aspect));
+        scene.lights.clear();
+        scene.area_lights = (0..24).map(|k| area(at(k), Some(1.5), k)).collect();
+        assert!(LightLoop::Auto.clustered(&scene, aspect));
     }
 }

@@ -566,7 +566,9 @@ impl ForwardPass {
                     light_count,
                     object_count,
                     if clustered {
+                        // With area lights, every cluster has an area pair too.
                         clusters::Grid::of(scene, aspect).cells()
+                            * if scene.area_lights.is_empty() { 1 } else { 2 }
                     } else {
                         1
                     },

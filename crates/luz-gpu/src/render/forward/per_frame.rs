@@ -181,7 +181,12 @@ impl ForwardPass {
             return Ok(());
         }
         let grid = clusters::Grid::of(scene, aspect);
-        let c = clusters::build(&grid, scene.camera.view(), &scene.lights);
+        let c = clusters::build(
+            &grid,
+            scene.camera.view(),
+            &scene.lights,
+            &scene.area_lights,
+        );
         self.slots[slot].write_clusters((&self.ctx, &self.set_layout), slot, &c)?;
         self.cluster_stats = Some(c.stats);
         Ok(())
