@@ -28,14 +28,17 @@ use rayon::prelude::*;
 
 use super::{g_smith_ggx_correlated_aniso, hammersley, ALPHA_MIN, COS_EPS, PI};
 
-/// Columns of a slice: `n·v` at texel centres.
-pub const ANISO_LUT_NV: usize = 32;
-/// Rows of a slice: perceptual roughness at texel centres.
-pub const ANISO_LUT_ROUGHNESS: usize = 32;
-/// Azimuths of the view in the lobe's frame, `[0, π/2]` with both ends.
-pub const ANISO_LUT_PHI: usize = 6;
-/// Strengths, uniform in `strength²` over `[0, 1]` with both ends.
-pub const ANISO_LUT_STRENGTH: usize = 16;
+use crate::glsl::include_ibl as glsl;
+
+// The grid's sizes are `shaders_glsl/include/ibl.glsl`'s (the GPU reads the same tiles).
+/// Columns of a slice: `sqrt(n·v)` uniform over `[0, 1]`.
+pub const ANISO_LUT_NV: usize = glsl::ANISO_LUT_NV as usize;
+/// Rows of a slice: perceptual roughness uniform over `[0, 1]`.
+pub const ANISO_LUT_ROUGHNESS: usize = glsl::ANISO_LUT_ROUGHNESS as usize;
+/// Azimuths of the view in the lobe's frame: `1 − cos φ` uniform over `[0, 1]`.
+pub const ANISO_LUT_PHI: usize = glsl::ANISO_LUT_PHI as usize;
+/// Strengths, uniform over `[0, 1]`.
+pub const ANISO_LUT_STRENGTH: usize = glsl::ANISO_LUT_STRENGTH as usize;
 /// VNDF samples per entry.
 pub const ANISO_LUT_SAMPLES: u32 = 512;
 
@@ -107,8 +110,10 @@ pub fn aniso_split_sum_reference(
 
 /// The grid's coordinates of entry `(i, j, k, m)`: `(n·v, roughness, φ, strength)`. Every grid
 /// holds both its ends; `n·v = (i/(N − 1))²` (denser towards grazing, where a smooth lobe's
-/// albedo changes fastest), the roughness and `φ/(π/2)` uniform, the strength uniform in
-/// `strength²` (the lobe's `α_t` is linear in it).
+/// albedo changes fastest), the roughness uniform, `cos φ = 1 − k/(N_φ − 1)` (the Smith term of
+/// a stretched smooth lobe is about linear in `cos φ`), the strength uniform (denser in `α_t`
+/// near 0 than a grid in `strength²`). Each choice measured against the alternatives
+/// (docs/brdf.md).
 pub fn aniso_lut_coords(i: usize, j: usize, k: usize, m: usize) -> (f32, f32, f32, f32) {
     let u = i as f32 / (ANISO_LUT_NV - 1) as f32;
     let r = j as f32 / (ANISO_LUT_ROUGHNESS - 1) as f32;
@@ -170,7 +175,7 @@ fn ends(x: f32, n: usize) -> (usize, usize, f32) {
 }
 
 /// The anisotropic split sum `(A, B)` at `(n·v, φ, roughness, strength)` from [`aniso_lut`]:
-/// multilinear in `(sqrt(n·v), roughness, φ, strength²)` ([`aniso_lut_coords`]; `φ` folded
+/// multilinear in `(sqrt(n·v), roughness, 1 − cos φ, strength)` ([`aniso_lut_coords`]; `φ` folded
 /// into `[0, π/2]` by the caller, [`aniso_azimuth`]), clamped at the ends.
 pub fn aniso_split_sum_ab(n_v: f32, phi: f32, roughness: f32, strength: f32) -> (f32, f32) {
     let t = aniso_lut();
@@ -194,4 +199,46 @@ pub fn aniso_split_sum_ab(n_v: f32, phi: f32, roughness: f32, strength: f32) -> 
         fm,
     );
     (ab[0], ab[1])
+}
+
+/// Slices a texel of the GPU's layers holds: two, `(A, B)` in RG and in BA.
+const SLICES_PER_TEXEL: usize = 2;
+
+/// The tiles of the anisotropic table: each a `N_nv × N_r` block of texels holding two slices
+/// (`q = m·N_φ + k` even in RG, the next in BA), tile `q/2` at column `tile % per_row`, row
+/// `(tile % per_layer)/per_row` of layer `tile/per_layer` (`per_row = size/N_nv`,
+/// `per_layer = per_row²`). Returns `(per_row, layers)` for a `size × size` array image.
+pub fn aniso_lut_tiles(size: u32) -> (usize, usize) {
+    let per_row = (size as usize / ANISO_LUT_NV).max(1);
+    let tiles = (ANISO_LUT_PHI * ANISO_LUT_STRENGTH).div_ceil(SLICES_PER_TEXEL);
+    (per_row, tiles.div_ceil(per_row * per_row))
+}
+
+/// The anisotropic table as layers of a `size × size` RGBA array image ([`aniso_lut_tiles`]):
+/// the GPU reads entry `(i, j)` of a slice at texel `(tile_x·N_nv + i, tile_y·N_r + j)`, so
+/// that its bilinear filter between texel centres is [`aniso_split_sum_ab`]'s. Texels outside
+/// the tiles are 0.
+pub fn aniso_lut_layers(size: u32) -> Vec<Vec<[f32; 4]>> {
+    let (per_row, layers) = aniso_lut_tiles(size);
+    let size = size as usize;
+    let per_layer = per_row * per_row;
+    let t = aniso_lut();
+    let mut out = vec![vec![[0.0f32; 4]; size * size]; layers];
+    for m in 0..ANISO_LUT_STRENGTH {
+        for k in 0..ANISO_LUT_PHI {
+            let q = m * ANISO_LUT_PHI + k;
+            let (tile, c) = (q / SLICES_PER_TEXEL, 2 * (q % SLICES_PER_TEXEL));
+            let layer = &mut out[tile / per_layer];
+            let (tx, ty) = ((tile % per_layer) % per_row, (tile % per_layer) / per_row);
+            for j in 0..ANISO_LUT_ROUGHNESS {
+                for i in 0..ANISO_LUT_NV {
+                    let (x, y) = (tx * ANISO_LUT_NV + i, ty * ANISO_LUT_ROUGHNESS + j);
+                    let ab = t[aniso_lut_index(i, j, k, m)];
+                    layer[y * size + x][c] = ab[0];
+                    layer[y * size + x][c + 1] = ab[1];
+                }
+            }
+        }
+    }
+    out
 }
