@@ -20,7 +20,7 @@ layout(set = SET_ENV, binding = BINDING_BRDF_LUT) uniform sampler2DArray brdf_lu
 layout(set = SET_ENV, binding = BINDING_ENV_DATA, std140) uniform EnvData {
     vec4 sh[9];      // convolved irradiance SH: E(n) = Σ sh[i] Y_i(n)
     vec4 rotation;   // cos θ, sin θ (about +y), environment cube size, its mip count
-    vec4 params;     // prefiltered mip count, the LUT layer of the fitted lobes
+    vec4 params;     // prefiltered mips, first LUT layers: fitted lobes, anisotropic split sum
 } env;
 
 // Specialization constants 2..5 (src/render/gpu.rs: SPEC_*).
@@ -199,8 +199,10 @@ vec2 aniso_lut_slice(int k, int m, vec2 uv) {
     int per_row = max(size / ANISO_LUT_NV, 1);
     int per_layer = per_row * per_row;
     int t = tile % per_layer;
-    vec2 texel = vec2(float((t % per_row) * ANISO_LUT_NV), float((t / per_row) * ANISO_LUT_ROUGHNESS))
-        + 0.5 + uv * vec2(float(ANISO_LUT_NV - 1), float(ANISO_LUT_ROUGHNESS - 1));
+    vec2 corner = vec2(float((t % per_row) * ANISO_LUT_NV),
+                       float((t / per_row) * ANISO_LUT_ROUGHNESS));
+    vec2 span = vec2(float(ANISO_LUT_NV - 1), float(ANISO_LUT_ROUGHNESS - 1));
+    vec2 texel = corner + 0.5 + uv * span;
     vec4 c = textureLod(brdf_lut, vec3(texel / float(size), env.params.z + float(tile / per_layer)),
                         0.0);
     return (q & 1) == 0 ? c.rg : c.ba;

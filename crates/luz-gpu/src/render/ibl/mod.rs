@@ -113,7 +113,8 @@ pub struct EnvData {
     pub sh: [[f32; 4]; 9],
     /// cos θ, sin θ of the environment rotation about +y, environment cube size, its mip count.
     pub rotation: [f32; 4],
-    /// Prefiltered cube mip count, samples for importance sampling, 0, 0.
+    /// Prefiltered cube mip count, the fitted lobes' first LUT layer, the anisotropic split
+    /// sum's first LUT layer (`brdf::aniso_lut_tiles`), 0.
     pub params: [f32; 4],
 }
 
