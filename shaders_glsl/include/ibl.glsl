@@ -20,7 +20,7 @@ layout(set = SET_ENV, binding = BINDING_BRDF_LUT) uniform sampler2DArray brdf_lu
 layout(set = SET_ENV, binding = BINDING_ENV_DATA, std140) uniform EnvData {
     vec4 sh[9];      // convolved irradiance SH: E(n) = Σ sh[i] Y_i(n)
     vec4 rotation;   // cos θ, sin θ (about +y), environment cube size, its mip count
-    vec4 params;     // prefiltered mip count, the LUT layer of the fitted lobes
+    vec4 params;     // prefiltered mips, first LUT layers: fitted lobes, anisotropic split sum
 } env;
 
 // Specialization constants 2..5 (src/render/gpu.rs: SPEC_*).
@@ -181,6 +181,60 @@ vec2 brdf_lut_ab(float n_v, float roughness) {
     return textureLod(brdf_lut, vec3(n_v, roughness, float(material.flags)), 0.0).rg;
 }
 
+// KHR_materials_anisotropy's split sum (brdf::aniso_split_sum_ab): the lobe's (A, B) over
+// (sqrt(n·v), roughness, 1 − cos φ, strength), φ the view's azimuth from the lobe's direction
+// folded into [0, π/2], every grid holding its ends; slices k (azimuth) and m (strength) of
+// ANISO_LUT_NV × ANISO_LUT_ROUGHNESS entries, two per texel (RG, BA), tiled into the LUT's
+// layers from env.params.z (brdf::aniso_lut_tiles). The filter is bilinear within a slice,
+// linear across slices here. Read only by pipelines with the anisotropy lobe and compensation.
+#define ANISO_LUT_NV 32
+#define ANISO_LUT_ROUGHNESS 32
+#define ANISO_LUT_PHI 6
+#define ANISO_LUT_STRENGTH 16
+
+vec2 aniso_lut_slice(int k, int m, vec2 uv) {
+    int q = m * ANISO_LUT_PHI + k;
+    int tile = q / 2;
+    int size = textureSize(brdf_lut, 0).x;
+    int per_row = max(size / ANISO_LUT_NV, 1);
+    int per_layer = per_row * per_row;
+    int t = tile % per_layer;
+    vec2 corner = vec2(float((t % per_row) * ANISO_LUT_NV),
+                       float((t / per_row) * ANISO_LUT_ROUGHNESS));
+    vec2 span = vec2(float(ANISO_LUT_NV - 1), float(ANISO_LUT_ROUGHNESS - 1));
+    vec2 texel = corner + 0.5 + uv * span;
+    vec4 c = textureLod(brdf_lut, vec3(texel / float(size), env.params.z + float(tile / per_layer)),
+                        0.0);
+    return (q & 1) == 0 ? c.rg : c.ba;
+}
+
+vec2 aniso_split_sum_ab(AnisotropicLobe a, float n_v, vec3 v, float roughness, float strength) {
+    float x = abs(dot(a.t, v));
+    float y = abs(dot(a.b, v));
+    float c = x + y > 0.0 ? x / length(vec2(x, y)) : 1.0;
+    vec2 uv = clamp(vec2(sqrt(n_v), roughness), 0.0, 1.0);
+    float fk = clamp(1.0 - c, 0.0, 1.0) * float(ANISO_LUT_PHI - 1);
+    int k = min(int(fk), ANISO_LUT_PHI - 2);
+    fk -= float(k);
+    float fm = clamp(strength, 0.0, 1.0) * float(ANISO_LUT_STRENGTH - 1);
+    int m = min(int(fm), ANISO_LUT_STRENGTH - 2);
+    fm -= float(m);
+    return mix(mix(aniso_lut_slice(k, m, uv), aniso_lut_slice(k + 1, m, uv), fk),
+               mix(aniso_lut_slice(k, m + 1, uv), aniso_lut_slice(k + 1, m + 1, uv), fk), fm);
+}
+
+// The split sum (A, B) of the metal-rough base lobe at the view: the anisotropic lobe's own
+// (aniso_split_sum_ab) in pipelines with the anisotropy lobe and compensation, else the
+// isotropic table's at brdf_lobe_roughness.
+vec2 base_lobe_ab(BrdfParams p, float n_v, vec3 v, AnisotropicLobe an) {
+    vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
+    if ((LOBES & BRDF_LOBE_ANISOTROPY) != 0u && ENERGY_COMPENSATION
+        && MODEL == BRDF_MODEL_METAL_ROUGH && an.on) {
+        ab = aniso_split_sum_ab(an, n_v, v, p.color.w, p.p1.z);
+    }
+    return ab;
+}
+
 // The energy-compensated coat (brdf::layers::clearcoat_energy): its albedo E_ms and lobe factor
 // 1 + F0 (1 − E)/E, F0 = 0.04.
 ClearcoatEnergy clearcoat_energy(BrdfParams p, float n_v) {
@@ -196,7 +250,7 @@ bool energy_compensated(BrdfParams p) {
     return ENERGY_COMPENSATION && MODEL == BRDF_MODEL_METAL_ROUGH;
 }
 
-EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
+EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v, AnisotropicLobe an) {
     EnergyScale es;
     es.specular = vec3(1.0);
     es.diffuse = vec3(1.0);
@@ -209,7 +263,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v) {
         return es;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
+    vec2 ab = base_lobe_ab(p, n_v, v, an);
     vec3 f0 = brdf_iridescence_f0(p, mix(p.spec.rgb, p.color.rgb, p.spec.w),
                                   brdf_split_sum_mean_cos(ab));
     float e = max(ab.x + ab.y, 1e-4);
@@ -246,15 +300,16 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
     vec2 ab = textureLod(brdf_lut, vec3(n_v, s.roughness, float(material.flags)), 0.0).rg;
-    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
-        s.f0 = brdf_iridescence_f0(p, s.f0, brdf_split_sum_mean_cos(ab));
-    }
     // KHR_materials_anisotropy: the prefiltered cube is read around the bent normal of the
     // extension's sample renderer (the normal leaned towards the plane across the anisotropy
-    // direction, the more the stronger and smoother the lobe); the LUT keeps n·v.
+    // direction, the more the stronger and smoother the lobe); the LUT keeps n·v, and with
+    // compensation the split sum is the lobe's own at the view's azimuth (base_lobe_ab).
     vec3 n_r = n;
     if (MODEL == BRDF_MODEL_METAL_ROUGH && SPECULAR_METHOD != SPECULAR_IMPORTANCE) {
         AnisotropicLobe an = brdf_anisotropic_lobe(p, n, x, y);
+        if ((LOBES & BRDF_LOBE_ANISOTROPY) != 0u && ENERGY_COMPENSATION) {
+            ab = base_lobe_ab(p, n_v, v, an);
+        }
         if (an.on) {
             vec3 across = cross(an.b, v);
             vec3 n_a = cross(across, an.b);
@@ -265,6 +320,10 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
                 n_r = n;
             }
         }
+    }
+    if (MODEL == BRDF_MODEL_METAL_ROUGH) {
+        // The film's F0 at the lobe's mean Schlick angle of this (A, B) (brdf_iridescence_f0).
+        s.f0 = brdf_iridescence_f0(p, s.f0, brdf_split_sum_mean_cos(ab));
     }
     vec3 spec;
     if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {

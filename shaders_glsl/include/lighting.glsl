@@ -416,8 +416,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         return debug_value(s, P, V);
     }
     vec3 result = s.occlusion * ambient_term(p, frame.ambient.rgb);
+    // KHR_materials_anisotropy's lobe frame, once for every light and the energy scale (off
+    // unless LOBES has it).
+    AnisotropicLobe an = brdf_anisotropic_lobe(p, s.n, s.x, s.y);
 #ifdef IBL
-    EnergyScale es = energy_scale(p, s.n, V);
+    EnergyScale es = energy_scale(p, s.n, V, an);
     float e_sheen = es.sheen;
 #else
     // The sheen's albedo at the view, once for every light (MODEL is a constant: the branch
@@ -428,8 +431,6 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p) && brdf_film_at_view(p)) {
         g_film_view = brdf_iridescence_fresnel_of(p, brdf_clamp_cos(dot(s.n, V)));
     }
-    // KHR_materials_anisotropy's lobe frame, once for every light (off unless LOBES has it).
-    AnisotropicLobe an = brdf_anisotropic_lobe(p, s.n, s.x, s.y);
     uint cell = CLUSTERED ? light_cluster(P) : 0u;
     uvec2 cluster = light_list_of(cell);
     // Fixed shadow slots (shadows.glsl): each shadowed light's visibility once, before the loop.

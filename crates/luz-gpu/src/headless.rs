@@ -777,6 +777,7 @@ pub fn build_ibl(
         sh_irradiance: sh,
         rotation_deg: env.rotation_deg,
         lut_geometries: &lut_geometries,
+        anisotropy: crate::render::forward::needs_aniso_lut(scene),
         cache: cache_dir.map(|d| (d, crate::env::cache_key(env, &settings.describe()))),
     };
     Ibl::new(ctx, pool, &inputs, settings, |name, step, total| {

@@ -116,6 +116,12 @@ pub fn energy_scale_f90(
     roughness: f32,
 ) -> EnergyScale {
     let (a, b) = split_sum_ab(geometry, n_v.clamp(COS_EPS, 1.0), roughness);
+    energy_scale_ab(f0, f90, a, b)
+}
+
+/// [`energy_scale_f90`] from a lobe's split sum `(A, B)` (the isotropic table's, or the
+/// anisotropic lobe's, [`super::aniso_split_sum_ab`]).
+pub fn energy_scale_ab(f0: Vec3, f90: f32, a: f32, b: f32) -> EnergyScale {
     let e = (a + b).max(1e-4);
     let specular = Vec3::ONE + f0 * ((1.0 - e) / e);
     let e_ms = (f0 * a + Vec3::splat(f90 * b)) * specular;

@@ -18,6 +18,7 @@
 //! * parameters are sanitised (non-finite → default, unit-range parameters clamped to [0, 1]).
 
 mod albedo;
+mod aniso_split_sum;
 mod energy;
 mod gpu;
 pub mod iridescence;
@@ -37,7 +38,13 @@ mod tests;
 pub use albedo::{
     directional_albedo, directional_albedo_dir, integrate_hemisphere, sampling_lobes, Lobe,
 };
-pub use energy::{energy_scale, energy_scale_f90, split_sum_ab, EnergyScale};
+pub use aniso_split_sum::{
+    aniso_azimuth, aniso_lut, aniso_lut_coords, aniso_lut_index, aniso_lut_layers, aniso_lut_table,
+    aniso_lut_tiles, aniso_split_sum_ab, aniso_split_sum_reference, aniso_widths,
+    sample_ggx_vndf_aniso, ANISO_LUT_NV, ANISO_LUT_PHI, ANISO_LUT_ROUGHNESS, ANISO_LUT_SAMPLES,
+    ANISO_LUT_STRENGTH,
+};
+pub use energy::{energy_scale, energy_scale_ab, energy_scale_f90, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
 pub use ltc::{
     fit_entry, fit_table, generate_ltc_table, ltc_table, refit_shipped_entry, shipped_lobe,

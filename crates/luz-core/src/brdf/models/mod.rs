@@ -915,11 +915,11 @@ pub struct AnisotropicLobe {
 
 impl AnisotropicLobe {
     /// The perceptual roughness of an isotropic lobe of about the same directional albedo,
-    /// `((α_t² + α_b²)/2)^¼`: what energy compensation and the split sum index their tables by.
+    /// `((α_t² + α_b²)/2)^¼`: the GPU's prefiltered-cube mip for the lobe (`brdf_lobe_roughness`).
     /// At normal view it is within 0.02 of the isotropic roughness whose albedo equals the
     /// anisotropic lobe's (integrated: 0.42 for 0.43, 0.84 for 0.82, 0.48 for 0.49); towards
-    /// grazing the albedo depends on the view's azimuth, which one roughness cannot follow
-    /// (docs/brdf.md has the furnace figures).
+    /// grazing the albedo depends on the view's azimuth, which one roughness cannot follow, so
+    /// energy compensation reads the lobe's own split sum ([`super::aniso_split_sum_ab`]).
     pub fn equivalent_roughness(&self) -> f32 {
         ((self.alpha_t * self.alpha_t + self.alpha_b * self.alpha_b) * 0.5)
             .sqrt()
@@ -1147,14 +1147,17 @@ fn metal_rough_base_terms(
         Vec3::ONE
     };
     let energy = if p.energy_compensation {
-        let roughness = lobe.map_or(p.roughness, AnisotropicLobe::equivalent_roughness);
-        let f0 = if has_iridescence(p) {
-            let (a, b) = super::split_sum_ab(p.geometry, s.n_v, roughness);
-            iridescence_f0(p, f0, split_sum_mean_cos(a, b))
-        } else {
-            f0
+        // The split sum's (A, B) of the lobe: the isotropic table's, or for
+        // KHR_materials_anisotropy the anisotropic lobe's own at the view's azimuth in its frame.
+        let (a, b) = match lobe {
+            None => super::split_sum_ab(p.geometry, s.n_v, p.roughness),
+            Some(an) => {
+                let phi = super::aniso_azimuth(an.t.dot(s.v), an.b.dot(s.v));
+                super::aniso_split_sum_ab(s.n_v, phi, p.roughness, p.anisotropy_strength)
+            }
         };
-        super::energy_scale_f90(p.geometry, f0, f90, s.n_v, roughness)
+        let f0 = iridescence_f0(p, f0, split_sum_mean_cos(a, b));
+        super::energy_scale_ab(f0, f90, a, b)
     } else {
         super::EnergyScale::NONE
     };

@@ -411,6 +411,14 @@ pub fn lut_geometry(m: &crate::brdf::Model) -> i32 {
     }
 }
 
+/// Whether a scene's materials need the anisotropic lobe's split sum in the LUT
+/// (`brdf::aniso_lut_layers`): one of them has KHR_materials_anisotropy's lobe.
+pub fn needs_aniso_lut(scene: &Scene) -> bool {
+    scene.materials.iter().any(|m| {
+        super::variant::lobe_bits(&m.material) & crate::glsl::brdf_models::BRDF_LOBE_ANISOTROPY != 0
+    })
+}
+
 /// The LUT layers a scene's materials need.
 pub fn lut_geometries(scene: &Scene) -> Vec<i32> {
     let mut g: Vec<i32> = scene

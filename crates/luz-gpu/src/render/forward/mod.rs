@@ -38,7 +38,7 @@ mod variant;
 pub mod world;
 
 use build::{build_draws, frame_set_layout, storage_fits, Draws};
-pub use build::{lut_geometries, lut_geometry};
+pub use build::{lut_geometries, lut_geometry, needs_aniso_lut};
 pub use clusters::{ClusterStats, LightLoop};
 
 pub use deferred::{eligible as deferred_eligible, RenderPath, GBUFFER_FORMAT};

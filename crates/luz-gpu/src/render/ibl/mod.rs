@@ -113,7 +113,8 @@ pub struct EnvData {
     pub sh: [[f32; 4]; 9],
     /// cos θ, sin θ of the environment rotation about +y, environment cube size, its mip count.
     pub rotation: [f32; 4],
-    /// Prefiltered cube mip count, samples for importance sampling, 0, 0.
+    /// Prefiltered cube mip count, the fitted lobes' first LUT layer, the anisotropic split
+    /// sum's first LUT layer (`brdf::aniso_lut_tiles`), 0.
     pub params: [f32; 4],
 }
 
@@ -133,6 +134,9 @@ pub struct IblInputs<'a> {
     pub rotation_deg: f32,
     /// The geometry selectors (BRDF_G_*) the scene's materials use: one LUT layer each.
     pub lut_geometries: &'a [i32],
+    /// Whether a material has KHR_materials_anisotropy's lobe: the LUT then holds its split
+    /// sum in extra layers after the fitted lobes' (`brdf::aniso_lut_layers`).
+    pub anisotropy: bool,
     /// Where to keep precomputed data between runs, and this environment's key there
     /// (`crate::env::cache_key`); None computes everything every time.
     pub cache: Option<(&'a std::path::Path, String)>,
@@ -166,6 +170,16 @@ pub struct Ibl {
     _sampler: Sampler,
 }
 
+/// The LUT layers of the anisotropic lobe's split sum: its tiles at `s.lut_size` when `inputs`
+/// has anisotropy, else none.
+fn aniso_layers(s: &IblSettings, inputs: &IblInputs<'_>) -> u32 {
+    if inputs.anisotropy {
+        crate::brdf::aniso_lut_tiles(s.lut_size).1 as u32
+    } else {
+        0
+    }
+}
+
 /// The four images the precomputation fills, with their mip and layer counts.
 struct Images {
     env: Image,
@@ -179,7 +193,8 @@ struct Images {
 
 impl Images {
     /// Creates them at `s`'s sizes, one LUT layer per geometry selector (at least one).
-    fn new(ctx: &Arc<Context>, s: &IblSettings, lut_geometries: &[i32]) -> Result<Self, VkError> {
+    fn new(ctx: &Arc<Context>, s: &IblSettings, inputs: &IblInputs<'_>) -> Result<Self, VkError> {
+        let lut_geometries = inputs.lut_geometries;
         let env_mips = mip_count(s.env_size);
         let env = Image::new(
             ctx,
@@ -197,8 +212,9 @@ impl Images {
             "prefiltered cube",
             ImageDesc::cube(s.prefilter_size, CUBE_FORMAT, pre_mips),
         )?;
-        // One layer per geometry selector, then the fitted lobes' two (`env::lobe_layers`).
-        let layers = lut_geometries.len().max(1) as u32 + 2;
+        // One layer per geometry selector, then the fitted lobes' two (`env::lobe_layers`), then
+        // the anisotropic lobe's split sum when a material has one.
+        let layers = lut_geometries.len().max(1) as u32 + 2 + aniso_layers(s, inputs);
         let mut lut_desc = ImageDesc::texture(s.lut_size, s.lut_size, LUT_FORMAT, 1, layers);
         lut_desc.usage = vk::ImageUsageFlags::SAMPLED
             | vk::ImageUsageFlags::STORAGE
@@ -352,6 +368,17 @@ impl Images {
                 .collect();
             write_lut_layer(ctx, pool, lut, (lut_layers.len() + k) as u32, &bytes)?;
         }
+        // Then the anisotropic lobe's split sum, as tiles (computed once per process).
+        if aniso_layers(s, inputs) > 0 {
+            for (k, layer) in crate::brdf::aniso_lut_layers(s.lut_size).iter().enumerate() {
+                let bytes: Vec<u8> = layer
+                    .iter()
+                    .flatten()
+                    .flat_map(|v| v.to_ne_bytes())
+                    .collect();
+                write_lut_layer(ctx, pool, lut, (lut_layers.len() + 2 + k) as u32, &bytes)?;
+            }
+        }
         if !computed.is_empty() && inputs.cache.is_some() {
             let all = read_image(ctx, pool, lut)?;
             for layer in computed {
@@ -394,7 +421,7 @@ impl Ibl {
         let t0 = Instant::now();
         let (eq, staging) = Equirect::upload(ctx, equirect)?;
         let sampler = Sampler::linear(ctx, "ibl sampler", vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
-        let mut images = Images::new(ctx, s, lut_geometries)?;
+        let mut images = Images::new(ctx, s, inputs)?;
         let dispatches = 2 + images.env_mips + images.pre_mips + images.layers - 2;
         let baker = Baker::new(ctx, pool, s, dispatches)?;
         times
@@ -420,7 +447,13 @@ impl Ibl {
         let ubo_data = EnvData {
             sh: sh_irradiance.map(|c| [c.x, c.y, c.z, 0.0]),
             rotation: [cos, sin, s.env_size as f32, images.env_mips as f32],
-            params: [images.pre_mips as f32, lut_layers.len() as f32, 0.0, 0.0],
+            // The fitted lobes' first layer, the anisotropic split sum's first layer.
+            params: [
+                images.pre_mips as f32,
+                lut_layers.len() as f32,
+                lut_layers.len() as f32 + 2.0,
+                0.0,
+            ],
         };
         let env_set = EnvSet::new(
             ctx,
