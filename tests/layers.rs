@@ -44,14 +44,31 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The file's code without comments, string contents and its `#[cfg(test)]` module.
+/// The file's code without comments and without its `#[cfg(test)]` modules, wherever they sit
+/// (a module in the middle of a file once hid the code after it from these checks).
 fn code_of(text: &str) -> String {
-    let cut = text
-        .find("#[cfg(test)]\nmod ")
-        .or_else(|| text.find("#[cfg(test)]\npub mod "))
-        .unwrap_or(text.len());
+    let mut kept = String::new();
+    let mut rest = text;
+    while let Some(at) = test_module_at(rest) {
+        kept.push_str(&rest[..at]);
+        rest = &rest[at..];
+        rest = match (rest.find('{'), rest.find(';')) {
+            // `#[cfg(test)] mod name { … }`: skip to its closing brace (braces counted; an
+            // unbalanced count, e.g. from a brace in a string, cuts the file there instead).
+            (Some(open), semi) if semi.is_none_or(|s| open < s) => {
+                match closing_brace(&rest[open..]) {
+                    Some(close) => &rest[open + close + 1..],
+                    None => "",
+                }
+            }
+            // `#[cfg(test)] mod name;`: a file of its own.
+            (_, Some(semi)) => &rest[semi + 1..],
+            _ => "",
+        };
+    }
+    kept.push_str(rest);
     let mut out = String::new();
-    for line in text[..cut].lines() {
+    for line in kept.lines() {
         let line = match line.find("//") {
             Some(i) => &line[..i],
             None => line,
@@ -60,6 +77,32 @@ fn code_of(text: &str) -> String {
         out.push('\n');
     }
     out
+}
+
+/// Where the next test module (`#[cfg(test)]` then `mod` or `pub mod`) starts in `text`.
+fn test_module_at(text: &str) -> Option<usize> {
+    ["#[cfg(test)]\nmod ", "#[cfg(test)]\npub mod "]
+        .iter()
+        .filter_map(|m| text.find(m))
+        .min()
+}
+
+/// The offset of the brace closing the one `text` starts with.
+fn closing_brace(text: &str) -> Option<usize> {
+    let mut depth = 0usize;
+    for (i, c) in text.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' => {
+                depth = depth.checked_sub(1)?;
+                if depth == 0 {
+                    return Some(i);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
 }
 
 /// A module's path inside its crate (`["render", "forward", "variant"]`); `lib.rs` / `main.rs`
@@ -491,4 +534,19 @@ fn library_code_reads_only_the_documented_luz_variables() {
     for name in found.iter().filter(|n| *n != "LUZ_GIT_COMMIT") {
         assert!(cli.contains(name.as_str()), "{name} is not in docs/cli.md");
     }
+}
+
+/// `code_of` drops a test module in the middle of a file and keeps the code after it.
+#[test]
+fn code_of_skips_test_modules_anywhere() {
+    let text = "fn a() {}\n#[cfg(test)]\nmod tests {\n    fn t() { let _ = format!(\"{}\", 1); }\n}\nfn b() {} // b\n#[cfg(test)]\nmod more;\nfn c() {}\n";
+    let code = code_of(text);
+    assert!(
+        code.contains("fn a()") && code.contains("fn b()") && code.contains("fn c()"),
+        "{code}"
+    );
+    assert!(
+        !code.contains("fn t()") && !code.contains("mod more") && !code.contains("// b"),
+        "{code}"
+    );
 }
