@@ -286,6 +286,43 @@ fn sampled_rect_converges() {
 /// 1.3× (1.25× measured), and LTC rect ≤ 2.5× (2.16× measured, 2026-11-28: issue 36's 2× is not
 /// met yet; the bound catches a regression). `cargo test --release --test area_lights --
 /// --ignored --nocapture`.
+/// Each renderer's forward-pass GPU ms (the forward, or the deferred path's gbuffer and
+/// lighting passes): `warmup` frames each, then `rounds` rounds rendering every renderer in
+/// turn (a busy machine slows them alike), and each one's median.
+fn interleaved_forward_medians(
+    renderers: &mut [luz::headless::Headless],
+    warmup: usize,
+    rounds: usize,
+) -> Vec<f64> {
+    let forward = |t: &luz::headless::FrameTimes| {
+        t.gpu_ms
+            .iter()
+            .filter(|(n, _)| {
+                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
+            })
+            .map(|(_, ms)| ms)
+            .sum::<f64>()
+    };
+    for r in renderers.iter_mut() {
+        for _ in 0..warmup {
+            r.render().expect("frame");
+        }
+    }
+    let mut times = vec![Vec::new(); renderers.len()];
+    for _ in 0..rounds {
+        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
+            t.push(forward(&r.render().expect("frame")));
+        }
+    }
+    times
+        .iter_mut()
+        .map(|v| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect()
+}
+
 #[test]
 #[ignore]
 fn area_light_cost() {
@@ -318,33 +355,9 @@ fn area_light_cost() {
         .iter()
         .map(|(_, l)| luz::headless::Headless::new(&ctx, &scene(l)).expect("renderer"))
         .collect();
-    let forward = |t: &luz::headless::FrameTimes| {
-        t.gpu_ms
-            .iter()
-            .filter(|(n, _)| {
-                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
-            })
-            .map(|(_, ms)| ms)
-            .sum::<f64>()
-    };
-    for r in renderers.iter_mut() {
-        for _ in 0..3 {
-            r.render().expect("frame");
-        }
-    }
-    let mut times = vec![Vec::new(); cases.len()];
-    for _ in 0..31 {
-        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
-            t.push(forward(&r.render().expect("frame")));
-        }
-    }
+    let medians = interleaved_forward_medians(&mut renderers, 3, 31);
     drop(renderers);
     common::assert_no_validation_messages(&ctx);
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let medians: Vec<f64> = times.iter_mut().map(median).collect();
     eprintln!("| light | forward pass, median ms | × point light |\n|---|---:|---:|");
     for ((name, _), m) in cases.iter().zip(&medians) {
         eprintln!("| {name} | {m:.2} | {:.2} |", m / medians[0]);
@@ -1166,15 +1179,6 @@ fn clustered_area_light_cost() {
         ),
         ("1 rect, range 100 m", everywhere(rects(1))),
     ];
-    let forward = |t: &luz::headless::FrameTimes| {
-        t.gpu_ms
-            .iter()
-            .filter(|(n, _)| {
-                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
-            })
-            .map(|(_, ms)| ms)
-            .sum::<f64>()
-    };
     let mut renderers = Vec::new();
     for (_, scene) in &cases {
         for light_loop in [LightLoop::Plain, LightLoop::Clustered] {
@@ -1188,28 +1192,13 @@ fn clustered_area_light_cost() {
             );
         }
     }
-    for r in renderers.iter_mut() {
-        for _ in 0..2 {
-            r.render().expect("frame");
-        }
-    }
     let auto: Vec<bool> = cases
         .iter()
         .map(|(_, s)| LightLoop::Auto.clustered(s, 640.0 / 360.0))
         .collect();
-    let mut times = vec![Vec::new(); renderers.len()];
-    for _ in 0..11 {
-        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
-            t.push(forward(&r.render().expect("frame")));
-        }
-    }
+    let m = interleaved_forward_medians(&mut renderers, 2, 11);
     drop(renderers);
     common::assert_no_validation_messages(&ctx);
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let m: Vec<f64> = times.iter_mut().map(median).collect();
     eprintln!(
         "| area lights | plain, median ms | clustered, median ms | clustered / plain | Auto |\n|---|---:|---:|---:|---|"
     );
