@@ -319,19 +319,38 @@ bool brdf_film_at_view(BrdfParams p) {
     return forms != BRDF_LOBE_IRIDESCENCE && p.p0.w < 0.0;
 }
 
-// The film's Fresnel at cos (iridescence_fresnel_of): over the dielectric F0 and over the base
-// colour, mixed by metallic.
-vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
-    float metallic = p.spec.w;
+// p's film and its two bases, the dielectric F0 and the base colour (iridescence_fresnel_of):
+// what the film's Fresnel needs whatever the angle.
+struct MaterialFilm {
+    Film film;
+    FilmBase dielectric;
+    FilmBase metal;
+};
+
+MaterialFilm brdf_material_film(BrdfParams p) {
+    MaterialFilm m;
     // The outside is air, under a coat too (iridescence_outside_ior).
-    FilmAt f = film_at(1.0, p.p2.z, c, p.p2.w);
-    if (metallic <= 0.0) {
-        return film_over(f, p.spec.rgb);
-    }
-    if (metallic >= 1.0) {
-        return film_over(f, p.color.rgb);
-    }
-    return mix(film_over(f, p.spec.rgb), film_over(f, p.color.rgb), metallic);
+    m.film = film_of(1.0, p.p2.z, p.p2.w);
+    m.dielectric = film_base(m.film, p.spec.rgb);
+    m.metal = film_base(m.film, p.color.rgb);
+    return m;
+}
+
+// p's film where the lighting shaders shade a pixel: shade() sets it once for every light and
+// the environment (brdf_material_film); elsewhere it is made per call.
+MaterialFilm g_material_film;
+
+// The film's Fresnel at cos (iridescence_fresnel_of): over the dielectric F0 and over the base
+// colour, mixed by metallic (both always: a branch on metallic would run every side under
+// lavapipe's lane mask).
+vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
+#ifdef LUZ_FRAGMENT
+    MaterialFilm m = g_material_film;
+#else
+    MaterialFilm m = brdf_material_film(p);
+#endif
+    FilmAt f = film_at(m.film, c);
+    return mix(film_over(f, m.dielectric), film_over(f, m.metal), p.spec.w);
 }
 
 // The film's Fresnel at the view, once per pixel, where the pipeline takes it at n·v

@@ -444,14 +444,51 @@ float irid_f0_to_ior(float f0) {
     return (1.0 + s) / (1.0 - s);
 }
 
+// The film whatever the angle and the base (Film in iridescence.rs): a material's film, made
+// once per pixel; film_at adds the angle.
+struct Film {
+    float outside_ior;
+    float eta2;
+    float r12_f0;
+    float phi21;
+    float phase_per_cos2;
+};
+
+Film film_of(float outside_ior, float film_ior, float thickness_nm) {
+    Film m;
+    float t = clamp(thickness_nm / 0.03, 0.0, 1.0);
+    m.outside_ior = outside_ior;
+    m.eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
+    m.r12_f0 = irid_ior_to_f0(m.eta2, outside_ior);
+    m.phi21 = m.eta2 < outside_ior ? 0.0 : M_PI;
+    m.phase_per_cos2 = 2.0 * M_PI * (2.0 * m.eta2 * thickness_nm) * 1.0e-9;
+    return m;
+}
+
+// What a base gives under the film whatever the angle (FilmBase): the second interface's F0
+// per channel and the first order's sign. Made once per pixel per base.
+struct FilmBase {
+    vec3 r23_f0;
+    vec3 sgn;
+};
+
+FilmBase film_base(Film m, vec3 base_f0) {
+    FilmBase b;
+    for (int i = 0; i < 3; ++i) {
+        float base_ior = irid_f0_to_ior(base_f0[i]);
+        b.r23_f0[i] = irid_ior_to_f0(base_ior, m.eta2);
+        b.sgn[i] = base_ior < m.eta2 ? -1.0 : 1.0;
+    }
+    return b;
+}
+
 // What the film gives at one angle whatever the base (FilmAt in iridescence.rs): the first
-// interface, the film's index and refracted cosine, and the sensitivity fit's cosines and
-// Gaussians at its path difference and phase φ21; a base only flips first-order cosines' signs,
-// so two bases share the transcendentals. tir: total internal reflection (F = 1).
+// interface, the refracted cosine, and the sensitivity fit's cosines and Gaussians at its path
+// difference and phase φ21; a base only flips first-order cosines' signs, so two bases share
+// the transcendentals. tir: total internal reflection (F = 1).
 struct FilmAt {
     float r12;
     float t121;
-    float eta2;
     float cos2;
     vec3 c;
     float cx;
@@ -460,48 +497,37 @@ struct FilmAt {
     bool tir;
 };
 
-FilmAt film_at(float outside_ior, float film_ior, float cos_theta1, float thickness_nm) {
+FilmAt film_at(Film m, float cos_theta1) {
     FilmAt f;
     float c1 = clamp(cos_theta1, 0.0, 1.0);
-    float t = clamp(thickness_nm / 0.03, 0.0, 1.0);
-    f.eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
-    float r_io = outside_ior / f.eta2;
+    float r_io = m.outside_ior / m.eta2;
     float cos2_theta2 = 1.0 - r_io * r_io * (1.0 - c1 * c1);
     f.tir = cos2_theta2 < 0.0;
     f.cos2 = sqrt(max(cos2_theta2, 0.0));
-    f.r12 = irid_schlick1(irid_ior_to_f0(f.eta2, outside_ior), c1);
+    f.r12 = irid_schlick1(m.r12_f0, c1);
     f.t121 = 1.0 - f.r12;
-    float phi21 = f.eta2 < outside_ior ? 0.0 : M_PI;
-    float phase = 2.0 * M_PI * (2.0 * f.eta2 * thickness_nm * f.cos2) * 1.0e-9;
+    float phase = m.phase_per_cos2 * f.cos2;
     vec3 pos = vec3(1.6810e+06, 1.7953e+06, 2.2084e+06);
     vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
-    f.c = cos(pos * phase + phi21);
+    f.c = cos(pos * phase + m.phi21);
     f.e = exp(-(phase * phase) * var);
-    f.cx = cos(2.2399e+06 * phase + phi21);
+    f.cx = cos(2.2399e+06 * phase + m.phi21);
     f.ex = exp(-4.5282e+09 * (phase * phase));
     return f;
 }
 
-// The film's Fresnel over a base of normal-incidence reflectance base_f0 (film_over).
-vec3 film_over(FilmAt f, vec3 base_f0) {
-    if (f.tir) {
-        return vec3(1.0);
-    }
+// The film's Fresnel over base b (film_over).
+vec3 film_over(FilmAt f, FilmBase b) {
     vec3 val = vec3(5.4856e-13, 4.4201e-13, 5.2481e-13);
     vec3 var = vec3(4.3278e+09, 9.3046e+09, 6.6121e+09);
-    vec3 r23;
-    vec3 sgn;
-    for (int i = 0; i < 3; ++i) {
-        float base_ior = irid_f0_to_ior(base_f0[i]);
-        r23[i] = irid_schlick1(irid_ior_to_f0(base_ior, f.eta2), f.cos2);
-        sgn[i] = base_ior < f.eta2 ? -1.0 : 1.0;
-    }
+    float w = brdf_schlick_weight(f.cos2);
+    vec3 r23 = b.r23_f0 + (vec3(1.0) - b.r23_f0) * w;
     vec3 k = val * sqrt(2.0 * M_PI * var);
     vec3 e2 = (f.e * f.e) * (f.e * f.e);
-    vec3 xyz1 = k * sgn * f.c * f.e;
+    vec3 xyz1 = k * b.sgn * f.c * f.e;
     vec3 xyz2 = k * (2.0 * f.c * f.c - 1.0) * e2;
     float kx = 9.7470e-14 * sqrt(2.0 * M_PI * 4.5282e+09);
-    xyz1.x += kx * sgn.x * f.cx * f.ex;
+    xyz1.x += kx * b.sgn.x * f.cx * f.ex;
     xyz2.x += kx * (2.0 * f.cx * f.cx - 1.0) * ((f.ex * f.ex) * (f.ex * f.ex));
     vec3 s1 = IRID_XYZ_TO_REC709 * (xyz1 / 1.0685e-7);
     vec3 s2 = IRID_XYZ_TO_REC709 * (xyz2 / 1.0685e-7);
@@ -510,12 +536,14 @@ vec3 film_over(FilmAt f, vec3 base_f0) {
     vec3 rs = (f.t121 * f.t121) * r23 / (vec3(1.0) - r123);
     vec3 k1 = (rs - vec3(f.t121)) * sqrt_r123;
     vec3 k2 = k1 * sqrt_r123;
-    return max(vec3(f.r12) + rs + 2.0 * (k1 * s1 + k2 * s2), vec3(0.0));
+    // Total internal reflection: 1 (a select, not a branch).
+    return f.tir ? vec3(1.0) : max(vec3(f.r12) + rs + 2.0 * (k1 * s1 + k2 * s2), vec3(0.0));
 }
 
 vec3 iridescence_fresnel(float outside_ior, float film_ior, float cos_theta1, float thickness_nm,
                          vec3 base_f0) {
-    return film_over(film_at(outside_ior, film_ior, cos_theta1, thickness_nm), base_f0);
+    Film m = film_of(outside_ior, film_ior, thickness_nm);
+    return film_over(film_at(m, cos_theta1), film_base(m, base_f0));
 }
 
 #endif // LUZ_BRDF_TERMS_GLSL

@@ -412,6 +412,11 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
         g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
     }
+    // KHR_materials_iridescence's film and bases, once for every light and the environment
+    // (brdf_iridescence_fresnel_of reads them in the fragment stage).
+    if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p)) {
+        g_material_film = brdf_material_film(p);
+    }
     if (DEBUG_VIEW != DEBUG_VIEW_NONE && DEBUG_VIEW != DEBUG_VIEW_NAN) {
         return debug_value(s, P, V);
     }

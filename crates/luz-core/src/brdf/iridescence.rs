@@ -79,18 +79,72 @@ pub fn eval_sensitivity2(opd: f32, shift: Vec3) -> (Vec3, Vec3) {
     )
 }
 
+/// The film whatever the angle and the base: the outside's index, the film's index `eta2` (it
+/// fades to the outside's as the film thins), the first interface's F0, the film's own phase
+/// `phi21` and the path difference per unit refracted cosine. A material's film, made once per
+/// pixel; [`film_at`] adds the angle.
+#[derive(Debug, Clone, Copy)]
+pub struct Film {
+    outside_ior: f32,
+    eta2: f32,
+    r12_f0: f32,
+    phi21: f32,
+    /// The phase 2π · (2 η₂ d cos θ₂) · 10⁻⁹ per unit cos θ₂.
+    phase_per_cos2: f32,
+}
+
+/// The film of index `film_ior` and thickness `thickness_nm` seen from a medium of index
+/// `outside_ior`. The film's index fades to the outside's as it thins.
+pub fn film_of(outside_ior: f32, film_ior: f32, thickness_nm: f32) -> Film {
+    let t = (thickness_nm / 0.03).clamp(0.0, 1.0);
+    let eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
+    Film {
+        outside_ior,
+        eta2,
+        r12_f0: ior_to_f0(eta2, outside_ior),
+        phi21: if eta2 < outside_ior {
+            0.0
+        } else {
+            std::f32::consts::PI
+        },
+        phase_per_cos2: 2.0 * std::f32::consts::PI * (2.0 * eta2 * thickness_nm) * 1.0e-9,
+    }
+}
+
+/// What a base of normal-incidence reflectance `base_f0` gives under `film` whatever the angle:
+/// the second interface's F0 per channel, and the sign the base's phase (π when its index is
+/// below the film's) gives the first order's cosine. Made once per pixel per base.
+#[derive(Debug, Clone, Copy)]
+pub struct FilmBase {
+    r23_f0: Vec3,
+    sign: Vec3,
+}
+
+/// [`FilmBase`] of `base_f0` under `film`.
+pub fn film_base(film: &Film, base_f0: Vec3) -> FilmBase {
+    let mut r23_f0 = Vec3::ZERO;
+    let mut sign = Vec3::ONE;
+    for i in 0..3 {
+        let base_ior = f0_to_ior(base_f0[i]);
+        r23_f0[i] = ior_to_f0(base_ior, film.eta2);
+        if base_ior < film.eta2 {
+            sign[i] = -1.0;
+        }
+    }
+    FilmBase { r23_f0, sign }
+}
+
 /// What the film gives at one angle whatever the base under it: the first interface's
-/// reflectance `r12` and transmission `t121`, the film's index `eta2` and refracted cosine
-/// `cos2`, and the sensitivity fit's cosines and Gaussians at the film's path difference and
-/// its own phase `phi21` (per XYZ component, and the X component's extra lobe). A base only
-/// adds a phase of π per channel, which flips a first-order cosine's sign and leaves the
-/// second order's (`cos(2x + 2π) = cos 2x`): two bases (metallic between 0 and 1) share one
-/// evaluation of the transcendentals. `None` under total internal reflection.
+/// reflectance `r12` and transmission `t121`, the film's refracted cosine `cos2`, and the
+/// sensitivity fit's cosines and Gaussians at the film's path difference and its own phase
+/// `phi21` (per XYZ component, and the X component's extra lobe). A base only adds a phase of π
+/// per channel, which flips a first-order cosine's sign and leaves the second order's
+/// (`cos(2x + 2π) = cos 2x`): two bases (metallic between 0 and 1) share one evaluation of the
+/// transcendentals. `None` under total internal reflection.
 #[derive(Debug, Clone, Copy)]
 pub struct FilmAt {
     r12: f32,
     t121: f32,
-    eta2: f32,
     cos2: f32,
     /// cos(pos · phase + φ21) per XYZ component, and the X lobe's.
     c: Vec3,
@@ -100,30 +154,18 @@ pub struct FilmAt {
     ex: f32,
 }
 
-/// The film of index `film_ior` and thickness `thickness_nm` seen from a medium of index
-/// `outside_ior` at `cos_theta1` (v·h). The film's index fades to the outside's as it thins.
-pub fn film_at(
-    outside_ior: f32,
-    film_ior: f32,
-    cos_theta1: f32,
-    thickness_nm: f32,
-) -> Option<FilmAt> {
+/// `film` at `cos_theta1` (v·h).
+pub fn film_at(film: &Film, cos_theta1: f32) -> Option<FilmAt> {
     let c1 = cos_theta1.clamp(0.0, 1.0);
-    let t = (thickness_nm / 0.03).clamp(0.0, 1.0);
-    let eta2 = outside_ior + (film_ior - outside_ior) * (t * t * (3.0 - 2.0 * t));
-    let sin2_theta2 = sq(outside_ior / eta2) * (1.0 - sq(c1));
+    let sin2_theta2 = sq(film.outside_ior / film.eta2) * (1.0 - sq(c1));
     let cos2_theta2 = 1.0 - sin2_theta2;
     if cos2_theta2 < 0.0 {
         return None;
     }
     let cos2 = cos2_theta2.sqrt();
-    let r12 = schlick1(ior_to_f0(eta2, outside_ior), c1);
-    let phi21 = if eta2 < outside_ior {
-        0.0
-    } else {
-        std::f32::consts::PI
-    };
-    let phase = 2.0 * std::f32::consts::PI * (2.0 * eta2 * thickness_nm * cos2) * 1.0e-9;
+    let r12 = schlick1(film.r12_f0, c1);
+    let phi21 = film.phi21;
+    let phase = film.phase_per_cos2 * cos2;
     let pos = Vec3::new(1.6810e+06, 1.7953e+06, 2.2084e+06);
     let var = Vec3::new(4.3278e+09, 9.3046e+09, 6.6121e+09);
     let mut c = Vec3::ZERO;
@@ -135,7 +177,6 @@ pub fn film_at(
     Some(FilmAt {
         r12,
         t121: 1.0 - r12,
-        eta2,
         cos2,
         c,
         cx: (2.2399e+06 * phase + phi21).cos(),
@@ -144,34 +185,25 @@ pub fn film_at(
     })
 }
 
-/// The film's Fresnel reflectance over a base of normal-incidence reflectance `base_f0`
-/// (`None`, total internal reflection: 1). Never negative (the extension clamps out-of-gamut
-/// colours).
-pub fn film_over(film: Option<&FilmAt>, base_f0: Vec3) -> Vec3 {
+/// The film's Fresnel reflectance over `base` (`None`, total internal reflection: 1). Never
+/// negative (the extension clamps out-of-gamut colours).
+pub fn film_over(film: Option<&FilmAt>, base: &FilmBase) -> Vec3 {
     let Some(f) = film else {
         return Vec3::ONE;
     };
     let val = Vec3::new(5.4856e-13, 4.4201e-13, 5.2481e-13);
     let var = Vec3::new(4.3278e+09, 9.3046e+09, 6.6121e+09);
     let two_pi = 2.0 * std::f32::consts::PI;
-    let mut r23 = Vec3::ZERO;
-    // The base's phase π (a base of lower index than the film) flips the first order's cosine.
-    let mut sign = Vec3::ONE;
-    for i in 0..3 {
-        let base_ior = f0_to_ior(base_f0[i]);
-        r23[i] = schlick1(ior_to_f0(base_ior, f.eta2), f.cos2);
-        if base_ior < f.eta2 {
-            sign[i] = -1.0;
-        }
-    }
+    let w = super::terms::schlick_weight(f.cos2);
+    let r23 = base.r23_f0 + (Vec3::ONE - base.r23_f0) * w;
     let (mut xyz1, mut xyz2) = (Vec3::ZERO, Vec3::ZERO);
     for i in 0..3 {
         let k = val[i] * (two_pi * var[i]).sqrt();
-        xyz1[i] = k * sign[i] * f.c[i] * f.e[i];
+        xyz1[i] = k * base.sign[i] * f.c[i] * f.e[i];
         xyz2[i] = k * (2.0 * f.c[i] * f.c[i] - 1.0) * sq(sq(f.e[i]));
     }
     let kx = 9.7470e-14 * (two_pi * 4.5282e+09f32).sqrt();
-    xyz1.x += kx * sign.x * f.cx * f.ex;
+    xyz1.x += kx * base.sign.x * f.cx * f.ex;
     xyz2.x += kx * (2.0 * f.cx * f.cx - 1.0) * sq(sq(f.ex));
     let s1 = XYZ_TO_REC709 * (xyz1 / 1.0685e-7);
     let s2 = XYZ_TO_REC709 * (xyz2 / 1.0685e-7);
@@ -186,7 +218,8 @@ pub fn film_over(film: Option<&FilmAt>, base_f0: Vec3) -> Vec3 {
 
 /// The thin film's Fresnel reflectance (RGB) seen from a medium of index `outside_ior` at
 /// `cos_theta1` (v·h), for a film of index `film_ior` and thickness `thickness_nm` over a base
-/// of normal-incidence reflectance `base_f0`: [`film_over`] of [`film_at`].
+/// of normal-incidence reflectance `base_f0`: [`film_over`] of [`film_at`] and [`film_base`]
+/// of [`film_of`].
 pub fn iridescence_fresnel(
     outside_ior: f32,
     film_ior: f32,
@@ -194,9 +227,10 @@ pub fn iridescence_fresnel(
     thickness_nm: f32,
     base_f0: Vec3,
 ) -> Vec3 {
+    let film = film_of(outside_ior, film_ior, thickness_nm);
     film_over(
-        film_at(outside_ior, film_ior, cos_theta1, thickness_nm).as_ref(),
-        base_f0,
+        film_at(&film, cos_theta1).as_ref(),
+        &film_base(&film, base_f0),
     )
 }
 

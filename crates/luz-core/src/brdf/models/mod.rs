@@ -1000,14 +1000,14 @@ pub fn has_iridescence(p: &MetalRoughParams) -> bool {
 /// metallic (one evaluation when metallic is 0 or 1), as the extension's dielectric and metal
 /// BRDFs mix.
 pub fn iridescence_fresnel_of(p: &MetalRoughParams, cos: f32) -> Vec3 {
-    use super::iridescence::{film_at, film_over};
-    let at = film_at(
+    use super::iridescence::{film_at, film_base, film_of, film_over};
+    let m = film_of(
         iridescence_outside_ior(p),
         p.iridescence_ior,
-        cos,
         p.iridescence_thickness_max,
     );
-    let film = |f0: Vec3| film_over(at.as_ref(), f0);
+    let at = film_at(&m, cos);
+    let film = |f0: Vec3| film_over(at.as_ref(), &film_base(&m, f0));
     if p.metallic <= 0.0 {
         film(p.dielectric_f0)
     } else if p.metallic >= 1.0 {
