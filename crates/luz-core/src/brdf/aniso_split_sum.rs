@@ -17,9 +17,9 @@
 //! [`aniso_split_sum_ab`] reads it multilinearly; the GPU reads the same entries from an extra
 //! layer of `brdf_lut`, slices as tiles (`luz-gpu`'s `ibl::aniso_lut_layer`).
 //!
-//! It is computed once per process ([`aniso_lut`], VNDF sampling: each sample weighs
-//! `G2/G1(v) ≤ 1`, so smooth lobes and grazing views converge); its size, sample count and
-//! measured error are in docs/brdf.md.
+//! It is computed by VNDF sampling (each sample weighs `G2/G1(v) ≤ 1`, so smooth lobes and
+//! grazing views converge) and shipped ([`ANISO_LUT_FILE`], checked by `shipped_aniso_lut_regenerates`);
+//! its size, sample count and measured error are in docs/brdf.md.
 
 use std::sync::OnceLock;
 
@@ -145,10 +145,45 @@ pub fn aniso_lut_table(samples: u32) -> Vec<[f32; 2]> {
         .collect()
 }
 
-/// The table at [`ANISO_LUT_SAMPLES`], computed once per process.
+/// Where the generator writes the shipped table, relative to the luz-core crate:
+/// [`aniso_lut_table`]`(`[`ANISO_LUT_SAMPLES`]`)` as little-endian `f32` pairs `(A, B)` in
+/// [`aniso_lut_index`] order (`cargo run --release -p luz-core --example aniso_lut`).
+pub const ANISO_LUT_FILE: &str = "data/aniso_split_sum_32x32x6x16_512.bin";
+
+static SHIPPED: &[u8] = include_bytes!("../../data/aniso_split_sum_32x32x6x16_512.bin");
+
+/// Entries of the table.
+const ANISO_LUT_ENTRIES: usize =
+    ANISO_LUT_NV * ANISO_LUT_ROUGHNESS * ANISO_LUT_PHI * ANISO_LUT_STRENGTH;
+
+/// The shipped table's entries, or None when the file does not hold this grid (a grid changed
+/// without regenerating it: then [`aniso_lut`] computes the table).
+pub fn shipped_aniso_lut() -> Option<Vec<[f32; 2]>> {
+    if SHIPPED.len() != ANISO_LUT_ENTRIES * 8 {
+        return None;
+    }
+    let f = |b: &[u8]| f32::from_le_bytes(b.try_into().expect("4 bytes"));
+    Some(
+        SHIPPED
+            .chunks_exact(8)
+            .map(|c| [f(&c[..4]), f(&c[4..])])
+            .collect(),
+    )
+}
+
+/// The bytes of the table, computed now (what the generator writes).
+pub fn generate_aniso_lut() -> Vec<u8> {
+    aniso_lut_table(ANISO_LUT_SAMPLES)
+        .iter()
+        .flat_map(|[a, b]| a.to_le_bytes().into_iter().chain(b.to_le_bytes()))
+        .collect()
+}
+
+/// The table at [`ANISO_LUT_SAMPLES`]: the shipped one (computing it took 2–3 s on 2 cores),
+/// else computed once per process.
 pub fn aniso_lut() -> &'static [[f32; 2]] {
     static TABLE: OnceLock<Vec<[f32; 2]>> = OnceLock::new();
-    TABLE.get_or_init(|| aniso_lut_table(ANISO_LUT_SAMPLES))
+    TABLE.get_or_init(|| shipped_aniso_lut().unwrap_or_else(|| aniso_lut_table(ANISO_LUT_SAMPLES)))
 }
 
 /// The view's azimuth in the lobe's frame folded into `[0, π/2]`: `atan2(|b·v|, |t·v|)`
@@ -241,4 +276,43 @@ pub fn aniso_lut_layers(size: u32) -> Vec<Vec<[f32; 4]>> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shipped table is the generator's output, not a hand-copied blob: every 7th entry
+    /// (14,044 of 98,304, every slice's kinds: grazing and normal views, smooth and rough lobes,
+    /// each azimuth and strength) computed again as the generator computes it equals the shipped
+    /// value within 1e-6 (a last-bit difference of another libm's sin/cos; on the machine that
+    /// made it, exact). And the table is shipped: its size is this grid's.
+    #[test]
+    fn shipped_aniso_lut_regenerates() {
+        let table = shipped_aniso_lut().unwrap_or_else(|| {
+            panic!("{ANISO_LUT_FILE} does not hold this grid: regenerate it with `cargo run --release -p luz-core --example aniso_lut`")
+        });
+        let worst = (0..ANISO_LUT_ENTRIES)
+            .into_par_iter()
+            .step_by(7)
+            .map(|idx| {
+                let i = idx % ANISO_LUT_NV;
+                let j = (idx / ANISO_LUT_NV) % ANISO_LUT_ROUGHNESS;
+                let k = (idx / (ANISO_LUT_NV * ANISO_LUT_ROUGHNESS)) % ANISO_LUT_PHI;
+                let m = idx / (ANISO_LUT_NV * ANISO_LUT_ROUGHNESS * ANISO_LUT_PHI);
+                assert_eq!(aniso_lut_index(i, j, k, m), idx);
+                let (n_v, r, phi, s) = aniso_lut_coords(i, j, k, m);
+                let (a, b) = aniso_split_sum_reference(n_v, phi, r, s, ANISO_LUT_SAMPLES);
+                let [ta, tb] = table[idx];
+                (ta - a).abs().max((tb - b).abs())
+            })
+            .reduce(|| 0.0f32, f32::max);
+        assert!(
+            worst <= 1e-6,
+            "{ANISO_LUT_FILE} differs from a fresh generation by {worst}; regenerate it with \
+             `cargo run --release -p luz-core --example aniso_lut`"
+        );
+        assert!(std::ptr::eq(aniso_lut(), aniso_lut()));
+        assert_eq!(aniso_lut(), &table[..]);
+    }
 }

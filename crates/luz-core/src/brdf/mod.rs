@@ -41,8 +41,8 @@ pub use albedo::{
 pub use aniso_split_sum::{
     aniso_azimuth, aniso_lut, aniso_lut_coords, aniso_lut_index, aniso_lut_layers, aniso_lut_table,
     aniso_lut_tiles, aniso_split_sum_ab, aniso_split_sum_reference, aniso_widths,
-    sample_ggx_vndf_aniso, ANISO_LUT_NV, ANISO_LUT_PHI, ANISO_LUT_ROUGHNESS, ANISO_LUT_SAMPLES,
-    ANISO_LUT_STRENGTH,
+    generate_aniso_lut, sample_ggx_vndf_aniso, shipped_aniso_lut, ANISO_LUT_FILE, ANISO_LUT_NV,
+    ANISO_LUT_PHI, ANISO_LUT_ROUGHNESS, ANISO_LUT_SAMPLES, ANISO_LUT_STRENGTH,
 };
 pub use energy::{energy_scale, energy_scale_ab, energy_scale_f90, split_sum_ab, EnergyScale};
 pub use gpu::{model_code, GpuBrdfParams};
