@@ -19,8 +19,16 @@
 # takes the deferred path under "auto", an anisotropic material cannot (the G-buffer keeps no
 # tangent), so "auto" would compare a lobe with the path change; "forward" compares the lobes.
 #
+# CLOCK=cpu measures the process's CPU time (user + system, every lavapipe thread) per frame
+# instead, from two runs of FRAMES and FRAMES + 30 frames (start-up and pipeline compilation
+# cancel): on a machine shared with builds, other processes inflate the GPU time's wall clock but
+# not a process's own CPU time. Its ratios run about 0.1 above the GPU time's on a quiet machine
+# (the frame's fixed work weighs less), so compare CPU ratios with CPU ratios only.
+# LUZ_BEFORE=path/to/older/luz benches that build too in every round ("before" rows): a change's
+# effect measured in one run.
+#
 #   scripts/lobe_cost.sh [ROUNDS] [FRAMES]   (default 3 20; LUZ=path/to/luz, RENDER_PATH=auto,
-#   VARIANTS="base sheen_on ..." for a subset, base first)
+#   VARIANTS="base sheen_on ..." for a subset, base first; CLOCK=cpu; LUZ_BEFORE=path)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROUNDS=${1:-3}
@@ -60,34 +68,63 @@ PY
 
 # VARIANTS="base sheen_on" benches a subset (base always first).
 read -r -a variants <<< "${VARIANTS:-base clearcoat_on clearcoat_off sheen_on sheen_off anisotropy_on anisotropy_off iridescence_on iridescence_off iridescence_view_on}"
-bench() {
-    "$LUZ" bench "$tmp/$1.json" --frames "$FRAMES" --warmup 3 --render-path "$RENDER_PATH" \
-        --json "$tmp/b.json" >/dev/null
-    python3 -c 'import json,sys; b = json.load(open(sys.argv[1])); print("%.3f" % b["gpu_total_ms"]["median"])' "$tmp/b.json"
+CLOCK=${CLOCK:-gpu}
+# The CPU seconds (user + system) of one `luz bench` of variant $2 with binary $1 over $3 frames.
+cpu_seconds() {
+    /usr/bin/time -o "$tmp/t.txt" -f "%U %S" "$1" bench "$tmp/$2.json" --frames "$3" --warmup 1 \
+        --render-path "$RENDER_PATH" >/dev/null 2>&1
+    awk '{ print $1 + $2 }' "$tmp/t.txt"
 }
+# Milliseconds per frame of variant $2 with binary $1: the GPU total's median, or (CLOCK=cpu) the
+# CPU time of 30 more frames over 30.
+bench_with() {
+    if [ "$CLOCK" = cpu ]; then
+        local a b
+        a=$(cpu_seconds "$1" "$2" "$FRAMES")
+        b=$(cpu_seconds "$1" "$2" $((FRAMES + 30)))
+        python3 -c "print('%.3f' % (($b - $a) / 30 * 1000))"
+    else
+        "$1" bench "$tmp/$2.json" --frames "$FRAMES" --warmup 3 --render-path "$RENDER_PATH" \
+            --json "$tmp/b.json" >/dev/null
+        python3 -c 'import json,sys; b = json.load(open(sys.argv[1])); print("%.3f" % b["gpu_total_ms"]["median"])' "$tmp/b.json"
+    fi
+}
+bench() { bench_with "$LUZ" "$1"; }
+if [ -n "${LUZ_BEFORE:-}" ]; then
+    [ -x "$LUZ_BEFORE" ] || { echo "LUZ_BEFORE=$LUZ_BEFORE is not an executable" >&2; exit 1; }
+    # Every variant again with the older build, as "<variant>@before".
+    before=()
+    for v in "${variants[@]}"; do before+=("$v@before"); done
+fi
 
 echo "# lobe cost: $(date -u +%Y-%m-%dT%H:%MZ), $("$LUZ" devices 2>/dev/null | head -1), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "# command: RENDER_PATH=$RENDER_PATH scripts/lobe_cost.sh $ROUNDS $FRAMES ($(git rev-parse --short HEAD 2>/dev/null || echo '?'))"
+echo "# command: RENDER_PATH=$RENDER_PATH CLOCK=$CLOCK${LUZ_BEFORE:+ LUZ_BEFORE=$LUZ_BEFORE} scripts/lobe_cost.sh $ROUNDS $FRAMES ($(git rev-parse --short HEAD 2>/dev/null || echo '?'))"
 declare -A times
 for r in $(seq 1 "$ROUNDS"); do
     line="round $r:"
-    for v in "${variants[@]}"; do
-        t=$(bench "$v")
+    for v in "${variants[@]}" ${before[@]+"${before[@]}"}; do
+        case "$v" in
+            *@before) t=$(bench_with "$LUZ_BEFORE" "${v%@before}") ;;
+            *) t=$(bench "$v") ;;
+        esac
         times[$v]="${times[$v]:-} $t"
         line="$line $v ${t} ms,"
     done
     echo "${line%,}"
 done
-python3 - "${variants[@]}" <<PY
+python3 - "${variants[@]}" ${before[@]+"${before[@]}"} <<PY
 import statistics, sys
-times = {$(for v in "${variants[@]}"; do printf '"%s": [%s], ' "$v" "$(echo ${times[$v]} | tr ' ' ',')"; done)}
-base = statistics.median(times["base"])
+times = {$(for v in "${variants[@]}" ${before[@]+"${before[@]}"}; do printf '"%s": [%s], ' "$v" "$(echo ${times[$v]} | tr ' ' ',')"; done)}
 goal = {"on": 1.25, "off": 1.01}
-print("| variant | GPU total p50 per round (ms) | median (ms) | × base | goal |")
+what = "GPU total p50" if "$CLOCK" == "gpu" else "CPU ms per frame"
+print(f"| variant | {what} per round (ms) | median (ms) | × base | goal |")
 print("|---|---|---:|---:|---:|")
 for v in sys.argv[1:]:
+    name, _, tag = v.partition("@")
+    base = statistics.median(times["base@" + tag if tag else "base"])
     m = statistics.median(times[v])
-    g = "" if v == "base" else f"≤ {goal[v.rsplit('_', 1)[1]]}"
+    g = "" if name == "base" else f"≤ {goal[name.rsplit('_', 1)[1]]}"
     rounds = " / ".join(f"{t:.1f}" for t in times[v])
-    print(f"| {v.replace('_', ' ')} | {rounds} | {m:.2f} | {m / base:.3f} | {g} |")
+    label = name.replace("_", " ") + (f" ({tag})" if tag else "")
+    print(f"| {label} | {rounds} | {m:.2f} | {m / base:.3f} | {g} |")
 PY

@@ -329,8 +329,9 @@ struct MaterialFilm {
 
 MaterialFilm brdf_material_film(BrdfParams p) {
     MaterialFilm m;
-    // The outside is air, under a coat too (iridescence_outside_ior).
-    m.film = film_of(1.0, p.p2.z, p.p2.w);
+    // The outside is air, or the clear coat's 1.5 mixed by its factor (iridescence_outside_ior).
+    float coat = (BRDF_LOBES & BRDF_LOBE_CLEARCOAT) != 0u ? p.p1.x : 0.0;
+    m.film = film_of(1.0 + 0.5 * coat, p.p2.z, p.p2.w);
     m.dielectric = film_base(m.film, p.spec.rgb);
     m.metal = film_base(m.film, p.color.rgb);
     return m;
@@ -349,7 +350,11 @@ vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
 #else
     MaterialFilm m = brdf_material_film(p);
 #endif
-    FilmAt f = film_at(m.film, c);
+    // Under a coat the film is met at the angle refracted into it (iridescence_cos_above).
+    float n0 = m.film.outside_ior;
+    float cc = clamp(c, 0.0, 1.0);
+    float c_above = n0 > 1.0 ? sqrt(max(1.0 - (1.0 - cc * cc) / (n0 * n0), 0.0)) : c;
+    FilmAt f = film_at(m.film, c_above);
     return mix(film_over(f, m.dielectric), film_over(f, m.metal), p.spec.w);
 }
 
@@ -365,14 +370,15 @@ float brdf_split_sum_mean_cos(vec2 ab) {
 
 // The F0 the split sum and energy compensation take for p (iridescence_f0): f0, or mixed with
 // the F0 whose Schlick curve meets the film's Fresnel at c (brdf_split_sum_mean_cos of the
-// lobe's entry).
+// lobe's entry); below 0 where the film stays under Schlick's curve (under a coat), so that
+// F0·A + B is still the film's F(c)·(A + B).
 vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float c) {
     if (!brdf_has_iridescence(p)) {
         return f0;
     }
     vec3 f = brdf_iridescence_fresnel_of(p, c);
     float w = brdf_schlick_weight(clamp(c, 0.0, 1.0));
-    vec3 film_f0 = clamp((f - vec3(w)) / max(1.0 - w, 1e-4), vec3(0.0), vec3(1.0));
+    vec3 film_f0 = min((f - vec3(w)) / max(1.0 - w, 1e-4), vec3(1.0));
     return mix(f0, film_f0, brdf_film_factor(p));
 }
 

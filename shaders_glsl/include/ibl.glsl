@@ -267,7 +267,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v, AnisotropicLobe an) {
     vec3 f0 = brdf_iridescence_f0(p, mix(p.spec.rgb, p.color.rgb, p.spec.w),
                                   brdf_split_sum_mean_cos(ab));
     float e = max(ab.x + ab.y, 1e-4);
-    es.specular = vec3(1.0) + f0 * ((1.0 - e) / e);
+    es.specular = vec3(1.0) + max(f0, vec3(0.0)) * ((1.0 - e) / e);
     vec3 e_ms = (f0 * ab.x + brdf_f90(p) * ab.y) * es.specular;
     es.diffuse = p.p0.x != 0.0 ? vec3(1.0) : max(vec3(1.0) - e_ms, vec3(0.0));
     return es;

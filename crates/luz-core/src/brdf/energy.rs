@@ -123,7 +123,7 @@ pub fn energy_scale_f90(
 /// anisotropic lobe's, [`super::aniso_split_sum_ab`]).
 pub fn energy_scale_ab(f0: Vec3, f90: f32, a: f32, b: f32) -> EnergyScale {
     let e = (a + b).max(1e-4);
-    let specular = Vec3::ONE + f0 * ((1.0 - e) / e);
+    let specular = Vec3::ONE + f0.max(Vec3::ZERO) * ((1.0 - e) / e);
     let e_ms = (f0 * a + Vec3::splat(f90 * b)) * specular;
     EnergyScale {
         specular,
