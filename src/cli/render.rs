@@ -92,8 +92,9 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                  into them, casters at their LOD levels):",
                 renderer.shadow_triangles_drawn()
             );
+            let lights = luz::render::shadow::shadow_lights(&scene);
             for m in &maps {
-                let kernel = scene.lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
+                let kernel = lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
                 println!("  {}", m.describe(kernel));
             }
             let r = renderer.shadow_receivers();
