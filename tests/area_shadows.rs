@@ -286,3 +286,106 @@ fn shadows_are_per_area_light() {
     common::assert_no_validation_messages(&ctx);
     assert!(worst < 1e-3, "{worst}");
 }
+
+/// Each renderer's forward-pass GPU ms (the forward, or the deferred path's gbuffer and lighting
+/// passes; not the shadow pass, which a static scene draws once): `warmup` frames each, then
+/// `rounds` rounds rendering every renderer in turn (a busy machine slows them alike), and each
+/// one's median (as tests/area_lights.rs measures the area lights' cost).
+fn interleaved_forward_medians(
+    renderers: &mut [luz::headless::Headless],
+    warmup: usize,
+    rounds: usize,
+) -> Vec<f64> {
+    let forward = |t: &luz::headless::FrameTimes| {
+        t.gpu_ms
+            .iter()
+            .filter(|(n, _)| {
+                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
+            })
+            .map(|(_, ms)| ms)
+            .sum::<f64>()
+    };
+    for r in renderers.iter_mut() {
+        for _ in 0..warmup {
+            r.render().expect("frame");
+        }
+    }
+    let mut times = vec![Vec::new(); renderers.len()];
+    for _ in 0..rounds {
+        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
+            t.push(forward(&r.render().expect("frame")));
+        }
+    }
+    times
+        .iter_mut()
+        .map(|v| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect()
+}
+
+/// What a shadow lookup adds to the forward pass, for a point light and for a rect (LTC): a
+/// plane filling a 640 × 360 view and a sphere (metal-rough), one light, 3 warm-up frames and
+/// medians of 31 interleaved frames; the table is printed (docs/area-lights.md#shadows). Only
+/// the device's timestamps are asserted: the ratios move with the machine's load.
+/// `cargo test --release --test area_shadows area_shadow_cost -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn area_shadow_cost() {
+    let ctx = common::gpu();
+    let scene = |light: &str| {
+        parse(&format!(
+            r#"{{
+            "camera": {{"position": [0.3, 3, 4], "target": [0, 0.3, 0]}},
+            "output": {{"width": 640, "height": 360, "msaa": 1}},
+            "lights": [{light}],
+            "materials": {{"m": {{"model": "metal_rough", "base_color": [0.8, 0.7, 0.6], "metallic": 0.3, "roughness": 0.4}}}},
+            "objects": [
+                {{"mesh": {{"type": "plane", "size": [40, 40]}}, "material": "m"}},
+                {{"mesh": {{"type": "sphere", "radius": 0.5}}, "material": "m", "position": [0, 0.5, 0]}}
+            ]
+        }}"#
+        ))
+    };
+    let point = |shadow: &str| {
+        format!(
+            r#"{{"type": "point", "position": [0.2, 1.5, -0.3], "intensity": 3, "radius": 0.3{}}}"#,
+            shadow_field(shadow)
+        )
+    };
+    let rect = |shadow: &str| {
+        format!(
+            r#"{{"type": "rect", "position": [0.2, 1.5, -0.3], "direction": [0, -1, 0], "up": [0, 0, 1], "size": [0.8, 0.6], "intensity": 3, "visible": false{}}}"#,
+            shadow_field(shadow)
+        )
+    };
+    let pcss = r#"{"method": "pcss", "resolution": 1024}"#;
+    let pcf = r#"{"method": "pcf", "resolution": 1024}"#;
+    let cases = [
+        ("point", point("null")),
+        ("point, PCF 2×2", point(pcf)),
+        ("point, PCSS", point(pcss)),
+        ("rect, LTC", rect("null")),
+        ("rect, LTC, PCF 2×2", rect(pcf)),
+        ("rect, LTC, PCSS", rect(pcss)),
+    ];
+    let mut renderers: Vec<_> = cases
+        .iter()
+        .map(|(_, l)| luz::headless::Headless::new(&ctx, &scene(l)).expect("renderer"))
+        .collect();
+    let medians = interleaved_forward_medians(&mut renderers, 3, 31);
+    drop(renderers);
+    common::assert_no_validation_messages(&ctx);
+    eprintln!(
+        "| light | forward pass, median ms | × the same light without a shadow |\n|---|---:|---:|"
+    );
+    for (i, ((name, _), m)) in cases.iter().zip(&medians).enumerate() {
+        let base = medians[if i < 3 { 0 } else { 3 }];
+        eprintln!("| {name} | {m:.2} | {:.2} |", m / base);
+    }
+    assert!(
+        medians.iter().all(|&m| m > 0.0),
+        "the device has timestamps"
+    );
+}

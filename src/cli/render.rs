@@ -95,7 +95,15 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
             let lights = luz::render::shadow::shadow_lights(&scene);
             for m in &maps {
                 let kernel = lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
-                println!("  {}", m.describe(kernel));
+                let line = m.describe(kernel);
+                // Area lights' maps follow the punctual lights' (render::shadow::shadow_lights).
+                let line = match m.light.checked_sub(scene.lights.len()) {
+                    Some(k) => {
+                        line.replacen(&format!("light {}", m.light), &format!("area light {k}"), 1)
+                    }
+                    None => line,
+                };
+                println!("  {line}");
             }
             let r = renderer.shadow_receivers();
             if !switches.shadow_receivers {
