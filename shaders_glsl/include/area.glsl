@@ -433,7 +433,12 @@ float area_shadow(uint k, vec3 c, vec3 P, vec3 N) {
     vec3 l = len > 0.0 ? -d / len : vec3(0.0, 1.0, 0.0);
     int layer = s.info.x + face;
     ShadowLayer L = shadow_layers[layer];
-    return shadow_lookup_of(AREA_SHADOW_KINDS, s, L, layer, false, true, s.info.z, s.info.w, P, N,
+    // When every shadowed area light uses one filter, the method is a constant: the filter
+    // compiles alone (lavapipe would otherwise run PCSS and the PCF fallback after it both).
+    int method = AREA_SHADOW_KINDS == LK_SHADOW_PCSS ? SHADOW_PCSS
+               : AREA_SHADOW_KINDS == LK_SHADOW_HARD ? SHADOW_HARD
+               : AREA_SHADOW_KINDS == LK_SHADOW_PCF ? SHADOW_PCF : s.info.z;
+    return shadow_lookup_of(AREA_SHADOW_KINDS, s, L, layer, false, true, method, s.info.w, P, N,
                             l);
 }
 
