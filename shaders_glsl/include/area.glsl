@@ -412,4 +412,34 @@ vec3 area_shade(uint k, Surface s, vec3 P, vec3 V) {
     return lo * a.radiance * area_window(a, P);
 }
 
+// The shadow filters area lights use (LK_AREA_SHADOW_* as LK_SHADOW_* bits; 0: no area light has
+// a shadow and none of area_shadow is compiled).
+const uint AREA_SHADOW_KINDS = (LIGHT_KINDS >> LK_AREA_SHADOW_SHIFT) & SHADOW_KINDS;
+
+// The fraction of area light k's emitter that P sees past the shadow maps (1 without a shadow):
+// its record follows the punctual lights' (src/render/shadow: shadow_lights), a cube map from the
+// emitter's centre c, whose PCSS light size is the emitter's (docs/area-lights.md#shadows). N: the
+// interpolated normal (the normal offset), as for punctual lights.
+float area_shadow(uint k, vec3 c, vec3 P, vec3 N) {
+    ShadowLight s = shadow_lights[opaque(frame.counts.x) + k];
+    if (s.info.x < 0) {
+        return 1.0;
+    }
+    vec3 d = P - c;
+    vec3 a = abs(d);
+    int face = a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1)
+             : (a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5));
+    float len = length(d);
+    vec3 l = len > 0.0 ? -d / len : vec3(0.0, 1.0, 0.0);
+    int layer = s.info.x + face;
+    ShadowLayer L = shadow_layers[layer];
+    // When every shadowed area light uses one filter, the method is a constant: the filter
+    // compiles alone (lavapipe would otherwise run PCSS and the PCF fallback after it both).
+    int method = AREA_SHADOW_KINDS == LK_SHADOW_PCSS ? SHADOW_PCSS
+               : AREA_SHADOW_KINDS == LK_SHADOW_HARD ? SHADOW_HARD
+               : AREA_SHADOW_KINDS == LK_SHADOW_PCF ? SHADOW_PCF : s.info.z;
+    return shadow_lookup_of(AREA_SHADOW_KINDS, s, L, layer, false, true, method, s.info.w, P, N,
+                            l);
+}
+
 #endif

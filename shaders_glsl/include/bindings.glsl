@@ -241,7 +241,7 @@ layout(constant_id = 10) const int SEL_FRESNEL = -1;
 // Bit MAP_* set when the material may have that map (0: no texture code at all).
 layout(constant_id = 11) const uint MAPS = 0xFFu;
 // The light types and falloffs the scene uses (LK_* bits): code for the others is left out.
-layout(constant_id = 12) const uint LIGHT_KINDS = 65535u;
+layout(constant_id = 12) const uint LIGHT_KINDS = 524287u;
 // The material's diffuse selector (BRDF_DIFFUSE_*, BrdfParams.p0.y of Cook-Torrance and
 // metal-rough) fixed per pipeline; -1: read it from the push constants.
 layout(constant_id = 13) const int SEL_DIFFUSE = -1;
@@ -277,6 +277,12 @@ layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_AREA_SPHERE 8192u
 #define LK_AREA_TUBE 16384u
 #define LK_AREA_DISK 32768u
+// Some area light has a shadow filtered this way (include/area.glsl: area_shadow; the punctual
+// lights' LK_SHADOW_* bits shifted left by LK_AREA_SHADOW_SHIFT); none: no area shadow code.
+#define LK_AREA_SHADOW_HARD 65536u
+#define LK_AREA_SHADOW_PCF 131072u
+#define LK_AREA_SHADOW_PCSS 262144u
+#define LK_AREA_SHADOW_SHIFT 9u
 
 // Glass (include/transmission.glsl): the copy of the opaque scene's HDR colour, with its mips,
 // that transmissive draws sample (a 1×1 stand-in when the scene has none), and how

@@ -496,7 +496,15 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
         // Clustered: the cluster's area lights only (a loop of its own, not a branch per light).
         uvec2 areas = area_list_of(cell);
         for (uint k = 0u; k < areas.y; ++k) {
-            result += area_shade(area_list_index(areas, k), s, P, V);
+            uint j = area_list_index(areas, k);
+            vec3 lo = area_shade(j, s, P, V);
+            // Shadowed area lights (AREA_SHADOW_KINDS: compiled only when some has a shadow):
+            // the emitter's light times the fraction of it the maps let through.
+            if (AREA_SHADOW_KINDS != 0u && opaque(material.receive_shadow) != 0u
+                && (lo.r > 0.0 || lo.g > 0.0 || lo.b > 0.0)) {
+                lo *= area_shadow(j, area_data[opaque(frame.counts.z) + j * AREA_VEC4S].xyz, P, N);
+            }
+            result += lo;
         }
     }
 #ifdef IBL

@@ -128,14 +128,15 @@ layout(constant_id = 22) const uint SHADOW_FIXED_3 = 0u;
 #define SHADOW_GEOMETRY_CUBE 2u
 
 
-float shadow_filter(ShadowLight s, ShadowLayer L, int layer, bool perspective, int method, int n,
-                    vec2 uv, float ref, float dist, float texel);
+float shadow_filter_of(uint kinds, ShadowLight s, ShadowLayer L, int layer, bool perspective,
+                       int method, int n, vec2 uv, float ref, float dist, float texel);
 
 // The fraction of light i that reaches P through layer record L (its index `layer`; `beyond`:
 // past the last cascade), filtered by `method` with `n` PCF taps per side (unit normal N, unit
-// direction l towards the light).
-float shadow_lookup(ShadowLight s, ShadowLayer L, int layer, bool beyond, bool perspective,
-                    int method, int n, vec3 P, vec3 N, vec3 l) {
+// direction l towards the light); `kinds`: the LK_SHADOW_* filters compiled (a constant: the
+// punctual lights' LIGHT_KINDS, or the area lights' bits shifted, area.glsl).
+float shadow_lookup_of(uint kinds, ShadowLight s, ShadowLayer L, int layer, bool beyond,
+                       bool perspective, int method, int n, vec3 P, vec3 N, vec3 l) {
     float dist = dot(P - L.origin.xyz, L.axis.xyz);
     float texel = perspective ? L.params.x * dist : L.params.x;
     // Normal offset (more at grazing light) and an offset towards the light, in texels; wider
@@ -153,12 +154,18 @@ float shadow_lookup(ShadowLight s, ShadowLayer L, int layer, bool beyond, bool p
     if (beyond || any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) {
         return 1.0;
     }
-    return shadow_filter(s, L, layer, perspective, method, n, uv, ndc.z, dist, texel);
+    return shadow_filter_of(kinds, s, L, layer, perspective, method, n, uv, ndc.z, dist, texel);
+}
+
+// shadow_lookup_of for the punctual lights' filters.
+float shadow_lookup(ShadowLight s, ShadowLayer L, int layer, bool beyond, bool perspective,
+                    int method, int n, vec3 P, vec3 N, vec3 l) {
+    return shadow_lookup_of(LIGHT_KINDS, s, L, layer, beyond, perspective, method, n, P, N, l);
 }
 
 // The filtered comparison of shadow_lookup at layer-local uv (0–1) and reversed depth ref.
-float shadow_filter(ShadowLight s, ShadowLayer L, int layer, bool perspective, int method, int n,
-                    vec2 uv, float ref, float dist, float texel) {
+float shadow_filter_of(uint kinds, ShadowLight s, ShadowLayer L, int layer, bool perspective,
+                       int method, int n, vec2 uv, float ref, float dist, float texel) {
     float scale = s.params.x;
     float inv_size = s.params.y;
     // Taps stay inside the light's own texels of the layer.
@@ -166,10 +173,10 @@ float shadow_filter(ShadowLight s, ShadowLayer L, int layer, bool perspective, i
     vec2 hi = vec2(scale - 0.5 * inv_size);
     uv *= scale;
     float fl = float(layer);
-    if ((LIGHT_KINDS & LK_SHADOW_HARD) != 0u && method == SHADOW_HARD) {
+    if ((kinds & LK_SHADOW_HARD) != 0u && method == SHADOW_HARD) {
         return textureGrad(shadow_nearest, vec4(clamp(uv, lo, hi), fl, ref), vec2(0.0), vec2(0.0));
     }
-    if ((LIGHT_KINDS & LK_SHADOW_PCSS) != 0u && method == SHADOW_PCSS) {
+    if ((kinds & LK_SHADOW_PCSS) != 0u && method == SHADOW_PCSS) {
         float dr = perspective ? dist : (1.0 - ref) * L.params.z;
         // Blocker search over the light's footprint seen from P, at most the largest filter.
         float max_r = s.size.y;

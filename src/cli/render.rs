@@ -92,9 +92,18 @@ pub fn run(a: RenderArgs) -> Result<ExitCode> {
                  into them, casters at their LOD levels):",
                 renderer.shadow_triangles_drawn()
             );
+            let lights = luz::render::shadow::shadow_lights(&scene);
             for m in &maps {
-                let kernel = scene.lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
-                println!("  {}", m.describe(kernel));
+                let kernel = lights[m.light].shadow.map_or(0, |s| s.pcf_kernel);
+                let line = m.describe(kernel);
+                // Area lights' maps follow the punctual lights' (render::shadow::shadow_lights).
+                let line = match m.light.checked_sub(scene.lights.len()) {
+                    Some(k) => {
+                        line.replacen(&format!("light {}", m.light), &format!("area light {k}"), 1)
+                    }
+                    None => line,
+                };
+                println!("  {line}");
             }
             let r = renderer.shadow_receivers();
             if !switches.shadow_receivers {

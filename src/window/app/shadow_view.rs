@@ -166,7 +166,16 @@ impl Viewer {
             .maps()
             .iter()
             .filter_map(|m| {
-                let kind = format!("{:?}", self.scene.lights.get(m.light)?.kind).to_lowercase();
+                let n = self.scene.lights.len();
+                let kind = match self.scene.lights.get(m.light) {
+                    Some(l) => format!("{:?}", l.kind).to_lowercase(),
+                    // Area lights' maps follow the punctual lights' (render::shadow).
+                    None => {
+                        let k = m.light - n;
+                        let shape = self.scene.area_lights.get(k)?.shape.name();
+                        return Some((m.light, format!("area light {k} ({shape})")));
+                    }
+                };
                 Some((m.light, format!("light {} ({kind})", m.light)))
             })
             .collect()

@@ -193,12 +193,6 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
             }
             _ => {}
         }
-        if a.shadow.is_some() {
-            scene.warnings.push(format!(
-                "lights: {what}: `luz reference` shadows it, the GPU renderer does not yet \
-                 (issue 36)"
-            ));
-        }
     }
     // Every material is known now (the scene's, then the MTL and glTF files'): their textures
     // together within the input budget, from the images' headers, before any is decoded.

@@ -94,10 +94,19 @@ pub const LK_AREA_SAMPLED: u32 = b::LK_AREA_SAMPLED;
 pub const LK_AREA_SPHERE: u32 = b::LK_AREA_SPHERE;
 pub const LK_AREA_TUBE: u32 = b::LK_AREA_TUBE;
 pub const LK_AREA_DISK: u32 = b::LK_AREA_DISK;
+pub const LK_AREA_SHADOW_HARD: u32 = b::LK_AREA_SHADOW_HARD;
+pub const LK_AREA_SHADOW_PCF: u32 = b::LK_AREA_SHADOW_PCF;
+pub const LK_AREA_SHADOW_PCSS: u32 = b::LK_AREA_SHADOW_PCSS;
+const _: () = assert!(
+    LK_AREA_SHADOW_HARD == LK_SHADOW_HARD << b::LK_AREA_SHADOW_SHIFT
+        && LK_AREA_SHADOW_PCF == LK_SHADOW_PCF << b::LK_AREA_SHADOW_SHIFT
+        && LK_AREA_SHADOW_PCSS == LK_SHADOW_PCSS << b::LK_AREA_SHADOW_SHIFT
+);
 
 /// The `LK_AREA_*` method and shape bits (and `LK_RANGE`) area lights need, as `area.glsl`'s
 /// `area_shade` picks a method: sampled where asked; representative point for tubes and for
-/// spheres that ask for it; LTC for the rest (rect and disk always, unless sampled).
+/// spheres that ask for it; LTC for the rest (rect and disk always, unless sampled); and the
+/// `LK_AREA_SHADOW_*` filter of each area light's shadow.
 pub fn area_kinds(lights: &[AreaLight]) -> u32 {
     lights.iter().fold(0, |bits, l| {
         bits | match (l.shape, l.method) {
@@ -111,6 +120,12 @@ pub fn area_kinds(lights: &[AreaLight]) -> u32 {
             AreaShape::Sphere { .. } => LK_AREA_SPHERE,
             AreaShape::Tube { .. } => LK_AREA_TUBE,
         } | if l.range.is_some() { LK_RANGE } else { 0 }
+            | match l.shadow.map(|s| s.method) {
+                None => 0,
+                Some(crate::scene::ShadowMethod::Hard) => LK_AREA_SHADOW_HARD,
+                Some(crate::scene::ShadowMethod::Pcf) => LK_AREA_SHADOW_PCF,
+                Some(crate::scene::ShadowMethod::Pcss) => LK_AREA_SHADOW_PCSS,
+            }
     })
 }
 

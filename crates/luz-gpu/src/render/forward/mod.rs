@@ -84,7 +84,7 @@ struct Draw {
 /// Maps and light kinds of a generic ("all features") pipeline (its terms are
 /// [`TermsKey::Generic`]): the shader keeps the code for every map and light kind.
 pub const GENERIC_MAPS: u32 = 0xFF;
-pub const GENERIC_LIGHT_KINDS: u32 = 65535;
+pub const GENERIC_LIGHT_KINDS: u32 = (gpu::LK_AREA_SHADOW_PCSS << 1) - 1;
 
 /// How to build a [`ForwardPass`] beyond the scene and the target.
 #[derive(Debug, Clone)]

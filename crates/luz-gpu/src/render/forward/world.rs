@@ -83,8 +83,7 @@ impl Shape {
                 .map(|l| (super::emitter::vertex_count(&l.shape), l.visible))
                 .collect(),
             light_kinds: crate::render::gpu::scene_light_kinds(scene),
-            shadows: scene
-                .lights
+            shadows: crate::render::shadow::shadow_lights(scene)
                 .iter()
                 .map(crate::render::shadow::structure_of)
                 .collect(),

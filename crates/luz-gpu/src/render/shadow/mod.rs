@@ -6,6 +6,12 @@
 //! other spots one. The image is as wide as the largest map; a light with a smaller resolution
 //! draws into the top-left corner of its layers. A scene without a shadowed light gets a 1×1
 //! image that is never drawn or read (its shaders are specialised without shadow code).
+//!
+//! Area lights with a `shadow` (issue 36) get maps too, after the punctual lights': each is a
+//! point light at the emitter's centre ([`shadow_lights`]: a cube map, six layers) whose
+//! `radius`, the soft-shadow size PCSS sizes its penumbrae by, is the emitter's
+//! ([`area_shadow_size`]). Their records follow the punctual lights' in the `shadow_lights`
+//! buffer (area light k at `lights.len() + k`); `area.glsl` looks them up by that index.
 
 use std::sync::Arc;
 
@@ -192,11 +198,16 @@ impl ShadowMaps {
         let limits = ctx.limits();
         let mut maps = Vec::new();
         let mut next = 0u32;
-        for (i, l) in scene.lights.iter().enumerate() {
+        let all = shadow_lights(scene);
+        for (i, l) in all.iter().enumerate() {
             let Some(s) = l.shadow else { continue };
             if s.resolution > limits.max_image_dimension_2d {
                 return Err(VkError::Limit {
-                    what: format!("{}: lights[{i}].shadow.resolution", scene.display_name()),
+                    what: format!(
+                        "{}: {}.shadow.resolution",
+                        scene.display_name(),
+                        light_name(scene, i)
+                    ),
                     requested: s.resolution as u64,
                     limit: limits.max_image_dimension_2d as u64,
                     limit_name: "maxImageDimension2D",
@@ -229,11 +240,11 @@ impl ShadowMaps {
             let bytes = u64::from(size) * u64::from(size) * 4 * u64::from(layer_count);
             limits.check_allocation(
                 &format!(
-                    "{}: lights[{}].shadow.resolution {size} ({size}² texels × {layer_count} \
+                    "{}: {}.shadow.resolution {size} ({size}² texels × {layer_count} \
                      layers: every shadowed light's cascades and cube faces at the largest \
                      resolution): the shadow map image",
                     scene.display_name(),
-                    big.light
+                    light_name(scene, big.light)
                 ),
                 bytes,
             )?;
@@ -287,7 +298,7 @@ impl ShadowMaps {
         let n = slots.max(1) as u32;
         let desc_pool =
             DescriptorPool::for_sets(ctx, "shadow descriptor pool", &[(&set_layout, n)])?;
-        let light_count = scene.lights.len().max(1);
+        let light_count = all.len().max(1);
         let mut slot_data = Vec::new();
         for i in 0..n {
             let buffer = |name: &str, bytes: usize| {
@@ -381,7 +392,7 @@ impl ShadowMaps {
             masks,
             casters: 0,
             alpha_tested: 0,
-            light_count: scene.lights.len(),
+            light_count: all.len(),
             last_layers: Vec::new(),
             drawn: std::sync::Mutex::new(vec![None; layer_count as usize]),
             reuse,
@@ -436,11 +447,12 @@ impl ShadowMaps {
         if !self.active() {
             return Ok(());
         }
-        if scene.lights.len() != self.light_count
+        let all = shadow_lights(scene);
+        if all.len() != self.light_count
             || self
                 .maps
                 .iter()
-                .any(|m| structure_of(&scene.lights[m.light]) != structure_of_map(m))
+                .any(|m| structure_of(&all[m.light]) != structure_of_map(m))
         {
             return Err(VkError::Setup(format!(
                 "{}: lights or their shadows changed; rebuild the shadow maps",
@@ -449,7 +461,7 @@ impl ShadowMaps {
         }
         // Biases, kernel and splits may change from frame to frame (the viewer's sliders).
         for m in &mut self.maps {
-            if let Some(sh) = scene.lights[m.light].shadow {
+            if let Some(sh) = all[m.light].shadow {
                 m.shadow = sh;
             }
         }
@@ -479,7 +491,7 @@ impl ShadowMaps {
         s.receives.clear();
         s.receives.resize(receivers.len(), Reached::default());
         for (k, m) in self.maps.iter().enumerate() {
-            let light = &scene.lights[m.light];
+            let light = &all[m.light];
             let fit = fit::fit(light, &m.shadow, &view);
             // Flat casters that can hide no receiver from this light (a floor under the objects).
             let drawn: Vec<&Caster> = casters
@@ -490,13 +502,17 @@ impl ShadowMaps {
                     })
                 })
                 .collect();
-            cull::receiving(
-                &mut s.receives,
-                k,
-                (light, &m.shadow, &fit),
-                scene.camera.view(),
-                (&drawn, receivers),
-            );
+            // The receiver test serves the forward pass's fixed slots, which are the punctual
+            // lights' only: area lights' lookups are compiled in whatever a draw receives.
+            if m.light < scene.lights.len() {
+                cull::receiving(
+                    &mut s.receives,
+                    k,
+                    (light, &m.shadow, &fit),
+                    scene.camera.view(),
+                    (&drawn, receivers),
+                );
+            }
             let sh = &m.shadow;
             let size_term = match light.kind {
                 crate::scene::LightKind::Directional => light.angular_radius_deg.to_radians().tan(),
@@ -669,6 +685,58 @@ impl MapReport {
     }
 }
 
+/// The lights the maps are made for: the scene's punctual lights, then (when the scene has area
+/// lights) one stand-in per area light, in order: a point light at the emitter's centre with the
+/// area light's shadow (`None`: no maps) and the emitter's soft-shadow size as its `radius`
+/// ([`area_shadow_size`]). Shadow record `i` of the GPU is entry `i` of this list. Borrowed
+/// unchanged for a scene without area lights.
+pub fn shadow_lights(scene: &Scene) -> std::borrow::Cow<'_, [crate::scene::Light]> {
+    if scene.area_lights.is_empty() {
+        return std::borrow::Cow::Borrowed(&scene.lights);
+    }
+    let mut all = scene.lights.clone();
+    all.extend(scene.area_lights.iter().map(|a| crate::scene::Light {
+        kind: crate::scene::LightKind::Point,
+        direction: glam::Vec3::NEG_Y,
+        position: a.position,
+        color: a.color,
+        intensity: a.intensity,
+        falloff: crate::scene::Falloff::InverseSquare,
+        umbra_deg: 180.0,
+        inner_deg: None,
+        exponent: 0.0,
+        range: a.range,
+        shadow: a.shadow,
+        radius: area_shadow_size(a),
+        angular_radius_deg: 0.0,
+    }));
+    std::borrow::Cow::Owned(all)
+}
+
+/// The radius (m) of the spherical light PCSS takes an area light for: a sphere's or a disk's
+/// own radius; for a rect, the radius of the disk of equal area, √(w·h/π); for a tube, that of
+/// the disk of the area of its side-on silhouette (2·r·length), √(2·r·length/π), and at least
+/// its radius (seen along its axis the tube is a disk of its radius: its penumbrae there come
+/// out wider than the reference's). docs/area-lights.md#shadows.
+pub fn area_shadow_size(a: &crate::scene::AreaLight) -> f32 {
+    use crate::scene::AreaShape;
+    use std::f32::consts::PI;
+    match a.shape {
+        AreaShape::Sphere { radius } | AreaShape::Disk { radius } => radius,
+        AreaShape::Rect { width, height, .. } => (width * height / PI).sqrt(),
+        AreaShape::Tube { length, radius } => (2.0 * radius * length / PI).sqrt().max(radius),
+    }
+}
+
+/// How messages name entry `i` of [`shadow_lights`]: `lights[i]` for a punctual light, "area
+/// light k" for the others.
+fn light_name(scene: &Scene, i: usize) -> String {
+    match i.checked_sub(scene.lights.len()) {
+        None => format!("lights[{i}]"),
+        Some(k) => format!("area light {k}"),
+    }
+}
+
 /// What of a light's shadow needs new maps or pipelines when it changes: the method (shader
 /// code), the resolution and the layers. `None` without a shadow.
 pub fn structure_of(l: &crate::scene::Light) -> Option<(ShadowMethod, u32, u32)> {
@@ -757,5 +825,62 @@ mod tests {
             fixed_slots(&many[..4]).iter().filter(|&&c| c != 0).count(),
             4
         );
+    }
+
+    /// Area lights' records follow the punctual lights': one point light per area light at its
+    /// centre with its shadow and the emitter's soft-shadow size; without area lights the list is
+    /// the scene's own, borrowed.
+    #[test]
+    fn area_lights_follow_the_punctual_lights() {
+        use crate::scene::{AreaLight, AreaMethod, AreaShape, LightKind};
+        use glam::Vec3;
+        let mut scene = crate::scene::default_scene();
+        scene.area_lights.clear();
+        let n = scene.lights.len();
+        assert!(matches!(
+            shadow_lights(&scene),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        let shadow = Shadow::default_for(LightKind::Point);
+        let area = |shape, shadow| AreaLight {
+            shape,
+            position: Vec3::new(1.0, 2.0, 3.0),
+            direction: Vec3::NEG_Y,
+            color: Vec3::ONE,
+            intensity: 1.0,
+            shadow,
+            two_sided: false,
+            visible: true,
+            method: AreaMethod::Ltc,
+            range: None,
+        };
+        let rect = AreaShape::Rect {
+            up: Vec3::Z,
+            width: 0.8,
+            height: 0.6,
+        };
+        let tube = AreaShape::Tube {
+            length: 1.0,
+            radius: 0.05,
+        };
+        scene.area_lights = vec![
+            area(rect, Some(shadow)),
+            area(AreaShape::Sphere { radius: 0.3 }, None),
+            area(tube, Some(shadow)),
+        ];
+        let all = shadow_lights(&scene);
+        assert_eq!(all.len(), n + 3);
+        assert_eq!(&all[..n], &scene.lights[..]);
+        let r = all[n];
+        assert_eq!(
+            (r.kind, r.position, r.shadow),
+            (LightKind::Point, Vec3::new(1.0, 2.0, 3.0), Some(shadow))
+        );
+        assert!((r.radius - (0.48 / std::f32::consts::PI).sqrt()).abs() < 1e-6);
+        assert_eq!((all[n + 1].radius, all[n + 1].shadow), (0.3, None));
+        assert!((all[n + 2].radius - (0.1 / std::f32::consts::PI).sqrt()).abs() < 1e-6);
+        // The punctual lights' fixed slots do not see the area lights.
+        assert_eq!(fixed_slots(&scene.lights), fixed_slots(&all[..n]));
+        assert_eq!(light_name(&scene, n + 2), "area light 2");
     }
 }
