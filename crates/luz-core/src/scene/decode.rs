@@ -181,10 +181,6 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
         use super::area::{AreaMethod, AreaShape};
         let what = format!("area light {i} ({})", a.shape.name());
         match (a.shape, a.method) {
-            (AreaShape::Tube { .. }, AreaMethod::Ltc) => scene.warnings.push(format!(
-                "lights: {what}: the GPU has no LTC form for tubes yet; it shades this one by \
-                 representative point (issue 36)"
-            )),
             (AreaShape::Rect { .. } | AreaShape::Disk { .. }, AreaMethod::RepresentativePoint) => {
                 scene.warnings.push(format!(
                     "lights: {what}: representative point is for spheres and tubes; the GPU \

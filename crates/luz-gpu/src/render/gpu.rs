@@ -94,16 +94,21 @@ pub const LK_AREA_SAMPLED: u32 = b::LK_AREA_SAMPLED;
 pub const LK_AREA_SPHERE: u32 = b::LK_AREA_SPHERE;
 pub const LK_AREA_TUBE: u32 = b::LK_AREA_TUBE;
 pub const LK_AREA_DISK: u32 = b::LK_AREA_DISK;
+pub const LK_AREA_LTC_TUBE: u32 = b::LK_AREA_LTC_TUBE;
 
 /// The `LK_AREA_*` method and shape bits (and `LK_RANGE`) area lights need, as `area.glsl`'s
-/// `area_shade` picks a method: sampled where asked; representative point for tubes and for
-/// spheres that ask for it; LTC for the rest (rect and disk always, unless sampled).
+/// `area_shade` picks a method: sampled where asked; representative point for spheres and tubes
+/// that ask for it; LTC for the rest (rect and disk always, unless sampled): the line form for
+/// tubes (`LK_AREA_LTC_TUBE`), the polygon form for the other shapes (`LK_AREA_LTC`).
 pub fn area_kinds(lights: &[AreaLight]) -> u32 {
     lights.iter().fold(0, |bits, l| {
         bits | match (l.shape, l.method) {
             (_, AreaMethod::Sampled { .. }) => LK_AREA_SAMPLED,
-            (AreaShape::Tube { .. }, _)
-            | (AreaShape::Sphere { .. }, AreaMethod::RepresentativePoint) => LK_AREA_RP,
+            (
+                AreaShape::Tube { .. } | AreaShape::Sphere { .. },
+                AreaMethod::RepresentativePoint,
+            ) => LK_AREA_RP,
+            (AreaShape::Tube { .. }, AreaMethod::Ltc) => LK_AREA_LTC_TUBE,
             _ => LK_AREA_LTC,
         } | match l.shape {
             AreaShape::Rect { .. } => 0,
@@ -126,7 +131,7 @@ const _: () = assert!(b::LTC_SIZE as usize == crate::brdf::LTC_SIZE);
 /// Where the first area light starts in `area_data`, in `vec4`s: after the LTC table when some
 /// light is shaded by LTC.
 pub fn area_offset(scene: &Scene) -> usize {
-    if area_kinds(&scene.area_lights) & LK_AREA_LTC != 0 {
+    if area_kinds(&scene.area_lights) & (LK_AREA_LTC | LK_AREA_LTC_TUBE) != 0 {
         crate::brdf::LTC_SIZE * crate::brdf::LTC_SIZE * 2
     } else {
         0
