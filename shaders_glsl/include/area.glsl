@@ -1,7 +1,8 @@
 // Area lights (issue 36; docs/area-lights.md): rect, disk, sphere and tube emitters of uniform
 // radiance, shaded by linearly transformed cosines (LTC: polygons, and the line form for tubes),
-// Karis's representative point or N stratified samples. Included by lighting.glsl; code for a method the scene does not use is
-// left out by LIGHT_KINDS (LK_AREA_*), and a scene without area lights has none of it.
+// Karis's representative point or N stratified samples. Included by lighting.glsl; code for a
+// method the scene does not use is left out by LIGHT_KINDS (LK_AREA_*), and a scene without area
+// lights has none of it.
 #ifndef LUZ_AREA_GLSL
 #define LUZ_AREA_GLSL
 
@@ -430,7 +431,7 @@ float ltc_tube(vec3 p, vec3 dp, float r, mat3 minv) {
 }
 
 // LTC: the diffuse term's form factor (the cosine itself) and GGX's fitted lobe, for Lambert and
-// metallic-roughness materials; other models use the representative point. Rects, disks and
+// metallic-roughness materials (area_shade gives other models 16 samples instead). Rects, disks and
 // spheres by their polygon (LK_AREA_LTC), tubes by the line form (LK_AREA_LTC_TUBE): a scene with
 // one kind compiles only its path.
 vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
