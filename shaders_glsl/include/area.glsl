@@ -1,7 +1,8 @@
 // Area lights (issue 36; docs/area-lights.md): rect, disk, sphere and tube emitters of uniform
-// radiance, shaded by linearly transformed cosines (LTC), Karis's representative point or N
-// stratified samples. Included by lighting.glsl; code for a method the scene does not use is
-// left out by LIGHT_KINDS (LK_AREA_*), and a scene without area lights has none of it.
+// radiance, shaded by linearly transformed cosines (LTC: polygons, and the line form for tubes),
+// Karis's representative point or N stratified samples. Included by lighting.glsl; code for a
+// method the scene does not use is left out by LIGHT_KINDS (LK_AREA_*), and a scene without area
+// lights has none of it.
 #ifndef LUZ_AREA_GLSL
 #define LUZ_AREA_GLSL
 
@@ -347,14 +348,100 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
     return sum;
 }
 
+// The LTC line form of tubes (Heitz & Hill 2017's course; LK_AREA_LTC_TUBE): the tube is a ribbon
+// of half-width r along its axis, its width perpendicular to the plane through the shading point
+// and the axis (its silhouette as r/d → 0), plus flat disks of area πr² at its ends facing out
+// along the axis, taken at their centres (the course's caps; luz counts half of each, see
+// ltc_tube_caps). The CPU mirror, with the same names and a test against a thin cylinder:
+// crates/luz-core/src/brdf/ltc_line.rs. Points in the shading frame; the segment is its first
+// end p and its vector dp.
+
+// The form factor of a ribbon of half-width 1 along p → p + dp, cut at the horizon: (1/π) ∫ 2d
+// z(l)/|p(l)|⁴ dl (the course's I_diffuse_line, its antiderivatives' differences written so
+// that a short segment keeps its precision).
+float ltc_line_diffuse(vec3 p, vec3 dp) {
+    float z0 = p.z;
+    float z1 = p.z + dp.z;
+    if (z0 <= 0.0 && z1 <= 0.0) {
+        return 0.0;
+    }
+    float len = length(dp);
+    if (len <= 0.0) {
+        return 0.0;
+    }
+    float s_h = z0 / (z0 - z1);
+    float s0 = z0 < 0.0 ? s_h : 0.0;
+    float s1 = z1 < 0.0 ? s_h : 1.0;
+    vec3 t = dp / len;
+    float l0 = dot(p, t);
+    float l1 = l0 + s0 * len;
+    float l2 = l0 + s1 * len;
+    vec3 po = p - l0 * t;
+    float d = length(po);
+    if (d <= 1e-6 * (abs(l1) + abs(l2))) {
+        return 0.0;
+    }
+    float dl = (s1 - s0) * len;
+    float a1 = d * d + l1 * l1;
+    float a2 = d * d + l2 * l2;
+    float f_po = dl * (d * d - l1 * l2) / (d * a1 * a2) + atan(d * dl, d * d + l1 * l2) / (d * d);
+    float f_wt = d * dl * (l1 + l2) / (a1 * a2);
+    return max((po.z * f_po + t.z * f_wt) / M_PI, 0.0);
+}
+
+// The LTC of minv over that ribbon: the transformed segment's ribbon times the course's width
+// factor 1/|(M⁻¹)⁻ᵀ o| (o: the unit normal of the plane through the origin and the segment), as
+// |det M⁻¹| |p × dp| / |M⁻¹p × M⁻¹dp| (the same number, without the inverse).
+float ltc_line(vec3 p, vec3 dp, mat3 minv) {
+    vec3 q = minv * p;
+    vec3 dq = minv * dp;
+    float c = length(cross(q, dq));
+    if (c <= 0.0) {
+        return 0.0;
+    }
+    float w = abs(determinant(minv)) * length(cross(p, dp)) / c;
+    return w * ltc_line_diffuse(q, dq);
+}
+
+// The two end disks (πr², facing out along the axis), each its solid angle times the LTC at its
+// centre: r² |det M⁻¹| max(q.z, 0) |cos_e| |e| / |q|⁴, q = M⁻¹e (the course's I_ltc_disks): (half
+// of each end's, the end facing the point's whole). A cylinder's silhouette is the ribbon and half
+// of each end's ellipse, each at its own distance, until seen end-on the far end hides behind the
+// near one: ltc_tube takes the larger.
+vec2 ltc_tube_caps(vec3 p, vec3 dp, float r, mat3 minv) {
+    vec3 t = normalize(dp);
+    float det = abs(determinant(minv));
+    vec3 e2 = p + dp;
+    vec3 q1 = minv * p;
+    vec3 q2 = minv * e2;
+    float n1 = dot(q1, q1);
+    float n2 = dot(q2, q2);
+    float tp = dot(t, p);
+    float c1 = r * r * det * max(q1.z, 0.0) * abs(tp) / (n1 * n1);
+    float c2 = r * r * det * max(q2.z, 0.0) * abs(dot(t, e2)) / (n2 * n2);
+    return vec2(0.5 * (c1 + c2), tp > 0.0 ? c1 : c2);
+}
+
+// A tube's LTC form factor: the ribbon of half-width r plus half of each end disk, or the end disk
+// facing the point alone if larger (end-on); at most 1 (the thin ribbon's form grows without
+// bound as the point nears the axis).
+float ltc_tube(vec3 p, vec3 dp, float r, mat3 minv) {
+    vec2 caps = ltc_tube_caps(p, dp, r, minv);
+    return min(max(r * ltc_line(p, dp, minv) + caps.x, caps.y), 1.0);
+}
+
 // LTC: the diffuse term's form factor (the cosine itself) and GGX's fitted lobe, for Lambert and
-// metallic-roughness materials; other models use the representative point.
+// metallic-roughness materials (area_shade gives other models 16 samples instead). Rects, disks and
+// spheres by their polygon (LK_AREA_LTC), tubes by the line form (LK_AREA_LTC_TUBE): a scene with
+// one kind compiles only its path.
 vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
+    bool tube = (LIGHT_KINDS & LK_AREA_LTC_TUBE) != 0u
+        && ((LIGHT_KINDS & LK_AREA_LTC) == 0u || a.shape == AREA_TUBE);
     vec3 c;
     vec3 ex;
     vec3 ey;
     uint n;
-    if (!area_polygon(a, P, c, ex, ey, n)) {
+    if (!tube && !area_polygon(a, P, c, ex, ey, n)) {
         return vec3(0.0);
     }
     vec3 N = s.n;
@@ -367,11 +454,25 @@ vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
     }
     t1 *= inversesqrt(len2);
     mat3 to_frame = transpose(mat3(t1, cross(N, t1), N));
+    // The tube's axis in the frame: its first end and the axis vector (given directly, so that a
+    // tiny tube's ends do not cancel).
+    vec3 tp = vec3(0.0);
+    vec3 tdp = vec3(0.0);
+    if (tube) {
+        tp = to_frame * (a.position - a.ex - P);
+        tdp = to_frame * (2.0 * a.ex);
+    }
     vec3 fd;
     vec3 fs;
     if (MODEL == BRDF_MODEL_LAMBERT) {
-        ltc_polygon(to_frame, mat3(1.0), false, P, c, ex, ey, n, fd, fs);
-        return s.p.color.rgb * ltc_clipped(fd);
+        float ffd;
+        if (tube) {
+            ffd = ltc_tube(tp, tdp, a.radius, mat3(1.0));
+        } else {
+            ltc_polygon(to_frame, mat3(1.0), false, P, c, ex, ey, n, fd, fs);
+            ffd = ltc_clipped(fd);
+        }
+        return s.p.color.rgb * ffd;
     }
     BrdfParams p = s.p;
     float roughness = p.color.w;
@@ -381,27 +482,36 @@ vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
     vec4 f;
     ltc_lookup(sqrt(max(1.0 - clamp(n_v, 0.0, 1.0), 0.0)), roughness, m, f);
     mat3 minv = mat3(vec3(m.x, 0.0, m.y), vec3(0.0, 1.0, 0.0), vec3(m.z, 0.0, m.w));
-    ltc_polygon(to_frame, minv, true, P, c, ex, ey, n, fd, fs);
+    float ffd;
+    float ffs;
+    if (tube) {
+        ffd = ltc_tube(tp, tdp, a.radius, mat3(1.0));
+        ffs = ltc_tube(tp, tdp, a.radius, minv);
+    } else {
+        ltc_polygon(to_frame, minv, true, P, c, ex, ey, n, fd, fs);
+        ffd = ltc_clipped(fd);
+        ffs = ltc_clipped(fs);
+    }
     vec3 spec = f0 * (f.x - f.y) + f.y;
     // The diffuse weight 1 − F (metal-rough's p0.x) at the view's Schlick Fresnel.
     vec3 weight = p.p0.x != 0.0 ? vec3(1.0) - f_schlick(f0, clamp(n_v, 0.0, 1.0)) : vec3(1.0);
-    return p.color.rgb * ((1.0 - metallic) * brdf_diffuse_keep(p)) * weight * ltc_clipped(fd) + spec * ltc_clipped(fs);
+    return p.color.rgb * ((1.0 - metallic) * brdf_diffuse_keep(p)) * weight * ffd + spec * ffs;
 }
 
-// The light one area light reflects towards V at P. Rect and disk lights are shaded by LTC unless
-// sampled (representative point is for spheres and tubes), tubes by representative point unless
-// sampled (no LTC line form yet); src/render/gpu.rs: area_kinds sets the LK_AREA_* bits the same
-// way. Models without an LTC form (not Lambert nor metallic-roughness) take 16 samples instead.
+// The light one area light reflects towards V at P. Rects and disks are shaded by LTC unless
+// sampled (representative point is for spheres and tubes), spheres and tubes by the method they
+// ask for; src/render/gpu.rs: area_kinds sets the LK_AREA_* bits the same way. Models without an
+// LTC form (not Lambert nor metallic-roughness) take 16 samples instead of LTC.
 vec3 area_shade(uint k, Surface s, vec3 P, vec3 V) {
     AreaLight a = area_light(k);
     vec3 lo = vec3(0.0);
     bool ltc_model = MODEL == BRDF_MODEL_LAMBERT || MODEL == BRDF_MODEL_METAL_ROUGH;
     if ((LIGHT_KINDS & LK_AREA_SAMPLED) != 0u && a.method == AREA_SAMPLED) {
         lo = area_sampled(a, s, P, V);
-    } else if ((LIGHT_KINDS & LK_AREA_RP) != 0u
-               && (a.shape == AREA_TUBE || (a.shape == AREA_SPHERE && a.method == AREA_RP))) {
+    } else if ((LIGHT_KINDS & LK_AREA_RP) != 0u && a.method == AREA_RP
+               && (a.shape == AREA_TUBE || a.shape == AREA_SPHERE)) {
         lo = area_representative_point(a, s, P, V);
-    } else if ((LIGHT_KINDS & LK_AREA_LTC) != 0u) {
+    } else if ((LIGHT_KINDS & (LK_AREA_LTC | LK_AREA_LTC_TUBE)) != 0u) {
         if (ltc_model) {
             lo = area_ltc(a, s, P, V);
         } else {

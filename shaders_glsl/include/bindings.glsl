@@ -269,10 +269,13 @@ layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_SHADOW_PCF 256u
 #define LK_SHADOW_PCSS 512u
 // Some area light is shaded by this method (include/area.glsl); none: no area-light code at all.
+// LK_AREA_LTC: a rect, disk or sphere by LTC (the polygon form); LK_AREA_LTC_TUBE: a tube by LTC
+// (the line form).
 #define LK_AREA_LTC 1024u
 #define LK_AREA_RP 2048u
 #define LK_AREA_SAMPLED 4096u
-#define LK_AREA (LK_AREA_LTC | LK_AREA_RP | LK_AREA_SAMPLED)
+#define LK_AREA_LTC_TUBE 524288u
+#define LK_AREA (LK_AREA_LTC | LK_AREA_RP | LK_AREA_SAMPLED | LK_AREA_LTC_TUBE)
 // Some area light has this shape (rects need no bit: their code is the smallest).
 #define LK_AREA_SPHERE 8192u
 #define LK_AREA_TUBE 16384u

@@ -84,16 +84,22 @@ fn area_lights_decode() {
         }
     );
     // Punctual and area lights side by side; the scene warns where the GPU shades a light
-    // otherwise than asked (no LTC form for tubes yet).
+    // otherwise than asked (a disk by representative point), and not for a tube by LTC (the
+    // line form).
     let both = parse_lights(
-        r#"{"type": "point", "position": [0, 1, 0]}, {"type": "tube", "position": [0, 1, 0], "direction": [1, 0, 0], "length": 1, "radius": 0.1}"#,
+        r#"{"type": "point", "position": [0, 1, 0]}, {"type": "tube", "position": [0, 1, 0], "direction": [1, 0, 0], "length": 1, "radius": 0.1}, {"type": "disk", "position": [0, 1, 0], "direction": [0, -1, 0], "radius": 0.1, "method": "representative_point"}"#,
     )
     .unwrap();
-    assert_eq!((both.lights.len(), both.area_lights.len()), (1, 1));
-    assert!(
-        both.warnings.iter().any(|w| w.contains("area light")),
-        "{:?}",
+    assert_eq!((both.lights.len(), both.area_lights.len()), (1, 2));
+    assert_eq!(
         both.warnings
+            .iter()
+            .filter(|w| w.contains("area light"))
+            .collect::<Vec<_>>(),
+        [
+            "lights: area light 1 (disk): representative point is for spheres and tubes; the GPU \
+          shades this one by LTC"
+        ],
     );
 }
 

@@ -180,18 +180,13 @@ pub(crate) fn decode(root: &Value, base: &Path) -> Result<Scene> {
     for (i, a) in scene.area_lights.iter().enumerate() {
         use super::area::{AreaMethod, AreaShape};
         let what = format!("area light {i} ({})", a.shape.name());
-        match (a.shape, a.method) {
-            (AreaShape::Tube { .. }, AreaMethod::Ltc) => scene.warnings.push(format!(
-                "lights: {what}: the GPU has no LTC form for tubes yet; it shades this one by \
-                 representative point (issue 36)"
-            )),
-            (AreaShape::Rect { .. } | AreaShape::Disk { .. }, AreaMethod::RepresentativePoint) => {
-                scene.warnings.push(format!(
-                    "lights: {what}: representative point is for spheres and tubes; the GPU \
-                     shades this one by LTC"
-                ))
-            }
-            _ => {}
+        if let (AreaShape::Rect { .. } | AreaShape::Disk { .. }, AreaMethod::RepresentativePoint) =
+            (a.shape, a.method)
+        {
+            scene.warnings.push(format!(
+                "lights: {what}: representative point is for spheres and tubes; the GPU shades \
+                 this one by LTC"
+            ))
         }
     }
     // Every material is known now (the scene's, then the MTL and glTF files'): their textures

@@ -102,17 +102,54 @@ const _: () = assert!(
         && LK_AREA_SHADOW_PCF == LK_SHADOW_PCF << b::LK_AREA_SHADOW_SHIFT
         && LK_AREA_SHADOW_PCSS == LK_SHADOW_PCSS << b::LK_AREA_SHADOW_SHIFT
 );
+pub const LK_AREA_LTC_TUBE: u32 = b::LK_AREA_LTC_TUBE;
+// Every LIGHT_KINDS bit of area lights is its own (two branches once both took 65536).
+const _: () = {
+    let bits = [
+        LK_AREA_LTC,
+        LK_AREA_RP,
+        LK_AREA_SAMPLED,
+        LK_AREA_SPHERE,
+        LK_AREA_TUBE,
+        LK_AREA_DISK,
+        LK_AREA_SHADOW_HARD,
+        LK_AREA_SHADOW_PCF,
+        LK_AREA_SHADOW_PCSS,
+        LK_AREA_LTC_TUBE,
+        b::LK_DIRECTIONAL,
+        b::LK_POINT,
+        b::LK_SPOT,
+        b::LK_FALLOFF_NONE,
+        b::LK_FALLOFF_INVERSE_SQUARE,
+        b::LK_FALLOFF_CLASSIC,
+        b::LK_RANGE,
+        LK_SHADOW_HARD,
+        LK_SHADOW_PCF,
+        LK_SHADOW_PCSS,
+    ];
+    let mut seen = 0u32;
+    let mut i = 0;
+    while i < bits.len() {
+        assert!(bits[i].count_ones() == 1 && seen & bits[i] == 0);
+        seen |= bits[i];
+        i += 1;
+    }
+};
 
 /// The `LK_AREA_*` method and shape bits (and `LK_RANGE`) area lights need, as `area.glsl`'s
-/// `area_shade` picks a method: sampled where asked; representative point for tubes and for
-/// spheres that ask for it; LTC for the rest (rect and disk always, unless sampled); and the
+/// `area_shade` picks a method: sampled where asked; representative point for spheres and tubes
+/// that ask for it; LTC for the rest (rect and disk always, unless sampled): the line form for
+/// tubes (`LK_AREA_LTC_TUBE`), the polygon form for the other shapes (`LK_AREA_LTC`); and the
 /// `LK_AREA_SHADOW_*` filter of each area light's shadow.
 pub fn area_kinds(lights: &[AreaLight]) -> u32 {
     lights.iter().fold(0, |bits, l| {
         bits | match (l.shape, l.method) {
             (_, AreaMethod::Sampled { .. }) => LK_AREA_SAMPLED,
-            (AreaShape::Tube { .. }, _)
-            | (AreaShape::Sphere { .. }, AreaMethod::RepresentativePoint) => LK_AREA_RP,
+            (
+                AreaShape::Tube { .. } | AreaShape::Sphere { .. },
+                AreaMethod::RepresentativePoint,
+            ) => LK_AREA_RP,
+            (AreaShape::Tube { .. }, AreaMethod::Ltc) => LK_AREA_LTC_TUBE,
             _ => LK_AREA_LTC,
         } | match l.shape {
             AreaShape::Rect { .. } => 0,
@@ -141,7 +178,7 @@ const _: () = assert!(b::LTC_SIZE as usize == crate::brdf::LTC_SIZE);
 /// Where the first area light starts in `area_data`, in `vec4`s: after the LTC table when some
 /// light is shaded by LTC.
 pub fn area_offset(scene: &Scene) -> usize {
-    if area_kinds(&scene.area_lights) & LK_AREA_LTC != 0 {
+    if area_kinds(&scene.area_lights) & (LK_AREA_LTC | LK_AREA_LTC_TUBE) != 0 {
         crate::brdf::LTC_SIZE * crate::brdf::LTC_SIZE * 2
     } else {
         0

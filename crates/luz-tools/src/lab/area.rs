@@ -85,13 +85,10 @@ pub struct AreaCell {
     pub elevation_deg: f32,
 }
 
-/// The methods that apply to `shape` (no LTC line form for tubes; representative point only for
-/// spheres and tubes: the GPU shades a rect or disk asking for it by LTC).
+/// The methods that apply to `shape`: LTC for every shape (tubes by its line form), representative
+/// point only for spheres and tubes (the GPU shades a rect or disk asking for it by LTC).
 pub fn methods(shape: &str, samples: &[u32]) -> Vec<AreaMethod> {
-    let mut m = Vec::new();
-    if shape != "tube" {
-        m.push(AreaMethod::Ltc);
-    }
+    let mut m = vec![AreaMethod::Ltc];
     if matches!(shape, "sphere" | "tube") {
         m.push(AreaMethod::RepresentativePoint);
     }
@@ -549,7 +546,8 @@ mod tests {
             assert!((e - 2.0).abs() < 1e-4);
             assert_eq!((p.output.width, p.output.height), (8, 4));
         }
-        assert_eq!(methods("tube", &SAMPLES).len(), 1 + SAMPLES.len());
+        assert_eq!(methods("tube", &SAMPLES).len(), 2 + SAMPLES.len());
+        assert_eq!(methods("tube", &SAMPLES)[0], AreaMethod::Ltc);
         assert_eq!(methods("sphere", &SAMPLES).len(), 2 + SAMPLES.len());
         assert_eq!(methods("rect", &SAMPLES)[0], AreaMethod::Ltc);
     }
