@@ -414,7 +414,8 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     }
     // KHR_materials_iridescence's film and bases, once for every light and the environment
     // (brdf_iridescence_fresnel_of reads them in the fragment stage).
-    if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p)) {
+    if (MODEL == BRDF_MODEL_METAL_ROUGH && (LOBES & BRDF_LOBE_IRIDESCENCE) != 0u
+        && brdf_has_iridescence(p)) {
         g_material_film = brdf_material_film(p);
     }
     if (DEBUG_VIEW != DEBUG_VIEW_NONE && DEBUG_VIEW != DEBUG_VIEW_NAN) {
