@@ -287,44 +287,6 @@ fn shadows_are_per_area_light() {
     assert!(worst < 1e-3, "{worst}");
 }
 
-/// Each renderer's forward-pass GPU ms (the forward, or the deferred path's gbuffer and lighting
-/// passes; not the shadow pass, which a static scene draws once): `warmup` frames each, then
-/// `rounds` rounds rendering every renderer in turn (a busy machine slows them alike), and each
-/// one's median (as tests/area_lights.rs measures the area lights' cost).
-fn interleaved_forward_medians(
-    renderers: &mut [luz::headless::Headless],
-    warmup: usize,
-    rounds: usize,
-) -> Vec<f64> {
-    let forward = |t: &luz::headless::FrameTimes| {
-        t.gpu_ms
-            .iter()
-            .filter(|(n, _)| {
-                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
-            })
-            .map(|(_, ms)| ms)
-            .sum::<f64>()
-    };
-    for r in renderers.iter_mut() {
-        for _ in 0..warmup {
-            r.render().expect("frame");
-        }
-    }
-    let mut times = vec![Vec::new(); renderers.len()];
-    for _ in 0..rounds {
-        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
-            t.push(forward(&r.render().expect("frame")));
-        }
-    }
-    times
-        .iter_mut()
-        .map(|v| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        })
-        .collect()
-}
-
 /// What a shadow lookup adds to the forward pass, for a point light and for a rect (LTC): a
 /// plane filling a 640 × 360 view and a sphere (metal-rough), one light, 3 warm-up frames and
 /// medians of 31 interleaved frames; the table is printed (docs/area-lights.md#shadows). Only
@@ -374,7 +336,7 @@ fn area_shadow_cost() {
         .iter()
         .map(|(_, l)| luz::headless::Headless::new(&ctx, &scene(l)).expect("renderer"))
         .collect();
-    let medians = interleaved_forward_medians(&mut renderers, 3, 31);
+    let medians = common::interleaved_forward_medians(&mut renderers, 3, 31);
     drop(renderers);
     common::assert_no_validation_messages(&ctx);
     eprintln!(

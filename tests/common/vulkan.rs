@@ -248,3 +248,41 @@ fn driver_string() -> String {
         ctx.info.summary()
     )
 }
+
+/// Each renderer's forward-pass GPU ms (the forward, or the deferred path's gbuffer and
+/// lighting passes): `warmup` frames each, then `rounds` rounds rendering every renderer in
+/// turn (a busy machine slows them alike), and each one's median: the area lights' and their
+/// shadows' cost tests (tests/area_lights.rs, tests/area_shadows.rs).
+pub fn interleaved_forward_medians(
+    renderers: &mut [luz::headless::Headless],
+    warmup: usize,
+    rounds: usize,
+) -> Vec<f64> {
+    let forward = |t: &luz::headless::FrameTimes| {
+        t.gpu_ms
+            .iter()
+            .filter(|(n, _)| {
+                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
+            })
+            .map(|(_, ms)| ms)
+            .sum::<f64>()
+    };
+    for r in renderers.iter_mut() {
+        for _ in 0..warmup {
+            r.render().expect("frame");
+        }
+    }
+    let mut times = vec![Vec::new(); renderers.len()];
+    for _ in 0..rounds {
+        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
+            t.push(forward(&r.render().expect("frame")));
+        }
+    }
+    times
+        .iter_mut()
+        .map(|v| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect()
+}
