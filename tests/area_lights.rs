@@ -599,25 +599,6 @@ fn relative_l1(gpu: &LinearImage, cpu: &LinearImage, pixels: &[usize]) -> f64 {
     diff / total
 }
 
-/// Renders `scene` by the forward and the Auto (deferred, for this Lambert scene) paths.
-fn both_paths(ctx: &std::sync::Arc<Context>, scene: &Scene) -> Vec<(String, LinearImage)> {
-    use luz::headless::{Headless, RenderOptions};
-    use luz::render::forward::RenderPath;
-    [RenderPath::Forward, RenderPath::Auto]
-        .into_iter()
-        .map(|path| {
-            let options = RenderOptions {
-                render_path: path,
-                ..Default::default()
-            };
-            let mut r = Headless::with_options(ctx, scene, &options).expect("renderer");
-            let name = r.render_path().to_string();
-            r.render().expect("frame");
-            (name, r.image().expect("readback"))
-        })
-        .collect()
-}
-
 /// Done-when (issue 36, `visible`): a rect, a disk and a sphere emitter in view over a Lambert
 /// plane, on the forward and the deferred path. Inside each emitter's image (pixels whose centre
 /// and corners all meet it; silhouettes left out) the GPU and the reference both show L within
@@ -642,7 +623,7 @@ fn emitters_seen_by_the_camera() {
             .map(|(i, _)| *i)
             .chain(occluded.iter().copied())
             .collect();
-        for (path, gpu) in both_paths(&ctx, &scene) {
+        for (path, gpu) in common::both_paths(&ctx, &scene) {
             let (gpu_worst, gpu_least, _) = emitter_error(&gpu, &clean);
             let l1 = relative_l1(&gpu, &cpu, &rest);
             let l1_occluded = relative_l1(&gpu, &cpu, &occluded);
@@ -693,7 +674,7 @@ fn one_sided_emitter_is_invisible_from_behind() {
         let pixels: Vec<usize> = rect.iter().map(|(i, _)| *i).collect();
         let cpu = reference(&scene, 1024);
         let (cpu_worst, cpu_least, count) = emitter_error(&cpu, &rect);
-        for (path, gpu) in both_paths(&ctx, &scene) {
+        for (path, gpu) in common::both_paths(&ctx, &scene) {
             let (gpu_worst, gpu_least, _) = emitter_error(&gpu, &rect);
             let l1 = relative_l1(&gpu, &cpu, &pixels);
             eprintln!(

@@ -11,7 +11,6 @@ use luz::reference::{render_reference, ReferenceOptions};
 use luz::scene::Scene;
 
 use common::parse;
-use luz::vk::Context;
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -66,25 +65,6 @@ fn reference(scene: &Scene, samples: u32) -> LinearImage {
         ..ReferenceOptions::default()
     };
     render_reference(scene, &opts, None).unwrap_or_else(|e| panic!("{e:#}"))
-}
-
-/// Renders `scene` by the forward and the Auto (deferred, for this Lambert scene) paths.
-fn both_paths(ctx: &std::sync::Arc<Context>, scene: &Scene) -> Vec<(String, LinearImage)> {
-    use luz::headless::{Headless, RenderOptions};
-    use luz::render::forward::RenderPath;
-    [RenderPath::Forward, RenderPath::Auto]
-        .into_iter()
-        .map(|path| {
-            let options = RenderOptions {
-                render_path: path,
-                ..Default::default()
-            };
-            let mut r = Headless::with_options(ctx, scene, &options).expect("renderer");
-            let name = r.render_path().to_string();
-            r.render().expect("frame");
-            (name, r.image().expect("readback"))
-        })
-        .collect()
 }
 
 fn lum(p: &[f32; 4]) -> f64 {
@@ -206,9 +186,9 @@ fn pcss_area_shadows_match_the_reference() {
         ("sphere", sphere as fn(&str) -> String, 0.045),
     ] {
         let v_ref = reference_visibility(&light(pcss), &light("null"));
-        let unshadowed = both_paths(&ctx, &scene(&light("null"), true));
-        let without = both_paths(&ctx, &scene(&light(pcss), false));
-        let with = both_paths(&ctx, &scene(&light(pcss), true));
+        let unshadowed = common::both_paths(&ctx, &scene(&light("null"), true));
+        let without = common::both_paths(&ctx, &scene(&light(pcss), false));
+        let with = common::both_paths(&ctx, &scene(&light(pcss), true));
         for (((path, w), (_, wo)), (_, un)) in with.iter().zip(&without).zip(&unshadowed) {
             let v_gpu = visibility(w, wo);
             let m = measure(&v_gpu, &v_ref);
@@ -247,8 +227,8 @@ fn hard_and_pcf_area_shadows() {
         (r#"{"method": "hard", "resolution": 512}"#, 0.05),
         (r#"{"method": "pcf", "resolution": 512}"#, 0.1),
     ] {
-        let without = both_paths(&ctx, &scene(&rect(method), false));
-        let with = both_paths(&ctx, &scene(&rect(method), true));
+        let without = common::both_paths(&ctx, &scene(&rect(method), false));
+        let with = common::both_paths(&ctx, &scene(&rect(method), true));
         for ((path, w), (_, wo)) in with.iter().zip(&without) {
             let m = measure(&visibility(w, wo), &v_ref);
             eprintln!("rect {method}, {path}: {m:?}");

@@ -286,3 +286,23 @@ pub fn interleaved_forward_medians(
         })
         .collect()
 }
+
+/// Renders `scene` by the forward and the Auto paths (deferred for a Lambert scene), each image
+/// named by the path that drew it (tests/area_lights.rs, tests/area_shadows.rs).
+pub fn both_paths(ctx: &std::sync::Arc<Context>, scene: &Scene) -> Vec<(String, LinearImage)> {
+    use luz::headless::{Headless, RenderOptions};
+    use luz::render::forward::RenderPath;
+    [RenderPath::Forward, RenderPath::Auto]
+        .into_iter()
+        .map(|path| {
+            let options = RenderOptions {
+                render_path: path,
+                ..Default::default()
+            };
+            let mut r = Headless::with_options(ctx, scene, &options).expect("renderer");
+            let name = r.render_path().to_string();
+            r.render().expect("frame");
+            (name, r.image().expect("readback"))
+        })
+        .collect()
+}
