@@ -12,6 +12,8 @@
 //! `radius`, the soft-shadow size PCSS sizes its penumbrae by, is the emitter's
 //! ([`area_shadow_size`]). Their records follow the punctual lights' in the `shadow_lights`
 //! buffer (area light k at `lights.len() + k`); `area.glsl` looks them up by that index.
+//! Visible emitters are drawn into the layers of every shadowed light but their own
+//! ([`emitters`]), as the reference's emitters stop other lights' shadow rays.
 
 use std::sync::Arc;
 
