@@ -446,6 +446,41 @@ fn an_emitter_does_not_shadow_its_own_light() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
+/// The map cache and emitters: a point light with a shadow (six cube faces) and a visible rect
+/// over the plane. A second frame reuses every face; moving the rect redraws the faces (the
+/// emitter's draws are part of what a face was drawn with), and the image is then exactly a
+/// fresh renderer's of the moved scene (no stale emitter in the maps). Zero validation messages.
+#[test]
+fn a_moved_emitter_redraws_the_maps() {
+    use luz::headless::Headless;
+    let ctx = common::gpu();
+    let point = r#"{"type": "point", "position": [0, 2.6, 0], "intensity": 20, "shadow": {"method": "pcf", "resolution": 256}}"#;
+    let rect = |x: f32| {
+        format!(
+            r#"{{"type": "rect", "position": [{x}, 1.6, 0], "direction": [0, -1, 0], "up": [0, 0, 1], "size": [0.8, 0.6], "intensity": 4}}"#
+        )
+    };
+    let mut s = scene(&format!("{}, {point}", rect(0.0)), false);
+    let mut r = Headless::new(&ctx, &s).expect("renderer");
+    r.render().expect("frame");
+    assert_eq!(r.shadow_frames_drawn_reused(), (1, 0, 6));
+    r.render().expect("frame");
+    assert_eq!(r.shadow_frames_drawn_reused(), (1, 1, 6));
+    let first = r.image().expect("readback");
+    s.area_lights[0].position.x = 0.4;
+    r.update_scene(&s).expect("update");
+    r.render().expect("frame");
+    let (frames, reused, layers) = r.shadow_frames_drawn_reused();
+    eprintln!("after the move: {frames} frames drawn, {reused} reused, {layers} layers drawn");
+    assert_eq!((frames, reused), (2, 1));
+    assert!(layers > 6, "{layers}");
+    let moved = r.image().expect("readback");
+    let fresh = common::render_on(&ctx, &s);
+    assert_eq!(moved.pixels, fresh.pixels, "a stale emitter in the maps");
+    assert_ne!(moved.pixels, first.pixels);
+    common::assert_no_validation_messages(&ctx);
+}
+
 /// What a shadow lookup adds to the forward pass, for a point light and for a rect (LTC): a
 /// plane filling a 640 × 360 view and a sphere (metal-rough), one light, 3 warm-up frames and
 /// medians of 31 interleaved frames; the table is printed (docs/area-lights.md#shadows). Only
