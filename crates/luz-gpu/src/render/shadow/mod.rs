@@ -12,6 +12,8 @@
 //! `radius`, the soft-shadow size PCSS sizes its penumbrae by, is the emitter's
 //! ([`area_shadow_size`]). Their records follow the punctual lights' in the `shadow_lights`
 //! buffer (area light k at `lights.len() + k`); `area.glsl` looks them up by that index.
+//! Visible emitters are drawn into the layers of every shadowed light but their own
+//! ([`emitters`]), as the reference's emitters stop other lights' shadow rays.
 
 use std::sync::Arc;
 
@@ -30,6 +32,7 @@ use crate::vk::pipeline::{DescriptorPool, DescriptorSetLayout};
 use crate::vk::{Buffer, Context, SetWrites, VkError};
 
 pub mod cull;
+mod emitters;
 pub mod fit;
 mod pipeline;
 pub mod view;
@@ -132,12 +135,14 @@ struct Slot {
     records: Vec<GpuShadowLayer>,
     /// Per receiver of the slot's last update: where the maps may darken it.
     receives: Vec<Reached>,
+    /// Per layer: the visible emitters drawn into it (every one but its light's own).
+    emitters: Vec<Vec<emitters::EmitterDraw>>,
 }
 
 /// What one layer of the image holds: the layer record and draws it was last drawn with. A frame
 /// whose record and draws for the layer are the same (nothing moved that the layer sees) reuses
 /// it: a point light's faces stay while the camera orbits, a static scene draws its maps once.
-type Drawn = (GpuShadowLayer, Vec<DepthDraw>);
+type Drawn = (GpuShadowLayer, Vec<DepthDraw>, Vec<emitters::EmitterDraw>);
 
 /// What `luz render --verbose` says about one light's maps.
 #[derive(Debug, Clone, PartialEq)]
@@ -167,6 +172,8 @@ pub struct ShadowMaps {
     pipeline: Option<pipeline::DepthPipeline>,
     /// Only for scenes with shadowed lights and alpha-tested casters.
     masks: Option<pipeline::MaskPipelines>,
+    /// The emitters' unit shapes: only for scenes with shadowed lights and a visible area light.
+    emitter_mesh: Option<emitters::EmitterMesh>,
     casters: usize,
     alpha_tested: usize,
     light_count: usize,
@@ -353,6 +360,7 @@ impl ShadowMaps {
                 draws: vec![Vec::new(); layer_count as usize],
                 records: Vec::new(),
                 receives: Vec::new(),
+                emitters: vec![Vec::new(); layer_count as usize],
             });
         }
         let pipeline = if maps.is_empty() {
@@ -379,6 +387,11 @@ impl ShadowMaps {
             let color = alpha_tested.iter().any(|&c| c);
             Some(pipeline::MaskPipelines::new(ctx, materials, color)?)
         };
+        let emitter_mesh = if !maps.is_empty() && scene.area_lights.iter().any(|a| a.visible) {
+            Some(emitters::EmitterMesh::new(ctx)?)
+        } else {
+            None
+        };
         Ok(Self {
             maps,
             size,
@@ -390,6 +403,7 @@ impl ShadowMaps {
             _pool: desc_pool,
             pipeline,
             masks,
+            emitter_mesh,
             casters: 0,
             alpha_tested: 0,
             light_count: all.len(),
@@ -467,7 +481,31 @@ impl ShadowMaps {
         }
         self.casters = casters.len();
         self.alpha_tested = casters.iter().filter(|c| c.alpha.is_some()).count();
-        let spheres: Vec<Sphere> = casters.iter().map(|c| c.sphere).collect();
+        // Visible emitters cast shadows for every light but their own (emitters.rs): they count
+        // in the fit as casters do.
+        let placed = self
+            .emitter_mesh
+            .as_ref()
+            .map(|m| emitters::visible(scene, &m.ranges))
+            .unwrap_or_default();
+        let emitter_casters: Vec<Caster> = placed
+            .iter()
+            .map(|e| Caster {
+                item: usize::MAX,
+                scale: 1.0,
+                model: e.model,
+                sphere: e.sphere,
+                tight: e.sphere,
+                plane: None,
+                receiver: None,
+                alpha: None,
+            })
+            .collect();
+        let spheres: Vec<Sphere> = casters
+            .iter()
+            .chain(&emitter_casters)
+            .map(|c| c.sphere)
+            .collect();
         let receiver_spheres: Vec<Sphere> = receivers.iter().map(|r| r.sphere).collect();
         let view = fit::View {
             camera: &scene.camera,
@@ -488,6 +526,9 @@ impl ShadowMaps {
         for d in &mut s.draws {
             d.clear();
         }
+        for d in &mut s.emitters {
+            d.clear();
+        }
         s.receives.clear();
         s.receives.resize(receivers.len(), Reached::default());
         for (k, m) in self.maps.iter().enumerate() {
@@ -502,6 +543,8 @@ impl ShadowMaps {
                     })
                 })
                 .collect();
+            // The area light this map stands in for, whose own emitter it does not draw.
+            let own = m.light.checked_sub(scene.lights.len());
             // The receiver test serves the forward pass's fixed slots, which are the punctual
             // lights' only: area lights' lookups are compiled in whatever a draw receives.
             if m.light < scene.lights.len() {
@@ -510,7 +553,14 @@ impl ShadowMaps {
                     k,
                     (light, &m.shadow, &fit),
                     scene.camera.view(),
-                    (&drawn, receivers),
+                    (
+                        &drawn
+                            .iter()
+                            .copied()
+                            .chain(&emitter_casters)
+                            .collect::<Vec<_>>(),
+                        receivers,
+                    ),
                 );
             }
             let sh = &m.shadow;
@@ -556,6 +606,12 @@ impl ShadowMaps {
                 };
                 let budget = scene.output.tessellation_error_px;
                 s.draws[index] = list.layer_view(&drawn, &eye, budget);
+                s.emitters[index].extend(placed.iter().filter(|e| Some(e.area) != own).map(|e| {
+                    emitters::EmitterDraw {
+                        clip: layer.view_proj * e.model,
+                        range: e.range,
+                    }
+                }));
             }
         }
         s.lights.write(0, bytemuck::cast_slice(&lights))?;
@@ -592,11 +648,14 @@ impl ShadowMaps {
             let mut drawn = self.drawn.lock().unwrap_or_else(|e| e.into_inner());
             (0..s.draws.len())
                 .map(|i| {
-                    let same = drawn[i]
-                        .as_ref()
-                        .is_some_and(|(r, d)| Some(r) == s.records.get(i) && *d == s.draws[i]);
+                    let same = drawn[i].as_ref().is_some_and(|(r, d, e)| {
+                        Some(r) == s.records.get(i) && *d == s.draws[i] && *e == s.emitters[i]
+                    });
                     if !(self.reuse && same) {
-                        drawn[i] = s.records.get(i).map(|r| (*r, s.draws[i].clone()));
+                        drawn[i] = s
+                            .records
+                            .get(i)
+                            .map(|r| (*r, s.draws[i].clone(), s.emitters[i].clone()));
                     }
                     !(self.reuse && same)
                 })
@@ -609,6 +668,7 @@ impl ShadowMaps {
         if count == 0 {
             return Some(image);
         }
+        let emitter_mesh = self.emitter_mesh.as_ref().map(emitters::EmitterMesh::raw);
         // The layers not drawn keep their contents: the whole image is read and written.
         g.pass(name)
             .read_write(image, Access::DepthAttachmentWrite)
@@ -628,6 +688,9 @@ impl ShadowMaps {
                             (res, m.shadow.slope_bias),
                             (&s.draws[index], &meshes),
                             self.masks.as_ref().map(|p| (p, materials)),
+                            emitter_mesh
+                                .as_ref()
+                                .map(|mesh| (mesh, s.emitters[index].as_slice())),
                         );
                     }
                 }

@@ -178,7 +178,8 @@ impl DepthPipeline {
     /// Clears `view` (one layer) and draws `draws` into its top-left `resolution`² texels,
     /// pushed away from the light by `slope_bias` per unit of depth slope: the opaque casters
     /// with this pipeline, then the alpha-tested ones with `masked`'s, each with its material's
-    /// set of `masked.1` (by material index).
+    /// set of `masked.1` (by material index), then the visible emitters of `emitters` (their
+    /// unit shapes' mesh and the draws) with this pipeline.
     pub(super) fn record_layer(
         &self,
         cmd: vk::CommandBuffer,
@@ -186,6 +187,7 @@ impl DepthPipeline {
         (resolution, slope_bias): (u32, f32),
         (draws, meshes): (&[DepthDraw], &[MeshRef]),
         masked: Option<(&MaskPipelines, &[vk::DescriptorSet])>,
+        emitters: Option<(&MeshRef, &[super::emitters::EmitterDraw])>,
     ) {
         let d = &self.ctx.device;
         let area = vk::Rect2D {
@@ -262,6 +264,21 @@ impl DepthPipeline {
                     };
                     crate::render::push_constants(d, cmd, &mask.layout, bytemuck::bytes_of(&push));
                     d.cmd_draw_indexed(cmd, draw.range.1, 1, draw.range.0, 0, 0);
+                }
+            }
+            // The emitters' buffer holds 32-bit indices in range of its vertices and lives as
+            // long as the maps (emitters.rs).
+            if let Some((mesh, draws)) = emitters.filter(|(_, e)| !e.is_empty()) {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+                mesh.bind((d, cmd), (false, false), (&mut None, usize::MAX));
+                for e in draws {
+                    crate::render::push_constants(
+                        d,
+                        cmd,
+                        &self.layout,
+                        bytemuck::bytes_of(&e.clip),
+                    );
+                    d.cmd_draw_indexed(cmd, e.range.1, 1, e.range.0, 0, 0);
                 }
             }
             d.cmd_end_rendering(cmd);
