@@ -592,6 +592,12 @@ float lambda_sheen(float cos_theta, float alpha) {
 // lavapipe's lane mask: the fit's exp2 and Λ(n·v)'s pow and exp per light.)
 float g_sheen_lambda_v = -1.0;
 SheenFit g_sheen_fit;
+// Per pixel too (fragment stage, shade(): sheen_view): D_Charlie's factor (2 + 1/α)/(2π) and
+// exponent 1/(2α), and 4 n·v, so that a light pays for none of them (lavapipe does not hoist
+// them out of the light loop).
+float g_sheen_d_scale;
+float g_sheen_d_exp;
+float g_sheen_nv4;
 
 float v_sheen(float n_l, float n_v, float alpha) {
 #ifdef LUZ_FRAGMENT
@@ -605,13 +611,34 @@ float v_sheen(float n_l, float n_v, float alpha) {
     return clamp(1.0 / denom, 0.0, 1.0);
 }
 
+// The sheen's values at one pixel that no light changes (the g_sheen_* above), for sheen
+// roughness r and n·v (clamped): shade() calls it once, before anything evaluates the sheen.
+void sheen_view(float r, float n_v) {
+    float alpha = sheen_alpha(r);
+    float inv_r = 1.0 / alpha;
+    g_sheen_fit = sheen_fit(alpha);
+    g_sheen_lambda_v = lambda_sheen_of(n_v, g_sheen_fit);
+    g_sheen_d_scale = (2.0 + inv_r) * (0.5 * M_1_PI);
+    g_sheen_d_exp = 0.5 * inv_r;
+    g_sheen_nv4 = 4.0 * n_v;
+}
+
 // The white sheen lobe D_Charlie · V_sheen for unit n, l and v with n·l > 0 and n·v > 0.
 float sheen_specular(float r, vec3 n, vec3 l, vec3 v) {
-    float alpha = sheen_alpha(r);
     vec3 h = brdf_safe_normalize(l + v);
     vec3 n_x_h = cross(n, h);
-    return d_charlie(alpha, dot(n_x_h, n_x_h))
-        * v_sheen(brdf_clamp_cos(dot(n, l)), brdf_clamp_cos(dot(n, v)), alpha);
+    float sin2_h = dot(n_x_h, n_x_h);
+    float n_l = brdf_clamp_cos(dot(n, l));
+#ifdef LUZ_FRAGMENT
+    // d_charlie · v_sheen from the pixel's values (sheen_view), in one division:
+    // clamp(1/denom, 0, 1) = 1/max(denom, 1), denom > 0.
+    float denom = (1.0 + g_sheen_lambda_v + lambda_sheen_of(n_l, g_sheen_fit))
+        * (g_sheen_nv4 * n_l);
+    return g_sheen_d_scale * pow(max(sin2_h, 0.0), g_sheen_d_exp) / max(denom, 1.0);
+#else
+    float alpha = sheen_alpha(r);
+    return d_charlie(alpha, sin2_h) * v_sheen(n_l, brdf_clamp_cos(dot(n, v)), alpha);
+#endif
 }
 
 // E_sheen(n·v) at sheen roughness r: the fit of sheen_albedo.glsl at its variables

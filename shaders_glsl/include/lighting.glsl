@@ -409,8 +409,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     // them in the fragment stage: set before anything, the debug views included, evaluates the
     // sheen; has_sheen compiles out without the lobe).
     if (has_sheen(p)) {
-        g_sheen_fit = sheen_fit(sheen_alpha(p.kappa.w));
-        g_sheen_lambda_v = lambda_sheen_of(brdf_clamp_cos(dot(s.n, V)), g_sheen_fit);
+        sheen_view(p.kappa.w, brdf_clamp_cos(dot(s.n, V)));
     }
     // KHR_materials_iridescence's film and bases, once for every light and the environment
     // (brdf_iridescence_fresnel_of reads them in the fragment stage).
