@@ -15,7 +15,7 @@
 #define BINDING_GBUFFER 0
 layout(set = SET_GBUFFER, binding = BINDING_GBUFFER) uniform utexture2D gbuffer;
 
-// src/render/gpu.rs: DeferredMaterial (std430, 288 bytes).
+// src/render/gpu.rs: DeferredMaterial (std430, 224 bytes).
 struct DeferredMaterial {
     BrdfParams brdf;
     uint object_index;
@@ -28,7 +28,6 @@ struct DeferredMaterial {
     vec4 volume;
     vec4 attenuation;
     vec4 diffuse_transmission;
-    vec4 sheen[4];
 };
 layout(set = SET_FRAME, binding = BINDING_DEFERRED_MATERIALS, std430) readonly buffer DeferredMaterials {
     DeferredMaterial deferred_materials[];
@@ -52,7 +51,6 @@ void main() {
     mat_extra.volume = m.volume;
     mat_extra.attenuation = m.attenuation;
     mat_extra.diffuse_transmission = m.diffuse_transmission;
-    mat_extra.sheen = m.sheen;
 
     // The pixel centre's ray and the point on it at
     // the stored view depth.

@@ -623,22 +623,6 @@ void sheen_view(float r, float n_v) {
     g_sheen_nv4 = 4.0 * n_v;
 }
 
-// sheen_view from the values that depend on the material only (layers::sheen_material_constants:
-// c2 = the fit's a, b, c, d; c3 = its e, its value at 0.5, D_Charlie's factor and exponent), as
-// the lighting shaders read them per material: the same values without the fit's work per pixel.
-void sheen_view_of(vec4 c2, vec4 c3, float n_v) {
-    g_sheen_fit.a = c2.x;
-    g_sheen_fit.b = c2.y;
-    g_sheen_fit.c = c2.z;
-    g_sheen_fit.d = c2.w;
-    g_sheen_fit.e = c3.x;
-    g_sheen_fit.l_half = c3.y;
-    g_sheen_lambda_v = lambda_sheen_of(n_v, g_sheen_fit);
-    g_sheen_d_scale = c3.z;
-    g_sheen_d_exp = c3.w;
-    g_sheen_nv4 = 4.0 * n_v;
-}
-
 // The white sheen lobe D_Charlie · V_sheen for unit n, l and v with n·l > 0 and n·v > 0.
 float sheen_specular(float r, vec3 n, vec3 l, vec3 v) {
     vec3 h = brdf_safe_normalize(l + v);
@@ -663,21 +647,6 @@ float sheen_albedo(float n_v, float r) {
     float s = log(clamp(r, SHEEN_ROUGHNESS_MIN, 1.0));
     return sheen_albedo_fit(2.0 * sqrt(clamp(n_v, 0.0, 1.0)) - 1.0,
                             1.0 - 2.0 * s / log(SHEEN_ROUGHNESS_MIN));
-}
-
-// sheen_albedo at n_v from the fit's coefficients in u at the sheen's roughness (q0..q3, q4..q7:
-// layers::sheen_albedo_u, of u^0..u^7), as the lighting shaders read them per material.
-float sheen_albedo_of(float n_v, vec4 lo, vec4 hi) {
-    float u = 2.0 * sqrt(clamp(n_v, 0.0, 1.0)) - 1.0;
-    float p = hi.w;
-    p = p * u + hi.z;
-    p = p * u + hi.y;
-    p = p * u + hi.x;
-    p = p * u + lo.w;
-    p = p * u + lo.z;
-    p = p * u + lo.y;
-    p = p * u + lo.x;
-    return exp(p);
 }
 
 // The base's terms t under the sheen of p (kappa: sheen colour, sheen roughness).

@@ -153,9 +153,6 @@ layout(set = SET_MATERIAL, binding = BINDING_MATERIAL_EXTRA, std140) uniform Mat
     vec4 volume;        // thickness (mesh units), dispersion, iridescence thickness minimum (nm), -
     vec4 attenuation;   // rgb: σ per unit length (KHR_materials_volume), w: clear coat normal scale
     vec4 diffuse_transmission;  // rgb: diffuseTransmissionColorFactor, -
-    // KHR_materials_sheen's values that depend on the material only (MaterialExtra::sheen:
-    // layers::sheen_material_constants; sheen_view_of and sheen_albedo_of read them).
-    vec4 sheen[4];
 } mat_extra;
 
 // Per-material parameters (128 bytes at most; src/render/gpu.rs: MaterialPush): the packed BRDF
@@ -180,7 +177,6 @@ struct MaterialExtraData {
     vec4 volume;
     vec4 attenuation;
     vec4 diffuse_transmission;
-    vec4 sheen[4];
 };
 struct MaterialPushData {
     BrdfParams brdf;

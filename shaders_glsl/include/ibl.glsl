@@ -254,7 +254,7 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v, AnisotropicLobe an) {
     EnergyScale es;
     es.specular = vec3(1.0);
     es.diffuse = vec3(1.0);
-    es.sheen = material_sheen_albedo(p, clamp(dot(n, v), 1e-4, 1.0));
+    es.sheen = has_sheen(p) ? sheen_albedo(clamp(dot(n, v), 1e-4, 1.0), p.kappa.w) : 0.0;
     if ((LOBES & BRDF_LOBE_CLEARCOAT) != 0u) {
         float c_v = clamp(dot(brdf_coat_normal(n), v), 1e-4, 1.0);
         es.coat = energy_compensated(p) ? clearcoat_energy(p, c_v) : clearcoat_energy_schlick(c_v);

@@ -259,15 +259,6 @@ vec3 ambient_term(BrdfParams p, vec3 ambient) {
     return ambient * p.color.rgb;
 }
 
-// KHR_materials_sheen's albedo E_sheen at n_v for p's sheen (0 without one): from the material's
-// coefficients (MaterialExtra.sheen, layers::sheen_albedo_u), or where a map varies the sheen's
-// roughness per pixel from the whole fit (sheen_albedo).
-float material_sheen_albedo(BrdfParams p, float n_v) {
-    return !has_sheen(p) ? 0.0
-        : has_map(MAP_SHEEN_ROUGHNESS) ? sheen_albedo(n_v, p.kappa.w)
-        : sheen_albedo_of(n_v, mat_extra.sheen[0], mat_extra.sheen[1]);
-}
-
 #ifdef IBL
 #include "ibl.glsl"
 #endif
@@ -418,12 +409,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     // them in the fragment stage: set before anything, the debug views included, evaluates the
     // sheen; has_sheen compiles out without the lobe).
     if (has_sheen(p)) {
-        // The material's values (MaterialExtra.sheen) unless a map varies the roughness.
-        if (has_map(MAP_SHEEN_ROUGHNESS)) {
-            sheen_view(p.kappa.w, brdf_clamp_cos(dot(s.n, V)));
-        } else {
-            sheen_view_of(mat_extra.sheen[2], mat_extra.sheen[3], brdf_clamp_cos(dot(s.n, V)));
-        }
+        sheen_view(p.kappa.w, brdf_clamp_cos(dot(s.n, V)));
     }
     // KHR_materials_iridescence's film and bases, once for every light and the environment
     // (brdf_iridescence_fresnel_of reads them in the fragment stage).
@@ -444,8 +430,7 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
 #else
     // The sheen's albedo at the view, once for every light (MODEL is a constant: the branch
     // and the fit compile out without a sheen lobe).
-    float e_sheen = MODEL == BRDF_MODEL_METAL_ROUGH
-        ? material_sheen_albedo(p, brdf_clamp_cos(dot(s.n, V))) : 0.0;
+    float e_sheen = MODEL == BRDF_MODEL_METAL_ROUGH ? brdf_sheen_albedo_at(p, s.n, V) : 0.0;
 #endif
     // KHR_materials_iridescence at the view: the film once for every light.
     if (MODEL == BRDF_MODEL_METAL_ROUGH && brdf_has_iridescence(p) && brdf_film_at_view(p)) {

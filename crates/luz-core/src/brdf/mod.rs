@@ -55,8 +55,7 @@ pub use ltc_line::{ltc_line, ltc_line_diffuse, ltc_tube, ltc_tube_caps};
 pub use models::layers::{
     clearcoat_energy, clearcoat_layer, clearcoat_specular, d_charlie, fit_sheen_albedo,
     lambda_sheen, sheen_albedo, sheen_albedo_fit, sheen_albedo_glsl_source,
-    sheen_albedo_integrated, sheen_albedo_of, sheen_albedo_u, sheen_fit_variables, sheen_layer,
-    sheen_material_constants, sheen_specular, v_sheen,
+    sheen_albedo_integrated, sheen_fit_variables, sheen_layer, sheen_specular, v_sheen,
     ClearcoatEnergy, CLEARCOAT_F0, SHEEN_FIT_S, SHEEN_FIT_X, SHEEN_ROUGHNESS_MIN,
 };
 pub use models::{

@@ -324,7 +324,7 @@ pub struct DeferredMaterial {
 }
 
 const _: () = assert!(std::mem::size_of::<MaterialPush>() == 128);
-const _: () = assert!(std::mem::size_of::<DeferredMaterial>() == 288);
+const _: () = assert!(std::mem::size_of::<DeferredMaterial>() == 224);
 
 /// Vulkan guarantees 128 bytes of push constants; lavapipe offers exactly that.
 const _: () = assert!(std::mem::size_of::<MaterialPush>() <= 128);

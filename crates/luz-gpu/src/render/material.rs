@@ -49,10 +49,6 @@ pub struct MaterialExtra {
     pub attenuation: [f32; 4],
     /// `diffuseTransmissionColorFactor` (rgb), –.
     pub diffuse_transmission: [f32; 4],
-    /// KHR_materials_sheen's values that depend on the material only
-    /// (`brdf::models::layers::sheen_material_constants` of its sheen roughness; zero without
-    /// a sheen): read per material instead of computed per pixel.
-    pub sheen: [[f32; 4]; 4],
 }
 
 impl MaterialExtra {
@@ -82,11 +78,6 @@ impl MaterialExtra {
             volume: [t.thickness, t.dispersion, p.iridescence_thickness_min, 0.0],
             attenuation: sigma.extend(0.0).to_array(),
             diffuse_transmission: t.diffuse_color.extend(0.0).to_array(),
-            sheen: if p.sheen_color.max_element() > 0.0 {
-                crate::brdf::sheen_material_constants(p.sheen_roughness)
-            } else {
-                [[0.0; 4]; 4]
-            },
             ..self
         }
     }

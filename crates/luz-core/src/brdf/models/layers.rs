@@ -235,58 +235,17 @@ pub fn sheen_fit_variables(n_v: f32, r: f32) -> (f32, f32) {
 /// `exp(Σ c_ab u^a t^b)` ([`sheen_fit_variables`]), Horner in t then u (as the GLSL's
 /// `sheen_albedo`).
 pub fn sheen_albedo(n_v: f32, r: f32) -> f32 {
-    sheen_albedo_of(n_v, &sheen_albedo_u(r))
-}
-
-/// The fit of [`sheen_albedo`] at sheen roughness `r` as a polynomial in u = 2√(n·v) − 1 alone:
-/// its coefficients `q[a]` (of u^a), each the fit's polynomial in its second variable evaluated
-/// (Horner). They depend on the material only: the GPU's lighting shaders read them per
-/// material ([`sheen_material_constants`]) instead of evaluating them per pixel.
-pub fn sheen_albedo_u(r: f32) -> [f32; SHEEN_FIT_X] {
     let c = sheen_albedo_fit();
-    let (_, s) = sheen_fit_variables(0.0, r);
-    let mut q = [0.0f32; SHEEN_FIT_X];
-    for (a, q) in q.iter_mut().enumerate() {
-        for b in (0..SHEEN_FIT_S).rev() {
-            *q = *q * s + c[a * SHEEN_FIT_S + b];
-        }
-    }
-    q
-}
-
-/// [`sheen_albedo`] at `n_v` from the coefficients of [`sheen_albedo_u`] (Horner in u).
-pub fn sheen_albedo_of(n_v: f32, q: &[f32; SHEEN_FIT_X]) -> f32 {
-    let (x, _) = sheen_fit_variables(n_v, 1.0);
+    let (x, s) = sheen_fit_variables(n_v, r);
     let mut p = 0.0f32;
     for a in (0..SHEEN_FIT_X).rev() {
-        p = p * x + q[a];
+        let mut q = 0.0f32;
+        for b in (0..SHEEN_FIT_S).rev() {
+            q = q * s + c[a * SHEEN_FIT_S + b];
+        }
+        p = p * x + q;
     }
     p.exp()
-}
-
-/// The sheen's values that depend on its roughness `r` only, as the GPU's lighting shaders read
-/// them per material (`MaterialExtra.sheen`, `sheen_view_of` in brdf/models.glsl): the eight
-/// coefficients of [`sheen_albedo_u`]; the fit of Λ's exponent at α ([`sheen_l`]'s a, b, c, d, e
-/// and its value at 0.5); D_Charlie's factor (2 + 1/α)/(2π) and exponent 1/(2α).
-pub fn sheen_material_constants(r: f32) -> [[f32; 4]; 4] {
-    const _: () = assert!(SHEEN_FIT_X == 8, "sheen_material_constants holds eight coefficients");
-    let q = sheen_albedo_u(r);
-    let alpha = sheen_alpha(r);
-    let t = (1.0 - alpha) * (1.0 - alpha);
-    let f = [
-        mix(21.5473, 25.3245, t),
-        mix(3.82987, 3.32435, t),
-        mix(0.19823, 0.16801, t),
-        mix(-1.97760, -1.27393, t),
-        mix(-4.32054, -4.85967, t),
-    ];
-    let inv_r = 1.0 / alpha;
-    [
-        [q[0], q[1], q[2], q[3]],
-        [q[4], q[5], q[6], q[7]],
-        [f[0], f[1], f[2], f[3]],
-        [f[4], sheen_l(0.5, alpha), (2.0 + inv_r) * (0.5 * crate::brdf::INV_PI), 0.5 * inv_r],
-    ]
 }
 
 /// Fits the coefficients of [`sheen_albedo`] to [`sheen_albedo_integrated`] on a 48 × 40 grid
