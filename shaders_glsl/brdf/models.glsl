@@ -676,9 +676,21 @@ float brdf_sheen_albedo_at(BrdfParams p, vec3 n, vec3 v) {
 BrdfTerms brdf_metal_rough_terms_lobe_es(BrdfParams p, vec3 n, vec3 l, vec3 v, AnisotropicLobe an,
                                          float e_sheen) {
     BrdfTerms t = brdf_metal_rough_base_terms_lobe(p, n, l, v, an);
+#ifdef LUZ_FRAGMENT
+    // In the lighting shaders without the per-pixel branch on n·l and n·v (lavapipe runs its
+    // code under the lane mask anyway): the layer everywhere, kept where both are positive
+    // (the same values: the layer is finite, and mix by 0 or 1 picks one side).
+    if (has_sheen(p)) {
+        float on = dot(n, l) > 0.0 && dot(n, v) > 0.0 ? 1.0 : 0.0;
+        BrdfTerms s = sheen_layer(t, p, n, l, v, e_sheen);
+        t.diffuse = mix(t.diffuse, s.diffuse, on);
+        t.specular = mix(t.specular, s.specular, on);
+    }
+#else
     if (has_sheen(p) && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
         t = sheen_layer(t, p, n, l, v, e_sheen);
     }
+#endif
     if ((BRDF_LOBES & BRDF_LOBE_CLEARCOAT) != 0u && dot(n, l) > 0.0 && dot(n, v) > 0.0) {
         t = clearcoat_layer(t, p, n, l, v,
                             clearcoat_energy_schlick(brdf_clamp_cos(dot(brdf_coat_normal(n), v))));
