@@ -593,8 +593,7 @@ float lambda_sheen(float cos_theta, float alpha) {
 float g_sheen_lambda_v = -1.0;
 SheenFit g_sheen_fit;
 // Per pixel too (fragment stage, shade(): sheen_view): D_Charlie's factor (2 + 1/α)/(2π) and
-// exponent 1/(2α), and 4 n·v, so that a light pays for none of them (lavapipe does not hoist
-// them out of the light loop).
+// exponent 1/(2α), and 4 n·v, so that a light's lobe reads them instead of computing them.
 float g_sheen_d_scale;
 float g_sheen_d_exp;
 float g_sheen_nv4;
@@ -679,7 +678,8 @@ BrdfTerms brdf_metal_rough_terms_lobe_es(BrdfParams p, vec3 n, vec3 l, vec3 v, A
 #ifdef LUZ_FRAGMENT
     // In the lighting shaders without the per-pixel branch on n·l and n·v (lavapipe runs its
     // code under the lane mask anyway): the layer everywhere, kept where both are positive
-    // (the same values: the layer is finite, and mix by 0 or 1 picks one side).
+    // (the same values up to rounding: the layer is finite, and mix by 0 or 1 picks one side;
+    // docs/performance.md, "Where the sheen's cost is").
     if (has_sheen(p)) {
         float on = dot(n, l) > 0.0 && dot(n, v) > 0.0 ? 1.0 : 0.0;
         BrdfTerms s = sheen_layer(t, p, n, l, v, e_sheen);
