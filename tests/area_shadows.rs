@@ -573,6 +573,11 @@ fn emitter_shadow_cost() {
             }
         }
     }
+    for (visible, _, r) in &cases {
+        // Every frame drew its maps (the light moved): none was reused.
+        let (drawn, reused, _) = r.shadow_frames_drawn_reused();
+        assert_eq!((drawn, reused), (34, 0), "visible {visible}");
+    }
     drop(cases);
     common::assert_no_validation_messages(&ctx);
     let median = |v: &mut Vec<f64>| {
