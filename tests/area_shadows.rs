@@ -342,8 +342,8 @@ fn visible_emitter_shadows_other_lights_on_the_gpu() {
         100.0 * loss(&ref_blocked, &ref_through, &outside)
     );
     let mut failures = Vec::new();
-    let gpu_blocked = both_paths(&ctx, &blocked);
-    let gpu_through = both_paths(&ctx, &through);
+    let gpu_blocked = common::both_paths(&ctx, &blocked);
+    let gpu_through = common::both_paths(&ctx, &through);
     for ((path, b), (_, t)) in gpu_blocked.iter().zip(&gpu_through) {
         let errors = [
             l1(b, &ref_blocked, &inside),
@@ -408,8 +408,8 @@ fn an_emitter_does_not_shadow_its_own_light() {
             r#"{"method": "pcf", "resolution": 512}"#,
         ),
     ] {
-        let with = both_paths(&ctx, &scene(&light(shadow), false));
-        let without = both_paths(&ctx, &scene(&light("null"), false));
+        let with = common::both_paths(&ctx, &scene(&light(shadow), false));
+        let without = common::both_paths(&ctx, &scene(&light("null"), false));
         for ((path, w), (_, wo)) in with.iter().zip(&without) {
             let v = visibility(w, wo);
             let worst = v.iter().map(|x| (1.0 - x).abs()).fold(0.0, f64::max);
@@ -522,6 +522,82 @@ fn area_shadow_cost() {
     }
     assert!(
         medians.iter().all(|&m| m > 0.0),
+        "the device has timestamps"
+    );
+}
+
+/// What visible emitters add to the shadow maps of other lights: a point light with a PCF cube
+/// (1024²) over the plane and the ball, and a rect between them, visible (drawn into the six
+/// faces) or not. The point light moves by 1 mm every frame, so each frame redraws its six faces
+/// (a static scene reuses them: the emitters then cost nothing). Medians of 31 interleaved frames
+/// of the whole frame's GPU time and of its shadow rows; the table is printed
+/// (docs/area-lights.md#shadows). Only the device's timestamps are asserted.
+/// `cargo test --release --test area_shadows emitter_shadow_cost -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn emitter_shadow_cost() {
+    use luz::headless::Headless;
+    let ctx = common::gpu();
+    let light = |visible: bool, x: f32| {
+        format!(
+            r#"{{"type": "rect", "position": [0, 1.6, 0], "direction": [0, -1, 0], "up": [0, 0, 1], "size": [0.8, 0.6], "intensity": 4, "visible": {visible}}}, {{"type": "point", "position": [{x}, 2.6, 0.3], "intensity": 20, "shadow": {{"method": "pcf", "resolution": 1024}}}}"#
+        )
+    };
+    let mut cases: Vec<(bool, Scene, Headless)> = [false, true]
+        .into_iter()
+        .map(|visible| {
+            let s = scene(&light(visible, 0.0), true);
+            let r = Headless::new(&ctx, &s).expect("renderer");
+            (visible, s, r)
+        })
+        .collect();
+    let shadow_ms = |t: &luz::headless::FrameTimes| {
+        t.gpu_ms
+            .iter()
+            .filter(|(n, _)| n.contains("shadow"))
+            .map(|(_, ms)| ms)
+            .sum::<f64>()
+    };
+    let mut times = vec![(Vec::new(), Vec::new()); cases.len()];
+    for frame in 0..34 {
+        for ((visible, s, r), (total, shadow)) in cases.iter_mut().zip(times.iter_mut()) {
+            s.lights[0].position.x = if frame % 2 == 0 { 0.0 } else { 0.001 };
+            r.update_scene(s).expect("update");
+            let t = r.render().expect("frame");
+            if frame == 0 {
+                eprintln!("visible {visible}: passes {:?}", t.gpu_ms);
+            }
+            if frame >= 3 {
+                total.push(t.gpu_ms.iter().map(|(_, ms)| ms).sum::<f64>());
+                shadow.push(shadow_ms(&t));
+            }
+        }
+    }
+    for (visible, _, r) in &cases {
+        // Every frame drew its maps (the light moved): none was reused.
+        let (drawn, reused, _) = r.shadow_frames_drawn_reused();
+        assert_eq!((drawn, reused), (34, 0), "visible {visible}");
+    }
+    drop(cases);
+    common::assert_no_validation_messages(&ctx);
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let rows: Vec<(f64, f64)> = times
+        .iter_mut()
+        .map(|(t, s)| (median(t), median(s)))
+        .collect();
+    eprintln!("| rect | frame GPU ms | shadow rows ms | × not visible (frame / shadow) |\n|---|---:|---:|---:|");
+    for (visible, (t, s)) in [false, true].iter().zip(&rows) {
+        eprintln!(
+            "| visible {visible} | {t:.2} | {s:.2} | {:.2} / {:.2} |",
+            t / rows[0].0,
+            s / rows[0].1
+        );
+    }
+    assert!(
+        rows.iter().all(|&(t, _)| t > 0.0),
         "the device has timestamps"
     );
 }
