@@ -1,26 +1,33 @@
-//! The LTC line form of tube lights (Heitz & Hill, "Real-Time Line- and Disk-Light Shading with
-//! Linearly Transformed Cosines", SIGGRAPH 2017 course): the CPU mirror of the functions of the
-//! same names in `shaders_glsl/include/area.glsl` (f32, as the shader computes them).
+//! Tube lights by LTC: the CPU mirror of the functions of the same names in
+//! `shaders_glsl/include/area.glsl` (f32, as the shader computes them), after Heitz & Hill,
+//! "Real-Time Line- and Disk-Light Shading with Linearly Transformed Cosines" (SIGGRAPH 2017
+//! course).
 //!
-//! A tube of radius r is seen as a **ribbon** of half-width r along its axis, its width
-//! perpendicular to the plane through the shading point and the axis (its silhouette, exact as
-//! r/d → 0), plus **a flat disk of area πr² at each end**, facing out along the axis and
-//! evaluated at its centre (the course's cap approximation, `I_ltc_disks`). From a direction at θ
-//! to the axis a cylinder's silhouette is the ribbon (2rL·sin θ projected) and half of each end's
-//! ellipse (πr²·|cos θ|/2 each, at its own distance), so luz counts half of each end's disk (the
-//! course counts the whole of the end facing the point, which overcounts the far half-ellipse at
-//! the near end's distance: 3.7 % over a 2 mm cylinder seen 8.5° off its axis, against 0.06 %
-//! with the halves, `ltc_tube_matches_a_thin_cylinder`); seen end-on, where the far end hides
-//! behind the near one, the near end's whole disk when that is larger. luz's tube is the open
-//! side of a cylinder (`luz reference` samples that surface, inside and out); from outside its
-//! silhouette is the closed cylinder's, so the disks stand for the ends of the silhouette, not
+//! A tube of radius r is seen as its **facing ribbon**, the rectangle along its axis whose width
+//! is perpendicular to the axis and to the direction from the shading point to it, its edges on
+//! the cylinder's silhouette lines ([`ltc_ribbon`]: four corners through M⁻¹, integrated as a
+//! polygon by the same edge form as rects, [`area_edge`]), plus **a flat disk of area πr² at each
+//! end**, facing out along the axis and evaluated at its centre (the course's cap approximation,
+//! `I_ltc_disks`). From a direction at θ to the axis a cylinder's silhouette is the ribbon
+//! (2rL·sin θ projected) and half of each end's ellipse (πr²·|cos θ|/2 each, at its own distance),
+//! so luz counts half of each end's disk (the course counts the whole of the end facing the point,
+//! which overcounts the far half-ellipse at the near end's distance: 3.8 % over a 2 mm cylinder
+//! seen 8.5° off its axis, `ltc_tube_matches_a_thin_cylinder`); seen end-on, where the far end
+//! hides behind the near one, the near end's whole disk when that is larger. luz's tube is the
+//! open side of a cylinder (`luz reference` samples that surface, inside and out); from outside
+//! its silhouette is the closed cylinder's, so the disks stand for the ends of the silhouette, not
 //! for extra emitting surfaces (spherical caps would add πr² at every angle: a capsule, not luz's
 //! tube).
 //!
-//! Everything is in the shading frame (z the normal), the segment given as its first end `p` and
-//! its vector `dp` (the tube's axis, given directly so that a tiny tube's ends do not cancel).
-//! The specular term integrates the clamped cosine `max(z, 0)/π` over the segment transformed by
-//! M⁻¹ (the LTC table's matrix, any scale); the diffuse term is the same with M⁻¹ = I.
+//! Until 2026-11-29 the ribbon was the course's line form: a line with a first-order width in the
+//! LTC's transformed space, which overcounts where M⁻¹ widens the ribbon to a large angle (a lobe
+//! narrower than the tube: 53–87 % off at roughness 0.05 in the lab); the tests keep it to compare
+//! (`ltc_tube_at_low_roughness`).
+//!
+//! Everything is in the shading frame (z the normal), the tube's axis given as its first end `p`
+//! and its vector `dp` (given directly so that a tiny tube's ends do not cancel). The specular
+//! term integrates the LTC of M⁻¹ (the table's matrix, any scale), the diffuse term the same with
+//! M⁻¹ = I (the clamped cosine `max(z, 0)/π`).
 
 use glam::{Mat3, Vec3};
 use std::f32::consts::PI;
@@ -147,9 +154,9 @@ pub fn ltc_tube_caps(p: Vec3, dp: Vec3, r: f32, minv: Mat3) -> (f32, f32) {
     (0.5 * (c1 + c2), front)
 }
 
-/// A tube's LTC form factor: the ribbon of half-width `r` plus half of each end disk, or the end
-/// disk facing the origin alone if that is larger (seen end-on); at most 1 (the course's clamp:
-/// the thin ribbon's form grows without bound when the shading point nears the axis).
+/// A tube's LTC form factor: the facing ribbon ([`ltc_ribbon`]) plus half of each end disk, or the
+/// end disk facing the origin alone if that is larger (seen end-on); at most 1 (the course's
+/// clamp: the caps, taken at their centres, grow without bound as the shading point nears an end).
 pub fn ltc_tube(p: Vec3, dp: Vec3, r: f32, minv: Mat3) -> f32 {
     let (halves, front) = ltc_tube_caps(p, dp, r, minv);
     (ltc_ribbon(p, dp, r, minv) + halves).max(front).min(1.0)
