@@ -1,5 +1,5 @@
 // Area lights (issue 36; docs/area-lights.md): rect, disk, sphere and tube emitters of uniform
-// radiance, shaded by linearly transformed cosines (LTC: polygons, and the line form for tubes),
+// radiance, shaded by linearly transformed cosines (LTC: polygons, tubes as their facing ribbon),
 // Karis's representative point or N stratified samples. Included by lighting.glsl; code for a
 // method the scene does not use is left out by LIGHT_KINDS (LK_AREA_*), and a scene without area
 // lights has none of it.
