@@ -342,8 +342,8 @@ fn visible_emitter_shadows_other_lights_on_the_gpu() {
         100.0 * loss(&ref_blocked, &ref_through, &outside)
     );
     let mut failures = Vec::new();
-    let gpu_blocked = both_paths(&ctx, &blocked);
-    let gpu_through = both_paths(&ctx, &through);
+    let gpu_blocked = common::both_paths(&ctx, &blocked);
+    let gpu_through = common::both_paths(&ctx, &through);
     for ((path, b), (_, t)) in gpu_blocked.iter().zip(&gpu_through) {
         let errors = [
             l1(b, &ref_blocked, &inside),
@@ -408,8 +408,8 @@ fn an_emitter_does_not_shadow_its_own_light() {
             r#"{"method": "pcf", "resolution": 512}"#,
         ),
     ] {
-        let with = both_paths(&ctx, &scene(&light(shadow), false));
-        let without = both_paths(&ctx, &scene(&light("null"), false));
+        let with = common::both_paths(&ctx, &scene(&light(shadow), false));
+        let without = common::both_paths(&ctx, &scene(&light("null"), false));
         for ((path, w), (_, wo)) in with.iter().zip(&without) {
             let v = visibility(w, wo);
             let worst = v.iter().map(|x| (1.0 - x).abs()).fold(0.0, f64::max);
