@@ -359,7 +359,7 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
 // The LTC of minv over the facing ribbon: its width along p × dp, its half-width r d/√(d² − r²)
 // (d: the axis's distance; the edges on the cylinder's silhouette lines, asin(r/d) from the
 // plane through the axis; at most 2r/√3). The axis's part below the transformed horizon is cut
-// off first, then ltc_clipped cuts the rest (the corners reach at most that half-width below).
+// off first; the corners then reach at most that half-width below it.
 float ltc_ribbon(vec3 p, vec3 dp, float r, mat3 minv) {
     vec3 n = cross(p, dp);
     float n2 = dot(n, n);
@@ -385,8 +385,10 @@ float ltc_ribbon(vec3 p, vec3 dp, float r, mat3 minv) {
     vec3 c2 = normalize(e - w);
     vec3 c3 = normalize(a - w);
     vec3 f = area_edge(c0, c1) + area_edge(c1, c2) + area_edge(c2, c3) + area_edge(c3, c0);
+    // The form factor is f.z (Lambert's formula), not ltc_clipped: the equivalent sphere of a
+    // long thin ribbon near the horizon straddles it though the ribbon does not.
     f *= dot(f, a + e) < 0.0 ? -1.0 : 1.0;
-    return ltc_clipped(f);
+    return max(f.z, 0.0);
 }
 
 // The two end disks (πr², facing out along the axis), each its solid angle times the LTC at its

@@ -32,26 +32,6 @@
 use glam::{Mat3, Vec3};
 use std::f32::consts::PI;
 
-/// Lagarde & de Rousiers 2014's illuminance of a sphere (or facing disk) of sin²(half-angle)
-/// `sin2_s` whose centre is at cos θ = `cos_t` from the normal, per unit radiance: π sin²σ cos θ
-/// above the horizon, the horizon cut otherwise (`area.glsl`'s function of the same name).
-pub fn area_sphere_irradiance(cos_t: f32, sin2_s: f32) -> f32 {
-    let cos_t = cos_t.clamp(-0.9999, 0.9999);
-    let c2 = cos_t * cos_t;
-    if c2 > sin2_s {
-        return if cos_t > 0.0 {
-            PI * sin2_s * cos_t
-        } else {
-            0.0
-        };
-    }
-    let sin_t = (1.0 - c2).sqrt();
-    let x = (1.0 / sin2_s - 1.0).sqrt();
-    let y = -x * (cos_t / sin_t);
-    let s = sin_t * (1.0 - y * y).max(0.0).sqrt();
-    ((cos_t * y.clamp(-1.0, 1.0).acos() - x * s) * sin2_s + (s / x).atan()).max(0.0)
-}
-
 /// The cosine-weighted integral of the great arc from `a` to `b` (unit vectors) as a vector,
 /// (a × b) θ/(2π sin θ) with Heitz & Hill 2017's cubic rational fit of the factor, written as
 /// a × (b − a) so that close vertices keep their precision (`area.glsl`'s `area_edge`).
@@ -69,18 +49,6 @@ pub fn area_edge(a: Vec3, b: Vec3) -> Vec3 {
     a.cross(b - a) * theta_sin
 }
 
-/// The form factor of a polygon from its vector form factor `f`, the part below the horizon cut
-/// as for the sphere of the same vector (Heitz & Hill 2017; exact above the horizon):
-/// `area.glsl`'s `ltc_clipped`.
-pub fn ltc_clipped(f: Vec3) -> f32 {
-    let len2 = f.dot(f);
-    if len2 < 1e-18 {
-        return 0.0;
-    }
-    let len = len2.sqrt();
-    area_sphere_irradiance(f.z / len, len.min(0.9999)) / PI
-}
-
 /// The integral of the LTC of `minv` (D(ω) = D_o(M⁻¹ω/|M⁻¹ω|) |∂ω_o/∂ω|, D_o = max(z, 0)/π, any
 /// scale of M⁻¹) over the tube's **facing ribbon**: the rectangle of width 2`r` along the segment
 /// from `p` to `p + dp`, its width along p × dp (perpendicular to the axis and to the direction
@@ -88,7 +56,9 @@ pub fn ltc_clipped(f: Vec3) -> f32 {
 /// through M⁻¹ and the polygon's form factor is the sum of [`area_edge`] over its edges, as for
 /// rects: exact in the ribbon's width however wide the transformed ribbon is (a narrow lobe, low
 /// roughness). The part of the axis below the transformed horizon is cut off first (the ribbon
-/// over the rest; its corners then reach at most r below it), then [`ltc_clipped`] cuts the rest.
+/// over the rest; its corners then reach at most its half-width below it), and the form factor is
+/// the vector's z (not the polygons' `ltc_clipped`, whose equivalent sphere straddles the horizon for a thin
+/// ribbon near it).
 pub fn ltc_ribbon(p: Vec3, dp: Vec3, r: f32, minv: Mat3) -> f32 {
     let n = p.cross(dp);
     let n_len = n.length();
@@ -125,11 +95,15 @@ pub fn ltc_ribbon(p: Vec3, dp: Vec3, r: f32, minv: Mat3) -> f32 {
     for k in 0..4 {
         f += area_edge(c[k], c[(k + 1) & 3]);
     }
-    // Either winding: the vector points into the polygon's cone.
+    // Either winding: the vector points into the polygon's cone. Its z is the polygon's form
+    // factor (Lambert's formula): exact above the horizon, and below it the corners reach at most
+    // the half-width (their negative part is O(h²) of the cosine). Not `ltc_clipped`: the
+    // equivalent sphere of a long thin ribbon near the horizon straddles it though the ribbon
+    // does not (a tube lying on the plane was 15.7 % low on Lambert with it, 0.49 % with z).
     if f.dot(a + e) < 0.0 {
         f = -f;
     }
-    ltc_clipped(f)
+    f.z.max(0.0)
 }
 
 /// The tube's two end disks (area πr², facing out along the axis), each as its solid angle times
