@@ -358,7 +358,7 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
 
 // The LTC of minv over the facing ribbon: its width along p × dp, its half-width r d/√(d² − r²)
 // (d: the axis's distance; the edges on the cylinder's silhouette lines, asin(r/d) from the
-// plane through the axis; at most 2r/√3). The axis's part below the transformed horizon is cut
+// plane through the axis; past the tube's ends at most 2r/√3). The axis's part below the transformed horizon is cut
 // off first; the corners then reach at most that half-width below it.
 float ltc_ribbon(vec3 p, vec3 dp, float r, mat3 minv) {
     vec3 n = cross(p, dp);
@@ -377,8 +377,10 @@ float ltc_ribbon(vec3 p, vec3 dp, float r, mat3 minv) {
     vec3 a = q + (z0 < 0.0 ? s_h : 0.0) * dq;
     vec3 e = q + (z1 < 0.0 ? s_h : 1.0) * dq;
     float n_len = sqrt(n2);
-    float d2 = n2 / dot(dp, dp);
-    float h = r * inversesqrt(max(1.0 - r * r / d2, 0.75));
+    float dp2 = dot(dp, dp);
+    float d2 = n2 / dp2;
+    float foot = -dot(p, dp);
+    float h = r * inversesqrt(max(1.0 - r * r / d2, foot >= 0.0 && foot <= dp2 ? 1e-4 : 0.75));
     vec3 w = minv * (n * (h / n_len));
     vec3 c0 = normalize(a + w);
     vec3 c1 = normalize(e + w);
