@@ -30,7 +30,6 @@
 //! M⁻¹ = I (the clamped cosine `max(z, 0)/π`).
 
 use glam::{Mat3, Vec3};
-use std::f32::consts::PI;
 
 /// The cosine-weighted integral of the great arc from `a` to `b` (unit vectors) as a vector,
 /// (a × b) θ/(2π sin θ) with Heitz & Hill 2017's cubic rational fit of the factor, written as
@@ -149,6 +148,7 @@ pub fn ltc_tube(p: Vec3, dp: Vec3, r: f32, minv: Mat3) -> f32 {
 mod tests {
     use super::*;
     use glam::DVec3;
+    use std::f32::consts::PI;
     use std::f64::consts::PI as PI64;
 
     // The line form the ribbon replaced (luz until 2026-11-29): the ribbon as a line with a
