@@ -259,8 +259,9 @@ const TUBE: &str = r#"{"type": "tube", "position": [0.1, 1.0, -0.2], "direction"
 
 /// The tube stability rows' bounds (lying on the plane: Lambert, metal-rough 0.4; the 1 mm tube):
 /// measured + ~20 % (docs/area-lights.md, "Stability rows"). The facing ribbon (2026-11-29):
-/// 2.05 / 2.94 / 31.4 %; the line form before it 0.49 / 13.8 / 31 % (bounds 0.006 / 0.165).
-const TUBE_LTC_BOUNDS: [f64; 3] = [0.025, 0.035, 0.38];
+/// 2.05 / 2.94 % lying on the plane; the line form before it 0.49 / 13.8 % (bounds 0.006 /
+/// 0.165) and 2.3 % on the 1 mm tube (against the f64 reference).
+const TUBE_LTC_BOUNDS: [f64; 3] = [0.025, 0.035, 0.03];
 
 /// Tubes by LTC (the facing ribbon as a polygon plus its two end disks, after Heitz & Hill 2017;
 /// `crates/luz-core/src/brdf/ltc_line.rs`) against the reference (4096 directions per strategy):
@@ -859,15 +860,17 @@ fn area_light_stability_rows() {
         (
             "tiny sphere (0.5 mm), LTC, metal-rough 0.4",
             r#"{"type": "sphere", "position": [0.1, 1.0, 0.2], "radius": 0.0005, "intensity": 1000000, "visible": false}"#.into(),
+            // 33 % until the reference's sphere went to f64 (its error, not the GPU's), 0.71 %.
             rough,
-            0.40,
+            0.01,
         ),
         (
             "short thin tube (1 mm), representative point, metal-rough 0.4",
             r#"{"type": "tube", "position": [0.1, 1.0, 0.2], "direction": [1, 0, 0], "length": 0.001, "radius": 0.0005, "intensity": 1000000, "method": "representative_point", "visible": false}"#.into(),
-            // 55 % before the reference's tube fix, 49.2 % after.
+            // 55 % before the reference's tube fix, 49.2 % after, 31.8 % since the reference
+            // tells a tiny tube's halves apart (f64, a tolerance relative to the radius).
             rough,
-            0.59,
+            0.38,
         ),
         (
             "short thin tube (1 mm), LTC, metal-rough 0.4",

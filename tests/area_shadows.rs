@@ -525,3 +525,79 @@ fn area_shadow_cost() {
         "the device has timestamps"
     );
 }
+
+/// What visible emitters add to the shadow maps of other lights: a point light with a PCF cube
+/// (1024²) over the plane and the ball, and a rect between them, visible (drawn into the six
+/// faces) or not. The point light moves by 1 mm every frame, so each frame redraws its six faces
+/// (a static scene reuses them: the emitters then cost nothing). Medians of 31 interleaved frames
+/// of the whole frame's GPU time and of its shadow rows; the table is printed
+/// (docs/area-lights.md#shadows). Only the device's timestamps are asserted.
+/// `cargo test --release --test area_shadows emitter_shadow_cost -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn emitter_shadow_cost() {
+    use luz::headless::Headless;
+    let ctx = common::gpu();
+    let light = |visible: bool, x: f32| {
+        format!(
+            r#"{{"type": "rect", "position": [0, 1.6, 0], "direction": [0, -1, 0], "up": [0, 0, 1], "size": [0.8, 0.6], "intensity": 4, "visible": {visible}}}, {{"type": "point", "position": [{x}, 2.6, 0.3], "intensity": 20, "shadow": {{"method": "pcf", "resolution": 1024}}}}"#
+        )
+    };
+    let mut cases: Vec<(bool, Scene, Headless)> = [false, true]
+        .into_iter()
+        .map(|visible| {
+            let s = scene(&light(visible, 0.0), true);
+            let r = Headless::new(&ctx, &s).expect("renderer");
+            (visible, s, r)
+        })
+        .collect();
+    let shadow_ms = |t: &luz::headless::FrameTimes| {
+        t.gpu_ms
+            .iter()
+            .filter(|(n, _)| n.contains("shadow"))
+            .map(|(_, ms)| ms)
+            .sum::<f64>()
+    };
+    let mut times = vec![(Vec::new(), Vec::new()); cases.len()];
+    for frame in 0..34 {
+        for ((visible, s, r), (total, shadow)) in cases.iter_mut().zip(times.iter_mut()) {
+            s.lights[0].position.x = if frame % 2 == 0 { 0.0 } else { 0.001 };
+            r.update_scene(s).expect("update");
+            let t = r.render().expect("frame");
+            if frame == 0 {
+                eprintln!("visible {visible}: passes {:?}", t.gpu_ms);
+            }
+            if frame >= 3 {
+                total.push(t.gpu_ms.iter().map(|(_, ms)| ms).sum::<f64>());
+                shadow.push(shadow_ms(&t));
+            }
+        }
+    }
+    for (visible, _, r) in &cases {
+        // Every frame drew its maps (the light moved): none was reused.
+        let (drawn, reused, _) = r.shadow_frames_drawn_reused();
+        assert_eq!((drawn, reused), (34, 0), "visible {visible}");
+    }
+    drop(cases);
+    common::assert_no_validation_messages(&ctx);
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let rows: Vec<(f64, f64)> = times
+        .iter_mut()
+        .map(|(t, s)| (median(t), median(s)))
+        .collect();
+    eprintln!("| rect | frame GPU ms | shadow rows ms | × not visible (frame / shadow) |\n|---|---:|---:|---:|");
+    for (visible, (t, s)) in [false, true].iter().zip(&rows) {
+        eprintln!(
+            "| visible {visible} | {t:.2} | {s:.2} | {:.2} / {:.2} |",
+            t / rows[0].0,
+            s / rows[0].1
+        );
+    }
+    assert!(
+        rows.iter().all(|&(t, _)| t > 0.0),
+        "the device has timestamps"
+    );
+}

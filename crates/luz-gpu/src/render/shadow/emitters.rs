@@ -14,7 +14,6 @@ use std::sync::Arc;
 
 use ash::vk;
 use glam::{Mat4, Vec3};
-use gpu_allocator::MemoryLocation;
 
 use super::fit::Sphere;
 use crate::render::gpu::Vertex;
@@ -181,26 +180,17 @@ pub(super) struct EmitterMesh {
 impl EmitterMesh {
     pub fn new(ctx: &Arc<Context>) -> Result<Self, VkError> {
         let (v, idx, ranges) = unit_shapes();
-        let buffer = |name: &str, bytes: &[u8], usage| -> Result<Buffer, VkError> {
-            let mut b = Buffer::new(
-                ctx,
-                name,
-                bytes.len() as u64,
-                usage,
-                MemoryLocation::CpuToGpu,
-            )?;
-            b.write(0, bytes)?;
-            Ok(b)
-        };
         Ok(Self {
-            vertices: buffer(
+            vertices: Buffer::with_data(
+                ctx,
                 "shadow emitter vertices",
-                bytemuck::cast_slice(&v),
+                &v,
                 vk::BufferUsageFlags::VERTEX_BUFFER,
             )?,
-            indices: buffer(
+            indices: Buffer::with_data(
+                ctx,
                 "shadow emitter indices",
-                bytemuck::cast_slice(&idx),
+                &idx,
                 vk::BufferUsageFlags::INDEX_BUFFER,
             )?,
             ranges,

@@ -63,31 +63,37 @@ fn sample_surface(light: &AreaLight, u: Vec2) -> (Vec3, Vec3, f32) {
     }
 }
 
-/// The cone of a sphere seen from `p`: (unit axis towards the centre, distance, cos θ_max);
-/// `None` from inside it.
-fn sphere_cone(light: &AreaLight, radius: f32, p: Vec3) -> Option<(Vec3, f32, f32)> {
-    let to_c = light.position - p;
+/// The cone of a sphere seen from `p`: (unit axis towards the centre, distance, 1 − cos θ_max),
+/// in f64: for a 0.5 mm sphere at 1 m, 1 − cos θ_max is 1.25e-7, below f32's spacing at 1 (the
+/// reference's tiny-sphere row was 33 % off in f32); `None` from inside it.
+fn sphere_cone(light: &AreaLight, radius: f32, p: Vec3) -> Option<(DVec3, f64, f64)> {
+    let to_c = light.position.as_dvec3() - p.as_dvec3();
     let d = to_c.length();
-    (d > radius * (1.0 + 1e-5)).then(|| {
-        let sin2 = (radius / d) * (radius / d);
-        (to_c / d, d, (1.0 - sin2).max(0.0).sqrt())
+    let r = f64::from(radius);
+    (d > r * (1.0 + 1e-5)).then(|| {
+        let sin2 = (r / d) * (r / d);
+        (to_c / d, d, sin2 / (1.0 + (1.0 - sin2).max(0.0).sqrt()))
     })
 }
 
 /// A direction from `p` towards the emitter for the unit-square sample `u`.
 pub(super) fn sample(light: &AreaLight, p: Vec3, u: Vec2) -> Option<Towards> {
     if let AreaShape::Sphere { radius } = light.shape {
-        let (w, _, cos_max) = sphere_cone(light, radius, p)?;
-        let cos_t = 1.0 - u.x * (1.0 - cos_max);
-        let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-        let phi = 2.0 * PI * u.y;
-        let (a, b) = orthonormal_basis(w);
-        let dir = (a * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + w * cos_t).normalize();
+        let (w, _, omc) = sphere_cone(light, radius, p)?;
+        // 1 − cos θ and sin θ without cancellation (f64 throughout: see `sphere_cone`).
+        let one_minus = f64::from(u.x) * omc;
+        let sin_t = (one_minus * (2.0 - one_minus)).max(0.0).sqrt();
+        let phi = 2.0 * std::f64::consts::PI * f64::from(u.y);
+        let (a, b) = orthonormal_basis(w.as_vec3());
+        let (a, b) = (a.as_dvec3(), b.as_dvec3());
+        let dir = (a * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + w * (1.0 - one_minus))
+            .normalize()
+            .as_vec3();
         let dist = intersect(light, p, dir)?.0;
         return Some(Towards {
             dir,
             dist,
-            pdf: 1.0 / (2.0 * PI * (1.0 - cos_max)),
+            pdf: (1.0 / (2.0 * std::f64::consts::PI * omc)) as f32,
         });
     }
     let (q, m, pdf_area) = sample_surface(light, u);
@@ -99,9 +105,7 @@ pub(super) fn sample(light: &AreaLight, p: Vec3, u: Vec2) -> Option<Towards> {
     // not seen from `p`, though its inner face turns towards p. Only the first surface the ray
     // meets emits towards p, as `intersect` (the BRDF's samples) has it; counting the far half
     // too doubled a tube's light seen from outside (the lab's `area` group, issue 36).
-    if matches!(light.shape, AreaShape::Tube { .. })
-        && intersect(light, p, dir).is_none_or(|(t, _)| t < dist * (1.0 - 1e-3))
-    {
+    if matches!(light.shape, AreaShape::Tube { .. }) && !tube_point_seen(light, p, dir, dist) {
         return None;
     }
     (dist > 0.0 && cos_l > 0.0).then(|| Towards {
@@ -141,36 +145,56 @@ pub(super) fn intersect(light: &AreaLight, p: Vec3, dir: Vec3) -> Option<(f32, f
             }
         }
         AreaShape::Sphere { radius } => {
-            let (_, _, cos_max) = sphere_cone(light, radius, p)?;
-            let oc = p - c;
-            let b = oc.dot(dir);
-            let disc = b * b - (oc.length_squared() - radius * radius);
+            // f64, and the discriminant as r² − (the ray's distance from the centre)², which
+            // keeps its precision for a 0.5 mm sphere at 1 m (b² − |oc|² + r² loses it in f32).
+            let (_, _, omc) = sphere_cone(light, radius, p)?;
+            let (oc, d) = (p.as_dvec3() - c.as_dvec3(), dir.as_dvec3());
+            let b = oc.dot(d);
+            let r = f64::from(radius);
+            let disc = r * r - (oc - d * b).length_squared();
             let t = -b - disc.max(0.0).sqrt();
-            (disc >= 0.0 && t > 0.0).then(|| (t, 1.0 / (2.0 * PI * (1.0 - cos_max))))
+            (disc >= 0.0 && t > 0.0)
+                .then(|| (t as f32, (1.0 / (2.0 * std::f64::consts::PI * omc)) as f32))
         }
         AreaShape::Tube { length, radius } => {
             // The side of the cylinder: solve |(p + t dir − c)⊥n|² = r² for the nearest t > 0
-            // whose point lies within the length.
-            let oc = p - c;
-            let (o_p, d_p) = (oc - n * oc.dot(n), dir - n * dir.dot(n));
+            // whose point lies within the length; in f64, with the discriminant as
+            // a·r² − |o⊥ × d⊥|² (Lagrange's identity: b² − a·(|o⊥|² − r²) without its
+            // cancellation, which lost a 1 mm tube at 1 m in f32).
+            let (oc, d, n) = (p.as_dvec3() - c.as_dvec3(), dir.as_dvec3(), n.as_dvec3());
+            let (o_p, d_p) = (oc - n * oc.dot(n), d - n * d.dot(n));
             let a = d_p.length_squared();
             let b = o_p.dot(d_p);
-            let k = o_p.length_squared() - radius * radius;
-            let disc = b * b - a * k;
+            let r = f64::from(radius);
+            let disc = a * r * r - o_p.cross(d_p).length_squared();
             if a == 0.0 || disc < 0.0 {
                 return None;
             }
             let s = disc.sqrt();
             [(-b - s) / a, (-b + s) / a].into_iter().find_map(|t| {
-                let q = oc + dir * t;
+                let q = oc + d * t;
                 let along = q.dot(n);
-                if t <= 0.0 || along.abs() > 0.5 * length {
+                if t <= 0.0 || along.abs() > 0.5 * f64::from(length) {
                     return None;
                 }
-                area_pdf(t, (q - n * along) / radius)
+                area_pdf(t as f32, ((q - n * along) / r).as_vec3())
             })
         }
     }
+}
+
+/// Whether the emitter point at `dist` along `dir` from `p` is the first surface of the tube
+/// that the ray meets (a tube's side hides its far half from outside; through an open end the
+/// inner face is seen). The nearest hit must be that point, within a thousandth of the radius
+/// (plus f32's rounding of the point): a tolerance relative to the distance (0.1 % of it)
+/// cannot tell the halves of a 1 mm tube apart at 1 m, and kept samples of the far half near
+/// the silhouette of a 5 mm one at 1.5 m.
+fn tube_point_seen(light: &AreaLight, p: Vec3, dir: Vec3, dist: f32) -> bool {
+    let AreaShape::Tube { radius, .. } = light.shape else {
+        return true;
+    };
+    let tolerance = 1e-3 * radius + 1e-6 * dist;
+    intersect(light, p, dir).is_some_and(|(t, _)| t >= dist - tolerance)
 }
 
 /// The light's reflected radiance towards `v` at `p` on surface `s`: `samples` directions from
