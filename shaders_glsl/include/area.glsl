@@ -1,5 +1,5 @@
 // Area lights (issue 36; docs/area-lights.md): rect, disk, sphere and tube emitters of uniform
-// radiance, shaded by linearly transformed cosines (LTC: polygons, and the line form for tubes),
+// radiance, shaded by linearly transformed cosines (LTC: polygons, tubes as their facing ribbon),
 // Karis's representative point or N stratified samples. Included by lighting.glsl; code for a
 // method the scene does not use is left out by LIGHT_KINDS (LK_AREA_*), and a scene without area
 // lights has none of it.
@@ -348,59 +348,49 @@ vec3 area_sampled(AreaLight a, Surface s, vec3 P, vec3 V) {
     return sum;
 }
 
-// The LTC line form of tubes (Heitz & Hill 2017's course; LK_AREA_LTC_TUBE): the tube is a ribbon
-// of half-width r along its axis, its width perpendicular to the plane through the shading point
-// and the axis (its silhouette as r/d → 0), plus flat disks of area πr² at its ends facing out
-// along the axis, taken at their centres (the course's caps; luz counts half of each, see
-// ltc_tube_caps). The CPU mirror, with the same names and a test against a thin cylinder:
-// crates/luz-core/src/brdf/ltc_line.rs. Points in the shading frame; the segment is its first
-// end p and its vector dp.
+// Tubes by LTC (LK_AREA_LTC_TUBE): the tube's facing ribbon (the rectangle of its width 2r along
+// its axis, facing the shading point: its silhouette) as a 4-vertex polygon through the LTC, as
+// rects are, plus flat disks of area πr² at its ends facing out along the axis, taken at their
+// centres (Heitz & Hill 2017's course's caps; luz counts half of each, see ltc_tube_caps). The CPU
+// mirror, with the same names and tests against a thin cylinder and at roughness 0.05:
+// crates/luz-core/src/brdf/ltc_line.rs. Points in the shading frame; the axis is its first end p
+// and its vector dp.
 
-// The form factor of a ribbon of half-width 1 along p → p + dp, cut at the horizon: (1/π) ∫ 2d
-// z(l)/|p(l)|⁴ dl (the course's I_diffuse_line, its antiderivatives' differences written so
-// that a short segment keeps its precision).
-float ltc_line_diffuse(vec3 p, vec3 dp) {
-    float z0 = p.z;
-    float z1 = p.z + dp.z;
+// The LTC of minv over the facing ribbon: its width along p × dp, its half-width r d/√(d² − r²)
+// (d: the axis's distance; the edges on the cylinder's silhouette lines, asin(r/d) from the
+// plane through the axis; past the tube's ends at most 2r/√3). The axis's part below the transformed horizon is cut
+// off first; the corners then reach at most that half-width below it.
+float ltc_ribbon(vec3 p, vec3 dp, float r, mat3 minv) {
+    vec3 n = cross(p, dp);
+    float n2 = dot(n, n);
+    if (n2 <= 0.0) {
+        return 0.0;
+    }
+    vec3 q = minv * p;
+    vec3 dq = minv * dp;
+    float z0 = q.z;
+    float z1 = q.z + dq.z;
     if (z0 <= 0.0 && z1 <= 0.0) {
         return 0.0;
     }
-    float len = length(dp);
-    if (len <= 0.0) {
-        return 0.0;
-    }
     float s_h = z0 / (z0 - z1);
-    float s0 = z0 < 0.0 ? s_h : 0.0;
-    float s1 = z1 < 0.0 ? s_h : 1.0;
-    vec3 t = dp / len;
-    float l0 = dot(p, t);
-    float l1 = l0 + s0 * len;
-    float l2 = l0 + s1 * len;
-    vec3 po = p - l0 * t;
-    float d = length(po);
-    if (d <= 1e-6 * (abs(l1) + abs(l2))) {
-        return 0.0;
-    }
-    float dl = (s1 - s0) * len;
-    float a1 = d * d + l1 * l1;
-    float a2 = d * d + l2 * l2;
-    float f_po = dl * (d * d - l1 * l2) / (d * a1 * a2) + atan(d * dl, d * d + l1 * l2) / (d * d);
-    float f_wt = d * dl * (l1 + l2) / (a1 * a2);
-    return max((po.z * f_po + t.z * f_wt) / M_PI, 0.0);
-}
-
-// The LTC of minv over that ribbon: the transformed segment's ribbon times the course's width
-// factor 1/|(M⁻¹)⁻ᵀ o| (o: the unit normal of the plane through the origin and the segment), as
-// |det M⁻¹| |p × dp| / |M⁻¹p × M⁻¹dp| (the same number, without the inverse).
-float ltc_line(vec3 p, vec3 dp, mat3 minv) {
-    vec3 q = minv * p;
-    vec3 dq = minv * dp;
-    float c = length(cross(q, dq));
-    if (c <= 0.0) {
-        return 0.0;
-    }
-    float w = abs(determinant(minv)) * length(cross(p, dp)) / c;
-    return w * ltc_line_diffuse(q, dq);
+    vec3 a = q + (z0 < 0.0 ? s_h : 0.0) * dq;
+    vec3 e = q + (z1 < 0.0 ? s_h : 1.0) * dq;
+    float n_len = sqrt(n2);
+    float dp2 = dot(dp, dp);
+    float d2 = n2 / dp2;
+    float foot = -dot(p, dp);
+    float h = r * inversesqrt(max(1.0 - r * r / d2, foot >= 0.0 && foot <= dp2 ? 1e-4 : 0.75));
+    vec3 w = minv * (n * (h / n_len));
+    vec3 c0 = normalize(a + w);
+    vec3 c1 = normalize(e + w);
+    vec3 c2 = normalize(e - w);
+    vec3 c3 = normalize(a - w);
+    vec3 f = area_edge(c0, c1) + area_edge(c1, c2) + area_edge(c2, c3) + area_edge(c3, c0);
+    // The form factor is f.z (Lambert's formula), not ltc_clipped: the equivalent sphere of a
+    // long thin ribbon near the horizon straddles it though the ribbon does not.
+    f *= dot(f, a + e) < 0.0 ? -1.0 : 1.0;
+    return max(f.z, 0.0);
 }
 
 // The two end disks (πr², facing out along the axis), each its solid angle times the LTC at its
@@ -422,17 +412,17 @@ vec2 ltc_tube_caps(vec3 p, vec3 dp, float r, mat3 minv) {
     return vec2(0.5 * (c1 + c2), tp > 0.0 ? c1 : c2);
 }
 
-// A tube's LTC form factor: the ribbon of half-width r plus half of each end disk, or the end disk
-// facing the point alone if larger (end-on); at most 1 (the thin ribbon's form grows without
-// bound as the point nears the axis).
+// A tube's LTC form factor: the facing ribbon plus half of each end disk, or the end disk facing
+// the point alone if larger (end-on); at most 1 (the caps, taken at their centres, grow without
+// bound as the point nears an end).
 float ltc_tube(vec3 p, vec3 dp, float r, mat3 minv) {
     vec2 caps = ltc_tube_caps(p, dp, r, minv);
-    return min(max(r * ltc_line(p, dp, minv) + caps.x, caps.y), 1.0);
+    return min(max(ltc_ribbon(p, dp, r, minv) + caps.x, caps.y), 1.0);
 }
 
 // LTC: the diffuse term's form factor (the cosine itself) and GGX's fitted lobe, for Lambert and
 // metallic-roughness materials (area_shade gives other models 16 samples instead). Rects, disks and
-// spheres by their polygon (LK_AREA_LTC), tubes by the line form (LK_AREA_LTC_TUBE): a scene with
+// spheres by their polygon (LK_AREA_LTC), tubes by their facing ribbon's (LK_AREA_LTC_TUBE): a scene with
 // one kind compiles only its path.
 vec3 area_ltc(AreaLight a, Surface s, vec3 P, vec3 V) {
     bool tube = (LIGHT_KINDS & LK_AREA_LTC_TUBE) != 0u

@@ -270,7 +270,7 @@ layout(constant_id = 17) const bool CLUSTERED = false;
 #define LK_SHADOW_PCSS 512u
 // Some area light is shaded by this method (include/area.glsl); none: no area-light code at all.
 // LK_AREA_LTC: a rect, disk or sphere by LTC (the polygon form); LK_AREA_LTC_TUBE: a tube by LTC
-// (the line form).
+// (its facing ribbon's polygon and end disks).
 #define LK_AREA_LTC 1024u
 #define LK_AREA_RP 2048u
 #define LK_AREA_SAMPLED 4096u

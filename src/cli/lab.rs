@@ -41,6 +41,9 @@ pub struct LabArgs {
     /// `area` runs alone: one reference per cell of its sweep, docs/area-lights.md).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
+    /// With `--only area`: only these light shapes (comma separated: rect, disk, sphere, tube).
+    #[arg(long, value_delimiter = ',')]
+    pub area_shapes: Vec<String>,
     /// Sizes of the image-based lighting data.
     #[arg(long, value_enum, default_value_t = IblQuality::Full)]
     pub ibl_quality: IblQuality,
@@ -56,6 +59,9 @@ pub fn run(a: LabArgs) -> Result<ExitCode> {
     report_tessellation(&scene, false);
     if a.only.iter().any(|g| g == "area") {
         return run_area(&a, &scene);
+    }
+    if !a.area_shapes.is_empty() {
+        bail!("--area-shapes goes with --only area");
     }
     std::fs::create_dir_all(a.out.join("heatmaps"))
         .with_context(|| format!("cannot create {}", a.out.display()))?;
@@ -198,7 +204,15 @@ fn run_area(a: &LabArgs, scene: &luz::scene::Scene) -> Result<ExitCode> {
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let ctx = context(&a.gpu)?;
     println!("device: {}", ctx.info.summary());
+    let mut shapes = area::SHAPES.to_vec();
+    if !a.area_shapes.is_empty() {
+        if let Some(bad) = a.area_shapes.iter().find(|s| !shapes.contains(&s.as_str())) {
+            bail!("--area-shapes: unknown shape {bad} (rect, disk, sphere, tube)");
+        }
+        shapes.retain(|s| a.area_shapes.iter().any(|w| w == s));
+    }
     let sweep = area::AreaSweep {
+        shapes,
         frames: a.frames,
         reference_samples: a.reference_samples,
         ..Default::default()

@@ -51,7 +51,7 @@ pub use ltc::{
     fit_entry, fit_table, generate_ltc_table, ltc_table, refit_shipped_entry, shipped_lobe,
     LtcEntry, LTC_ENTRY, LTC_FILE, LTC_FIT_SAMPLES, LTC_SIZE,
 };
-pub use ltc_line::{ltc_line, ltc_line_diffuse, ltc_tube, ltc_tube_caps};
+pub use ltc_line::{area_edge, ltc_ribbon, ltc_tube, ltc_tube_caps};
 pub use models::layers::{
     clearcoat_energy, clearcoat_layer, clearcoat_specular, d_charlie, fit_sheen_albedo,
     lambda_sheen, sheen_albedo, sheen_albedo_fit, sheen_albedo_glsl_source,

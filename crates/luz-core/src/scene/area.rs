@@ -21,8 +21,8 @@ pub enum AreaShape {
     /// A sphere centred on the position; it emits from its whole surface.
     Sphere { radius: f32 },
     /// A capsule-less cylinder of `length` along `direction` (the axis), centred on the position,
-    /// of `radius`; it emits from its side (the representative-point and LTC line forms treat
-    /// it as a line of that radius, with spherical caps).
+    /// of `radius`; it emits from its side (representative point treats it as a line of that
+    /// radius with spherical caps; LTC as its facing ribbon with flat end disks).
     Tube { length: f32, radius: f32 },
 }
 

@@ -84,8 +84,8 @@ fn area_lights_decode() {
         }
     );
     // Punctual and area lights side by side; the scene warns where the GPU shades a light
-    // otherwise than asked (a disk by representative point), and not for a tube by LTC (the
-    // line form).
+    // otherwise than asked (a disk by representative point), and not for a tube by LTC (its
+    // facing ribbon).
     let both = parse_lights(
         r#"{"type": "point", "position": [0, 1, 0]}, {"type": "tube", "position": [0, 1, 0], "direction": [1, 0, 0], "length": 1, "radius": 0.1}, {"type": "disk", "position": [0, 1, 0], "direction": [0, -1, 0], "radius": 0.1, "method": "representative_point"}"#,
     )

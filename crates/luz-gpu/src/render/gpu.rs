@@ -138,8 +138,8 @@ const _: () = {
 
 /// The `LK_AREA_*` method and shape bits (and `LK_RANGE`) area lights need, as `area.glsl`'s
 /// `area_shade` picks a method: sampled where asked; representative point for spheres and tubes
-/// that ask for it; LTC for the rest (rect and disk always, unless sampled): the line form for
-/// tubes (`LK_AREA_LTC_TUBE`), the polygon form for the other shapes (`LK_AREA_LTC`); and the
+/// that ask for it; LTC for the rest (rect and disk always, unless sampled): the facing ribbon
+/// for tubes (`LK_AREA_LTC_TUBE`), the polygon form for the other shapes (`LK_AREA_LTC`); and the
 /// `LK_AREA_SHADOW_*` filter of each area light's shadow.
 pub fn area_kinds(lights: &[AreaLight]) -> u32 {
     lights.iter().fold(0, |bits, l| {

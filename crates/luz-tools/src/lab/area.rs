@@ -85,7 +85,7 @@ pub struct AreaCell {
     pub elevation_deg: f32,
 }
 
-/// The methods that apply to `shape`: LTC for every shape (tubes by its line form), representative
+/// The methods that apply to `shape`: LTC for every shape (tubes by their facing ribbon), representative
 /// point only for spheres and tubes (the GPU shades a rect or disk asking for it by LTC).
 pub fn methods(shape: &str, samples: &[u32]) -> Vec<AreaMethod> {
     let mut m = vec![AreaMethod::Ltc];
