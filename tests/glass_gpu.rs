@@ -394,35 +394,11 @@ fn glass_cost() {
             luz::headless::Headless::new(&ctx, &s).expect("renderer")
         })
         .collect();
-    let scene_ms = |t: &luz::headless::FrameTimes| {
-        t.gpu_ms
-            .iter()
-            .filter(|(n, _)| {
-                n.contains("forward") || n.contains("transmission") || n.contains("transmissive")
-            })
-            .map(|(_, ms)| ms)
-            .sum::<f64>()
-    };
-    for r in renderers.iter_mut() {
-        for _ in 0..3 {
-            r.render().expect("frame");
-        }
-    }
-    let mut times = vec![Vec::new(); methods.len()];
-    for _ in 0..31 {
-        for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
-            t.push(scene_ms(&r.render().expect("frame")));
-        }
-    }
+    let medians = common::interleaved_pass_medians(&mut renderers, 3, 31, |n| {
+        n.contains("forward") || n.contains("transmission") || n.contains("transmissive")
+    });
     drop(renderers);
     assert_no_validation_messages(&ctx);
-    let medians: Vec<f64> = times
-        .iter_mut()
-        .map(|v| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        })
-        .collect();
     let opaque = medians[methods.len() - 1];
     eprintln!("| refraction | scene passes, median GPU ms | × drawn opaque |\n|---|---:|---:|");
     for (r, m) in methods.iter().zip(&medians) {

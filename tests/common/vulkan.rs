@@ -250,20 +250,31 @@ fn driver_string() -> String {
 }
 
 /// Each renderer's forward-pass GPU ms (the forward, or the deferred path's gbuffer and
-/// lighting passes): `warmup` frames each, then `rounds` rounds rendering every renderer in
-/// turn (a busy machine slows them alike), and each one's median: the area lights' and their
-/// shadows' cost tests (tests/area_lights.rs, tests/area_shadows.rs).
+/// lighting passes), by [`interleaved_pass_medians`]: the area lights' and their shadows' cost
+/// tests (tests/area_lights.rs, tests/area_shadows.rs).
 pub fn interleaved_forward_medians(
     renderers: &mut [luz::headless::Headless],
     warmup: usize,
     rounds: usize,
 ) -> Vec<f64> {
-    let forward = |t: &luz::headless::FrameTimes| {
+    interleaved_pass_medians(renderers, warmup, rounds, |n| {
+        n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
+    })
+}
+
+/// Each renderer's GPU ms summed over the passes whose name `pass` accepts: `warmup` frames
+/// each, then `rounds` rounds rendering every renderer in turn (a busy machine slows them
+/// alike), and each one's median.
+pub fn interleaved_pass_medians(
+    renderers: &mut [luz::headless::Headless],
+    warmup: usize,
+    rounds: usize,
+    pass: impl Fn(&str) -> bool,
+) -> Vec<f64> {
+    let ms = |t: &luz::headless::FrameTimes| {
         t.gpu_ms
             .iter()
-            .filter(|(n, _)| {
-                n.contains("forward") || n.contains("lighting") || n.contains("gbuffer")
-            })
+            .filter(|(n, _)| pass(n))
             .map(|(_, ms)| ms)
             .sum::<f64>()
     };
@@ -275,7 +286,7 @@ pub fn interleaved_forward_medians(
     let mut times = vec![Vec::new(); renderers.len()];
     for _ in 0..rounds {
         for (r, t) in renderers.iter_mut().zip(times.iter_mut()) {
-            t.push(forward(&r.render().expect("frame")));
+            t.push(ms(&r.render().expect("frame")));
         }
     }
     times
