@@ -33,4 +33,21 @@ vec3 importance_sample_ggx(float xi1, float xi2, float alpha) {
     return vec3(sin_t * cos(phi), sin_t * sin(phi), cos_t);
 }
 
+// A visible normal of the anisotropic GGX lobe (ax, ay) seen from v (+z normal), Heitz 2018:
+// its pdf is G1(v) max(v·h, 0) D(h) / (n·v). Mirror of sample_ggx_vndf_aniso in
+// src/brdf/aniso_split_sum.rs.
+vec3 sample_ggx_vndf_aniso(vec3 v, float ax, float ay, float u1, float u2) {
+    vec3 vh = normalize(vec3(ax * v.x, ay * v.y, v.z));
+    float len2 = vh.x * vh.x + vh.y * vh.y;
+    vec3 t1 = len2 > 0.0 ? vec3(-vh.y, vh.x, 0.0) / sqrt(len2) : vec3(1.0, 0.0, 0.0);
+    vec3 t2 = cross(vh, t1);
+    float r = sqrt(u1);
+    float phi = 2.0 * M_PI * u2;
+    float p1 = r * cos(phi);
+    float s = 0.5 * (1.0 + vh.z);
+    float p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    vec3 nh = t1 * p1 + t2 * p2 + vh * sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    return normalize(vec3(ax * nh.x, ay * nh.y, max(nh.z, 0.0)));
+}
+
 #endif // LUZ_BRDF_SAMPLING_GLSL

@@ -1,7 +1,8 @@
 #version 460
 // Split sum, second factor (MODELS.md §7): A, B over (n·v, roughness) so that the specular
-// directional albedo is F0·A + B. GGX sampling of h with α = roughness²; Fc = (1 − v·h)^5;
-// G_vis = G (v·h)/((n·h)(n·v)) with the G the material uses (one array layer per G).
+// directional albedo is F0·A + B. Visible normals h of the GGX lobe with α = roughness² seen
+// from v (Heitz 2018), weight G/G1(v) with the G the material uses (one array layer per G);
+// Fc = (1 − v·h)^5. The same computation as split_sum_lut_reference in src/brdf/split_sum.rs.
 #include "../brdf/models.glsl"
 #include "../brdf/sampling.glsl"
 
@@ -19,30 +20,34 @@ void main() {
     if (id.x >= pc.size || id.y >= pc.size) {
         return;
     }
-    float n_v = (float(id.x) + 0.5) / float(pc.size);
-    float roughness = (float(id.y) + 0.5) / float(pc.size);
+    // Texel i holds i/(size − 1): 0 and 1 included (lut_node; read at lut_uv in ibl.glsl).
+    float last = float(max(pc.size, 2u) - 1u);
+    float n_v = max(float(id.x) / last, 1e-4);
+    float roughness = float(id.y) / last;
     float alpha = max(roughness * roughness, BRDF_ALPHA_MIN);
     vec3 v = vec3(sqrt(max(1.0 - n_v * n_v, 0.0)), 0.0, n_v);
+    float g1 = 2.0 * n_v / (n_v + length(vec3(alpha * v.x, 0.0, n_v)));
     float a = 0.0;
     float b = 0.0;
     for (uint i = 0u; i < pc.samples; ++i) {
-        vec2 u = hammersley(i, pc.samples);
-        vec3 h = importance_sample_ggx(u.x, u.y, alpha);
+        // lut_point: the Hammersley point in the middle of its stratum.
+        vec2 u = vec2((float(i) + 0.5) / float(pc.samples), radical_inverse_vdc(i));
+        vec3 h = sample_ggx_vndf_aniso(v, alpha, alpha, u.x, u.y);
         vec3 l = 2.0 * dot(v, h) * h - v;
         float n_l = l.z;
         float n_h = h.z;
         float v_h = dot(v, h);
-        if (n_l > 0.0 && v_h > 0.0) {
+        if (n_l > 0.0 && v_h > 0.0 && n_h > 0.0) {
             float g;
             if (pc.geometry == BRDF_G_SCHLICK_GGX) {
                 g = g_schlick_ggx(n_l, n_v, k_ibl(roughness));
             } else {
                 g = brdf_geometry(pc.geometry, n_h, n_v, n_l, v_h, alpha, roughness);
             }
-            float g_vis = g * v_h / (n_h * n_v);
+            float w = g / g1;
             float fc = pow(1.0 - v_h, 5.0);
-            a += (1.0 - fc) * g_vis;
-            b += fc * g_vis;
+            a += (1.0 - fc) * w;
+            b += fc * w;
         }
     }
     imageStore(lut, ivec3(id, int(pc.layer)), vec4(a / float(pc.samples), b / float(pc.samples), 0.0, 1.0));

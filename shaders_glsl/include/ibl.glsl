@@ -176,9 +176,16 @@ struct EnergyScale {
     float sheen;
 };
 
+// The texture coordinates at which the split-sum table holds (n·v, roughness): its texel i holds
+// i/(size − 1), 0 and 1 included (brdf::lut_uv, brdf::lut_node).
+vec2 lut_uv(float n_v, float roughness) {
+    float n = float(textureSize(brdf_lut, 0).x);
+    return (clamp(vec2(n_v, roughness), 0.0, 1.0) * (n - 1.0) + 0.5) / n;
+}
+
 // The split-sum table's (A, B) at (n·v, roughness) in the material's layer.
 vec2 brdf_lut_ab(float n_v, float roughness) {
-    return textureLod(brdf_lut, vec3(n_v, roughness, float(material.flags)), 0.0).rg;
+    return textureLod(brdf_lut, vec3(lut_uv(n_v, roughness), float(material.flags)), 0.0).rg;
 }
 
 // KHR_materials_anisotropy's split sum (brdf::aniso_split_sum_ab): the lobe's (A, B) over
@@ -227,7 +234,7 @@ vec2 aniso_split_sum_ab(AnisotropicLobe a, float n_v, vec3 v, float roughness, f
 // (aniso_split_sum_ab) in pipelines with the anisotropy lobe and compensation, else the
 // isotropic table's at brdf_lobe_roughness.
 vec2 base_lobe_ab(BrdfParams p, float n_v, vec3 v, AnisotropicLobe an) {
-    vec2 ab = textureLod(brdf_lut, vec3(n_v, brdf_lobe_roughness(p), float(material.flags)), 0.0).rg;
+    vec2 ab = brdf_lut_ab(n_v, brdf_lobe_roughness(p));
     if ((LOBES & BRDF_LOBE_ANISOTROPY) != 0u && ENERGY_COMPENSATION
         && MODEL == BRDF_MODEL_METAL_ROUGH && an.on) {
         ab = aniso_split_sum_ab(an, n_v, v, p.color.w, p.p1.z);
@@ -299,7 +306,7 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         return result;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    vec2 ab = textureLod(brdf_lut, vec3(n_v, s.roughness, float(material.flags)), 0.0).rg;
+    vec2 ab = brdf_lut_ab(n_v, s.roughness);
     // KHR_materials_anisotropy: the prefiltered cube is read around the bent normal of the
     // extension's sample renderer (the normal leaned towards the plane across the anisotropy
     // direction, the more the stronger and smoother the lobe); the LUT keeps n·v, and with

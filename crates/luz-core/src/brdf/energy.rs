@@ -51,10 +51,11 @@ fn table(geometry: Geometry) -> &'static Table {
     })
 }
 
-/// The split-sum table's `(A, B)` at `(n·v, roughness)`, bilinear between texel centres and
-/// clamped at the edges, as the GPU's sampler reads `brdf_lut`. The shipped table (512², 1024
-/// samples) for the correlated Smith term, a 128² table of 512 samples (computed once per
-/// process) for the others.
+/// The split-sum table's `(A, B)` at `(n·v, roughness)`, bilinear between its nodes (texel `i`
+/// holds [`super::lut_node`]`(i)`, 0 and 1 included) and clamped at the edges, as the GPU's
+/// sampler reads `brdf_lut` at [`super::lut_uv`]. The shipped table (512², 1024 samples) for
+/// the correlated Smith term, a 128² table of 512 samples (computed once per process) for the
+/// others.
 pub fn split_sum_ab(geometry: Geometry, n_v: f32, roughness: f32) -> (f32, f32) {
     // Geometry terms that share a table (Beckmann's Smith term reads the separable GGX one) share
     // its computation too.
@@ -66,7 +67,7 @@ pub fn split_sum_ab(geometry: Geometry, n_v: f32, roughness: f32) -> (f32, f32) 
         } else {
             1.0
         };
-        let p = (x * t.size as f32 - 0.5).clamp(0.0, (size - 1) as f32);
+        let p = (x * (size - 1) as f32).clamp(0.0, (size - 1) as f32);
         let i = (p.floor() as usize).min(size - 1);
         (i, (i + 1).min(size - 1), p - i as f32)
     };

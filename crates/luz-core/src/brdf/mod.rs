@@ -82,7 +82,9 @@ pub use shipped_lut::{
     generate_shipped_lut, shipped_lut, shipped_lut_bytes, SHIPPED_LUT_FILE, SHIPPED_LUT_GEOMETRY,
     SHIPPED_LUT_SAMPLES, SHIPPED_LUT_SIZE,
 };
-pub use split_sum::{g_ibl, split_sum_lut_reference, split_sum_lut_table};
+pub use split_sum::{
+    g_ibl, lut_node, lut_point, lut_uv, split_sum_lut_reference, split_sum_lut_table,
+};
 pub use terms::*;
 pub use transmission::{
     attenuation_coefficient, beer_lambert, refract, DielectricSample, RoughDielectric, Transmission,

@@ -1,4 +1,5 @@
-//! The split-sum BRDF table shipped with luz for the default settings (512², 1024 samples, the
+//! The split-sum BRDF table shipped with luz for the default settings (512², 1024 visible-normal
+//! samples, the
 //! correlated Smith GGX term the default materials use), so that a cold start does not spend
 //! ~1.2 s computing it on lavapipe (docs/performance.md, "Cold start").
 //!
@@ -22,9 +23,10 @@ pub const SHIPPED_LUT_SAMPLES: u32 = 1024;
 /// The geometry term of the shipped table.
 pub const SHIPPED_LUT_GEOMETRY: Geometry = Geometry::SmithGgxCorrelated;
 /// Where the generator writes the table, relative to the luz-core crate.
-pub const SHIPPED_LUT_FILE: &str = "data/brdf_lut_512x1024_smith_ggx_correlated.bin";
+pub const SHIPPED_LUT_FILE: &str = "data/brdf_lut_512x1024_vndf_smith_ggx_correlated.bin";
 
-static SHIPPED: &[u8] = include_bytes!("../../data/brdf_lut_512x1024_smith_ggx_correlated.bin");
+static SHIPPED: &[u8] =
+    include_bytes!("../../data/brdf_lut_512x1024_vndf_smith_ggx_correlated.bin");
 
 /// The shipped table's `(A, B)` pairs when `size`, `samples` and `geometry` (a `BRDF_G_*`
 /// selector) are the shipped ones; None otherwise (compute it).
@@ -72,17 +74,19 @@ mod tests {
     fn shipped_lut_regenerates() {
         let table = shipped_lut(512, 1024, SHIPPED_LUT_GEOMETRY as i32).expect("shipped");
         let mut worst = 0f32;
-        for j in (0..512).step_by(7) {
-            for i in (0..512).step_by(7) {
-                let n_v = (i as f32 + 0.5) / 512.0;
-                let r = (j as f32 + 0.5) / 512.0;
+        for j in (0..512u32).step_by(7) {
+            for i in (0..512u32).step_by(7) {
+                let (n_v, r) = (
+                    super::super::lut_node(i, 512),
+                    super::super::lut_node(j, 512),
+                );
                 let (a, b) = super::super::split_sum_lut_reference(
                     n_v,
                     r,
                     SHIPPED_LUT_GEOMETRY,
                     SHIPPED_LUT_SAMPLES,
                 );
-                let [ta, tb] = table[j * 512 + i];
+                let [ta, tb] = table[(j * 512 + i) as usize];
                 worst = worst.max((ta - a).abs()).max((tb - b).abs());
             }
         }
@@ -93,11 +97,13 @@ mod tests {
         );
     }
 
-    /// The shipped table against the reference integral with 64× the samples, and the lookup's
+    /// The shipped table against the reference integral with 64× the samples (within 1e-3 in A,
+    /// 1.5e-3 in B), and the lookup's
     /// key: other sizes, sample counts or geometry terms are not shipped.
     #[test]
     fn shipped_lut_near_the_reference() {
         let table = shipped_lut(512, 1024, Geometry::SmithGgxCorrelated as i32).unwrap();
+        let mut worst = 0f32;
         for (i, j) in [
             (0usize, 0usize),
             (10, 10),
@@ -106,17 +112,23 @@ mod tests {
             (100, 500),
             (511, 511),
         ] {
-            let n_v = (i as f32 + 0.5) / 512.0;
-            let r = (j as f32 + 0.5) / 512.0;
+            let (n_v, r) = (
+                super::super::lut_node(i as u32, 512),
+                super::super::lut_node(j as u32, 512),
+            );
             let (a, b) =
                 super::super::split_sum_lut_reference(n_v, r, SHIPPED_LUT_GEOMETRY, 1 << 16);
             let [ta, tb] = table[j * 512 + i];
-            // The 1024-sample table is within ~2e-3 of the converged integral.
+            worst = worst.max((ta - a).abs()).max((tb - b).abs());
             assert!(
-                (ta - a).abs() < 3e-3 && (tb - b).abs() < 3e-3,
+                (ta - a).abs() < 1e-3 && (tb - b).abs() < 1.5e-3,
                 "({i}, {j}): shipped ({ta}, {tb}), reference ({a}, {b})"
             );
         }
+        // Measured (2026-11-29): at most 6.2e-4 in A and 1.05e-3 in B (n·v and roughness both
+        // 0.001). The table before, half vectors drawn from D(h)(n·h), read 0.9094 for A + B
+        // where the integral is 0.9007 (roughness 0.5 at 85°: energy::tests).
+        eprintln!("shipped LUT against 65,536 samples: worst {worst:.2e}");
         assert!(shipped_lut(256, 1024, SHIPPED_LUT_GEOMETRY as i32).is_none());
         assert!(shipped_lut(512, 512, SHIPPED_LUT_GEOMETRY as i32).is_none());
         assert!(shipped_lut(512, 1024, Geometry::SchlickGgx as i32).is_none());

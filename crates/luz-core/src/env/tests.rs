@@ -365,7 +365,8 @@ fn split_sum_lut_is_sane() {
                 assert!(a.is_finite() && b.is_finite(), "{g:?}");
                 // Schlick-GGX with k_ibl(0) = 0 has no masking at all: at roughness 0 and
                 // grazing n·v its A + B diverges (5.4 at n·v = 1e-4, 1.16 at 1e-3). A table's
-                // texel centres start at n·v = 1/(2 size), where it is back to 1.
+                // first column holds n·v = 0 (clamped to 1e-4), so that corner of a Schlick-GGX
+                // table is 5.4: a mirror without masking seen exactly edge-on.
                 if g != Geometry::SchlickGgx || n_v >= 0.01 {
                     assert!(a + b <= 1.0 + 1e-2, "{g:?} n·v {n_v} r {r}: {}", a + b);
                 }
@@ -377,8 +378,13 @@ fn split_sum_lut_is_sane() {
     assert!(b > 0.1 * a, "{a} {b}");
     let table = split_sum_lut_table(8, 64, Geometry::SmithGgxCorrelated);
     assert_eq!(table.len(), 64);
-    let (a, b) = split_sum_lut_reference(2.5 / 8.0, 5.5 / 8.0, Geometry::SmithGgxCorrelated, 64);
+    let (a, b) = split_sum_lut_reference(2.0 / 7.0, 5.0 / 7.0, Geometry::SmithGgxCorrelated, 64);
     assert_eq!(table[5 * 8 + 2], [a, b]);
+    // The first and last nodes are 0 and 1 (a lookup at roughness 1 or n·v = 1 reads them).
+    let (a, b) = split_sum_lut_reference(1.0, 1.0, Geometry::SmithGgxCorrelated, 64);
+    assert_eq!(table[63], [a, b]);
+    assert_eq!(crate::brdf::lut_uv(1.0, 8), 7.5 / 8.0);
+    assert_eq!(crate::brdf::lut_uv(0.0, 8), 0.5 / 8.0);
 }
 
 #[test]

@@ -24,10 +24,12 @@ pub(super) fn lut_file(
     s: &IblSettings,
     g: i32,
 ) -> Option<std::path::PathBuf> {
-    inputs
-        .cache
-        .as_ref()
-        .map(|(dir, _)| dir.join(format!("lut-{}-{}-g{g}.bin", s.lut_size, s.lut_samples)))
+    inputs.cache.as_ref().map(|(dir, _)| {
+        dir.join(format!(
+            "lut-vndf-{}-{}-g{g}.bin",
+            s.lut_size, s.lut_samples
+        ))
+    })
 }
 
 /// Bytes of every mip level of `image` (all layers per level, level-major), RGBA16F or RGBA32F.
