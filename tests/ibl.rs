@@ -162,8 +162,8 @@ fn brdf_lut_against_numerical_integration() {
         (400, 450),
     ] {
         let (xi, yi) = (xi * size / 512, yi * size / 512);
-        let n_v = (xi as f32 + 0.5) / size as f32;
-        let rough = (yi as f32 + 0.5) / size as f32;
+        let n_v = luz::brdf::lut_node(xi as u32, size as u32);
+        let rough = luz::brdf::lut_node(yi as u32, size as u32);
         let (a, b) = luz::env::split_sum_lut_reference(n_v, rough, g, 1 << 16);
         let t = texels[yi * size + xi];
         assert!(
