@@ -387,17 +387,32 @@ float brdf_split_sum_mean_cos(vec2 ab) {
     return 1.0 - pow(clamp(ab.y / max(ab.x + ab.y, 1e-6), 0.0, 1.0), 0.2);
 }
 
-// The F0 the split sum and energy compensation take for p (iridescence_f0): f0, or mixed with
-// the F0 whose Schlick curve meets the film's Fresnel at c (brdf_split_sum_mean_cos of the
-// lobe's entry); below 0 where the film stays under Schlick's curve (under a coat), so that
-// F0·A + B is still the film's F(c)·(A + B).
-vec3 brdf_iridescence_f0(BrdfParams p, vec3 f0, float c) {
+// The F0 the split sum and energy compensation take for p over a split-sum entry (A, B, μ, σ)
+// (iridescence_f0_lobe): f0, or mixed with the F0 that makes F0·A + B the lobe's mean film
+// Fresnel times A + B, that mean taken as the film's Fresnel at the mean Schlick angle c plus
+// the film's difference from the Schlick curve through it (reaching the film's own grazing
+// value) at μ and μ ± √3 σ, weighted 2/3, 1/6, 1/6. Below 0 where the film stays under
+// Schlick's curve (under a coat).
+vec3 brdf_iridescence_f0_lobe(BrdfParams p, vec3 f0, vec4 lobe) {
     if (!brdf_has_iridescence(p)) {
         return f0;
     }
-    vec3 f = brdf_iridescence_fresnel_of(p, c);
+    float c = brdf_split_sum_mean_cos(lobe.xy);
     float w = brdf_schlick_weight(clamp(c, 0.0, 1.0));
-    vec3 film_f0 = min((f - vec3(w)) / max(1.0 - w, 1e-4), vec3(1.0));
+    float k = 1.0 / max(1.0 - w, 1e-4);
+    vec3 f = brdf_iridescence_fresnel_of(p, c);
+    vec3 f90 = brdf_iridescence_fresnel_of(p, 0.0);
+    vec3 through = (f - f90 * w) * k;
+    float h = sqrt(3.0) * lobe.w;
+    vec3 off = vec3(0.0);
+    float xs[3] = float[3](lobe.z - h, lobe.z, lobe.z + h);
+    float ws[3] = float[3](1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0);
+    for (int i = 0; i < 3; ++i) {
+        float x = clamp(xs[i], 0.0, 1.0);
+        float s = brdf_schlick_weight(x);
+        off += ws[i] * (brdf_iridescence_fresnel_of(p, x) - (through + (f90 - through) * s));
+    }
+    vec3 film_f0 = min((f + off - vec3(w)) * k, vec3(1.0));
     return mix(f0, film_f0, brdf_film_factor(p));
 }
 

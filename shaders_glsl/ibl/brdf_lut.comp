@@ -1,6 +1,6 @@
 #version 460
 // Split sum, second factor (MODELS.md §7): A, B over (n·v, roughness) so that the specular
-// directional albedo is F0·A + B. Visible normals h of the GGX lobe with α = roughness² seen
+// directional albedo is F0·A + B, and the lobe's v·h mean and deviation (μ, σ). Visible normals h of the GGX lobe with α = roughness² seen
 // from v (Heitz 2018), weight G/G1(v) with the G the material uses (one array layer per G);
 // Fc = (1 − v·h)^5. The same computation as split_sum_lut_reference in src/brdf/split_sum.rs.
 #include "../brdf/models.glsl"
@@ -29,6 +29,8 @@ void main() {
     float g1 = 2.0 * n_v / (n_v + length(vec3(alpha * v.x, 0.0, n_v)));
     float a = 0.0;
     float b = 0.0;
+    float m1 = 0.0;
+    float m2 = 0.0;
     for (uint i = 0u; i < pc.samples; ++i) {
         // lut_point: the Hammersley point in the middle of its stratum.
         vec2 u = vec2((float(i) + 0.5) / float(pc.samples), radical_inverse_vdc(i));
@@ -48,7 +50,13 @@ void main() {
             float fc = pow(1.0 - v_h, 5.0);
             a += (1.0 - fc) * w;
             b += fc * w;
+            m1 += v_h * w;
+            m2 += v_h * v_h * w;
         }
     }
-    imageStore(lut, ivec3(id, int(pc.layer)), vec4(a / float(pc.samples), b / float(pc.samples), 0.0, 1.0));
+    // The lobe's v·h under the same weight: mean and standard deviation (split_sum_lut_moments).
+    float e = a + b;
+    float mu = e > 0.0 ? m1 / e : 1.0;
+    float sd = e > 0.0 ? sqrt(max(m2 / e - mu * mu, 0.0)) : 0.0;
+    imageStore(lut, ivec3(id, int(pc.layer)), vec4(a / float(pc.samples), b / float(pc.samples), mu, sd));
 }

@@ -183,9 +183,15 @@ vec2 lut_uv(float n_v, float roughness) {
     return (clamp(vec2(n_v, roughness), 0.0, 1.0) * (n - 1.0) + 0.5) / n;
 }
 
-// The split-sum table's (A, B) at (n·v, roughness) in the material's layer.
+// The split-sum table's entry (A, B, μ, σ) at (n·v, roughness) in the material's layer
+// (split_sum_lobe).
+vec4 brdf_lut_lobe(float n_v, float roughness) {
+    return textureLod(brdf_lut, vec3(lut_uv(n_v, roughness), float(material.flags)), 0.0);
+}
+
+// Its (A, B).
 vec2 brdf_lut_ab(float n_v, float roughness) {
-    return textureLod(brdf_lut, vec3(lut_uv(n_v, roughness), float(material.flags)), 0.0).rg;
+    return brdf_lut_lobe(n_v, roughness).rg;
 }
 
 // KHR_materials_anisotropy's split sum (brdf::aniso_split_sum_ab): the lobe's (A, B) over
@@ -230,16 +236,17 @@ vec2 aniso_split_sum_ab(AnisotropicLobe a, float n_v, vec3 v, float roughness, f
                mix(aniso_lut_slice(k, m + 1, uv), aniso_lut_slice(k + 1, m + 1, uv), fk), fm);
 }
 
-// The split sum (A, B) of the metal-rough base lobe at the view: the anisotropic lobe's own
-// (aniso_split_sum_ab) in pipelines with the anisotropy lobe and compensation, else the
-// isotropic table's at brdf_lobe_roughness.
-vec2 base_lobe_ab(BrdfParams p, float n_v, vec3 v, AnisotropicLobe an) {
-    vec2 ab = brdf_lut_ab(n_v, brdf_lobe_roughness(p));
+// The split-sum entry (A, B, μ, σ) of the metal-rough base lobe at the view: the anisotropic
+// lobe's own (aniso_split_sum_ab, with μ the mean Schlick angle and σ 0) in pipelines with the
+// anisotropy lobe and compensation, else the isotropic table's at brdf_lobe_roughness.
+vec4 base_lobe(BrdfParams p, float n_v, vec3 v, AnisotropicLobe an) {
+    vec4 lobe = brdf_lut_lobe(n_v, brdf_lobe_roughness(p));
     if ((LOBES & BRDF_LOBE_ANISOTROPY) != 0u && ENERGY_COMPENSATION
         && MODEL == BRDF_MODEL_METAL_ROUGH && an.on) {
-        ab = aniso_split_sum_ab(an, n_v, v, p.color.w, p.p1.z);
+        vec2 ab = aniso_split_sum_ab(an, n_v, v, p.color.w, p.p1.z);
+        lobe = vec4(ab, brdf_split_sum_mean_cos(ab), 0.0);
     }
-    return ab;
+    return lobe;
 }
 
 // The energy-compensated coat (brdf::layers::clearcoat_energy): its albedo E_ms and lobe factor
@@ -270,9 +277,9 @@ EnergyScale energy_scale(BrdfParams p, vec3 n, vec3 v, AnisotropicLobe an) {
         return es;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    vec2 ab = base_lobe_ab(p, n_v, v, an);
-    vec3 f0 = brdf_iridescence_f0(p, mix(p.spec.rgb, p.color.rgb, p.spec.w),
-                                  brdf_split_sum_mean_cos(ab));
+    vec4 lobe = base_lobe(p, n_v, v, an);
+    vec2 ab = lobe.xy;
+    vec3 f0 = brdf_iridescence_f0_lobe(p, mix(p.spec.rgb, p.color.rgb, p.spec.w), lobe);
     float e = max(ab.x + ab.y, 1e-4);
     es.specular = vec3(1.0) + max(f0, vec3(0.0)) * ((1.0 - e) / e);
     vec3 e_ms = (f0 * ab.x + brdf_f90(p) * ab.y) * es.specular;
@@ -306,16 +313,16 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         return result;
     }
     float n_v = clamp(dot(n, v), 1e-4, 1.0);
-    vec2 ab = brdf_lut_ab(n_v, s.roughness);
+    vec4 lobe = brdf_lut_lobe(n_v, s.roughness);
     // KHR_materials_anisotropy: the prefiltered cube is read around the bent normal of the
     // extension's sample renderer (the normal leaned towards the plane across the anisotropy
     // direction, the more the stronger and smoother the lobe); the LUT keeps n·v, and with
-    // compensation the split sum is the lobe's own at the view's azimuth (base_lobe_ab).
+    // compensation the split sum is the lobe's own at the view's azimuth (base_lobe).
     vec3 n_r = n;
     if (MODEL == BRDF_MODEL_METAL_ROUGH && SPECULAR_METHOD != SPECULAR_IMPORTANCE) {
         AnisotropicLobe an = brdf_anisotropic_lobe(p, n, x, y);
         if ((LOBES & BRDF_LOBE_ANISOTROPY) != 0u && ENERGY_COMPENSATION) {
-            ab = base_lobe_ab(p, n_v, v, an);
+            lobe = base_lobe(p, n_v, v, an);
         }
         if (an.on) {
             vec3 across = cross(an.b, v);
@@ -329,9 +336,10 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         }
     }
     if (MODEL == BRDF_MODEL_METAL_ROUGH) {
-        // The film's F0 at the lobe's mean Schlick angle of this (A, B) (brdf_iridescence_f0).
-        s.f0 = brdf_iridescence_f0(p, s.f0, brdf_split_sum_mean_cos(ab));
+        // The film's F0 over this entry's lobe (brdf_iridescence_f0_lobe).
+        s.f0 = brdf_iridescence_f0_lobe(p, s.f0, lobe);
     }
+    vec2 ab = lobe.xy;
     vec3 spec;
     if (SPECULAR_METHOD == SPECULAR_IMPORTANCE) {
         spec = ibl_specular_importance(p, n, v, x, y, s.roughness);
@@ -339,16 +347,16 @@ vec3 ibl_shade(BrdfParams p, vec3 n, vec3 v, vec3 x, vec3 y, EnergyScale es) {
         // Two lookups of the prefiltered cube fitted to the real lobe (env::lobes,
         // env::fitted_lobes_specular): (φ1, r1, φ2, r2) and w2 at (n·v, roughness) in the LUT's
         // last two layers; d = cos φ n − sin φ t, t the part of v across n.
-        vec4 lobe = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y), 0.0);
+        vec4 fit = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y), 0.0);
         float w2 = textureLod(brdf_lut, vec3(n_v, s.roughness, env.params.y + 1.0), 0.0).x;
         vec3 t = v - n_r * dot(n_r, v);
         float t_len = length(t);
         t = t_len > 1e-6 ? t / t_len : vec3(0.0);
-        vec3 d1 = normalize(cos(lobe.x) * n_r - sin(lobe.x) * t);
-        vec3 d2 = normalize(cos(lobe.z) * n_r - sin(lobe.z) * t);
+        vec3 d1 = normalize(cos(fit.x) * n_r - sin(fit.x) * t);
+        vec3 d2 = normalize(cos(fit.z) * n_r - sin(fit.z) * t);
         float mips = env.params.x;
-        vec3 pre = mix(textureLod(prefiltered_cube, d1, prefiltered_lod(lobe.y, mips)).rgb,
-                       textureLod(prefiltered_cube, d2, prefiltered_lod(lobe.w, mips)).rgb, w2);
+        vec3 pre = mix(textureLod(prefiltered_cube, d1, prefiltered_lod(fit.y, mips)).rgb,
+                       textureLod(prefiltered_cube, d2, prefiltered_lod(fit.w, mips)).rgb, w2);
         spec = s.weight * pre * (s.f0 * ab.x + s.f90 * ab.y);
     } else {
         vec3 r = 2.0 * dot(n_r, v) * n_r - v;

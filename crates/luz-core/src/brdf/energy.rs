@@ -27,7 +27,7 @@ const COMPUTED_SAMPLES: u32 = 512;
 
 struct Table {
     size: u32,
-    ab: Vec<[f32; 2]>,
+    entries: Vec<[f32; 4]>,
 }
 
 fn table(geometry: Geometry) -> &'static Table {
@@ -39,13 +39,13 @@ fn table(geometry: Geometry) -> &'static Table {
         .expect("every geometry is in ALL");
     TABLES[slot].get_or_init(|| {
         match shipped_lut(SHIPPED_LUT_SIZE, SHIPPED_LUT_SAMPLES, geometry as i32) {
-            Some(ab) => Table {
+            Some(entries) => Table {
                 size: SHIPPED_LUT_SIZE,
-                ab,
+                entries,
             },
             None => Table {
                 size: COMPUTED_SIZE,
-                ab: split_sum_lut_table(COMPUTED_SIZE, COMPUTED_SAMPLES, geometry),
+                entries: split_sum_lut_table(COMPUTED_SIZE, COMPUTED_SAMPLES, geometry),
             },
         }
     })
@@ -57,6 +57,13 @@ fn table(geometry: Geometry) -> &'static Table {
 /// the correlated Smith term, a 128² table of 512 samples (computed once per process) for the
 /// others.
 pub fn split_sum_ab(geometry: Geometry, n_v: f32, roughness: f32) -> (f32, f32) {
+    let [a, b, _, _] = split_sum_lobe(geometry, n_v, roughness);
+    (a, b)
+}
+
+/// The whole entry `[A, B, μ, σ]` ([`super::split_sum_lut_moments`]) at `(n·v, roughness)`, read
+/// as [`split_sum_ab`] reads `(A, B)`.
+pub fn split_sum_lobe(geometry: Geometry, n_v: f32, roughness: f32) -> [f32; 4] {
     // Geometry terms that share a table (Beckmann's Smith term reads the separable GGX one) share
     // its computation too.
     let t = table(geometry.for_split_sum());
@@ -73,15 +80,13 @@ pub fn split_sum_ab(geometry: Geometry, n_v: f32, roughness: f32) -> (f32, f32) 
     };
     let (i0, i1, fx) = coord(n_v);
     let (j0, j1, fy) = coord(roughness);
-    let at = |i: usize, j: usize| t.ab[j * size + i];
-    let lerp =
-        |a: [f32; 2], b: [f32; 2], f: f32| [a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f];
-    let ab = lerp(
+    let at = |i: usize, j: usize| t.entries[j * size + i];
+    let lerp = |a: [f32; 4], b: [f32; 4], f: f32| std::array::from_fn(|k| a[k] + (b[k] - a[k]) * f);
+    lerp(
         lerp(at(i0, j0), at(i1, j0), fx),
         lerp(at(i0, j1), at(i1, j1), fx),
         fy,
-    );
-    (ab[0], ab[1])
+    )
 }
 
 /// What energy compensation multiplies the metal-rough terms by at a view with cosine `n_v`.

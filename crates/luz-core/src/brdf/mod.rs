@@ -45,7 +45,9 @@ pub use aniso_split_sum::{
     generate_aniso_lut, sample_ggx_vndf_aniso, shipped_aniso_lut, ANISO_LUT_FILE, ANISO_LUT_NV,
     ANISO_LUT_PHI, ANISO_LUT_ROUGHNESS, ANISO_LUT_SAMPLES, ANISO_LUT_STRENGTH,
 };
-pub use energy::{energy_scale, energy_scale_ab, energy_scale_f90, split_sum_ab, EnergyScale};
+pub use energy::{
+    energy_scale, energy_scale_ab, energy_scale_f90, split_sum_ab, split_sum_lobe, EnergyScale,
+};
 pub use gpu::{model_code, GpuBrdfParams};
 pub use ltc::{
     fit_entry, fit_table, generate_ltc_table, ltc_table, refit_shipped_entry, shipped_lobe,
@@ -60,7 +62,7 @@ pub use models::layers::{
 };
 pub use models::{
     anisotropic_lobe, blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms,
-    film_ior_error, film_range_error, has_iridescence, iridescence_f0, iridescence_fresnel_of,
+    film_ior_error, film_range_error, has_iridescence, iridescence_f0_lobe, iridescence_fresnel_of,
     lambert, lambert_terms, metal_rough, metal_rough_terms, metal_rough_terms_frame, oren_nayar,
     oren_nayar_terms, phong, phong_radiance, phong_terms, principled, principled_terms, radiance,
     split_sum_mean_cos, AnisotropicLobe, CookTorranceParams, Diffuse, Distribution, Fresnel,
@@ -83,7 +85,8 @@ pub use shipped_lut::{
     SHIPPED_LUT_SAMPLES, SHIPPED_LUT_SIZE,
 };
 pub use split_sum::{
-    g_ibl, lut_node, lut_point, lut_uv, split_sum_lut_reference, split_sum_lut_table,
+    g_ibl, lut_node, lut_point, lut_uv, split_sum_lut_moments, split_sum_lut_reference,
+    split_sum_lut_table,
 };
 pub use terms::*;
 pub use transmission::{

@@ -71,13 +71,27 @@ pub fn split_sum_lut_reference(
     geometry: Geometry,
     samples: u32,
 ) -> (f32, f32) {
+    let [a, b, _, _] = split_sum_lut_moments(n_v, roughness, geometry, samples);
+    (a, b)
+}
+
+/// [`split_sum_lut_reference`]'s `(A, B)` and the lobe's `v·h` under the same weight: its mean
+/// `μ = Σ w v·h / Σ w` and standard deviation `σ`. A Fresnel that is not Schlick's (the
+/// iridescent film's) is integrated over the lobe from them ([`super::iridescence_f0_lobe`]):
+/// Schlick's curve through it at the mean Schlick angle, corrected by the difference at `μ ± σ`.
+pub fn split_sum_lut_moments(
+    n_v: f32,
+    roughness: f32,
+    geometry: Geometry,
+    samples: u32,
+) -> [f32; 4] {
     let n_v = n_v.clamp(COS_EPS, 1.0);
     let roughness = roughness.clamp(0.0, 1.0);
     let v = Vec3::new((1.0 - n_v * n_v).max(0.0).sqrt(), 0.0, n_v);
     let alpha = (roughness * roughness).max(ALPHA_MIN);
     let g1 = 2.0 * n_v / (n_v + Vec3::new(alpha * v.x, 0.0, n_v).length());
     let samples = samples.max(1);
-    let (mut a, mut b) = (0.0f64, 0.0f64);
+    let (mut a, mut b, mut m1, mut m2) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for i in 0..samples {
         let (xi1, xi2) = lut_point(i, samples);
         let h = sample_ggx_vndf_aniso(v, alpha, alpha, xi1, xi2);
@@ -92,22 +106,31 @@ pub fn split_sum_lut_reference(
         let fc = f64::from((1.0 - v_h).clamp(0.0, 1.0).powi(5));
         a += (1.0 - fc) * w;
         b += fc * w;
+        m1 += f64::from(v_h) * w;
+        m2 += f64::from(v_h * v_h) * w;
     }
     let n = f64::from(samples);
-    ((a / n) as f32, (b / n) as f32)
+    let e = a + b;
+    let (mu, sd) = if e > 0.0 {
+        let mu = m1 / e;
+        (mu, (m2 / e - mu * mu).max(0.0).sqrt())
+    } else {
+        (1.0, 0.0)
+    };
+    [(a / n) as f32, (b / n) as f32, mu as f32, sd as f32]
 }
 
-/// The whole split-sum table, `size × size` entries `[A, B]`, row-major: column `i` is
-/// `n·v = lut_node(i)`, row `j` is `roughness = lut_node(j)` (read at [`lut_uv`]).
-pub fn split_sum_lut_table(size: u32, samples: u32, geometry: Geometry) -> Vec<[f32; 2]> {
+/// The whole split-sum table, `size × size` entries `[A, B, μ, σ]`
+/// ([`split_sum_lut_moments`]), row-major: column `i` is `n·v = lut_node(i)`, row `j` is
+/// `roughness = lut_node(j)` (read at [`lut_uv`]).
+pub fn split_sum_lut_table(size: u32, samples: u32, geometry: Geometry) -> Vec<[f32; 4]> {
     let size = size.max(1);
     (0..size * size)
         .into_par_iter()
         .map(|k| {
             let (i, j) = (k % size, k / size);
             let (n_v, r) = (lut_node(i, size), lut_node(j, size));
-            let (a, b) = split_sum_lut_reference(n_v, r, geometry, samples);
-            [a, b]
+            split_sum_lut_moments(n_v, r, geometry, samples)
         })
         .collect()
 }

@@ -378,11 +378,18 @@ fn split_sum_lut_is_sane() {
     assert!(b > 0.1 * a, "{a} {b}");
     let table = split_sum_lut_table(8, 64, Geometry::SmithGgxCorrelated);
     assert_eq!(table.len(), 64);
-    let (a, b) = split_sum_lut_reference(2.0 / 7.0, 5.0 / 7.0, Geometry::SmithGgxCorrelated, 64);
-    assert_eq!(table[5 * 8 + 2], [a, b]);
+    let m = crate::brdf::split_sum_lut_moments;
+    let g = Geometry::SmithGgxCorrelated;
+    assert_eq!(table[5 * 8 + 2], m(2.0 / 7.0, 5.0 / 7.0, g, 64));
     // The first and last nodes are 0 and 1 (a lookup at roughness 1 or n·v = 1 reads them).
-    let (a, b) = split_sum_lut_reference(1.0, 1.0, Geometry::SmithGgxCorrelated, 64);
-    assert_eq!(table[63], [a, b]);
+    assert_eq!(table[63], m(1.0, 1.0, g, 64));
+    let (a, b) = split_sum_lut_reference(1.0, 1.0, g, 64);
+    assert_eq!(table[63][..2], [a, b]);
+    // The lobe's v·h: a mirror's is n·v (α = ALPHA_MIN, not 0: σ 1.3e-3); a rough lobe's spreads.
+    let [_, _, mu, sd] = m(0.5, 0.0, g, 256);
+    assert!((mu - 0.5).abs() < 1e-3 && sd < 2e-3, "{mu} {sd}");
+    let [_, _, mu, sd] = m(0.5, 0.8, g, 1024);
+    assert!(mu > 0.5 && (0.1..0.4).contains(&sd), "{mu} {sd}");
     assert_eq!(crate::brdf::lut_uv(1.0, 8), 7.5 / 8.0);
     assert_eq!(crate::brdf::lut_uv(0.0, 8), 0.5 / 8.0);
 }

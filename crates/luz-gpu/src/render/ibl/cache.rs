@@ -26,7 +26,7 @@ pub(super) fn lut_file(
 ) -> Option<std::path::PathBuf> {
     inputs.cache.as_ref().map(|(dir, _)| {
         dir.join(format!(
-            "lut-vndf-{}-{}-g{g}.bin",
+            "lut-moments-{}-{}-g{g}.bin",
             s.lut_size, s.lut_samples
         ))
     })

@@ -339,11 +339,11 @@ impl Images {
             let shipped = s
                 .shipped
                 .then(|| crate::env::shipped_lut(s.lut_size, s.lut_samples, *g));
-            if let Some(pairs) = shipped.flatten() {
-                let bytes: Vec<u8> = pairs
+            if let Some(entries) = shipped.flatten() {
+                let bytes: Vec<u8> = entries
                     .iter()
-                    .flat_map(|&[a, b]| [a, b, 0.0, 1.0])
-                    .flat_map(f32::to_ne_bytes)
+                    .flatten()
+                    .flat_map(|x| x.to_ne_bytes())
                     .collect();
                 write_lut_layer(ctx, pool, lut, layer as u32, &bytes)?;
                 tick("brdf lut (shipped)");
