@@ -2277,9 +2277,15 @@ fn sheen_lambda_fit_is_lambda() {
         sheen_lambda_glsl_source(k),
         "sheen_lambda.glsl is not the generator's output's format"
     );
+    // The generator's output to the last bits but one (its f64 cos and powf may round apart on
+    // another platform's libm).
     let new = fit_sheen_lambda();
-    assert_eq!(
-        &new, k,
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs().max(1e-3);
+    assert!(
+        close(new.q_scale, k.q_scale)
+            && close(new.q_offset, k.q_offset)
+            && new.c.len() == k.c.len()
+            && new.c.iter().zip(&k.c).all(|(&a, &b)| close(a, b)),
         "sheen_lambda.glsl is not the generator's output (cargo run --release -p luz-core --example sheen_lambda_fit)"
     );
     let e = sheen_lambda_fit_error(k);
