@@ -7,6 +7,7 @@
 
 #include "terms.glsl"
 #include "sheen_albedo.glsl"
+#include "sheen_lambda.glsl"
 
 // sel.x: model
 #define BRDF_MODEL_LAMBERT 0
@@ -557,54 +558,60 @@ float d_charlie(float alpha, float sin2_h) {
     return (2.0 + inv_r) * pow(max(sin2_h, 0.0), 0.5 * inv_r) * (0.5 * M_1_PI);
 }
 
-// The fit of Λ's exponent at one alpha (sheen_l in layers.rs): its five coefficients, and its
-// value at 0.5. shade() makes it once per pixel (g_sheen_fit), the lights reuse it.
+// Λ_sheen from a polynomial (layers::sheen_lambda_fit, layers::lambda_sheen_of; the exact
+// lambda_sheen of layers.rs is the reference; docs/brdf.md, "`BrdfParams`", the sheen):
+// log2 Λ = P(q) below cos θ = 0.5 and 2 P(1) − P(q) above, P of degree 6 in
+// q = w^(1/8) · SHEEN_LAMBDA_Q_SCALE + SHEEN_LAMBDA_Q_OFFSET (w = min(cos θ, 1 − cos θ) clamped
+// to [SHEEN_LAMBDA_W_MIN, 0.5]; q = 1 at w = 0.5), its seven coefficients cubics in
+// 2 (1 − α)² − 1, made once per pixel (sheen_lambda_fit). Three square roots, six multiply-adds
+// and an exp2 per call, instead of the specification's fit's pow, division and exp. The
+// constants: sheen_lambda.glsl, written by the Rust generator.
+
 struct SheenFit {
-    float a;
-    float b;
-    float c;
-    float d;
-    float e;
+    float c0;
+    float c1;
+    float c2;
+    float c3;
+    float c4;
+    float c5;
+    float c6;
     float l_half;
 };
 
-SheenFit sheen_fit(float alpha) {
-    float t = (1.0 - alpha) * (1.0 - alpha);
+#define SHEEN_LAMBDA_CUBIC(j, s) \
+    (((SHEEN_LAMBDA_FIT[4 * j + 3] * s + SHEEN_LAMBDA_FIT[4 * j + 2]) * s \
+      + SHEEN_LAMBDA_FIT[4 * j + 1]) * s + SHEEN_LAMBDA_FIT[4 * j])
+
+SheenFit sheen_lambda_fit(float alpha) {
+    float s = 2.0 * (1.0 - alpha) * (1.0 - alpha) - 1.0;
     SheenFit f;
-    f.a = mix(21.5473, 25.3245, t);
-    f.b = mix(3.82987, 3.32435, t);
-    f.c = mix(0.19823, 0.16801, t);
-    f.d = mix(-1.97760, -1.27393, t);
-    f.e = mix(-4.32054, -4.85967, t);
-    f.l_half = f.a / (1.0 + f.b * exp2(-f.c)) + 0.5 * f.d + f.e;
+    f.c0 = SHEEN_LAMBDA_CUBIC(0, s);
+    f.c1 = SHEEN_LAMBDA_CUBIC(1, s);
+    f.c2 = SHEEN_LAMBDA_CUBIC(2, s);
+    f.c3 = SHEEN_LAMBDA_CUBIC(3, s);
+    f.c4 = SHEEN_LAMBDA_CUBIC(4, s);
+    f.c5 = SHEEN_LAMBDA_CUBIC(5, s);
+    f.c6 = SHEEN_LAMBDA_CUBIC(6, s);
+    f.l_half = f.c0 + f.c1 + f.c2 + f.c3 + f.c4 + f.c5 + f.c6;
     return f;
 }
 
-float sheen_l_of(float x, SheenFit f) {
-    return f.a / (1.0 + f.b * pow(x, f.c)) + f.d * x + f.e;
-}
-
-float sheen_l(float x, float alpha) {
-    return sheen_l_of(x, sheen_fit(alpha));
-}
-
-// One sheen_l per call: both sides of a branch would run under the lane mask, so the branch
-// picks the argument and the exponent instead (the same values as lambda_sheen in layers.rs).
+// One polynomial per call: both sides of a branch would run under the lane mask, so the branch
+// picks the exponent's sign instead. (No GLSL lambda_sheen: the Rust one is the specification's
+// exact Λ, which this approximates.)
 float lambda_sheen_of(float cos_theta, SheenFit f) {
-    bool low = abs(cos_theta) < 0.5;
-    float l = sheen_l_of(low ? cos_theta : 1.0 - cos_theta, f);
-    return exp(low ? l : 2.0 * f.l_half - l);
-}
-
-float lambda_sheen(float cos_theta, float alpha) {
-    return lambda_sheen_of(cos_theta, sheen_fit(alpha));
+    bool low = cos_theta < 0.5;
+    float w = clamp(min(cos_theta, 1.0 - cos_theta), SHEEN_LAMBDA_W_MIN, 0.5);
+    float q = sqrt(sqrt(sqrt(w))) * SHEEN_LAMBDA_Q_SCALE + SHEEN_LAMBDA_Q_OFFSET;
+    float p = ((((((f.c6 * q + f.c5) * q + f.c4) * q + f.c3) * q + f.c2) * q + f.c1) * q + f.c0);
+    return exp2(low ? p : 2.0 * f.l_half - p);
 }
 
 // Per pixel: Λ_sheen at the view and the fit at the sheen's alpha. The lighting shaders'
 // shade() sets them for its one (n, v, sheen roughness) before anything evaluates the sheen,
 // and every fragment-stage sheen reads them; elsewhere (brdf_eval.comp) both are computed per
 // call. The same values either way. (A run-time choice between the two would cost both under
-// lavapipe's lane mask: the fit's exp2 and Λ(n·v)'s pow and exp per light.)
+// lavapipe's lane mask: the fit's seven cubics, and Λ(n·v)'s polynomial and exp2, per light.)
 float g_sheen_lambda_v = -1.0;
 SheenFit g_sheen_fit;
 // Per pixel too (fragment stage, shade(): sheen_view): D_Charlie's factor (2 + 1/α)/(2π) and
@@ -618,7 +625,7 @@ float v_sheen(float n_l, float n_v, float alpha) {
     SheenFit f = g_sheen_fit;
     float lambda_v = g_sheen_lambda_v;
 #else
-    SheenFit f = sheen_fit(alpha);
+    SheenFit f = sheen_lambda_fit(alpha);
     float lambda_v = lambda_sheen_of(n_v, f);
 #endif
     float denom = (1.0 + lambda_v + lambda_sheen_of(n_l, f)) * (4.0 * n_v * n_l);
@@ -630,7 +637,7 @@ float v_sheen(float n_l, float n_v, float alpha) {
 void sheen_view(float r, float n_v) {
     float alpha = sheen_alpha(r);
     float inv_r = 1.0 / alpha;
-    g_sheen_fit = sheen_fit(alpha);
+    g_sheen_fit = sheen_lambda_fit(alpha);
     g_sheen_lambda_v = lambda_sheen_of(n_v, g_sheen_fit);
     g_sheen_d_scale = (2.0 + inv_r) * (0.5 * M_1_PI);
     g_sheen_d_exp = 0.5 * inv_r;

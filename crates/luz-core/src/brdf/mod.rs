@@ -56,9 +56,12 @@ pub use ltc::{
 pub use ltc_line::{area_edge, ltc_ribbon, ltc_tube, ltc_tube_caps};
 pub use models::layers::{
     clearcoat_energy, clearcoat_layer, clearcoat_specular, d_charlie, fit_sheen_albedo,
-    lambda_sheen, sheen_albedo, sheen_albedo_fit, sheen_albedo_glsl_source,
-    sheen_albedo_integrated, sheen_fit_variables, sheen_layer, sheen_specular, v_sheen,
-    ClearcoatEnergy, CLEARCOAT_F0, SHEEN_FIT_S, SHEEN_FIT_X, SHEEN_ROUGHNESS_MIN,
+    fit_sheen_lambda, lambda_sheen, lambda_sheen_of, sheen_albedo, sheen_albedo_fit,
+    sheen_albedo_glsl_source, sheen_albedo_integrated, sheen_fit_variables, sheen_lambda_constants,
+    sheen_lambda_fit, sheen_lambda_fit_error, sheen_lambda_fit_of, sheen_lambda_glsl_source,
+    sheen_layer, sheen_specular, v_sheen, ClearcoatEnergy, SheenFit, SheenLambdaConstants,
+    SheenLambdaError, CLEARCOAT_F0, SHEEN_FIT_S, SHEEN_FIT_X, SHEEN_LAMBDA_DEGREE,
+    SHEEN_LAMBDA_DEGREE_S, SHEEN_LAMBDA_GLSL, SHEEN_LAMBDA_W_MIN, SHEEN_ROUGHNESS_MIN,
 };
 pub use models::{
     anisotropic_lobe, blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms,

@@ -2264,3 +2264,48 @@ fn aniso_split_sum_table_error() {
     assert!(worst_e.0 <= 0.012, "{worst_e:?}");
     assert!(worst_d.0 <= 0.02, "{worst_d:?}");
 }
+
+/// Issue 34's sheen cost: the GPU's Λ_sheen (a polynomial fit of the specification's `L`,
+/// `sheen_lambda.glsl`, mirrored by `lambda_sheen_of`) is the generator's output and within
+/// 1e-3 of the specification's: relative in Λ where Λ ≥ 1e-3, and relative in the visibility, so
+/// in the lobe `D · V · n·l`, at every α from 0.0049 to 1 and every pair of cosines from
+/// `COS_EPS` to 1 on the grid of `sheen_lambda_fit_error`.
+#[test]
+fn sheen_lambda_fit_is_lambda() {
+    let k = sheen_lambda_constants();
+    assert_eq!(
+        SHEEN_LAMBDA_GLSL,
+        sheen_lambda_glsl_source(k),
+        "sheen_lambda.glsl is not the generator's output's format"
+    );
+    // The generator's output to the last bits but one (its f64 cos and powf may round apart on
+    // another platform's libm).
+    let new = fit_sheen_lambda();
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs().max(1e-3);
+    assert!(
+        close(new.q_scale, k.q_scale)
+            && close(new.q_offset, k.q_offset)
+            && new.c.len() == k.c.len()
+            && new.c.iter().zip(&k.c).all(|(&a, &b)| close(a, b)),
+        "sheen_lambda.glsl is not the generator's output (cargo run --release -p luz-core --example sheen_lambda_fit)"
+    );
+    let e = sheen_lambda_fit_error(k);
+    eprintln!(
+        "sheen Λ fit: Λ within {:.2e}, the visibility within {:.2e} (α {:.4}, n·l {:.4}, n·v {:.4})",
+        e.lambda, e.visibility, e.at.0, e.at.1, e.at.2
+    );
+    assert!(e.lambda <= 1e-3, "{e:?}");
+    assert!(e.visibility <= 1e-3, "{e:?}");
+    // The mirror is the fit: at normal incidence and grazing, and at both sides of cos θ = 0.5.
+    let sheen_alpha = crate::brdf::models::layers::sheen_alpha;
+    for alpha in [sheen_alpha(0.0), sheen_alpha(0.5), 1.0] {
+        let f = sheen_lambda_fit(alpha);
+        for c in [COS_EPS, 0.1, 0.4999, 0.5, 0.9, 1.0] {
+            let (x, y) = (lambda_sheen(c, alpha), lambda_sheen_of(c, &f));
+            assert!(
+                (y - x).abs() <= 1e-3 * x.max(1.0),
+                "α {alpha} cos {c}: {y} vs {x}"
+            );
+        }
+    }
+}

@@ -167,6 +167,296 @@ pub fn v_sheen(n_l: f32, n_v: f32, alpha: f32) -> f32 {
     (1.0 / denom).clamp(0.0, 1.0)
 }
 
+// The GPU's Λ_sheen: a polynomial fit of the specification's `L` (so of `ln Λ`), which the
+// lighting shaders evaluate per light instead of `L`'s power, division and exponential
+// (docs/brdf.md, "`BrdfParams`", the sheen). [`lambda_sheen`] above stays the reference;
+// these mirror the GLSL's `sheen_lambda_fit` and `lambda_sheen_of`
+// (shaders_glsl/brdf/models.glsl), and `brdf::tests::sheen_lambda_fit_is_lambda` bounds their
+// error.
+
+/// The GLSL file holding the fit of Λ_sheen (`shaders_glsl/brdf/sheen_lambda.glsl`), read by
+/// the CPU too: one source of the coefficients.
+pub const SHEEN_LAMBDA_GLSL: &str =
+    include_str!("../../../../../shaders_glsl/brdf/sheen_lambda.glsl");
+
+/// The fit's degree in its variable `q` (polynomial in `w^(1/8)`, mapped onto [−1, 1]).
+pub const SHEEN_LAMBDA_DEGREE: usize = 6;
+/// The degree of each of its coefficients in `s = 2 (1 − α)² − 1`.
+pub const SHEEN_LAMBDA_DEGREE_S: usize = 3;
+/// The smallest `w = min(cos θ, 1 − cos θ)` the fit covers: the renderer's cosines are clamped
+/// to [`crate::brdf::COS_EPS`] already.
+pub const SHEEN_LAMBDA_W_MIN: f32 = crate::brdf::COS_EPS;
+
+/// The fit's constants: `q = w^(1/8) · q_scale + q_offset` (−1 at [`SHEEN_LAMBDA_W_MIN`], 1 at
+/// w = 0.5), and `c[(SHEEN_LAMBDA_DEGREE_S + 1) · j + k]` multiplying `q^j s^k` in `log2 Λ`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SheenLambdaConstants {
+    pub q_scale: f32,
+    pub q_offset: f32,
+    pub c: Vec<f32>,
+}
+
+/// The fit at one α (what the GLSL's `SheenFit` holds, once per pixel): the coefficients of
+/// `log2 Λ` in `q`, and its value at w = 0.5 (q = 1: their sum).
+/// (The Rust one carries the constants' `q` mapping too, which the GLSL's are defines.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SheenFit {
+    pub c: [f32; SHEEN_LAMBDA_DEGREE + 1],
+    pub l_half: f32,
+    pub q_scale: f32,
+    pub q_offset: f32,
+}
+
+/// The fit's `q` range for `w` in [[`SHEEN_LAMBDA_W_MIN`], 0.5].
+fn sheen_lambda_q_range() -> (f64, f64) {
+    ((SHEEN_LAMBDA_W_MIN as f64).powf(0.125), 0.5f64.powf(0.125))
+}
+
+/// The specification's `L(w)` at `t = (1 − α)²`, in f64 (what [`sheen_l`] computes).
+fn sheen_l_f64(w: f64, t: f64) -> f64 {
+    let m = |a: f64, b: f64| a + (b - a) * t;
+    let (a, b, c) = (
+        m(21.5473, 25.3245),
+        m(3.82987, 3.32435),
+        m(0.19823, 0.16801),
+    );
+    let (d, e) = (m(-1.97760, -1.27393), m(-4.32054, -4.85967));
+    a / (1.0 + b * w.powf(c)) + d * w + e
+}
+
+/// The `n` Chebyshev nodes on [−1, 1].
+fn chebyshev_nodes(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| (std::f64::consts::PI * (k as f64 + 0.5) / n as f64).cos())
+        .collect()
+}
+
+/// The polynomial through `values` at [`chebyshev_nodes`] (as many), as monomial coefficients.
+fn chebyshev_monomial(values: &[f64]) -> Vec<f64> {
+    let n = values.len();
+    let mut cheb: Vec<f64> = (0..n)
+        .map(|j| {
+            2.0 / n as f64
+                * (0..n)
+                    .map(|k| {
+                        values[k]
+                            * (std::f64::consts::PI * j as f64 * (k as f64 + 0.5) / n as f64).cos()
+                    })
+                    .sum::<f64>()
+        })
+        .collect();
+    cheb[0] *= 0.5;
+    // T_j in monomials: T_0 = 1, T_1 = x, T_j = 2x T_(j−1) − T_(j−2).
+    let mut t: Vec<Vec<f64>> = vec![vec![1.0], vec![0.0, 1.0]];
+    for j in 2..n {
+        let mut next = vec![0.0; j + 1];
+        for (k, v) in t[j - 1].iter().enumerate() {
+            next[k + 1] += 2.0 * v;
+        }
+        for (k, v) in t[j - 2].iter().enumerate() {
+            next[k] -= v;
+        }
+        t.push(next);
+    }
+    let mut mono = vec![0.0; n];
+    for (j, c) in cheb.iter().enumerate() {
+        for (k, v) in t[j].iter().enumerate() {
+            mono[k] += c * v;
+        }
+    }
+    mono
+}
+
+/// Fits `log2 Λ = L(w) / ln 2` below cos θ = 0.5: Chebyshev interpolation in `q` (7 nodes) and,
+/// for each of its coefficients, in `s` (4 nodes over α from 1 to 0), from the specification's
+/// `L` in f64. `brdf::tests::sheen_lambda_fit_is_lambda` bounds the error of the result.
+pub fn fit_sheen_lambda() -> SheenLambdaConstants {
+    let (ql, qh) = sheen_lambda_q_range();
+    let (nq, ns) = (SHEEN_LAMBDA_DEGREE + 1, SHEEN_LAMBDA_DEGREE_S + 1);
+    // At each of s's nodes, the coefficients in q; then each coefficient interpolated in s.
+    let in_q: Vec<Vec<f64>> = chebyshev_nodes(ns)
+        .iter()
+        .map(|&s| {
+            let values: Vec<f64> = chebyshev_nodes(nq)
+                .iter()
+                .map(|&x| {
+                    let q = 0.5 * (ql + qh) + 0.5 * (qh - ql) * x;
+                    sheen_l_f64(q.powi(8), 0.5 * (s + 1.0)) * std::f64::consts::LOG2_E
+                })
+                .collect();
+            chebyshev_monomial(&values)
+        })
+        .collect();
+    let mut c = Vec::with_capacity(nq * ns);
+    for j in 0..nq {
+        let values: Vec<f64> = in_q.iter().map(|row| row[j]).collect();
+        c.extend(chebyshev_monomial(&values).iter().map(|&v| v as f32));
+    }
+    SheenLambdaConstants {
+        q_scale: (2.0 / (qh - ql)) as f32,
+        q_offset: (-(qh + ql) / (qh - ql)) as f32,
+        c,
+    }
+}
+
+/// The GLSL source of the fit `f` (what `shaders_glsl/brdf/sheen_lambda.glsl` holds:
+/// `cargo run --release -p luz-core --example sheen_lambda_fit` writes it from
+/// [`fit_sheen_lambda`]). Literal indices only (glslang folds them to constants).
+pub fn sheen_lambda_glsl_source(f: &SheenLambdaConstants) -> String {
+    let ns = SHEEN_LAMBDA_DEGREE_S + 1;
+    let mut s = String::from(
+        "// KHR_materials_sheen's Λ(cos θ) as the GPU evaluates it: log2 Λ = P(q) below cos θ = 0.5, 2 P(1) − P(q)\n\
+         // above, q = w^(1/8) · SHEEN_LAMBDA_Q_SCALE + SHEEN_LAMBDA_Q_OFFSET, w = min(cos θ, 1 − cos θ) clamped to\n\
+         // [SHEEN_LAMBDA_W_MIN, 0.5]; P's coefficient of q^j is Σ SHEEN_LAMBDA_FIT[4 j + k] s^k, s = 2 (1 − α)² − 1.\n\
+         // A fit of the specification's L (brdf::fit_sheen_lambda; its error: brdf::tests::sheen_lambda_fit_is_lambda).\n\
+         // Generated by brdf::models::layers::sheen_lambda_glsl_source (cargo run --release -p luz-core\n\
+         // --example sheen_lambda_fit); the CPU reads the constants from this file.\n\
+         #ifndef LUZ_SHEEN_LAMBDA_GLSL\n#define LUZ_SHEEN_LAMBDA_GLSL\n",
+    );
+    s += &format!("#define SHEEN_LAMBDA_W_MIN {:?}\n", SHEEN_LAMBDA_W_MIN);
+    s += &format!("#define SHEEN_LAMBDA_Q_SCALE {:?}\n", f.q_scale);
+    s += &format!("#define SHEEN_LAMBDA_Q_OFFSET {:?}\n", f.q_offset);
+    s += &format!("const float SHEEN_LAMBDA_FIT[{}] = float[](\n", f.c.len());
+    let rows: Vec<String> =
+        f.c.chunks(ns)
+            .map(|row| {
+                let r: Vec<String> = row.iter().map(|v| format!("{v:?}")).collect();
+                format!("    {}", r.join(", "))
+            })
+            .collect();
+    s += &rows.join(",\n");
+    s += "\n);\n#endif\n";
+    s
+}
+
+/// The constants of [`SHEEN_LAMBDA_GLSL`].
+pub fn sheen_lambda_constants() -> &'static SheenLambdaConstants {
+    static FIT: std::sync::OnceLock<SheenLambdaConstants> = std::sync::OnceLock::new();
+    FIT.get_or_init(|| {
+        let define = |name: &str| -> f32 {
+            SHEEN_LAMBDA_GLSL
+                .lines()
+                .find_map(|l| l.strip_prefix(&format!("#define {name} ")))
+                .and_then(|v| v.trim().parse().ok())
+                .unwrap_or(f32::NAN)
+        };
+        let body = SHEEN_LAMBDA_GLSL
+            .split_once("float[](")
+            .and_then(|(_, rest)| rest.split_once(')'))
+            .map(|(numbers, _)| numbers)
+            .unwrap_or("");
+        let c: Vec<f32> = body
+            .split(',')
+            .filter_map(|s| s.trim().parse().ok())
+            .collect();
+        assert_eq!(
+            c.len(),
+            (SHEEN_LAMBDA_DEGREE + 1) * (SHEEN_LAMBDA_DEGREE_S + 1),
+            "sheen_lambda.glsl"
+        );
+        SheenLambdaConstants {
+            q_scale: define("SHEEN_LAMBDA_Q_SCALE"),
+            q_offset: define("SHEEN_LAMBDA_Q_OFFSET"),
+            c,
+        }
+    })
+}
+
+/// The fit at `alpha` (the GLSL's `sheen_lambda_fit`, once per pixel): each coefficient's cubic
+/// in `s = 2 (1 − α)² − 1` by Horner, and their sum.
+pub fn sheen_lambda_fit(alpha: f32) -> SheenFit {
+    sheen_lambda_fit_of(alpha, sheen_lambda_constants())
+}
+
+/// [`sheen_lambda_fit`] with the constants `k` (a new fit's, before it is written).
+pub fn sheen_lambda_fit_of(alpha: f32, k: &SheenLambdaConstants) -> SheenFit {
+    let s = 2.0 * (1.0 - alpha) * (1.0 - alpha) - 1.0;
+    let mut c = [0.0f32; SHEEN_LAMBDA_DEGREE + 1];
+    for (j, cj) in c.iter_mut().enumerate() {
+        let row = &k.c[j * 4..j * 4 + 4];
+        *cj = ((row[3] * s + row[2]) * s + row[1]) * s + row[0];
+    }
+    let l_half = c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6];
+    SheenFit {
+        c,
+        l_half,
+        q_scale: k.q_scale,
+        q_offset: k.q_offset,
+    }
+}
+
+/// Λ_sheen at `cos_theta` in [0, 1] from the fit `f` (the GLSL's `lambda_sheen_of`): `2^P(q)`
+/// below 0.5, `2^(2 P(1) − P(q))` above; [`lambda_sheen`] is what it approximates.
+pub fn lambda_sheen_of(cos_theta: f32, f: &SheenFit) -> f32 {
+    let low = cos_theta < 0.5;
+    let w = cos_theta
+        .min(1.0 - cos_theta)
+        .clamp(SHEEN_LAMBDA_W_MIN, 0.5);
+    let q = w.sqrt().sqrt().sqrt() * f.q_scale + f.q_offset;
+    let c = &f.c;
+    let p = (((((c[6] * q + c[5]) * q + c[4]) * q + c[3]) * q + c[2]) * q + c[1]) * q + c[0];
+    (if low { p } else { 2.0 * f.l_half - p }).exp2()
+}
+
+/// The largest errors of the fit `k` against the specification's Λ ([`lambda_sheen`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SheenLambdaError {
+    /// Relative error of Λ where Λ ≥ 1e-3 (below, Λ changes `1 + Λ(n·v) + Λ(n·l)` by less).
+    pub lambda: f32,
+    /// Relative error of the visibility [`v_sheen`] with Λ from the fit (so of the lobe
+    /// `D · V` and of `D · V · n·l`: D and n·l are the same either way).
+    pub visibility: f32,
+    /// Where the visibility's is largest: (α, n·l, n·v).
+    pub at: (f32, f32, f32),
+}
+
+/// The fit's errors over α = r² for sheen roughness r from [`SHEEN_ROUGHNESS_MIN`] to 1 (48
+/// values, so α from 0.0049 to 1) and cosines from [`crate::brdf::COS_EPS`] to 1 (120 for the
+/// view, 480 for the light; geometric towards both ends, where Λ's fit bends most).
+pub fn sheen_lambda_fit_error(k: &SheenLambdaConstants) -> SheenLambdaError {
+    let cosines = |n: usize| -> Vec<f32> {
+        let w0 = SHEEN_LAMBDA_W_MIN as f64;
+        let mut c: Vec<f32> = (0..n / 2)
+            .map(|i| w0 * (0.5 / w0).powf(i as f64 / (n / 2 - 1) as f64))
+            .flat_map(|w| [w as f32, (1.0 - w) as f32])
+            .collect();
+        c.push(1.0);
+        c
+    };
+    let (lights, views) = (cosines(480), cosines(120));
+    let mut e = SheenLambdaError {
+        lambda: 0.0,
+        visibility: 0.0,
+        at: (0.0, 0.0, 0.0),
+    };
+    for i in 0..48 {
+        let r = SHEEN_ROUGHNESS_MIN + (1.0 - SHEEN_ROUGHNESS_MIN) * i as f32 / 47.0;
+        let alpha = sheen_alpha(r);
+        let f = sheen_lambda_fit_of(alpha, k);
+        let exact: Vec<f32> = lights.iter().map(|&c| lambda_sheen(c, alpha)).collect();
+        let fit: Vec<f32> = lights.iter().map(|&c| lambda_sheen_of(c, &f)).collect();
+        for (x, y) in exact.iter().zip(&fit) {
+            if *x >= 1e-3 {
+                e.lambda = e.lambda.max((y - x).abs() / x);
+            }
+        }
+        for &n_v in &views {
+            let (lv, lv_fit) = (lambda_sheen(n_v, alpha), lambda_sheen_of(n_v, &f));
+            for (j, &n_l) in lights.iter().enumerate() {
+                let v =
+                    |a: f32, b: f32| (1.0 / ((1.0 + a + b) * (4.0 * n_v * n_l))).clamp(0.0, 1.0);
+                let (x, y) = (v(lv, exact[j]), v(lv_fit, fit[j]));
+                let d = (y - x).abs() / x;
+                if d > e.visibility {
+                    e.visibility = d;
+                    e.at = (alpha, n_l, n_v);
+                }
+            }
+        }
+    }
+    e
+}
+
 /// The white sheen lobe `D_Charlie · V_sheen` for unit `n`, `l` and `v` with `n·l > 0` and
 /// `n·v > 0`, at sheen roughness `r`.
 pub fn sheen_specular(r: f32, n: Vec3, l: Vec3, v: Vec3) -> f32 {
