@@ -50,13 +50,17 @@ void main() {
             float fc = pow(1.0 - v_h, 5.0);
             a += (1.0 - fc) * w;
             b += fc * w;
-            m1 += v_h * w;
-            m2 += v_h * v_h * w;
+            // About n·v (the mirror's v·h), so that a narrow lobe's variance does not cancel in
+            // f32 (the plain second moment lost σ to 2.6e-3 at roughness 0.05).
+            float d = v_h - n_v;
+            m1 += d * w;
+            m2 += d * d * w;
         }
     }
     // The lobe's v·h under the same weight: mean and standard deviation (split_sum_lut_moments).
     float e = a + b;
-    float mu = e > 0.0 ? m1 / e : 1.0;
-    float sd = e > 0.0 ? sqrt(max(m2 / e - mu * mu, 0.0)) : 0.0;
+    float d_mean = e > 0.0 ? m1 / e : 0.0;
+    float mu = e > 0.0 ? n_v + d_mean : 1.0;
+    float sd = e > 0.0 ? sqrt(max(m2 / e - d_mean * d_mean, 0.0)) : 0.0;
     imageStore(lut, ivec3(id, int(pc.layer)), vec4(a / float(pc.samples), b / float(pc.samples), mu, sd));
 }

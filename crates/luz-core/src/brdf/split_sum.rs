@@ -106,14 +106,16 @@ pub fn split_sum_lut_moments(
         let fc = f64::from((1.0 - v_h).clamp(0.0, 1.0).powi(5));
         a += (1.0 - fc) * w;
         b += fc * w;
-        m1 += f64::from(v_h) * w;
-        m2 += f64::from(v_h * v_h) * w;
+        // About n·v, as the GPU kernel sums them (in f32 a narrow lobe's variance cancels).
+        let d = f64::from(v_h) - f64::from(n_v);
+        m1 += d * w;
+        m2 += d * d * w;
     }
     let n = f64::from(samples);
     let e = a + b;
     let (mu, sd) = if e > 0.0 {
-        let mu = m1 / e;
-        (mu, (m2 / e - mu * mu).max(0.0).sqrt())
+        let d = m1 / e;
+        (f64::from(n_v) + d, (m2 / e - d * d).max(0.0).sqrt())
     } else {
         (1.0, 0.0)
     };
