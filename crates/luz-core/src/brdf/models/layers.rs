@@ -340,15 +340,7 @@ pub fn sheen_lambda_constants() -> &'static SheenLambdaConstants {
                 .and_then(|v| v.trim().parse().ok())
                 .unwrap_or(f32::NAN)
         };
-        let body = SHEEN_LAMBDA_GLSL
-            .split_once("float[](")
-            .and_then(|(_, rest)| rest.split_once(')'))
-            .map(|(numbers, _)| numbers)
-            .unwrap_or("");
-        let c: Vec<f32> = body
-            .split(',')
-            .filter_map(|s| s.trim().parse().ok())
-            .collect();
+        let c = glsl_float_array(SHEEN_LAMBDA_GLSL);
         assert_eq!(
             c.len(),
             (SHEEN_LAMBDA_DEGREE + 1) * (SHEEN_LAMBDA_DEGREE_S + 1),
@@ -491,20 +483,25 @@ pub fn sheen_albedo_integrated(n_v: f32, r: f32) -> f32 {
     sum as f32
 }
 
+/// The numbers of the first `const float NAME[N] = float[](…)` in a generated GLSL file (the fits'
+/// coefficients, which the CPU reads from the same file as the shaders).
+fn glsl_float_array(source: &str) -> Vec<f32> {
+    source
+        .split_once("float[](")
+        .and_then(|(_, rest)| rest.split_once(')'))
+        .map(|(numbers, _)| numbers)
+        .unwrap_or("")
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .collect()
+}
+
 /// The fit's coefficients of [`SHEEN_ALBEDO_GLSL`]: `c[a · SHEEN_FIT_S + b]` multiplies
 /// `u^a t^b` ([`sheen_fit_variables`]).
 pub fn sheen_albedo_fit() -> &'static [f32] {
     static FIT: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
     FIT.get_or_init(|| {
-        let body = SHEEN_ALBEDO_GLSL
-            .split_once("float[](")
-            .and_then(|(_, rest)| rest.split_once(')'))
-            .map(|(numbers, _)| numbers)
-            .unwrap_or("");
-        let c: Vec<f32> = body
-            .split(',')
-            .filter_map(|s| s.trim().parse().ok())
-            .collect();
+        let c = glsl_float_array(SHEEN_ALBEDO_GLSL);
         assert_eq!(c.len(), SHEEN_FIT_X * SHEEN_FIT_S, "sheen_albedo.glsl");
         c
     })
