@@ -354,15 +354,18 @@ MaterialFilm g_material_film;
 // colour, mixed by metallic (one base at metallic 0 or 1: the branches are uniform over a
 // draw, and lavapipe skips a side no lane takes; always mixing both cost the film at the view
 // 1.18 → 1.27× base on grid49).
-vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
+// p's film for an evaluation here: the pixel's (g_material_film) where each light takes the
+// film; the film at the view alone is one evaluation per pixel, made in place.
+MaterialFilm brdf_pixel_film(BrdfParams p) {
 #ifdef LUZ_FRAGMENT
-    // Made once per pixel where each light takes the film; the film at the view alone is one
-    // evaluation per pixel, made in place.
-    MaterialFilm m = (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE) != 0u ? g_material_film
-                                                                 : brdf_material_film(p);
+    return (BRDF_LOBES & BRDF_LOBE_IRIDESCENCE) != 0u ? g_material_film : brdf_material_film(p);
 #else
-    MaterialFilm m = brdf_material_film(p);
+    return brdf_material_film(p);
 #endif
+}
+
+// brdf_iridescence_fresnel_of with the material's film m made already (iridescence_fresnel_with).
+vec3 brdf_iridescence_fresnel_with(BrdfParams p, MaterialFilm m, float c) {
     // Under a coat the film is met at the angle refracted into it (iridescence_cos_above).
     float n0 = m.film.outside_ior;
     float cc = clamp(c, 0.0, 1.0);
@@ -376,6 +379,10 @@ vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
         return film_over(f, m.metal);
     }
     return mix(film_over(f, m.dielectric), film_over(f, m.metal), metallic);
+}
+
+vec3 brdf_iridescence_fresnel_of(BrdfParams p, float c) {
+    return brdf_iridescence_fresnel_with(p, brdf_pixel_film(p), c);
 }
 
 // The film's Fresnel at the view, once per pixel, where the pipeline takes it at n·v
@@ -398,11 +405,13 @@ vec3 brdf_iridescence_f0_lobe(BrdfParams p, vec3 f0, vec4 lobe) {
     if (!brdf_has_iridescence(p)) {
         return f0;
     }
+    // The film made once for its five evaluations here.
+    MaterialFilm m = brdf_pixel_film(p);
     float c = brdf_split_sum_mean_cos(lobe.xy);
     float w = brdf_schlick_weight(clamp(c, 0.0, 1.0));
     float k = 1.0 / max(1.0 - w, 1e-4);
-    vec3 f = brdf_iridescence_fresnel_of(p, c);
-    vec3 f90 = brdf_iridescence_fresnel_of(p, 0.0);
+    vec3 f = brdf_iridescence_fresnel_with(p, m, c);
+    vec3 f90 = brdf_iridescence_fresnel_with(p, m, 0.0);
     vec3 through = (f - f90 * w) * k;
     float h = sqrt(3.0) * lobe.w;
     vec3 off = vec3(0.0);
@@ -411,7 +420,7 @@ vec3 brdf_iridescence_f0_lobe(BrdfParams p, vec3 f0, vec4 lobe) {
     for (int i = 0; i < 3; ++i) {
         float x = clamp(xs[i], 0.0, 1.0);
         float s = brdf_schlick_weight(x);
-        off += ws[i] * (brdf_iridescence_fresnel_of(p, x) - (through + (f90 - through) * s));
+        off += ws[i] * (brdf_iridescence_fresnel_with(p, m, x) - (through + (f90 - through) * s));
     }
     vec3 film_f0 = min((f + off - vec3(w)) * k, vec3(1.0));
     return mix(f0, film_f0, brdf_film_factor(p));

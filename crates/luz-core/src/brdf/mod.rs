@@ -66,11 +66,11 @@ pub use models::layers::{
 pub use models::{
     anisotropic_lobe, blinn_phong, cook_torrance, cook_torrance_terms, eval, eval_terms,
     film_ior_error, film_range_error, has_iridescence, iridescence_f0_lobe, iridescence_fresnel_of,
-    lambert, lambert_terms, metal_rough, metal_rough_terms, metal_rough_terms_frame, oren_nayar,
-    oren_nayar_terms, phong, phong_radiance, phong_terms, principled, principled_terms, radiance,
-    split_sum_mean_cos, AnisotropicLobe, CookTorranceParams, Diffuse, Distribution, Fresnel,
-    Geometry, LambertParams, MetalRoughParams, Model, OrenNayarParams, PhongParams,
-    PrincipledParams, SpecularSource, Terms,
+    iridescence_fresnel_with, lambert, lambert_terms, metal_rough, metal_rough_terms,
+    metal_rough_terms_frame, oren_nayar, oren_nayar_terms, phong, phong_radiance, phong_terms,
+    principled, principled_terms, radiance, split_sum_mean_cos, AnisotropicLobe,
+    CookTorranceParams, Diffuse, Distribution, Fresnel, Geometry, LambertParams, MetalRoughParams,
+    Model, OrenNayarParams, PhongParams, PrincipledParams, SpecularSource, Terms,
 };
 pub(crate) use names::selector_names;
 pub use names::ModelKind;

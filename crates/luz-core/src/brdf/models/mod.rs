@@ -1001,14 +1001,28 @@ pub fn has_iridescence(p: &MetalRoughParams) -> bool {
 /// BRDFs mix. Under a clear coat the film is seen from inside the coat, at the refracted angle
 /// ([`iridescence_outside_ior`], [`iridescence_cos_above`]).
 pub fn iridescence_fresnel_of(p: &MetalRoughParams, cos: f32) -> Vec3 {
-    use super::iridescence::{film_at, film_base, film_of, film_over};
-    let m = film_of(
+    iridescence_fresnel_with(p, &material_film(p), cos)
+}
+
+/// The film of sanitised `p` whatever the angle (what [`iridescence_fresnel_with`] takes).
+fn material_film(p: &MetalRoughParams) -> super::iridescence::Film {
+    super::iridescence::film_of(
         iridescence_outside_ior(p),
         p.iridescence_ior,
         p.iridescence_thickness_max,
-    );
-    let at = film_at(&m, iridescence_cos_above(p, cos));
-    let film = |f0: Vec3| film_over(at.as_ref(), &film_base(&m, f0));
+    )
+}
+
+/// [`iridescence_fresnel_of`] with `p`'s film `m` made already, for several angles of one
+/// material.
+pub fn iridescence_fresnel_with(
+    p: &MetalRoughParams,
+    m: &super::iridescence::Film,
+    cos: f32,
+) -> Vec3 {
+    use super::iridescence::{film_at, film_base, film_over};
+    let at = film_at(m, iridescence_cos_above(p, cos));
+    let film = |f0: Vec3| film_over(at.as_ref(), &film_base(m, f0));
     if p.metallic <= 0.0 {
         film(p.dielectric_f0)
     } else if p.metallic >= 1.0 {
@@ -1065,15 +1079,16 @@ pub fn iridescence_f0_lobe(p: &MetalRoughParams, f0: Vec3, lobe: [f32; 4]) -> Ve
     let c = split_sum_mean_cos(a, b);
     let w = schlick_weight(c.clamp(0.0, 1.0));
     let k = 1.0 / (1.0 - w).max(1e-4);
-    let f = iridescence_fresnel_of(p, c);
+    let m = material_film(p);
+    let f = iridescence_fresnel_with(p, &m, c);
     // Schlick's curve through F(c) that reaches the film's own grazing value (1 in air; under a
     // coat the film stays far below it).
-    let f90 = iridescence_fresnel_of(p, 0.0);
+    let f90 = iridescence_fresnel_with(p, &m, 0.0);
     let through = (f - f90 * w) * k;
     let off_schlick = |x: f32| {
         let x = x.clamp(0.0, 1.0);
         let s = schlick_weight(x);
-        iridescence_fresnel_of(p, x) - (through + (f90 - through) * s)
+        iridescence_fresnel_with(p, &m, x) - (through + (f90 - through) * s)
     };
     // Three points of the lobe's v·h, exact for a cubic difference if the lobe were symmetric.
     let h = 3f32.sqrt() * sd;
