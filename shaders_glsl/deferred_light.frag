@@ -1,9 +1,14 @@
 #version 460
+//! variant plain:
+//! variant tangent: PHONG_TANGENT
 // The deferred path's lighting pass (src/render/forward/deferred.rs): a full-screen triangle at
 // depth 1 tested GREATER against the geometry pass's depth, so only covered pixels run. Each reads
 // its G-buffer texel, rebuilds the world position from the view depth along the pixel's ray (the
 // point a forward fragment's interpolated position gives), loads its object's material and shades
-// with the forward pass's code (include/lighting.glsl), fog and output included.
+// with the forward pass's code (include/lighting.glsl), fog and output included. PHONG_TANGENT
+// (KHR_materials_anisotropy): the shading frame's X from a second G-buffer image; the frame's Y
+// may have the opposite sign to the forward pass's on a double-sided back face, which the
+// anisotropic lobe (squares of b·h, b·l, b·v) does not see.
 #extension GL_EXT_samplerless_texture_functions : require
 #define LUZ_FRAGMENT
 #define LUZ_DEFERRED
@@ -14,6 +19,10 @@
 #define SET_GBUFFER 1
 #define BINDING_GBUFFER 0
 layout(set = SET_GBUFFER, binding = BINDING_GBUFFER) uniform utexture2D gbuffer;
+#ifdef PHONG_TANGENT
+#define BINDING_GBUFFER_TANGENT 1
+layout(set = SET_GBUFFER, binding = BINDING_GBUFFER_TANGENT) uniform utexture2D gbuffer_tangent;
+#endif
 
 // src/render/gpu.rs: DeferredMaterial (std430, 224 bytes).
 struct DeferredMaterial {
@@ -68,7 +77,13 @@ void main() {
 
     vec3 x;
     vec3 y;
+#ifdef PHONG_TANGENT
+    uvec2 gt = texelFetch(gbuffer_tangent, ivec2(gl_FragCoord.xy), 0).xy;
+    tangent_frame(n, vec4(oct_decode(vec2(uintBitsToFloat(gt.x), uintBitsToFloat(gt.y))), 1.0), x,
+                  y);
+#else
     tangent_frame(n, vec4(0.0, 0.0, 0.0, 1.0), x, y);
+#endif
     vec3 c = shade(P, n, x, y, vec2(0.0));
     c = apply_fog(c, depth);
     if (DEBUG_VIEW == DEBUG_VIEW_NAN && (any(isnan(c)) || any(isinf(c)))) {

@@ -12,12 +12,13 @@
 //! variant phong_tangent: SHADING_PHONG PHONG_TANGENT
 //! variant phong_tangent_ibl: SHADING_PHONG PHONG_TANGENT IBL
 //! variant gbuffer: SHADING_PHONG GBUFFER
+//! variant gbuffer_tangent: SHADING_PHONG GBUFFER PHONG_TANGENT
 
 // Phong shading interpolates only what the fragment stage reads: lavapipe sets up every triangle
 // on the CPU, at a cost that grows with the number of outputs. Without PHONG_MAPS (no texture
 // maps, a model without a tangent frame) that is the view depth, world position and normal; with
 // it also the tangent and the texture coordinates. GBUFFER (the deferred path's geometry pass):
-// only the view depth and the normal. VERTEX_COLOR (Phong with maps only): the vertex colours
+// only the view depth and the normal, and with PHONG_TANGENT the tangent's direction. VERTEX_COLOR (Phong with maps only): the vertex colours
 // (binding 2) are interpolated too. PHONG_TANGENT (no maps, a material whose lobe reads the
 // tangent frame: KHR_materials_anisotropy): the tangent's direction only, three floats.
 
@@ -51,6 +52,9 @@ layout(location = 1) flat out vec3 out_color;
 layout(location = 1) out vec3 out_color;
 #elif defined(GBUFFER)
 layout(location = 2) out vec3 out_normal;
+#ifdef PHONG_TANGENT
+layout(location = 3) out vec3 out_tangent;
+#endif
 #else
 layout(location = 1) out vec3 out_world;
 layout(location = 2) out vec3 out_normal;
@@ -98,6 +102,9 @@ void main() {
     out_color = shade(world.xyz, n, x, y, in_uv);
 #elif defined(GBUFFER)
     out_normal = n;
+#ifdef PHONG_TANGENT
+    out_tangent = mat3(obj.model) * in_tangent.xyz;
+#endif
 #else
     out_world = world.xyz;
     out_normal = n;

@@ -5,6 +5,7 @@
 
 #include "bindings.glsl"
 #include "shadows.glsl"
+#include "tangent_frame.glsl"
 
 // Distance attenuation: none, inverse square, or the slides' f_at = min(1/(c1 + c2 d + c3 d²), 1).
 float light_falloff_only(Light L, float d) {
@@ -523,20 +524,6 @@ vec3 shade(vec3 P, vec3 N, vec3 X, vec3 Y, vec2 uv) {
     }
 #endif
     return result + s.emission;
-}
-
-// A tangent frame from a normal and a (possibly unnormalised, non-orthogonal) tangent with
-// handedness w: Gram-Schmidt, then Y = w (N × X). Degenerate tangents fall back to any
-// perpendicular vector.
-void tangent_frame(vec3 N, vec4 T, out vec3 X, out vec3 Y) {
-    vec3 t = T.xyz - N * dot(N, T.xyz);
-    float len2 = dot(t, t);
-    if (len2 < 1e-12) {
-        t = abs(N.x) < 0.9 ? cross(N, vec3(1.0, 0.0, 0.0)) : cross(N, vec3(0.0, 1.0, 0.0));
-        len2 = dot(t, t);
-    }
-    X = t * inversesqrt(len2);
-    Y = cross(N, X) * (T.w < 0.0 ? -1.0 : 1.0);
 }
 
 // Depth cueing: S from the view-space depth z, then I' = (1 − S) I + S I_F.

@@ -26,5 +26,6 @@ pub fn scene_interface() -> Result<Interface, VkError> {
     .into_iter()
     .flat_map(keys_with_prefix)
     .collect();
-    Interface::of("scene", &keys)?.with(&["deferred_light.frag"], &[SET_FRAME, SET_SHADOW])
+    let lighting: Vec<&str> = keys_with_prefix("deferred_light.frag").collect();
+    Interface::of("scene", &keys)?.with(&lighting, &[SET_FRAME, SET_SHADOW])
 }

@@ -4,7 +4,8 @@
 //! lavapipe runs a fragment shader on whole 4×4 blocks: a triangle of two pixels still pays for
 //! sixteen lanes of lighting. On grid49 (221k triangles, ~2 covered pixels each) most of the
 //! forward pass's lighting is spent on pixels no triangle covers. The deferred path draws the
-//! geometry once into a G-buffer (normal, view depth, object slot: `deferred_gbuffer.frag`), then
+//! geometry once into a G-buffer (normal, view depth, object slot: `deferred_gbuffer.frag`; and
+//! the shading frame's tangent for KHR_materials_anisotropy), then
 //! lights each covered pixel exactly once in a full-screen draw (`deferred_light.frag`) with the
 //! forward pass's own shading code, and writes the same output (radiance or display codes).
 
@@ -27,8 +28,13 @@ use crate::vk::{Context, Interface, SetWrites, VkError};
 
 /// The G-buffer: octahedral normal (2 × f32 bits), view depth (f32 bits), object slot.
 pub const GBUFFER_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
+/// The second G-buffer image of a variant with a tangent frame (`PHONG_TANGENT`): the shading
+/// frame's X, octahedral (2 × f32 bits).
+pub const GBUFFER_TANGENT_FORMAT: vk::Format = vk::Format::R32G32_UINT;
 const SET_GBUFFER: u32 = crate::glsl::deferred_light_frag::SET_GBUFFER as u32;
 const BINDING_GBUFFER: u32 = crate::glsl::deferred_light_frag::BINDING_GBUFFER as u32;
+const BINDING_GBUFFER_TANGENT: u32 =
+    crate::glsl::deferred_light_frag::BINDING_GBUFFER_TANGENT as u32;
 
 /// Which render path the forward pass takes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -41,8 +47,8 @@ pub enum RenderPath {
 }
 
 /// The one variant every draw uses, when the deferred path can draw the scene: a lean Phong
-/// variant (no texture maps, no tangent frame: the G-buffer keeps the normal only), fixed BRDF
-/// terms, no environment, no debug view
+/// variant (no texture maps: the G-buffer keeps the normal, and the tangent's direction for
+/// `PHONG_TANGENT`, not texture coordinates), fixed BRDF terms, no environment, no debug view
 /// but `nan`, one sample per pixel.
 pub fn eligible(variants: &[VariantKey], samples: vk::SampleCountFlags) -> Option<VariantKey> {
     let first = *variants.first()?;
@@ -50,7 +56,6 @@ pub fn eligible(variants: &[VariantKey], samples: vk::SampleCountFlags) -> Optio
         && samples == vk::SampleCountFlags::TYPE_1
         && first.shading == ShadingKey::Phong
         && !first.phong_maps()
-        && !first.phong_tangent()
         && first.ibl.is_none()
         && matches!(first.debug, DebugView::None | DebugView::Nan)
         && first.terms != TermsKey::Generic
@@ -89,15 +94,28 @@ impl Deferred {
     ) -> Result<Self, VkError> {
         const _: () = assert!(SET_GBUFFER == 1 && gpu::SET_FRAME == 0);
         const _: () = assert!(crate::render::shadow::SET_SHADOW == 3);
-        let interface =
-            Interface::of("deferred lighting", &["skybox.vert", "deferred_light.frag"])?;
+        // The modules of the variant: with a tangent frame, the G-buffer's second image.
+        let (geometry_vs, geometry_fs, light_fs) = if variant.phong_tangent() {
+            (
+                "forward.vert:gbuffer_tangent",
+                "deferred_gbuffer.frag:tangent",
+                "deferred_light.frag:tangent",
+            )
+        } else {
+            (
+                "forward.vert:gbuffer",
+                "deferred_gbuffer.frag:plain",
+                "deferred_light.frag:plain",
+            )
+        };
+        let interface = Interface::of("deferred lighting", &["skybox.vert", light_fs])?;
         let set_layout = interface.push_set_layout(ctx, SET_GBUFFER)?;
         let light_layout = interface.pipeline_layout(
             ctx,
             &[frameset_layout, &set_layout, empty_layout, shadow_layout],
         )?;
-        let vs = ShaderModule::new(ctx, "forward.vert:gbuffer")?;
-        let fs = ShaderModule::new(ctx, "deferred_gbuffer.frag")?;
+        let vs = ShaderModule::new(ctx, geometry_vs)?;
+        let fs = ShaderModule::new(ctx, geometry_fs)?;
         let (bindings, attributes) = vertex_input(variant);
         let gbuffer_pipeline = Pipeline::graphics(
             ctx,
@@ -109,7 +127,11 @@ impl Deferred {
                 spec: &variant_spec(variant),
                 vertex_bindings: &bindings,
                 vertex_attributes: &attributes,
-                color_formats: &[GBUFFER_FORMAT],
+                color_formats: if variant.phong_tangent() {
+                    &[GBUFFER_FORMAT, GBUFFER_TANGENT_FORMAT]
+                } else {
+                    &[GBUFFER_FORMAT]
+                },
                 depth_format: Some(target.depth),
                 samples: vk::SampleCountFlags::TYPE_1,
                 cull: vk::CullModeFlags::NONE,
@@ -127,7 +149,7 @@ impl Deferred {
             light_pipelines: BTreeMap::new(),
             light_layout,
             light_vertex: ShaderModule::new(ctx, "skybox.vert")?,
-            light_fragment: ShaderModule::new(ctx, "deferred_light.frag")?,
+            light_fragment: ShaderModule::new(ctx, light_fs)?,
             set_layout,
             ctx: ctx.clone(),
         })
@@ -243,10 +265,20 @@ impl Deferred {
             GraphDesc::color(w, h, GBUFFER_FORMAT)
                 .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED),
         );
+        let tangent = self.variant.phong_tangent().then(|| {
+            g.create_image(
+                "g-buffer tangent",
+                GraphDesc::color(w, h, GBUFFER_TANGENT_FORMAT)
+                    .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED),
+            )
+        });
         let mut pass = g
             .pass(names.gbuffer)
             .write(gb, Access::ColorAttachmentWrite)
             .write(target.depth, Access::DepthAttachmentWrite);
+        if let Some(t) = tangent {
+            pass = pass.write(t, Access::ColorAttachmentWrite);
+        }
         if let Some(s) = shadow {
             pass = pass.read(s, SHADOW_READ);
         }
@@ -254,10 +286,13 @@ impl Deferred {
         pass.record(move |rc| {
             let view = rc.image(gb)?.view;
             let depth_view = rc.image(target.depth)?.view;
-            let (d, cmd) = (rc.device(), rc.cmd());
             // Background pixels are never read (the lighting pass's depth test skips them): no
             // clear.
-            let colors = [color_attachment(view, Load::DontCare, true)];
+            let mut colors = vec![color_attachment(view, Load::DontCare, true)];
+            if let Some(t) = tangent {
+                colors.push(color_attachment(rc.image(t)?.view, Load::DontCare, true));
+            }
+            let (d, cmd) = (rc.device(), rc.cmd());
             let depth = depth_attachment(depth_view, Load::depth(1.0), true);
             let info = rendering_info(area, &colors, Some(&depth));
             // SAFETY: `cmd` is recording outside a rendering instance (the graph records passes
@@ -280,12 +315,22 @@ impl Deferred {
         if let Some(s) = shadow {
             pass = pass.read(s, SHADOW_READ);
         }
+        if let Some(t) = tangent {
+            pass = pass.read(t, Access::FragmentSampled);
+        }
         pass.record(move |rc| {
-            let gbuffer = SetWrites::new(&self.set_layout, vk::DescriptorSet::null()).view(
+            let mut gbuffer = SetWrites::new(&self.set_layout, vk::DescriptorSet::null()).view(
                 BINDING_GBUFFER,
                 rc.image(gb)?.view,
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             );
+            if let Some(t) = tangent {
+                gbuffer = gbuffer.view(
+                    BINDING_GBUFFER_TANGENT,
+                    rc.image(t)?.view,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                );
+            }
             let color_view = rc.image(target.color)?.view;
             let depth_view = rc.image(target.depth)?.view;
             let (d, cmd) = (rc.device(), rc.cmd());
@@ -294,10 +339,11 @@ impl Deferred {
             let depth = depth_attachment(depth_view, Load::Keep, keep_depth);
             let info = rendering_info(area, &colors, Some(&depth));
             // SAFETY: as above: the graph put the output in COLOR_ATTACHMENT_OPTIMAL, depth in
-            // DEPTH_ATTACHMENT_OPTIMAL after the geometry's writes and the G-buffer in
-            // SHADER_READ_ONLY_OPTIMAL. The lighting pipeline belongs to this pass, its layout's
-            // set 0 is the frame set layout `frame_set` was allocated with, set 1 the push layout
-            // `self.set_layout` (the G-buffer's view, live while the frame runs) and set 3 the
+            // DEPTH_ATTACHMENT_OPTIMAL after the geometry's writes and the G-buffer (both images
+            // with a tangent) in SHADER_READ_ONLY_OPTIMAL. The lighting pipeline belongs to this
+            // pass, its layout's set 0 is the frame set layout `frame_set` was allocated with,
+            // set 1 the push layout `self.set_layout` (the G-buffer's views, every binding the
+            // variant's module declares, live while the frame runs) and set 3 the
             // shadow set layout `shadow_set` was allocated with; it has no vertex input and no
             // push constants. Viewport, scissor and cull mode (dynamic) are set before the draw.
             unsafe {
