@@ -323,10 +323,12 @@ pub fn material(
     }
     let uv = uvs.first().map(|(_, u)| *u).unwrap_or_default();
     if let Some((map, other)) = uvs.iter().find(|(_, u)| *u != uv) {
-        warnings.push(format!(
-            "{file_name}: materials[{i}] (\"{name}\"): {map} reads UV set {} with its own transform; \
-             luz gives all maps of a material the UVs of its {} (set {})",
-            other.set, uvs[0].0, uv.set
+        let first = uvs[0].0;
+        warnings.push(uv_set_warning(
+            (file_name, i, &name),
+            map,
+            other.set,
+            (first, uv.set),
         ));
     }
     GltfMaterial {
@@ -632,6 +634,21 @@ pub(super) fn attach_map(
     Ok(())
 }
 
+/// The warning for material `i` of `file_name` named `name` whose `map` reads UV set `set` (with
+/// its own transform) where the material's maps take `first`'s, set `first_set`: luz gives every
+/// map of a material one UV set and transform.
+fn uv_set_warning(
+    (file_name, i, name): (&str, usize, &str),
+    map: &str,
+    set: u32,
+    (first, first_set): (&str, u32),
+) -> String {
+    format!(
+        "{file_name}: materials[{i}] (\"{name}\"): {map} reads UV set {set} with its own \
+         transform; luz gives all maps of a material the UVs of its {first} (set {first_set})"
+    )
+}
+
 /// Texture `index` read through `uv` as `gm`'s `slot` map (`key` names it in the warning when
 /// its UVs differ from the material's first map's).
 fn attach(
@@ -645,10 +662,11 @@ fn attach(
     if gm.textures.maps().next().is_none() {
         gm.uv = uv;
     } else if uv != gm.uv {
-        warnings.push(format!(
-            "{file_name}: materials[{i}] (\"{}\"): {key} reads UV set {} with its own \
-             transform; luz gives all maps of a material the UVs of its first map (set {})",
-            gm.name, uv.set, gm.uv.set
+        warnings.push(uv_set_warning(
+            (file_name, i, &gm.name),
+            key,
+            uv.set,
+            ("first map", gm.uv.set),
         ));
     }
     *gm.textures.get_mut(slot) = textures.get(index, channel);

@@ -288,16 +288,22 @@ impl Deferred {
             let depth_view = rc.image(target.depth)?.view;
             // Background pixels are never read (the lighting pass's depth test skips them): no
             // clear.
-            let mut colors = vec![color_attachment(view, Load::DontCare, true)];
-            if let Some(t) = tangent {
-                colors.push(color_attachment(rc.image(t)?.view, Load::DontCare, true));
-            }
+            // With a tangent frame, the second image too.
+            let tangent_view = match tangent {
+                Some(t) => Some(rc.image(t)?.view),
+                None => None,
+            };
+            let colors = [
+                color_attachment(view, Load::DontCare, true),
+                color_attachment(tangent_view.unwrap_or(view), Load::DontCare, true),
+            ];
+            let used = if tangent_view.is_some() { 2 } else { 1 };
             let (d, cmd) = (rc.device(), rc.cmd());
             let depth = depth_attachment(depth_view, Load::depth(1.0), true);
-            let info = rendering_info(area, &colors, Some(&depth));
+            let info = rendering_info(area, &colors[..used], Some(&depth));
             // SAFETY: `cmd` is recording outside a rendering instance (the graph records passes
-            // one after another); the graph put the G-buffer in COLOR_ATTACHMENT_OPTIMAL and
-            // depth in DEPTH_ATTACHMENT_OPTIMAL (the accesses declared above); `info` and what it
+            // one after another); the graph put the G-buffer (both images with a tangent) in
+            // COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_ATTACHMENT_OPTIMAL (the accesses declared above); `info` and what it
             // points to outlive the call, which is closed after the draws below.
             unsafe { d.cmd_begin_rendering(cmd, &info) };
             set_viewport(d, cmd, area);
