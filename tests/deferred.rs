@@ -151,3 +151,75 @@ fn anisotropic_materials_take_the_deferred_path() {
     );
     assert_no_validation_messages(&ctx);
 }
+
+/// Issue 34's "off costs nothing" by construction, and "every lobe stays on the deferred path":
+/// grid49 with each glTF layer's block present but its factor 0 builds exactly the base scene's
+/// pipelines (the lobe's `LOBES` bit is not set: its code compiles out), and with the layer on,
+/// pipelines of their own on the same deferred path. The timings of `scripts/lobe_cost.sh`
+/// measure the "on" cost; an "off" difference there is the machine's noise.
+#[test]
+fn layers_off_build_the_base_pipelines_and_every_layer_stays_deferred() {
+    use luz::scene::Material;
+    let ctx = gpu();
+    let build = |edit: &dyn Fn(&mut luz::brdf::MetalRoughParams)| {
+        let mut s = asset("assets/scenes/bench/grid49.json", 64, 36);
+        for m in &mut s.materials {
+            if let Material::MetalRough(p) = &mut m.material {
+                edit(p);
+            }
+        }
+        let r = Headless::with_options(
+            &ctx,
+            &s,
+            &RenderOptions {
+                ibl: IblSettings::fast(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        (r.variants(), r.render_path())
+    };
+    let (base, path) = build(&|_| {});
+    assert_eq!(path, "deferred");
+    type Edit = Box<dyn Fn(&mut luz::brdf::MetalRoughParams, f32)>;
+    let layers: [(&str, Edit); 4] = [
+        (
+            "clearcoat",
+            Box::new(|p, f| {
+                p.clearcoat = f;
+                p.clearcoat_roughness = 0.1;
+            }),
+        ),
+        (
+            "sheen",
+            Box::new(|p, f| {
+                p.sheen_color = glam::Vec3::splat(f);
+                p.sheen_roughness = 0.5;
+            }),
+        ),
+        (
+            "anisotropy",
+            Box::new(|p, f| {
+                p.anisotropy_strength = 0.8 * f;
+                p.anisotropy_rotation = 0.5;
+            }),
+        ),
+        (
+            "iridescence",
+            Box::new(|p, f| {
+                p.iridescence = f;
+                p.iridescence_thickness_max = 400.0;
+            }),
+        ),
+    ];
+    for (name, edit) in &layers {
+        let (off, off_path) = build(&|p| edit(p, 0.0));
+        assert_eq!(off, base, "{name} off: the base scene's pipelines");
+        assert_eq!(off_path, "deferred", "{name} off");
+        let (on, on_path) = build(&|p| edit(p, 1.0));
+        assert_ne!(on, base, "{name} on: pipelines of its own");
+        assert_eq!(on_path, "deferred", "{name} on stays on the deferred path");
+        println!("{name}: off {off:?}, on {on:?}");
+    }
+    assert_no_validation_messages(&ctx);
+}
