@@ -303,8 +303,9 @@ impl Deferred {
             let info = rendering_info(area, &colors[..used], Some(&depth));
             // SAFETY: `cmd` is recording outside a rendering instance (the graph records passes
             // one after another); the graph put the G-buffer (both images with a tangent) in
-            // COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_ATTACHMENT_OPTIMAL (the accesses declared above); `info` and what it
-            // points to outlive the call, which is closed after the draws below.
+            // COLOR_ATTACHMENT_OPTIMAL and depth in DEPTH_ATTACHMENT_OPTIMAL (the accesses
+            // declared above); `info` and what it points to outlive the call, which is closed
+            // after the draws below.
             unsafe { d.cmd_begin_rendering(cmd, &info) };
             set_viewport(d, cmd, area);
             draw_geometry(cmd, gbuffer_pipeline);
