@@ -81,6 +81,35 @@ fn compare(
     (mean, worst, off, big)
 }
 
+/// `scene` takes the deferred path under `auto`, and its image there is the forward path's: mean
+/// relative radiance difference below 1e-5, worst below 1e-2, no display code off by more than
+/// one and at most one byte in a thousand off by one.
+fn assert_deferred_matches_forward(
+    ctx: &std::sync::Arc<luz::vk::Context>,
+    scene: &Scene,
+    name: &str,
+) {
+    let (fi, fc, fname) = render_with(ctx, scene, RenderPath::Forward);
+    let (di, dc, dname) = render_with(ctx, scene, RenderPath::Auto);
+    assert_eq!(fname, "forward");
+    assert_eq!(dname, "deferred", "{name} takes the deferred path");
+    let (mean, worst, off, big) = compare(name, &fi, &di, &fc, &dc);
+    assert!(
+        mean < 1e-5,
+        "{name}: mean relative radiance difference {mean:e}"
+    );
+    assert!(
+        worst < 1e-2,
+        "{name}: radiance differs by {worst:e} (relative)"
+    );
+    assert_eq!(big, 0, "{name}: display codes differ by more than one");
+    assert!(
+        off * 1000 <= fc.len(),
+        "{name}: {off} of {} bytes off by one",
+        fc.len()
+    );
+}
+
 #[test]
 fn deferred_matches_forward() {
     let ctx = gpu();
@@ -91,27 +120,9 @@ fn deferred_matches_forward() {
         ("assets/scenes/models/cook_torrance.json", 160, 90),
     ] {
         let s = asset(path, w, h);
-        let (fi, fc, fname) = render_with(&ctx, &s, RenderPath::Forward);
-        let (di, dc, dname) = render_with(&ctx, &s, RenderPath::Auto);
-        assert_eq!(fname, "forward");
-        assert_eq!(dname, "deferred", "{path} takes the deferred path");
-        let (mean, worst, off, big) = compare(path, &fi, &di, &fc, &dc);
         // Rounding, amplified where the lobe is sharp (roughness 0.05: D changes by ~1e5 per
         // unit of n·h): measured 1.4e-3 at worst on grid49, 2026-11-25.
-        assert!(
-            mean < 1e-5,
-            "{path}: mean relative radiance difference {mean:e}"
-        );
-        assert!(
-            worst < 1e-2,
-            "{path}: radiance differs by {worst:e} (relative)"
-        );
-        assert_eq!(big, 0, "{path}: display codes differ by more than one");
-        assert!(
-            off * 1000 <= fc.len(),
-            "{path}: {off} of {} bytes off by one",
-            fc.len()
-        );
+        assert_deferred_matches_forward(&ctx, &s, path);
     }
     assert_no_validation_messages(&ctx);
 }
@@ -131,24 +142,9 @@ fn anisotropic_materials_take_the_deferred_path() {
             p.anisotropy_rotation = 0.5;
         }
     }
-    let (fi, fc, fname) = render_with(&ctx, &s, RenderPath::Forward);
-    let (di, dc, dname) = render_with(&ctx, &s, RenderPath::Auto);
-    assert_eq!(fname, "forward");
-    assert_eq!(
-        dname, "deferred",
-        "anisotropic grid49 takes the deferred path"
-    );
-    let (mean, worst, off, big) = compare("anisotropic grid49", &fi, &di, &fc, &dc);
     // The same bounds as the isotropic scenes. Measured 5.5e-6 mean, 7.8e-3 worst (2026-11-29);
     // with the lighting pass's X turned by 90° about n: 2.9e-2 mean, 18449 bytes off by more.
-    assert!(mean < 1e-5, "mean relative radiance difference {mean:e}");
-    assert!(worst < 1e-2, "radiance differs by {worst:e} (relative)");
-    assert_eq!(big, 0, "display codes differ by more than one");
-    assert!(
-        off * 1000 <= fc.len(),
-        "{off} of {} bytes off by one",
-        fc.len()
-    );
+    assert_deferred_matches_forward(&ctx, &s, "anisotropic grid49");
     assert_no_validation_messages(&ctx);
 }
 
